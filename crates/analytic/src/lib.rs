@@ -1,1 +1,32 @@
-pub fn x(){}
+//! Closed-form steady states of the impacting mass-in-mass unit.
+//!
+//! An inner mass `m_i` rattles between two stops at relative displacement `r = u_i − u_o = ±Δ`
+//! inside an outer mass `m_o`, which a moving base drives through a spring `k_o`
+//! (`u_g cos ωt`). This crate gives, without any time stepping:
+//!
+//! - [`linear`]: the modes and the steady state of the unit without stops;
+//! - [`symmetric`]: the symmetric two-impact orbits (`β = ½`) of Nigm and Shabana, by the
+//!   half-period symmetry, both branches;
+//! - [`family`]: orbits whose side-2 impact comes `βT` after the side-1 impact, for any `β`:
+//!   the gap `Δ*(β)` that admits them, and the asymmetric orbits of a given gap;
+//! - for every orbit ([`orbit::Orbit`]): the outer amplitude from rigorous extrema, viability
+//!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
+//!   from the monodromy matrix with saltation matrices.
+//!
+//! The flow between impacts is the exponential of the system augmented with the forcing's two
+//! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
+#![deny(missing_docs)]
+
+pub mod family;
+pub mod flow;
+pub mod linear;
+pub mod orbit;
+pub mod symmetric;
+pub mod test_models;
+pub mod unit;
+
+pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
+pub use linear::{linear_response, modes, LinearResponse, Modes};
+pub use orbit::{Orbit, Side, Violation};
+pub use symmetric::{symmetric_orbits, OrbitError};
+pub use unit::{Damping, Stops, Unit, UnitError};

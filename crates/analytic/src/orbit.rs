@@ -1,0 +1,285 @@
+//! Two-impact periodic orbits: one impact on each stop per forcing period.
+//!
+//! Time `t = 0` is the side-1 impact (`r = +Δ`); the base moves as `u_g cos(ωt + α)`; the
+//! side-2 impact (`r = −Δ`) comes at `t = βT`. Between impacts the motion is the exact flow
+//! of [`ForcedFlow`]. An [`Orbit`] built here carries its own verdicts: viability (decided
+//! from the rigorous extrema of `r(t)` along both flights) and stability (Floquet multipliers
+//! of the monodromy matrix with a saltation matrix at each impact).
+
+use crate::flow::{join, Augmented, Extrema, ForcedFlow, Transition};
+use crate::linear::transmittance_db;
+use crate::unit::{Stops, Unit};
+use nalgebra::{Complex, Matrix2, Matrix4, Vector2, Vector4};
+
+/// Which stop: side 1 at `r = +Δ`, side 2 at `r = −Δ`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Side {
+    /// The stop at `r = +Δ`.
+    One,
+    /// The stop at `r = −Δ`.
+    Two,
+}
+
+impl Side {
+    /// 1 or 2.
+    pub fn number(self) -> u8 {
+        match self {
+            Side::One => 1,
+            Side::Two => 2,
+        }
+    }
+}
+
+/// Why a solution of the orbit equations is not a motion.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Violation {
+    /// Between impacts the inner mass passes through a stop: `r(t)` exceeds `+Δ` (side 1) or
+    /// falls below `−Δ` (side 2) by `excess` at time `time` after the side-1 impact.
+    Penetration {
+        /// The stop passed through.
+        side: Side,
+        /// Time after the side-1 impact at which the penetration is deepest.
+        time: f64,
+        /// How far beyond the stop, `> 0`.
+        excess: f64,
+    },
+    /// The impact is approached from outside: `ṙ⁻ ≤ 0` at side 1 or `ṙ⁻ ≥ 0` at side 2.
+    WrongApproach {
+        /// The stop hit from the wrong side.
+        side: Side,
+        /// The relative velocity `ṙ⁻` just before that impact.
+        relative_velocity: f64,
+    },
+}
+
+/// A two-impact periodic orbit of the impacting unit and its verdicts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Orbit {
+    /// Angular frequency `ω` of the forcing.
+    pub omega: f64,
+    /// Gap `Δ` at which this orbit exists.
+    pub gap: f64,
+    /// Fraction of the period from the side-1 to the side-2 impact, in `(0, 1)`.
+    pub beta: f64,
+    /// Base-motion phase at the side-1 impact, radians in `(−π, π]`.
+    pub alpha: f64,
+    /// State `(u_o, u_i, u̇_o, u̇_i)` just before the side-1 impact (`t = 0⁻`).
+    pub state_before_impact: Vector4<f64>,
+    /// State just after the side-1 impact (`t = 0⁺`).
+    pub state_after_impact: Vector4<f64>,
+    /// State just before the side-2 impact (`t = βT⁻`).
+    pub state_before_side2: Vector4<f64>,
+    /// `X_o = max |u_o(t)|` over the period, from the rigorous extrema of the closed form.
+    pub outer_amplitude: f64,
+    /// `max |u_i(t)|` over the period.
+    pub inner_amplitude: f64,
+    /// `20 log10(X_o / u_g)`.
+    pub transmittance_db: f64,
+    /// True when no [`Violation`] was found.
+    pub viable: bool,
+    /// Every condition that fails.
+    pub violations: Vec<Violation>,
+    /// Eigenvalues of the monodromy matrix (with saltation at both impacts).
+    pub floquet_multipliers: Vec<Complex<f64>>,
+    /// Asymptotic stability: every Floquet multiplier has modulus `< 1 − 1e-9`.
+    pub stable: bool,
+}
+
+/// Relative tolerance on the stops used for the viability verdict: an interior excursion of
+/// `r` beyond a stop by more than `1e-9 Δ` is a penetration.
+pub const VIABILITY_TOLERANCE: f64 = 1e-9;
+
+/// Margin inside the unit circle for the stability verdict.
+pub const STABILITY_MARGIN: f64 = 1e-9;
+
+/// Gradient of the relative displacement `r = u_i − u_o` with respect to the state.
+pub(crate) fn relative_displacement() -> Vector4<f64> {
+    Vector4::new(-1.0, 1.0, 0.0, 0.0)
+}
+
+/// The state after an impact: positions kept, velocities mapped by `G`.
+pub(crate) fn impact(g: &Matrix2<f64>, x: &Vector4<f64>) -> Vector4<f64> {
+    let v = g * Vector2::new(x[2], x[3]);
+    Vector4::new(x[0], x[1], v[0], v[1])
+}
+
+/// Saltation matrix of an impact on the surface `h = r ∓ Δ`:
+/// `S = Ĝ + (f⁺ − Ĝ f⁻) h_xᵀ / (h_x · f⁻)`, `Ĝ = diag(I, G)`.
+pub(crate) fn saltation(
+    flow: &ForcedFlow,
+    g: &Matrix2<f64>,
+    before: &Vector4<f64>,
+    phase: &Vector2<f64>,
+) -> Matrix4<f64> {
+    let after = impact(g, before);
+    let f_minus = flow.vector_field(before, phase);
+    let f_plus = flow.vector_field(&after, phase);
+    let mut g_hat = Matrix4::identity();
+    g_hat.fixed_view_mut::<2, 2>(2, 2).copy_from(g);
+    let hx = relative_displacement();
+    g_hat + (f_plus - g_hat * f_minus) * hx.transpose() / hx.dot(&f_minus)
+}
+
+/// The impact states and phase that solve the orbit equations, before any verdict.
+pub(crate) struct Candidate {
+    /// Fraction of the period from the side-1 to the side-2 impact.
+    pub beta: f64,
+    /// Base phase at the side-1 impact.
+    pub alpha: f64,
+    /// State at `t = 0⁻`, with `r = +gap`.
+    pub before1: Vector4<f64>,
+    /// State at `t = βT⁻`, with `r = −gap`.
+    pub before2: Vector4<f64>,
+}
+
+/// The exact flow over both flights of an orbit.
+pub(crate) struct Flights {
+    /// Over `βT`, from the side-1 to the side-2 impact.
+    pub first: Transition,
+    /// Over `(1 − β)T`, back to the side-1 impact.
+    pub second: Transition,
+    /// True for a symmetric orbit (`u(t + T/2) = −u(t)`): the second flight mirrors the first.
+    pub symmetric: bool,
+}
+
+/// Builds the orbit through the impact states of `candidate` and checks it.
+///
+/// The caller guarantees these solve the orbit equations; this function derives the
+/// post-impact states, the extrema along both flights, the viability verdict and the Floquet
+/// multipliers.
+pub(crate) fn assemble(
+    unit: &Unit,
+    stops: &Stops,
+    flow: &ForcedFlow,
+    candidate: &Candidate,
+    flights: &Flights,
+) -> Orbit {
+    let Candidate {
+        beta,
+        alpha,
+        before1,
+        before2,
+    } = *candidate;
+    let gap = stops.gap;
+    let g = stops.impact_map(unit);
+    let period = flow.period();
+    let t1 = beta * period;
+    let p0 = Vector2::new(alpha.cos(), alpha.sin());
+    let (first, second) = (&flights.first, &flights.second);
+    let p1 = first.rotation * p0;
+    let after1 = impact(&g, &before1);
+    let after2 = impact(&g, &before2);
+
+    let hx = relative_displacement();
+    let r_fn = join(&hx, &Vector2::zeros());
+    let uo_fn = Augmented::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    let ui_fn = Augmented::new(0.0, 1.0, 0.0, 0.0, 0.0, 0.0);
+    let fns = [r_fn, uo_fn, ui_fn];
+    let flight1 = flow.extrema(&join(&after1, &p0), t1, &fns);
+    let flight2 = if flights.symmetric {
+        flight1
+            .iter()
+            .map(|e| Extrema {
+                max: -e.min,
+                argmax: e.argmin,
+                min: -e.max,
+                argmin: e.argmax,
+            })
+            .collect()
+    } else {
+        flow.extrema(&join(&after2, &p1), period - t1, &fns)
+    };
+
+    let mut violations = Vec::new();
+    let rdot1 = before1[3] - before1[2];
+    let rdot2 = before2[3] - before2[2];
+    if rdot1 <= 0.0 {
+        violations.push(Violation::WrongApproach {
+            side: Side::One,
+            relative_velocity: rdot1,
+        });
+    }
+    if rdot2 >= 0.0 {
+        violations.push(Violation::WrongApproach {
+            side: Side::Two,
+            relative_velocity: rdot2,
+        });
+    }
+    let tol = VIABILITY_TOLERANCE * gap;
+    // Deepest penetration of each stop over both flights (times measured from t = 0).
+    let over1 = [
+        (flight1[0].max, flight1[0].argmax),
+        (flight2[0].max, t1 + flight2[0].argmax),
+    ];
+    let under2 = [
+        (flight1[0].min, flight1[0].argmin),
+        (flight2[0].min, t1 + flight2[0].argmin),
+    ];
+    let (rmax, tmax) =
+        over1.into_iter().fold(
+            (f64::NEG_INFINITY, 0.0),
+            |a, b| if b.0 > a.0 { b } else { a },
+        );
+    let (rmin, tmin) = under2
+        .into_iter()
+        .fold((f64::INFINITY, 0.0), |a, b| if b.0 < a.0 { b } else { a });
+    if rmax > gap + tol {
+        violations.push(Violation::Penetration {
+            side: Side::One,
+            time: tmax,
+            excess: rmax - gap,
+        });
+    }
+    if rmin < -gap - tol {
+        violations.push(Violation::Penetration {
+            side: Side::Two,
+            time: tmin,
+            excess: -gap - rmin,
+        });
+    }
+
+    let outer_amplitude = [flight1[1], flight2[1]]
+        .iter()
+        .map(|e| e.max.abs().max(e.min.abs()))
+        .fold(0.0, f64::max);
+    let inner_amplitude = [flight1[2], flight2[2]]
+        .iter()
+        .map(|e| e.max.abs().max(e.min.abs()))
+        .fold(0.0, f64::max);
+
+    let s1 = saltation(flow, &g, &before1, &p0);
+    let s2 = saltation(flow, &g, &before2, &p1);
+    let monodromy = s1 * second.homogeneous * s2 * first.homogeneous;
+    let floquet_multipliers: Vec<Complex<f64>> =
+        monodromy.complex_eigenvalues().iter().copied().collect();
+    let stable = floquet_multipliers
+        .iter()
+        .all(|m| m.norm() < 1.0 - STABILITY_MARGIN);
+
+    Orbit {
+        omega: flow.omega(),
+        gap,
+        beta,
+        alpha,
+        state_before_impact: before1,
+        state_after_impact: after1,
+        state_before_side2: before2,
+        outer_amplitude,
+        inner_amplitude,
+        transmittance_db: transmittance_db(outer_amplitude, unit.base_amplitude),
+        viable: violations.is_empty(),
+        violations,
+        floquet_multipliers,
+        stable,
+    }
+}
+
+/// Wraps an angle into `(−π, π]`.
+pub(crate) fn wrap(angle: f64) -> f64 {
+    let w = angle.rem_euclid(std::f64::consts::TAU);
+    if w > std::f64::consts::PI {
+        w - std::f64::consts::TAU
+    } else {
+        w
+    }
+}
