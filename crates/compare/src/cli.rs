@@ -1,0 +1,268 @@
+//! The `rattle` command: argument parsing, dispatch and exit codes.
+//!
+//! Exit codes: 0 success (including "no orbit exists"), 1 a numerical failure with an
+//! explanation, 2 bad input (arguments or scene).
+
+use crate::frequency::analyse;
+use crate::json;
+use crate::scene::{Scene, SceneError};
+use clap::{Args, Parser, Subcommand};
+use rattle_analytic::{gap_for_beta, Orbit, Violation};
+use serde_json::{json, Value};
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Steady states of an impacting mass-in-mass unit, two independent ways.
+#[derive(Debug, Parser)]
+#[command(name = "rattle", version, about, long_about = None)]
+pub struct Cli {
+    /// What to compute.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Analytic steady states at one frequency: the linear response and every two-impact
+    /// orbit (symmetric branches and asymmetric β), with viability and Floquet stability.
+    Orbit(OrbitArgs),
+    /// The member of the two-impact family whose side-2 impact comes βT after the side-1
+    /// impact: the gap Δ*(β) that admits it, its phase, viability and stability.
+    Family(FamilyArgs),
+}
+
+/// Scene and frequency, common to every command.
+#[derive(Debug, Args)]
+pub struct Common {
+    /// Scene file (JSON). Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    pub scene: Option<PathBuf>,
+    /// Angular frequency of the base motion, rad/s (finite, > 0).
+    #[arg(long, allow_hyphen_values = true)]
+    pub omega: f64,
+    /// Print one JSON document instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `rattle orbit`.
+#[derive(Debug, Args)]
+pub struct OrbitArgs {
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub common: Common,
+    /// Only the symmetric orbits (β = ½); skips the search over β.
+    #[arg(long)]
+    pub symmetric_only: bool,
+}
+
+/// Arguments of `rattle family`.
+#[derive(Debug, Args)]
+pub struct FamilyArgs {
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub common: Common,
+    /// Fraction of the period from the side-1 to the side-2 impact, in (0, 1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub beta: f64,
+}
+
+/// A failure of a command, with its exit code.
+#[derive(Debug, Error)]
+pub enum RattleError {
+    /// The scene is unreadable or invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A command-line value is out of range.
+    #[error("{0}")]
+    Argument(String),
+    /// The computation failed; the message says why.
+    #[error("numerical failure: {0}")]
+    Numerical(String),
+}
+
+impl RattleError {
+    /// 2 for bad input, 1 for a numerical failure.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            RattleError::Scene(_) | RattleError::Argument(_) => 2,
+            RattleError::Numerical(_) => 1,
+        }
+    }
+}
+
+fn check_omega(omega: f64) -> Result<f64, RattleError> {
+    if omega.is_finite() && omega > 0.0 {
+        Ok(omega)
+    } else {
+        Err(RattleError::Argument(format!(
+            "--omega = {omega} is out of range: must be finite and > 0 (rad/s)"
+        )))
+    }
+}
+
+fn load(scene: &Option<PathBuf>) -> Result<Scene, RattleError> {
+    Ok(match scene {
+        Some(path) => Scene::load(path)?,
+        None => Scene::paper(),
+    })
+}
+
+fn effects(scene: &Scene) -> Value {
+    json!(scene.effects().iter().map(|e| e.name()).collect::<Vec<_>>())
+}
+
+/// Runs a parsed command and returns what it prints on standard output.
+pub fn run(cli: Cli) -> Result<String, RattleError> {
+    match cli.command {
+        Command::Orbit(args) => orbit(args),
+        Command::Family(args) => family(args),
+    }
+}
+
+fn orbit(args: OrbitArgs) -> Result<String, RattleError> {
+    let omega = check_omega(args.common.omega)?;
+    let scene = load(&args.common.scene)?;
+    let point = analyse(&scene, omega, !args.symmetric_only)
+        .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let gap = scene.stops.map(|s| s.gap);
+    if args.common.json {
+        let doc = json!({
+            "scene": scene.name,
+            "omega": json::number(omega),
+            "effects": effects(&scene),
+            "linear": json::linear(&point.linear, gap),
+            "orbits": point.orbits.iter().map(|(b, o)| json::orbit(o, *b)).collect::<Vec<_>>(),
+        });
+        return Ok(format!("{doc:#}\n"));
+    }
+    let mut out = String::new();
+    let lin = &point.linear;
+    let _ = writeln!(out, "scene {} at ω = {omega} rad/s; effects: {}", scene.name, effects_words(&scene));
+    if lin.unbounded {
+        let _ = writeln!(out, "linear: unbounded (undamped exact resonance)");
+    } else {
+        let _ = writeln!(
+            out,
+            "linear: X_o = {:.6}, X_i = {:.6}, |u_i − u_o| = {:.6}, T = {:.3} dB{}",
+            lin.outer_amplitude,
+            lin.inner_amplitude,
+            lin.relative_amplitude,
+            lin.transmittance_db,
+            match gap {
+                Some(g) if lin.relative_amplitude > g => " (reaches the stops)",
+                Some(_) => " (stays clear of the stops)",
+                None => "",
+            }
+        );
+    }
+    if scene.stops.is_none() {
+        let _ = writeln!(out, "no stops: no impacting orbits");
+        return Ok(out);
+    }
+    if point.orbits.is_empty() {
+        let _ = writeln!(out, "no two-impact orbit exists at this frequency");
+        return Ok(out);
+    }
+    let _ = writeln!(
+        out,
+        "{:>6} {:>8} {:>9} {:>10} {:>9} {:>6} {:>6} {:>7}  violations",
+        "branch", "beta", "alpha", "X_o", "T(dB)", "viable", "stable", "max|μ|"
+    );
+    for (b, o) in &point.orbits {
+        let _ = writeln!(out, "{}", orbit_row(*b, o));
+    }
+    Ok(out)
+}
+
+fn effects_words(scene: &Scene) -> String {
+    let e: Vec<&str> = scene.effects().iter().map(|e| e.name()).collect();
+    if e.is_empty() {
+        "none (linear, undamped)".to_owned()
+    } else {
+        e.join(", ")
+    }
+}
+
+fn orbit_row(branch: usize, o: &Orbit) -> String {
+    let mu = o.floquet_multipliers.iter().map(|m| m.norm()).fold(0.0, f64::max);
+    let violations: Vec<String> = o
+        .violations
+        .iter()
+        .map(|v| match v {
+            Violation::Penetration { side, excess, .. } => {
+                format!("penetrates side {} by {excess:.3e}", side.number())
+            }
+            Violation::WrongApproach { side, .. } => {
+                format!("approaches side {} from outside", side.number())
+            }
+        })
+        .collect();
+    format!(
+        "{branch:>6} {:>8.5} {:>9.5} {:>10.6} {:>9.3} {:>6} {:>6} {:>7.4}  {}",
+        o.beta,
+        o.alpha,
+        o.outer_amplitude,
+        o.transmittance_db,
+        o.viable,
+        o.stable,
+        mu,
+        if violations.is_empty() { "-".to_owned() } else { violations.join("; ") }
+    )
+}
+
+fn family(args: FamilyArgs) -> Result<String, RattleError> {
+    let omega = check_omega(args.common.omega)?;
+    let beta = args.beta;
+    if !(beta.is_finite() && beta > 0.0 && beta < 1.0) {
+        return Err(RattleError::Argument(format!(
+            "--beta = {beta} is out of range: must be in (0, 1)"
+        )));
+    }
+    let scene = load(&args.common.scene)?;
+    let Some(stops) = scene.stops_model() else {
+        return Err(RattleError::Argument(
+            "the family needs stops: the scene has no `stops` (its restitution sets the impact law)".into(),
+        ));
+    };
+    let unit = scene.unit_model();
+    let point = gap_for_beta(&unit, stops.restitution, omega, beta)
+        .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let o = &point.orbit;
+    if args.common.json {
+        let doc = json!({
+            "scene": scene.name,
+            "omega": json::number(omega),
+            "beta": json::number(beta),
+            "effects": effects(&scene),
+            "gap": json::number(point.gap),
+            "gap_over_base_amplitude": json::number(point.gap / unit.base_amplitude),
+            "alpha": json::number(o.alpha),
+            "state_before_impact": json::state(&o.state_before_impact),
+            "state_after_impact": json::state(&o.state_after_impact),
+            "outer_amplitude": json::number(o.outer_amplitude),
+            "transmittance_db": json::number(o.transmittance_db),
+            "viable": o.viable,
+            "violations": o.violations.iter().map(json::violation).collect::<Vec<_>>(),
+            "floquet_multipliers": o.floquet_multipliers.iter().map(|m| json!([json::number(m.re), json::number(m.im)])).collect::<Vec<_>>(),
+            "stable": o.stable,
+        });
+        return Ok(format!("{doc:#}\n"));
+    }
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "scene {} at ω = {omega} rad/s, β = {beta}: gap Δ*(β) = {:.9} (Δ*/u_g = {:.9})",
+        scene.name,
+        point.gap,
+        point.gap / unit.base_amplitude
+    );
+    let _ = writeln!(
+        out,
+        "{:>6} {:>8} {:>9} {:>10} {:>9} {:>6} {:>6} {:>7}  violations",
+        "branch", "beta", "alpha", "X_o", "T(dB)", "viable", "stable", "max|μ|"
+    );
+    let _ = writeln!(out, "{}", orbit_row(0, o));
+    Ok(out)
+}

@@ -1,0 +1,296 @@
+//! Scenes: the JSON description of one unit, and its translation into each solver's problem.
+//!
+//! ```json
+//! {
+//!   "name": "paper",
+//!   "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+//!   "base": {"amplitude": 1.0},
+//!   "stops": {"gap": 0.5, "restitution": 0.8},
+//!   "damping": {"outer": 0.0, "inner": 0.0}
+//! }
+//! ```
+//! `unit` and `base` are required; `stops` and `damping` are optional effects. Unknown fields
+//! are refused. Frequencies are not part of a scene.
+
+use rattle_analytic::{Damping, Stops, Unit, UnitError};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use thiserror::Error;
+
+/// The built-in default scene: the paper's §2.2 unit with `Δ = 0.5`, `e = 0.8`.
+pub const PAPER_SCENE: &str = include_str!("../../../data/scenes/paper.json");
+
+/// Why a scene could not be used. Every message names the file or the field.
+#[derive(Debug, Error)]
+pub enum SceneError {
+    /// The scene file could not be read.
+    #[error("cannot read scene file {path}: {source}")]
+    Read {
+        /// The path as given.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+    /// The file is not valid JSON, or does not have the scene's shape.
+    #[error("{origin}: {path_in_scene}: {message} (line {line}, column {column})")]
+    Format {
+        /// The file, or `built-in`.
+        origin: String,
+        /// Path of the offending field, e.g. `stops.gapp`, or `.` for the document.
+        path_in_scene: String,
+        /// What is wrong.
+        message: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+    },
+    /// A value is out of its physical range.
+    #[error("{origin}: {source}")]
+    Value {
+        /// The file, or `built-in`.
+        origin: String,
+        /// The field, the value and the allowed range.
+        source: UnitError,
+    },
+}
+
+/// The unit's masses and springs.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnitSpec {
+    /// `m_o`, kg.
+    pub outer_mass: f64,
+    /// `m_i`, kg.
+    pub inner_mass: f64,
+    /// `k_o`, N/m: base to outer mass.
+    pub outer_stiffness: f64,
+    /// `k_i`, N/m: outer to inner mass.
+    pub inner_stiffness: f64,
+}
+
+/// The base motion `u_g cos(ω t)`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BaseSpec {
+    /// `u_g`, m.
+    pub amplitude: f64,
+}
+
+/// The stops at `r = u_i − u_o = ±gap`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StopsSpec {
+    /// `Δ`, m: half the clearance.
+    pub gap: f64,
+    /// Newton restitution `e ∈ [0, 1]`.
+    pub restitution: f64,
+}
+
+/// Dashpots.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    /// `c_o`, N·s/m: base to outer mass, acting on `u̇_o − u̇_g`.
+    #[serde(default)]
+    pub outer: f64,
+    /// `c_i`, N·s/m: outer to inner mass.
+    #[serde(default)]
+    pub inner: f64,
+}
+
+/// One scene.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// A name for outputs and figures.
+    #[serde(default = "unnamed")]
+    pub name: String,
+    /// Masses and springs.
+    pub unit: UnitSpec,
+    /// Base motion.
+    pub base: BaseSpec,
+    /// Stops, if the unit has them.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stops: Option<StopsSpec>,
+    /// Dashpots, if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<DampingSpec>,
+}
+
+fn unnamed() -> String {
+    "unnamed".to_owned()
+}
+
+/// An optional effect of a scene, as named in outputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Effect {
+    /// The inner mass impacts stops.
+    Stops,
+    /// Viscous damping is present (some dashpot `> 0`).
+    Damping,
+}
+
+impl Effect {
+    /// The name used in JSON (`"stops"`, `"damping"`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Effect::Stops => "stops",
+            Effect::Damping => "damping",
+        }
+    }
+}
+
+impl Scene {
+    /// Parses and validates a scene; `origin` names it in error messages.
+    pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
+            let path = e.path().to_string();
+            let inner = e.into_inner();
+            SceneError::Format {
+                origin: origin.to_owned(),
+                path_in_scene: path,
+                message: strip_position(&inner.to_string()),
+                line: inner.line(),
+                column: inner.column(),
+            }
+        })?;
+        scene.validate().map_err(|source| SceneError::Value {
+            origin: origin.to_owned(),
+            source,
+        })?;
+        Ok(scene)
+    }
+
+    /// Reads, parses and validates the scene file at `path`.
+    pub fn load(path: &Path) -> Result<Scene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        Scene::parse(&text, &path.display().to_string())
+    }
+
+    /// The built-in paper scene.
+    pub fn paper() -> Scene {
+        Scene::parse(PAPER_SCENE, "built-in").expect("the built-in scene is valid")
+    }
+
+    /// Checks every value against its physical range.
+    pub fn validate(&self) -> Result<(), UnitError> {
+        self.unit_with(self.damping).validate()?;
+        if let Some(stops) = self.stops_model() {
+            stops.validate()?;
+        }
+        Ok(())
+    }
+
+    /// The effects this scene calls for, in a fixed order.
+    pub fn effects(&self) -> Vec<Effect> {
+        let mut effects = Vec::new();
+        if self.stops.is_some() {
+            effects.push(Effect::Stops);
+        }
+        if self.active_damping().is_some() {
+            effects.push(Effect::Damping);
+        }
+        effects
+    }
+
+    /// The dashpots, if the scene has any that is not zero.
+    fn active_damping(&self) -> Option<DampingSpec> {
+        self.damping.filter(|d| d.outer != 0.0 || d.inner != 0.0)
+    }
+
+    /// The unit as the analytic solver's problem. A damping block whose dashpots are both zero
+    /// is no damping at all.
+    pub fn unit_model(&self) -> Unit {
+        self.unit_with(self.active_damping())
+    }
+
+    fn unit_with(&self, damping: Option<DampingSpec>) -> Unit {
+        Unit {
+            outer_mass: self.unit.outer_mass,
+            inner_mass: self.unit.inner_mass,
+            outer_stiffness: self.unit.outer_stiffness,
+            inner_stiffness: self.unit.inner_stiffness,
+            base_amplitude: self.base.amplitude,
+            damping: damping.map(|d| Damping {
+                outer: d.outer,
+                inner: d.inner,
+            }),
+        }
+    }
+
+    /// The stops as the analytic solver's problem, if the scene has them.
+    pub fn stops_model(&self) -> Option<Stops> {
+        self.stops.map(|s| Stops {
+            gap: s.gap,
+            restitution: s.restitution,
+        })
+    }
+}
+
+/// serde_json appends " at line L column C"; the position is reported separately.
+fn strip_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(i) => message[..i].to_owned(),
+        None => message.to_owned(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn built_in_scene_is_the_paper_unit() {
+        let s = Scene::paper();
+        assert_eq!(s.unit.outer_mass, 2.0);
+        assert_eq!(s.stops.map(|s| s.gap), Some(0.5));
+        assert_eq!(s.effects(), vec![Effect::Stops]);
+    }
+
+    #[test]
+    fn unknown_fields_are_refused_with_their_path() {
+        let text = PAPER_SCENE.replace("\"gap\"", "\"gapp\"");
+        let err = Scene::parse(&text, "x.json").unwrap_err().to_string();
+        assert!(err.contains("stops.gapp") && err.contains("unknown field"), "{err}");
+    }
+
+    #[test]
+    fn malformed_json_gives_line_and_column() {
+        let err = Scene::parse("{\n \"name\": ,\n}", "x.json").unwrap_err();
+        match err {
+            SceneError::Format { line, column, .. } => assert_eq!((line, column), (2, 10)),
+            other => panic!("{other}"),
+        }
+    }
+
+    #[test]
+    fn out_of_range_values_name_the_field_and_range() {
+        let text = PAPER_SCENE.replace("\"restitution\": 0.8", "\"restitution\": 1.5");
+        let err = Scene::parse(&text, "x.json").unwrap_err().to_string();
+        assert!(err.contains("stops.restitution") && err.contains("[0, 1]"), "{err}");
+        let text = PAPER_SCENE.replace("\"outer_mass\": 2.0", "\"outer_mass\": 1e400");
+        let err = Scene::parse(&text, "x.json").unwrap_err().to_string();
+        assert!(err.contains("unit.outer_mass"), "{err}");
+        let text = PAPER_SCENE.replace("\"outer_mass\": 2.0", "\"outer_mass\": \"2\"");
+        let err = Scene::parse(&text, "x.json").unwrap_err().to_string();
+        assert!(err.contains("unit.outer_mass") && err.contains("invalid type"), "{err}");
+    }
+
+    #[test]
+    fn zero_damping_is_no_damping() {
+        let mut s = Scene::paper();
+        s.damping = Some(DampingSpec { outer: 0.0, inner: 0.0 });
+        assert_eq!(s.effects(), vec![Effect::Stops]);
+        assert!(s.unit_model().damping.is_none());
+        s.damping = Some(DampingSpec { outer: 0.1, inner: 0.0 });
+        assert_eq!(s.effects(), vec![Effect::Stops, Effect::Damping]);
+        assert!(s.unit_model().damping.is_some());
+        s.damping = Some(DampingSpec { outer: -0.1, inner: 0.0 });
+        assert!(s.validate().unwrap_err().to_string().contains("damping.outer"));
+    }
+}
