@@ -139,7 +139,12 @@ fn orbit(args: OrbitArgs) -> Result<String, RattleError> {
     }
     let mut out = String::new();
     let lin = &point.linear;
-    let _ = writeln!(out, "scene {} at ω = {omega} rad/s; effects: {}", scene.name, effects_words(&scene));
+    let _ = writeln!(
+        out,
+        "scene {} at ω = {omega} rad/s; effects: {}",
+        scene.name,
+        effects_words(&scene)
+    );
     if lin.unbounded {
         let _ = writeln!(out, "linear: unbounded (undamped exact resonance)");
     } else {
@@ -186,7 +191,11 @@ fn effects_words(scene: &Scene) -> String {
 }
 
 fn orbit_row(branch: usize, o: &Orbit) -> String {
-    let mu = o.floquet_multipliers.iter().map(|m| m.norm()).fold(0.0, f64::max);
+    let mu = o
+        .floquet_multipliers
+        .iter()
+        .map(|m| m.norm())
+        .fold(0.0, f64::max);
     let violations: Vec<String> = o
         .violations
         .iter()
@@ -208,7 +217,11 @@ fn orbit_row(branch: usize, o: &Orbit) -> String {
         o.viable,
         o.stable,
         mu,
-        if violations.is_empty() { "-".to_owned() } else { violations.join("; ") }
+        if violations.is_empty() {
+            "-".to_owned()
+        } else {
+            violations.join("; ")
+        }
     )
 }
 

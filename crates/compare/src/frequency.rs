@@ -1,7 +1,9 @@
 //! The analytic picture at one frequency: the linear steady state and every two-impact orbit.
 
 use crate::scene::Scene;
-use rattle_analytic::{asymmetric_orbits, linear_response, symmetric_orbits, LinearResponse, Orbit, OrbitError};
+use rattle_analytic::{
+    asymmetric_orbits, linear_response, symmetric_orbits, LinearResponse, Orbit, OrbitError,
+};
 
 /// How many grid intervals on `β ∈ (0, 1)` bracket the asymmetric orbits.
 pub const BETA_SAMPLES: usize = 400;
@@ -29,7 +31,12 @@ pub fn analyse(scene: &Scene, omega: f64, asymmetric: bool) -> Result<AnalyticPo
         orbits.extend(symmetric.into_iter().enumerate());
         if asymmetric {
             let others = asymmetric_orbits(&unit, &stops, omega, BETA_SAMPLES);
-            orbits.extend(others.into_iter().enumerate().map(|(i, o)| (count.max(2) + i, o)));
+            orbits.extend(
+                others
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, o)| (count.max(2) + i, o)),
+            );
         }
     }
     Ok(AnalyticPoint {

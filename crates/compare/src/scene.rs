@@ -256,7 +256,10 @@ mod tests {
     fn unknown_fields_are_refused_with_their_path() {
         let text = PAPER_SCENE.replace("\"gap\"", "\"gapp\"");
         let err = Scene::parse(&text, "x.json").unwrap_err().to_string();
-        assert!(err.contains("stops.gapp") && err.contains("unknown field"), "{err}");
+        assert!(
+            err.contains("stops.gapp") && err.contains("unknown field"),
+            "{err}"
+        );
     }
 
     #[test]
@@ -272,25 +275,44 @@ mod tests {
     fn out_of_range_values_name_the_field_and_range() {
         let text = PAPER_SCENE.replace("\"restitution\": 0.8", "\"restitution\": 1.5");
         let err = Scene::parse(&text, "x.json").unwrap_err().to_string();
-        assert!(err.contains("stops.restitution") && err.contains("[0, 1]"), "{err}");
+        assert!(
+            err.contains("stops.restitution") && err.contains("[0, 1]"),
+            "{err}"
+        );
         let text = PAPER_SCENE.replace("\"outer_mass\": 2.0", "\"outer_mass\": 1e400");
         let err = Scene::parse(&text, "x.json").unwrap_err().to_string();
         assert!(err.contains("unit.outer_mass"), "{err}");
         let text = PAPER_SCENE.replace("\"outer_mass\": 2.0", "\"outer_mass\": \"2\"");
         let err = Scene::parse(&text, "x.json").unwrap_err().to_string();
-        assert!(err.contains("unit.outer_mass") && err.contains("invalid type"), "{err}");
+        assert!(
+            err.contains("unit.outer_mass") && err.contains("invalid type"),
+            "{err}"
+        );
     }
 
     #[test]
     fn zero_damping_is_no_damping() {
         let mut s = Scene::paper();
-        s.damping = Some(DampingSpec { outer: 0.0, inner: 0.0 });
+        s.damping = Some(DampingSpec {
+            outer: 0.0,
+            inner: 0.0,
+        });
         assert_eq!(s.effects(), vec![Effect::Stops]);
         assert!(s.unit_model().damping.is_none());
-        s.damping = Some(DampingSpec { outer: 0.1, inner: 0.0 });
+        s.damping = Some(DampingSpec {
+            outer: 0.1,
+            inner: 0.0,
+        });
         assert_eq!(s.effects(), vec![Effect::Stops, Effect::Damping]);
         assert!(s.unit_model().damping.is_some());
-        s.damping = Some(DampingSpec { outer: -0.1, inner: 0.0 });
-        assert!(s.validate().unwrap_err().to_string().contains("damping.outer"));
+        s.damping = Some(DampingSpec {
+            outer: -0.1,
+            inner: 0.0,
+        });
+        assert!(s
+            .validate()
+            .unwrap_err()
+            .to_string()
+            .contains("damping.outer"));
     }
 }

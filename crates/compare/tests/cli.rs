@@ -1,0 +1,120 @@
+//! The `rattle` command as a user meets it: fields, exit codes, messages.
+
+use serde_json::Value;
+use std::process::{Command, Output};
+
+fn rattle(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_rattle"))
+        .args(args)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("rattle runs")
+}
+
+fn json(args: &[&str]) -> Value {
+    let out = rattle(args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("one JSON document")
+}
+
+#[test]
+fn orbit_json_has_the_documented_fields() {
+    let doc = json(&["orbit", "--omega", "2.0", "--json"]);
+    for key in ["omega", "effects", "linear", "orbits"] {
+        assert!(doc.get(key).is_some(), "missing {key}");
+    }
+    for key in ["outer_amplitude", "inner_amplitude", "transmittance_db"] {
+        assert!(doc["linear"][key].is_number(), "linear.{key}");
+    }
+    assert_eq!(doc["effects"], serde_json::json!(["stops"]));
+    let orbits = doc["orbits"].as_array().unwrap();
+    assert!(!orbits.is_empty());
+    for o in orbits {
+        for key in [
+            "beta",
+            "branch",
+            "alpha",
+            "outer_amplitude",
+            "transmittance_db",
+            "viable",
+            "violations",
+            "floquet_multipliers",
+            "stable",
+        ] {
+            assert!(o.get(key).is_some(), "orbit missing {key}");
+        }
+        assert_eq!(o["state_after_impact"].as_array().unwrap().len(), 4);
+        assert_eq!(o["floquet_multipliers"].as_array().unwrap().len(), 4);
+    }
+    // The paper unit at ω = 2 has a viable, stable symmetric orbit.
+    assert!(orbits
+        .iter()
+        .any(|o| o["beta"] == 0.5 && o["viable"] == true && o["stable"] == true));
+}
+
+#[test]
+fn no_orbit_is_not_an_error() {
+    let doc = json(&["orbit", "--omega", "0.6", "--json", "--symmetric-only"]);
+    assert_eq!(doc["orbits"], serde_json::json!([]));
+    let doc = json(&[
+        "orbit",
+        "data/scenes/paper-linear.json",
+        "--omega",
+        "1.0",
+        "--json",
+    ]);
+    assert_eq!(doc["orbits"], serde_json::json!([]));
+    assert_eq!(doc["effects"], serde_json::json!([]));
+}
+
+#[test]
+fn undamped_resonance_is_null_never_nan() {
+    let out = rattle(&[
+        "orbit",
+        "data/scenes/paper-linear.json",
+        "--omega",
+        "1.224744871391589",
+        "--json",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(!text.contains("NaN") && !text.contains("inf"), "{text}");
+    let doc: Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(doc["linear"]["outer_amplitude"], Value::Null);
+    assert_eq!(doc["linear"]["unbounded"], true);
+}
+
+#[test]
+fn family_json_has_the_documented_fields() {
+    let doc = json(&["family", "--omega", "2.0", "--beta", "0.3", "--json"]);
+    for key in [
+        "omega",
+        "beta",
+        "gap",
+        "alpha",
+        "viable",
+        "violations",
+        "stable",
+    ] {
+        assert!(doc.get(key).is_some(), "missing {key}");
+    }
+    assert!(doc["gap"].as_f64().unwrap() > 0.0);
+}
+
+#[test]
+fn bad_input_exits_2_and_names_the_problem() {
+    for omega in ["nan", "inf", "0", "-1"] {
+        let out = rattle(&["orbit", "--omega", omega]);
+        assert_eq!(out.status.code(), Some(2), "--omega {omega}");
+        assert!(String::from_utf8_lossy(&out.stderr).contains("--omega"));
+    }
+    let out = rattle(&["orbit", "no/such/scene.json", "--omega", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/scene.json"));
+    let out = rattle(&["family", "--omega", "1", "--beta", "1.5"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--beta"));
+}
