@@ -6,8 +6,11 @@
 use crate::frequency::analyse;
 use crate::json;
 use crate::scene::{Scene, SceneError};
+use crate::simulation::{run as simulate_scene, status_name};
+use crate::sweep::{frequencies, sweep, to_csv, to_json, Solver};
 use clap::{Args, Parser, Subcommand};
 use rattle_analytic::{gap_for_beta, Orbit, Violation};
+use rattle_event_driven::{SimulationOptions, Start};
 use serde_json::{json, Value};
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -31,6 +34,92 @@ pub enum Command {
     /// The member of the two-impact family whose side-2 impact comes βT after the side-1
     /// impact: the gap Δ*(β) that admits it, its phase, viability and stability.
     Family(FamilyArgs),
+    /// Event-driven simulation from rest until the motion is periodic (or a cap), or for
+    /// exactly N periods: status, period, impacts per period, outer amplitude.
+    Simulate(SimulateArgs),
+    /// A frequency sweep with one solver or both, in parallel, written to a JSON or CSV file.
+    Sweep(SweepArgs),
+}
+
+/// Arguments of `rattle simulate`.
+#[derive(Debug, Args)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub common: Common,
+    /// Run exactly N forcing periods and judge the steady state from the tail (default: run
+    /// until periodic, up to a cap).
+    #[arg(long)]
+    pub periods: Option<u64>,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub accuracy: Accuracy,
+}
+
+/// Accuracy knobs of the simulator.
+#[derive(Debug, Args, Clone, Copy)]
+pub struct Accuracy {
+    /// Relative tolerance of contact times (the simulator's accuracy knob), in [1e-15, 1e-2].
+    #[arg(long, default_value_t = 1e-12)]
+    pub tol: f64,
+    /// Relative tolerance of the periodicity test of the steady state, in [1e-14, 1e-2].
+    #[arg(long, default_value_t = 1e-9)]
+    pub steady_tol: f64,
+    /// Cap on forcing periods when running until steady.
+    #[arg(long, default_value_t = 20_000)]
+    pub max_periods: u64,
+}
+
+impl Accuracy {
+    /// The simulator's options, after range checks.
+    pub fn options(&self) -> Result<SimulationOptions, RattleError> {
+        if !(self.tol.is_finite() && (1e-15..=1e-2).contains(&self.tol)) {
+            return Err(RattleError::Argument(format!(
+                "--tol = {} is out of range: must be in [1e-15, 1e-2]",
+                self.tol
+            )));
+        }
+        if !(self.steady_tol.is_finite() && (1e-14..=1e-2).contains(&self.steady_tol)) {
+            return Err(RattleError::Argument(format!(
+                "--steady-tol = {} is out of range: must be in [1e-14, 1e-2]",
+                self.steady_tol
+            )));
+        }
+        if self.max_periods == 0 {
+            return Err(RattleError::Argument("--max-periods must be > 0".into()));
+        }
+        Ok(SimulationOptions {
+            root_tolerance: self.tol,
+            periodicity_tolerance: self.steady_tol,
+            max_periods: self.max_periods,
+            ..SimulationOptions::default()
+        })
+    }
+}
+
+/// Arguments of `rattle sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// Scene file (JSON). Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    pub scene: Option<PathBuf>,
+    /// Lowest angular frequency, rad/s (finite, > 0).
+    #[arg(long)]
+    pub omega_min: f64,
+    /// Highest angular frequency, rad/s (finite, ≥ omega-min).
+    #[arg(long)]
+    pub omega_max: f64,
+    /// Number of frequencies, evenly spaced, ends included (≥ 1).
+    #[arg(long)]
+    pub points: usize,
+    /// Which solver: analytic, event (simulator from rest) or both (with a verdict per point).
+    #[arg(long, value_enum, default_value_t = Solver::Both)]
+    pub solver: Solver,
+    /// Output file: `.json` or `.csv`, by extension.
+    #[arg(long)]
+    pub out: PathBuf,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub accuracy: Accuracy,
 }
 
 /// Scene and frequency, common to every command.
@@ -118,6 +207,8 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
     match cli.command {
         Command::Orbit(args) => orbit(args),
         Command::Family(args) => family(args),
+        Command::Simulate(args) => simulate_command(args),
+        Command::Sweep(args) => sweep_command(args),
     }
 }
 
@@ -278,4 +369,108 @@ fn family(args: FamilyArgs) -> Result<String, RattleError> {
     );
     let _ = writeln!(out, "{}", orbit_row(0, o));
     Ok(out)
+}
+
+fn simulate_command(args: SimulateArgs) -> Result<String, RattleError> {
+    let omega = check_omega(args.common.omega)?;
+    let mut options = args.accuracy.options()?;
+    if let Some(n) = args.periods {
+        if n == 0 {
+            return Err(RattleError::Argument("--periods must be > 0".into()));
+        }
+        options.fixed_periods = Some(n);
+    }
+    let scene = load(&args.common.scene)?;
+    let sim = simulate_scene(&scene, omega, &Start::rest(2), &options)
+        .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let s = &sim.steady;
+    let status = status_name(s);
+    if args.common.json {
+        let doc = json!({
+            "scene": scene.name,
+            "omega": json::number(omega),
+            "effects": effects(&scene),
+            "status": status,
+            "regime": sim.regime.name(),
+            "period": s.period,
+            "impacts_per_period": json::number(s.impacts_per_period),
+            "outer_amplitude": json::number(sim.outer_amplitude),
+            "transmittance_db": sim.transmittance_db.map_or(Value::Null, json::number),
+            "sticking": s.sticking,
+            "periods_run": s.periods_run,
+            "impacts": s.impacts,
+        });
+        return Ok(format!("{doc:#}\n"));
+    }
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "scene {} at ω = {omega} rad/s; effects: {}",
+        scene.name,
+        effects_words(&scene)
+    );
+    let _ = writeln!(out, "status: {status} ({})", sim.regime.words());
+    let _ = writeln!(
+        out,
+        "period: {}",
+        s.period
+            .map_or("none (not periodic)".to_owned(), |p| format!(
+                "{p} forcing period(s)"
+            ))
+    );
+    let _ = writeln!(out, "impacts per period: {}", s.impacts_per_period);
+    let _ = writeln!(
+        out,
+        "X_o = {:.9}, T = {}",
+        sim.outer_amplitude,
+        sim.transmittance_db
+            .map_or("undefined (no steady state)".to_owned(), |t| format!(
+                "{t:.4} dB"
+            ))
+    );
+    let _ = writeln!(
+        out,
+        "periods run: {}, impacts: {}",
+        s.periods_run, s.impacts
+    );
+    Ok(out)
+}
+
+fn sweep_command(args: SweepArgs) -> Result<String, RattleError> {
+    let (lo, hi) = (check_omega(args.omega_min)?, check_omega(args.omega_max)?);
+    if hi < lo {
+        return Err(RattleError::Argument(format!(
+            "--omega-max = {hi} is out of range: must be ≥ --omega-min = {lo}"
+        )));
+    }
+    if args.points == 0 {
+        return Err(RattleError::Argument("--points must be ≥ 1".into()));
+    }
+    let csv = match args.out.extension().and_then(|e| e.to_str()) {
+        Some("csv") => true,
+        Some("json") => false,
+        _ => {
+            return Err(RattleError::Argument(format!(
+                "--out {}: the extension must be .json or .csv",
+                args.out.display()
+            )))
+        }
+    };
+    let options = args.accuracy.options()?;
+    let scene = load(&args.scene)?;
+    let omegas = frequencies(lo, hi, args.points);
+    let points = sweep(&scene, &omegas, args.solver, &options, true);
+    let text = if csv {
+        to_csv(&scene, &points)
+    } else {
+        format!("{:#}\n", to_json(&scene, args.solver, &points))
+    };
+    std::fs::write(&args.out, text)
+        .map_err(|e| RattleError::Argument(format!("cannot write {}: {e}", args.out.display())))?;
+    Ok(format!(
+        "wrote {} ({} frequencies, solver {})\n",
+        args.out.display(),
+        omegas.len(),
+        args.solver.name()
+    ))
 }

@@ -1,0 +1,150 @@
+//! Agreement of the two solvers against frequency: the relative difference where both settle on
+//! the same motion (log scale), and the class of every point.
+
+use crate::classify::{Class, ComparedPoint};
+use crate::plot::{err, text, Figure};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// The figure.
+pub struct Agreement {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// The compared points of the sweep.
+    pub points: Vec<ComparedPoint>,
+    /// The match tolerance, drawn as a line.
+    pub tolerance: f64,
+}
+
+const FLOOR: f64 = 1e-16;
+
+fn class_colour(class: &Class) -> RGBColor {
+    match class {
+        Class::Agreement => RGBColor(0, 0, 0),
+        Class::Coexistence => RGBColor(30, 90, 220),
+        Class::Beyond(_) => RGBColor(230, 120, 0),
+        Class::Contradiction(_) => RGBColor(220, 0, 0),
+    }
+}
+
+fn class_row(class: &Class) -> f64 {
+    match class {
+        Class::Agreement => 3e-16,
+        Class::Coexistence => 1e-15,
+        Class::Beyond(_) => 3e-15,
+        Class::Contradiction(_) => 1e-14,
+    }
+}
+
+impl Figure for Agreement {
+    fn name(&self) -> &str {
+        "agreement"
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (1500, 850)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let wmin = self.points.first().map_or(0.0, |p| p.analytic.omega);
+        let wmax = self.points.last().map_or(1.0, |p| p.analytic.omega);
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                format!(
+                    "Analytic vs event-driven steady state, scene '{}'",
+                    self.scene_name
+                ),
+                text(28),
+            )
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(90)
+            .build_cartesian_2d(wmin..wmax, (FLOOR..1.0).log_scale())
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("base frequency ω (rad/s)")
+            .y_desc("relative difference (X_o, impact state)")
+            .y_label_formatter(&|v| format!("{v:.0e}"))
+            .label_style(text(18))
+            .axis_desc_style(text(20))
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(err)?;
+        chart
+            .draw_series(DashedLineSeries::new(
+                vec![(wmin, self.tolerance), (wmax, self.tolerance)],
+                8,
+                5,
+                RGBColor(120, 120, 120).stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(format!("match tolerance {:.0e}", self.tolerance))
+            .legend(|(x, y)| {
+                PathElement::new(
+                    vec![(x, y), (x + 20, y)],
+                    RGBColor(120, 120, 120).stroke_width(2),
+                )
+            });
+        let agree: Vec<(f64, f64)> = self
+            .points
+            .iter()
+            .filter(|p| p.class == Class::Agreement)
+            .filter_map(|p| {
+                p.difference
+                    .map(|d| (p.analytic.omega, d.largest().max(FLOOR)))
+            })
+            .collect();
+        chart
+            .draw_series(
+                agree
+                    .iter()
+                    .map(|&(w, d)| Circle::new((w, d), 3, BLACK.filled())),
+            )
+            .map_err(err)?
+            .label("agreement: relative difference")
+            .legend(|(x, y)| Circle::new((x + 10, y), 4, BLACK.filled()));
+        let names = [
+            (Class::Agreement, "class: agreement"),
+            (
+                Class::Coexistence,
+                "class: coexistence (stable orbit holds; from rest elsewhere)",
+            ),
+            (
+                Class::Beyond(String::new()),
+                "class: beyond the two-impact model",
+            ),
+            (Class::Contradiction(String::new()), "class: contradiction"),
+        ];
+        for (class, label) in names {
+            let pts: Vec<(f64, f64)> = self
+                .points
+                .iter()
+                .filter(|p| p.class.name() == class.name())
+                .map(|p| (p.analytic.omega, class_row(&class)))
+                .collect();
+            let colour = class_colour(&class);
+            chart
+                .draw_series(pts.iter().map(|&(w, y)| {
+                    Rectangle::new(
+                        [(w - 0.004, y * 0.8), (w + 0.004, y * 1.25)],
+                        colour.filled(),
+                    )
+                }))
+                .map_err(err)?
+                .label(format!("{label} ({})", pts.len()))
+                .legend(move |(x, y)| {
+                    Rectangle::new([(x, y - 5), (x + 12, y + 5)], colour.filled())
+                });
+        }
+        chart
+            .configure_series_labels()
+            .label_font(text(15))
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)?;
+        Ok(())
+    }
+}

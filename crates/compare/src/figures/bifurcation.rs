@@ -1,0 +1,111 @@
+//! Simulated stroboscopic outer displacement `u_o(kT)` against frequency, sweeping up and down
+//! with the final state carried over, and the analytic symmetric orbits' stroboscopic points.
+
+use crate::plot::{err, text, Figure};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// The figure's data.
+pub struct Bifurcation {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// `(ω, u_o(kT))` of the upward sweep.
+    pub up: Vec<(f64, f64)>,
+    /// `(ω, u_o(kT))` of the downward sweep.
+    pub down: Vec<(f64, f64)>,
+    /// `(ω, u_o(kT), stable)` of the viable analytic orbits.
+    pub analytic: Vec<(f64, f64, bool)>,
+}
+
+impl Figure for Bifurcation {
+    fn name(&self) -> &str {
+        "bifurcation"
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (1500, 900)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let all = self.up.iter().chain(&self.down).map(|p| p.0);
+        let wmin = all.clone().fold(f64::INFINITY, f64::min);
+        let wmax = all.fold(f64::NEG_INFINITY, f64::max);
+        let ys = self
+            .up
+            .iter()
+            .chain(&self.down)
+            .map(|p| p.1)
+            .chain(self.analytic.iter().map(|p| p.1));
+        let ymax = ys.fold(0.0f64, |a, y| a.max(y.abs())).clamp(1e-3, 50.0) * 1.1;
+        let mut chart = ChartBuilder::on(root)
+            .caption(
+                format!(
+                    "Stroboscopic outer displacement u_o(kT), sweeps up and down, scene '{}'",
+                    self.scene_name
+                ),
+                text(28),
+            )
+            .margin(20)
+            .x_label_area_size(55)
+            .y_label_area_size(75)
+            .build_cartesian_2d(wmin..wmax, -ymax..ymax)
+            .map_err(err)?;
+        chart
+            .configure_mesh()
+            .x_desc("base frequency ω (rad/s)")
+            .y_desc("u_o at t = kT (m)")
+            .label_style(text(18))
+            .axis_desc_style(text(20))
+            .light_line_style(WHITE.mix(0.0))
+            .draw()
+            .map_err(err)?;
+        let up_colour = RGBColor(30, 90, 220);
+        let down_colour = RGBColor(220, 60, 30);
+        chart
+            .draw_series(
+                self.up
+                    .iter()
+                    .map(|&(w, u)| Circle::new((w, u), 2, up_colour.filled())),
+            )
+            .map_err(err)?
+            .label("simulated, sweeping up")
+            .legend(move |(x, y)| Circle::new((x + 10, y), 4, up_colour.filled()));
+        chart
+            .draw_series(
+                self.down
+                    .iter()
+                    .map(|&(w, u)| Cross::new((w, u), 3, down_colour.stroke_width(1))),
+            )
+            .map_err(err)?
+            .label("simulated, sweeping down")
+            .legend(move |(x, y)| Cross::new((x + 10, y), 4, down_colour.stroke_width(2)));
+        chart
+            .draw_series(
+                self.analytic
+                    .iter()
+                    .filter(|p| p.2)
+                    .map(|&(w, u, _)| Circle::new((w, u), 5, BLACK.stroke_width(1))),
+            )
+            .map_err(err)?
+            .label("analytic symmetric orbit, viable and stable")
+            .legend(|(x, y)| Circle::new((x + 10, y), 5, BLACK.stroke_width(1)));
+        chart
+            .draw_series(self.analytic.iter().filter(|p| !p.2).map(|&(w, u, _)| {
+                TriangleMarker::new((w, u), 4, RGBColor(120, 120, 120).stroke_width(1))
+            }))
+            .map_err(err)?
+            .label("analytic symmetric orbit, viable but unstable")
+            .legend(|(x, y)| {
+                TriangleMarker::new((x + 10, y), 4, RGBColor(120, 120, 120).stroke_width(1))
+            });
+        chart
+            .configure_series_labels()
+            .label_font(text(15))
+            .background_style(WHITE.mix(0.9))
+            .border_style(BLACK)
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()
+            .map_err(err)?;
+        Ok(())
+    }
+}

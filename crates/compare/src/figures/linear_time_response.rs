@@ -1,0 +1,115 @@
+//! The paper's Figure 2: steady linear response of both masses with the two walls of the outer
+//! mass (`u_o ± Δ`), at a few frequencies.
+
+use crate::plot::{err, text, Figure};
+use crate::scene::Scene;
+use nalgebra::Complex;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use rattle_analytic::linear_response;
+
+/// Figure 2 of the paper, for `scene` at `omegas`.
+pub struct LinearTimeResponse {
+    /// The scene (its gap draws the walls).
+    pub scene: Scene,
+    /// Frequencies, rad/s, one panel each.
+    pub omegas: Vec<f64>,
+}
+
+impl Figure for LinearTimeResponse {
+    fn name(&self) -> &str {
+        "linear-time-response"
+    }
+
+    fn size(&self) -> (u32, u32) {
+        (1500, 560)
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
+        let unit = self.scene.unit_model();
+        let gap = self.scene.stops.map(|s| s.gap).unwrap_or(0.0);
+        let (title, body) = root.split_vertically(50);
+        title
+            .draw_text(
+                &format!(
+                    "Linear steady state (stops ignored), scene '{}', walls at u_o ± Δ, Δ = {gap} m",
+                    self.scene.name
+                ),
+                &text(24),
+                (20, 12),
+            )
+            .map_err(err)?;
+        let panels = body.split_evenly((1, self.omegas.len()));
+        for (panel, &omega) in panels.iter().zip(&self.omegas) {
+            let lin = linear_response(&unit, omega);
+            let period = std::f64::consts::TAU / omega;
+            let n = 400;
+            let at = |amp: Complex<f64>, t: f64| (amp * Complex::new(0.0, omega * t).exp()).re;
+            let ts: Vec<f64> = (0..=n)
+                .map(|k| 2.0 * period * k as f64 / n as f64)
+                .collect();
+            let uo: Vec<(f64, f64)> = ts.iter().map(|&t| (t, at(lin.outer, t))).collect();
+            let ui: Vec<(f64, f64)> = ts.iter().map(|&t| (t, at(lin.inner, t))).collect();
+            let ymax = lin
+                .outer_amplitude
+                .max(lin.inner_amplitude)
+                .max(lin.outer_amplitude + gap)
+                * 1.15;
+            let mut chart = ChartBuilder::on(panel)
+                .caption(format!("ω = {omega} rad/s"), text(22))
+                .margin(12)
+                .x_label_area_size(45)
+                .y_label_area_size(60)
+                .build_cartesian_2d(0.0..2.0 * period, -ymax..ymax)
+                .map_err(err)?;
+            chart
+                .configure_mesh()
+                .x_desc("time t (s)")
+                .y_desc("displacement (m)")
+                .label_style(text(16))
+                .axis_desc_style(text(18))
+                .light_line_style(WHITE.mix(0.0))
+                .draw()
+                .map_err(err)?;
+            let blue = BLUE.stroke_width(2);
+            let red = RED.stroke_width(2);
+            chart
+                .draw_series(LineSeries::new(uo.iter().copied(), blue))
+                .map_err(err)?
+                .label("outer mass u_o")
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], blue));
+            chart
+                .draw_series(LineSeries::new(ui.iter().copied(), red))
+                .map_err(err)?
+                .label("inner mass u_i")
+                .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], red));
+            if gap > 0.0 {
+                for (sign, label, colour) in [
+                    (1.0, "side 1: u_o + Δ", BLACK),
+                    (-1.0, "side 2: u_o − Δ", RGBColor(120, 120, 120)),
+                ] {
+                    let style = colour.stroke_width(1);
+                    chart
+                        .draw_series(DashedLineSeries::new(
+                            uo.iter().map(|&(t, u)| (t, u + sign * gap)),
+                            6,
+                            4,
+                            style,
+                        ))
+                        .map_err(err)?
+                        .label(label)
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+                }
+            }
+            chart
+                .configure_series_labels()
+                .label_font(text(14))
+                .background_style(WHITE.mix(0.85))
+                .border_style(BLACK)
+                .position(SeriesLabelPosition::LowerRight)
+                .draw()
+                .map_err(err)?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,206 @@
+//! The event-driven simulator on a scene: building its model with only the scene's effects,
+//! starting it from rest or on an analytic orbit, and naming the regime it settles in.
+
+use crate::scene::Scene;
+use nalgebra::{DVector, Vector2, Vector4};
+use rattle_analytic::flow::ForcedFlow;
+use rattle_analytic::linear::transmittance_db;
+use rattle_analytic::Orbit;
+use rattle_event_driven::{
+    simulate, Model, ModelError, SimulationError, SimulationOptions, Start, Status, SteadyState,
+};
+use thiserror::Error;
+
+/// A failure of the simulator on a scene.
+#[derive(Debug, Error)]
+pub enum SimulateError {
+    /// The scene does not make a valid model.
+    #[error("model: {0}")]
+    Model(#[from] ModelError),
+    /// The simulation itself failed.
+    #[error("simulation: {0}")]
+    Simulation(#[from] SimulationError),
+}
+
+/// The motion the simulator settled in, in a researcher's words.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Regime {
+    /// Periodic, no impacts in the final cycle.
+    NoImpact,
+    /// Period 1 with one impact on each stop: the motion of the two-impact model.
+    TwoImpact,
+    /// Period 1 with another number or pattern of impacts.
+    MoreImpacts,
+    /// Periodic with period `p > 1`.
+    Subharmonic,
+    /// Not periodic within the cap.
+    Irregular,
+    /// The final cycle contains sticking on a stop.
+    Sticking,
+    /// Undamped and elastic: transients never decay, no steady state to report.
+    Undecided,
+}
+
+impl Regime {
+    /// The word used in JSON and CSV.
+    pub fn name(self) -> &'static str {
+        match self {
+            Regime::NoImpact => "no-impact",
+            Regime::TwoImpact => "two-impact",
+            Regime::MoreImpacts => "more-impacts",
+            Regime::Subharmonic => "subharmonic",
+            Regime::Irregular => "irregular",
+            Regime::Sticking => "sticking",
+            Regime::Undecided => "no-dissipation",
+        }
+    }
+
+    /// Words for legends.
+    pub fn words(self) -> &'static str {
+        match self {
+            Regime::NoImpact => "no impact",
+            Regime::TwoImpact => "two impacts per period (period 1)",
+            Regime::MoreImpacts => "other impacts, period 1",
+            Regime::Subharmonic => "period p > 1",
+            Regime::Irregular => "not periodic",
+            Regime::Sticking => "sticking",
+            Regime::Undecided => "no dissipation (transients persist)",
+        }
+    }
+}
+
+/// What the simulator found at one frequency.
+#[derive(Debug, Clone)]
+pub struct SimulatedPoint {
+    /// Angular frequency, rad/s.
+    pub omega: f64,
+    /// The regime.
+    pub regime: Regime,
+    /// The simulator's own report.
+    pub steady: SteadyState,
+    /// `X_o = max|u_o|` over the final cycle.
+    pub outer_amplitude: f64,
+    /// `20 log10(X_o/u_g)`, `None` when no steady state was reached.
+    pub transmittance_db: Option<f64>,
+    /// For a two-impact motion: the state just before the side-1 impact and the base phase
+    /// `α ∈ (−π, π]` there, to compare with an analytic orbit.
+    pub side1_impact: Option<(Vector4<f64>, f64)>,
+}
+
+/// The simulator's model of `scene` at `omega`: contact pair only with stops, damping terms
+/// only with damping.
+pub fn model(scene: &Scene, omega: f64) -> Result<Model, ModelError> {
+    let unit = scene.unit_model();
+    let damping = unit.damping;
+    Model::two_dof_unit(
+        unit.outer_mass,
+        unit.inner_mass,
+        unit.outer_stiffness,
+        unit.inner_stiffness,
+        damping.map(|d| d.outer),
+        damping.map(|d| d.inner),
+        unit.base_amplitude,
+        omega,
+        scene.stops.map(|s| (s.gap, s.restitution)),
+    )
+}
+
+/// Where to start: at rest at `t = 0`, or on an analytic orbit (mid-flight, at the right
+/// forcing phase), optionally nudged by a relative `perturbation`.
+pub fn start_on_orbit(scene: &Scene, orbit: &Orbit, perturbation: f64) -> Start {
+    let unit = scene.unit_model();
+    let flow = ForcedFlow::new(&unit, orbit.omega);
+    let t_mid = 0.5 * orbit.beta * flow.period();
+    let p0 = Vector2::new(orbit.alpha.cos(), orbit.alpha.sin());
+    let (x, _) = flow.transition(t_mid).apply(&orbit.state_after_impact, &p0);
+    let scale = x.norm().max(orbit.gap);
+    let nudge = Vector4::new(1.0, -0.7, 0.4, 0.9) * (perturbation * scale);
+    let x = x + nudge;
+    // Base phase ω t_sim = ω t + α.
+    let time = (t_mid + orbit.alpha / orbit.omega).rem_euclid(flow.period());
+    Start {
+        state: DVector::from_column_slice(x.as_slice()),
+        time,
+    }
+}
+
+/// Runs the simulator on `scene` at `omega` from `start` and names the regime.
+pub fn run(
+    scene: &Scene,
+    omega: f64,
+    start: &Start,
+    options: &SimulationOptions,
+) -> Result<SimulatedPoint, SimulateError> {
+    let model = model(scene, omega)?;
+    let steady = simulate(&model, omega, start, options)?;
+    let regime = regime(&steady);
+    let outer_amplitude = steady.amplitudes.first().copied().unwrap_or(f64::NAN);
+    let settled = !matches!(steady.status, Status::NoDissipation);
+    let transmittance = (settled && outer_amplitude.is_finite())
+        .then(|| transmittance_db(outer_amplitude, scene.base.amplitude));
+    let side1_impact = (regime == Regime::TwoImpact)
+        .then(|| {
+            steady.cycle_impacts.iter().find(|i| i.side > 0).map(|i| {
+                let s = &i.state_before;
+                let alpha = wrap(omega * i.phase);
+                (Vector4::new(s[0], s[1], s[2], s[3]), alpha)
+            })
+        })
+        .flatten();
+    Ok(SimulatedPoint {
+        omega,
+        regime,
+        steady,
+        outer_amplitude,
+        transmittance_db: transmittance,
+        side1_impact,
+    })
+}
+
+fn wrap(angle: f64) -> f64 {
+    let w = angle.rem_euclid(std::f64::consts::TAU);
+    if w > std::f64::consts::PI {
+        w - std::f64::consts::TAU
+    } else {
+        w
+    }
+}
+
+/// Names the regime of a steady state.
+pub fn regime(steady: &SteadyState) -> Regime {
+    match steady.status {
+        Status::NoDissipation => Regime::Undecided,
+        Status::NonPeriodic => Regime::Irregular,
+        Status::Periodic => {
+            if steady.sticking {
+                Regime::Sticking
+            } else if steady.cycle_impacts.is_empty() {
+                Regime::NoImpact
+            } else if steady.period != Some(1) {
+                Regime::Subharmonic
+            } else {
+                let sides: Vec<i8> = steady.cycle_impacts.iter().map(|i| i.side).collect();
+                if sides.len() == 2 && sides[0] != sides[1] {
+                    Regime::TwoImpact
+                } else {
+                    Regime::MoreImpacts
+                }
+            }
+        }
+    }
+}
+
+/// The simulator's status as a word: `periodic`, `non-periodic` or `no-dissipation`, with
+/// `, sticking` appended when the final cycle sticks.
+pub fn status_name(steady: &SteadyState) -> String {
+    let base = match steady.status {
+        Status::Periodic => "periodic",
+        Status::NonPeriodic => "non-periodic",
+        Status::NoDissipation => "no-dissipation",
+    };
+    if steady.sticking {
+        format!("{base}, sticking")
+    } else {
+        base.to_owned()
+    }
+}

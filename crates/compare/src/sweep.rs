@@ -1,0 +1,277 @@
+//! Frequency sweeps: every point computed independently and in parallel (rayon), collected in
+//! frequency order, so the output is the same whatever the number of threads.
+
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// `points` frequencies evenly spaced from `omega_min` to `omega_max` inclusive.
+pub fn frequencies(omega_min: f64, omega_max: f64, points: usize) -> Vec<f64> {
+    match points {
+        0 => Vec::new(),
+        1 => vec![omega_min],
+        n => (0..n)
+            .map(|i| omega_min + (omega_max - omega_min) * i as f64 / (n - 1) as f64)
+            .collect(),
+    }
+}
+
+/// Maps `work` over `inputs` in parallel, in order; draws a progress line on stderr when it is
+/// a terminal and `label` is given.
+pub fn parallel_map<I, O, F>(inputs: &[I], label: Option<&str>, work: F) -> Vec<O>
+where
+    I: Sync,
+    O: Send,
+    F: Fn(&I) -> O + Sync + Send,
+{
+    use rayon::prelude::*;
+    let total = inputs.len();
+    let done = AtomicUsize::new(0);
+    let show = label.filter(|_| std::io::stderr().is_terminal());
+    let out: Vec<O> = inputs
+        .par_iter()
+        .map(|input| {
+            let result = work(input);
+            if let Some(label) = show {
+                let n = done.fetch_add(1, Ordering::Relaxed) + 1;
+                if n == total || n % (total / 100).max(1) == 0 {
+                    eprint!(
+                        "\r{label}: {n}/{total} ({:.0}%)",
+                        100.0 * n as f64 / total as f64
+                    );
+                }
+            }
+            result
+        })
+        .collect();
+    if show.is_some() {
+        eprintln!();
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frequencies_are_inclusive_and_even() {
+        let f = frequencies(1.0, 2.0, 5);
+        assert_eq!(f, vec![1.0, 1.25, 1.5, 1.75, 2.0]);
+        assert_eq!(frequencies(1.0, 2.0, 1), vec![1.0]);
+    }
+
+    #[test]
+    fn parallel_map_keeps_order() {
+        let inputs: Vec<usize> = (0..1000).collect();
+        let out = parallel_map(&inputs, None, |&i| i * 2);
+        assert!(out.iter().enumerate().all(|(i, &o)| o == 2 * i));
+    }
+}
+
+use crate::classify::{compare, ComparedPoint};
+use crate::frequency::{analyse, AnalyticPoint};
+use crate::json::number;
+use crate::scene::Scene;
+use crate::simulation::{run, SimulatedPoint};
+use rattle_event_driven::{SimulationOptions, Start};
+use serde_json::{json, Value};
+
+/// Which solver a sweep runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Solver {
+    /// The closed-form solver: linear steady state and symmetric two-impact orbits.
+    Analytic,
+    /// The event-driven simulator from rest.
+    Event,
+    /// Both, with the simulator also started on every viable orbit, and a verdict.
+    Both,
+}
+
+impl Solver {
+    /// The solver's name as on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Analytic => "analytic",
+            Solver::Event => "event",
+            Solver::Both => "both",
+        }
+    }
+}
+
+/// The result at one frequency of a sweep.
+#[derive(Debug, Clone)]
+pub enum SweepPoint {
+    /// Analytic only.
+    Analytic(AnalyticPoint),
+    /// Simulator only.
+    Event(SimulatedPoint),
+    /// Both and the verdict.
+    Both(Box<ComparedPoint>),
+    /// This frequency failed; the message says why.
+    Failed {
+        /// The frequency.
+        omega: f64,
+        /// Why.
+        message: String,
+    },
+}
+
+/// Runs `solver` on `scene` at every frequency of `omegas`, in parallel, in order.
+pub fn sweep(
+    scene: &Scene,
+    omegas: &[f64],
+    solver: Solver,
+    options: &SimulationOptions,
+    progress: bool,
+) -> Vec<SweepPoint> {
+    let label = progress.then_some("sweep");
+    parallel_map(omegas, label, |&omega| {
+        let failed = |message: String| SweepPoint::Failed { omega, message };
+        match solver {
+            Solver::Analytic => analyse(scene, omega, false)
+                .map(SweepPoint::Analytic)
+                .unwrap_or_else(|e| failed(e.to_string())),
+            Solver::Event => run(scene, omega, &Start::rest(2), options)
+                .map(SweepPoint::Event)
+                .unwrap_or_else(|e| failed(e.to_string())),
+            Solver::Both => compare(scene, omega, options)
+                .map(|c| SweepPoint::Both(Box::new(c)))
+                .unwrap_or_else(|e| failed(e.to_string())),
+        }
+    })
+}
+
+/// The columns of a sweep table, in order; the same names in JSON and CSV.
+pub const COLUMNS: [&str; 26] = [
+    "omega",
+    "linear_outer_amplitude",
+    "linear_transmittance_db",
+    "linear_touches_stops",
+    "orbits",
+    "stable_viable_orbits",
+    "branch0_alpha",
+    "branch0_outer_amplitude",
+    "branch0_transmittance_db",
+    "branch0_viable",
+    "branch0_stable",
+    "branch1_alpha",
+    "branch1_outer_amplitude",
+    "branch1_transmittance_db",
+    "branch1_viable",
+    "branch1_stable",
+    "simulated_regime",
+    "simulated_status",
+    "simulated_period",
+    "simulated_impacts_per_period",
+    "simulated_outer_amplitude",
+    "simulated_transmittance_db",
+    "simulated_sticking",
+    "class",
+    "relative_difference",
+    "error",
+];
+
+fn analytic_cells(p: &AnalyticPoint, gap: Option<f64>, row: &mut [Value]) {
+    row[1] = number(p.linear.outer_amplitude);
+    row[2] = number(p.linear.transmittance_db);
+    row[3] = gap.map_or(Value::Null, |g| json!(p.linear.relative_amplitude > g));
+    row[4] = json!(p.orbits.len());
+    row[5] = json!(p
+        .orbits
+        .iter()
+        .filter(|(_, o)| o.viable && o.stable)
+        .count());
+    for (branch, o) in &p.orbits {
+        if *branch < 2 {
+            let base = 6 + 5 * branch;
+            row[base] = number(o.alpha);
+            row[base + 1] = number(o.outer_amplitude);
+            row[base + 2] = number(o.transmittance_db);
+            row[base + 3] = json!(o.viable);
+            row[base + 4] = json!(o.stable);
+        }
+    }
+}
+
+fn simulated_cells(s: &SimulatedPoint, row: &mut [Value]) {
+    row[16] = json!(s.regime.name());
+    row[17] = json!(crate::simulation::status_name(&s.steady));
+    row[18] = s.steady.period.map_or(Value::Null, |p| json!(p));
+    row[19] = number(s.steady.impacts_per_period);
+    row[20] = number(s.outer_amplitude);
+    row[21] = s.transmittance_db.map_or(Value::Null, number);
+    row[22] = json!(s.steady.sticking);
+}
+
+/// One row of the sweep table.
+pub fn row(point: &SweepPoint, gap: Option<f64>) -> Vec<Value> {
+    let mut row = vec![Value::Null; COLUMNS.len()];
+    match point {
+        SweepPoint::Analytic(p) => {
+            row[0] = number(p.omega);
+            analytic_cells(p, gap, &mut row);
+        }
+        SweepPoint::Event(s) => {
+            row[0] = number(s.omega);
+            simulated_cells(s, &mut row);
+        }
+        SweepPoint::Both(c) => {
+            row[0] = number(c.analytic.omega);
+            analytic_cells(&c.analytic, gap, &mut row);
+            simulated_cells(&c.from_rest, &mut row);
+            row[23] = json!(c.class.name());
+            row[24] = c.difference.map_or(Value::Null, |d| number(d.largest()));
+        }
+        SweepPoint::Failed { omega, message } => {
+            row[0] = number(*omega);
+            row[25] = json!(message);
+        }
+    }
+    row
+}
+
+/// The sweep as one JSON document: the scene, the solver and one object per frequency.
+pub fn to_json(scene: &Scene, solver: Solver, points: &[SweepPoint]) -> Value {
+    let gap = scene.stops.map(|s| s.gap);
+    let results: Vec<Value> = points
+        .iter()
+        .map(|p| {
+            let mut obj = serde_json::Map::new();
+            for (k, v) in COLUMNS.iter().zip(row(p, gap)) {
+                obj.insert((*k).to_owned(), v);
+            }
+            if let SweepPoint::Both(c) = p {
+                obj.insert("class_detail".into(), json!(c.class.detail()));
+            }
+            Value::Object(obj)
+        })
+        .collect();
+    json!({
+        "scene": scene,
+        "solver": solver.name(),
+        "effects": scene.effects().iter().map(|e| e.name()).collect::<Vec<_>>(),
+        "points": points.len(),
+        "results": results,
+    })
+}
+
+/// The sweep as CSV: a header of [`COLUMNS`], one row per frequency; empty cells where a
+/// value does not apply or is not finite. Loads with `pandas.read_csv` or MATLAB `readtable`.
+pub fn to_csv(scene: &Scene, points: &[SweepPoint]) -> String {
+    let gap = scene.stops.map(|s| s.gap);
+    let mut out = COLUMNS.join(",");
+    out.push('\n');
+    for p in points {
+        let cells: Vec<String> = row(p, gap)
+            .into_iter()
+            .map(|v| match v {
+                Value::Null => String::new(),
+                Value::String(s) => format!("\"{}\"", s.replace('"', "\"\"")),
+                other => other.to_string(),
+            })
+            .collect();
+        out.push_str(&cells.join(","));
+        out.push('\n');
+    }
+    out
+}

@@ -1,0 +1,323 @@
+//! Real functions of time that are finite sums of (polynomial × complex exponential) terms:
+//! the form every coordinate of a linear flow takes between events. Evaluation, a rigorous
+//! bound on the second derivative, the *first* root after zero with a guarantee, and extrema.
+
+use nalgebra::Complex;
+
+type C64 = Complex<f64>;
+
+/// One term `(c₀ + c₁ s + c₂ s² + c₃ s³) e^{μ s}`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Term {
+    /// Polynomial coefficients, lowest degree first.
+    pub poly: [C64; 4],
+    /// Complex rate `μ`.
+    pub rate: C64,
+}
+
+/// `f(s) = Re Σ_j term_j(s)`.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ExpSum {
+    /// The terms.
+    pub terms: Vec<Term>,
+}
+
+impl ExpSum {
+    /// Value and first derivative at `s`.
+    #[inline]
+    pub fn eval(&self, s: f64) -> (f64, f64) {
+        let (mut v, mut d) = (0.0, 0.0);
+        for t in &self.terms {
+            let e = (t.rate * s).exp();
+            let p = t.poly;
+            let poly = p[0] + (p[1] + (p[2] + p[3] * s) * s) * s;
+            let dpoly = p[1] + (p[2] * 2.0 + p[3] * (3.0 * s)) * s;
+            v += (poly * e).re;
+            d += ((dpoly + poly * t.rate) * e).re;
+        }
+        (v, d)
+    }
+
+    /// A bound on `|f''(s)|` for `s ∈ [0, horizon]`: each term's polynomial and its
+    /// derivatives bounded at `s = horizon` with absolute coefficients, times
+    /// `max(1, e^{Re μ · horizon})`.
+    pub fn curvature_bound(&self, horizon: f64) -> f64 {
+        let h = horizon;
+        self.terms
+            .iter()
+            .map(|t| {
+                let a: [f64; 4] = [
+                    t.poly[0].norm(),
+                    t.poly[1].norm(),
+                    t.poly[2].norm(),
+                    t.poly[3].norm(),
+                ];
+                let p0 = a[0] + h * (a[1] + h * (a[2] + h * a[3]));
+                let p1 = a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]);
+                let p2 = 2.0 * a[2] + 6.0 * h * a[3];
+                let m = t.rate.norm();
+                let growth = (t.rate.re * h).exp().max(1.0);
+                (p2 + 2.0 * m * p1 + m * m * p0) * growth
+            })
+            .sum()
+    }
+
+    /// The first `s ∈ (0, horizon]` where `f` reaches zero from above, given `f(0) ≥ 0`;
+    /// `None` if `f > 0` on all of `(0, horizon]` (up to the grazing tolerance).
+    ///
+    /// Guarantee: intervals are discarded only when the lower bound
+    /// `f(m) − |f'(m)| w − ½ M w²` (with `M` = [`Self::curvature_bound`]) is positive, so no
+    /// crossing can be skipped, however close two crossings are; intervals are searched left to
+    /// right. A bracket on which `f` is monotone is polished by safeguarded Newton to
+    /// `time_tolerance`. A dip below zero narrower than `time_tolerance` is reported at its left
+    /// end. `leaving` says `f` starts at a contact and moves away (`f(0) = 0`, `f'(0) > 0`):
+    /// the root at `s = 0` is then not reported.
+    pub fn first_root(
+        &self,
+        horizon: f64,
+        time_tolerance: f64,
+        depth_tolerance: f64,
+    ) -> Option<f64> {
+        let curvature = self.curvature_bound(horizon);
+        // Explicit stack, left intervals on top.
+        let mut stack: Vec<(f64, f64, f64, f64)> = Vec::with_capacity(64);
+        let (f0, _) = self.eval(0.0);
+        let (fh, _) = self.eval(horizon);
+        stack.push((0.0, horizon, f0, fh));
+        while let Some((a, b, fa, fb)) = stack.pop() {
+            let m = 0.5 * (a + b);
+            let w = 0.5 * (b - a);
+            let (fm, dm) = self.eval(m);
+            if fm - dm.abs() * w - 0.5 * curvature * w * w > 0.0 {
+                continue; // f > 0 on all of [a, b]
+            }
+            if dm.abs() > curvature * w {
+                // f is monotone on [a, b]: at most one root.
+                if fa > 0.0 {
+                    if fb <= 0.0 {
+                        return Some(polish(self, a, b, time_tolerance));
+                    }
+                    continue; // positive at both ends of a monotone stretch
+                }
+                // f(a) ≤ 0 happens only at a = 0: starting on a contact. Moving away from it
+                // (f increasing) is no contact; moving into it is one, now.
+                if dm > 0.0 {
+                    continue;
+                }
+                return Some(a);
+            }
+            if w < time_tolerance {
+                // A dip narrower than the time tolerance: a contact if it is deeper than the
+                // depth tolerance.
+                if fm < -depth_tolerance || fb < -depth_tolerance {
+                    return Some(m);
+                }
+                continue;
+            }
+            stack.push((m, b, fm, fb));
+            stack.push((a, m, fa, fm));
+        }
+        None
+    }
+
+    /// The first `s ∈ [0, horizon]` where `f` leaves the open band `(lo, hi)`: `(s, +1)` on
+    /// reaching `hi`, `(s, −1)` on reaching `lo`. `f(0)` is inside the band or on an edge; a
+    /// start on an edge moving back inside is not an exit.
+    ///
+    /// Same guarantee as [`Self::first_root`]: an interval is discarded only when the bound
+    /// `f(m) ± (|f'(m)| w + ½ M w²)` lies inside the band, intervals are searched left to right,
+    /// and a monotone bracket is polished by safeguarded Newton. A dip beyond an edge narrower
+    /// than `time_tolerance` counts when it is deeper than `depth_tolerance`.
+    pub fn first_exit(
+        &self,
+        lo: f64,
+        hi: f64,
+        horizon: f64,
+        time_tolerance: f64,
+        depth_tolerance: f64,
+    ) -> Option<(f64, i8)> {
+        let curvature = self.curvature_bound(horizon);
+        let mut stack: Vec<(f64, f64, f64, f64)> = Vec::with_capacity(64);
+        stack.push((0.0, horizon, self.eval(0.0).0, self.eval(horizon).0));
+        while let Some((a, b, fa, fb)) = stack.pop() {
+            let m = 0.5 * (a + b);
+            let w = 0.5 * (b - a);
+            let (fm, dm) = self.eval(m);
+            let reach = dm.abs() * w + 0.5 * curvature * w * w;
+            if fm + reach < hi && fm - reach > lo {
+                continue;
+            }
+            if dm.abs() > curvature * w {
+                // Monotone on [a, b]: it can only reach `hi` if increasing, `lo` if decreasing.
+                if dm > 0.0 {
+                    if fa >= hi {
+                        return Some((a, 1)); // on the upper edge at the start, moving out
+                    }
+                    if fb >= hi {
+                        let g = self.shifted(-hi).negated(); // hi − f: positive, then ≤ 0
+                        return Some((polish(&g, a, b, time_tolerance), 1));
+                    }
+                } else {
+                    if fa <= lo {
+                        return Some((a, -1));
+                    }
+                    if fb <= lo {
+                        let g = self.shifted(-lo); // f − lo: positive, then ≤ 0
+                        return Some((polish(&g, a, b, time_tolerance), -1));
+                    }
+                }
+                continue;
+            }
+            if w < time_tolerance {
+                if fm >= hi + depth_tolerance {
+                    return Some((m, 1));
+                }
+                if fm <= lo - depth_tolerance {
+                    return Some((m, -1));
+                }
+                continue;
+            }
+            stack.push((m, b, fm, fb));
+            stack.push((a, m, fa, fm));
+        }
+        None
+    }
+
+    /// `f + c`.
+    pub fn shifted(&self, c: f64) -> ExpSum {
+        let mut out = self.clone();
+        out.terms.push(Term {
+            poly: [
+                C64::new(c, 0.0),
+                C64::default(),
+                C64::default(),
+                C64::default(),
+            ],
+            rate: C64::default(),
+        });
+        out
+    }
+
+    /// `−f`.
+    pub fn negated(&self) -> ExpSum {
+        let mut out = self.clone();
+        for t in &mut out.terms {
+            for c in &mut t.poly {
+                *c = -*c;
+            }
+        }
+        out
+    }
+
+    /// Maximum of `|f|` on `[0, horizon]` to an absolute tolerance `tolerance`, by branch and
+    /// bound with the curvature bound.
+    pub fn max_abs(&self, horizon: f64, tolerance: f64) -> f64 {
+        let curvature = self.curvature_bound(horizon);
+        let mut best = self.eval(0.0).0.abs().max(self.eval(horizon).0.abs());
+        let mut stack = vec![(0.0, horizon)];
+        while let Some((a, b)) = stack.pop() {
+            let m = 0.5 * (a + b);
+            let w = 0.5 * (b - a);
+            let (fm, dm) = self.eval(m);
+            best = best.max(fm.abs());
+            if fm.abs() + dm.abs() * w + 0.5 * curvature * w * w <= best + tolerance
+                || w < 1e-15 * horizon
+            {
+                continue;
+            }
+            stack.push((a, m));
+            stack.push((m, b));
+        }
+        best
+    }
+}
+
+/// The root of `f` in `[a, b]` where `f(a) > 0 ≥ f(b)` and `f` is monotone: Newton, falling
+/// back to bisection when a step leaves the bracket.
+fn polish(f: &ExpSum, mut a: f64, mut b: f64, tol: f64) -> f64 {
+    let mut s = 0.5 * (a + b);
+    for _ in 0..100 {
+        let (v, d) = f.eval(s);
+        if v > 0.0 {
+            a = s;
+        } else {
+            b = s;
+        }
+        let newton = s - v / d;
+        let next = if newton > a && newton < b {
+            newton
+        } else {
+            0.5 * (a + b)
+        };
+        if (next - s).abs() <= tol || b - a <= tol {
+            return next;
+        }
+        s = next;
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cosine(amplitude: f64, omega: f64, phase: f64, offset: f64) -> ExpSum {
+        // offset + A cos(ωs + φ) = Re[offset + A e^{iφ} e^{iωs}]
+        ExpSum {
+            terms: vec![
+                Term {
+                    poly: [
+                        C64::new(offset, 0.0),
+                        C64::default(),
+                        C64::default(),
+                        C64::default(),
+                    ],
+                    rate: C64::default(),
+                },
+                Term {
+                    poly: [
+                        C64::from_polar(amplitude, phase),
+                        C64::default(),
+                        C64::default(),
+                        C64::default(),
+                    ],
+                    rate: C64::new(0.0, omega),
+                },
+            ],
+        }
+    }
+
+    #[test]
+    fn finds_the_first_of_two_crossings() {
+        // 0.5 + cos(s): first zero at 2π/3.
+        let f = cosine(1.0, 1.0, 0.0, 0.5);
+        let r = f.first_root(10.0, 1e-14, 0.0).unwrap();
+        assert!((r - 2.0 * std::f64::consts::PI / 3.0).abs() < 1e-12, "{r}");
+    }
+
+    #[test]
+    fn catches_a_dip_narrower_than_any_coarse_sampling() {
+        // 1 − (1 + 1e-6) cos(s − 3): below zero only for |s − 3| < 1.4e-3.
+        let f = cosine(1.0 + 1e-6, 1.0, std::f64::consts::PI - 3.0, 1.0);
+        let r = f.first_root(6.0, 1e-14, 0.0).expect("dip found");
+        let exact = 3.0 - (1.0 / (1.0 + 1e-6f64)).acos();
+        assert!((r - exact).abs() < 1e-10, "{r} vs {exact}");
+        // A function that only comes within 1e-9 of zero is not a crossing.
+        let g = cosine(1.0, 1.0, std::f64::consts::PI, 1.0 + 1e-9);
+        assert_eq!(g.first_root(6.0, 1e-14, 0.0), None);
+    }
+
+    #[test]
+    fn leaving_a_contact_is_not_a_contact() {
+        // sin(s) starts at 0 and increases: first root at π.
+        let f = cosine(1.0, 1.0, -std::f64::consts::FRAC_PI_2, 0.0);
+        let r = f.first_root(5.0, 1e-14, 0.0).unwrap();
+        assert!((r - std::f64::consts::PI).abs() < 1e-12, "{r}");
+    }
+
+    #[test]
+    fn max_abs_is_exact_for_a_sinusoid() {
+        let f = cosine(2.0, 3.0, 0.4, 0.0);
+        assert!((f.max_abs(5.0, 1e-14) - 2.0).abs() < 1e-13);
+    }
+}
