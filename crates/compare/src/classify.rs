@@ -4,7 +4,7 @@
 use crate::frequency::{analyse, AnalyticPoint};
 use crate::scene::Scene;
 use crate::simulation::{run, start_on_orbit, Regime, SimulateError, SimulatedPoint};
-use rattle_analytic::{Orbit, OrbitError};
+use rattle_analytic::{asymmetric_orbits, Orbit, OrbitError};
 use rattle_event_driven::{SimulationOptions, Start};
 use thiserror::Error;
 
@@ -109,6 +109,8 @@ pub struct ComparedPoint {
     pub difference: Option<Difference>,
     /// The verdict.
     pub class: Class,
+    /// What the from-rest motion matched, in words (e.g. `symmetric branch 1`), if anything.
+    pub matched: Option<String>,
     /// Whether the analytic prediction "a stable viable orbit exists" matches "the simulator
     /// holds an orbit started on it".
     pub prediction_confirmed: bool,
@@ -160,10 +162,40 @@ pub fn compare(
     // its free transients never decay).
     let linear_candidate = linear_clear && damped;
 
-    let mut difference_from_rest = stable
-        .iter()
-        .filter_map(|o| difference(&from_rest, o))
-        .min_by(|a, b| a.largest().total_cmp(&b.largest()));
+    let mut matched = None;
+    let mut difference_from_rest = None;
+    for (branch, o) in analytic.orbits.iter().filter(|(_, o)| o.viable && o.stable) {
+        if let Some(d) = difference(&from_rest, o) {
+            if difference_from_rest.is_none_or(|best: Difference| d.largest() < best.largest()) {
+                difference_from_rest = Some(d);
+                matched = Some(format!("symmetric branch {branch}"));
+            }
+        }
+    }
+    // A two-impact motion off the symmetric orbits: look for it in the β family.
+    let asymmetric = from_rest.regime == Regime::TwoImpact
+        && symmetric_spacing(&from_rest).is_some_and(|b| (b - 0.5).abs() > 1e-6)
+        && !difference_from_rest.is_some_and(|d| d.largest() < MATCH_TOLERANCE);
+    if asymmetric {
+        if let Some(stops) = scene.stops_model() {
+            for o in asymmetric_orbits(
+                &scene.unit_model(),
+                &stops,
+                omega,
+                crate::frequency::BETA_SAMPLES,
+            ) {
+                if let Some(d) = difference(&from_rest, &o) {
+                    if d.largest() < MATCH_TOLERANCE {
+                        difference_from_rest = Some(d);
+                        matched = Some(format!(
+                            "asymmetric orbit β = {:.6} (stable: {})",
+                            o.beta, o.stable
+                        ));
+                    }
+                }
+            }
+        }
+    }
     let linear_match = linear_candidate
         && from_rest.regime == Regime::NoImpact
         && (from_rest.outer_amplitude - analytic.linear.outer_amplitude).abs()
@@ -176,6 +208,7 @@ pub fn compare(
             impact_state: 0.0,
             phase: 0.0,
         });
+        matched = Some("linear motion clear of the stops".into());
     }
     let rest_match =
         linear_match || difference_from_rest.is_some_and(|d| d.largest() < MATCH_TOLERANCE);
@@ -220,6 +253,7 @@ pub fn compare(
         trials,
         difference: difference_from_rest,
         class,
+        matched,
         prediction_confirmed,
     })
 }

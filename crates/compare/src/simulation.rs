@@ -138,7 +138,15 @@ pub fn run(
     let settled = !matches!(steady.status, Status::NoDissipation);
     let transmittance = (settled && outer_amplitude.is_finite())
         .then(|| transmittance_db(outer_amplitude, scene.base.amplitude));
-    let side1_impact = (regime == Regime::TwoImpact)
+    // A two-impact motion, or one still converging to it (two alternating impacts per period
+    // without repeating to the tolerance yet).
+    let alternating = steady.impacts_per_period == 2.0
+        && steady
+            .cycle_impacts
+            .windows(2)
+            .all(|w| w[0].side != w[1].side);
+    let side1_impact = (regime == Regime::TwoImpact
+        || (regime == Regime::Irregular && alternating))
         .then(|| {
             steady.cycle_impacts.iter().find(|i| i.side > 0).map(|i| {
                 let s = &i.state_before;

@@ -242,6 +242,7 @@ pub fn to_json(scene: &Scene, solver: Solver, points: &[SweepPoint]) -> Value {
             }
             if let SweepPoint::Both(c) = p {
                 obj.insert("class_detail".into(), json!(c.class.detail()));
+                obj.insert("matched".into(), json!(c.matched));
             }
             Value::Object(obj)
         })

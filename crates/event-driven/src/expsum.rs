@@ -38,6 +38,55 @@ impl ExpSum {
         (v, d)
     }
 
+    /// Value and first two derivatives at `s`.
+    #[inline]
+    pub fn eval2(&self, s: f64) -> (f64, f64, f64) {
+        let (mut v, mut d, mut dd) = (0.0, 0.0, 0.0);
+        for t in &self.terms {
+            let e = (t.rate * s).exp();
+            let p = t.poly;
+            let mu = t.rate;
+            let poly = p[0] + (p[1] + (p[2] + p[3] * s) * s) * s;
+            let d1 = p[1] + (p[2] * 2.0 + p[3] * (3.0 * s)) * s;
+            let d2 = p[2] * 2.0 + p[3] * (6.0 * s);
+            v += (poly * e).re;
+            d += ((d1 + poly * mu) * e).re;
+            dd += ((d2 + (d1 * 2.0 + poly * mu) * mu) * e).re;
+        }
+        (v, d, dd)
+    }
+
+    /// A bound on `|f'''(s)|` for `s ∈ [0, horizon]`, like [`Self::curvature_bound`].
+    pub fn jerk_bound(&self, horizon: f64) -> f64 {
+        let h = horizon;
+        self.terms
+            .iter()
+            .map(|t| {
+                let a: [f64; 4] = [
+                    t.poly[0].norm(),
+                    t.poly[1].norm(),
+                    t.poly[2].norm(),
+                    t.poly[3].norm(),
+                ];
+                let p0 = a[0] + h * (a[1] + h * (a[2] + h * a[3]));
+                let p1 = a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]);
+                let p2 = 2.0 * a[2] + 6.0 * h * a[3];
+                let p3 = 6.0 * a[3];
+                let m = t.rate.norm();
+                let growth = (t.rate.re * h).exp().max(1.0);
+                (p3 + 3.0 * m * p2 + 3.0 * m * m * p1 + m * m * m * p0) * growth
+            })
+            .sum()
+    }
+
+    /// The fastest rate `max |μ|` among the terms (at least `1/horizon`).
+    fn fastest(&self, horizon: f64) -> f64 {
+        self.terms
+            .iter()
+            .map(|t| t.rate.norm())
+            .fold(1.0 / horizon, f64::max)
+    }
+
     /// A bound on `|f''(s)|` for `s ∈ [0, horizon]`: each term's polynomial and its
     /// derivatives bounded at `s = horizon` with absolute coefficients, times
     /// `max(1, e^{Re μ · horizon})`.
@@ -136,18 +185,32 @@ impl ExpSum {
         time_tolerance: f64,
         depth_tolerance: f64,
     ) -> Option<(f64, i8)> {
-        let curvature = self.curvature_bound(horizon);
+        let jerk = self.jerk_bound(horizon);
+        // Start from chunks about a quarter of the fastest oscillation long: coarser ones are
+        // never excluded and would only cost evaluations.
+        let chunks = ((horizon * self.fastest(horizon) * 4.0 / std::f64::consts::TAU).ceil()
+            as usize)
+            .clamp(1, 4096);
         let mut stack: Vec<(f64, f64, f64, f64)> = Vec::with_capacity(64);
-        stack.push((0.0, horizon, self.eval(0.0).0, self.eval(horizon).0));
+        let mut ends: Vec<f64> = (0..=chunks)
+            .map(|i| horizon * i as f64 / chunks as f64)
+            .collect();
+        ends[chunks] = horizon;
+        let values: Vec<f64> = ends.iter().map(|&t| self.eval(t).0).collect();
+        for i in (0..chunks).rev() {
+            stack.push((ends[i], ends[i + 1], values[i], values[i + 1]));
+        }
         while let Some((a, b, fa, fb)) = stack.pop() {
             let m = 0.5 * (a + b);
             let w = 0.5 * (b - a);
-            let (fm, dm) = self.eval(m);
-            let reach = dm.abs() * w + 0.5 * curvature * w * w;
+            let (fm, dm, ddm) = self.eval2(m);
+            // |f(t) − f(m) − f'(m)(t−m)| ≤ ½|f''(m)| w² + ⅙ M₃ w³ on [a, b].
+            let reach = dm.abs() * w + 0.5 * ddm.abs() * w * w + jerk * w * w * w / 6.0;
             if fm + reach < hi && fm - reach > lo {
                 continue;
             }
-            if dm.abs() > curvature * w {
+            // Monotone when |f'| cannot reach zero: |f'(t) − f'(m)| ≤ |f''(m)| w + ½ M₃ w².
+            if dm.abs() > ddm.abs() * w + 0.5 * jerk * w * w {
                 // Monotone on [a, b]: it can only reach `hi` if increasing, `lo` if decreasing.
                 if dm > 0.0 {
                     if fa >= hi {

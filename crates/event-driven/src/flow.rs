@@ -236,17 +236,21 @@ impl Flight<'_> {
     }
 }
 
-/// Merges terms with equal rates (and constant polynomials) to cut evaluation cost.
+/// Merges terms with equal rates, and folds each term with rate `μ̄` into the one with rate `μ`
+/// (`Re(B e^{μ̄s}) = Re(B̄ e^{μs})`): half the exponentials to evaluate for a real system.
 fn merge(terms: Vec<Term>) -> Vec<Term> {
     let mut out: Vec<Term> = Vec::with_capacity(terms.len());
     for t in terms {
-        match out.iter_mut().find(|o| o.rate == t.rate) {
-            Some(o) => {
-                for i in 0..4 {
-                    o.poly[i] += t.poly[i];
-                }
+        if let Some(o) = out.iter_mut().find(|o| o.rate == t.rate) {
+            for i in 0..4 {
+                o.poly[i] += t.poly[i];
             }
-            None => out.push(t),
+        } else if let Some(o) = out.iter_mut().find(|o| o.rate == t.rate.conj()) {
+            for i in 0..4 {
+                o.poly[i] += t.poly[i].conj();
+            }
+        } else {
+            out.push(t);
         }
     }
     out

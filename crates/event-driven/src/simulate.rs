@@ -390,6 +390,10 @@ impl<'m> Engine<'m> {
         let tol_scale = self.gap_scale().max(1e-300);
         let depth = 1e-12 * tol_scale;
         let v_tiny = 1e-10 * self.omega * tol_scale;
+        // After a release the pair leaves the stop with zero relative velocity and acceleration;
+        // rounding must not read that as a new contact. Contacts are ignored until `grace`.
+        let settle = 1e-10 * period;
+        let mut grace = f64::NEG_INFINITY;
 
         let first_strobe = tau == 0.0;
         if first_strobe {
@@ -431,7 +435,25 @@ impl<'m> Engine<'m> {
                             }
                         }
                     }
-                    let span = event.map_or(horizon, |e| e.0);
+                    if let Some((s, _, _)) = event {
+                        if tau + s < grace {
+                            // Just released: step past the stop's edge without an event.
+                            let step = (grace - tau).min(horizon);
+                            y = flight.state(step);
+                            tau += step;
+                            if tau >= period {
+                                tau = period;
+                            } else {
+                                continue;
+                            }
+                        }
+                    }
+                    let event = event.filter(|_| tau < period);
+                    let span = if tau >= period {
+                        0.0
+                    } else {
+                        event.map_or(horizon, |e| e.0)
+                    };
                     if let Some(w) = window.as_mut() {
                         for (j, amp) in w.amplitudes.iter_mut().enumerate() {
                             let mut c = DVector::zeros(2 * n);
@@ -446,6 +468,7 @@ impl<'m> Engine<'m> {
                         }
                     }
                     match event {
+                        None if tau >= period => {}
                         None => {
                             y = flight.state(horizon);
                             tau = period;
@@ -562,6 +585,7 @@ impl<'m> Engine<'m> {
                     match release {
                         Some(s) => {
                             tau += s;
+                            grace = tau + settle;
                             mode = Mode::Free;
                             events_this_period += 1;
                             if events_this_period > 1_000_000 {
@@ -590,6 +614,18 @@ impl<'m> Engine<'m> {
                 Some((until, _)) => k >= until,
                 None => k >= limit,
             };
+            // Undamped and no impact for QUIET periods: nothing will ever dissipate the
+            // transients (unless a later beat reaches a stop; the status says so).
+            let quiet = !self.model.has_damping()
+                && options.fixed_periods.is_none()
+                && observe_until.is_none()
+                && k >= QUIET
+                && last_impact_period.is_none_or(|last| k - last > QUIET);
+            if quiet && window.is_none() {
+                // Observe one more stretch for the amplitudes, then stop.
+                observe_until = Some((k + window_len, window_len as u32));
+                continue;
+            }
             if done {
                 break;
             }
@@ -603,7 +639,15 @@ impl<'m> Engine<'m> {
             }
         }
         let window = window.unwrap_or_default();
-        let period_found = least_period(&ring, p_max, options.periodicity_tolerance, tol_scale);
+        // A period detected while running is confirmed at the end with ten times the
+        // tolerance (a transient through complex multipliers does not decay monotonically);
+        // a fixed run is judged from its tail alone.
+        let period_found = match observe_until {
+            Some((_, p)) => (repeat_error(&ring, p as usize, tol_scale)
+                <= 10.0 * options.periodicity_tolerance)
+                .then_some(p),
+            None => least_period(&ring, p_max, options.periodicity_tolerance, tol_scale),
+        };
         let no_recent_impacts =
             last_impact_period.is_none_or(|last| k.saturating_sub(last) > window_len);
         let status = match period_found {
@@ -657,6 +701,9 @@ impl<'m> Engine<'m> {
     }
 }
 
+/// Undamped motion with no impact for this many periods is reported as `NoDissipation`.
+const QUIET: u64 = 500;
+
 /// Dense samples of a segment: about 200 per forcing period, ends included.
 fn sample<F: Fn(f64) -> (f64, DVector<f64>)>(
     out: &mut Vec<(f64, DVector<f64>)>,
@@ -670,6 +717,27 @@ fn sample<F: Fn(f64) -> (f64, DVector<f64>)>(
     }
 }
 
+/// Largest relative `|x_k − x_{k−p}|` over the last two sections (`∞` if too few).
+fn repeat_error(ring: &VecDeque<DVector<f64>>, p: usize, gap: f64) -> f64 {
+    let len = ring.len();
+    if len <= p + 1 {
+        return f64::INFINITY;
+    }
+    (0..2)
+        .map(|back| {
+            let a = &ring[len - 1 - back];
+            let b = &ring[len - 1 - back - p];
+            let diff = a
+                .iter()
+                .zip(b.iter())
+                .map(|(x, y)| (x - y) * (x - y))
+                .sum::<f64>()
+                .sqrt();
+            diff / a.norm().max(gap).max(1e-300)
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Differences within this factor of the tolerance at a smaller multiplicity make a period
 /// ambiguous: a transient decaying through a negative or complex Floquet multiplier can repeat
 /// at `2T` long before it repeats at `T`.
@@ -679,21 +747,11 @@ const AMBIGUITY: f64 = 1e3;
 /// smaller multiplicity comes within [`AMBIGUITY`] of the tolerance (then it is too early to
 /// tell, and `None` is returned).
 fn least_period(ring: &VecDeque<DVector<f64>>, p_max: usize, tol: f64, gap: f64) -> Option<u32> {
-    let len = ring.len();
-    let worst = |p: usize| {
-        (0..2)
-            .map(|back| {
-                let a = &ring[len - 1 - back];
-                let b = &ring[len - 1 - back - p];
-                (a - b).norm() / a.norm().max(gap).max(1e-300)
-            })
-            .fold(0.0, f64::max)
-    };
     for p in 1..=p_max {
-        if len <= p + 1 {
+        if ring.len() <= p + 1 {
             return None;
         }
-        let d = worst(p);
+        let d = repeat_error(ring, p, gap);
         if d <= tol {
             return Some(p as u32);
         }
