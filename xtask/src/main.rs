@@ -64,7 +64,7 @@ fn figures(args: &[String]) -> Result<(), String> {
         ..s
     });
     eprintln!("study of scene '{}' (reading B)", other_scene.name);
-    let other = Study::run(&other_scene, size, &options, true);
+    let other = Study::run(&other_scene, size.without_extras(), &options, true);
     let mut elastic = scene.clone();
     elastic.stops = scene.stops.map(|s| StopsSpec {
         restitution: 1.0,

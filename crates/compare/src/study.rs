@@ -39,8 +39,18 @@ impl StudySize {
             omega_max: 4.0,
             analytic_points: 1561,
             compared_points: 400,
-            bifurcation_points: 300,
+            bifurcation_points: 240,
             beta_points: 197,
+        }
+    }
+
+    /// The same frequencies without the bifurcation sweeps and the family: what a second
+    /// reading of the scene needs for the report.
+    pub fn without_extras(self) -> Self {
+        Self {
+            bifurcation_points: 0,
+            beta_points: 0,
+            ..self
         }
     }
 
@@ -100,6 +110,12 @@ impl Study {
         options: &SimulationOptions,
         progress: bool,
     ) -> Study {
+        let clock = std::time::Instant::now();
+        let lap = |what: &str| {
+            if progress {
+                eprintln!("  {what}: {:.1} s", clock.elapsed().as_secs_f64());
+            }
+        };
         let grid = frequencies(size.omega_min, size.omega_max, size.analytic_points);
         let analytic: Vec<AnalyticPoint> =
             parallel_map(&grid, progress.then_some("analytic"), |&w| {
@@ -109,6 +125,7 @@ impl Study {
             .filter_map(Result::ok)
             .collect();
 
+        lap("analytic grid");
         let grid = frequencies(size.omega_min, size.omega_max, size.compared_points);
         let results = parallel_map(&grid, progress.then_some("both solvers"), |&w| {
             compare(scene, w, options).map_err(|e| (w, e.to_string()))
@@ -122,6 +139,7 @@ impl Study {
             }
         }
 
+        lap("both solvers");
         let grid = frequencies(size.omega_min, size.omega_max, size.bifurcation_points);
         let down_grid: Vec<f64> = grid.iter().rev().copied().collect();
         let directions = [grid, down_grid];
@@ -129,10 +147,12 @@ impl Study {
         let bifurcation_down = sweeps.pop().unwrap_or_default();
         let bifurcation_up = sweeps.pop().unwrap_or_default();
 
+        lap("bifurcation sweeps");
         let (family, confirmations) = match scene.stops {
             Some(stops) => family(scene, stops, size.beta_points, options),
             None => (Vec::new(), Vec::new()),
         };
+        lap("family");
         Study {
             scene: scene.clone(),
             size,
