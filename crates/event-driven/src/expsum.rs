@@ -313,7 +313,15 @@ fn polish(f: &ExpSum, mut a: f64, mut b: f64, tol: f64) -> f64 {
             0.5 * (a + b)
         };
         if (next - s).abs() <= tol || b - a <= tol {
-            return next;
+            // One more Newton step: converged Newton doubles its digits, so the contact time is
+            // far more accurate than the tolerance that stopped the iteration.
+            let (v, d) = f.eval(next);
+            let last = next - v / d;
+            return if (last - next).abs() <= tol {
+                last
+            } else {
+                next
+            };
         }
         s = next;
     }

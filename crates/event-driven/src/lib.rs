@@ -17,6 +17,7 @@ pub mod expsum;
 pub mod flow;
 pub mod model;
 pub mod simulate;
+pub mod test_models;
 
 pub use model::{ContactPair, Model, ModelError};
 pub use simulate::{

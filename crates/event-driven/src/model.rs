@@ -58,6 +58,8 @@ pub struct Model {
     pub(crate) forcing_cos: DVector<f64>,
     pub(crate) forcing_sin: DVector<f64>,
     pub(crate) contacts: Vec<ContactPair>,
+    /// Per contact: `d` and `M⁻¹d`.
+    pub(crate) directions: Vec<(DVector<f64>, DVector<f64>)>,
 }
 
 impl Model {
@@ -129,6 +131,20 @@ impl Model {
                 "in [0, 1]",
             )?;
         }
+        let minv = mass
+            .clone()
+            .try_inverse()
+            .ok_or_else(|| ModelError::Size("the mass matrix is singular".into()))?;
+        let directions = contacts
+            .iter()
+            .map(|c| {
+                let mut d = DVector::zeros(n);
+                d[c.plus_dof] = 1.0;
+                d[c.minus_dof] = -1.0;
+                let mobility = &minv * &d;
+                (d, mobility)
+            })
+            .collect();
         Ok(Model {
             mass,
             stiffness,
@@ -136,6 +152,7 @@ impl Model {
             forcing_cos,
             forcing_sin,
             contacts,
+            directions,
         })
     }
 
@@ -222,6 +239,23 @@ impl Model {
     /// The mass matrix.
     pub fn mass(&self) -> &DMatrix<f64> {
         &self.mass
+    }
+
+    /// Velocities just after an impact of contact pair `pair`, from those just before:
+    /// Newton's restitution along the contact direction `d`,
+    /// `v⁺ = v⁻ − (1 + e) (d·v⁻) M⁻¹d / (dᵀM⁻¹d)`. Momentum `Σ M v` is conserved, the relative
+    /// velocity maps as `ṙ⁺ = −e ṙ⁻`, and the kinetic energy drops by `½ μ (1 − e²) ṙ⁻²`,
+    /// `μ = 1/(dᵀM⁻¹d)`. With `restitution = Some(e')`, `e'` replaces the pair's own.
+    pub fn impact_velocities(
+        &self,
+        pair: usize,
+        before: &DVector<f64>,
+        restitution: Option<f64>,
+    ) -> DVector<f64> {
+        let e = restitution.unwrap_or(self.contacts[pair].restitution);
+        let (d, mobility) = &self.directions[pair];
+        let rdot = d.dot(before);
+        before - mobility * ((1.0 + e) * rdot / d.dot(mobility))
     }
 
     /// True when nothing dissipates: no damping and every restitution is 1.

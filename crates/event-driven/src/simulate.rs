@@ -488,9 +488,12 @@ impl<'m> Engine<'m> {
                             let e = p.spec.restitution;
                             let approaching = rdot * side as f64 > 0.0;
                             if approaching {
-                                let dv = &p.mobility * (-(1.0 + e) * rdot / p.compliance);
-                                let mut v = after.rows_mut(n, n);
-                                v += dv;
+                                let v = self.model.impact_velocities(
+                                    i,
+                                    &before.rows(n, n).into_owned(),
+                                    None,
+                                );
+                                after.rows_mut(n, n).copy_from(&v);
                                 impacts += 1;
                                 last_impact_period = Some(k);
                                 if let Some(w) = window.as_mut() {
@@ -520,10 +523,12 @@ impl<'m> Engine<'m> {
                                     || !approaching);
                             if stick {
                                 // Plastic: relative velocity to zero, momentum kept.
-                                let rd = p.direction.dot(&after.rows(n, n));
-                                let dv = &p.mobility * (-rd / p.compliance);
-                                let mut v = after.rows_mut(n, n);
-                                v += dv;
+                                let v = self.model.impact_velocities(
+                                    i,
+                                    &after.rows(n, n).into_owned(),
+                                    Some(0.0),
+                                );
+                                after.rows_mut(n, n).copy_from(&v);
                                 let idx = self.stuck_index(i, side)?;
                                 mode = Mode::Stuck(idx);
                             }
