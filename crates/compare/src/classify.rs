@@ -225,7 +225,7 @@ pub fn compare(
         .map(|t| t.branch)
         .collect();
     let held_any = trials.iter().any(|t| t.held);
-    let prediction_confirmed = !stable.is_empty() == held_any;
+    let prediction_confirmed = stable.is_empty() != held_any;
 
     let class = if !left.is_empty() {
         Class::Contradiction(format!(

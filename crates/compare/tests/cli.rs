@@ -118,3 +118,44 @@ fn bad_input_exits_2_and_names_the_problem() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--beta"));
 }
+
+#[test]
+fn simulate_json_has_the_documented_fields() {
+    let doc = json(&[
+        "simulate",
+        "data/scenes/paper-damped.json",
+        "--omega",
+        "2.0",
+        "--json",
+    ]);
+    for key in [
+        "omega",
+        "effects",
+        "status",
+        "period",
+        "impacts_per_period",
+        "outer_amplitude",
+        "transmittance_db",
+        "periods_run",
+        "impacts",
+    ] {
+        assert!(doc.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(doc["effects"], serde_json::json!(["stops", "damping"]));
+    assert_eq!(doc["status"], "periodic");
+    assert_eq!(doc["period"], 1);
+    assert_eq!(doc["impacts_per_period"], 2.0);
+    // A fixed number of periods is honoured.
+    let doc = json(&["simulate", "--omega", "2.0", "--periods", "7", "--json"]);
+    assert_eq!(doc["periods_run"], 7);
+    // The undamped elastic scene never settles, and says so.
+    let doc = json(&[
+        "simulate",
+        "data/scenes/paper-elastic.json",
+        "--omega",
+        "2.0",
+        "--json",
+    ]);
+    assert_eq!(doc["status"], "no-dissipation");
+    assert_eq!(doc["transmittance_db"], serde_json::Value::Null);
+}

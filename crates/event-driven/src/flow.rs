@@ -150,7 +150,7 @@ impl LinearFlow {
             .try_inverse()
             .ok_or(FlowError::Defective(f64::INFINITY))?;
         let condition = modes.norm() * inverse.norm();
-        if !(condition < 1e10) {
+        if condition.is_nan() || condition >= 1e10 {
             return Err(FlowError::Defective(condition));
         }
         let lift = |f: DVector<C64>| {

@@ -205,8 +205,9 @@ pub fn simulate(
             2 * n
         )));
     }
-    if !(options.root_tolerance > 0.0 && options.root_tolerance < 1.0)
-        || !(options.periodicity_tolerance > 0.0 && options.periodicity_tolerance < 1.0)
+    let in_unit = |x: f64| x > 0.0 && x < 1.0;
+    if !in_unit(options.root_tolerance)
+        || !in_unit(options.periodicity_tolerance)
         || options.max_period_multiplicity == 0
     {
         return Err(SimulationError::Option(

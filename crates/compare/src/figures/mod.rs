@@ -13,8 +13,11 @@ use crate::study::{impact_rows, stroboscopic_outer, Study};
 use rattle_event_driven::SimulationOptions;
 use std::path::{Path, PathBuf};
 
+/// Claimed bands `(from, to, label)` and marks `(ω, label)`.
+type Claims = (Vec<(f64, f64, String)>, Vec<(f64, String)>);
+
 /// The paper's claimed attenuation bands and marks, for the transmittance figure.
-fn paper_claims() -> (Vec<(f64, f64, String)>, Vec<(f64, String)>) {
+fn paper_claims() -> Claims {
     (
         vec![
             (1.5, 2.2, "paper: linear band 1.5–2.2".into()),
