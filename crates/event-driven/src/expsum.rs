@@ -144,7 +144,7 @@ impl ExpSum {
                 // f is monotone on [a, b]: at most one root.
                 if fa > 0.0 {
                     if fb <= 0.0 {
-                        return Some(polish(self, a, b, time_tolerance));
+                        return Some(polish(self, a, b, 0.5 * (a + b), time_tolerance));
                     }
                     continue; // positive at both ends of a monotone stretch
                 }
@@ -187,19 +187,28 @@ impl ExpSum {
     ) -> Option<(f64, i8)> {
         let jerk = self.jerk_bound(horizon);
         // Start from chunks about a quarter of the fastest oscillation long: coarser ones are
-        // never excluded and would only cost evaluations.
+        // never excluded and would only cost evaluations. End values are computed on demand
+        // (NaN until then).
         let chunks = ((horizon * self.fastest(horizon) * 4.0 / std::f64::consts::TAU).ceil()
             as usize)
             .clamp(1, 4096);
         let mut stack: Vec<(f64, f64, f64, f64)> = Vec::with_capacity(64);
-        let mut ends: Vec<f64> = (0..=chunks)
-            .map(|i| horizon * i as f64 / chunks as f64)
-            .collect();
-        ends[chunks] = horizon;
-        let values: Vec<f64> = ends.iter().map(|&t| self.eval(t).0).collect();
         for i in (0..chunks).rev() {
-            stack.push((ends[i], ends[i + 1], values[i], values[i + 1]));
+            let a = horizon * i as f64 / chunks as f64;
+            let b = if i + 1 == chunks {
+                horizon
+            } else {
+                horizon * (i + 1) as f64 / chunks as f64
+            };
+            stack.push((a, b, f64::NAN, f64::NAN));
         }
+        let value = |known: f64, at: f64| {
+            if known.is_nan() {
+                self.eval(at).0
+            } else {
+                known
+            }
+        };
         while let Some((a, b, fa, fb)) = stack.pop() {
             let m = 0.5 * (a + b);
             let w = 0.5 * (b - a);
@@ -212,13 +221,24 @@ impl ExpSum {
             // Monotone when |f'| cannot reach zero: |f'(t) − f'(m)| ≤ |f''(m)| w + ½ M₃ w².
             if dm.abs() > ddm.abs() * w + 0.5 * jerk * w * w {
                 // Monotone on [a, b]: it can only reach `hi` if increasing, `lo` if decreasing.
+                // Quadratic model at m: a first guess for Newton.
+                let guess = |target: f64| {
+                    let disc = dm * dm - 2.0 * ddm * (fm - target);
+                    let step = if ddm != 0.0 && disc >= 0.0 {
+                        (-dm + dm.signum() * disc.sqrt()) / ddm
+                    } else {
+                        (target - fm) / dm
+                    };
+                    (m + step).clamp(a, b)
+                };
+                let (fa, fb) = (value(fa, a), value(fb, b));
                 if dm > 0.0 {
                     if fa >= hi {
                         return Some((a, 1)); // on the upper edge at the start, moving out
                     }
                     if fb >= hi {
                         let g = self.shifted(-hi).negated(); // hi − f: positive, then ≤ 0
-                        return Some((polish(&g, a, b, time_tolerance), 1));
+                        return Some((polish(&g, a, b, guess(hi), time_tolerance), 1));
                     }
                 } else {
                     if fa <= lo {
@@ -226,7 +246,7 @@ impl ExpSum {
                     }
                     if fb <= lo {
                         let g = self.shifted(-lo); // f − lo: positive, then ≤ 0
-                        return Some((polish(&g, a, b, time_tolerance), -1));
+                        return Some((polish(&g, a, b, guess(lo), time_tolerance), -1));
                     }
                 }
                 continue;
@@ -295,10 +315,10 @@ impl ExpSum {
     }
 }
 
-/// The root of `f` in `[a, b]` where `f(a) > 0 ≥ f(b)` and `f` is monotone: Newton, falling
-/// back to bisection when a step leaves the bracket.
-fn polish(f: &ExpSum, mut a: f64, mut b: f64, tol: f64) -> f64 {
-    let mut s = 0.5 * (a + b);
+/// The root of `f` in `[a, b]` where `f(a) > 0 ≥ f(b)` and `f` is monotone: Newton from
+/// `start`, falling back to bisection when a step leaves the bracket.
+fn polish(f: &ExpSum, mut a: f64, mut b: f64, start: f64, tol: f64) -> f64 {
+    let mut s = start;
     for _ in 0..100 {
         let (v, d) = f.eval(s);
         if v > 0.0 {
