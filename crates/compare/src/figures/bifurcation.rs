@@ -9,6 +9,8 @@ use plotters::prelude::*;
 pub struct Bifurcation {
     /// Scene name, for the title.
     pub scene_name: String,
+    /// Frequency range swept, rad/s.
+    pub omega_range: (f64, f64),
     /// `(ω, u_o(kT))` of the upward sweep.
     pub up: Vec<(f64, f64)>,
     /// `(ω, u_o(kT))` of the downward sweep.
@@ -27,23 +29,27 @@ impl Figure for Bifurcation {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let all = self.up.iter().chain(&self.down).map(|p| p.0);
-        let wmin = all.clone().fold(f64::INFINITY, f64::min);
-        let wmax = all.fold(f64::NEG_INFINITY, f64::max);
-        let ys = self
+        let (wmin, wmax) = self.omega_range;
+        // Scale to the bulk of the points (98th percentile): a few huge excursions near
+        // resonance would otherwise flatten everything else; they are clipped at the frame.
+        let mut mags: Vec<f64> = self
             .up
             .iter()
             .chain(&self.down)
-            .map(|p| p.1)
-            .chain(self.analytic.iter().map(|p| p.1));
-        let ymax = ys.fold(0.0f64, |a, y| a.max(y.abs())).clamp(1e-3, 50.0) * 1.1;
+            .map(|p| p.1.abs())
+            .chain(self.analytic.iter().map(|p| p.1.abs()))
+            .filter(|v| v.is_finite())
+            .collect();
+        mags.sort_by(f64::total_cmp);
+        let bulk = mags.get(mags.len() * 98 / 100).copied().unwrap_or(1.0);
+        let ymax = bulk.max(1e-3) * 1.2;
         let mut chart = ChartBuilder::on(root)
             .caption(
                 format!(
-                    "Stroboscopic outer displacement u_o(kT), sweeps up and down, scene '{}'",
+                    "Stroboscopic u_o(kT), sweeping up and down, scene '{}' (outliers clipped to the frame)",
                     self.scene_name
                 ),
-                text(28),
+                text(22),
             )
             .margin(20)
             .x_label_area_size(55)

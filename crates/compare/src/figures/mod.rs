@@ -98,6 +98,7 @@ pub fn generate(
     written.extend(save(
         &bifurcation::Bifurcation {
             scene_name: name,
+            omega_range: (study.size.omega_min, study.size.omega_max),
             up: study.bifurcation_up.clone(),
             down: study.bifurcation_down.clone(),
             analytic,
