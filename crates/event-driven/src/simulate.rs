@@ -421,6 +421,10 @@ impl<'m> Engine<'m> {
             match mode {
                 Mode::Free => {
                     let flight = self.free.flight(&y, tau);
+                    // Positions are known to rounding relative to their size, not to the gap:
+                    // an excursion beyond a stop smaller than that is no contact.
+                    let position_scale = y.rows(0, n).amax();
+                    let depth = depth + 1e-14 * position_scale;
                     let mut event: Option<(f64, usize, i8)> = None;
                     for (i, p) in self.pairs.iter().enumerate() {
                         let r = flight.functional(&p.position);
@@ -487,7 +491,10 @@ impl<'m> Engine<'m> {
                             // out of it (rounding) is handled as sticking below.
                             let mut after = before.clone();
                             let e = p.spec.restitution;
-                            let approaching = rdot * side as f64 > 0.0;
+                            // Velocities are known to rounding relative to their size: a slower
+                            // approach is a graze, not an impact.
+                            let velocity_round = 1e-13 * before.rows(n, n).amax();
+                            let approaching = rdot * side as f64 > velocity_round;
                             if approaching {
                                 let v = self.model.impact_velocities(
                                     i,
@@ -519,9 +526,14 @@ impl<'m> Engine<'m> {
                                 f64::INFINITY
                             };
                             let stick = push > 0.0
-                                && (rdot_after.abs() <= v_tiny
-                                    || accumulation < 1e-9 * period
+                                && (rdot_after.abs() <= v_tiny + velocity_round
+                                    || accumulation < CHATTER * period
                                     || !approaching);
+                            if !approaching && !stick {
+                                // A touch that is neither an impact nor a hold (rounding at a
+                                // graze): step past it rather than find it again.
+                                grace = tau + settle;
+                            }
                             if stick {
                                 // Plastic: relative velocity to zero, momentum kept.
                                 let v = self.model.impact_velocities(
@@ -706,6 +718,11 @@ impl<'m> Engine<'m> {
         })
     }
 }
+
+/// Chatter is cut short when the remaining bounces would all fit in this fraction of a period:
+/// the pair then sticks at once (the state error is of order the remaining relative velocity
+/// times that time).
+const CHATTER: f64 = 1e-6;
 
 /// Undamped motion with no impact for this many periods is reported as `NoDissipation`.
 const QUIET: u64 = 500;
