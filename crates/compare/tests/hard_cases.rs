@@ -1,0 +1,138 @@
+//! The hard-case suite: every scene of `validation/hard-cases/` through both solvers, with the
+//! behaviour each must keep (see that folder's README).
+
+use rattle_analytic::{linear_response, symmetric_orbits};
+use rattle_compare::classify::{compare, Class, MATCH_TOLERANCE};
+use rattle_compare::scene::Scene;
+use rattle_compare::simulation::{run, Regime};
+use rattle_event_driven::{SimulationOptions, Start, Status};
+use std::path::Path;
+
+fn scene(name: &str) -> Scene {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../validation/hard-cases")
+        .join(format!("{name}.json"));
+    Scene::load(&path).unwrap()
+}
+
+fn finite_simulation(s: &Scene, omega: f64) -> rattle_compare::simulation::SimulatedPoint {
+    let sim = run(s, omega, &Start::rest(2), &SimulationOptions::default()).unwrap();
+    assert!(
+        sim.outer_amplitude.is_finite(),
+        "{}: X_o not finite",
+        s.name
+    );
+    assert!(sim.steady.impacts_per_period.is_finite());
+    sim
+}
+
+#[test]
+fn beta_half_symmetric_orbit_is_found_and_reached() {
+    let s = scene("beta-half");
+    let p = compare(&s, 2.0, &SimulationOptions::default()).unwrap();
+    assert_eq!(p.class, Class::Agreement);
+    assert!(p.difference.unwrap().largest() < MATCH_TOLERANCE);
+}
+
+#[test]
+fn exact_resonance_stays_finite() {
+    let s = scene("exact-resonance");
+    let w = 1.5f64.sqrt();
+    let lin = linear_response(&s.unit_model(), w);
+    assert!(lin.unbounded);
+    let orbits = symmetric_orbits(&s.unit_model(), &s.stops_model().unwrap(), w).unwrap();
+    assert!(!orbits.is_empty());
+    assert!(orbits
+        .iter()
+        .all(|o| o.outer_amplitude.is_finite() && o.alpha.is_finite()));
+    finite_simulation(&s, w);
+}
+
+#[test]
+fn internal_resonance_is_continuous_and_finite() {
+    let s = scene("internal-resonance");
+    let w = 1.5f64.sqrt();
+    let (unit, stops) = (s.unit_model(), s.stops_model().unwrap());
+    let at = symmetric_orbits(&unit, &stops, w).unwrap();
+    for d in [-1e-7, 1e-7] {
+        let near = symmetric_orbits(&unit, &stops, w + d).unwrap();
+        assert_eq!(near.len(), at.len());
+        for (a, b) in at.iter().zip(&near) {
+            assert!((a.outer_amplitude - b.outer_amplitude).abs() < 1e-4 * a.outer_amplitude);
+        }
+    }
+    finite_simulation(&s, w);
+}
+
+#[test]
+fn grazing_is_caught_and_the_run_stays_bounded() {
+    // The gap is the linear motion's relative amplitude less 1e-8 of it: started on the linear
+    // steady state, the first period already holds a graze of width ~1e-4 of the period.
+    let s = scene("grazing");
+    let w = 0.9;
+    let lin = linear_response(&s.unit_model(), w);
+    let v = |a: nalgebra::Complex<f64>| (a * nalgebra::Complex::new(0.0, w)).re;
+    let start = Start {
+        state: nalgebra::DVector::from_vec(vec![
+            lin.outer.re,
+            lin.inner.re,
+            v(lin.outer),
+            v(lin.inner),
+        ]),
+        time: 0.0,
+    };
+    let one = SimulationOptions {
+        fixed_periods: Some(1),
+        ..SimulationOptions::default()
+    };
+    let sim = run(&s, w, &start, &one).unwrap();
+    assert!(sim.steady.impacts >= 1, "graze missed");
+    // From rest the near-grazing dynamics need not settle, but the run ends with finite numbers.
+    finite_simulation(&s, w);
+}
+
+#[test]
+fn chatter_ends_in_sticking() {
+    let sim = finite_simulation(&scene("chatter"), 0.6);
+    assert!(sim.steady.sticking);
+}
+
+#[test]
+fn plastic_impacts_stick() {
+    let sim = finite_simulation(&scene("plastic"), 0.8);
+    assert!(sim.steady.sticking);
+    assert!(sim.steady.impacts_per_period <= 4.0);
+}
+
+#[test]
+fn no_dissipation_is_reported() {
+    let sim = finite_simulation(&scene("no-dissipation"), 2.0);
+    assert_eq!(sim.regime, Regime::Undecided);
+    assert!(sim.steady.periods_run <= 1000);
+    assert!(sim.transmittance_db.is_none());
+}
+
+#[test]
+fn long_run_of_the_linear_unit() {
+    let s = scene("long-run");
+    assert!(s.stops.is_none());
+    let options = SimulationOptions {
+        fixed_periods: Some(1_000_000),
+        ..SimulationOptions::default()
+    };
+    let sim = run(&s, 1.1, &Start::rest(2), &options).unwrap();
+    assert_eq!(sim.steady.periods_run, 1_000_000);
+    assert_eq!(sim.steady.status, Status::Periodic);
+    // From rest, a million periods of light damping leave the linear steady state.
+    let lin = linear_response(&s.unit_model(), 1.1);
+    assert!((sim.outer_amplitude - lin.outer_amplitude).abs() < 1e-9 * lin.outer_amplitude);
+}
+
+#[test]
+fn coexisting_attractors_are_named() {
+    let s = scene("coexistence");
+    let p = compare(&s, 1.86, &SimulationOptions::default()).unwrap();
+    assert_eq!(p.class, Class::Coexistence, "{:?}", p.class);
+    assert!(p.trials.iter().any(|t| t.held));
+    assert_ne!(p.from_rest.regime, Regime::TwoImpact);
+}
