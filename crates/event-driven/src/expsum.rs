@@ -185,6 +185,22 @@ impl ExpSum {
         time_tolerance: f64,
         depth_tolerance: f64,
     ) -> Option<(f64, i8)> {
+        // Envelope test: constant part ± the largest each varying term can be on the horizon.
+        // When that band lies inside (lo, hi) no exit is possible, at no evaluation cost.
+        let (mut centre, mut spread) = (0.0, 0.0);
+        for t in &self.terms {
+            if t.rate == C64::default() && t.poly[1..].iter().all(|c| *c == C64::default()) {
+                centre += t.poly[0].re;
+            } else {
+                let h = horizon;
+                let a = t.poly;
+                let size = a[0].norm() + h * (a[1].norm() + h * (a[2].norm() + h * a[3].norm()));
+                spread += size * (t.rate.re * h).exp().max(1.0);
+            }
+        }
+        if centre + spread < hi && centre - spread > lo {
+            return None;
+        }
         let jerk = self.jerk_bound(horizon);
         // Start from chunks about a quarter of the fastest oscillation long: coarser ones are
         // never excluded and would only cost evaluations. End values are computed on demand
