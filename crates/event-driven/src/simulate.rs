@@ -621,6 +621,7 @@ impl<'m> Engine<'m> {
             k += 1;
             tau = 0.0;
             events_this_period = 0;
+            grace = f64::NEG_INFINITY; // `grace` is a time within the period just ended
             if let Some(w) = window.as_mut() {
                 w.stroboscopic.push(y.clone());
             }
