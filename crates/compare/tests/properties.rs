@@ -107,3 +107,34 @@ proptest! {
         }
     }
 }
+
+/// Found by the property above: after a release from sticking, contacts were ignored until the
+/// release's time *within the period*, also in the next period — the inner mass passed through
+/// a stop. Kept as a fixed case.
+#[test]
+fn regression_release_grace_does_not_leak_into_the_next_period() {
+    let scene = Scene {
+        name: "regression".into(),
+        unit: UnitSpec {
+            outer_mass: 0.5,
+            inner_mass: 4.923754389828173,
+            outer_stiffness: 4.289977251413697,
+            inner_stiffness: 0.5,
+        },
+        base: BaseSpec { amplitude: 0.1 },
+        stops: Some(StopsSpec {
+            gap: 0.05,
+            restitution: 0.48946877913933634,
+        }),
+        damping: None,
+    };
+    let options = SimulationOptions {
+        fixed_periods: Some(20),
+        record_trajectory: true,
+        ..SimulationOptions::default()
+    };
+    let sim = run(&scene, 0.3, &Start::rest(2), &options).unwrap();
+    for (t, x) in sim.steady.trajectory.as_ref().unwrap() {
+        assert!((x[1] - x[0]).abs() <= 0.05 * (1.0 + 1e-10), "t = {t}");
+    }
+}
