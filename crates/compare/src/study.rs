@@ -1,7 +1,7 @@
 //! The study behind `cargo xtask figures`: every sweep and simulation the figures and the
 //! validation report need, computed once from one scene.
 
-use crate::classify::{compare, ComparedPoint};
+use crate::classify::{compare_with, ComparedPoint};
 use crate::figures::beta_family::{Confirmation, Member};
 use crate::figures::impact_time_response::{ImpactRow, Samples};
 use crate::frequency::{analyse, AnalyticPoint};
@@ -29,6 +29,8 @@ pub struct StudySize {
     pub bifurcation_points: usize,
     /// Points of `β` per family curve.
     pub beta_points: usize,
+    /// Whether the compared sweep also starts the simulator on every viable orbit.
+    pub start_on_orbits: bool,
 }
 
 impl StudySize {
@@ -39,17 +41,21 @@ impl StudySize {
             omega_max: 4.0,
             analytic_points: 1561,
             compared_points: 400,
-            bifurcation_points: 240,
+            bifurcation_points: 200,
             beta_points: 197,
+            start_on_orbits: true,
         }
     }
 
-    /// The same frequencies without the bifurcation sweeps and the family: what a second
-    /// reading of the scene needs for the report.
+    /// Half the compared frequencies, without the bifurcation sweeps, the family and the starts
+    /// on the orbits: what a second reading of the scene needs for the report (bands,
+    /// Figure 4).
     pub fn without_extras(self) -> Self {
         Self {
+            compared_points: self.compared_points.div_ceil(2),
             bifurcation_points: 0,
             beta_points: 0,
+            start_on_orbits: false,
             ..self
         }
     }
@@ -63,6 +69,7 @@ impl StudySize {
             compared_points: 12,
             bifurcation_points: 12,
             beta_points: 20,
+            start_on_orbits: true,
         }
     }
 }
@@ -128,7 +135,7 @@ impl Study {
         lap("analytic grid");
         let grid = frequencies(size.omega_min, size.omega_max, size.compared_points);
         let results = parallel_map(&grid, progress.then_some("both solvers"), |&w| {
-            compare(scene, w, options).map_err(|e| (w, e.to_string()))
+            compare_with(scene, w, options, size.start_on_orbits).map_err(|e| (w, e.to_string()))
         });
         let mut compared = Vec::new();
         let mut failures = Vec::new();

@@ -723,7 +723,7 @@ impl<'m> Engine<'m> {
 /// Chatter is cut short when the remaining bounces would all fit in this fraction of a period:
 /// the pair then sticks at once (the state error is of order the remaining relative velocity
 /// times that time).
-const CHATTER: f64 = 1e-6;
+const CHATTER: f64 = 1e-5;
 
 /// Undamped motion with no impact for this many periods is reported as `NoDissipation`.
 const QUIET: u64 = 500;
