@@ -397,6 +397,7 @@ fn simulate_command(args: SimulateArgs) -> Result<String, RattleError> {
             "outer_amplitude": json::number(sim.outer_amplitude),
             "transmittance_db": sim.transmittance_db.map_or(Value::Null, json::number),
             "sticking": s.sticking,
+            "stopped_by": crate::simulation::stop_name(s.stopped),
             "periods_run": s.periods_run,
             "impacts": s.impacts,
         });

@@ -8,6 +8,7 @@ use rattle_analytic::linear::transmittance_db;
 use rattle_analytic::Orbit;
 use rattle_event_driven::{
     simulate, Model, ModelError, SimulationError, SimulationOptions, Start, Status, SteadyState,
+    Stop,
 };
 use thiserror::Error;
 
@@ -210,5 +211,15 @@ pub fn status_name(steady: &SteadyState) -> String {
         format!("{base}, sticking")
     } else {
         base.to_owned()
+    }
+}
+
+/// Why the run ended, in words: `decided` (periodic, or no dissipation possible), `fixed-periods`, `period-cap` or `event-cap`.
+pub fn stop_name(stop: Stop) -> &'static str {
+    match stop {
+        Stop::Settled => "decided",
+        Stop::FixedPeriods => "fixed-periods",
+        Stop::PeriodCap => "period-cap",
+        Stop::EventCap => "event-cap",
     }
 }

@@ -21,5 +21,5 @@ pub mod test_models;
 
 pub use model::{ContactPair, Model, ModelError};
 pub use simulate::{
-    simulate, ImpactRecord, SimulationError, SimulationOptions, Start, Status, SteadyState,
+    simulate, ImpactRecord, SimulationError, SimulationOptions, Start, Status, SteadyState, Stop,
 };

@@ -16,6 +16,9 @@ pub struct SimulationOptions {
     pub periodicity_tolerance: f64,
     /// Cap on forcing periods when running until steady.
     pub max_periods: u64,
+    /// Cap on events (impacts, stick and release) when running until steady: bounds the time
+    /// of motions with very many events per period. `None`: no cap.
+    pub max_events: Option<u64>,
     /// Largest period multiplicity `p` looked for.
     pub max_period_multiplicity: u32,
     /// Run exactly this many periods and judge the steady state from the tail.
@@ -30,6 +33,7 @@ impl Default for SimulationOptions {
             root_tolerance: 1e-12,
             periodicity_tolerance: 1e-9,
             max_periods: 20_000,
+            max_events: Some(2_000_000),
             max_period_multiplicity: 16,
             fixed_periods: None,
             record_trajectory: false,
@@ -68,6 +72,19 @@ pub enum Status {
     NoDissipation,
 }
 
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// The motion repeated (or nothing could dissipate its transients).
+    Settled,
+    /// The requested number of periods was run.
+    FixedPeriods,
+    /// The period cap was reached.
+    PeriodCap,
+    /// The event cap was reached.
+    EventCap,
+}
+
 /// One impact.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImpactRecord {
@@ -98,6 +115,8 @@ pub struct SteadyState {
     pub amplitudes: Vec<f64>,
     /// Whether the final cycle contains sticking.
     pub sticking: bool,
+    /// Why the run ended.
+    pub stopped: Stop,
     /// Forcing periods simulated.
     pub periods_run: u64,
     /// Impacts over the whole run.
@@ -388,6 +407,12 @@ impl<'m> Engine<'m> {
         let mut last_impact_period: Option<u64> = None;
         // Chatter bookkeeping.
         let mut events_this_period: u64 = 0;
+        let mut events_total: u64 = 0;
+        let mut stopped = if options.fixed_periods.is_some() {
+            Stop::FixedPeriods
+        } else {
+            Stop::PeriodCap
+        };
         let tol_scale = self.gap_scale().max(1e-300);
         let depth = 1e-12 * tol_scale;
         let v_tiny = 1e-10 * self.omega * tol_scale;
@@ -620,6 +645,7 @@ impl<'m> Engine<'m> {
             // Section t = (k + 1)T.
             k += 1;
             tau = 0.0;
+            events_total += events_this_period;
             events_this_period = 0;
             grace = f64::NEG_INFINITY; // `grace` is a time within the period just ended
             if let Some(w) = window.as_mut() {
@@ -628,6 +654,16 @@ impl<'m> Engine<'m> {
             ring.push_back(y.clone());
             if ring.len() > p_max + 2 {
                 ring.pop_front();
+            }
+            let out_of_events = options.fixed_periods.is_none()
+                && observe_until.is_none()
+                && options.max_events.is_some_and(|cap| events_total > cap);
+            if out_of_events {
+                // Observe one more stretch for the amplitudes, then stop.
+                stopped = Stop::EventCap;
+                observe_until = Some((k + window_len, window_len as u32));
+                window = None;
+                continue;
             }
             let done = match observe_until {
                 Some((until, _)) => k >= until,
@@ -662,11 +698,15 @@ impl<'m> Engine<'m> {
         // tolerance (a transient through complex multipliers does not decay monotonically);
         // a fixed run is judged from its tail alone.
         let period_found = match observe_until {
-            Some((_, p)) => (repeat_error(&ring, p as usize, tol_scale)
-                <= 10.0 * options.periodicity_tolerance)
-                .then_some(p),
-            None => least_period(&ring, p_max, options.periodicity_tolerance, tol_scale),
+            Some((_, p)) if stopped != Stop::EventCap => {
+                (repeat_error(&ring, p as usize, tol_scale) <= 10.0 * options.periodicity_tolerance)
+                    .then_some(p)
+            }
+            _ => least_period(&ring, p_max, options.periodicity_tolerance, tol_scale),
         };
+        if stopped == Stop::PeriodCap && observe_until.is_some() {
+            stopped = Stop::Settled;
+        }
         let no_recent_impacts =
             last_impact_period.is_none_or(|last| k.saturating_sub(last) > window_len);
         let status = match period_found {
@@ -707,6 +747,7 @@ impl<'m> Engine<'m> {
             impacts_per_period: cycle_impacts.len() as f64 / cycle as f64,
             amplitudes: window.amplitudes,
             sticking: window.sticking,
+            stopped,
             periods_run: k,
             impacts,
             cycle_impacts,
