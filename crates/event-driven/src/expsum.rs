@@ -6,6 +6,24 @@ use nalgebra::Complex;
 
 type C64 = Complex<f64>;
 
+/// `e^{μ s}`, skipping the real exponential for purely oscillatory and constant terms.
+#[inline]
+fn cexp(mu: C64, s: f64) -> C64 {
+    if mu.im == 0.0 {
+        C64::new((mu.re * s).exp(), 0.0)
+    } else {
+        let (sin, cos) = (mu.im * s).sin_cos();
+        let r = if mu.re == 0.0 { 1.0 } else { (mu.re * s).exp() };
+        C64::new(r * cos, r * sin)
+    }
+}
+
+/// `|re| + |im|`: an upper bound on the modulus, without a square root.
+#[inline]
+fn l1(c: C64) -> f64 {
+    c.re.abs() + c.im.abs()
+}
+
 /// One term `(c₀ + c₁ s + c₂ s² + c₃ s³) e^{μ s}`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Term {
@@ -28,7 +46,7 @@ impl ExpSum {
     pub fn eval(&self, s: f64) -> (f64, f64) {
         let (mut v, mut d) = (0.0, 0.0);
         for t in &self.terms {
-            let e = (t.rate * s).exp();
+            let e = cexp(t.rate, s);
             let p = t.poly;
             let poly = p[0] + (p[1] + (p[2] + p[3] * s) * s) * s;
             let dpoly = p[1] + (p[2] * 2.0 + p[3] * (3.0 * s)) * s;
@@ -43,7 +61,7 @@ impl ExpSum {
     pub fn eval2(&self, s: f64) -> (f64, f64, f64) {
         let (mut v, mut d, mut dd) = (0.0, 0.0, 0.0);
         for t in &self.terms {
-            let e = (t.rate * s).exp();
+            let e = cexp(t.rate, s);
             let p = t.poly;
             let mu = t.rate;
             let poly = p[0] + (p[1] + (p[2] + p[3] * s) * s) * s;
@@ -62,17 +80,12 @@ impl ExpSum {
         self.terms
             .iter()
             .map(|t| {
-                let a: [f64; 4] = [
-                    t.poly[0].norm(),
-                    t.poly[1].norm(),
-                    t.poly[2].norm(),
-                    t.poly[3].norm(),
-                ];
+                let a: [f64; 4] = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
                 let p0 = a[0] + h * (a[1] + h * (a[2] + h * a[3]));
                 let p1 = a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]);
                 let p2 = 2.0 * a[2] + 6.0 * h * a[3];
                 let p3 = 6.0 * a[3];
-                let m = t.rate.norm();
+                let m = l1(t.rate);
                 let growth = (t.rate.re * h).exp().max(1.0);
                 (p3 + 3.0 * m * p2 + 3.0 * m * m * p1 + m * m * m * p0) * growth
             })
@@ -83,7 +96,7 @@ impl ExpSum {
     fn fastest(&self, horizon: f64) -> f64 {
         self.terms
             .iter()
-            .map(|t| t.rate.norm())
+            .map(|t| l1(t.rate))
             .fold(1.0 / horizon, f64::max)
     }
 
@@ -95,16 +108,11 @@ impl ExpSum {
         self.terms
             .iter()
             .map(|t| {
-                let a: [f64; 4] = [
-                    t.poly[0].norm(),
-                    t.poly[1].norm(),
-                    t.poly[2].norm(),
-                    t.poly[3].norm(),
-                ];
+                let a: [f64; 4] = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
                 let p0 = a[0] + h * (a[1] + h * (a[2] + h * a[3]));
                 let p1 = a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]);
                 let p2 = 2.0 * a[2] + 6.0 * h * a[3];
-                let m = t.rate.norm();
+                let m = l1(t.rate);
                 let growth = (t.rate.re * h).exp().max(1.0);
                 (p2 + 2.0 * m * p1 + m * m * p0) * growth
             })
@@ -144,7 +152,7 @@ impl ExpSum {
                 // f is monotone on [a, b]: at most one root.
                 if fa > 0.0 {
                     if fb <= 0.0 {
-                        return Some(polish(self, a, b, 0.5 * (a + b), time_tolerance));
+                        return Some(polish(self, 1.0, 0.0, a, b, 0.5 * (a + b), time_tolerance));
                     }
                     continue; // positive at both ends of a monotone stretch
                 }
@@ -194,7 +202,7 @@ impl ExpSum {
             } else {
                 let h = horizon;
                 let a = t.poly;
-                let size = a[0].norm() + h * (a[1].norm() + h * (a[2].norm() + h * a[3].norm()));
+                let size = l1(a[0]) + h * (l1(a[1]) + h * (l1(a[2]) + h * l1(a[3])));
                 spread += size * (t.rate.re * h).exp().max(1.0);
             }
         }
@@ -253,16 +261,16 @@ impl ExpSum {
                         return Some((a, 1)); // on the upper edge at the start, moving out
                     }
                     if fb >= hi {
-                        let g = self.shifted(-hi).negated(); // hi − f: positive, then ≤ 0
-                        return Some((polish(&g, a, b, guess(hi), time_tolerance), 1));
+                        // hi − f: positive, then ≤ 0.
+                        return Some((polish(self, -1.0, hi, a, b, guess(hi), time_tolerance), 1));
                     }
                 } else {
                     if fa <= lo {
                         return Some((a, -1));
                     }
                     if fb <= lo {
-                        let g = self.shifted(-lo); // f − lo: positive, then ≤ 0
-                        return Some((polish(&g, a, b, guess(lo), time_tolerance), -1));
+                        // f − lo: positive, then ≤ 0.
+                        return Some((polish(self, 1.0, lo, a, b, guess(lo), time_tolerance), -1));
                     }
                 }
                 continue;
@@ -331,12 +339,16 @@ impl ExpSum {
     }
 }
 
-/// The root of `f` in `[a, b]` where `f(a) > 0 ≥ f(b)` and `f` is monotone: Newton from
-/// `start`, falling back to bisection when a step leaves the bracket.
-fn polish(f: &ExpSum, mut a: f64, mut b: f64, start: f64, tol: f64) -> f64 {
+/// The root of `g = sign·(f − level)` in `[a, b]` where `g(a) > 0 ≥ g(b)` and `g` is monotone:
+/// Newton from `start`, falling back to bisection when a step leaves the bracket.
+fn polish(f: &ExpSum, sign: f64, level: f64, mut a: f64, mut b: f64, start: f64, tol: f64) -> f64 {
+    let g = |s: f64| {
+        let (v, d) = f.eval(s);
+        (sign * (v - level), sign * d)
+    };
     let mut s = start;
     for _ in 0..100 {
-        let (v, d) = f.eval(s);
+        let (v, d) = g(s);
         if v > 0.0 {
             a = s;
         } else {
@@ -351,7 +363,7 @@ fn polish(f: &ExpSum, mut a: f64, mut b: f64, start: f64, tol: f64) -> f64 {
         if (next - s).abs() <= tol || b - a <= tol {
             // One more Newton step: converged Newton doubles its digits, so the contact time is
             // far more accurate than the tolerance that stopped the iteration.
-            let (v, d) = f.eval(next);
+            let (v, d) = g(next);
             let last = next - v / d;
             return if (last - next).abs() <= tol {
                 last

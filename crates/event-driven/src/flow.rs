@@ -65,7 +65,7 @@ pub struct Flight<'a> {
 fn phi_terms(lambda: C64, mu: C64, period: f64, scale: C64, out: &mut Vec<Term>) {
     let delta = mu - lambda;
     let zero = C64::new(0.0, 0.0);
-    if delta.norm() * period > RESONANCE {
+    if (delta.re.abs() + delta.im.abs()) * period > RESONANCE {
         let c = scale / delta;
         out.push(Term {
             poly: [c, zero, zero, zero],
@@ -88,13 +88,13 @@ fn phi_terms(lambda: C64, mu: C64, period: f64, scale: C64, out: &mut Vec<Term>)
     }
 }
 
-/// Value of `φ(λ, μ, s)`.
-fn phi(lambda: C64, mu: C64, s: f64, period: f64) -> C64 {
+/// Value of `φ(λ, μ, s)` given `e^{λs}` and `e^{μs}`.
+fn phi_shared(lambda: C64, el: C64, mu: C64, em: C64, s: f64, period: f64) -> C64 {
     let delta = mu - lambda;
-    if delta.norm() * period > RESONANCE {
-        ((mu * s).exp() - (lambda * s).exp()) / delta
+    if (delta.re.abs() + delta.im.abs()) * period > RESONANCE {
+        (em - el) / delta
     } else {
-        (lambda * s).exp() * (s + delta * (s * s / 2.0) + delta * delta * (s * s * s / 6.0))
+        el * (s + delta * (s * s / 2.0) + delta * delta * (s * s * s / 6.0))
     }
 }
 
@@ -201,21 +201,35 @@ impl Flight<'_> {
     pub fn state(&self, s: f64) -> DVector<f64> {
         let f = self.flow;
         let w = C64::new(0.0, f.omega);
+        // Shared exponentials: e^{±iωs} once for all modes.
+        let (sin, cos) = (f.omega * s).sin_cos();
+        let ep = C64::new(cos, sin);
+        let em = ep.conj();
+        let zero = C64::new(0.0, 0.0);
         let z = DVector::from_fn(f.rates.len(), |k, _| {
             let l = f.rates[k];
-            (l * s).exp() * self.start[k]
-                + self.plus[k] * phi(l, w, s, f.period)
-                + self.minus[k] * phi(l, -w, s, f.period)
-                + f.constant[k] * phi(l, C64::new(0.0, 0.0), s, f.period)
+            let el = (l * s).exp();
+            let mut zk = el * self.start[k]
+                + self.plus[k] * phi_shared(l, el, w, ep, s, f.period)
+                + self.minus[k] * phi_shared(l, el, -w, em, s, f.period);
+            if f.constant[k] != zero {
+                zk += f.constant[k] * phi_shared(l, el, zero, C64::new(1.0, 0.0), s, f.period);
+            }
+            zk
         });
         (&f.modes * z).map(|c| c.re)
     }
 
     /// The linear functional `c · y(s)` as a sum of exponential terms in `s`.
     pub fn functional(&self, c: &DVector<f64>) -> ExpSum {
+        self.weighted(&self.flow.weights(c))
+    }
+
+    /// [`Self::functional`] for modal weights from [`LinearFlow::weights`] (computed once per
+    /// functional, not per flight).
+    pub fn weighted(&self, weights: &DVector<C64>) -> ExpSum {
         let f = self.flow;
         let w = C64::new(0.0, f.omega);
-        let weights = f.modes.transpose() * c.map(|v| C64::new(v, 0.0));
         let mut terms = Vec::with_capacity(4 * f.rates.len());
         let zero = C64::new(0.0, 0.0);
         for (k, &l) in f.rates.iter().enumerate() {
@@ -233,6 +247,13 @@ impl Flight<'_> {
         ExpSum {
             terms: merge(terms),
         }
+    }
+}
+
+impl LinearFlow {
+    /// Modal weights `Vᵀ c` of the functional `c · y`.
+    pub fn weights(&self, c: &DVector<f64>) -> DVector<C64> {
+        self.modes.transpose() * c.map(|v| C64::new(v, 0.0))
     }
 }
 

@@ -156,12 +156,12 @@ struct Pair {
     spec: ContactPair,
     /// `d` with `r = d·u`.
     direction: DVector<f64>,
-    /// `(d, 0)`: `r` as a functional of the state.
-    position: DVector<f64>,
     /// `M⁻¹ d`.
     mobility: DVector<f64>,
     /// `dᵀ M⁻¹ d`.
     compliance: f64,
+    /// Modal weights of `r` in the free flow.
+    weights: DVector<nalgebra::Complex<f64>>,
 }
 
 /// A contact pair held on one stop: the reduced flow and the contact force.
@@ -270,12 +270,13 @@ impl<'m> Engine<'m> {
                 position.rows_mut(0, n).copy_from(&d);
                 let mobility = &minv * &d;
                 let compliance = d.dot(&mobility);
+                let weights = free.weights(&position);
                 Pair {
                     spec: *c,
                     direction: d,
-                    position,
                     mobility,
                     compliance,
+                    weights,
                 }
             })
             .collect();
@@ -452,7 +453,7 @@ impl<'m> Engine<'m> {
                     let depth = depth + 1e-14 * position_scale;
                     let mut event: Option<(f64, usize, i8)> = None;
                     for (i, p) in self.pairs.iter().enumerate() {
-                        let r = flight.functional(&p.position);
+                        let r = flight.weighted(&p.weights);
                         if let Some((s, side)) = r.first_exit(
                             -p.spec.gap_minus,
                             p.spec.gap_plus,
