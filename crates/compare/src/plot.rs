@@ -1,7 +1,8 @@
 //! Rendering: one font shipped in the build, registered once; every figure drawn to PNG and SVG
 //! from the same code, so both render on a machine without system fonts.
 
-use plotters::coord::Shift;
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::Once;
@@ -79,4 +80,47 @@ pub fn save(figure: &impl Figure, dir: &Path) -> Result<Vec<PathBuf>, PlotError>
 /// Text style in the shipped font.
 pub fn text(size: u32) -> TextStyle<'static> {
     (FONT, size).into_font().into()
+}
+
+/// Axes of a chart in the house style: descriptions, label sizes, no minor grid.
+pub fn axes<DB, X, Y>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, Y>>,
+    x_desc: &str,
+    y_desc: &str,
+    label_size: u32,
+) -> Result<(), String>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc(y_desc)
+        .label_style(text(label_size))
+        .axis_desc_style(text(label_size + 2))
+        .light_line_style(WHITE.mix(0.0))
+        .draw()
+        .map_err(err)
+}
+
+/// The legend of a chart in the house style.
+pub fn legend<'a, DB, CT>(
+    chart: &mut ChartContext<'a, DB, CT>,
+    position: SeriesLabelPosition,
+    size: u32,
+) -> Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    CT: CoordTranslate,
+{
+    chart
+        .configure_series_labels()
+        .label_font(text(size))
+        .background_style(WHITE.mix(0.9))
+        .border_style(BLACK)
+        .position(position)
+        .draw()
+        .map_err(err)
 }

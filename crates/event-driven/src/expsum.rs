@@ -18,6 +18,20 @@ fn cexp(mu: C64, s: f64) -> C64 {
     }
 }
 
+/// For one term on `[0, h]`: bounds on its polynomial and the polynomial's first three
+/// derivatives (absolute coefficients at `s = h`), `|μ|` (as `|re| + |im|`), and the growth
+/// factor `max(1, e^{Re μ h})`.
+fn term_bounds(t: &Term, h: f64) -> ([f64; 4], f64, f64) {
+    let a = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
+    let p = [
+        a[0] + h * (a[1] + h * (a[2] + h * a[3])),
+        a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]),
+        2.0 * a[2] + 6.0 * h * a[3],
+        6.0 * a[3],
+    ];
+    (p, l1(t.rate), (t.rate.re * h).exp().max(1.0))
+}
+
 /// `|re| + |im|`: an upper bound on the modulus, without a square root.
 #[inline]
 fn l1(c: C64) -> f64 {
@@ -76,17 +90,10 @@ impl ExpSum {
 
     /// A bound on `|f'''(s)|` for `s ∈ [0, horizon]`, like [`Self::curvature_bound`].
     pub fn jerk_bound(&self, horizon: f64) -> f64 {
-        let h = horizon;
         self.terms
             .iter()
             .map(|t| {
-                let a: [f64; 4] = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
-                let p0 = a[0] + h * (a[1] + h * (a[2] + h * a[3]));
-                let p1 = a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]);
-                let p2 = 2.0 * a[2] + 6.0 * h * a[3];
-                let p3 = 6.0 * a[3];
-                let m = l1(t.rate);
-                let growth = (t.rate.re * h).exp().max(1.0);
+                let ([p0, p1, p2, p3], m, growth) = term_bounds(t, horizon);
                 (p3 + 3.0 * m * p2 + 3.0 * m * m * p1 + m * m * m * p0) * growth
             })
             .sum()
@@ -104,16 +111,10 @@ impl ExpSum {
     /// derivatives bounded at `s = horizon` with absolute coefficients, times
     /// `max(1, e^{Re μ · horizon})`.
     pub fn curvature_bound(&self, horizon: f64) -> f64 {
-        let h = horizon;
         self.terms
             .iter()
             .map(|t| {
-                let a: [f64; 4] = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
-                let p0 = a[0] + h * (a[1] + h * (a[2] + h * a[3]));
-                let p1 = a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]);
-                let p2 = 2.0 * a[2] + 6.0 * h * a[3];
-                let m = l1(t.rate);
-                let growth = (t.rate.re * h).exp().max(1.0);
+                let ([p0, p1, p2, _], m, growth) = term_bounds(t, horizon);
                 (p2 + 2.0 * m * p1 + m * m * p0) * growth
             })
             .sum()
@@ -200,10 +201,8 @@ impl ExpSum {
             if t.rate == C64::default() && t.poly[1..].iter().all(|c| *c == C64::default()) {
                 centre += t.poly[0].re;
             } else {
-                let h = horizon;
-                let a = t.poly;
-                let size = l1(a[0]) + h * (l1(a[1]) + h * (l1(a[2]) + h * l1(a[3])));
-                spread += size * (t.rate.re * h).exp().max(1.0);
+                let ([size, ..], _, growth) = term_bounds(t, horizon);
+                spread += size * growth;
             }
         }
         if centre + spread < hi && centre - spread > lo {

@@ -2,7 +2,7 @@
 //! the same motion (log scale), and the class of every point.
 
 use crate::classify::{Class, ComparedPoint};
-use crate::plot::{err, text, Figure};
+use crate::plot::{err, legend, text, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -137,14 +137,7 @@ impl Figure for Agreement {
                     Rectangle::new([(x, y - 5), (x + 12, y + 5)], colour.filled())
                 });
         }
-        chart
-            .configure_series_labels()
-            .label_font(text(15))
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight, 15)?;
         Ok(())
     }
 }

@@ -2,7 +2,7 @@
 //! impacts, for a few frequencies, by verdict; Nigm and Shabana's non-viable band shaded; and
 //! simulated confirmations (gap set to `Δ*(β)`, impact spacing measured).
 
-use crate::plot::{err, text, Figure};
+use crate::plot::{axes, err, legend, text, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -83,15 +83,12 @@ impl Figure for BetaFamily {
             .y_label_area_size(75)
             .build_cartesian_2d(0.0..1.0, 0.0..ymax)
             .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("β: side-2 impact time / period")
-            .y_desc("gap Δ*(β) / u_g")
-            .label_style(text(18))
-            .axis_desc_style(text(20))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(err)?;
+        axes(
+            &mut chart,
+            "β: side-2 impact time / period",
+            "gap Δ*(β) / u_g",
+            18,
+        )?;
         chart
             .draw_series(std::iter::once(Rectangle::new(
                 [(0.0, 0.0), (0.18, ymax)],
@@ -159,14 +156,7 @@ impl Figure for BetaFamily {
                 text(16),
             )))
             .map_err(err)?;
-        chart
-            .configure_series_labels()
-            .label_font(text(15))
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight, 15)?;
         Ok(())
     }
 }

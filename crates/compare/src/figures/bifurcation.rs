@@ -1,7 +1,7 @@
 //! Simulated stroboscopic outer displacement `u_o(kT)` against frequency, sweeping up and down
 //! with the final state carried over, and the analytic symmetric orbits' stroboscopic points.
 
-use crate::plot::{err, text, Figure};
+use crate::plot::{axes, err, legend, text, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -56,15 +56,12 @@ impl Figure for Bifurcation {
             .y_label_area_size(75)
             .build_cartesian_2d(wmin..wmax, -ymax..ymax)
             .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("base frequency ω (rad/s)")
-            .y_desc("u_o at t = kT (m)")
-            .label_style(text(18))
-            .axis_desc_style(text(20))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(err)?;
+        axes(
+            &mut chart,
+            "base frequency ω (rad/s)",
+            "u_o at t = kT (m)",
+            18,
+        )?;
         let up_colour = RGBColor(30, 90, 220);
         let down_colour = RGBColor(220, 60, 30);
         chart
@@ -104,14 +101,7 @@ impl Figure for Bifurcation {
             .legend(|(x, y)| {
                 TriangleMarker::new((x + 10, y), 4, RGBColor(120, 120, 120).stroke_width(1))
             });
-        chart
-            .configure_series_labels()
-            .label_font(text(15))
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::UpperRight)
-            .draw()
-            .map_err(err)?;
+        legend(&mut chart, SeriesLabelPosition::UpperRight, 15)?;
         Ok(())
     }
 }

@@ -2,7 +2,7 @@
 //! steady state (right) — the analytic orbit as curves with simulated points on it, or the
 //! simulated motion where no viable orbit exists.
 
-use crate::plot::{err, text, Figure};
+use crate::plot::{axes, err, legend, text, Figure};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -66,15 +66,7 @@ fn panel<DB: DrawingBackend>(
         .y_label_area_size(60)
         .build_cartesian_2d(tmin..tmax, -ymax..ymax)
         .map_err(err)?;
-    chart
-        .configure_mesh()
-        .x_desc("time t (s)")
-        .y_desc("displacement (m)")
-        .label_style(text(14))
-        .axis_desc_style(text(16))
-        .light_line_style(WHITE.mix(0.0))
-        .draw()
-        .map_err(err)?;
+    axes(&mut chart, "time t (s)", "displacement (m)", 14)?;
     let blue = RGBColor(30, 90, 220);
     let red = RGBColor(220, 40, 40);
     let grey = RGBColor(110, 110, 110);
@@ -137,14 +129,7 @@ fn panel<DB: DrawingBackend>(
             .label("simulated u_i")
             .legend(move |(x, y)| Circle::new((x + 9, y), 3, red.filled()));
     }
-    chart
-        .configure_series_labels()
-        .label_font(text(12))
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .position(SeriesLabelPosition::LowerRight)
-        .draw()
-        .map_err(err)?;
+    legend(&mut chart, SeriesLabelPosition::LowerRight, 12)?;
     Ok(())
 }
 

@@ -1,7 +1,7 @@
 //! The paper's Figure 2: steady linear response of both masses with the two walls of the outer
 //! mass (`u_o ± Δ`), at a few frequencies.
 
-use crate::plot::{err, text, Figure};
+use crate::plot::{axes, err, legend, text, Figure};
 use crate::scene::Scene;
 use nalgebra::Complex;
 use plotters::coord::Shift;
@@ -62,15 +62,7 @@ impl Figure for LinearTimeResponse {
                 .y_label_area_size(60)
                 .build_cartesian_2d(0.0..2.0 * period, -ymax..ymax)
                 .map_err(err)?;
-            chart
-                .configure_mesh()
-                .x_desc("time t (s)")
-                .y_desc("displacement (m)")
-                .label_style(text(16))
-                .axis_desc_style(text(18))
-                .light_line_style(WHITE.mix(0.0))
-                .draw()
-                .map_err(err)?;
+            axes(&mut chart, "time t (s)", "displacement (m)", 16)?;
             let blue = BLUE.stroke_width(2);
             let red = RED.stroke_width(2);
             chart
@@ -101,14 +93,7 @@ impl Figure for LinearTimeResponse {
                         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
                 }
             }
-            chart
-                .configure_series_labels()
-                .label_font(text(14))
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK)
-                .position(SeriesLabelPosition::LowerRight)
-                .draw()
-                .map_err(err)?;
+            legend(&mut chart, SeriesLabelPosition::LowerRight, 14)?;
         }
         Ok(())
     }

@@ -2,7 +2,7 @@
 //! by verdict, and the simulated steady state from rest by regime; the paper's claims marked.
 
 use crate::frequency::AnalyticPoint;
-use crate::plot::{err, text, Figure};
+use crate::plot::{axes, err, legend, text, Figure};
 use crate::simulation::{Regime, SimulatedPoint};
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -66,15 +66,12 @@ impl Figure for Transmittance {
             .y_label_area_size(75)
             .build_cartesian_2d(wmin..wmax, T_MIN..T_MAX)
             .map_err(err)?;
-        chart
-            .configure_mesh()
-            .x_desc("base frequency ω (rad/s)")
-            .y_desc("transmittance T (dB)")
-            .label_style(text(18))
-            .axis_desc_style(text(20))
-            .light_line_style(WHITE.mix(0.0))
-            .draw()
-            .map_err(err)?;
+        axes(
+            &mut chart,
+            "base frequency ω (rad/s)",
+            "transmittance T (dB)",
+            18,
+        )?;
         // The paper's claimed attenuation bands.
         for (i, (from, to, label)) in self.claimed_bands.iter().enumerate() {
             let (y0, y1) = (T_MAX - 4.0 - 3.0 * i as f64, T_MAX - 1.5 - 3.0 * i as f64);
@@ -238,14 +235,7 @@ impl Figure for Transmittance {
                     .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
             }
         }
-        chart
-            .configure_series_labels()
-            .label_font(text(15))
-            .background_style(WHITE.mix(0.9))
-            .border_style(BLACK)
-            .position(SeriesLabelPosition::LowerLeft)
-            .draw()
-            .map_err(err)?;
+        legend(&mut chart, SeriesLabelPosition::LowerLeft, 15)?;
         Ok(())
     }
 }
