@@ -7,7 +7,9 @@ use crate::frequency::analyse;
 use crate::json;
 use crate::scene::{Scene, SceneError};
 use crate::simulation::{run as simulate_scene, status_name};
-use crate::sweep::{frequencies, sweep, to_csv, to_json, Solver};
+use crate::sweep::{
+    frequencies, merge, sweep, to_csv, to_csv_shard, to_json, to_json_shard, Shard, Solver,
+};
 use clap::{Args, Parser, Subcommand};
 use rattle_analytic::{gap_for_beta, Orbit, Violation};
 use rattle_event_driven::{SimulationOptions, Start};
@@ -39,6 +41,20 @@ pub enum Command {
     Simulate(SimulateArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a JSON or CSV file.
     Sweep(SweepArgs),
+    /// Joins the parts of a sharded sweep (`rattle sweep … --shard K/N`) into the file the
+    /// unsharded sweep would write, byte for byte.
+    Merge(MergeArgs),
+}
+
+/// Arguments of `rattle merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// The parts (all `.json` or all `.csv`), in any order.
+    #[arg(required = true)]
+    pub parts: Vec<PathBuf>,
+    /// The merged file.
+    #[arg(long)]
+    pub out: PathBuf,
 }
 
 /// Arguments of `rattle simulate`.
@@ -117,6 +133,10 @@ pub struct SweepArgs {
     /// Output file: `.json` or `.csv`, by extension.
     #[arg(long)]
     pub out: PathBuf,
+    /// Compute only part K of N (a contiguous block of the frequencies), e.g. `--shard 3/8`;
+    /// join the parts with `rattle merge`.
+    #[arg(long)]
+    pub shard: Option<String>,
     #[command(flatten)]
     #[allow(missing_docs)]
     pub accuracy: Accuracy,
@@ -209,6 +229,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Family(args) => family(args),
         Command::Simulate(args) => simulate_command(args),
         Command::Sweep(args) => sweep_command(args),
+        Command::Merge(args) => merge_command(args),
     }
 }
 
@@ -457,14 +478,28 @@ fn sweep_command(args: SweepArgs) -> Result<String, RattleError> {
             )))
         }
     };
+    let shard = args
+        .shard
+        .as_deref()
+        .map(Shard::parse)
+        .transpose()
+        .map_err(RattleError::Argument)?;
     let options = args.accuracy.options()?;
     let scene = load(&args.scene)?;
-    let omegas = frequencies(lo, hi, args.points);
+    let all = frequencies(lo, hi, args.points);
+    let omegas = match shard {
+        Some(s) => all[s.range(all.len())].to_vec(),
+        None => all.clone(),
+    };
     let points = sweep(&scene, &omegas, args.solver, &options, true);
-    let text = if csv {
-        to_csv(&scene, &points)
-    } else {
-        format!("{:#}\n", to_json(&scene, args.solver, &points))
+    let text = match (shard, csv) {
+        (None, true) => to_csv(&scene, &points),
+        (None, false) => format!("{:#}\n", to_json(&scene, args.solver, &points)),
+        (Some(s), true) => to_csv_shard(&scene, &points, all.len(), s),
+        (Some(s), false) => format!(
+            "{:#}\n",
+            to_json_shard(&scene, args.solver, &points, all.len(), s)
+        ),
     };
     std::fs::write(&args.out, text)
         .map_err(|e| RattleError::Argument(format!("cannot write {}: {e}", args.out.display())))?;
@@ -473,5 +508,24 @@ fn sweep_command(args: SweepArgs) -> Result<String, RattleError> {
         args.out.display(),
         omegas.len(),
         args.solver.name()
+    ))
+}
+
+fn merge_command(args: MergeArgs) -> Result<String, RattleError> {
+    let parts: Vec<String> = args
+        .parts
+        .iter()
+        .map(|p| {
+            std::fs::read_to_string(p)
+                .map_err(|e| RattleError::Argument(format!("cannot read {}: {e}", p.display())))
+        })
+        .collect::<Result<_, _>>()?;
+    let merged = merge(&parts).map_err(RattleError::Argument)?;
+    std::fs::write(&args.out, merged)
+        .map_err(|e| RattleError::Argument(format!("cannot write {}: {e}", args.out.display())))?;
+    Ok(format!(
+        "wrote {} from {} parts\n",
+        args.out.display(),
+        parts.len()
     ))
 }

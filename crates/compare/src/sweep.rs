@@ -276,3 +276,176 @@ pub fn to_csv(scene: &Scene, points: &[SweepPoint]) -> String {
     }
     out
 }
+
+/// One part `index` (1-based) of `count` of a sweep: a contiguous block of its frequencies.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    /// Which part, `1 ≤ index ≤ count`.
+    pub index: usize,
+    /// How many parts.
+    pub count: usize,
+}
+
+impl Shard {
+    /// Parses `K/N` with `1 ≤ K ≤ N`.
+    pub fn parse(text: &str) -> Result<Shard, String> {
+        let bad = || format!("--shard {text}: must be K/N with 1 ≤ K ≤ N, e.g. 3/8");
+        let (k, n) = text.split_once('/').ok_or_else(bad)?;
+        let index: usize = k.trim().parse().map_err(|_| bad())?;
+        let count: usize = n.trim().parse().map_err(|_| bad())?;
+        if index == 0 || index > count {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+
+    /// The indices of this part among `total` frequencies: block `index` of `count` nearly
+    /// equal contiguous blocks.
+    pub fn range(&self, total: usize) -> std::ops::Range<usize> {
+        let start = (self.index - 1) * total / self.count;
+        let end = self.index * total / self.count;
+        start..end
+    }
+}
+
+/// A part of a sharded sweep as JSON: [`to_json`] of its points, with `"points"` the total of
+/// the whole sweep and `"shard": {"index", "count"}`.
+pub fn to_json_shard(
+    scene: &Scene,
+    solver: Solver,
+    points: &[SweepPoint],
+    total: usize,
+    shard: Shard,
+) -> Value {
+    let mut doc = to_json(scene, solver, points);
+    doc["points"] = json!(total);
+    doc["shard"] = json!({"index": shard.index, "count": shard.count});
+    doc
+}
+
+/// A part of a sharded sweep as CSV: the line `# shard K/N of P points`, then [`to_csv`].
+pub fn to_csv_shard(scene: &Scene, points: &[SweepPoint], total: usize, shard: Shard) -> String {
+    format!(
+        "# shard {}/{} of {total} points\n{}",
+        shard.index,
+        shard.count,
+        to_csv(scene, points)
+    )
+}
+
+/// Joins the parts of a sharded sweep (all JSON or all CSV, in any order) into exactly the
+/// text the unsharded sweep writes. Every part of `1..=N` must be there once, from the same
+/// sweep.
+pub fn merge(parts: &[String]) -> Result<String, String> {
+    if parts.is_empty() {
+        return Err("no parts to merge".into());
+    }
+    if parts[0].trim_start().starts_with('{') {
+        merge_json(parts)
+    } else {
+        merge_csv(parts)
+    }
+}
+
+fn check_cover(mut indices: Vec<(usize, usize)>) -> Result<Vec<usize>, String> {
+    let count = indices[0].1;
+    if indices.iter().any(|&(_, n)| n != count) {
+        return Err("the parts come from sweeps cut into different numbers of shards".into());
+    }
+    indices.sort();
+    let got: Vec<usize> = indices.iter().map(|&(k, _)| k).collect();
+    let want: Vec<usize> = (1..=count).collect();
+    if got != want {
+        return Err(format!(
+            "shards {got:?} given; need each of 1..={count} once"
+        ));
+    }
+    Ok(got)
+}
+
+fn merge_json(parts: &[String]) -> Result<String, String> {
+    let mut docs: Vec<Value> = parts
+        .iter()
+        .enumerate()
+        .map(|(i, p)| serde_json::from_str(p).map_err(|e| format!("part {}: {e}", i + 1)))
+        .collect::<Result<_, _>>()?;
+    let mut keyed = Vec::new();
+    for (i, d) in docs.iter().enumerate() {
+        let k = d["shard"]["index"]
+            .as_u64()
+            .ok_or(format!("part {}: not a shard (no \"shard\")", i + 1))?;
+        let n = d["shard"]["count"]
+            .as_u64()
+            .ok_or(format!("part {}: not a shard", i + 1))?;
+        keyed.push((k as usize, n as usize));
+    }
+    check_cover(keyed.clone())?;
+    let mut order: Vec<usize> = (0..docs.len()).collect();
+    order.sort_by_key(|&i| keyed[i].0);
+    let same = |key: &str| docs.iter().all(|d| d[key] == docs[0][key]);
+    if !(same("scene") && same("solver") && same("points") && same("effects")) {
+        return Err("the parts come from different sweeps (scene, solver or points differ)".into());
+    }
+    let mut results = Vec::new();
+    for &i in &order {
+        results.extend(docs[i]["results"].as_array().cloned().unwrap_or_default());
+    }
+    let mut doc = docs.swap_remove(order[0]);
+    if doc["points"].as_u64() != Some(results.len() as u64) {
+        return Err(format!(
+            "{} results for {} points",
+            results.len(),
+            doc["points"]
+        ));
+    }
+    doc["results"] = Value::Array(results);
+    if let Some(obj) = doc.as_object_mut() {
+        obj.remove("shard");
+    }
+    Ok(format!("{doc:#}\n"))
+}
+
+fn merge_csv(parts: &[String]) -> Result<String, String> {
+    let mut keyed = Vec::new();
+    let mut bodies = Vec::new();
+    let mut total = None;
+    for (i, p) in parts.iter().enumerate() {
+        let (first, rest) = p.split_once('\n').ok_or(format!("part {}: empty", i + 1))?;
+        let spec = first
+            .strip_prefix("# shard ")
+            .and_then(|s| s.strip_suffix(" points"))
+            .ok_or(format!(
+                "part {}: not a shard (no '# shard K/N of P points' line)",
+                i + 1
+            ))?;
+        let (kn, p_total) = spec
+            .split_once(" of ")
+            .ok_or(format!("part {}: bad shard line", i + 1))?;
+        let shard = Shard::parse(kn).map_err(|e| format!("part {}: {e}", i + 1))?;
+        keyed.push((shard.index, shard.count));
+        if total.is_some_and(|t| t != p_total) {
+            return Err("the parts come from sweeps of different sizes".into());
+        }
+        total = Some(p_total);
+        bodies.push((shard.index, rest));
+    }
+    check_cover(keyed)?;
+    bodies.sort_by_key(|b| b.0);
+    let header = bodies[0].1.lines().next().unwrap_or_default();
+    let mut out = format!("{header}\n");
+    for (_, body) in &bodies {
+        let mut lines = body.lines();
+        if lines.next() != Some(header) {
+            return Err("the parts have different columns".into());
+        }
+        for line in lines {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    let rows = out.lines().count() - 1;
+    if total.and_then(|t| t.parse::<usize>().ok()) != Some(rows) {
+        return Err(format!("{rows} rows for {} points", total.unwrap_or("?")));
+    }
+    Ok(out)
+}

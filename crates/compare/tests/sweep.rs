@@ -101,3 +101,42 @@ fn the_figures_pipeline_runs_end_to_end() {
     assert!(report.contains("Nigm–Shabana") && report.contains("1.25"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn merged_shards_are_byte_identical_to_the_unsharded_sweep() {
+    use rattle_compare::sweep::{merge, to_csv_shard, to_json_shard, Shard};
+    let scene = Scene::paper();
+    let all = frequencies(0.5, 3.5, 11);
+    let options = SimulationOptions {
+        max_periods: 2000,
+        ..SimulationOptions::default()
+    };
+    let solver = Solver::Both;
+    let full = sweep(&scene, &all, solver, &options, false);
+    let full_json = format!("{:#}\n", to_json(&scene, solver, &full));
+    let full_csv = to_csv(&scene, &full);
+    let count = 4;
+    let (mut json_parts, mut csv_parts) = (Vec::new(), Vec::new());
+    for index in (1..=count).rev() {
+        let shard = Shard { index, count };
+        let part = sweep(
+            &scene,
+            &all[shard.range(all.len())],
+            solver,
+            &options,
+            false,
+        );
+        json_parts.push(format!(
+            "{:#}\n",
+            to_json_shard(&scene, solver, &part, all.len(), shard)
+        ));
+        csv_parts.push(to_csv_shard(&scene, &part, all.len(), shard));
+    }
+    assert_eq!(merge(&json_parts).unwrap(), full_json);
+    assert_eq!(merge(&csv_parts).unwrap(), full_csv);
+    // A missing part is refused.
+    assert!(merge(&json_parts[1..]).is_err());
+    assert!(
+        Shard::parse("0/3").is_err() && Shard::parse("4/3").is_err() && Shard::parse("x").is_err()
+    );
+}
