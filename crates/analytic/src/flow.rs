@@ -20,6 +20,21 @@ pub struct ForcedFlow {
     /// Bound on the fastest rate of the flow, `max(ω, |λ(A)|)`: sets the piece length `1/rate`
     /// of the extremum search.
     rate: f64,
+    /// The last two Taylor tables of [`Self::extrema`]: the branches of a symmetric orbit share
+    /// one flight duration, the two flights of an asymmetric orbit need two.
+    tables: std::cell::RefCell<Vec<Table>>,
+}
+
+/// Taylor rows `c (Âh)^k / k!` of some functionals for pieces of length `h`, and the flow over
+/// one piece.
+#[derive(Debug, Clone)]
+struct Table {
+    duration: f64,
+    functionals: Vec<Augmented>,
+    pieces: usize,
+    h: f64,
+    rows: Vec<[Augmented; TAYLOR_DEGREE + 1]>,
+    step: Matrix6,
 }
 
 /// The flow over a time `t`, split into its blocks:
@@ -77,6 +92,7 @@ impl ForcedFlow {
             augmented,
             omega,
             rate: natural.max(omega),
+            tables: std::cell::RefCell::new(Vec::with_capacity(2)),
         }
     }
 
@@ -114,10 +130,10 @@ impl ForcedFlow {
     /// Extrema of the linear functionals `c · z(t)` over `t ∈ [0, duration]`, starting from the
     /// augmented state `start`.
     ///
-    /// The flight is cut into pieces no longer than `1/max(ω, |λ|)` on which the degree-24
-    /// Taylor polynomial of the flow is accepted only when its tail is below `1e-18` of the
-    /// state (otherwise the piece is halved): on each piece the functional *is* a polynomial to
-    /// machine precision. Its extrema are found among the piece's ends and the roots of its
+    /// The flight is cut into equal pieces no longer than `1/max(ω, |λ|)`, halved until the
+    /// last two rows `c (Âh)^k / k!` of the degree-24 Taylor expansion are below `1e-18` of
+    /// `|c|₁`: on each piece the functional *is* a polynomial to machine precision, its
+    /// coefficients one dot product each with the piece's starting state. Its extrema are found among the piece's ends and the roots of its
     /// derivative, isolated by exclusion tests with bounds on the second and third derivatives
     /// and polished by safeguarded Newton. No extremum can fall between samples.
     pub fn extrema(
@@ -138,48 +154,75 @@ impl ForcedFlow {
                 }
             })
             .collect();
+        if duration <= 0.0 || functionals.is_empty() {
+            return found;
+        }
+        let mut cache = self.tables.borrow_mut();
+        let hit = cache
+            .iter()
+            .position(|t| t.duration == duration && t.functionals.as_slice() == functionals);
+        let index = match hit {
+            Some(i) => i,
+            None => {
+                if cache.len() == 2 {
+                    cache.remove(0);
+                }
+                cache.push(self.table(duration, functionals));
+                cache.len() - 1
+            }
+        };
+        let table = &cache[index];
+        let (h, rows, step) = (table.h, &table.rows, &table.step);
+        let pieces = table.pieces;
         let mut z = *start;
-        let mut t0 = 0.0;
-        let longest = 1.0 / self.rate;
-        let mut terms = [Augmented::zeros(); TAYLOR_DEGREE + 1];
         let mut poly = [0.0; TAYLOR_DEGREE + 1];
-        while t0 < duration {
-            let remaining = duration - t0;
-            let mut h = if remaining <= longest {
-                remaining
-            } else {
-                remaining / (remaining / longest).ceil()
-            };
-            terms[0] = z;
-            for k in 1..=TAYLOR_DEGREE {
-                terms[k] = self.augmented * terms[k - 1] / k as f64;
-            }
-            let size = z.amax().max(f64::MIN_POSITIVE);
-            let (last, before_last) =
-                (terms[TAYLOR_DEGREE].amax(), terms[TAYLOR_DEGREE - 1].amax());
-            while h > 1e-12 * duration
-                && last * h.powi(TAYLOR_DEGREE as i32)
-                    + before_last * h.powi(TAYLOR_DEGREE as i32 - 1)
-                    > TAIL_TOLERANCE * size
-            {
-                h *= 0.5;
-            }
-            // Scale to the unit interval: q_k = d_k h^k.
-            let mut hk = 1.0;
-            for term in terms.iter_mut() {
-                *term *= hk;
-                hk *= h;
-            }
-            for (c, ext) in functionals.iter().zip(found.iter_mut()) {
-                for (pk, dk) in poly.iter_mut().zip(terms.iter()) {
-                    *pk = c.dot(dk);
+        for piece in 0..pieces {
+            let t0 = piece as f64 * h;
+            for (row, ext) in rows.iter().zip(found.iter_mut()) {
+                for (pk, rk) in poly.iter_mut().zip(row.iter()) {
+                    *pk = rk.dot(&z);
                 }
                 polynomial_extrema(&poly, ext, t0, h);
             }
-            z = terms.iter().sum();
-            t0 += h;
+            z = step * z;
         }
         found
+    }
+}
+
+impl ForcedFlow {
+    /// Equal pieces no longer than `1/rate`; the rows `c (Âh)^k / k!` of each functional are
+    /// computed once, and the pieces halved until their tail is below [`TAIL_TOLERANCE`].
+    fn table(&self, duration: f64, functionals: &[Augmented]) -> Table {
+        let mut pieces = (duration * self.rate).ceil().max(1.0) as usize;
+        let mut rows = vec![[Augmented::zeros(); TAYLOR_DEGREE + 1]; functionals.len()];
+        let h = loop {
+            let h = duration / pieces as f64;
+            let step_t = (self.augmented * h).transpose();
+            let mut tail: f64 = 0.0;
+            for (c, row) in functionals.iter().zip(rows.iter_mut()) {
+                row[0] = *c;
+                for k in 1..=TAYLOR_DEGREE {
+                    row[k] = step_t * row[k - 1] / k as f64;
+                }
+                let size = c.lp_norm(1).max(f64::MIN_POSITIVE);
+                tail = tail.max(
+                    (row[TAYLOR_DEGREE].lp_norm(1) + row[TAYLOR_DEGREE - 1].lp_norm(1)) / size,
+                );
+            }
+            if tail <= TAIL_TOLERANCE || pieces >= 1 << 24 {
+                break h;
+            }
+            pieces *= 2;
+        };
+        Table {
+            duration,
+            functionals: functionals.to_vec(),
+            pieces,
+            h,
+            rows,
+            step: (self.augmented * h).exp(),
+        }
     }
 }
 
@@ -225,10 +268,19 @@ fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64) {
             ext.argmin = t0 + s * h;
         }
     };
-    update(ext, 0.0, horner(q, 0.0).0);
-    update(ext, 1.0, horner(q, 1.0).0);
     let size: f64 = q.iter().map(|c| c.abs()).sum();
+    // Coefficients below rounding of the largest term do not change any value: drop them.
+    let degree = q.iter().rposition(|c| c.abs() > 1e-18 * size).unwrap_or(0);
+    let q = &q[..=degree];
     let tol = 1e-15 * size;
+    // The whole piece lies within q(0) ± Σ_{k≥1} |q_k|: skip it if that cannot beat the
+    // extrema found so far.
+    let spread = size - q[0].abs();
+    if q[0] + spread <= ext.max + tol && q[0] - spread >= ext.min - tol {
+        return;
+    }
+    update(ext, 0.0, q[0]);
+    update(ext, 1.0, horner(q, 1.0).0);
     let (mut m2, mut m3) = (0.0, 0.0);
     for (k, c) in q.iter().enumerate() {
         let k = k as f64;
