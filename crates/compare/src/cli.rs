@@ -20,7 +20,11 @@ use thiserror::Error;
 
 /// Steady states of an impacting mass-in-mass unit, two independent ways.
 #[derive(Debug, Parser)]
-#[command(name = "rattle", version, about, long_about = None)]
+#[command(
+    name = "rattle",
+    version,
+    about = "Steady states of an impacting mass-in-mass unit, two independent ways: closed-form orbits (Nigm–Shabana) and exact event-driven simulation"
+)]
 pub struct Cli {
     /// What to compute.
     #[command(subcommand)]
