@@ -422,9 +422,8 @@ impl<'m> Engine<'m> {
         let settle = 1e-10 * period;
         let mut grace = f64::NEG_INFINITY;
 
-        let first_strobe = tau == 0.0;
-        if first_strobe {
-            ring.push_back(y.clone());
+        if tau == 0.0 {
+            ring.push_back(y.clone()); // the start is itself a section
         }
         loop {
             // Start the observation window.
