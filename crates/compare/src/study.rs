@@ -381,7 +381,8 @@ fn last_periods(sim: &SimulatedPoint, period: f64, offset: f64) -> Samples {
         return Vec::new();
     };
     let end = traj.last().map_or(0.0, |p| p.0);
-    let from = end - 2.0 * period;
+    let first = traj.first().map_or(0.0, |p| p.0);
+    let from = (end - 2.0 * period).max(first);
     let shift = ((from - offset) / period).floor() * period + offset;
     traj.iter()
         .filter(|p| p.0 >= from)

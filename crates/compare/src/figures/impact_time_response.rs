@@ -73,18 +73,19 @@ fn panel<DB: DrawingBackend>(
     let source = if curves.is_empty() { points } else { curves };
     // Walls follow the outer mass.
     for sign in [1.0, -1.0] {
-        chart
+        let walls = chart
             .draw_series(DashedLineSeries::new(
                 source.iter().map(|p| (p.0, p.1 + sign * gap)),
                 5,
                 4,
                 grey.stroke_width(1),
             ))
-            .map_err(err)?
-            .label(if sign > 0.0 { "walls u_o ± Δ" } else { "" })
-            .legend(move |(x, y)| {
+            .map_err(err)?;
+        if sign > 0.0 {
+            walls.label("walls u_o ± Δ").legend(move |(x, y)| {
                 PathElement::new(vec![(x, y), (x + 18, y)], grey.stroke_width(1))
             });
+        }
     }
     if !curves.is_empty() {
         chart
