@@ -71,8 +71,6 @@ pub struct Orbit {
     pub state_before_side2: Vector4<f64>,
     /// `X_o = max |u_o(t)|` over the period, from the rigorous extrema of the closed form.
     pub outer_amplitude: f64,
-    /// `max |u_i(t)|` over the period.
-    pub inner_amplitude: f64,
     /// `20 log10(X_o / u_g)`.
     pub transmittance_db: f64,
     /// True when no [`Violation`] was found.
@@ -173,8 +171,7 @@ pub(crate) fn assemble(
     let hx = relative_displacement();
     let r_fn = join(&hx, &Vector2::zeros());
     let uo_fn = Augmented::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    let ui_fn = Augmented::new(0.0, 1.0, 0.0, 0.0, 0.0, 0.0);
-    let fns = [r_fn, uo_fn, ui_fn];
+    let fns = [r_fn, uo_fn];
     let flight1 = flow.extrema(&join(&after1, &p0), t1, &fns);
     let flight2 = if flights.symmetric {
         flight1
@@ -242,11 +239,6 @@ pub(crate) fn assemble(
         .iter()
         .map(|e| e.max.abs().max(e.min.abs()))
         .fold(0.0, f64::max);
-    let inner_amplitude = [flight1[2], flight2[2]]
-        .iter()
-        .map(|e| e.max.abs().max(e.min.abs()))
-        .fold(0.0, f64::max);
-
     let s1 = saltation(flow, &g, &before1, &p0);
     let s2 = saltation(flow, &g, &before2, &p1);
     let monodromy = s1 * second.homogeneous * s2 * first.homogeneous;
@@ -265,7 +257,6 @@ pub(crate) fn assemble(
         state_after_impact: after1,
         state_before_side2: before2,
         outer_amplitude,
-        inner_amplitude,
         transmittance_db: transmittance_db(outer_amplitude, unit.base_amplitude),
         viable: violations.is_empty(),
         violations,

@@ -57,7 +57,6 @@ pub fn orbit(o: &Orbit, branch: usize) -> Value {
         "state_after_impact": state(&o.state_after_impact),
         "state_before_side2": state(&o.state_before_side2),
         "outer_amplitude": number(o.outer_amplitude),
-        "inner_amplitude": number(o.inner_amplitude),
         "transmittance_db": number(o.transmittance_db),
         "viable": o.viable,
         "violations": o.violations.iter().map(violation).collect::<Vec<_>>(),

@@ -232,9 +232,10 @@ pub fn row(point: &SweepPoint, gap: Option<f64>) -> Vec<Value> {
 
 /// The sweep as one JSON document: the scene, the solver and one object per frequency.
 pub fn to_json(scene: &Scene, solver: Solver, points: &[SweepPoint]) -> Value {
+    use rayon::prelude::*;
     let gap = scene.stops.map(|s| s.gap);
     let results: Vec<Value> = points
-        .iter()
+        .par_iter()
         .map(|p| {
             let mut obj = serde_json::Map::new();
             for (k, v) in COLUMNS.iter().zip(row(p, gap)) {
@@ -259,19 +260,27 @@ pub fn to_json(scene: &Scene, solver: Solver, points: &[SweepPoint]) -> Value {
 /// The sweep as CSV: a header of [`COLUMNS`], one row per frequency; empty cells where a
 /// value does not apply or is not finite. Loads with `pandas.read_csv` or MATLAB `readtable`.
 pub fn to_csv(scene: &Scene, points: &[SweepPoint]) -> String {
+    use rayon::prelude::*;
     let gap = scene.stops.map(|s| s.gap);
+    // Rows are formatted in parallel and joined in order.
+    let lines: Vec<String> = points
+        .par_iter()
+        .map(|p| {
+            let cells: Vec<String> = row(p, gap)
+                .into_iter()
+                .map(|v| match v {
+                    Value::Null => String::new(),
+                    Value::String(s) => format!("\"{}\"", s.replace('"', "\"\"")),
+                    other => other.to_string(),
+                })
+                .collect();
+            cells.join(",")
+        })
+        .collect();
     let mut out = COLUMNS.join(",");
     out.push('\n');
-    for p in points {
-        let cells: Vec<String> = row(p, gap)
-            .into_iter()
-            .map(|v| match v {
-                Value::Null => String::new(),
-                Value::String(s) => format!("\"{}\"", s.replace('"', "\"\"")),
-                other => other.to_string(),
-            })
-            .collect();
-        out.push_str(&cells.join(","));
+    for line in lines {
+        out.push_str(&line);
         out.push('\n');
     }
     out
