@@ -7,7 +7,7 @@ use crate::figures::impact_time_response::{ImpactRow, Samples};
 use crate::frequency::{analyse, AnalyticPoint};
 use crate::scene::{Scene, StopsSpec};
 use crate::simulation::{run, start_on_orbit, Regime, SimulatedPoint};
-use crate::sweep::{frequencies, parallel_map};
+use crate::sweep::{frequencies, parallel_map, parallel_map_even};
 use nalgebra::{Vector2, Vector4};
 use rattle_analytic::flow::ForcedFlow;
 use rattle_analytic::gap_for_beta;
@@ -125,7 +125,7 @@ impl Study {
         };
         let grid = frequencies(size.omega_min, size.omega_max, size.analytic_points);
         let analytic: Vec<AnalyticPoint> =
-            parallel_map(&grid, progress.then_some("analytic"), |&w| {
+            parallel_map_even(&grid, progress.then_some("analytic"), |&w| {
                 analyse(scene, w, false)
             })
             .into_iter()

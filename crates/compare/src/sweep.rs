@@ -16,8 +16,29 @@ pub fn frequencies(omega_min: f64, omega_max: f64, points: usize) -> Vec<f64> {
 }
 
 /// Maps `work` over `inputs` in parallel, in order; draws a progress line on stderr when it is
-/// a terminal and `label` is given.
+/// a terminal and `label` is given. Inputs are handed out one at a time: the cost of a
+/// frequency can differ by orders of magnitude from its neighbour's, and coarse blocks would
+/// leave a thread idle at the end. For cheap, even work use [`parallel_map_even`].
 pub fn parallel_map<I, O, F>(inputs: &[I], label: Option<&str>, work: F) -> Vec<O>
+where
+    I: Sync,
+    O: Send,
+    F: Fn(&I) -> O + Sync + Send,
+{
+    map_with_grain(inputs, label, 1, work)
+}
+
+/// [`parallel_map`] for work of even, small cost per input (rayon's adaptive blocks).
+pub fn parallel_map_even<I, O, F>(inputs: &[I], label: Option<&str>, work: F) -> Vec<O>
+where
+    I: Sync,
+    O: Send,
+    F: Fn(&I) -> O + Sync + Send,
+{
+    map_with_grain(inputs, label, usize::MAX, work)
+}
+
+fn map_with_grain<I, O, F>(inputs: &[I], label: Option<&str>, grain: usize, work: F) -> Vec<O>
 where
     I: Sync,
     O: Send,
@@ -29,6 +50,7 @@ where
     let show = label.filter(|_| std::io::stderr().is_terminal());
     let out: Vec<O> = inputs
         .par_iter()
+        .with_max_len(grain)
         .map(|input| {
             let result = work(input);
             if let Some(label) = show {
@@ -125,7 +147,12 @@ pub fn sweep(
     progress: bool,
 ) -> Vec<SweepPoint> {
     let label = progress.then_some("sweep");
-    parallel_map(omegas, label, |&omega| {
+    // Analytic points cost about the same; simulations differ by orders of magnitude.
+    let grain = match solver {
+        Solver::Analytic => usize::MAX,
+        Solver::Event | Solver::Both => 1,
+    };
+    map_with_grain(omegas, label, grain, |&omega| {
         let failed = |message: String| SweepPoint::Failed { omega, message };
         match solver {
             Solver::Analytic => analyse(scene, omega, false)
