@@ -3,6 +3,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::DVector;
+use rattle_event_driven::flow::LinearFlow;
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, SimulationOptions, Start};
 
@@ -47,9 +48,47 @@ fn impacts(c: &mut Criterion) {
     group.finish();
 }
 
+fn pieces(c: &mut Criterion) {
+    // The damped unit's free flow at ω = 2, one flight from a state 0.1 inside side 1.
+    let mass = nalgebra::DMatrix::from_row_slice(2, 2, &[2.0, 0.0, 0.0, 1.0]);
+    let stiffness = nalgebra::DMatrix::from_row_slice(2, 2, &[9.0, -3.0, -3.0, 3.0]);
+    let damping = nalgebra::DMatrix::from_row_slice(2, 2, &[0.15, -0.05, -0.05, 0.05]);
+    let fc = DVector::from_vec(vec![6.0, 0.0]);
+    let fs = DVector::from_vec(vec![-0.2, 0.0]);
+    let flow = LinearFlow::new(
+        &mass,
+        Some(&damping),
+        &stiffness,
+        &fc,
+        &fs,
+        &DVector::zeros(2),
+        2.0,
+    )
+    .expect("flow");
+    let y = DVector::from_vec(vec![0.3, 0.7, -0.4, 1.2]);
+    let r = DVector::from_vec(vec![-1.0, 1.0, 0.0, 0.0]);
+    let mut group = c.benchmark_group("event-driven pieces");
+    group.bench_function("flow: state after 0.7 s", |b| {
+        b.iter(|| flow.flight(black_box(&y), 0.3).state(black_box(0.7)))
+    });
+    group.bench_function("first-contact search over one period", |b| {
+        b.iter(|| {
+            let gap = flow.flight(black_box(&y), 0.3).functional(&r);
+            gap.first_exit(
+                -0.5,
+                0.5,
+                std::f64::consts::PI,
+                1e-12 * std::f64::consts::PI,
+                1e-13,
+            )
+        })
+    });
+    group.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = impacts
+    targets = impacts, pieces
 }
 criterion_main!(benches);
