@@ -3,6 +3,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::DVector;
+use rattle_event_driven::expsum::SearchStack;
 use rattle_event_driven::flow::LinearFlow;
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, SimulationOptions, Start};
@@ -73,13 +74,14 @@ fn pieces(c: &mut Criterion) {
     });
     group.bench_function("first-contact search over one period", |b| {
         b.iter(|| {
-            let gap = flow.flight(black_box(&y), 0.3).functional(&r);
+            let gap = flow.flight(black_box(&y), 0.3).value_of(&r);
             gap.first_exit(
                 -0.5,
                 0.5,
                 std::f64::consts::PI,
                 1e-12 * std::f64::consts::PI,
                 1e-13,
+                &mut SearchStack::default(),
             )
         })
     });

@@ -38,6 +38,11 @@ fn l1(c: C64) -> f64 {
     c.re.abs() + c.im.abs()
 }
 
+/// Reusable storage for the interval stack of [`ExpSum::first_exit`]: passing the same one to
+/// every search of a run avoids an allocation per search.
+#[derive(Debug, Clone, Default)]
+pub struct SearchStack(Vec<(f64, f64, f64, f64)>);
+
 /// One term `(c₀ + c₁ s + c₂ s² + c₃ s³) e^{μ s}`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Term {
@@ -193,6 +198,7 @@ impl ExpSum {
         horizon: f64,
         time_tolerance: f64,
         depth_tolerance: f64,
+        stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
         // Envelope test: constant part ± the largest each varying term can be on the horizon.
         // When that band lies inside (lo, hi) no exit is possible, at no evaluation cost.
@@ -215,7 +221,8 @@ impl ExpSum {
         let chunks = ((horizon * self.fastest(horizon) * 4.0 / std::f64::consts::TAU).ceil()
             as usize)
             .clamp(1, 4096);
-        let mut stack: Vec<(f64, f64, f64, f64)> = Vec::with_capacity(64);
+        let stack = &mut stack.0;
+        stack.clear();
         for i in (0..chunks).rev() {
             let a = horizon * i as f64 / chunks as f64;
             let b = if i + 1 == chunks {

@@ -8,6 +8,11 @@
 //! `φ` is evaluated in a form that stays finite when `μ = λ` (exact resonance of an undamped
 //! mode): as `(e^{μs} − e^{λs})/(μ − λ)` when `|μ − λ| T` is large, and as
 //! `e^{λs}(s + δs²/2 + δ²s³/6)`, `δ = μ − λ`, when it is below `10⁻⁴`.
+//! Away from resonance (every `|μ − λ| T` above `10⁻⁴`) a flight is written instead as the
+//! steady forced response `z_p(t)` plus the deviation from it, `z(s) = e^{λs} ∘ (z(0) − z_p(t₀))
+//! + z_p(t₀ + s)`: the same motion with one exponential per mode and one for the forcing, which
+//! is what the event search evaluates over and over. Conjugate modes of the real system are
+//! folded into one (`Re Σ = 2 Re` of one of each pair), halving the exponentials again.
 //! The eigenvectors come from the quadratic pencil: `(λ²M + λC + K) φ = 0`, `v = (φ, λφ)`.
 
 use crate::expsum::{ExpSum, Term};
@@ -48,34 +53,62 @@ pub struct LinearFlow {
     plus: DVector<C64>,
     minus: DVector<C64>,
     constant: DVector<C64>,
+    /// The modes that carry a real motion: one of each conjugate pair (weight 2) and every
+    /// real mode (weight 1), so that `Re Σ_all = Σ_kept weight · Re`.
+    kept: Vec<(usize, f64)>,
+    /// The forced steady response, when no mode is resonant with the forcing.
+    steady: Option<SteadyResponse>,
 }
 
-/// A flight: the flow from a given state at a given forcing phase, as modal coefficients.
+/// The forced steady response in modal coordinates,
+/// `z_p(t) = P⁺ e^{iωt} + P⁻ e^{−iωt} + P⁰`, `P^±_k = g^±_k/(±iω − λ_k)`, `P⁰_k = −g⁰_k/λ_k`.
+#[derive(Debug, Clone)]
+struct SteadyResponse {
+    plus: Vec<C64>,
+    minus: Vec<C64>,
+    constant: Vec<C64>,
+}
+
+/// A linear functional `c · y` of the state, prepared for fast flights: its modal weights
+/// `Vᵀc` and, when the flow has a steady response, that response's contribution
+/// `Re(forced e^{iωt}) + constant`.
+#[derive(Debug, Clone)]
+pub struct Functional {
+    weights: DVector<C64>,
+    forced: C64,
+    constant: f64,
+}
+
+/// A flight: the flow from a given state at a given forcing phase.
 #[derive(Debug, Clone)]
 pub struct Flight<'a> {
     flow: &'a LinearFlow,
-    /// Modal state at the start.
-    start: DVector<C64>,
-    /// Forcing coefficients with the start phase folded in: `G⁺ = g⁺ e^{iωt₀}`, `G⁻`.
-    plus: DVector<C64>,
-    minus: DVector<C64>,
+    form: Form<'a>,
+}
+
+#[derive(Debug, Clone)]
+enum Form<'a> {
+    /// `z(s) = e^{λs} ∘ h + z_p(t₀ + s)`: the deviation `h = z(0) − z_p(t₀)` from the steady
+    /// response decays (or persists) mode by mode; `phase = e^{iωt₀}`.
+    Steady {
+        response: &'a SteadyResponse,
+        deviation: Vec<C64>,
+        phase: C64,
+    },
+    /// `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`, finite at resonance. The forcing
+    /// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`.
+    General {
+        start: DVector<C64>,
+        plus: DVector<C64>,
+        minus: DVector<C64>,
+    },
 }
 
 /// `φ(λ, μ, s) = ∫₀ˢ e^{λ(s−σ)} e^{μσ} dσ` as terms in `s`, resonance-safe.
 fn phi_terms(lambda: C64, mu: C64, period: f64, scale: C64, out: &mut Vec<Term>) {
     let delta = mu - lambda;
     let zero = C64::new(0.0, 0.0);
-    if (delta.re.abs() + delta.im.abs()) * period > RESONANCE {
-        let c = scale / delta;
-        out.push(Term {
-            poly: [c, zero, zero, zero],
-            rate: mu,
-        });
-        out.push(Term {
-            poly: [-c, zero, zero, zero],
-            rate: lambda,
-        });
-    } else {
+    if resonant(delta, period) {
         out.push(Term {
             poly: [
                 zero,
@@ -85,17 +118,40 @@ fn phi_terms(lambda: C64, mu: C64, period: f64, scale: C64, out: &mut Vec<Term>)
             ],
             rate: lambda,
         });
+    } else {
+        let c = scale / delta;
+        out.push(Term {
+            poly: [c, zero, zero, zero],
+            rate: mu,
+        });
+        out.push(Term {
+            poly: [-c, zero, zero, zero],
+            rate: lambda,
+        });
     }
+}
+
+/// Whether a forcing rate `μ = λ + δ` counts as resonant with the mode of rate `λ`.
+fn resonant(delta: C64, period: f64) -> bool {
+    (delta.re.abs() + delta.im.abs()) * period <= RESONANCE
 }
 
 /// Value of `φ(λ, μ, s)` given `e^{λs}` and `e^{μs}`.
 fn phi_shared(lambda: C64, el: C64, mu: C64, em: C64, s: f64, period: f64) -> C64 {
     let delta = mu - lambda;
-    if (delta.re.abs() + delta.im.abs()) * period > RESONANCE {
-        (em - el) / delta
-    } else {
+    if resonant(delta, period) {
         el * (s + delta * (s * s / 2.0) + delta * delta * (s * s * s / 6.0))
+    } else {
+        (em - el) / delta
     }
+}
+
+/// `e^{μ s}`, skipping the real exponential for purely oscillatory rates.
+#[inline]
+fn cexp(mu: C64, s: f64) -> C64 {
+    let (sin, cos) = (mu.im * s).sin_cos();
+    let r = if mu.re == 0.0 { 1.0 } else { (mu.re * s).exp() };
+    C64::new(r * cos, r * sin)
 }
 
 impl LinearFlow {
@@ -164,16 +220,62 @@ impl LinearFlow {
         let plus = lift(f.clone());
         let minus = lift(f.map(|c| c.conj()));
         let constant = lift(forcing_constant.map(|v| C64::new(v, 0.0)));
+        let period = std::f64::consts::TAU / omega;
+        // A real system has real rates and exact conjugate pairs (real Schur form); fold each
+        // pair into one mode of weight 2. Anything else keeps every mode.
+        let partner = |k: usize| rates.iter().position(|r| *r == rates[k].conj());
+        let pairs_exact = rates
+            .iter()
+            .enumerate()
+            .all(|(k, r)| r.im == 0.0 || partner(k).is_some());
+        let kept = if pairs_exact {
+            rates
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| r.im >= 0.0)
+                .map(|(k, r)| (k, if r.im > 0.0 { 2.0 } else { 1.0 }))
+                .collect()
+        } else {
+            (0..rates.len()).map(|k| (k, 1.0)).collect()
+        };
+        let w = C64::new(0.0, omega);
+        let has_constant = constant.iter().any(|c| *c != C64::default());
+        let steady = rates
+            .iter()
+            .all(|&l| {
+                !resonant(w - l, period)
+                    && !resonant(-w - l, period)
+                    && !(has_constant && resonant(-l, period))
+            })
+            .then(|| SteadyResponse {
+                plus: rates
+                    .iter()
+                    .zip(plus.iter())
+                    .map(|(&l, &g)| g / (w - l))
+                    .collect(),
+                minus: rates
+                    .iter()
+                    .zip(minus.iter())
+                    .map(|(&l, &g)| g / (-w - l))
+                    .collect(),
+                constant: rates
+                    .iter()
+                    .zip(constant.iter())
+                    .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
+                    .collect(),
+            });
         Ok(Self {
             dofs: n,
             omega,
-            period: std::f64::consts::TAU / omega,
+            period,
             rates,
             modes,
             inverse,
             plus,
             minus,
             constant,
+            kept,
+            steady,
         })
     }
 
@@ -182,16 +284,59 @@ impl LinearFlow {
         self.dofs
     }
 
+    /// Whether flights use the steady forced response (no mode resonant with the forcing); at
+    /// or near resonance they use the resonance-safe `φ` form instead.
+    pub fn has_steady_response(&self) -> bool {
+        self.steady.is_some()
+    }
+
     /// The flight from state `y` (length `2n`) at forcing phase time `t0` (the forcing is
     /// evaluated at `t0 + s`).
     pub fn flight(&self, y: &DVector<f64>, t0: f64) -> Flight<'_> {
-        let start = &self.inverse * y.map(|v| C64::new(v, 0.0));
-        let e = C64::new(0.0, self.omega * t0).exp();
-        Flight {
-            flow: self,
-            start,
-            plus: self.plus.map(|g| g * e),
-            minus: self.minus.map(|g| g * e.conj()),
+        let (sin, cos) = (self.omega * t0).sin_cos();
+        let phase = C64::new(cos, sin);
+        let m = 2 * self.dofs;
+        let form = match &self.steady {
+            Some(p) => {
+                let mut deviation = vec![C64::default(); m];
+                for &(k, _) in &self.kept {
+                    let mut z = C64::default();
+                    for j in 0..m {
+                        z += self.inverse[(k, j)] * y[j];
+                    }
+                    deviation[k] =
+                        z - (p.plus[k] * phase + p.minus[k] * phase.conj() + p.constant[k]);
+                }
+                Form::Steady {
+                    response: p,
+                    deviation,
+                    phase,
+                }
+            }
+            None => Form::General {
+                start: &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                plus: self.plus.map(|g| g * phase),
+                minus: self.minus.map(|g| g * phase.conj()),
+            },
+        };
+        Flight { flow: self, form }
+    }
+
+    /// Modal weights `Vᵀ c` of the functional `c · y`, with the steady response's part.
+    pub fn functional(&self, c: &DVector<f64>) -> Functional {
+        let weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
+        let (mut forced, mut constant) = (C64::default(), 0.0);
+        if let Some(p) = &self.steady {
+            for &(k, weight) in &self.kept {
+                // Re[w P⁻ e^{−iωt}] = Re[conj(w P⁻) e^{iωt}].
+                forced += (weights[k] * p.plus[k] + (weights[k] * p.minus[k]).conj()) * weight;
+                constant += (weights[k] * p.constant[k]).re * weight;
+            }
+        }
+        Functional {
+            weights,
+            forced,
+            constant,
         }
     }
 }
@@ -199,61 +344,112 @@ impl LinearFlow {
 impl Flight<'_> {
     /// The state `y(s)` at time `s` into the flight.
     pub fn state(&self, s: f64) -> DVector<f64> {
+        let mut y = DVector::zeros(2 * self.flow.dofs);
+        self.state_into(s, &mut y);
+        y
+    }
+
+    /// [`Self::state`] written into `y` (length `2n`), without allocating.
+    pub fn state_into(&self, s: f64, y: &mut DVector<f64>) {
         let f = self.flow;
-        let w = C64::new(0.0, f.omega);
+        let m = 2 * f.dofs;
+        y.fill(0.0);
         // Shared exponentials: e^{±iωs} once for all modes.
-        let (sin, cos) = (f.omega * s).sin_cos();
-        let ep = C64::new(cos, sin);
-        let em = ep.conj();
-        let zero = C64::new(0.0, 0.0);
-        let z = DVector::from_fn(f.rates.len(), |k, _| {
-            let l = f.rates[k];
-            let el = (l * s).exp();
-            let mut zk = el * self.start[k]
-                + self.plus[k] * phi_shared(l, el, w, ep, s, f.period)
-                + self.minus[k] * phi_shared(l, el, -w, em, s, f.period);
-            if f.constant[k] != zero {
-                zk += f.constant[k] * phi_shared(l, el, zero, C64::new(1.0, 0.0), s, f.period);
+        let ep = cexp(C64::new(0.0, f.omega), s);
+        match &self.form {
+            Form::Steady {
+                response: p,
+                deviation,
+                phase,
+            } => {
+                let forced = ep * phase;
+                for &(k, weight) in &f.kept {
+                    let zk = (deviation[k] * cexp(f.rates[k], s)
+                        + p.plus[k] * forced
+                        + p.minus[k] * forced.conj()
+                        + p.constant[k])
+                        * weight;
+                    for (i, yi) in y.iter_mut().enumerate().take(m) {
+                        *yi += (f.modes[(i, k)] * zk).re;
+                    }
+                }
             }
-            zk
-        });
-        (&f.modes * z).map(|c| c.re)
+            Form::General { start, plus, minus } => {
+                let w = C64::new(0.0, f.omega);
+                let em = ep.conj();
+                let zero = C64::new(0.0, 0.0);
+                for &(k, weight) in &f.kept {
+                    let l = f.rates[k];
+                    let el = cexp(l, s);
+                    let mut zk = el * start[k]
+                        + plus[k] * phi_shared(l, el, w, ep, s, f.period)
+                        + minus[k] * phi_shared(l, el, -w, em, s, f.period);
+                    if f.constant[k] != zero {
+                        zk += f.constant[k]
+                            * phi_shared(l, el, zero, C64::new(1.0, 0.0), s, f.period);
+                    }
+                    let zk = zk * weight;
+                    for (i, yi) in y.iter_mut().enumerate().take(m) {
+                        *yi += (f.modes[(i, k)] * zk).re;
+                    }
+                }
+            }
+        }
     }
 
     /// The linear functional `c · y(s)` as a sum of exponential terms in `s`.
-    pub fn functional(&self, c: &DVector<f64>) -> ExpSum {
-        self.weighted(&self.flow.weights(c))
+    pub fn value_of(&self, c: &DVector<f64>) -> ExpSum {
+        let mut out = ExpSum::default();
+        self.expand(&self.flow.functional(c), &mut out);
+        out
     }
 
-    /// [`Self::functional`] for modal weights from [`LinearFlow::weights`] (computed once per
-    /// functional, not per flight).
-    pub fn weighted(&self, weights: &DVector<C64>) -> ExpSum {
+    /// The functional prepared by [`LinearFlow::functional`] as a sum of exponential terms in
+    /// `s`, written into `out` (its previous terms are dropped, its storage reused).
+    pub fn expand(&self, functional: &Functional, out: &mut ExpSum) {
         let f = self.flow;
-        let w = C64::new(0.0, f.omega);
-        let mut terms = Vec::with_capacity(4 * f.rates.len());
         let zero = C64::new(0.0, 0.0);
-        for (k, &l) in f.rates.iter().enumerate() {
-            let wk = weights[k];
-            terms.push(Term {
-                poly: [wk * self.start[k], zero, zero, zero],
-                rate: l,
-            });
-            phi_terms(l, w, f.period, wk * self.plus[k], &mut terms);
-            phi_terms(l, -w, f.period, wk * self.minus[k], &mut terms);
-            if f.constant[k] != zero {
-                phi_terms(l, zero, f.period, wk * f.constant[k], &mut terms);
+        let w = C64::new(0.0, f.omega);
+        let weights = &functional.weights;
+        out.terms.clear();
+        match &self.form {
+            Form::Steady {
+                deviation, phase, ..
+            } => {
+                for &(k, weight) in &f.kept {
+                    out.terms.push(Term {
+                        poly: [weights[k] * deviation[k] * weight, zero, zero, zero],
+                        rate: f.rates[k],
+                    });
+                }
+                out.terms.push(Term {
+                    poly: [functional.forced * phase, zero, zero, zero],
+                    rate: w,
+                });
+                if functional.constant != 0.0 {
+                    out.terms.push(Term {
+                        poly: [C64::new(functional.constant, 0.0), zero, zero, zero],
+                        rate: zero,
+                    });
+                }
+            }
+            Form::General { start, plus, minus } => {
+                let mut terms = Vec::with_capacity(4 * f.rates.len());
+                for (k, &l) in f.rates.iter().enumerate() {
+                    let wk = weights[k];
+                    terms.push(Term {
+                        poly: [wk * start[k], zero, zero, zero],
+                        rate: l,
+                    });
+                    phi_terms(l, w, f.period, wk * plus[k], &mut terms);
+                    phi_terms(l, -w, f.period, wk * minus[k], &mut terms);
+                    if f.constant[k] != zero {
+                        phi_terms(l, zero, f.period, wk * f.constant[k], &mut terms);
+                    }
+                }
+                out.terms = merge(terms);
             }
         }
-        ExpSum {
-            terms: merge(terms),
-        }
-    }
-}
-
-impl LinearFlow {
-    /// Modal weights `Vᵀ c` of the functional `c · y`.
-    pub fn weights(&self, c: &DVector<f64>) -> DVector<C64> {
-        self.modes.transpose() * c.map(|v| C64::new(v, 0.0))
     }
 }
 

@@ -252,10 +252,24 @@ impl Model {
         before: &DVector<f64>,
         restitution: Option<f64>,
     ) -> DVector<f64> {
+        let n = self.dofs();
+        let mut state = DVector::zeros(2 * n);
+        state.rows_mut(n, n).copy_from(before);
+        self.apply_impact(pair, &mut state, restitution);
+        state.rows(n, n).into_owned()
+    }
+
+    /// [`Self::impact_velocities`] in place on the velocity half of a state `y = (u, u̇)`
+    /// (length `2n`); the positions are left as they are.
+    pub fn apply_impact(&self, pair: usize, state: &mut DVector<f64>, restitution: Option<f64>) {
+        let n = self.dofs();
         let e = restitution.unwrap_or(self.contacts[pair].restitution);
         let (d, mobility) = &self.directions[pair];
-        let rdot = d.dot(before);
-        before - mobility * ((1.0 + e) * rdot / d.dot(mobility))
+        let rdot: f64 = (0..n).map(|i| d[i] * state[n + i]).sum();
+        let scale = (1.0 + e) * rdot / d.dot(mobility);
+        for i in 0..n {
+            state[n + i] -= mobility[i] * scale;
+        }
     }
 
     /// True when nothing dissipates: no damping and every restitution is 1.

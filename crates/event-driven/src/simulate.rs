@@ -1,7 +1,8 @@
 //! The event loop: exact flights, first contacts, restitution, chatter and sticking, and the
 //! steady state seen through the stroboscopic map at `t = kT`.
 
-use crate::flow::{FlowError, LinearFlow};
+use crate::expsum::{ExpSum, SearchStack};
+use crate::flow::{FlowError, Functional, LinearFlow};
 use crate::model::{ContactPair, Model};
 use nalgebra::{DMatrix, DVector};
 use std::collections::VecDeque;
@@ -160,8 +161,8 @@ struct Pair {
     mobility: DVector<f64>,
     /// `dᵀ M⁻¹ d`.
     compliance: f64,
-    /// Modal weights of `r` in the free flow.
-    weights: DVector<nalgebra::Complex<f64>>,
+    /// `r` as a functional of the free flow's state.
+    relative_displacement: Functional,
 }
 
 /// A contact pair held on one stop: the reduced flow and the contact force.
@@ -189,6 +190,8 @@ struct Engine<'m> {
     period: f64,
     n: usize,
     free: LinearFlow,
+    /// `u_j` as functionals of the free flow's state, for the amplitudes.
+    displacements: Vec<Functional>,
     pairs: Vec<Pair>,
     stuck: Vec<Stuck>,
     time_tolerance: f64,
@@ -270,14 +273,21 @@ impl<'m> Engine<'m> {
                 position.rows_mut(0, n).copy_from(&d);
                 let mobility = &minv * &d;
                 let compliance = d.dot(&mobility);
-                let weights = free.weights(&position);
+                let relative_displacement = free.functional(&position);
                 Pair {
                     spec: *c,
                     direction: d,
                     mobility,
                     compliance,
-                    weights,
+                    relative_displacement,
                 }
+            })
+            .collect();
+        let displacements = (0..n)
+            .map(|j| {
+                let mut c = DVector::zeros(2 * n);
+                c[j] = 1.0;
+                free.functional(&c)
             })
             .collect();
         Ok(Self {
@@ -286,6 +296,7 @@ impl<'m> Engine<'m> {
             period,
             n,
             free,
+            displacements,
             pairs,
             stuck: Vec::new(),
             time_tolerance: options.root_tolerance * period,
@@ -368,17 +379,24 @@ impl<'m> Engine<'m> {
             .fold(0.0, f64::max)
     }
 
-    /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`.
+    /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`:
+    /// `(M⁻¹d) · (f(τ) − K u − C u̇)`.
     fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
         let n = self.n;
-        let (u, v) = (y.rows(0, n), y.rows(n, n));
-        let wt = self.omega * tau;
-        let mut f = &self.model.forcing_cos * wt.cos() + &self.model.forcing_sin * wt.sin();
-        f -= &self.model.stiffness * u;
-        if let Some(c) = &self.model.damping {
-            f -= c * v;
-        }
-        p.mobility.dot(&f)
+        let m = self.model;
+        let (sin, cos) = (self.omega * tau).sin_cos();
+        (0..n)
+            .map(|i| {
+                let mut f = m.forcing_cos[i] * cos + m.forcing_sin[i] * sin;
+                for j in 0..n {
+                    f -= m.stiffness[(i, j)] * y[j];
+                    if let Some(c) = &m.damping {
+                        f -= c[(i, j)] * y[n + j];
+                    }
+                }
+                p.mobility[i] * f
+            })
+            .sum()
     }
 
     fn run(
@@ -421,6 +439,10 @@ impl<'m> Engine<'m> {
         // rounding must not read that as a new contact. Contacts are ignored until `grace`.
         let settle = 1e-10 * period;
         let mut grace = f64::NEG_INFINITY;
+        // Storage reused by every flight.
+        let mut gap = ExpSum::default();
+        let mut stack = SearchStack::default();
+        let mut coordinate = ExpSum::default();
 
         if tau == 0.0 {
             ring.push_back(y.clone()); // the start is itself a section
@@ -452,13 +474,14 @@ impl<'m> Engine<'m> {
                     let depth = depth + 1e-14 * position_scale;
                     let mut event: Option<(f64, usize, i8)> = None;
                     for (i, p) in self.pairs.iter().enumerate() {
-                        let r = flight.weighted(&p.weights);
-                        if let Some((s, side)) = r.first_exit(
+                        flight.expand(&p.relative_displacement, &mut gap);
+                        if let Some((s, side)) = gap.first_exit(
                             -p.spec.gap_minus,
                             p.spec.gap_plus,
                             horizon,
                             self.time_tolerance,
                             depth,
+                            &mut stack,
                         ) {
                             if event.is_none_or(|e| s < e.0) {
                                 event = Some((s, i, side));
@@ -485,11 +508,9 @@ impl<'m> Engine<'m> {
                         event.map_or(horizon, |e| e.0)
                     };
                     if let Some(w) = window.as_mut() {
-                        for (j, amp) in w.amplitudes.iter_mut().enumerate() {
-                            let mut c = DVector::zeros(2 * n);
-                            c[j] = 1.0;
-                            let f = flight.functional(&c);
-                            *amp = amp.max(f.max_abs(span, 1e-13 * (1.0 + *amp)));
+                        for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
+                            flight.expand(u, &mut coordinate);
+                            *amp = amp.max(coordinate.max_abs(span, 1e-13 * (1.0 + *amp)));
                         }
                         if options.record_trajectory {
                             sample(&mut w.trajectory, span, period, |s| {
@@ -500,51 +521,44 @@ impl<'m> Engine<'m> {
                     match event {
                         None if tau >= period => {}
                         None => {
-                            y = flight.state(horizon);
+                            flight.state_into(horizon, &mut y);
                             tau = period;
                         }
                         Some((s, i, side)) => {
-                            let before = flight.state(s);
+                            flight.state_into(s, &mut y); // just before the event
                             tau += s;
                             events_this_period += 1;
                             if events_this_period > 1_000_000 {
                                 return Err(SimulationError::EventStorm(1_000_000, absolute(tau)));
                             }
                             let p = &self.pairs[i];
-                            let rdot = p.direction.dot(&before.rows(n, n));
+                            let rdot = p.direction.dot(&y.rows(n, n));
                             // Only an approach counts as an impact; a start on the stop moving
                             // out of it (rounding) is handled as sticking below.
-                            let mut after = before.clone();
                             let e = p.spec.restitution;
                             // Velocities are known to rounding relative to their size: a slower
                             // approach is a graze, not an impact.
-                            let velocity_round = 1e-13 * before.rows(n, n).amax();
+                            let velocity_round = 1e-13 * y.rows(n, n).amax();
                             let approaching = rdot * side as f64 > velocity_round;
                             if approaching {
-                                let v = self.model.impact_velocities(
-                                    i,
-                                    &before.rows(n, n).into_owned(),
-                                    None,
-                                );
-                                after.rows_mut(n, n).copy_from(&v);
-                                impacts += 1;
-                                last_impact_period = Some(k);
                                 if let Some(w) = window.as_mut() {
                                     w.impacts.push(ImpactRecord {
                                         time: absolute(tau),
                                         phase: tau,
                                         pair: i,
                                         side,
-                                        state_before: before.clone(),
+                                        state_before: y.clone(),
                                         relative_velocity: rdot,
                                     });
                                 }
+                                self.model.apply_impact(i, &mut y, None);
+                                impacts += 1;
+                                last_impact_period = Some(k);
                             }
                             // Stick? Post-impact relative speed, and the free relative
                             // acceleration pushing into the stop.
-                            let rdot_after = p.direction.dot(&after.rows(n, n));
-                            let push =
-                                self.free_relative_acceleration(p, &after, tau) * side as f64;
+                            let rdot_after = p.direction.dot(&y.rows(n, n));
+                            let push = self.free_relative_acceleration(p, &y, tau) * side as f64;
                             let accumulation = if push > 0.0 && e < 1.0 {
                                 2.0 * rdot_after.abs() / (push * (1.0 - e))
                             } else {
@@ -561,16 +575,10 @@ impl<'m> Engine<'m> {
                             }
                             if stick {
                                 // Plastic: relative velocity to zero, momentum kept.
-                                let v = self.model.impact_velocities(
-                                    i,
-                                    &after.rows(n, n).into_owned(),
-                                    Some(0.0),
-                                );
-                                after.rows_mut(n, n).copy_from(&v);
+                                self.model.apply_impact(i, &mut y, Some(0.0));
                                 let idx = self.stuck_index(i, side)?;
                                 mode = Mode::Stuck(idx);
                             }
-                            y = after;
                         }
                     }
                 }
@@ -584,9 +592,7 @@ impl<'m> Engine<'m> {
                         .copy_from(&(&tt * (y.rows(0, n) - &st.offset)));
                     yr.rows_mut(nr, nr).copy_from(&(&tt * y.rows(n, n)));
                     let flight = st.flow.flight(&yr, tau);
-                    let mut force = flight
-                        .functional(&st.force_state)
-                        .shifted(st.force_constant);
+                    let mut force = flight.value_of(&st.force_state).shifted(st.force_constant);
                     let e = nalgebra::Complex::new(0.0, self.omega * tau).exp();
                     force.terms.push(crate::expsum::Term {
                         poly: [
@@ -615,7 +621,7 @@ impl<'m> Engine<'m> {
                             // u_j = T_j · ũ + offset_j.
                             let mut c = DVector::zeros(2 * nr);
                             c.rows_mut(0, nr).copy_from(&st.basis.row(j).transpose());
-                            let f = flight.functional(&c).shifted(st.offset[j]);
+                            let f = flight.value_of(&c).shifted(st.offset[j]);
                             *amp = amp.max(f.max_abs(span, 1e-13 * (1.0 + *amp)));
                         }
                         if options.record_trajectory {
