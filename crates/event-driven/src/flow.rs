@@ -243,9 +243,8 @@ impl LinearFlow {
         let steady = rates
             .iter()
             .all(|&l| {
-                !resonant(w - l, period)
-                    && !resonant(-w - l, period)
-                    && !(has_constant && resonant(-l, period))
+                let forced_at_zero = has_constant && resonant(-l, period);
+                !(resonant(w - l, period) || resonant(-w - l, period) || forced_at_zero)
             })
             .then(|| SteadyResponse {
                 plus: rates
