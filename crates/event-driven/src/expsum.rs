@@ -41,7 +41,56 @@ fn l1(c: C64) -> f64 {
 /// Reusable storage for the interval stack of [`ExpSum::first_exit`]: passing the same one to
 /// every search of a run avoids an allocation per search.
 #[derive(Debug, Clone, Default)]
-pub struct SearchStack(Vec<(f64, f64, f64, f64)>);
+pub struct SearchStack {
+    intervals: Vec<(f64, f64, f64, f64)>,
+    /// `e^{μ_j s}` of every term at the current grid point.
+    exps: Vec<C64>,
+    /// `e^{μ_j w}`: one grid step.
+    steps: Vec<C64>,
+    /// See [`Derivatives`].
+    derivatives: Derivatives,
+}
+
+/// `(c, cμ, cμ²)` of every term when every polynomial is a constant `c` (the steady-response
+/// flights), so that `f, f', f''` at a point where the exponentials are known cost three
+/// real parts of products per term; empty otherwise.
+#[derive(Debug, Clone, Default)]
+struct Derivatives(Vec<[C64; 3]>);
+
+impl Derivatives {
+    fn of(&mut self, f: &ExpSum) {
+        self.0.clear();
+        if f.terms
+            .iter()
+            .all(|t| t.poly[1..].iter().all(|c| *c == C64::default()))
+        {
+            self.0.extend(f.terms.iter().map(|t| {
+                let c = t.poly[0];
+                [c, c * t.rate, c * t.rate * t.rate]
+            }));
+        }
+    }
+
+    /// `(f, f', f'')` at `s`, given `exps[j] = e^{μ_j s}`.
+    #[inline]
+    fn at(&self, f: &ExpSum, s: f64, exps: &[C64]) -> (f64, f64, f64) {
+        if self.0.is_empty() {
+            return f.eval2_with(s, exps);
+        }
+        let re = |a: C64, b: C64| a.re * b.re - a.im * b.im;
+        let (mut v, mut d, mut dd) = (0.0, 0.0, 0.0);
+        for (c, &e) in self.0.iter().zip(exps) {
+            v += re(c[0], e);
+            d += re(c[1], e);
+            dd += re(c[2], e);
+        }
+        (v, d, dd)
+    }
+}
+
+/// Grid steps between fresh exponentials in [`ExpSum::first_exit`]: the recurrence
+/// `e^{μ(s + w)} = e^{μs} e^{μw}` gains at most about this many roundings.
+const REANCHOR: usize = 32;
 
 /// One term `(c₀ + c₁ s + c₂ s² + c₃ s³) e^{μ s}`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -158,7 +207,19 @@ impl ExpSum {
                 // f is monotone on [a, b]: at most one root.
                 if fa > 0.0 {
                     if fb <= 0.0 {
-                        return Some(polish(self, 1.0, 0.0, a, b, 0.5 * (a + b), time_tolerance));
+                        let mut derivatives = Derivatives::default();
+                        derivatives.of(self);
+                        let bracket = (a, b);
+                        let root = polish(
+                            self,
+                            &derivatives,
+                            1.0,
+                            0.0,
+                            bracket,
+                            0.5 * (a + b),
+                            time_tolerance,
+                        );
+                        return Some(root);
                     }
                     continue; // positive at both ends of a monotone stretch
                 }
@@ -183,14 +244,38 @@ impl ExpSum {
         None
     }
 
+    /// Value and first two derivatives at `s`, given `exps[j] = e^{μ_j s}` for every term.
+    #[inline]
+    fn eval2_with(&self, s: f64, exps: &[C64]) -> (f64, f64, f64) {
+        let (mut v, mut d, mut dd) = (0.0, 0.0, 0.0);
+        for (t, &e) in self.terms.iter().zip(exps) {
+            let p = t.poly;
+            let mu = t.rate;
+            let poly = p[0] + (p[1] + (p[2] + p[3] * s) * s) * s;
+            let d1 = p[1] + (p[2] * 2.0 + p[3] * (3.0 * s)) * s;
+            let d2 = p[2] * 2.0 + p[3] * (6.0 * s);
+            v += (poly * e).re;
+            d += ((d1 + poly * mu) * e).re;
+            dd += ((d2 + (d1 * 2.0 + poly * mu) * mu) * e).re;
+        }
+        (v, d, dd)
+    }
+
     /// The first `s ∈ [0, horizon]` where `f` leaves the open band `(lo, hi)`: `(s, +1)` on
     /// reaching `hi`, `(s, −1)` on reaching `lo`. `f(0)` is inside the band or on an edge; a
-    /// start on an edge moving back inside is not an exit.
+    /// start on an edge moving back inside is not an exit. `stack` is scratch storage.
     ///
     /// Same guarantee as [`Self::first_root`]: an interval is discarded only when the bound
-    /// `f(m) ± (|f'(m)| w + ½ M w²)` lies inside the band, intervals are searched left to right,
-    /// and a monotone bracket is polished by safeguarded Newton. A dip beyond an edge narrower
-    /// than `time_tolerance` counts when it is deeper than `depth_tolerance`.
+    /// `f(m) ± (|f'(m)| w + ½|f''(m)| w² + ⅙ M₃ w³)` (`M₃` = [`Self::jerk_bound`]) lies inside
+    /// the band, intervals are searched left to right, and a monotone bracket is polished by
+    /// safeguarded Newton. A dip beyond an edge narrower than `time_tolerance` counts when it
+    /// is deeper than `depth_tolerance`.
+    ///
+    /// The horizon is first cut into chunks about an eighth of the fastest oscillation long;
+    /// their midpoints and ends lie on a uniform grid where every exponential follows from
+    /// the previous one by one complex product (`e^{μ(s+w)} = e^{μs} e^{μw}`, recomputed
+    /// afresh every [`REANCHOR`] steps), so a whole flight costs a handful of transcendental
+    /// evaluations. Only chunks that can be neither excluded nor bracketed are bisected.
     pub fn first_exit(
         &self,
         lo: f64,
@@ -215,34 +300,84 @@ impl ExpSum {
             return None;
         }
         let jerk = self.jerk_bound(horizon);
-        // Start from chunks about a quarter of the fastest oscillation long: coarser ones are
-        // never excluded and would only cost evaluations. End values are computed on demand
-        // (NaN until then).
-        let chunks = ((horizon * self.fastest(horizon) * 4.0 / std::f64::consts::TAU).ceil()
+        let chunks = ((horizon * self.fastest(horizon) * 8.0 / std::f64::consts::TAU).ceil()
             as usize)
             .clamp(1, 4096);
-        let stack = &mut stack.0;
-        stack.clear();
-        for i in (0..chunks).rev() {
-            let a = horizon * i as f64 / chunks as f64;
+        let w = 0.5 * horizon / chunks as f64;
+        let SearchStack {
+            intervals,
+            exps,
+            steps,
+            derivatives,
+        } = stack;
+        derivatives.of(self);
+        exps.clear();
+        exps.resize(self.terms.len(), C64::new(1.0, 0.0));
+        steps.clear();
+        steps.extend(self.terms.iter().map(|t| cexp(t.rate, w)));
+        let mut fa = derivatives.at(self, 0.0, exps).0;
+        for i in 0..chunks {
+            let a = 2.0 * w * i as f64;
             let b = if i + 1 == chunks {
                 horizon
             } else {
-                horizon * (i + 1) as f64 / chunks as f64
+                2.0 * w * (i + 1) as f64
             };
-            stack.push((a, b, f64::NAN, f64::NAN));
-        }
-        let value = |known: f64, at: f64| {
-            if known.is_nan() {
-                self.eval(at).0
-            } else {
-                known
+            let m = a + w;
+            for (e, step) in exps.iter_mut().zip(steps.iter()) {
+                *e *= step;
             }
-        };
-        while let Some((a, b, fa, fb)) = stack.pop() {
+            let at_m = derivatives.at(self, m, exps);
+            if (2 * i + 2) % REANCHOR == 0 {
+                for (e, t) in exps.iter_mut().zip(&self.terms) {
+                    *e = cexp(t.rate, b);
+                }
+            } else {
+                for (e, step) in exps.iter_mut().zip(steps.iter()) {
+                    *e *= step;
+                }
+            }
+            let fb = derivatives.at(self, b, exps).0;
+            let found = self.exit_in_chunk(
+                (a, b, fa, fb),
+                at_m,
+                (lo, hi),
+                jerk,
+                time_tolerance,
+                depth_tolerance,
+                intervals,
+                derivatives,
+            );
+            if found.is_some() {
+                return found;
+            }
+            fa = fb;
+        }
+        None
+    }
+
+    /// The first exit from `(lo, hi)` within one chunk `[a, b]` (values `fa`, `fb` at its
+    /// ends, value and derivatives `at_m` at its midpoint), by the bounds of
+    /// [`Self::first_exit`]; bisects left first.
+    #[allow(clippy::too_many_arguments)]
+    fn exit_in_chunk(
+        &self,
+        chunk: (f64, f64, f64, f64),
+        at_m: (f64, f64, f64),
+        (lo, hi): (f64, f64),
+        jerk: f64,
+        time_tolerance: f64,
+        depth_tolerance: f64,
+        intervals: &mut Vec<(f64, f64, f64, f64)>,
+        derivatives: &Derivatives,
+    ) -> Option<(f64, i8)> {
+        intervals.clear();
+        intervals.push(chunk);
+        let mut known_m = Some(at_m);
+        while let Some((a, b, fa, fb)) = intervals.pop() {
             let m = 0.5 * (a + b);
             let w = 0.5 * (b - a);
-            let (fm, dm, ddm) = self.eval2(m);
+            let (fm, dm, ddm) = known_m.take().unwrap_or_else(|| self.eval2(m));
             // |f(t) − f(m) − f'(m)(t−m)| ≤ ½|f''(m)| w² + ⅙ M₃ w³ on [a, b].
             let reach = dm.abs() * w + 0.5 * ddm.abs() * w * w + jerk * w * w * w / 6.0;
             if fm + reach < hi && fm - reach > lo {
@@ -261,14 +396,24 @@ impl ExpSum {
                     };
                     (m + step).clamp(a, b)
                 };
-                let (fa, fb) = (value(fa, a), value(fb, b));
                 if dm > 0.0 {
                     if fa >= hi {
                         return Some((a, 1)); // on the upper edge at the start, moving out
                     }
                     if fb >= hi {
                         // hi − f: positive, then ≤ 0.
-                        return Some((polish(self, -1.0, hi, a, b, guess(hi), time_tolerance), 1));
+                        return Some((
+                            polish(
+                                self,
+                                derivatives,
+                                -1.0,
+                                hi,
+                                (a, b),
+                                guess(hi),
+                                time_tolerance,
+                            ),
+                            1,
+                        ));
                     }
                 } else {
                     if fa <= lo {
@@ -276,7 +421,18 @@ impl ExpSum {
                     }
                     if fb <= lo {
                         // f − lo: positive, then ≤ 0.
-                        return Some((polish(self, 1.0, lo, a, b, guess(lo), time_tolerance), -1));
+                        return Some((
+                            polish(
+                                self,
+                                derivatives,
+                                1.0,
+                                lo,
+                                (a, b),
+                                guess(lo),
+                                time_tolerance,
+                            ),
+                            -1,
+                        ));
                     }
                 }
                 continue;
@@ -290,8 +446,8 @@ impl ExpSum {
                 }
                 continue;
             }
-            stack.push((m, b, fm, fb));
-            stack.push((a, m, fa, fm));
+            intervals.push((m, b, fm, fb));
+            intervals.push((a, m, fa, fm));
         }
         None
     }
@@ -345,11 +501,46 @@ impl ExpSum {
     }
 }
 
+/// Largest `|μ δ|` (as `|re| + |im|`) for which `e^{μδ}` is taken from its Taylor series.
+const SMALL_STEP: f64 = 1e-3;
+
+/// `e^z` for `|z| ≤` [`SMALL_STEP`] by its Taylor series to degree 5 (remainder below
+/// `|z|⁶/720 ≤ 2e-21`).
+#[inline]
+fn exp_small(z: C64) -> C64 {
+    let one = C64::new(1.0, 0.0);
+    one + z * (one + z * (one / 2.0 + z * (one / 6.0 + z * (one / 24.0 + z / 120.0))))
+}
+
 /// The root of `g = sign·(f − level)` in `[a, b]` where `g(a) > 0 ≥ g(b)` and `g` is monotone:
 /// Newton from `start`, falling back to bisection when a step leaves the bracket.
-fn polish(f: &ExpSum, sign: f64, level: f64, mut a: f64, mut b: f64, start: f64, tol: f64) -> f64 {
-    let g = |s: f64| {
-        let (v, d) = f.eval(s);
+///
+/// The exponentials are carried from one iterate to the next, `e^{μ(s+δ)} = e^{μs} e^{μδ}`,
+/// with `e^{μδ}` from its Taylor series once the steps are small (converging Newton steps are
+/// tiny), so the polish costs about one transcendental evaluation per term.
+fn polish(
+    f: &ExpSum,
+    derivatives: &Derivatives,
+    sign: f64,
+    level: f64,
+    (mut a, mut b): (f64, f64),
+    start: f64,
+    tol: f64,
+) -> f64 {
+    let mut exps: Vec<C64> = f.terms.iter().map(|t| cexp(t.rate, start)).collect();
+    let mut at = start;
+    let mut g = |s: f64| {
+        let delta = s - at;
+        for (e, t) in exps.iter_mut().zip(&f.terms) {
+            let z = t.rate * delta;
+            *e = if l1(z) <= SMALL_STEP {
+                *e * exp_small(z)
+            } else {
+                cexp(t.rate, s)
+            };
+        }
+        at = s;
+        let (v, d, _) = derivatives.at(f, s, &exps);
         (sign * (v - level), sign * d)
     };
     let mut s = start;
