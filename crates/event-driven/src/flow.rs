@@ -350,11 +350,28 @@ impl Flight<'_> {
 
     /// [`Self::state`] written into `y` (length `2n`), without allocating.
     pub fn state_into(&self, s: f64, y: &mut DVector<f64>) {
+        self.state_with(s, None, y);
+    }
+
+    /// [`Self::state_into`], given `exponentials`: `e^{μ_j s}` of the terms of any functional
+    /// [`Self::expand`]ed from this flight, in their order (as a search over that functional
+    /// leaves them at the contact it found). They replace the exponentials of the modes and
+    /// the forcing when the flight follows the steady response; otherwise they are ignored.
+    pub fn state_at(&self, s: f64, exponentials: &[C64], y: &mut DVector<f64>) {
+        self.state_with(s, Some(exponentials), y);
+    }
+
+    fn state_with(&self, s: f64, exponentials: Option<&[C64]>, y: &mut DVector<f64>) {
         let f = self.flow;
         let m = 2 * f.dofs;
         y.fill(0.0);
+        // `expand` lists the kept modes, then the forcing.
+        let known = exponentials.filter(|e| e.len() > f.kept.len());
         // Shared exponentials: e^{±iωs} once for all modes.
-        let ep = cexp(C64::new(0.0, f.omega), s);
+        let ep = match known {
+            Some(e) if matches!(self.form, Form::Steady { .. }) => e[f.kept.len()],
+            _ => cexp(C64::new(0.0, f.omega), s),
+        };
         match &self.form {
             Form::Steady {
                 response: p,
@@ -362,14 +379,15 @@ impl Flight<'_> {
                 phase,
             } => {
                 let forced = ep * phase;
-                for &(k, weight) in &f.kept {
-                    let zk = (deviation[k] * cexp(f.rates[k], s)
+                for (j, &(k, weight)) in f.kept.iter().enumerate() {
+                    let el = known.map_or_else(|| cexp(f.rates[k], s), |e| e[j]);
+                    let zk = (deviation[k] * el
                         + p.plus[k] * forced
                         + p.minus[k] * forced.conj()
                         + p.constant[k])
                         * weight;
-                    for (i, yi) in y.iter_mut().enumerate().take(m) {
-                        *yi += (f.modes[(i, k)] * zk).re;
+                    for (yi, v) in y.iter_mut().zip(&f.modes.as_slice()[k * m..(k + 1) * m]) {
+                        *yi += v.re * zk.re - v.im * zk.im;
                     }
                 }
             }
@@ -388,8 +406,8 @@ impl Flight<'_> {
                             * phi_shared(l, el, zero, C64::new(1.0, 0.0), s, f.period);
                     }
                     let zk = zk * weight;
-                    for (i, yi) in y.iter_mut().enumerate().take(m) {
-                        *yi += (f.modes[(i, k)] * zk).re;
+                    for (yi, v) in y.iter_mut().zip(&f.modes.as_slice()[k * m..(k + 1) * m]) {
+                        *yi += v.re * zk.re - v.im * zk.im;
                     }
                 }
             }

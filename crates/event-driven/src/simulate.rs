@@ -443,6 +443,7 @@ impl<'m> Engine<'m> {
         let mut gap = ExpSum::default();
         let mut stack = SearchStack::default();
         let mut coordinate = ExpSum::default();
+        let mut event_exponentials = Vec::new();
 
         if tau == 0.0 {
             ring.push_back(y.clone()); // the start is itself a section
@@ -485,6 +486,10 @@ impl<'m> Engine<'m> {
                         ) {
                             if event.is_none_or(|e| s < e.0) {
                                 event = Some((s, i, side));
+                                event_exponentials.clear();
+                                if let Some(e) = stack.exponentials_at(s) {
+                                    event_exponentials.extend_from_slice(e);
+                                }
                             }
                         }
                     }
@@ -525,7 +530,8 @@ impl<'m> Engine<'m> {
                             tau = period;
                         }
                         Some((s, i, side)) => {
-                            flight.state_into(s, &mut y); // just before the event
+                            // Just before the event.
+                            flight.state_at(s, &event_exponentials, &mut y);
                             tau += s;
                             events_this_period += 1;
                             if events_this_period > 1_000_000 {
