@@ -88,6 +88,11 @@ pub struct Accuracy {
     /// Cap on forcing periods when running until steady.
     #[arg(long, default_value_t = 20_000)]
     pub max_periods: u64,
+    /// Cap on free oscillations of the fastest mode when running until steady (periods ×
+    /// ω_fastest/ω, at least 64 periods): bounds runs forced far below the natural
+    /// frequencies; finite, > 0.
+    #[arg(long, default_value_t = 2e6)]
+    pub max_oscillations: f64,
 }
 
 impl Accuracy {
@@ -108,10 +113,17 @@ impl Accuracy {
         if self.max_periods == 0 {
             return Err(RattleError::Argument("--max-periods must be > 0".into()));
         }
+        if !(self.max_oscillations.is_finite() && self.max_oscillations > 0.0) {
+            return Err(RattleError::Argument(format!(
+                "--max-oscillations = {} is out of range: must be finite and > 0",
+                self.max_oscillations
+            )));
+        }
         Ok(SimulationOptions {
             root_tolerance: self.tol,
             periodicity_tolerance: self.steady_tol,
             max_periods: self.max_periods,
+            max_oscillations: Some(self.max_oscillations),
             ..SimulationOptions::default()
         })
     }

@@ -214,12 +214,14 @@ pub fn status_name(steady: &SteadyState) -> String {
     }
 }
 
-/// Why the run ended, in words: `decided` (periodic, or no dissipation possible), `fixed-periods`, `period-cap` or `event-cap`.
+/// Why the run ended, in words: `decided` (periodic, or no dissipation possible),
+/// `fixed-periods`, `period-cap`, `event-cap` or `oscillation-cap`.
 pub fn stop_name(stop: Stop) -> &'static str {
     match stop {
         Stop::Settled => "decided",
         Stop::FixedPeriods => "fixed-periods",
         Stop::PeriodCap => "period-cap",
         Stop::EventCap => "event-cap",
+        Stop::OscillationCap => "oscillation-cap",
     }
 }

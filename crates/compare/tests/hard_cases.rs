@@ -136,3 +136,33 @@ fn coexisting_attractors_are_named() {
     assert!(p.trials.iter().any(|t| t.held));
     assert_ne!(p.from_rest.regime, Regime::TwoImpact);
 }
+
+#[test]
+fn forcing_far_below_the_natural_frequencies_stops_at_the_oscillation_cap() {
+    // e = 0, undamped, ω = 0.001: about 2400 oscillations of the fastest mode (√6 rad/s) per
+    // forcing period, and no steady state to reach. The run is bounded by the oscillation cap,
+    // not by 20 000 periods, and says so.
+    let s = Scene::parse(
+        r#"{"name": "plastic-undamped",
+            "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+            "base": {"amplitude": 1.0}, "stops": {"gap": 0.5, "restitution": 0.0}}"#,
+        "test",
+    )
+    .unwrap();
+    let omega = 0.001;
+    let options = SimulationOptions {
+        max_oscillations: Some(2e5),
+        ..SimulationOptions::default()
+    };
+    let sim = run(&s, omega, &Start::rest(2), &options).unwrap();
+    assert_eq!(
+        sim.steady.stopped,
+        rattle_event_driven::Stop::OscillationCap
+    );
+    let fastest = 6.0f64.sqrt(); // k_o = 6, m_o = 2, k_i = 3, m_i = 1: ω² = 1.5 and 6
+    assert_eq!(
+        sim.steady.periods_run,
+        (2e5 * omega / fastest).floor() as u64
+    );
+    assert!(sim.outer_amplitude.is_finite());
+}

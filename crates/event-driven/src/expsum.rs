@@ -155,6 +155,7 @@ impl Derivatives {
 /// Grid steps between fresh exponentials in [`ExpSum::first_exit`]: the recurrence
 /// `e^{μ(s + w)} = e^{μs} e^{μw}` gains at most about this many roundings.
 const REANCHOR: usize = 32;
+const HEAD: f64 = 2.0;
 
 /// One term `(c₀ + c₁ s + c₂ s² + c₃ s³) e^{μ s}`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -217,6 +218,18 @@ impl ExpSum {
             .sum()
     }
 
+    /// A bound on `|f''''(s)|` for `s ∈ [0, horizon]`, like [`Self::curvature_bound`].
+    pub fn fourth_derivative_bound(&self, horizon: f64) -> f64 {
+        self.terms
+            .iter()
+            .map(|t| {
+                let ([p0, p1, p2, p3], m, growth) = term_bounds(t, horizon);
+                let m2 = m * m;
+                (m2 * m2 * p0 + 4.0 * m2 * m * p1 + 6.0 * m2 * p2 + 4.0 * m * p3) * growth
+            })
+            .sum()
+    }
+
     /// The fastest rate `max |μ|` among the terms (at least `1/horizon`).
     fn fastest(&self, horizon: f64) -> f64 {
         self.terms
@@ -236,78 +249,6 @@ impl ExpSum {
                 (p2 + 2.0 * m * p1 + m * m * p0) * growth
             })
             .sum()
-    }
-
-    /// The first `s ∈ (0, horizon]` where `f` reaches zero from above, given `f(0) ≥ 0`;
-    /// `None` if `f > 0` on all of `(0, horizon]` (up to the grazing tolerance).
-    ///
-    /// Guarantee: intervals are discarded only when the lower bound
-    /// `f(m) − |f'(m)| w − ½ M w²` (with `M` = [`Self::curvature_bound`]) is positive, so no
-    /// crossing can be skipped, however close two crossings are; intervals are searched left to
-    /// right. A bracket on which `f` is monotone is polished by safeguarded Newton to
-    /// `time_tolerance`. A dip below zero narrower than `time_tolerance` is reported at its left
-    /// end. `leaving` says `f` starts at a contact and moves away (`f(0) = 0`, `f'(0) > 0`):
-    /// the root at `s = 0` is then not reported.
-    pub fn first_root(
-        &self,
-        horizon: f64,
-        time_tolerance: f64,
-        depth_tolerance: f64,
-    ) -> Option<f64> {
-        let curvature = self.curvature_bound(horizon);
-        // Explicit stack, left intervals on top.
-        let mut stack: Vec<(f64, f64, f64, f64)> = Vec::with_capacity(64);
-        let (f0, _) = self.eval(0.0);
-        let (fh, _) = self.eval(horizon);
-        stack.push((0.0, horizon, f0, fh));
-        while let Some((a, b, fa, fb)) = stack.pop() {
-            let m = 0.5 * (a + b);
-            let w = 0.5 * (b - a);
-            let (fm, dm) = self.eval(m);
-            if fm - dm.abs() * w - 0.5 * curvature * w * w > 0.0 {
-                continue; // f > 0 on all of [a, b]
-            }
-            if dm.abs() > curvature * w {
-                // f is monotone on [a, b]: at most one root.
-                if fa > 0.0 {
-                    if fb <= 0.0 {
-                        let mut derivatives = Derivatives::default();
-                        derivatives.of(self);
-                        let bracket = (a, b);
-                        let root = polish(
-                            self,
-                            &derivatives,
-                            1.0,
-                            0.0,
-                            bracket,
-                            0.5 * (a + b),
-                            time_tolerance,
-                            self.jerk_bound(horizon),
-                            &mut Exponentials::default(),
-                        );
-                        return Some(root);
-                    }
-                    continue; // positive at both ends of a monotone stretch
-                }
-                // f(a) ≤ 0 happens only at a = 0: starting on a contact. Moving away from it
-                // (f increasing) is no contact; moving into it is one, now.
-                if dm > 0.0 {
-                    continue;
-                }
-                return Some(a);
-            }
-            if w < time_tolerance {
-                // A dip narrower than the time tolerance: a contact if it is deeper than the
-                // depth tolerance.
-                if fm < -depth_tolerance || fb < -depth_tolerance {
-                    return Some(m);
-                }
-                continue;
-            }
-            stack.push((m, b, fm, fb));
-            stack.push((a, m, fa, fm));
-        }
-        None
     }
 
     /// Value and first two derivatives at `s`, given `exps[j] = e^{μ_j s}` for every term.
@@ -331,11 +272,13 @@ impl ExpSum {
     /// reaching `hi`, `(s, −1)` on reaching `lo`. `f(0)` is inside the band or on an edge; a
     /// start on an edge moving back inside is not an exit. `stack` is scratch storage.
     ///
-    /// Same guarantee as [`Self::first_root`]: an interval is discarded only when the bound
+    /// Guarantee: an interval is discarded only when the bound
     /// `f(m) ± (|f'(m)| w + ½|f''(m)| w² + ⅙ M₃ w³)` (`M₃` = [`Self::jerk_bound`]) lies inside
-    /// the band, intervals are searched left to right, and a monotone bracket is polished by
-    /// safeguarded Newton. A dip beyond an edge narrower than `time_tolerance` counts when it
-    /// is deeper than `depth_tolerance`.
+    /// the band, so no exit can be skipped, however close two crossings are; intervals are
+    /// searched left to right, and a monotone bracket is polished by safeguarded Halley
+    /// iteration to `time_tolerance`. A dip beyond an edge narrower than `time_tolerance`
+    /// counts when it is deeper than `depth_tolerance`. Either edge may be infinite (a
+    /// one-sided band: `(0, ∞)` finds where a positive function first reaches zero).
     ///
     /// The horizon is first cut into chunks about an eighth of the fastest oscillation long;
     /// their midpoints and ends lie on a uniform grid where every exponential follows from
@@ -368,7 +311,7 @@ impl ExpSum {
         let jerk = self.jerk_bound(horizon);
         let chunks = ((horizon * self.fastest(horizon) * 8.0 / std::f64::consts::TAU).ceil()
             as usize)
-            .clamp(1, 4096);
+            .clamp(1, 1 << 30);
         let w = 0.5 * horizon / chunks as f64;
         let SearchStack {
             intervals,
@@ -383,9 +326,87 @@ impl ExpSum {
         exps.resize(self.terms.len(), C64::new(1.0, 0.0));
         steps.clear();
         steps.extend(self.terms.iter().map(|t| cexp(t.rate, w)));
-        let mut fa = derivatives.value(self, 0.0, exps);
+        let (f0, d0, dd0) = derivatives.at(self, 0.0, exps);
+        let mut fa = f0;
+        // Head: when the flight may leave the band long before the first chunk ends (a bounce
+        // within chatter, a departure from a stop after a release), the first chunk is
+        // covered by chunks that double from the start's Taylor clearance and the quadratic
+        // model's exit, so that a short flight is not found by bisecting down from a whole
+        // chunk.
+        let first_end = if chunks == 1 { horizon } else { 2.0 * w };
+        let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
+        // Only a slow start on an edge (a release, a graze) is worth clearing: a fast one
+        // (an impact) is found by the quadratic model or the grid.
+        let on_edge =
+            (f0 - lo).min(hi - f0) <= 1e-6 * (hi - lo) && d0.abs() * first_end < 1e-3 * (hi - lo);
+        let cleared = if derivatives.0.is_empty() || !on_edge {
+            0.0
+        } else {
+            let d3: f64 = derivatives
+                .0
+                .iter()
+                .zip(&self.terms)
+                .map(|(c, t)| (c[2] * t.rate).re)
+                .sum();
+            taylor_clearance(
+                [f0, d0, dd0, d3],
+                self.fourth_derivative_bound(horizon),
+                (lo, hi),
+                depth_tolerance,
+                first_end,
+            )
+        };
+        let mut first = 0;
+        if cleared >= first_end {
+            first = 1;
+            for (e, t) in exps.iter_mut().zip(&self.terms) {
+                *e = cexp(t.rate, first_end);
+            }
+            fa = derivatives.value(self, first_end, exps);
+        } else if (cleared > 0.0 && HEAD * cleared < first_end) || 8.0 * estimate < first_end {
+            let mut a = cleared;
+            if cleared > 0.0 {
+                fa = self.eval(cleared).0;
+            }
+            let mut length = if estimate.is_finite() && estimate > cleared {
+                2.0 * (estimate - cleared)
+            } else {
+                cleared
+            };
+            while a < first_end {
+                let b = if a + 2.0 * length >= first_end {
+                    first_end
+                } else {
+                    a + length
+                };
+                let m = 0.5 * (a + b);
+                let at_m = self.eval2(m);
+                let fb = self.eval(b).0;
+                let found = self.exit_in_chunk(
+                    (a, b, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    jerk,
+                    time_tolerance,
+                    depth_tolerance,
+                    intervals,
+                    derivatives,
+                    scratch,
+                );
+                if found.is_some() {
+                    return found;
+                }
+                fa = fb;
+                a = b;
+                length *= 2.0;
+            }
+            first = 1;
+            for (e, t) in exps.iter_mut().zip(&self.terms) {
+                *e = cexp(t.rate, first_end);
+            }
+        }
         let jerk_reach = jerk * w * w * w / 6.0;
-        for i in 0..chunks {
+        for i in first..chunks {
             let a = 2.0 * w * i as f64;
             let b = if i + 1 == chunks {
                 horizon
@@ -409,8 +430,7 @@ impl ExpSum {
             let fb = derivatives.value(self, b, exps);
             // The test of `exit_in_chunk`, inline: most chunks are excluded at once.
             let (fm, dm, ddm) = at_m;
-            let reach = dm.abs() * w + 0.5 * ddm.abs() * w * w + jerk_reach;
-            if fm + reach < hi && fm - reach > lo {
+            if inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
                 fa = fb;
                 continue;
             }
@@ -457,8 +477,7 @@ impl ExpSum {
             let w = 0.5 * (b - a);
             let (fm, dm, ddm) = known_m.take().unwrap_or_else(|| self.eval2(m));
             // |f(t) − f(m) − f'(m)(t−m)| ≤ ½|f''(m)| w² + ⅙ M₃ w³ on [a, b].
-            let reach = dm.abs() * w + 0.5 * ddm.abs() * w * w + jerk * w * w * w / 6.0;
-            if fm + reach < hi && fm - reach > lo {
+            if inside((fm, dm, ddm), w, jerk * w * w * w / 6.0, (lo, hi)) {
                 continue;
             }
             // Monotone when |f'| cannot reach zero: |f'(t) − f'(m)| ≤ |f''(m)| w + ½ M₃ w².
@@ -560,11 +579,15 @@ impl ExpSum {
         out
     }
 
-    /// Maximum of `|f|` on `[0, horizon]` to an absolute tolerance `tolerance`, by branch and
-    /// bound with the curvature bound.
-    pub fn max_abs(&self, horizon: f64, tolerance: f64) -> f64 {
+    /// `max(floor, max |f|)` on `[0, horizon]` to an absolute tolerance `tolerance`, by branch
+    /// and bound with the curvature bound. Intervals where `|f|` cannot exceed the larger of
+    /// `floor` and the best value so far by more than `tolerance` are not refined, so a running
+    /// maximum passed as `floor` makes most calls cost one evaluation.
+    pub fn max_abs(&self, horizon: f64, floor: f64, tolerance: f64) -> f64 {
         let curvature = self.curvature_bound(horizon);
-        let mut best = self.eval(0.0).0.abs().max(self.eval(horizon).0.abs());
+        let mut best = floor
+            .max(self.eval(0.0).0.abs())
+            .max(self.eval(horizon).0.abs());
         let mut stack = vec![(0.0, horizon)];
         while let Some((a, b)) = stack.pop() {
             let m = 0.5 * (a + b);
@@ -581,6 +604,110 @@ impl ExpSum {
         }
         best
     }
+}
+
+/// The largest `h ≤ limit` (halving from `limit`, `0` below `limit / 2¹⁶`) such that `f`
+/// cannot leave `(lo − depth, hi + depth)` on `[0, h]`, from the Taylor expansion at `0`
+/// (`taylor = [f, f', f'', f''']`) and a bound `fourth` on `|f''''|`: on each side
+/// `g = ±(f − edge) + depth`, `g(t) ≥ g₀ + g₁t + ½g₂t² + ⅙g₃t³ − fourth·t⁴/24`, and the
+/// minimum over `[0, h]` of the cubic that bounds this from below (`t⁴ ≤ h t³` absorbed into
+/// the cubic coefficient) is found in closed form. A flight that departs from a stop with
+/// zero velocity (a plastic impact, a release) is cleared this way for a good part of its
+/// departure, where bisection would need a level per halving.
+fn taylor_clearance(
+    taylor: [f64; 4],
+    fourth: f64,
+    (lo, hi): (f64, f64),
+    depth: f64,
+    limit: f64,
+) -> f64 {
+    // Lower bound of g on [0, h] for g with Taylor coefficients (g0, g1, g2, g3):
+    // q(t) = g0 + g1 t + ½g2 t² + (⅙g3 − fourth·h/24) t³ ≤ g(t), minimised over the ends
+    // and the roots of q' in (0, h).
+    let min_on = |g: [f64; 4], h: f64| -> f64 {
+        let (c1, c2, c3) = (g[1], 0.5 * g[2], g[3] / 6.0 - fourth * h / 24.0);
+        let q = |t: f64| g[0] + t * (c1 + t * (c2 + t * c3));
+        let mut least = g[0].min(q(h));
+        // q'(t) = c1 + 2c2 t + 3c3 t².
+        let (a, b, c) = (3.0 * c3, 2.0 * c2, c1);
+        let roots = if a == 0.0 {
+            [-c / b, f64::NAN]
+        } else {
+            let disc = b * b - 4.0 * a * c;
+            if disc < 0.0 {
+                [f64::NAN, f64::NAN]
+            } else {
+                let q = -0.5 * (b + b.signum() * disc.sqrt());
+                [q / a, c / q]
+            }
+        };
+        for t in roots {
+            if t > 0.0 && t < h {
+                least = least.min(q(t));
+            }
+        }
+        least
+    };
+    let [f0, f1, f2, f3] = taylor;
+    let below = [f0 - lo + depth, f1, f2, f3];
+    let above = [hi + depth - f0, -f1, -f2, -f3];
+    if !(below[0] > 0.0 && above[0] > 0.0 && fourth.is_finite()) {
+        return 0.0;
+    }
+    let mut h = limit;
+    for _ in 0..16 {
+        if min_on(below, h) > 0.0 && min_on(above, h) > 0.0 {
+            return h;
+        }
+        h *= 0.5;
+    }
+    0.0
+}
+
+/// Whether `f` stays inside `(lo, hi)` on `[m − w, m + w]`, given `(f, f', f'')` at `m` and
+/// `cubic = M₃ w³/6` (`M₃` a bound on `|f'''|`): `f(m + τ) = f + f'τ + ½f''τ² + R`,
+/// `|R| ≤ cubic`, and the quadratic's extremes over `|τ| ≤ w` are at the ends or at its
+/// vertex. Keeping the sign of `f''` makes a motion that turns back short of a stop (a near
+/// graze) excluded at once, where `|f'|w + ½|f''|w²` would need many bisections.
+#[inline]
+fn inside((f, d, dd): (f64, f64, f64), w: f64, cubic: f64, (lo, hi): (f64, f64)) -> bool {
+    let ends = 0.5 * dd * w * w;
+    let (mut upper, mut lower) = ((d * w).abs() + ends, ends - (d * w).abs());
+    if dd != 0.0 && d.abs() <= dd.abs() * w {
+        let vertex = -0.5 * d * d / dd;
+        if dd < 0.0 {
+            upper = upper.max(vertex);
+        } else {
+            lower = lower.min(vertex);
+        }
+    }
+    f + upper + cubic < hi && f + lower - cubic > lo
+}
+
+/// The first `t > 0` at which `f0 + d0 t + ½ dd0 t²` reaches `lo` or `hi` (`∞` if never):
+/// an estimate of a flight's length, not a bound.
+fn quadratic_exit(f0: f64, d0: f64, dd0: f64, lo: f64, hi: f64) -> f64 {
+    // Smallest positive root of ½ dd0 t² + d0 t + c where the model moves out of the band
+    // (`outward` · slope > 0): a start on an edge moving inside is no exit.
+    let root = |c: f64, outward: f64| -> f64 {
+        let a = 0.5 * dd0;
+        let candidates = if a == 0.0 {
+            [-c / d0, f64::NAN]
+        } else {
+            let disc = d0 * d0 - 4.0 * a * c;
+            if disc < 0.0 {
+                return f64::INFINITY;
+            }
+            // Roots without cancellation.
+            let q = -0.5 * (d0 + d0.signum() * disc.sqrt());
+            [q / a, c / q]
+        };
+        candidates
+            .into_iter()
+            .filter(|&t| t > 0.0 && outward * (d0 + dd0 * t) > 0.0)
+            .fold(f64::INFINITY, f64::min)
+    };
+    root(f0 - hi, 1.0).min(root(f0 - lo, -1.0))
 }
 
 /// Largest `|μ δ|` (as `|re| + |im|`) for which `e^{μδ}` is taken from its Taylor series.
@@ -727,11 +854,27 @@ mod tests {
         }
     }
 
+    /// The first time `f` reaches zero from above.
+    fn first_root(f: &ExpSum, horizon: f64) -> Option<f64> {
+        f.first_exit(
+            0.0,
+            f64::INFINITY,
+            horizon,
+            1e-14,
+            0.0,
+            &mut SearchStack::default(),
+        )
+        .map(|(s, side)| {
+            assert_eq!(side, -1);
+            s
+        })
+    }
+
     #[test]
     fn finds_the_first_of_two_crossings() {
         // 0.5 + cos(s): first zero at 2π/3.
         let f = cosine(1.0, 1.0, 0.0, 0.5);
-        let r = f.first_root(10.0, 1e-14, 0.0).unwrap();
+        let r = first_root(&f, 10.0).unwrap();
         assert!((r - 2.0 * std::f64::consts::PI / 3.0).abs() < 1e-12, "{r}");
     }
 
@@ -739,19 +882,19 @@ mod tests {
     fn catches_a_dip_narrower_than_any_coarse_sampling() {
         // 1 − (1 + 1e-6) cos(s − 3): below zero only for |s − 3| < 1.4e-3.
         let f = cosine(1.0 + 1e-6, 1.0, std::f64::consts::PI - 3.0, 1.0);
-        let r = f.first_root(6.0, 1e-14, 0.0).expect("dip found");
+        let r = first_root(&f, 6.0).expect("dip found");
         let exact = 3.0 - (1.0 / (1.0 + 1e-6f64)).acos();
         assert!((r - exact).abs() < 1e-10, "{r} vs {exact}");
         // A function that only comes within 1e-9 of zero is not a crossing.
         let g = cosine(1.0, 1.0, std::f64::consts::PI, 1.0 + 1e-9);
-        assert_eq!(g.first_root(6.0, 1e-14, 0.0), None);
+        assert_eq!(first_root(&g, 6.0), None);
     }
 
     #[test]
     fn leaving_a_contact_is_not_a_contact() {
         // sin(s) starts at 0 and increases: first root at π.
         let f = cosine(1.0, 1.0, -std::f64::consts::FRAC_PI_2, 0.0);
-        let r = f.first_root(5.0, 1e-14, 0.0).unwrap();
+        let r = first_root(&f, 5.0).unwrap();
         assert!((r - std::f64::consts::PI).abs() < 1e-12, "{r}");
     }
 
@@ -825,6 +968,9 @@ mod tests {
     #[test]
     fn max_abs_is_exact_for_a_sinusoid() {
         let f = cosine(2.0, 3.0, 0.4, 0.0);
-        assert!((f.max_abs(5.0, 1e-14) - 2.0).abs() < 1e-13);
+        assert!((f.max_abs(5.0, 0.0, 1e-14) - 2.0).abs() < 1e-13);
+        // A floor above the maximum is the answer; one below it changes nothing.
+        assert_eq!(f.max_abs(5.0, 3.0, 1e-14), 3.0);
+        assert!((f.max_abs(5.0, 1.5, 1e-14) - 2.0).abs() < 1e-13);
     }
 }

@@ -283,6 +283,11 @@ impl LinearFlow {
         self.dofs
     }
 
+    /// The fastest free rate `max |λ_k|` of the system (rad/s).
+    pub fn fastest_rate(&self) -> f64 {
+        self.rates.iter().map(|l| l.norm()).fold(0.0, f64::max)
+    }
+
     /// Whether flights use the steady forced response (no mode resonant with the forcing); at
     /// or near resonance they use the resonance-safe `φ` form instead.
     pub fn has_steady_response(&self) -> bool {

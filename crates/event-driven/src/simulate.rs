@@ -20,6 +20,11 @@ pub struct SimulationOptions {
     /// Cap on events (impacts, stick and release) when running until steady: bounds the time
     /// of motions with very many events per period. `None`: no cap.
     pub max_events: Option<u64>,
+    /// Cap on the free oscillations of the fastest mode when running until steady, counted as
+    /// periods × `ω_fastest/ω`: transients decay on the natural time scale, and a forcing far
+    /// below the natural frequencies (thousands of oscillations per period) would otherwise
+    /// make [`Self::max_periods`] periods cost minutes. `None`: no cap.
+    pub max_oscillations: Option<f64>,
     /// Largest period multiplicity `p` looked for.
     pub max_period_multiplicity: u32,
     /// Run exactly this many periods and judge the steady state from the tail.
@@ -35,6 +40,7 @@ impl Default for SimulationOptions {
             periodicity_tolerance: 1e-9,
             max_periods: 20_000,
             max_events: Some(2_000_000),
+            max_oscillations: Some(2e6),
             max_period_multiplicity: 16,
             fixed_periods: None,
             record_trajectory: false,
@@ -84,6 +90,8 @@ pub enum Stop {
     PeriodCap,
     /// The event cap was reached.
     EventCap,
+    /// The oscillation cap ([`SimulationOptions::max_oscillations`]) was reached first.
+    OscillationCap,
 }
 
 /// One impact.
@@ -414,10 +422,15 @@ impl<'m> Engine<'m> {
         let p_max = options.max_period_multiplicity as usize;
         let mut ring: VecDeque<DVector<f64>> = VecDeque::with_capacity(p_max + 2);
         let conservative = self.model.conservative();
+        // Periods allowed by the oscillation cap (at least 64, enough to judge a period).
+        let oscillation_periods = options.max_oscillations.map_or(u64::MAX, |cap| {
+            let per_period = self.free.fastest_rate() / self.omega;
+            ((cap / per_period.max(1e-300)).floor() as u64).max(64)
+        });
         let limit = match options.fixed_periods {
             Some(n) => n,
-            None if conservative => options.max_periods.min(1000),
-            None => options.max_periods,
+            None if conservative => options.max_periods.min(1000).min(oscillation_periods),
+            None => options.max_periods.min(oscillation_periods),
         };
         let window_len = (p_max as u64).min(limit);
         // Early stop when periodic: detect, then observe `p` more periods.
@@ -429,6 +442,12 @@ impl<'m> Engine<'m> {
         let mut events_total: u64 = 0;
         let mut stopped = if options.fixed_periods.is_some() {
             Stop::FixedPeriods
+        } else if oscillation_periods
+            < options
+                .max_periods
+                .min(if conservative { 1000 } else { u64::MAX })
+        {
+            Stop::OscillationCap
         } else {
             Stop::PeriodCap
         };
@@ -515,7 +534,7 @@ impl<'m> Engine<'m> {
                     if let Some(w) = window.as_mut() {
                         for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
                             flight.expand(u, &mut coordinate);
-                            *amp = amp.max(coordinate.max_abs(span, 1e-13 * (1.0 + *amp)));
+                            *amp = coordinate.max_abs(span, *amp, 1e-13 * (1.0 + *amp));
                         }
                         if options.record_trajectory {
                             sample(&mut w.trajectory, span, period, |s| {
@@ -611,7 +630,17 @@ impl<'m> Engine<'m> {
                     });
                     // Held while side·λ < 0: release at the first root of −side·λ.
                     let hold = if st.side > 0 { force.negated() } else { force };
-                    let release = hold.first_root(horizon, self.time_tolerance, 0.0);
+                    // `hold` ≥ 0 at the start: the release is its first exit from [0, ∞).
+                    let release = hold
+                        .first_exit(
+                            0.0,
+                            f64::INFINITY,
+                            horizon,
+                            self.time_tolerance,
+                            0.0,
+                            &mut stack,
+                        )
+                        .map(|(s, _)| s);
                     let span = release.unwrap_or(horizon);
                     let full = |s: f64| {
                         let r = flight.state(s);
@@ -628,7 +657,7 @@ impl<'m> Engine<'m> {
                             let mut c = DVector::zeros(2 * nr);
                             c.rows_mut(0, nr).copy_from(&st.basis.row(j).transpose());
                             let f = flight.value_of(&c).shifted(st.offset[j]);
-                            *amp = amp.max(f.max_abs(span, 1e-13 * (1.0 + *amp)));
+                            *amp = f.max_abs(span, *amp, 1e-13 * (1.0 + *amp));
                         }
                         if options.record_trajectory {
                             sample(&mut w.trajectory, span, period, |s| {
@@ -716,7 +745,7 @@ impl<'m> Engine<'m> {
             }
             _ => least_period(&ring, p_max, options.periodicity_tolerance, tol_scale),
         };
-        if stopped == Stop::PeriodCap && observe_until.is_some() {
+        if matches!(stopped, Stop::PeriodCap | Stop::OscillationCap) && observe_until.is_some() {
             stopped = Stop::Settled;
         }
         let no_recent_impacts =
