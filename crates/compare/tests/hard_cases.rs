@@ -166,3 +166,56 @@ fn forcing_far_below_the_natural_frequencies_stops_at_the_oscillation_cap() {
     );
     assert!(sim.outer_amplitude.is_finite());
 }
+
+#[test]
+fn a_unit_far_from_its_stops_is_judged_on_its_own_scale() {
+    // Gap 1e6, undamped, ω = 1000: the motion (~1e-6) never comes near the stops and its free
+    // oscillation never decays. Measured against the gap it would "repeat" at once; measured
+    // against itself it does not, and nothing can dissipate it.
+    let s = Scene::parse(
+        r#"{"name": "gap-1e6",
+            "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+            "base": {"amplitude": 1.0}, "stops": {"gap": 1e6, "restitution": 0.8}}"#,
+        "test",
+    )
+    .unwrap();
+    let sim = run(&s, 1000.0, &Start::rest(2), &SimulationOptions::default()).unwrap();
+    assert_eq!(sim.steady.status, Status::NoDissipation);
+    assert_eq!(sim.steady.impacts, 0);
+}
+
+#[test]
+fn extreme_scenes_finish_with_an_honest_status() {
+    // `validation/extreme-scenes/`: e = 0 and e = 1 undamped, gap 1e-9 and 1e6, base amplitude
+    // 1e6, at very low, moderate and very high ω. Smaller caps than the defaults keep the test
+    // short; the command-line defaults are timed in the README.
+    let options = SimulationOptions {
+        max_periods: 2000,
+        max_events: Some(200_000),
+        max_oscillations: Some(2e5),
+        ..SimulationOptions::default()
+    };
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../validation/extreme-scenes");
+    let mut scenes = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let s = Scene::load(&entry.unwrap().path()).unwrap();
+        scenes += 1;
+        for omega in [0.001, 2.0, 1000.0] {
+            let sim = run(&s, omega, &Start::rest(2), &options)
+                .unwrap_or_else(|e| panic!("{} at {omega}: {e}", s.name));
+            let what = format!("{} at ω = {omega}", s.name);
+            assert!(sim.outer_amplitude.is_finite(), "{what}");
+            assert!(sim.steady.impacts_per_period.is_finite(), "{what}");
+            assert!(sim.transmittance_db.is_none_or(f64::is_finite), "{what}");
+            // Periodic only with something to dissipate; otherwise the run says why it ended.
+            if sim.steady.status == Status::Periodic {
+                assert!(
+                    s.damping.is_some() || s.stops.as_ref().is_some_and(|st| st.restitution < 1.0),
+                    "{what}"
+                );
+            }
+            assert!(sim.steady.periods_run <= 2000, "{what}");
+        }
+    }
+    assert_eq!(scenes, 5);
+}

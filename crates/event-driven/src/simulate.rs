@@ -829,6 +829,10 @@ fn repeat_error(ring: &VecDeque<DVector<f64>>, p: usize, gap: f64) -> f64 {
     if len <= p + 1 {
         return f64::INFINITY;
     }
+    // Relative to the state, floored at the gap, or at the motion's own size when that is
+    // smaller (a unit that never comes near its stops is judged on its own scale).
+    let size = ring.iter().map(|x| x.norm()).fold(0.0, f64::max);
+    let gap = gap.min(size);
     (0..2)
         .map(|back| {
             let a = &ring[len - 1 - back];
