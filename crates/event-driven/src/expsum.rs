@@ -57,6 +57,8 @@ pub struct SearchStack {
     /// The exponentials of the polishing iterate; after a search, at the exit it found (when
     /// polished).
     polish: Exponentials,
+    /// The exponentials at one bisection point.
+    point: Vec<C64>,
 }
 
 impl SearchStack {
@@ -98,7 +100,7 @@ impl Exponentials {
 /// flights), so that `f, f', f''` at a point where the exponentials are known cost three
 /// real parts of products per term; empty otherwise.
 #[derive(Debug, Clone, Default)]
-struct Derivatives(Vec<[C64; 3]>);
+struct Derivatives(Vec<[C64; 4]>);
 
 impl Derivatives {
     fn of(&mut self, f: &ExpSum) {
@@ -109,7 +111,8 @@ impl Derivatives {
         {
             self.0.extend(f.terms.iter().map(|t| {
                 let c = t.poly[0];
-                [c, c * t.rate, c * t.rate * t.rate]
+                let c2 = c * t.rate * t.rate;
+                [c, c * t.rate, c2, c2 * t.rate]
             }));
         }
     }
@@ -132,6 +135,39 @@ impl Derivatives {
             .iter()
             .zip(exps)
             .map(|(c, e)| c[0].re * e.re - c[0].im * e.im)
+            .sum()
+    }
+
+    /// `(f, f', f'', f''')` at `s`, given `exps[j] = e^{μ_j s}`, for steady-response flights
+    /// (every polynomial a constant); `f''' = NaN` otherwise.
+    #[inline]
+    fn at3(&self, f: &ExpSum, s: f64, exps: &[C64]) -> (f64, f64, f64, f64) {
+        if self.0.is_empty() {
+            let (v, d, dd) = f.eval2_with(s, exps);
+            return (v, d, dd, f64::NAN);
+        }
+        let re = |a: C64, b: C64| a.re * b.re - a.im * b.im;
+        let (mut v, mut d, mut dd, mut d3) = (0.0, 0.0, 0.0, 0.0);
+        for (c, &e) in self.0.iter().zip(exps) {
+            v += re(c[0], e);
+            d += re(c[1], e);
+            dd += re(c[2], e);
+            d3 += re(c[3], e);
+        }
+        (v, d, dd, d3)
+    }
+
+    /// `f'''` at the point where `exps[j] = e^{μ_j s}`, for steady-response flights; `NaN`
+    /// otherwise.
+    #[inline]
+    fn third(&self, exps: &[C64]) -> f64 {
+        if self.0.is_empty() {
+            return f64::NAN;
+        }
+        self.0
+            .iter()
+            .zip(exps)
+            .map(|(c, e)| c[3].re * e.re - c[3].im * e.im)
             .sum()
     }
 
@@ -319,7 +355,10 @@ impl ExpSum {
             steps,
             derivatives,
             polish: scratch,
+            point,
         } = stack;
+        // A bound on |f''''| over the horizon, computed when a chunk first needs it.
+        let mut fourth = f64::NAN;
         derivatives.of(self);
         scratch.at = f64::NAN;
         exps.clear();
@@ -380,18 +419,18 @@ impl ExpSum {
                     a + length
                 };
                 let m = 0.5 * (a + b);
-                let at_m = self.eval2(m);
+                let at_m = self.eval3(m, derivatives, point);
                 let fb = self.eval(b).0;
                 let found = self.exit_in_chunk(
                     (a, b, fa, fb),
                     at_m,
                     (lo, hi),
-                    jerk,
-                    time_tolerance,
-                    depth_tolerance,
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
                     intervals,
                     derivatives,
                     scratch,
+                    point,
                 );
                 if found.is_some() {
                     return found;
@@ -417,7 +456,14 @@ impl ExpSum {
             for (e, step) in exps.iter_mut().zip(steps.iter()) {
                 *e *= step;
             }
-            let at_m = derivatives.at(self, m, exps);
+            let (fm, dm, ddm) = derivatives.at(self, m, exps);
+            // The test of `exit_in_chunk`, inline: most chunks are excluded at once.
+            let excluded = inside((fm, dm, ddm), w, jerk_reach, (lo, hi));
+            let d3m = if excluded {
+                f64::NAN
+            } else {
+                derivatives.third(exps)
+            };
             if (2 * i + 2) % REANCHOR == 0 {
                 for (e, t) in exps.iter_mut().zip(&self.terms) {
                     *e = cexp(t.rate, b);
@@ -428,22 +474,21 @@ impl ExpSum {
                 }
             }
             let fb = derivatives.value(self, b, exps);
-            // The test of `exit_in_chunk`, inline: most chunks are excluded at once.
-            let (fm, dm, ddm) = at_m;
-            if inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
+            if excluded {
                 fa = fb;
                 continue;
             }
+            let at_m = (fm, dm, ddm, d3m);
             let found = self.exit_in_chunk(
                 (a, b, fa, fb),
                 at_m,
                 (lo, hi),
-                jerk,
-                time_tolerance,
-                depth_tolerance,
+                (jerk, &mut fourth, horizon),
+                (time_tolerance, depth_tolerance),
                 intervals,
                 derivatives,
                 scratch,
+                point,
             );
             if found.is_some() {
                 return found;
@@ -460,14 +505,14 @@ impl ExpSum {
     fn exit_in_chunk(
         &self,
         chunk: (f64, f64, f64, f64),
-        at_m: (f64, f64, f64),
+        at_m: (f64, f64, f64, f64),
         (lo, hi): (f64, f64),
-        jerk: f64,
-        time_tolerance: f64,
-        depth_tolerance: f64,
+        (jerk, fourth, horizon): (f64, &mut f64, f64),
+        (time_tolerance, depth_tolerance): (f64, f64),
         intervals: &mut Vec<(f64, f64, f64, f64)>,
         derivatives: &Derivatives,
         scratch: &mut Exponentials,
+        point: &mut Vec<C64>,
     ) -> Option<(f64, i8)> {
         intervals.clear();
         intervals.push(chunk);
@@ -475,13 +520,29 @@ impl ExpSum {
         while let Some((a, b, fa, fb)) = intervals.pop() {
             let m = 0.5 * (a + b);
             let w = 0.5 * (b - a);
-            let (fm, dm, ddm) = known_m.take().unwrap_or_else(|| self.eval2(m));
-            // |f(t) − f(m) − f'(m)(t−m)| ≤ ½|f''(m)| w² + ⅙ M₃ w³ on [a, b].
+            let (fm, dm, ddm, d3m) = known_m
+                .take()
+                .unwrap_or_else(|| self.eval3(m, derivatives, point));
+            // f(m + τ) = f(m) + f'(m)τ + ½f''(m)τ² + R, |R| ≤ ⅙ M₃ w³ on [a, b].
             if inside((fm, dm, ddm), w, jerk * w * w * w / 6.0, (lo, hi)) {
                 continue;
             }
-            // Monotone when |f'| cannot reach zero: |f'(t) − f'(m)| ≤ |f''(m)| w + ½ M₃ w².
-            if dm.abs() > ddm.abs() * w + 0.5 * jerk * w * w {
+            // Monotone when f' cannot reach zero: |f'(t) − f'(m)| ≤ |f''(m)| w + ½ M₃ w².
+            let mut monotone = dm.abs() > ddm.abs() * w + 0.5 * jerk * w * w;
+            if !monotone && d3m.is_finite() {
+                // One order more, with f'''(m) known and M₄ bounding |f''''|: the cubic model
+                // ± M₄ w⁴/24, and f' = f'(m) + f''(m)τ + ½f'''(m)τ² ± M₄ w³/6. A near graze
+                // is settled in fewer halvings.
+                if fourth.is_nan() {
+                    *fourth = self.fourth_derivative_bound(horizon);
+                }
+                let w3 = w * w * w;
+                if inside_cubic((fm, dm, ddm, d3m), w, *fourth * w3 * w / 24.0, (lo, hi)) {
+                    continue;
+                }
+                monotone = slope_keeps_sign((dm, ddm, d3m), w, *fourth * w3 / 6.0);
+            }
+            if monotone {
                 // Monotone on [a, b]: it can only reach `hi` if increasing, `lo` if decreasing.
                 // Quadratic model at m: a first guess for Newton.
                 let guess = |target: f64| {
@@ -551,6 +612,19 @@ impl ExpSum {
             intervals.push((a, m, fa, fm));
         }
         None
+    }
+
+    /// `(f, f', f'', f''')` at `s` (`f''' = NaN` unless every polynomial is a constant), with
+    /// the exponentials evaluated afresh into `point`.
+    fn eval3(
+        &self,
+        s: f64,
+        derivatives: &Derivatives,
+        point: &mut Vec<C64>,
+    ) -> (f64, f64, f64, f64) {
+        point.clear();
+        point.extend(self.terms.iter().map(|t| cexp(t.rate, s)));
+        derivatives.at3(self, s, point)
     }
 
     /// `f + c`.
@@ -682,6 +756,58 @@ fn inside((f, d, dd): (f64, f64, f64), w: f64, cubic: f64, (lo, hi): (f64, f64))
         }
     }
     f + upper + cubic < hi && f + lower - cubic > lo
+}
+
+/// Whether `f` stays inside `(lo, hi)` on `[m − w, m + w]`, given `(f, f', f'', f''')` at `m`
+/// and `quartic = M₄ w⁴/24` (`M₄` a bound on `|f''''|`): the cubic Taylor polynomial's
+/// extremes over `|τ| ≤ w` (at the ends or where its slope vanishes) ± `quartic`.
+#[inline]
+fn inside_cubic(
+    (f, d, dd, d3): (f64, f64, f64, f64),
+    w: f64,
+    quartic: f64,
+    (lo, hi): (f64, f64),
+) -> bool {
+    let p = |t: f64| t * (d + t * (0.5 * dd + t * d3 / 6.0));
+    let (mut upper, mut lower) = (p(w).max(p(-w)), p(w).min(p(-w)));
+    // p'(τ) = d + dd τ + ½ d3 τ².
+    for t in quadratic_roots(0.5 * d3, dd, d) {
+        if t.abs() < w {
+            upper = upper.max(p(t));
+            lower = lower.min(p(t));
+        }
+    }
+    f + upper + quartic < hi && f + lower - quartic > lo
+}
+
+/// Whether `f'` keeps its sign on `[m − w, m + w]`, given `(f', f'', f''')` at `m` and
+/// `cubic = M₄ w³/6`: the extremes of `f' + f''τ + ½f'''τ²` over `|τ| ≤ w`, ± `cubic`.
+#[inline]
+fn slope_keeps_sign((d, dd, d3): (f64, f64, f64), w: f64, cubic: f64) -> bool {
+    let q = |t: f64| d + t * (dd + 0.5 * t * d3);
+    let (mut upper, mut lower) = (q(w).max(q(-w)), q(w).min(q(-w)));
+    if d3 != 0.0 {
+        let t = -dd / d3;
+        if t.abs() < w {
+            upper = upper.max(q(t));
+            lower = lower.min(q(t));
+        }
+    }
+    lower > cubic || upper < -cubic
+}
+
+/// The real roots of `a t² + b t + c` (NaN where there is none), without cancellation.
+#[inline]
+fn quadratic_roots(a: f64, b: f64, c: f64) -> [f64; 2] {
+    if a == 0.0 {
+        return [-c / b, f64::NAN];
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return [f64::NAN, f64::NAN];
+    }
+    let q = -0.5 * (b + b.signum() * disc.sqrt());
+    [q / a, c / q]
 }
 
 /// The first `t > 0` at which `f0 + d0 t + ½ dd0 t²` reaches `lo` or `hi` (`∞` if never):

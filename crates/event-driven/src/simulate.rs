@@ -740,7 +740,8 @@ impl<'m> Engine<'m> {
         // a fixed run is judged from its tail alone.
         let period_found = match observe_until {
             Some((_, p)) if stopped != Stop::EventCap => {
-                (repeat_error(&ring, p as usize, tol_scale) <= 10.0 * options.periodicity_tolerance)
+                (repeat_error(&ring, p as usize, scale_floor(&ring, tol_scale))
+                    <= 10.0 * options.periodicity_tolerance)
                     .then_some(p)
             }
             _ => least_period(&ring, p_max, options.periodicity_tolerance, tol_scale),
@@ -823,16 +824,20 @@ fn sample<F: Fn(f64) -> (f64, DVector<f64>)>(
     }
 }
 
-/// Largest relative `|x_k − x_{k−p}|` over the last two sections (`∞` if too few).
-fn repeat_error(ring: &VecDeque<DVector<f64>>, p: usize, gap: f64) -> f64 {
+/// The floor of the scale of [`repeat_error`]: the gap, or the motion's own size (the largest
+/// state in `ring`) when that is smaller, so that a unit that never comes near its stops is
+/// judged on its own scale.
+fn scale_floor(ring: &VecDeque<DVector<f64>>, gap: f64) -> f64 {
+    gap.min(ring.iter().map(|x| x.norm()).fold(0.0, f64::max))
+}
+
+/// Largest `|x_k − x_{k−p}|` over the last two sections (`∞` if too few), relative to
+/// `max(|x_k|, floor)`.
+fn repeat_error(ring: &VecDeque<DVector<f64>>, p: usize, floor: f64) -> f64 {
     let len = ring.len();
     if len <= p + 1 {
         return f64::INFINITY;
     }
-    // Relative to the state, floored at the gap, or at the motion's own size when that is
-    // smaller (a unit that never comes near its stops is judged on its own scale).
-    let size = ring.iter().map(|x| x.norm()).fold(0.0, f64::max);
-    let gap = gap.min(size);
     (0..2)
         .map(|back| {
             let a = &ring[len - 1 - back];
@@ -843,7 +848,7 @@ fn repeat_error(ring: &VecDeque<DVector<f64>>, p: usize, gap: f64) -> f64 {
                 .map(|(x, y)| (x - y) * (x - y))
                 .sum::<f64>()
                 .sqrt();
-            diff / a.norm().max(gap).max(1e-300)
+            diff / a.norm().max(floor).max(1e-300)
         })
         .fold(0.0, f64::max)
 }
@@ -857,11 +862,12 @@ const AMBIGUITY: f64 = 1e3;
 /// smaller multiplicity comes within [`AMBIGUITY`] of the tolerance (then it is too early to
 /// tell, and `None` is returned).
 fn least_period(ring: &VecDeque<DVector<f64>>, p_max: usize, tol: f64, gap: f64) -> Option<u32> {
+    let floor = scale_floor(ring, gap);
     for p in 1..=p_max {
         if ring.len() <= p + 1 {
             return None;
         }
-        let d = repeat_error(ring, p, gap);
+        let d = repeat_error(ring, p, floor);
         if d <= tol {
             return Some(p as u32);
         }
