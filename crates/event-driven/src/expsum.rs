@@ -839,8 +839,10 @@ fn quadratic_exit(f0: f64, d0: f64, dd0: f64, lo: f64, hi: f64) -> f64 {
 /// Largest `|μ δ|` (as `|re| + |im|`) for which `e^{μδ}` is taken from its Taylor series.
 const SMALL_STEP: f64 = 0.03;
 
-/// `e^z` for `|z| ≤` [`SMALL_STEP`] by its Taylor series to degree 9 (relative remainder
-/// below `|z|¹⁰/10! ≤ 2e-22`), evaluated by Horner's rule with real coefficients.
+/// `e^z` for `|z| ≤` [`SMALL_STEP`] by its Taylor series, evaluated by Horner's rule with
+/// real coefficients, to the least degree whose relative remainder is below `1e-17`: degree 3
+/// for `|z| ≤ 1e-4` (`|z|⁴/4! ≤ 5e-18`), 5 for `|z| ≤ 2e-3` (`|z|⁶/6! ≤ 1e-19`), else 9
+/// (`|z|¹⁰/10! ≤ 2e-22`). `|z|` is taken as `|re| + |im|`, an upper bound.
 #[inline]
 fn exp_small(z: C64) -> C64 {
     const INVERSE_FACTORIALS: [f64; 9] = [
@@ -854,8 +856,16 @@ fn exp_small(z: C64) -> C64 {
         0.5,
         1.0,
     ];
-    let mut p = C64::new(INVERSE_FACTORIALS[0], 0.0);
-    for c in &INVERSE_FACTORIALS[1..] {
+    let size = l1(z);
+    let from = if size <= 1e-4 {
+        6
+    } else if size <= 2e-3 {
+        4
+    } else {
+        0
+    };
+    let mut p = C64::new(INVERSE_FACTORIALS[from], 0.0);
+    for c in &INVERSE_FACTORIALS[from + 1..] {
         p = p * z + *c;
     }
     p * z + 1.0
