@@ -308,19 +308,26 @@ impl ExpSum {
     /// reaching `hi`, `(s, −1)` on reaching `lo`. `f(0)` is inside the band or on an edge; a
     /// start on an edge moving back inside is not an exit. `stack` is scratch storage.
     ///
-    /// Guarantee: an interval is discarded only when the bound
-    /// `f(m) ± (|f'(m)| w + ½|f''(m)| w² + ⅙ M₃ w³)` (`M₃` = [`Self::jerk_bound`]) lies inside
-    /// the band, so no exit can be skipped, however close two crossings are; intervals are
-    /// searched left to right, and a monotone bracket is polished by safeguarded Halley
-    /// iteration to `time_tolerance`. A dip beyond an edge narrower than `time_tolerance`
-    /// counts when it is deeper than `depth_tolerance`. Either edge may be infinite (a
-    /// one-sided band: `(0, ∞)` finds where a positive function first reaches zero).
+    /// Guarantee: an interval `[m − w, m + w]` is discarded only when a rigorous enclosure of
+    /// `f` on it lies inside the band: the quadratic Taylor model at `m` (its extremes, so the
+    /// sign of `f''` counts) `± ⅙ M₃ w³` (`M₃` = [`Self::jerk_bound`]), or, for steady-response
+    /// flights, the cubic model `± M₄ w⁴/24` (`M₄` = [`Self::fourth_derivative_bound`]). No
+    /// exit can be skipped, however close two crossings are; intervals are searched left to
+    /// right, and a bracket on which `f'` provably keeps its sign is polished by safeguarded
+    /// Halley iteration to `time_tolerance`. A dip beyond an edge narrower than
+    /// `time_tolerance` counts when it is deeper than `depth_tolerance`, and a slow start on an
+    /// edge (a release) is cleared by a Taylor bound that tolerates excursions up to
+    /// `depth_tolerance` beyond the edge. Either edge may be infinite (a one-sided band:
+    /// `(0, ∞)` finds where a positive function first reaches zero).
     ///
     /// The horizon is first cut into chunks about an eighth of the fastest oscillation long;
     /// their midpoints and ends lie on a uniform grid where every exponential follows from
     /// the previous one by one complex product (`e^{μ(s+w)} = e^{μs} e^{μw}`, recomputed
     /// afresh every [`REANCHOR`] steps), so a whole flight costs a handful of transcendental
-    /// evaluations. Only chunks that can be neither excluded nor bracketed are bisected.
+    /// evaluations. When the quadratic model at `0` leaves the band early, or the start is
+    /// cleared only briefly, the first chunk is covered by chunks that double from there (a
+    /// short flight in chatter is not found by halving a whole chunk). Only chunks that can be
+    /// neither excluded nor bracketed are bisected.
     pub fn first_exit(
         &self,
         lo: f64,
