@@ -323,7 +323,7 @@ impl ExpSum {
     /// The horizon is first cut into chunks about an eighth of the fastest oscillation long;
     /// their midpoints and ends lie on a uniform grid where every exponential follows from
     /// the previous one by one complex product (`e^{μ(s+w)} = e^{μs} e^{μw}`, recomputed
-    /// afresh every [`REANCHOR`] steps), so a whole flight costs a handful of transcendental
+    /// afresh every `REANCHOR` = 32 steps), so a whole flight costs a handful of transcendental
     /// evaluations. When the quadratic model at `0` leaves the band early, or the start is
     /// cleared only briefly, the first chunk is covered by chunks that double from there (a
     /// short flight in chatter is not found by halving a whole chunk). Only chunks that can be
