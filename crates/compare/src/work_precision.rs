@@ -126,7 +126,7 @@ pub struct WorkPrecision {
 }
 
 /// Minimum time of `work` over repeats: at least `min_repeats`, then until `budget` is spent
-/// (at most 50 runs). Returns the minimum and the last result.
+/// (at most 1000 runs). Returns the minimum and the last result.
 pub fn min_time<T>(min_repeats: usize, budget: Duration, mut work: impl FnMut() -> T) -> (f64, T) {
     let start = Instant::now();
     let mut best = f64::INFINITY;
@@ -136,7 +136,7 @@ pub fn min_time<T>(min_repeats: usize, budget: Duration, mut work: impl FnMut() 
         let out = work();
         best = best.min(t.elapsed().as_secs_f64());
         runs += 1;
-        if runs >= 50 || (runs >= min_repeats && start.elapsed() >= budget) {
+        if runs >= 1000 || (runs >= min_repeats && start.elapsed() >= budget) {
             return (best, out);
         }
     }

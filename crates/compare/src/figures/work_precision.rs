@@ -271,7 +271,14 @@ impl Figure for SteadyStateCost {
         let tols: Vec<f64> = s.steady.iter().map(|c| c.periodicity_tolerance).collect();
         let lo = tols.iter().copied().fold(f64::INFINITY, f64::min) / 3.0;
         let hi = tols.iter().copied().fold(0.0, f64::max) * 3.0;
-        let (tmin, tmax) = padded_range(s.steady.iter().map(|c| c.seconds));
+        let tmax = s
+            .steady
+            .iter()
+            .map(|c| c.seconds * 1e3)
+            .filter(|t| t.is_finite())
+            .fold(0.0, f64::max)
+            * 1.25;
+        let tmax = if tmax > 0.0 { tmax } else { 1.0 };
         let mut chart = ChartBuilder::on(&left)
             .caption(
                 format!(
@@ -283,14 +290,14 @@ impl Figure for SteadyStateCost {
             .margin(20)
             .x_label_area_size(55)
             .y_label_area_size(90)
-            .build_cartesian_2d((lo..hi).log_scale(), (tmin..tmax).log_scale())
+            .build_cartesian_2d((lo..hi).log_scale(), 0.0..tmax)
             .map_err(err)?;
         chart
             .configure_mesh()
             .x_desc("periodicity tolerance (stroboscopic repeat)")
-            .y_desc("time (s), minimum of repeats")
+            .y_desc("time (ms), minimum of repeats")
             .x_label_formatter(&|v| format!("{v:.0e}"))
-            .y_label_formatter(&|v| format!("{v:.1e}"))
+            .y_label_formatter(&|v| format!("{v:.2}"))
             .label_style(text(16))
             .axis_desc_style(text(18))
             .light_line_style(WHITE.mix(0.0))
@@ -306,7 +313,7 @@ impl Figure for SteadyStateCost {
                 let error = c.error.map_or(String::new(), |e| format!(", err {e:.0e}"));
                 (
                     c.periodicity_tolerance,
-                    c.seconds,
+                    c.seconds * 1e3,
                     format!("{periods}{error}"),
                 )
             })
@@ -328,7 +335,7 @@ impl Figure for SteadyStateCost {
         chart
             .draw_series(
                 pts.iter()
-                    .map(|p| Text::new(p.2.clone(), (p.0, p.1 * 1.15), text(13))),
+                    .map(|p| Text::new(p.2.clone(), (p.0, p.1 + 0.04 * tmax), text(13))),
             )
             .map_err(err)?;
         legend(&mut chart, SeriesLabelPosition::LowerLeft, 14)?;
@@ -357,7 +364,14 @@ impl Figure for SteadyStateCost {
             .configure_mesh()
             .x_desc("frequencies in the sweep")
             .y_desc("wall time (s)")
-            .x_label_formatter(&|v| format!("{v:.0}"))
+            .x_label_formatter(&|v| {
+                let n = v.round() as i64;
+                if [10, 20, 50, 100, 200, 500, 1000].contains(&n) {
+                    format!("{n}")
+                } else {
+                    String::new()
+                }
+            })
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .label_style(text(16))
             .axis_desc_style(text(18))
