@@ -173,9 +173,11 @@ impl Figure for WorkPrecisionFigure {
                     colour.stroke_width(2),
                 ))
                 .map_err(err)?
-                .label(format!("{label} {:.0e} … {:.0e}", points[0].tolerance, {
+                .label(format!(
+                    "{label} {:.0e} … {:.0e}",
+                    points.first().map_or(f64::NAN, |p| p.tolerance),
                     points.last().map_or(f64::NAN, |p| p.tolerance)
-                }))
+                ))
                 .legend(move |(x, y)| {
                     PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
                 });
@@ -191,10 +193,11 @@ impl Figure for WorkPrecisionFigure {
                 (lo.min(p.0), hi.max(p.0))
             });
             let crowded = (t_hi / t_lo).log10() < 0.5;
+            let e_lo = ok.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
             chart
                 .draw_series(ok.iter().enumerate().map(|(k, &(t, e, tol))| {
                     let at = if crowded {
-                        (t_hi * 1.3, ok[0].1 * 10f64.powf(1.0 + 0.4 * k as f64))
+                        (t_hi * 1.3, e_lo * 10f64.powf(1.0 + 0.4 * k as f64))
                     } else {
                         (t, e * 2.2)
                     };
