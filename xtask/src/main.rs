@@ -3,7 +3,8 @@
 //! Tasks:
 //! - `figures [--scene FILE] [--quick] [--out DIR]`: regenerate every figure (PNG and SVG in
 //!   `figures/`) and the validation outputs (`validation/agreement.json`, `validation/report.md`)
-//!   on the built-in paper scene or on `FILE`. `--quick` runs a few points of everything (a smoke
+//!   on the built-in paper scene or on `FILE`; the accuracy-versus-cost figures
+//!   (`work-precision`, `steady-state-cost`) always use `data/scenes/paper-damped.json` at 2 rad/s. `--quick` runs a few points of everything (a smoke
 //!   test); `--out DIR` writes `DIR/figures` and `DIR/validation` instead of the repository's.
 
 use rattle_compare::scene::{Scene, StopsSpec};
