@@ -10,6 +10,7 @@
 #![deny(missing_docs)]
 
 pub mod bands;
+pub mod baseline;
 pub mod classify;
 pub mod cli;
 pub mod figures;
@@ -21,3 +22,4 @@ pub mod simulation;
 pub mod study;
 pub mod sweep;
 pub mod validation;
+pub mod work_precision;

@@ -6,10 +6,12 @@ pub mod bifurcation;
 pub mod impact_time_response;
 pub mod linear_time_response;
 pub mod transmittance;
+pub mod work_precision;
 
 use crate::classify::MATCH_TOLERANCE;
 use crate::plot::{save, PlotError};
 use crate::study::{impact_rows, stroboscopic_outer, Study};
+use crate::work_precision::WorkPrecision;
 use rattle_event_driven::SimulationOptions;
 use std::path::{Path, PathBuf};
 
@@ -102,6 +104,27 @@ pub fn generate(
             up: study.bifurcation_up.clone(),
             down: study.bifurcation_down.clone(),
             analytic,
+        },
+        dir,
+    )?);
+    Ok(written)
+}
+
+/// Draws the accuracy-versus-cost figures (`work-precision`, `steady-state-cost`) of `study`
+/// into `dir`; returns the files written.
+pub fn generate_work_precision(
+    study: &WorkPrecision,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let mut written = save(
+        &work_precision::WorkPrecisionFigure {
+            study: study.clone(),
+        },
+        dir,
+    )?;
+    written.extend(save(
+        &work_precision::SteadyStateCost {
+            study: study.clone(),
         },
         dir,
     )?);
