@@ -7,6 +7,7 @@
 //!   (`work-precision`, `steady-state-cost`) always use `data/scenes/paper-damped.json` at 2 rad/s. `--quick` runs a few points of everything (a smoke
 //!   test); `--out DIR` writes `DIR/figures` and `DIR/validation` instead of the repository's.
 
+use rattle_compare::figures::MapSizes;
 use rattle_compare::scene::{Scene, StopsSpec};
 use rattle_compare::study::{Study, StudySize};
 use rattle_compare::validation::{agreement, report};
@@ -37,6 +38,7 @@ fn write(path: &Path, text: &str) -> Result<(), String> {
 fn figures(args: &[String]) -> Result<(), String> {
     let mut scene = Scene::paper();
     let mut size = StudySize::full();
+    let mut quick = false;
     let mut out = root();
     let mut it = args.iter();
     while let Some(a) = it.next() {
@@ -45,7 +47,10 @@ fn figures(args: &[String]) -> Result<(), String> {
                 let path = it.next().ok_or("--scene needs a file")?;
                 scene = Scene::load(Path::new(path)).map_err(|e| e.to_string())?;
             }
-            "--quick" => size = StudySize::quick(),
+            "--quick" => {
+                size = StudySize::quick();
+                quick = true;
+            }
             "--out" => out = PathBuf::from(it.next().ok_or("--out needs a directory")?),
             other => return Err(format!("unknown argument {other}")),
         }
@@ -98,6 +103,26 @@ fn figures(args: &[String]) -> Result<(), String> {
     written.extend(
         rattle_compare::figures::generate_work_precision(&precision, &figures_dir)
             .map_err(|e| e.to_string())?,
+    );
+    // Design maps over restitution and gap, and the regime over frequency and gap.
+    let map_sizes = if quick {
+        MapSizes::quick()
+    } else {
+        MapSizes::full()
+    };
+    eprintln!(
+        "maps of '{}'",
+        rattle_compare::figures::map_scene(&scene).name
+    );
+    written.extend(
+        rattle_compare::figures::generate_maps(
+            &scene,
+            map_sizes,
+            &figures_dir,
+            &out.join("data/maps"),
+            true,
+        )
+        .map_err(|e| e.to_string())?,
     );
     let validation = out.join("validation");
     let doc = agreement(&main);

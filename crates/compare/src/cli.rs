@@ -48,6 +48,61 @@ pub enum Command {
     /// Joins the parts of a sharded sweep (`rattle sweep … --shard K/N`) into the file the
     /// unsharded sweep would write, byte for byte.
     Merge(MergeArgs),
+    /// A map over restitution, gap and frequency (each frequency continued from the previous
+    /// one, up the frequencies): the simulated regime and transmittance at every point, the
+    /// analytic prediction beside it, and the attenuation bandwidth of every (e, Δ/u_g) line.
+    Map(MapArgs),
+}
+
+/// Arguments of `rattle map`.
+#[derive(Debug, Args)]
+pub struct MapArgs {
+    /// Scene file (JSON). Omit for the built-in paper scene; its gap and restitution are replaced
+    /// by the map's.
+    pub scene: Option<PathBuf>,
+    /// Lowest restitution, in [0, 1].
+    #[arg(long, default_value_t = 0.0)]
+    pub restitution_min: f64,
+    /// Highest restitution, in [restitution-min, 1].
+    #[arg(long, default_value_t = 1.0)]
+    pub restitution_max: f64,
+    /// Number of restitutions, evenly spaced, ends included (≥ 1; 1: restitution-min alone).
+    #[arg(long, default_value_t = 40)]
+    pub restitutions: usize,
+    /// Smallest gap over base amplitude Δ/u_g (finite, > 0).
+    #[arg(long, default_value_t = 0.05)]
+    pub gap_min: f64,
+    /// Largest Δ/u_g (finite, ≥ gap-min).
+    #[arg(long, default_value_t = 1.0)]
+    pub gap_max: f64,
+    /// Number of gaps, evenly spaced, ends included (≥ 1).
+    #[arg(long, default_value_t = 40)]
+    pub gaps: usize,
+    /// Lowest angular frequency, rad/s (finite, > 0).
+    #[arg(long, default_value_t = 0.1)]
+    pub omega_min: f64,
+    /// Highest angular frequency, rad/s (finite, ≥ omega-min).
+    #[arg(long, default_value_t = 4.0)]
+    pub omega_max: f64,
+    /// Number of frequencies per line, evenly spaced, ends included (≥ 1).
+    #[arg(long, default_value_t = 400)]
+    pub points: usize,
+    /// Every point: `.json` or `.csv`, by extension.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// The bandwidth of every (e, Δ/u_g) line: `.json` or `.csv`, by extension.
+    #[arg(long)]
+    pub bandwidth_out: Option<PathBuf>,
+    /// Relative tolerance of contact times, in [1e-15, 1e-2].
+    #[arg(long, default_value_t = 1e-12)]
+    pub tol: f64,
+    /// Relative tolerance of the periodicity test, in [1e-14, 1e-2] (looser than a sweep's:
+    /// a map needs the regime and the amplitude, not the last digits).
+    #[arg(long, default_value_t = crate::map::MAP_PERIODICITY_TOLERANCE)]
+    pub steady_tol: f64,
+    /// Cap on forcing periods per point (a point not periodic by then is `irregular`).
+    #[arg(long, default_value_t = crate::map::MAP_MAX_PERIODS)]
+    pub max_periods: u64,
 }
 
 /// Arguments of `rattle merge`.
@@ -246,6 +301,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Simulate(args) => simulate_command(args),
         Command::Sweep(args) => sweep_command(args),
         Command::Merge(args) => merge_command(args),
+        Command::Map(args) => map_command(args),
     }
 }
 
@@ -525,6 +581,94 @@ fn sweep_command(args: SweepArgs) -> Result<String, RattleError> {
         omegas.len(),
         args.solver.name()
     ))
+}
+
+/// Whether `path` names a CSV (`true`) or JSON (`false`) file; `field` names the option.
+fn table_kind(path: &std::path::Path, field: &str) -> Result<bool, RattleError> {
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("csv") => Ok(true),
+        Some("json") => Ok(false),
+        _ => Err(RattleError::Argument(format!(
+            "{field} {}: the extension must be .json or .csv",
+            path.display()
+        ))),
+    }
+}
+
+fn map_command(args: MapArgs) -> Result<String, RattleError> {
+    use crate::map::{Axis, Map, MapError, MapGrid, MapSettings};
+    let grid = MapGrid {
+        restitution: Axis {
+            min: args.restitution_min,
+            max: args.restitution_max,
+            count: args.restitutions,
+        },
+        gap_over_base_amplitude: Axis {
+            min: args.gap_min,
+            max: args.gap_max,
+            count: args.gaps,
+        },
+        omega: Axis {
+            min: args.omega_min,
+            max: args.omega_max,
+            count: args.points,
+        },
+    };
+    grid.validate()
+        .map_err(|e| RattleError::Argument(e.to_string()))?;
+    let points_csv = table_kind(&args.out, "--out")?;
+    let bandwidth_csv = args
+        .bandwidth_out
+        .as_deref()
+        .map(|p| table_kind(p, "--bandwidth-out"))
+        .transpose()?;
+    let simulation = Accuracy {
+        tol: args.tol,
+        steady_tol: args.steady_tol,
+        max_periods: args.max_periods,
+        max_oscillations: 2e6,
+    }
+    .options()?;
+    let settings = MapSettings {
+        simulation,
+        ..MapSettings::default()
+    };
+    let scene = load(&args.scene)?;
+    let map = Map::run(&scene, grid, &settings, true).map_err(|e| match e {
+        MapError::NoStops | MapError::OutOfRange { .. } => RattleError::Argument(e.to_string()),
+    })?;
+    let write = |path: &std::path::Path, text: String| {
+        std::fs::write(path, text)
+            .map_err(|e| RattleError::Argument(format!("cannot write {}: {e}", path.display())))
+    };
+    write(
+        &args.out,
+        if points_csv {
+            map.points_csv()
+        } else {
+            format!("{:#}\n", map.points_json())
+        },
+    )?;
+    let mut out = format!(
+        "wrote {} ({} points: {} restitutions × {} gaps × {} frequencies)\n",
+        args.out.display(),
+        grid.points(),
+        args.restitutions,
+        args.gaps,
+        args.points
+    );
+    if let (Some(path), Some(csv)) = (&args.bandwidth_out, bandwidth_csv) {
+        write(
+            path,
+            if csv {
+                map.bandwidth_csv()
+            } else {
+                format!("{:#}\n", map.bandwidth_json())
+            },
+        )?;
+        let _ = writeln!(out, "wrote {} ({} lines)", path.display(), map.lines.len());
+    }
+    Ok(out)
 }
 
 fn merge_command(args: MergeArgs) -> Result<String, RattleError> {

@@ -6,7 +6,8 @@
 //! event-driven one); [`frequency::analyse`] gives the analytic picture at one frequency,
 //! [`simulation::run`] the simulated steady state, [`classify::compare`] both and a verdict;
 //! [`sweep`] runs any of them over frequencies in parallel; [`study::Study`] gathers what
-//! [`figures`] draws and [`validation`] reports.
+//! [`figures`] draws and [`validation`] reports; [`map`] runs lines of frequencies over
+//! restitution and gap for the regime and bandwidth maps.
 #![deny(missing_docs)]
 
 pub mod bands;
@@ -16,6 +17,7 @@ pub mod cli;
 pub mod figures;
 pub mod frequency;
 pub mod json;
+pub mod map;
 pub mod plot;
 pub mod scene;
 pub mod simulation;
