@@ -219,3 +219,26 @@ fn extreme_scenes_finish_with_an_honest_status() {
     }
     assert_eq!(scenes, 5);
 }
+
+#[test]
+fn floquet_multipliers_where_the_plain_eigenvalue_iteration_cycles() {
+    // At this point of a map the monodromy of a symmetric orbit made nalgebra's unbounded
+    // Schur iteration cycle forever (the map hung); the multipliers must come out finite.
+    let s = Scene::parse(
+        r#"{"name": "map point",
+            "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+            "base": {"amplitude": 1.0},
+            "stops": {"gap": 0.6833333333333333, "restitution": 0.23076923076923078},
+            "damping": {"outer": 0.1, "inner": 0.05}}"#,
+        "test",
+    )
+    .unwrap();
+    let point = rattle_compare::frequency::analyse(&s, 2.7488721804511274, false).unwrap();
+    assert!(!point.orbits.is_empty());
+    for (_, orbit) in &point.orbits {
+        assert!(orbit
+            .floquet_multipliers
+            .iter()
+            .all(|m| m.re.is_finite() && m.im.is_finite()));
+    }
+}

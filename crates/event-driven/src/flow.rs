@@ -31,6 +31,13 @@ pub enum FlowError {
     /// eigenvectors, e.g. exactly critical damping): the modal flow does not exist.
     #[error("the system is defective (e.g. exactly critically damped): condition number {0:e}")]
     Defective(f64),
+    /// The system matrix has a non-finite entry (masses, stiffnesses or dampings whose
+    /// ratios overflow).
+    #[error("the system matrix is not finite (masses, stiffnesses or dampings out of range)")]
+    NotFinite,
+    /// The eigenvalue iteration did not converge.
+    #[error("the eigenvalues of the system matrix did not converge")]
+    NoConvergence,
 }
 
 /// Below this `|μ − λ|·T` a forcing rate counts as resonant with a mode.
@@ -154,6 +161,33 @@ fn cexp(mu: C64, s: f64) -> C64 {
     C64::new(r * cos, r * sin)
 }
 
+/// The eigenvalues of the system matrix `a`, by the real Schur form with a bounded QR
+/// iteration; when it does not converge, on the transpose, then on shifted copies `a + σI`
+/// (nalgebra's unbounded iteration can cycle forever on some finite matrices).
+fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<C64>, FlowError> {
+    if !a.iter().all(|v| v.is_finite()) {
+        return Err(FlowError::NotFinite);
+    }
+    let n = a.nrows();
+    let scale = a.amax().max(f64::MIN_POSITIVE);
+    let identity = DMatrix::<f64>::identity(n, n);
+    for (matrix, shift) in [
+        (a.clone(), 0.0),
+        (a.transpose(), 0.0),
+        (a + &identity * (0.5 * scale), 0.5 * scale),
+        (a - &identity * (0.37 * scale), -0.37 * scale),
+    ] {
+        if let Some(schur) = nalgebra::linalg::Schur::try_new(matrix, f64::EPSILON, 1000) {
+            return Ok(schur
+                .complex_eigenvalues()
+                .iter()
+                .map(|l| l - shift)
+                .collect());
+        }
+    }
+    Err(FlowError::NoConvergence)
+}
+
 impl LinearFlow {
     /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + f₀` (`damping` `None`: no
     /// damping terms at all).
@@ -175,7 +209,7 @@ impl LinearFlow {
         if let Some(c) = damping {
             a.view_mut((n, n), (n, n)).copy_from(&(-(&minv * c)));
         }
-        let rates: Vec<C64> = a.clone().complex_eigenvalues().iter().copied().collect();
+        let rates = eigenvalues(&a)?;
         let mut modes = DMatrix::<C64>::zeros(2 * n, 2 * n);
         let mc = mass.map(|v| C64::new(v, 0.0));
         let kc = stiffness.map(|v| C64::new(v, 0.0));
@@ -493,4 +527,50 @@ fn merge(terms: Vec<Term>) -> Vec<Term> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn eigenvalues_where_the_plain_schur_iteration_cycles() {
+        // A 4×4 matrix (a monodromy met in a map) on which nalgebra's unbounded real Schur
+        // iteration never converges; column by column.
+        let a = DMatrix::from_column_slice(
+            4,
+            4,
+            &[
+                -0.5949065900786252,
+                -0.54785366462303,
+                0.09877288697600826,
+                0.12768814862690236,
+                -0.2736063407419963,
+                -0.24558433817231848,
+                -0.24127877581140877,
+                -0.10566685059017007,
+                -0.08898796197315695,
+                -0.12830918791764725,
+                -0.48568868720653724,
+                -0.48981661360765977,
+                0.17069267029308077,
+                0.07791231009587478,
+                -0.3650431717907076,
+                -0.34735400366643376,
+            ],
+        );
+        let rates = eigenvalues(&a).expect("converges");
+        let sum: C64 = rates.iter().sum();
+        let product: C64 = rates.iter().product();
+        assert!((sum.re - a.trace()).abs() < 1e-12 && sum.im.abs() < 1e-12);
+        assert!((product.re - a.clone().determinant()).abs() < 1e-12);
+        let ac = a.map(|v| C64::new(v, 0.0));
+        for &l in &rates {
+            let shifted = &ac - DMatrix::<C64>::identity(4, 4) * l;
+            assert!(shifted.determinant().norm() < 1e-10, "{l}");
+        }
+        let mut bad = a;
+        bad[(0, 3)] = f64::INFINITY;
+        assert_eq!(eigenvalues(&bad), Err(FlowError::NotFinite));
+    }
 }
