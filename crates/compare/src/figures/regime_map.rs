@@ -13,9 +13,10 @@ use plotters::prelude::*;
 pub enum RegimeClass {
     /// Periodic, no impact.
     NoImpact,
-    /// Two impacts per period, period 1, and it is a stable viable analytic orbit.
+    /// Two impacts per period, period 1, and it is a stable viable symmetric analytic orbit.
     TwoImpactAgreeing,
-    /// Two impacts per period, period 1, but no analytic orbit matches it.
+    /// Two impacts per period, period 1, but no stable viable symmetric analytic orbit matches
+    /// it (an asymmetric orbit, or one not yet within the match tolerance).
     TwoImpactOnly,
     /// Period 1 with another number or pattern of impacts.
     MoreImpacts,
@@ -64,8 +65,8 @@ impl RegimeClass {
     pub fn words(self) -> &'static str {
         match self {
             RegimeClass::NoImpact => "no impact",
-            RegimeClass::TwoImpactAgreeing => "two impacts, period 1 = analytic orbit",
-            RegimeClass::TwoImpactOnly => "two impacts, period 1, no analytic match",
+            RegimeClass::TwoImpactAgreeing => "two impacts, period 1 = symmetric analytic orbit",
+            RegimeClass::TwoImpactOnly => "two impacts, period 1, not a symmetric orbit",
             RegimeClass::MoreImpacts => "other impacts, period 1",
             RegimeClass::Subharmonic => "period p > 1",
             RegimeClass::Irregular => "not periodic within the cap",
