@@ -76,3 +76,16 @@ mod tests {
         assert_eq!(number(1.5), json!(1.5));
     }
 }
+
+/// One CSV row from JSON values: `null` as an empty cell, strings quoted (quotes doubled),
+/// numbers and booleans as JSON writes them; cells joined by commas, no line end.
+pub fn csv_row(row: Vec<Value>) -> String {
+    row.into_iter()
+        .map(|v| match v {
+            Value::Null => String::new(),
+            Value::String(s) => format!("\"{}\"", s.replace('"', "\"\"")),
+            other => other.to_string(),
+        })
+        .collect::<Vec<_>>()
+        .join(",")
+}

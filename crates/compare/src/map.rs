@@ -25,7 +25,7 @@
 use crate::bands::bands;
 use crate::classify::difference;
 use crate::frequency::analyse;
-use crate::json::number;
+use crate::json::{csv_row, number};
 use crate::scene::{Scene, StopsSpec};
 use crate::simulation::{run, stop_name, Regime};
 use crate::sweep::{frequencies, parallel_map};
@@ -569,15 +569,7 @@ fn csv(columns: &[&str], rows: Vec<Vec<Value>>) -> String {
     let mut out = columns.join(",");
     out.push('\n');
     for row in rows {
-        let cells: Vec<String> = row
-            .into_iter()
-            .map(|v| match v {
-                Value::Null => String::new(),
-                Value::String(s) => format!("\"{}\"", s.replace('"', "\"\"")),
-                other => other.to_string(),
-            })
-            .collect();
-        out.push_str(&cells.join(","));
+        out.push_str(&csv_row(row));
         out.push('\n');
     }
     out

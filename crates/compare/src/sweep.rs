@@ -92,7 +92,7 @@ mod tests {
 
 use crate::classify::{compare, ComparedPoint};
 use crate::frequency::{analyse, AnalyticPoint};
-use crate::json::number;
+use crate::json::{csv_row, number};
 use crate::scene::Scene;
 use crate::simulation::{run, SimulatedPoint};
 use rattle_event_driven::{SimulationOptions, Start};
@@ -290,20 +290,7 @@ pub fn to_csv(scene: &Scene, points: &[SweepPoint]) -> String {
     use rayon::prelude::*;
     let gap = scene.stops.map(|s| s.gap);
     // Rows are formatted in parallel and joined in order.
-    let lines: Vec<String> = points
-        .par_iter()
-        .map(|p| {
-            let cells: Vec<String> = row(p, gap)
-                .into_iter()
-                .map(|v| match v {
-                    Value::Null => String::new(),
-                    Value::String(s) => format!("\"{}\"", s.replace('"', "\"\"")),
-                    other => other.to_string(),
-                })
-                .collect();
-            cells.join(",")
-        })
-        .collect();
+    let lines: Vec<String> = points.par_iter().map(|p| csv_row(row(p, gap))).collect();
     let mut out = COLUMNS.join(",");
     out.push('\n');
     for line in lines {
