@@ -65,18 +65,6 @@ pub fn orbit(o: &Orbit, branch: usize) -> Value {
     })
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn non_finite_numbers_are_null() {
-        assert_eq!(number(f64::NAN), Value::Null);
-        assert_eq!(number(f64::INFINITY), Value::Null);
-        assert_eq!(number(1.5), json!(1.5));
-    }
-}
-
 /// One CSV row from JSON values: `null` as an empty cell, strings quoted (quotes doubled),
 /// numbers and booleans as JSON writes them; cells joined by commas, no line end.
 pub fn csv_row(row: Vec<Value>) -> String {
@@ -88,4 +76,16 @@ pub fn csv_row(row: Vec<Value>) -> String {
         })
         .collect::<Vec<_>>()
         .join(",")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn non_finite_numbers_are_null() {
+        assert_eq!(number(f64::NAN), Value::Null);
+        assert_eq!(number(f64::INFINITY), Value::Null);
+        assert_eq!(number(1.5), json!(1.5));
+    }
 }
