@@ -110,20 +110,24 @@ fn figures(args: &[String]) -> Result<(), String> {
     } else {
         MapSizes::full()
     };
-    eprintln!(
-        "maps of '{}'",
-        rattle_compare::figures::map_scene(&scene).name
-    );
-    written.extend(
-        rattle_compare::figures::generate_maps(
-            &scene,
-            map_sizes,
-            &figures_dir,
-            &out.join("data/maps"),
-            true,
-        )
-        .map_err(|e| e.to_string())?,
-    );
+    if scene.stops.is_some() {
+        eprintln!(
+            "maps of '{}'",
+            rattle_compare::figures::map_scene(&scene).name
+        );
+        written.extend(
+            rattle_compare::figures::generate_maps(
+                &scene,
+                map_sizes,
+                &figures_dir,
+                &out.join("data/maps"),
+                true,
+            )
+            .map_err(|e| e.to_string())?,
+        );
+    } else {
+        eprintln!("no maps: the scene has no stops (a map varies their gap and restitution)");
+    }
     let validation = out.join("validation");
     let doc = agreement(&main);
     write(&validation.join("agreement.json"), &format!("{doc:#}\n"))?;
