@@ -2,8 +2,8 @@
 //! (the numbers behind `figures/work-precision.png`): `cargo run --release -p rattle-compare
 //! --example work_precision [SCENE] [OMEGA] [PERIODS]`.
 
+use rattle_compare::peers::work_precision::study;
 use rattle_compare::scene::Scene;
-use rattle_compare::work_precision::study;
 use rattle_event_driven::SimulationOptions;
 use std::path::Path;
 

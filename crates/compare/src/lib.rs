@@ -1,27 +1,27 @@
-//! The `rattle` workbench: scenes, both solvers side by side, sweeps, figures and the
+//! The `rattle` workbench: scenes, both solvers side by side, sweeps, maps, figures and the
 //! command line.
 //!
-//! Data flows from a [`scene::Scene`] (JSON) to each solver's own problem
-//! ([`scene::Scene::unit_model`] for the analytic crate, [`simulation::model`] for the
-//! event-driven one); [`frequency::analyse`] gives the analytic picture at one frequency,
-//! [`simulation::run`] the simulated steady state, [`classify::compare`] both and a verdict;
-//! [`sweep`] runs any of them over frequencies in parallel; [`study::Study`] gathers what
-//! [`figures`] draws and [`validation`] reports; [`map`] runs lines of frequencies over
-//! restitution and gap for the regime and bandwidth maps.
+//! One folder per job; data flows one way, from scene to figure, and no module imports one
+//! listed above it (a tidy test checks this):
+//!
+//! | module | job |
+//! | --- | --- |
+//! | [`cli`] | the `rattle` command, a file per subcommand |
+//! | [`figures`] | drawing only: data in, pixels out (cargo feature `figures`) |
+//! | [`study`] | everything the figures and the report show; the paper's claims ([`study::paper`]) |
+//! | [`peers`] | the Dormand–Prince baseline and the accuracy-versus-cost study |
+//! | [`runs`] | parallel ordered runs: sweeps, shards, maps |
+//! | [`verdict`] | the analytic candidates and how the two solvers relate at one frequency |
+//! | [`output`] | typed rows and records, one writer per format |
+//! | [`scene`] | the scene format, its validation, and the adapters to each solver |
 #![deny(missing_docs)]
 
-pub mod bands;
-pub mod baseline;
-pub mod classify;
 pub mod cli;
+#[cfg(feature = "figures")]
 pub mod figures;
-pub mod frequency;
-pub mod json;
-pub mod map;
-pub mod plot;
+pub mod output;
+pub mod peers;
+pub mod runs;
 pub mod scene;
-pub mod simulation;
 pub mod study;
-pub mod sweep;
-pub mod validation;
-pub mod work_precision;
+pub mod verdict;

@@ -1,9 +1,9 @@
 //! The two solvers against each other on cases whose answer is known independently.
 
 use rattle_analytic::symmetric_orbits;
-use rattle_compare::classify::{compare, difference, Class, MATCH_TOLERANCE};
+use rattle_compare::scene::simulator::{run, Regime};
 use rattle_compare::scene::{DampingSpec, Scene};
-use rattle_compare::simulation::{run, Regime};
+use rattle_compare::verdict::{compare, difference, Class, Starts, MATCH_TOLERANCE};
 use rattle_event_driven::{SimulationOptions, Start};
 
 fn damped() -> Scene {
@@ -46,23 +46,23 @@ fn classification_of_hand_checked_frequencies() {
     let options = SimulationOptions::default();
     // ω = 2: the analytic crate gives one stable viable symmetric orbit (branch 1, X_o ≈ 0.849)
     // and the simulator from rest lands on it.
-    let p = compare(&scene, 2.0, &options).unwrap();
+    let p = compare(&scene, 2.0, &options, Starts::RestAndOrbits).unwrap();
     assert_eq!(p.class, Class::Agreement);
     assert!(p.difference.unwrap().largest() < MATCH_TOLERANCE);
     // ω = 0.5: the linear motion clears the stops (|u_i − u_o| = 0.104 < Δ = 0.5) and nothing
     // damps the free vibration started from rest: no steady state, beyond the model.
-    let p = compare(&scene, 0.5, &options).unwrap();
+    let p = compare(&scene, 0.5, &options, Starts::RestAndOrbits).unwrap();
     assert!(matches!(p.class, Class::Beyond(_)), "{:?}", p.class);
-    assert_eq!(p.from_rest.regime, Regime::Undecided);
+    assert_eq!(p.from_rest.regime, Regime::NoDissipation);
     // ω = 1: no symmetric orbit is viable (both penetrate), the simulator settles on four
     // impacts per period.
-    let p = compare(&scene, 1.0, &options).unwrap();
+    let p = compare(&scene, 1.0, &options, Starts::RestAndOrbits).unwrap();
     assert!(p.analytic.orbits.iter().all(|(_, o)| !o.viable));
     assert!(matches!(p.class, Class::Beyond(_)));
     assert_eq!(p.from_rest.steady.impacts_per_period, 4.0);
     // ω = 2.9: the symmetric orbit has lost stability (viable, unstable) and the simulator
     // settles on an asymmetric two-impact orbit of the β family.
-    let p = compare(&scene, 2.9, &options).unwrap();
+    let p = compare(&scene, 2.9, &options, Starts::RestAndOrbits).unwrap();
     assert!(p.analytic.orbits.iter().any(|(_, o)| o.viable && !o.stable));
     assert_eq!(p.class, Class::Agreement, "{:?}", p.class);
     assert!(

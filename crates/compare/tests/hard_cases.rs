@@ -2,9 +2,9 @@
 //! behaviour each must keep (see that folder's README).
 
 use rattle_analytic::{linear_response, symmetric_orbits};
-use rattle_compare::classify::{compare, Class, MATCH_TOLERANCE};
+use rattle_compare::scene::simulator::{run, Regime};
 use rattle_compare::scene::Scene;
-use rattle_compare::simulation::{run, Regime};
+use rattle_compare::verdict::{compare, Class, Starts, MATCH_TOLERANCE};
 use rattle_event_driven::{SimulationOptions, Start, Status};
 use std::path::Path;
 
@@ -15,7 +15,7 @@ fn scene(name: &str) -> Scene {
     Scene::load(&path).unwrap()
 }
 
-fn finite_simulation(s: &Scene, omega: f64) -> rattle_compare::simulation::SimulatedPoint {
+fn finite_simulation(s: &Scene, omega: f64) -> rattle_compare::scene::simulator::SimulatedPoint {
     let sim = run(s, omega, &Start::rest(2), &SimulationOptions::default()).unwrap();
     assert!(
         sim.outer_amplitude.is_finite(),
@@ -29,7 +29,13 @@ fn finite_simulation(s: &Scene, omega: f64) -> rattle_compare::simulation::Simul
 #[test]
 fn beta_half_symmetric_orbit_is_found_and_reached() {
     let s = scene("beta-half");
-    let p = compare(&s, 2.0, &SimulationOptions::default()).unwrap();
+    let p = compare(
+        &s,
+        2.0,
+        &SimulationOptions::default(),
+        Starts::RestAndOrbits,
+    )
+    .unwrap();
     assert_eq!(p.class, Class::Agreement);
     assert!(p.difference.unwrap().largest() < MATCH_TOLERANCE);
 }
@@ -107,7 +113,7 @@ fn plastic_impacts_stick() {
 #[test]
 fn no_dissipation_is_reported() {
     let sim = finite_simulation(&scene("no-dissipation"), 2.0);
-    assert_eq!(sim.regime, Regime::Undecided);
+    assert_eq!(sim.regime, Regime::NoDissipation);
     assert!(sim.steady.periods_run <= 1000);
     assert!(sim.transmittance_db.is_none());
 }
@@ -131,7 +137,13 @@ fn long_run_of_the_linear_unit() {
 #[test]
 fn coexisting_attractors_are_named() {
     let s = scene("coexistence");
-    let p = compare(&s, 1.86, &SimulationOptions::default()).unwrap();
+    let p = compare(
+        &s,
+        1.86,
+        &SimulationOptions::default(),
+        Starts::RestAndOrbits,
+    )
+    .unwrap();
     assert_eq!(p.class, Class::Coexistence, "{:?}", p.class);
     assert!(p.trials.iter().any(|t| t.held));
     assert_ne!(p.from_rest.regime, Regime::TwoImpact);
@@ -233,7 +245,12 @@ fn floquet_multipliers_where_the_plain_eigenvalue_iteration_cycles() {
         "test",
     )
     .unwrap();
-    let point = rattle_compare::frequency::analyse(&s, 2.7488721804511274, false).unwrap();
+    let point = rattle_compare::scene::analytic::analyse(
+        &s,
+        2.7488721804511274,
+        rattle_compare::scene::analytic::OrbitSearch::Symmetric,
+    )
+    .unwrap();
     assert!(!point.orbits.is_empty());
     for (_, orbit) in &point.orbits {
         assert!(orbit

@@ -1,9 +1,12 @@
 //! `rattle map`: the map over restitution, gap and frequency.
 
 use rattle_analytic::linear_response;
-use rattle_compare::map::{Axis, Map, MapGrid, MapSettings, POINT_COLUMNS};
+use rattle_compare::output::{table_text, Format, Header, Row};
+use rattle_compare::runs::axis::Axis;
+use rattle_compare::runs::map::{Bandwidth, Map, MapGrid, MapPointRow, MapSettings};
+use rattle_compare::runs::parallel::Progress;
+use rattle_compare::scene::simulator::Regime;
 use rattle_compare::scene::Scene;
-use rattle_compare::simulation::Regime;
 use std::process::Command;
 
 fn damped() -> Scene {
@@ -47,15 +50,29 @@ fn the_map_does_not_depend_on_the_number_of_threads() {
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| Map::run(&scene, g, &settings, false).unwrap())
+            .install(|| Map::run(&scene, g, &settings, &Progress::hidden()).unwrap())
     };
     let (one, two) = (run(1), run(2));
-    assert_eq!(one.points_csv(), two.points_csv());
-    assert_eq!(one.bandwidth_csv(), two.bandwidth_csv());
+    let points = |m: &Map| {
+        table_text(
+            Format::Csv,
+            &Header::default(),
+            &m.point_rows().collect::<Vec<_>>(),
+        )
+    };
+    let bandwidth = |m: &Map| {
+        table_text(
+            Format::Json,
+            &Header::default(),
+            &m.bandwidth_rows().collect::<Vec<_>>(),
+        )
+    };
+    assert_eq!(points(&one), points(&two));
+    assert_eq!(bandwidth(&one), bandwidth(&two));
     // Header and one row per point.
-    let csv = one.points_csv();
+    let csv = points(&one);
     let mut lines = csv.lines();
-    assert_eq!(lines.next().unwrap(), POINT_COLUMNS.join(","));
+    assert_eq!(lines.next().unwrap(), MapPointRow::COLUMNS.join(","));
     assert_eq!(lines.count(), 2 * 3 * 12);
 }
 
@@ -66,7 +83,7 @@ fn a_unit_that_never_reaches_its_stops_is_the_linear_unit() {
     // is the linear motion.
     let scene = damped();
     let g = grid(1, (50.0, 50.0, 1), 15);
-    let map = Map::run(&scene, g, &MapSettings::default(), false).unwrap();
+    let map = Map::run(&scene, g, &MapSettings::default(), &Progress::hidden()).unwrap();
     let unit = scene.unit_model();
     for p in &map.lines[0].points {
         assert_eq!(p.regime, Some(Regime::NoImpact), "ω = {}", p.omega);
@@ -83,25 +100,49 @@ fn a_unit_that_never_reaches_its_stops_is_the_linear_unit() {
     }
 }
 
+/// A hand-made line with its answer: samples at ω = 1, 1.5, …, 5.5; below 0 dB at 2, 2.5
+/// (a band) and at 4.5 … 5.5 (open above); 3.0 has no value.
 #[test]
-fn bandwidth_counts_the_attenuating_samples() {
+fn bandwidth_of_a_hand_made_line() {
+    let omegas: Vec<f64> = (0..10).map(|i| 1.0 + 0.5 * i as f64).collect();
+    let values = [
+        Some(3.0),
+        Some(-1.0),
+        Some(-2.0),
+        Some(1.0),
+        None,
+        Some(0.5),
+        Some(2.0),
+        Some(-0.1),
+        Some(-4.0),
+        Some(-5.0),
+    ];
+    let b = Bandwidth::of(&omegas, &values, 0.5);
+    assert_eq!(b.attenuating_points, 5);
+    assert_eq!(b.valued_points, 9);
+    assert_eq!(b.bandwidth, 2.5);
+    assert_eq!(b.first_band_start, Some(1.5));
+    assert_eq!(b.bands, vec![(1.5, 2.0), (4.5, f64::INFINITY)]);
+}
+
+/// Far stops: the attenuating samples are exactly those where the linear damped unit's
+/// closed-form transmittance (the analytic crate's, not the map's) is below 0 dB.
+#[test]
+fn bandwidth_of_a_unit_clear_of_its_stops_is_the_linear_one() {
     let scene = damped();
-    let g = grid(1, (0.3, 0.3, 1), 40);
-    let map = Map::run(&scene, g, &MapSettings::default(), false).unwrap();
-    let line = &map.lines[0];
-    let step = g.omega.step();
-    let b = line.simulated_bandwidth(step);
-    let below: Vec<f64> = line
-        .points
-        .iter()
-        .filter(|p| p.transmittance_db.is_some_and(|t| t < 0.0))
-        .map(|p| p.omega)
+    let g = grid(1, (50.0, 50.0, 1), 40);
+    let map = Map::run(&scene, g, &MapSettings::default(), &Progress::hidden()).unwrap();
+    let unit = scene.unit_model();
+    let below: Vec<f64> = g
+        .omega
+        .values()
+        .into_iter()
+        .filter(|&w| linear_response(&unit, w).transmittance_db < 0.0)
         .collect();
+    let b = map.lines[0].simulated_bandwidth(g.omega.step());
+    assert!(!below.is_empty());
     assert_eq!(b.attenuating_points, below.len());
-    assert!((b.bandwidth - below.len() as f64 * step).abs() < 1e-12);
     assert_eq!(b.first_band_start, below.first().copied());
-    // This damped unit attenuates above its second resonance.
-    assert!(b.attenuating_points > 0);
 }
 
 #[test]

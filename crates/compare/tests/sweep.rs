@@ -1,10 +1,55 @@
-//! Sweeps: deterministic whatever the thread count, with the documented columns; and the
-//! figures pipeline end to end on a few points, so it cannot rot.
+//! Sweeps: deterministic whatever the thread count, with the documented columns, the same in
+//! every format, streamed as the CLI streams them, checked against stored expected files; and
+//! the figures pipeline end to end on a few points, so it cannot rot.
 
+use rattle_compare::output::{writer, Format, Row};
+use rattle_compare::runs::axis::Axis;
+use rattle_compare::runs::parallel::Progress;
+use rattle_compare::runs::shard::{merge, Shard};
+use rattle_compare::runs::sweep::{header, sweep_rows, Solver, SweepRow};
 use rattle_compare::scene::Scene;
-use rattle_compare::study::{Study, StudySize};
-use rattle_compare::sweep::{frequencies, sweep, to_csv, to_json, Solver, COLUMNS};
 use rattle_event_driven::SimulationOptions;
+use std::path::Path;
+
+fn options() -> SimulationOptions {
+    SimulationOptions {
+        max_periods: 2000,
+        ..SimulationOptions::default()
+    }
+}
+
+/// What `rattle sweep` writes for `omegas` (part `shard` of `total` frequencies, if given).
+fn written(
+    scene: &Scene,
+    omegas: &[f64],
+    solver: Solver,
+    format: Format,
+    shard: Option<(Shard, usize)>,
+) -> String {
+    let mut out = Vec::new();
+    {
+        let total = shard.map_or(omegas.len(), |(_, t)| t);
+        let preamble = shard.map(|(s, t)| s.csv_preamble(t));
+        let mut table = writer(
+            format,
+            &mut out,
+            &header(scene, solver, total, shard.map(|(s, _)| s)),
+            preamble.as_deref(),
+        )
+        .unwrap();
+        sweep_rows(
+            scene,
+            omegas,
+            solver,
+            &options(),
+            &Progress::hidden(),
+            |row| table.row(&row),
+        )
+        .unwrap();
+        table.finish().unwrap();
+    }
+    String::from_utf8(out).unwrap()
+}
 
 fn run_with_threads(threads: usize, solver: Solver) -> (String, String) {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -13,15 +58,10 @@ fn run_with_threads(threads: usize, solver: Solver) -> (String, String) {
         .unwrap();
     pool.install(|| {
         let scene = Scene::paper();
-        let omegas = frequencies(0.5, 3.5, 9);
-        let options = SimulationOptions {
-            max_periods: 2000,
-            ..SimulationOptions::default()
-        };
-        let points = sweep(&scene, &omegas, solver, &options, false);
+        let omegas = Axis::new(0.5, 3.5, 9).values();
         (
-            to_csv(&scene, &points),
-            format!("{:#}", to_json(&scene, solver, &points)),
+            written(&scene, &omegas, solver, Format::Csv, None),
+            written(&scene, &omegas, solver, Format::Json, None),
         )
     })
 }
@@ -34,42 +74,105 @@ fn sweeps_are_byte_identical_on_one_and_two_threads() {
 }
 
 #[test]
-fn csv_and_json_carry_the_documented_columns() {
+fn csv_json_and_json_lines_carry_the_same_columns() {
     let (csv, json) = run_with_threads(2, Solver::Both);
-    let mut lines = csv.lines();
-    assert_eq!(lines.next().unwrap(), COLUMNS.join(","));
-    let rows: Vec<&str> = lines.collect();
+    let columns = SweepRow::COLUMNS;
+    let mut reader = csv::Reader::from_reader(csv.as_bytes());
+    assert_eq!(
+        reader.headers().unwrap().iter().collect::<Vec<_>>(),
+        columns
+    );
+    let rows: Vec<csv::StringRecord> = reader.records().map(Result::unwrap).collect();
     assert_eq!(rows.len(), 9);
     for row in &rows {
-        // Quoted strings contain no commas here, so a plain split counts the cells.
-        assert_eq!(row.split(',').count(), COLUMNS.len(), "{row}");
-        assert!(!row.contains("NaN") && !row.contains("inf"));
+        assert_eq!(row.len(), columns.len());
+        assert!(row
+            .iter()
+            .all(|cell| !cell.contains("NaN") && !cell.contains("inf")));
     }
     let doc: serde_json::Value = serde_json::from_str(&json).unwrap();
     assert_eq!(doc["solver"], "both");
+    assert_eq!(doc["points"], 9);
     let results = doc["results"].as_array().unwrap();
     assert_eq!(results.len(), 9);
-    for r in results {
-        for c in COLUMNS {
-            assert!(r.get(c).is_some(), "missing {c}");
-        }
+    for (r, row) in results.iter().zip(&rows) {
+        let keys: Vec<&String> = r.as_object().unwrap().keys().collect();
+        assert_eq!(keys.len(), columns.len());
         assert!(r["class"].is_string());
+        // The same value in both formats, column by column.
+        for (c, cell) in columns.iter().zip(row.iter()) {
+            let v = &r[*c];
+            match v {
+                serde_json::Value::Null => assert_eq!(cell, "", "{c}"),
+                serde_json::Value::String(s) => assert_eq!(cell, s, "{c}"),
+                other => assert_eq!(cell, other.to_string(), "{c}"),
+            }
+        }
+    }
+    let scene = Scene::paper();
+    let lines = written(
+        &scene,
+        &Axis::new(0.5, 3.5, 9).values(),
+        Solver::Both,
+        Format::JsonLines,
+        None,
+    );
+    let objects: Vec<serde_json::Value> = lines
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(&objects, results);
+}
+
+/// Compares `text` with the stored file `tests/expected/NAME`; with `RATTLE_BLESS=1` writes it
+/// instead (then review the diff before committing).
+fn expect_file(name: &str, text: &str) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/expected")
+        .join(name);
+    if std::env::var_os("RATTLE_BLESS").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, text).unwrap();
+    }
+    let stored = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e} (RATTLE_BLESS=1 writes it)", path.display()));
+    assert_eq!(text, stored, "{} differs from the output", path.display());
+}
+
+/// The analytic sweep's outputs, byte for byte, in each format: a change of a column, of the
+/// number formatting or of a number shows here first.
+#[test]
+fn analytic_sweep_outputs_match_the_stored_files() {
+    let scene = Scene::paper();
+    let omegas = Axis::new(0.5, 3.5, 7).values();
+    for (format, name) in [
+        (Format::Csv, "sweep-analytic.csv"),
+        (Format::Json, "sweep-analytic.json"),
+        (Format::JsonLines, "sweep-analytic.jsonl"),
+    ] {
+        expect_file(
+            name,
+            &written(&scene, &omegas, Solver::Analytic, format, None),
+        );
     }
 }
 
+#[cfg(feature = "figures")]
 #[test]
 fn the_figures_pipeline_runs_end_to_end() {
+    use rattle_compare::study::report::{agreement, report};
+    use rattle_compare::study::{maps, MapSizes, Study, StudySize};
     let dir = std::env::temp_dir().join(format!("rattle-figures-{}", std::process::id()));
-    let options = SimulationOptions {
-        max_periods: 2000,
-        ..SimulationOptions::default()
-    };
-    let study = Study::run(&Scene::paper(), StudySize::quick(), &options, false);
+    let scene = Scene::paper();
+    let study = Study::run(&scene, StudySize::quick(), &options(), false);
     assert_eq!(
         study.compared.len() + study.failures.len(),
         StudySize::quick().compared_points
     );
-    let written = rattle_compare::figures::generate(&study, &options, &dir).unwrap();
+    let maps = maps(&scene, MapSizes::quick(), false);
+    assert!(maps.is_some());
+    let plots = study.plots(&options(), maps.as_ref());
+    let written = rattle_compare::figures::draw(&plots, &dir).unwrap();
     for name in [
         "linear-time-response",
         "impact-time-response",
@@ -77,6 +180,8 @@ fn the_figures_pipeline_runs_end_to_end() {
         "agreement",
         "beta-family",
         "bifurcation",
+        "bandwidth-map",
+        "regime-map",
     ] {
         for ext in ["png", "svg"] {
             let path = dir.join(format!("{name}.{ext}"));
@@ -87,7 +192,7 @@ fn the_figures_pipeline_runs_end_to_end() {
             );
         }
     }
-    let agreement = rattle_compare::validation::agreement(&study);
+    let agreement = serde_json::to_value(agreement(&study)).unwrap();
     for key in [
         "scene",
         "points_compared",
@@ -97,45 +202,32 @@ fn the_figures_pipeline_runs_end_to_end() {
     ] {
         assert!(agreement.get(key).is_some(), "agreement.json lacks {key}");
     }
-    let report = rattle_compare::validation::report(&study, &study, "n/a");
+    let report = report(&study, &study, "n/a");
     assert!(report.contains("Nigm–Shabana") && report.contains("1.25"));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn merged_shards_are_byte_identical_to_the_unsharded_sweep() {
-    use rattle_compare::sweep::{merge, to_csv_shard, to_json_shard, Shard};
     let scene = Scene::paper();
-    let all = frequencies(0.5, 3.5, 11);
-    let options = SimulationOptions {
-        max_periods: 2000,
-        ..SimulationOptions::default()
-    };
+    let all = Axis::new(0.5, 3.5, 11).values();
     let solver = Solver::Both;
-    let full = sweep(&scene, &all, solver, &options, false);
-    let full_json = format!("{:#}\n", to_json(&scene, solver, &full));
-    let full_csv = to_csv(&scene, &full);
+    let full_json = written(&scene, &all, solver, Format::Json, None);
+    let full_csv = written(&scene, &all, solver, Format::Csv, None);
     let count = 4;
     let (mut json_parts, mut csv_parts) = (Vec::new(), Vec::new());
     for index in (1..=count).rev() {
         let shard = Shard { index, count };
-        let part = sweep(
-            &scene,
-            &all[shard.range(all.len())],
-            solver,
-            &options,
-            false,
-        );
-        json_parts.push(format!(
-            "{:#}\n",
-            to_json_shard(&scene, solver, &part, all.len(), shard)
-        ));
-        csv_parts.push(to_csv_shard(&scene, &part, all.len(), shard));
+        let part = &all[shard.range(all.len())];
+        let of = Some((shard, all.len()));
+        json_parts.push(written(&scene, part, solver, Format::Json, of));
+        csv_parts.push(written(&scene, part, solver, Format::Csv, of));
     }
     assert_eq!(merge(&json_parts).unwrap(), full_json);
     assert_eq!(merge(&csv_parts).unwrap(), full_csv);
     // A missing part is refused.
     assert!(merge(&json_parts[1..]).is_err());
+    assert!(merge(&csv_parts[1..]).is_err());
     assert!(
         Shard::parse("0/3").is_err() && Shard::parse("4/3").is_err() && Shard::parse("x").is_err()
     );

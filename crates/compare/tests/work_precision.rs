@@ -1,10 +1,10 @@
 //! The Runge–Kutta baseline against closed forms and the analytic orbit, and the
 //! work-precision study's error against each solver's accuracy knob.
 
-use rattle_compare::baseline::{self, Dopri5, Tolerances};
+use rattle_compare::peers::baseline::{self, Dopri5, Tolerances};
+use rattle_compare::peers::work_precision::{baseline_point, event_driven_point, reference};
+use rattle_compare::scene::simulator::start_on_orbit;
 use rattle_compare::scene::Scene;
-use rattle_compare::simulation::start_on_orbit;
-use rattle_compare::work_precision::{baseline_point, event_driven_point, reference};
 use std::path::Path;
 use std::time::Duration;
 

@@ -83,7 +83,7 @@ pub enum Status {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stop {
     /// The motion repeated (or nothing could dissipate its transients).
-    Settled,
+    Decided,
     /// The requested number of periods was run.
     FixedPeriods,
     /// The period cap was reached.
@@ -747,7 +747,7 @@ impl<'m> Engine<'m> {
             _ => least_period(&ring, p_max, options.periodicity_tolerance, tol_scale),
         };
         if matches!(stopped, Stop::PeriodCap | Stop::OscillationCap) && observe_until.is_some() {
-            stopped = Stop::Settled;
+            stopped = Stop::Decided;
         }
         let no_recent_impacts =
             last_impact_period.is_none_or(|last| k.saturating_sub(last) > window_len);

@@ -1,20 +1,11 @@
 //! Agreement of the two solvers against frequency: the relative difference where both settle on
 //! the same motion (log scale), and the class of every point.
 
-use crate::classify::{Class, ComparedPoint};
-use crate::plot::{err, legend, text, Figure};
+use crate::figures::plot::{err, legend, text, Figure};
+use crate::study::plots::Agreement;
+use crate::verdict::Class;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// The figure.
-pub struct Agreement {
-    /// Scene name, for the title.
-    pub scene_name: String,
-    /// The compared points of the sweep.
-    pub points: Vec<ComparedPoint>,
-    /// The match tolerance, drawn as a line.
-    pub tolerance: f64,
-}
 
 const FLOOR: f64 = 1e-16;
 

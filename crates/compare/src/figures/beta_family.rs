@@ -2,48 +2,10 @@
 //! impacts, for a few frequencies, by verdict; Nigm and Shabana's non-viable band shaded; and
 //! simulated confirmations (gap set to `Δ*(β)`, impact spacing measured).
 
-use crate::plot::{axes, err, legend, text, Figure};
+use crate::figures::plot::{axes, err, legend, text, Figure};
+use crate::study::plots::BetaFamily;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// One member of the family as drawn.
-#[derive(Debug, Clone, Copy)]
-pub struct Member {
-    /// Fraction of the period between the impacts.
-    pub beta: f64,
-    /// `Δ*(β)/u_g`.
-    pub gap_ratio: f64,
-    /// No penetration, impacts from inside.
-    pub viable: bool,
-    /// Floquet multipliers inside the unit circle.
-    pub stable: bool,
-}
-
-/// A simulated check of one member.
-#[derive(Debug, Clone, Copy)]
-pub struct Confirmation {
-    /// Frequency, rad/s.
-    pub omega: f64,
-    /// `Δ*(β)/u_g` used as the gap.
-    pub gap_ratio: f64,
-    /// `β` of the analytic member.
-    pub beta: f64,
-    /// Spacing of the simulated impacts over the period, if the simulation settled on two
-    /// impacts per period.
-    pub measured_beta: Option<f64>,
-}
-
-/// The figure.
-pub struct BetaFamily {
-    /// Scene name, for the title.
-    pub scene_name: String,
-    /// Restitution used.
-    pub restitution: f64,
-    /// Per frequency, the members on a grid of `β`.
-    pub curves: Vec<(f64, Vec<Member>)>,
-    /// Simulated confirmations.
-    pub confirmations: Vec<Confirmation>,
-}
 
 const PALETTE: [RGBColor; 5] = [
     RGBColor(30, 90, 220),
@@ -91,11 +53,14 @@ impl Figure for BetaFamily {
         )?;
         chart
             .draw_series(std::iter::once(Rectangle::new(
-                [(0.0, 0.0), (0.18, ymax)],
+                [(0.0, 0.0), (self.non_viable_bound, ymax)],
                 RGBColor(200, 200, 200).mix(0.4).filled(),
             )))
             .map_err(err)?
-            .label("Nigm–Shabana: non-viable for 0 ≤ β ≤ 0.18")
+            .label(format!(
+                "Nigm–Shabana: non-viable for 0 ≤ β ≤ {}",
+                self.non_viable_bound
+            ))
             .legend(|(x, y)| {
                 Rectangle::new(
                     [(x, y - 6), (x + 20, y + 6)],

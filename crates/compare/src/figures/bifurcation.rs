@@ -1,23 +1,10 @@
 //! Simulated stroboscopic outer displacement `u_o(kT)` against frequency, sweeping up and down
 //! with the final state carried over, and the analytic symmetric orbits' stroboscopic points.
 
-use crate::plot::{axes, err, legend, text, Figure};
+use crate::figures::plot::{axes, err, legend, text, Figure};
+use crate::study::plots::Bifurcation;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// The figure's data.
-pub struct Bifurcation {
-    /// Scene name, for the title.
-    pub scene_name: String,
-    /// Frequency range swept, rad/s.
-    pub omega_range: (f64, f64),
-    /// `(ω, u_o(kT))` of the upward sweep.
-    pub up: Vec<(f64, f64)>,
-    /// `(ω, u_o(kT))` of the downward sweep.
-    pub down: Vec<(f64, f64)>,
-    /// `(ω, u_o(kT), stable)` of the viable analytic orbits.
-    pub analytic: Vec<(f64, f64, bool)>,
-}
 
 impl Figure for Bifurcation {
     fn name(&self) -> &str {

@@ -2,37 +2,10 @@
 //! steady state (right) — the analytic orbit as curves with simulated points on it, or the
 //! simulated motion where no viable orbit exists.
 
-use crate::plot::{axes, err, legend, text, Figure};
+use crate::figures::plot::{axes, err, legend, text, Figure};
+use crate::study::plots::{ImpactTimeResponse, Samples};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// Samples `(t, u_o, u_i)` of a motion.
-pub type Samples = Vec<(f64, f64, f64)>;
-
-/// One row of the figure.
-pub struct ImpactRow {
-    /// Frequency, rad/s.
-    pub omega: f64,
-    /// Linear response over two periods.
-    pub linear: Samples,
-    /// Analytic viable orbit over two periods (time from a side-1 impact), if any.
-    pub orbit: Option<Samples>,
-    /// Simulated steady motion over two periods, on the same clock as `orbit` when there is
-    /// one.
-    pub simulated: Samples,
-    /// What the right panel shows, in words.
-    pub note: String,
-}
-
-/// The figure.
-pub struct ImpactTimeResponse {
-    /// Scene name, for the title.
-    pub scene_name: String,
-    /// Gap `Δ` for the walls.
-    pub gap: f64,
-    /// One row per frequency.
-    pub rows: Vec<ImpactRow>,
-}
 
 fn panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,

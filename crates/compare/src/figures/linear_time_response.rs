@@ -1,20 +1,10 @@
 //! The paper's Figure 2: steady linear response of both masses with the two walls of the outer
 //! mass (`u_o ± Δ`), at a few frequencies.
 
-use crate::plot::{axes, err, legend, text, Figure};
-use crate::scene::Scene;
-use nalgebra::Complex;
+use crate::figures::plot::{axes, err, legend, text, Figure};
+use crate::study::plots::LinearTimeResponse;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use rattle_analytic::linear_response;
-
-/// Figure 2 of the paper, for `scene` at `omegas`.
-pub struct LinearTimeResponse {
-    /// The scene (its gap draws the walls).
-    pub scene: Scene,
-    /// Frequencies, rad/s, one panel each.
-    pub omegas: Vec<f64>,
-}
 
 impl Figure for LinearTimeResponse {
     fn name(&self) -> &str {
@@ -26,36 +16,30 @@ impl Figure for LinearTimeResponse {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let unit = self.scene.unit_model();
-        let gap = self.scene.stops.map(|s| s.gap).unwrap_or(0.0);
+        let gap = self.gap;
         let (title, body) = root.split_vertically(50);
         title
             .draw_text(
                 &format!(
                     "Linear steady state (stops ignored), scene '{}', walls at u_o ± Δ, Δ = {gap} m",
-                    self.scene.name
+                    self.scene_name
                 ),
                 &text(24),
                 (20, 12),
             )
             .map_err(err)?;
-        let panels = body.split_evenly((1, self.omegas.len()));
-        for (panel, &omega) in panels.iter().zip(&self.omegas) {
-            let lin = linear_response(&unit, omega);
+        let panels = body.split_evenly((1, self.panels.len().max(1)));
+        for (area, panel) in panels.iter().zip(&self.panels) {
+            let omega = panel.omega;
             let period = std::f64::consts::TAU / omega;
-            let n = 400;
-            let at = |amp: Complex<f64>, t: f64| (amp * Complex::new(0.0, omega * t).exp()).re;
-            let ts: Vec<f64> = (0..=n)
-                .map(|k| 2.0 * period * k as f64 / n as f64)
-                .collect();
-            let uo: Vec<(f64, f64)> = ts.iter().map(|&t| (t, at(lin.outer, t))).collect();
-            let ui: Vec<(f64, f64)> = ts.iter().map(|&t| (t, at(lin.inner, t))).collect();
-            let ymax = lin
+            let uo: Vec<(f64, f64)> = panel.samples.iter().map(|&(t, u, _)| (t, u)).collect();
+            let ui: Vec<(f64, f64)> = panel.samples.iter().map(|&(t, _, u)| (t, u)).collect();
+            let ymax = panel
                 .outer_amplitude
-                .max(lin.inner_amplitude)
-                .max(lin.outer_amplitude + gap)
+                .max(panel.inner_amplitude)
+                .max(panel.outer_amplitude + gap)
                 * 1.15;
-            let mut chart = ChartBuilder::on(panel)
+            let mut chart = ChartBuilder::on(area)
                 .caption(format!("ω = {omega} rad/s"), text(22))
                 .margin(12)
                 .x_label_area_size(45)

@@ -1,25 +1,11 @@
 //! The paper's Figure 5: transmittance against frequency — linear, analytic two-impact orbits
 //! by verdict, and the simulated steady state from rest by regime; the paper's claims marked.
 
-use crate::frequency::AnalyticPoint;
-use crate::plot::{axes, err, legend, text, Figure};
-use crate::simulation::{Regime, SimulatedPoint};
+use crate::figures::plot::{axes, err, legend, text, Figure};
+use crate::scene::simulator::Regime;
+use crate::study::plots::Transmittance;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-/// Figure 5 of the paper, with the workbench's evidence.
-pub struct Transmittance {
-    /// Scene name, for the title.
-    pub scene_name: String,
-    /// Analytic picture on a fine grid (linear and symmetric orbits).
-    pub analytic: Vec<AnalyticPoint>,
-    /// Simulated steady states from rest, if any.
-    pub simulated: Vec<SimulatedPoint>,
-    /// The paper's claimed attenuation bands, drawn as shaded spans: `(from, to, label)`.
-    pub claimed_bands: Vec<(f64, f64, String)>,
-    /// The paper's claimed peaks and valleys, drawn as vertical ticks: `(ω, label)`.
-    pub claimed_marks: Vec<(f64, String)>,
-}
 
 const T_MIN: f64 = -45.0;
 const T_MAX: f64 = 35.0;
@@ -37,7 +23,7 @@ pub fn regime_colour(regime: Regime) -> RGBColor {
         Regime::Subharmonic => RGBColor(160, 0, 160),
         Regime::Irregular => RGBColor(200, 0, 0),
         Regime::Sticking => RGBColor(0, 150, 200),
-        Regime::Undecided => RGBColor(150, 150, 150),
+        Regime::NoDissipation => RGBColor(150, 150, 150),
     }
 }
 

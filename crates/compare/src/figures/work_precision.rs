@@ -3,9 +3,9 @@
 //! `rtol`), with the analytic solve as one point (`work-precision`); and the cost of reaching a
 //! steady state and of sweeps (`steady-state-cost`).
 
-use crate::plot::{err, legend, text, Figure};
-use crate::sweep::Solver;
-use crate::work_precision::{PrecisionPoint, WorkPrecision, FAILURE_ERROR};
+use crate::figures::plot::{err, legend, text, Figure};
+use crate::peers::work_precision::{PrecisionPoint, WorkPrecision, FAILURE_ERROR};
+use crate::runs::sweep::Solver;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 

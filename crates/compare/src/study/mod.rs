@@ -1,15 +1,23 @@
-//! The study behind `cargo xtask figures`: every sweep and simulation the figures and the
-//! validation report need, computed once from one scene.
+//! The study behind `cargo xtask figures`: everything the figures and the validation report
+//! show, computed once from one scene. [`plots`] holds each figure's data, [`paper`] the
+//! paper's claims and numbers, [`report`] the validation outputs.
 
-use crate::classify::{compare_with, ComparedPoint};
-use crate::figures::beta_family::{Confirmation, Member};
-use crate::figures::impact_time_response::{ImpactRow, Samples};
-use crate::frequency::{analyse, AnalyticPoint};
-use crate::scene::{Scene, StopsSpec};
-use crate::simulation::{run, start_on_orbit, Regime, SimulatedPoint};
-use crate::sweep::{frequencies, parallel_map, parallel_map_even};
-use nalgebra::{Vector2, Vector4};
-use rattle_analytic::flow::ForcedFlow;
+pub mod paper;
+pub mod plots;
+pub mod report;
+
+use crate::runs::axis::Axis;
+use crate::runs::map::{Map, MapGrid, MapSettings};
+use crate::runs::parallel::{parallel_map, Grain, Progress};
+use crate::scene::analytic::{analyse, AnalyticPoint, OrbitSearch};
+use crate::scene::simulator::{run, start_on_orbit, Regime, SimulatedPoint, START_PERTURBATION};
+use crate::scene::{DampingSpec, Scene, StopsSpec};
+use crate::verdict::{compare, ComparedPoint, Starts, MATCH_TOLERANCE};
+use plots::{
+    linear_samples, orbit_samples, stroboscopic_outer, Agreement, BandwidthMap, BetaFamily,
+    Bifurcation, Confirmation, ImpactRow, ImpactTimeResponse, LinearPanel, LinearTimeResponse,
+    Member, Plots, RegimeMap, Samples, Transmittance,
+};
 use rattle_analytic::gap_for_beta;
 use rattle_event_driven::{SimulationOptions, Start};
 
@@ -106,9 +114,6 @@ pub struct Study {
     pub confirmations: Vec<Confirmation>,
 }
 
-/// Frequencies of the family figure.
-pub const FAMILY_OMEGAS: [f64; 3] = [1.5, 2.0, 3.0];
-
 impl Study {
     /// Runs the study; `progress` draws progress lines on a terminal.
     pub fn run(
@@ -123,20 +128,29 @@ impl Study {
                 eprintln!("  {what}: {:.1} s", clock.elapsed().as_secs_f64());
             }
         };
-        let grid = frequencies(size.omega_min, size.omega_max, size.analytic_points);
+        let bar = |label: &str, n: usize| Progress::new(label, n, progress);
+        let grid = Axis::new(size.omega_min, size.omega_max, size.analytic_points).values();
         let analytic: Vec<AnalyticPoint> =
-            parallel_map_even(&grid, progress.then_some("analytic"), |&w| {
-                analyse(scene, w, false)
+            parallel_map(&grid, Grain::Even, &bar("analytic", grid.len()), |&w| {
+                analyse(scene, w, OrbitSearch::Symmetric)
             })
             .into_iter()
             .filter_map(Result::ok)
             .collect();
 
         lap("analytic grid");
-        let grid = frequencies(size.omega_min, size.omega_max, size.compared_points);
-        let results = parallel_map(&grid, progress.then_some("both solvers"), |&w| {
-            compare_with(scene, w, options, size.start_on_orbits).map_err(|e| (w, e.to_string()))
-        });
+        let grid = Axis::new(size.omega_min, size.omega_max, size.compared_points).values();
+        let starts = if size.start_on_orbits {
+            Starts::RestAndOrbits
+        } else {
+            Starts::Rest
+        };
+        let results = parallel_map(
+            &grid,
+            Grain::Uneven,
+            &bar("both solvers", grid.len()),
+            |&w| compare(scene, w, options, starts).map_err(|e| (w, e.to_string())),
+        );
         let mut compared = Vec::new();
         let mut failures = Vec::new();
         for r in results {
@@ -147,10 +161,12 @@ impl Study {
         }
 
         lap("both solvers");
-        let grid = frequencies(size.omega_min, size.omega_max, size.bifurcation_points);
+        let grid = Axis::new(size.omega_min, size.omega_max, size.bifurcation_points).values();
         let down_grid: Vec<f64> = grid.iter().rev().copied().collect();
         let directions = [grid, down_grid];
-        let mut sweeps = parallel_map(&directions, None, |g| continuation(scene, g, options));
+        let mut sweeps = parallel_map(&directions, Grain::Uneven, &Progress::hidden(), |g| {
+            continuation(scene, g, options)
+        });
         let bifurcation_down = sweeps.pop().unwrap_or_default();
         let bifurcation_up = sweeps.pop().unwrap_or_default();
 
@@ -192,7 +208,7 @@ fn continuation(scene: &Scene, omegas: &[f64], options: &SimulationOptions) -> V
         let Ok(sim) = run(scene, omega, &start, options) else {
             continue;
         };
-        if sim.regime != Regime::Undecided {
+        if sim.regime != Regime::NoDissipation {
             let shown = sim.steady.stroboscopic.len().min(16);
             for x in sim.steady.stroboscopic.iter().rev().take(shown) {
                 out.push((omega, x[0]));
@@ -203,7 +219,7 @@ fn continuation(scene: &Scene, omegas: &[f64], options: &SimulationOptions) -> V
     out
 }
 
-/// The family curves for [`FAMILY_OMEGAS`] and simulated confirmations of some stable viable
+/// The family curves for [`paper::FAMILY_OMEGAS`] and simulated confirmations of some stable viable
 /// members (gap set to `Δ*(β)`, started on the orbit, impact spacing measured).
 fn family(
     scene: &Scene,
@@ -218,7 +234,7 @@ fn family(
         .collect();
     let mut curves = Vec::new();
     let mut checks = Vec::new();
-    for &omega in &FAMILY_OMEGAS {
+    for &omega in &paper::FAMILY_OMEGAS {
         let points: Vec<_> = betas
             .iter()
             .filter_map(|&b| gap_for_beta(&unit, stops.restitution, omega, b).ok())
@@ -244,17 +260,17 @@ fn family(
         }
         curves.push(FamilyCurve { omega, members });
     }
-    let confirmations = parallel_map(&checks, None, |(omega, p)| {
+    let confirmations = parallel_map(&checks, Grain::Uneven, &Progress::hidden(), |(omega, p)| {
         let mut s = scene.clone();
         s.stops = Some(StopsSpec {
             gap: p.gap,
             restitution: stops.restitution,
         });
-        let start = start_on_orbit(&s, &p.orbit, crate::classify::START_PERTURBATION);
+        let start = start_on_orbit(&s, &p.orbit, START_PERTURBATION);
         let measured = run(&s, *omega, &start, options)
             .ok()
             .filter(|sim| sim.regime == Regime::TwoImpact)
-            .and_then(|sim| crate::classify::symmetric_spacing(&sim));
+            .and_then(|sim| sim.impact_spacing());
         Confirmation {
             omega: *omega,
             gap_ratio: p.gap / ug,
@@ -265,88 +281,201 @@ fn family(
     (curves, confirmations)
 }
 
-/// Stroboscopic `u_o(kT)` (base phase 0) of an analytic symmetric orbit.
-pub fn stroboscopic_outer(scene: &Scene, orbit: &rattle_analytic::Orbit) -> f64 {
-    let flow = ForcedFlow::new(&scene.unit_model(), orbit.omega);
-    let period = flow.period();
-    // t since the side-1 impact at which ω t + α ≡ 0.
-    let t = (-orbit.alpha / orbit.omega).rem_euclid(period);
-    let half = orbit.beta * period;
-    let p0 = Vector2::new(orbit.alpha.cos(), orbit.alpha.sin());
-    if t <= half {
-        flow.transition(t).apply(&orbit.state_after_impact, &p0).0[0]
-    } else {
-        // Second flight of a symmetric orbit: u(t) = −u(t − T/2).
-        let x: Vector4<f64> = flow
-            .transition(t - half)
-            .apply(&orbit.state_after_impact, &p0)
-            .0;
-        -x[0]
+/// Grid sizes of the two maps.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapSizes {
+    /// Restitutions of the bandwidth map, over `[0, 1]`.
+    pub restitutions: usize,
+    /// Gaps of both maps, over `Δ/u_g ∈ [0.05, 1]`.
+    pub gaps: usize,
+    /// Frequencies of the bandwidth map's lines, over `[0.1, 4]` rad/s.
+    pub bandwidth_points: usize,
+    /// Frequencies of the regime map, over `[0.1, 4]` rad/s.
+    pub regime_points: usize,
+}
+
+impl MapSizes {
+    /// The grids of `cargo xtask figures` (`rattle map` runs finer grids).
+    pub fn full() -> MapSizes {
+        MapSizes {
+            restitutions: 21,
+            gaps: 20,
+            bandwidth_points: 200,
+            regime_points: 300,
+        }
+    }
+
+    /// A few points of everything.
+    pub fn quick() -> MapSizes {
+        MapSizes {
+            restitutions: 3,
+            gaps: 3,
+            bandwidth_points: 20,
+            regime_points: 20,
+        }
     }
 }
 
-/// Frequencies of the paper's Figure 4.
-pub const FIGURE4_OMEGAS: [f64; 2] = [1.0, 2.0];
+/// The light dashpots the maps add to an undamped scene, N·s/m: those of
+/// `data/scenes/paper-damped.json`.
+pub const MAP_DAMPING: DampingSpec = DampingSpec {
+    outer: 0.1,
+    inner: 0.05,
+};
+
+/// The gaps of both maps, `Δ/u_g`.
+const MAP_GAPS: (f64, f64) = (0.05, 1.0);
+
+/// The frequencies of both maps, rad/s.
+const MAP_OMEGAS: (f64, f64) = (0.1, 4.0);
+
+/// The scene the maps are drawn for: `scene` itself when it is damped; otherwise the same
+/// unit with [`MAP_DAMPING`], because without damping no motion clear of the stops ever
+/// settles and there would be no transmittance to map there. The name says which.
+pub fn map_scene(scene: &Scene) -> Scene {
+    if scene.is_damped() {
+        return scene.clone();
+    }
+    let mut damped = scene.clone();
+    damped.damping = Some(MAP_DAMPING);
+    damped.name = format!("{} + light damping", scene.name);
+    damped
+}
+
+/// The bandwidth map (over restitution and gap) and the regime map (over frequency and gap at
+/// the scene's restitution) of [`map_scene`]`(scene)`; `None` without stops.
+pub fn maps(scene: &Scene, sizes: MapSizes, progress: bool) -> Option<(Map, Map)> {
+    let restitution = scene.stops?.restitution;
+    let scene = map_scene(scene);
+    let settings = MapSettings::default();
+    let gaps = Axis::new(MAP_GAPS.0, MAP_GAPS.1, sizes.gaps);
+    let bandwidth_grid = MapGrid {
+        restitution: Axis::new(0.0, 1.0, sizes.restitutions),
+        gap_over_base_amplitude: gaps,
+        omega: Axis::new(MAP_OMEGAS.0, MAP_OMEGAS.1, sizes.bandwidth_points),
+    };
+    let regime_grid = MapGrid {
+        restitution: Axis::new(restitution, restitution, 1),
+        gap_over_base_amplitude: gaps,
+        omega: Axis::new(MAP_OMEGAS.0, MAP_OMEGAS.1, sizes.regime_points),
+    };
+    let run = |grid: MapGrid, label: &str| {
+        let lines = grid.restitution.count * grid.gap_over_base_amplitude.count;
+        Map::run(
+            &scene,
+            grid,
+            &settings,
+            &Progress::new(label, lines, progress),
+        )
+    };
+    // Both grids are valid by construction and the scene has stops.
+    let bandwidth = run(bandwidth_grid, "bandwidth map").ok()?;
+    let regimes = run(regime_grid, "regime map").ok()?;
+    Some((bandwidth, regimes))
+}
+
+impl Study {
+    /// Every figure's data: this study's, Figures 2 and 4 simulated with `options`, and the
+    /// figures of `maps` when given.
+    pub fn plots(&self, options: &SimulationOptions, maps: Option<&(Map, Map)>) -> Plots {
+        let scene = &self.scene;
+        let name = scene.name.clone();
+        let gap = scene.gap().unwrap_or(0.0);
+        let (claimed_bands, claimed_marks) = paper::claims();
+        let analytic = self
+            .analytic
+            .iter()
+            .flat_map(|p| p.orbits.iter().filter(|(_, o)| o.viable))
+            .map(|(_, o)| (o.omega, stroboscopic_outer(scene, o), o.stable))
+            .collect();
+        Plots {
+            linear_time_response: LinearTimeResponse {
+                scene_name: name.clone(),
+                gap,
+                panels: paper::FIGURE2_OMEGAS
+                    .iter()
+                    .filter_map(|&w| analyse(scene, w, OrbitSearch::Symmetric).ok())
+                    .map(|p| LinearPanel {
+                        omega: p.omega,
+                        samples: linear_samples(&p),
+                        outer_amplitude: p.linear.outer_amplitude,
+                        inner_amplitude: p.linear.inner_amplitude,
+                    })
+                    .collect(),
+            },
+            impact_time_response: ImpactTimeResponse {
+                scene_name: name.clone(),
+                gap,
+                rows: impact_rows(scene, options),
+            },
+            transmittance: Transmittance {
+                scene_name: name.clone(),
+                analytic: self.analytic.clone(),
+                simulated: self.simulated(),
+                claimed_bands,
+                claimed_marks,
+            },
+            agreement: Agreement {
+                scene_name: name.clone(),
+                points: self.compared.clone(),
+                tolerance: MATCH_TOLERANCE,
+            },
+            beta_family: BetaFamily {
+                scene_name: name.clone(),
+                restitution: scene.stops.map_or(f64::NAN, |s| s.restitution),
+                curves: self
+                    .family
+                    .iter()
+                    .map(|c| (c.omega, c.members.clone()))
+                    .collect(),
+                confirmations: self.confirmations.clone(),
+                non_viable_bound: paper::NON_VIABLE_BETA,
+            },
+            bifurcation: Bifurcation {
+                scene_name: name,
+                omega_range: (self.size.omega_min, self.size.omega_max),
+                up: self.bifurcation_up.clone(),
+                down: self.bifurcation_down.clone(),
+                analytic,
+            },
+            maps: maps.map(|(b, r)| (BandwidthMap::of(b), RegimeMap::of(r))),
+        }
+    }
+}
+
+/// Periods the Figure 4 simulation runs when started on the orbit (the nudge decays well
+/// below a pixel), and from rest when there is no orbit (long enough for the paper's unit's
+/// slowest transients).
+const FIGURE4_PERIODS: (u64, u64) = (40, 400);
 
 /// The rows of the impact-time-response figure (the paper's Figure 4).
-pub fn impact_rows(scene: &Scene, options: &SimulationOptions) -> Vec<ImpactRow> {
-    let unit = scene.unit_model();
-    FIGURE4_OMEGAS
+fn impact_rows(scene: &Scene, options: &SimulationOptions) -> Vec<ImpactRow> {
+    paper::FIGURE4_OMEGAS
         .iter()
-        .map(|&omega| {
+        .filter_map(|&omega| {
+            let point = analyse(scene, omega, OrbitSearch::Symmetric).ok()?;
             let period = std::f64::consts::TAU / omega;
-            let n = 400;
-            let times: Vec<f64> = (0..=n)
-                .map(|k| 2.0 * period * k as f64 / n as f64)
+            let linear = linear_samples(&point);
+            let mut viable: Vec<_> = point
+                .orbits
+                .into_iter()
+                .map(|(_, o)| o)
+                .filter(|o| o.viable)
                 .collect();
-            let lin = rattle_analytic::linear_response(&unit, omega);
-            let at = |a: nalgebra::Complex<f64>, t: f64| {
-                (a * nalgebra::Complex::new(0.0, omega * t).exp()).re
-            };
-            let linear: Samples = times
-                .iter()
-                .map(|&t| (t, at(lin.outer, t), at(lin.inner, t)))
-                .collect();
-            let point = analyse(scene, omega, false).ok();
-            let orbit = point.and_then(|p| {
-                let mut viable: Vec<_> = p
-                    .orbits
-                    .into_iter()
-                    .map(|(_, o)| o)
-                    .filter(|o| o.viable)
-                    .collect();
-                viable.sort_by_key(|o| !o.stable);
-                viable.into_iter().next()
-            });
+            viable.sort_by_key(|o| !o.stable);
             let mut opts = options.clone();
             opts.record_trajectory = true;
-            match orbit {
+            Some(match viable.into_iter().next() {
                 Some(o) => {
-                    let flow = ForcedFlow::new(&unit, omega);
-                    let p0 = Vector2::new(o.alpha.cos(), o.alpha.sin());
-                    let half = 0.5 * period;
-                    let curve: Samples = times
-                        .iter()
-                        .map(|&t| {
-                            let local = t.rem_euclid(period);
-                            let (sign, tau) = if local <= half {
-                                (1.0, local)
-                            } else {
-                                (-1.0, local - half)
-                            };
-                            let x = flow.transition(tau).apply(&o.state_after_impact, &p0).0 * sign;
-                            (t, x[0], x[1])
-                        })
-                        .collect();
-                    opts.fixed_periods = Some(40);
-                    let start = start_on_orbit(scene, &o, crate::classify::START_PERTURBATION);
+                    opts.fixed_periods = Some(FIGURE4_PERIODS.0);
+                    let start = start_on_orbit(scene, &o, START_PERTURBATION);
                     let simulated = run(scene, omega, &start, &opts)
                         .map(|sim| last_periods(&sim, period, o.alpha / omega))
                         .unwrap_or_default();
                     ImpactRow {
                         omega,
                         linear,
-                        orbit: Some(curve),
+                        orbit: Some(orbit_samples(scene, &o)),
                         simulated,
                         note: format!(
                             "two-impact orbit ({}), simulated points on it",
@@ -355,9 +484,8 @@ pub fn impact_rows(scene: &Scene, options: &SimulationOptions) -> Vec<ImpactRow>
                     }
                 }
                 None => {
-                    opts.fixed_periods = Some(400);
-                    let sim = run(scene, omega, &Start::rest(2), &opts);
-                    let (simulated, words) = match sim {
+                    opts.fixed_periods = Some(FIGURE4_PERIODS.1);
+                    let (simulated, words) = match run(scene, omega, &Start::rest(2), &opts) {
                         Ok(sim) => (last_periods(&sim, period, 0.0), sim.regime.words()),
                         Err(_) => (Vec::new(), "simulation failed"),
                     };
@@ -369,7 +497,7 @@ pub fn impact_rows(scene: &Scene, options: &SimulationOptions) -> Vec<ImpactRow>
                         note: format!("no viable two-impact orbit; simulated from rest: {words}"),
                     }
                 }
-            }
+            })
         })
         .collect()
 }

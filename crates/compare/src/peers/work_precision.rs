@@ -1,5 +1,5 @@
 //! Accuracy against cost: the event-driven simulator over its root tolerance and the
-//! conventional Runge–Kutta baseline ([`crate::baseline`]) over its `rtol`, both measured against
+//! conventional Runge–Kutta baseline ([`crate::peers::baseline`]) over its `rtol`, both measured against
 //! the analytic two-impact orbit (the exact reference) of a stable, viable period-1 motion;
 //! the analytic solve as a single point; and what reaching a steady state and sweeping cost.
 //!
@@ -8,12 +8,14 @@
 //! the last period. Times are minima over repeated runs (the machine is shared: minima are the
 //! least noisy statistic).
 
-use crate::baseline::{self, BaselineError, Tolerances};
-use crate::classify::{difference, Difference};
-use crate::frequency::analyse;
+use crate::peers::baseline::{self, BaselineError, Tolerances};
+use crate::runs::axis::Axis;
+use crate::runs::parallel::Progress;
+use crate::runs::sweep::{sweep, Solver};
+use crate::scene::analytic::{analyse, OrbitSearch};
+use crate::scene::simulator::{run, SimulateError};
 use crate::scene::Scene;
-use crate::simulation::{run, SimulateError};
-use crate::sweep::{frequencies, sweep, Solver};
+use crate::verdict::{difference, Difference};
 use nalgebra::Vector4;
 use rattle_analytic::{Orbit, OrbitError};
 use rattle_event_driven::{SimulationOptions, Start};
@@ -144,17 +146,11 @@ pub fn min_time<T>(min_repeats: usize, budget: Duration, mut work: impl FnMut() 
 
 /// The stable viable orbit of `scene` at `omega` (the reference).
 pub fn reference(scene: &Scene, omega: f64) -> Result<Orbit, StudyError> {
-    analyse(scene, omega, false)?
-        .orbits
-        .into_iter()
-        .map(|(_, o)| o)
-        .find(|o| o.viable && o.stable)
+    analyse(scene, omega, OrbitSearch::Symmetric)?
+        .stable_viable_orbits()
+        .next()
+        .map(|(_, o)| o.clone())
         .ok_or(StudyError::NoReference(omega))
-}
-
-fn wrap_phase(d: f64) -> f64 {
-    let d = d.rem_euclid(std::f64::consts::TAU);
-    d.min(std::f64::consts::TAU - d)
 }
 
 /// The event-driven simulator from rest for `periods` periods at `root_tolerance`.
@@ -209,12 +205,12 @@ pub fn baseline_difference(run: &baseline::BaselineRun, orbit: &Orbit) -> Option
     let side1 = impacts.iter().find(|i| i.side > 0)?;
     let s = side1.state_before;
     let state = Vector4::new(s[0], s[1], s[2], s[3]);
-    Some(Difference {
-        outer_amplitude: (run.outer_amplitude - orbit.outer_amplitude).abs()
-            / orbit.outer_amplitude,
-        impact_state: (state - orbit.state_before_impact).norm() / orbit.state_before_impact.norm(),
-        phase: wrap_phase(orbit.omega * side1.time - orbit.alpha),
-    })
+    Some(Difference::between(
+        &state,
+        orbit.omega * side1.time,
+        run.outer_amplitude,
+        orbit,
+    ))
 }
 
 /// The Runge–Kutta baseline from rest for `periods` periods at `rtol`.
@@ -276,7 +272,8 @@ pub fn study(
 ) -> Result<WorkPrecision, StudyError> {
     let orbit = reference(scene, omega)?;
     let budget = Duration::from_millis(150);
-    let (analytic_seconds, _) = min_time(20, budget, || analyse(scene, omega, false));
+    let (analytic_seconds, _) =
+        min_time(20, budget, || analyse(scene, omega, OrbitSearch::Symmetric));
     let event_driven = ROOT_TOLERANCES
         .iter()
         .map(|&tol| event_driven_point(scene, &orbit, periods, tol, budget))
@@ -312,12 +309,19 @@ pub fn study(
         .collect();
     let mut sweeps = Vec::new();
     // Warm the thread pool first: the first parallel call pays for starting it.
-    let _ = sweep(scene, &[omega], Solver::Analytic, options, false);
+    let _ = sweep(
+        scene,
+        &[omega],
+        Solver::Analytic,
+        options,
+        &Progress::hidden(),
+    );
     for solver in [Solver::Analytic, Solver::Event] {
         for &points in &SWEEP_POINTS {
-            let omegas = frequencies(sweep_range.0, sweep_range.1, points);
-            let (seconds, _) =
-                min_time(2, budget, || sweep(scene, &omegas, solver, options, false));
+            let omegas = Axis::new(sweep_range.0, sweep_range.1, points).values();
+            let (seconds, _) = min_time(2, budget, || {
+                sweep(scene, &omegas, solver, options, &Progress::hidden())
+            });
             sweeps.push(SweepCost {
                 solver,
                 points,

@@ -16,21 +16,22 @@
 //! an undamped point whose transients cannot decay is reported as `no-dissipation`, with no
 //! transmittance. Neither is hidden.
 //!
-//! The analytic prediction at a point: the stable, viable symmetric two-impact orbits and, with
-//! damping, the linear motion when it stays clear of the stops (the candidates of
-//! [`crate::classify`]). The predicted transmittance is the **largest** over the candidates,
-//! so a predicted attenuation holds whichever candidate the unit settles on; with no candidate
-//! there is no prediction.
+//! The analytic prediction at a point: the [`candidates`] of [`crate::verdict`] (stable,
+//! viable symmetric two-impact orbits and, with damping, the linear motion clear of the stops),
+//! chosen by [`Choice::LargestAttracting`]: the **largest** transmittance over the attracting
+//! candidates, so a predicted attenuation holds whichever the unit settles on; with no
+//! candidate there is no prediction.
 
-use crate::bands::bands;
-use crate::classify::difference;
-use crate::frequency::analyse;
-use crate::json::{csv_row, number};
+use crate::output::{finite, table_row, Header};
+use crate::runs::axis::Axis;
+use crate::runs::bands::bands;
+use crate::runs::parallel::{for_each_ordered, Grain, Progress};
+use crate::scene::analytic::{analyse, OrbitSearch};
+use crate::scene::simulator::{run, Regime};
 use crate::scene::{Scene, StopsSpec};
-use crate::simulation::{run, stop_name, Regime};
-use crate::sweep::{frequencies, parallel_map};
+use crate::verdict::{candidates, difference, predicted_transmittance, Choice, Motion};
 use rattle_event_driven::{SimulationOptions, Start};
-use serde_json::{json, Value};
+use serde::Serialize;
 use thiserror::Error;
 
 /// The stroboscopic state of a map point must repeat to this tolerance, relative to the gap
@@ -54,38 +55,6 @@ pub const MAP_CONSERVATIVE_PERIODS: u64 = 40;
 /// differ by less than this, relatively: 100 × [`MAP_PERIODICITY_TOLERANCE`], because a motion
 /// that repeats to `ε` can still be `ε / (1 − |μ|)` from its orbit (Floquet multiplier `μ`).
 pub const MAP_MATCH_TOLERANCE: f64 = 1e-3;
-
-/// A range of values sampled at `count` evenly spaced points, ends included (`count = 1`:
-/// `min` alone).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Axis {
-    /// First value.
-    pub min: f64,
-    /// Last value (≥ `min`).
-    pub max: f64,
-    /// Number of values (≥ 1).
-    pub count: usize,
-}
-
-impl Axis {
-    /// The values, ascending; the last is exactly `max`.
-    pub fn values(&self) -> Vec<f64> {
-        let mut v = frequencies(self.min, self.max, self.count);
-        if let Some(last) = v.last_mut().filter(|_| self.count > 1) {
-            *last = self.max;
-        }
-        v
-    }
-
-    /// The spacing between neighbouring values (0 for one value).
-    pub fn step(&self) -> f64 {
-        if self.count > 1 {
-            (self.max - self.min) / (self.count - 1) as f64
-        } else {
-            0.0
-        }
-    }
-}
 
 /// The grid of a map: restitution `e`, gap relative to the base amplitude `Δ/u_g`, and
 /// angular frequency `ω` (rad/s).
@@ -334,8 +303,7 @@ pub fn line(
     settings: &MapSettings,
 ) -> MapLine {
     let scene = scene_at(scene, restitution, gap_over_base_amplitude);
-    let gap = gap_over_base_amplitude * scene.base.amplitude;
-    let damped = scene.unit_model().damping.is_some();
+    let damped = scene.is_damped();
     let mut options = settings.simulation.clone();
     if !damped && restitution == 1.0 {
         options.max_periods = options.max_periods.min(MAP_CONSERVATIVE_PERIODS);
@@ -365,7 +333,7 @@ pub fn line(
                 point.impacts_per_period = sim.steady.impacts_per_period;
                 point.outer_amplitude = sim.outer_amplitude;
                 point.transmittance_db = sim.transmittance_db;
-                point.stopped_by = stop_name(sim.steady.stopped);
+                point.stopped_by = sim.stopped_by();
                 point.periods_run = sim.steady.periods_run;
                 Some(sim)
             }
@@ -375,31 +343,27 @@ pub fn line(
                 None
             }
         };
-        match analyse(&scene, omega, false) {
+        match analyse(&scene, omega, OrbitSearch::Symmetric) {
             Ok(analytic) => {
-                let stable: Vec<_> = analytic
-                    .orbits
-                    .iter()
-                    .map(|(_, o)| o)
-                    .filter(|o| o.viable && o.stable)
-                    .collect();
-                let lin = &analytic.linear;
-                let linear_candidate = damped && !lin.unbounded && lin.relative_amplitude <= gap;
-                let mut predicted: Vec<f64> = stable.iter().map(|o| o.transmittance_db).collect();
-                if linear_candidate {
-                    predicted.push(lin.transmittance_db);
-                }
-                point.analytic_candidates = predicted.len();
-                point.analytic_transmittance_db = predicted.into_iter().reduce(f64::max);
+                let offered = candidates(&scene, &analytic);
+                let attracting: Vec<_> = offered.iter().filter(|c| c.attracting).collect();
+                point.analytic_candidates = attracting.len();
+                point.analytic_transmittance_db =
+                    predicted_transmittance(&offered, Choice::LargestAttracting);
                 if let Some(sim) = &sim {
-                    let orbit_match = stable.iter().any(|o| {
-                        difference(sim, o).is_some_and(|d| d.largest() < settings.match_tolerance)
+                    point.analytic_match = attracting.iter().any(|c| match c.motion {
+                        Motion::Orbit { branch } => analytic
+                            .orbits
+                            .iter()
+                            .find(|(b, _)| *b == branch)
+                            .and_then(|(_, o)| difference(sim, o))
+                            .is_some_and(|d| d.largest() < settings.match_tolerance),
+                        Motion::Linear => {
+                            sim.regime == Regime::NoImpact
+                                && (sim.outer_amplitude - c.outer_amplitude).abs()
+                                    < settings.match_tolerance * c.outer_amplitude
+                        }
                     });
-                    let linear_match = linear_candidate
-                        && sim.regime == Regime::NoImpact
-                        && (sim.outer_amplitude - lin.outer_amplitude).abs()
-                            < settings.match_tolerance * lin.outer_amplitude;
-                    point.analytic_match = orbit_match || linear_match;
                 }
             }
             Err(e) => {
@@ -419,35 +383,82 @@ pub fn line(
     }
 }
 
+/// Checks `grid` and `scene` for a map.
+fn check(scene: &Scene, grid: &MapGrid) -> Result<(), MapError> {
+    grid.validate()?;
+    if scene.stops.is_none() {
+        return Err(MapError::NoStops);
+    }
+    Ok(())
+}
+
+/// The `(e, Δ/u_g)` of every line of `grid`, restitution-major.
+fn line_keys(grid: &MapGrid) -> Vec<(f64, f64)> {
+    let gaps = grid.gap_over_base_amplitude.values();
+    grid.restitution
+        .values()
+        .into_iter()
+        .flat_map(|e| gaps.iter().map(move |&g| (e, g)))
+        .collect()
+}
+
+/// Computes the map of `scene` over `grid` line by line — lines in parallel, each line up in
+/// frequency with continuation — and hands each line to `sink` in the order of
+/// [`Map::lines`] as soon as its block of lines is done. The result does not depend on the
+/// number of threads.
+///
+/// # Errors
+/// [`StreamError::Map`] for a grid out of range or a scene without stops (before anything is
+/// computed); [`StreamError::Sink`] for the first error of `sink`.
+pub fn stream<E>(
+    scene: &Scene,
+    grid: &MapGrid,
+    settings: &MapSettings,
+    progress: &Progress,
+    mut sink: impl FnMut(MapLine) -> Result<(), E>,
+) -> Result<(), StreamError<E>> {
+    check(scene, grid).map_err(StreamError::Map)?;
+    let omegas = grid.omega.values();
+    for_each_ordered(
+        &line_keys(grid),
+        Grain::Uneven,
+        progress,
+        |&(e, g)| line(scene, e, g, &omegas, settings),
+        |l| sink(l).map_err(StreamError::Sink),
+    )
+}
+
+/// A failure of [`stream`].
+#[derive(Debug, Error)]
+pub enum StreamError<E> {
+    /// The grid or the scene.
+    #[error(transparent)]
+    Map(MapError),
+    /// The sink.
+    #[error("{0}")]
+    Sink(E),
+}
+
 impl Map {
-    /// Computes the map of `scene` over `grid`: lines in parallel (rayon), each line up in
-    /// frequency with continuation; a progress line on stderr when `progress` and stderr is a
-    /// terminal. The result does not depend on the number of threads.
+    /// Computes the map of `scene` over `grid` (see [`stream`]) and keeps every line.
+    ///
+    /// # Errors
+    /// A grid out of range, or a scene without stops.
     pub fn run(
         scene: &Scene,
         grid: MapGrid,
         settings: &MapSettings,
-        progress: bool,
+        progress: &Progress,
     ) -> Result<Map, MapError> {
-        grid.validate()?;
-        if scene.stops.is_none() {
-            return Err(MapError::NoStops);
-        }
-        let omegas = grid.omega.values();
-        let pairs: Vec<(f64, f64)> = grid
-            .restitution
-            .values()
-            .into_iter()
-            .flat_map(|e| {
-                grid.gap_over_base_amplitude
-                    .values()
-                    .into_iter()
-                    .map(move |g| (e, g))
-            })
-            .collect();
-        let lines = parallel_map(&pairs, progress.then_some("map lines"), |&(e, g)| {
-            line(scene, e, g, &omegas, settings)
-        });
+        let mut lines = Vec::new();
+        stream(scene, &grid, settings, progress, |l| {
+            lines.push(l);
+            Ok::<(), std::convert::Infallible>(())
+        })
+        .map_err(|e| match e {
+            StreamError::Map(e) => e,
+            StreamError::Sink(never) => match never {},
+        })?;
         Ok(Map {
             scene: scene.clone(),
             grid,
@@ -455,73 +466,151 @@ impl Map {
             lines,
         })
     }
+
+    /// Every point's row, lines in order.
+    pub fn point_rows(&self) -> impl Iterator<Item = MapPointRow> + '_ {
+        self.lines.iter().flat_map(MapPointRow::of_line)
+    }
+
+    /// Every line's bandwidth row.
+    pub fn bandwidth_rows(&self) -> impl Iterator<Item = BandwidthRow> + '_ {
+        let step = self.grid.omega.step();
+        self.lines.iter().map(move |l| BandwidthRow::new(l, step))
+    }
 }
 
-/// Columns of the per-point table, in order; the same names in JSON and CSV.
-pub const POINT_COLUMNS: [&str; 15] = [
-    "restitution",
-    "gap_over_base_amplitude",
-    "omega",
-    "simulated_regime",
-    "simulated_period",
-    "simulated_impacts_per_period",
-    "simulated_outer_amplitude",
-    "simulated_transmittance_db",
-    "stopped_by",
-    "periods_run",
-    "analytic_candidates",
-    "analytic_transmittance_db",
-    "analytic_match",
-    "continued_from",
-    "error",
-];
+table_row! {
+    /// One point of a map.
+    pub struct MapPointRow {
+        /// Restitution `e`.
+        pub restitution: Option<f64>,
+        /// `Δ/u_g`.
+        pub gap_over_base_amplitude: Option<f64>,
+        /// Angular frequency, rad/s.
+        pub omega: Option<f64>,
+        /// Simulated regime (empty when the simulation failed).
+        pub simulated_regime: Option<&'static str>,
+        /// Least period of a periodic motion, forcing periods.
+        pub simulated_period: Option<u32>,
+        /// Impacts per forcing period over the final cycle.
+        pub simulated_impacts_per_period: Option<f64>,
+        /// Simulated `X_o`, m.
+        pub simulated_outer_amplitude: Option<f64>,
+        /// Simulated `T`, dB.
+        pub simulated_transmittance_db: Option<f64>,
+        /// Why the simulation ended.
+        pub stopped_by: Option<&'static str>,
+        /// Forcing periods simulated at this frequency.
+        pub periods_run: u64,
+        /// Attracting analytic candidates.
+        pub analytic_candidates: usize,
+        /// The predicted `T`, dB (largest over the attracting candidates).
+        pub analytic_transmittance_db: Option<f64>,
+        /// Whether the simulated motion is one of the candidates.
+        pub analytic_match: bool,
+        /// Where the simulation started: `rest` or `previous-frequency`.
+        pub continued_from: &'static str,
+        /// A failure of either solver.
+        pub error: Option<String>,
+    }
+}
 
-/// Columns of the per-line bandwidth table, in order; the same names in JSON and CSV.
-pub const BANDWIDTH_COLUMNS: [&str; 14] = [
-    "restitution",
-    "gap_over_base_amplitude",
-    "simulated_bandwidth",
-    "simulated_first_band_start",
-    "simulated_bands",
-    "simulated_attenuating_points",
-    "simulated_valued_points",
-    "analytic_bandwidth",
-    "analytic_first_band_start",
-    "analytic_bands",
-    "analytic_attenuating_points",
-    "analytic_valued_points",
-    "unsettled_points",
-    "points",
-];
+impl MapPointRow {
+    /// The rows of one line, by ascending frequency.
+    pub fn of_line(line: &MapLine) -> impl Iterator<Item = MapPointRow> + '_ {
+        line.points
+            .iter()
+            .enumerate()
+            .map(move |(i, p)| MapPointRow {
+                restitution: finite(line.restitution),
+                gap_over_base_amplitude: finite(line.gap_over_base_amplitude),
+                omega: finite(p.omega),
+                simulated_regime: p.regime.map(Regime::name),
+                simulated_period: p.period,
+                simulated_impacts_per_period: finite(p.impacts_per_period),
+                simulated_outer_amplitude: finite(p.outer_amplitude),
+                simulated_transmittance_db: p.transmittance_db.and_then(finite),
+                stopped_by: (!p.stopped_by.is_empty()).then_some(p.stopped_by),
+                periods_run: p.periods_run,
+                analytic_candidates: p.analytic_candidates,
+                analytic_transmittance_db: p.analytic_transmittance_db.and_then(finite),
+                analytic_match: p.analytic_match,
+                continued_from: if i == 0 || line.points[i - 1].regime.is_none() {
+                    "rest"
+                } else {
+                    "previous-frequency"
+                },
+                error: p.error.clone(),
+            })
+    }
+}
 
-fn point_row(line: &MapLine, index: usize) -> Vec<Value> {
-    let p = &line.points[index];
-    vec![
-        number(line.restitution),
-        number(line.gap_over_base_amplitude),
-        number(p.omega),
-        p.regime.map_or(Value::Null, |r| json!(r.name())),
-        p.period.map_or(Value::Null, |k| json!(k)),
-        number(p.impacts_per_period),
-        number(p.outer_amplitude),
-        p.transmittance_db.map_or(Value::Null, number),
-        if p.stopped_by.is_empty() {
-            Value::Null
-        } else {
-            json!(p.stopped_by)
-        },
-        json!(p.periods_run),
-        json!(p.analytic_candidates),
-        p.analytic_transmittance_db.map_or(Value::Null, number),
-        json!(p.analytic_match),
-        // Where the simulation started: the previous frequency's final state, or rest.
-        json!(if index == 0 || line.points[index - 1].regime.is_none() {
-            "rest"
-        } else {
-            "previous-frequency"
-        }),
-        p.error.as_ref().map_or(Value::Null, |e| json!(e)),
-    ]
+table_row! {
+    /// The attenuation of one `(e, Δ/u_g)` line of a map.
+    pub struct BandwidthRow {
+        /// Restitution `e`.
+        pub restitution: Option<f64>,
+        /// `Δ/u_g`.
+        pub gap_over_base_amplitude: Option<f64>,
+        /// Simulated bandwidth, rad/s.
+        pub simulated_bandwidth: Option<f64>,
+        /// First simulated frequency with `T < 0 dB`.
+        pub simulated_first_band_start: Option<f64>,
+        /// Simulated bands, `from-to;…` (rad/s).
+        pub simulated_bands: String,
+        /// Simulated samples with `T < 0 dB`.
+        pub simulated_attenuating_points: usize,
+        /// Simulated samples with a value.
+        pub simulated_valued_points: usize,
+        /// Predicted bandwidth, rad/s.
+        pub analytic_bandwidth: Option<f64>,
+        /// First predicted frequency with `T < 0 dB`.
+        pub analytic_first_band_start: Option<f64>,
+        /// Predicted bands, `from-to;…` (rad/s).
+        pub analytic_bands: String,
+        /// Predicted samples with `T < 0 dB`.
+        pub analytic_attenuating_points: usize,
+        /// Samples with a prediction.
+        pub analytic_valued_points: usize,
+        /// Points not settled (irregular, no dissipation, failed).
+        pub unsettled_points: usize,
+        /// Points on the line.
+        pub points: usize,
+    }
+}
+
+impl BandwidthRow {
+    /// The row of `line`, frequencies `step` apart.
+    pub fn new(line: &MapLine, step: f64) -> BandwidthRow {
+        let s = line.simulated_bandwidth(step);
+        let a = line.analytic_bandwidth(step);
+        let unsettled = line
+            .points
+            .iter()
+            .filter(|p| {
+                matches!(
+                    p.regime,
+                    None | Some(Regime::Irregular | Regime::NoDissipation)
+                )
+            })
+            .count();
+        BandwidthRow {
+            restitution: finite(line.restitution),
+            gap_over_base_amplitude: finite(line.gap_over_base_amplitude),
+            simulated_bandwidth: finite(s.bandwidth),
+            simulated_first_band_start: s.first_band_start.and_then(finite),
+            simulated_bands: bands_text(&s.bands),
+            simulated_attenuating_points: s.attenuating_points,
+            simulated_valued_points: s.valued_points,
+            analytic_bandwidth: finite(a.bandwidth),
+            analytic_first_band_start: a.first_band_start.and_then(finite),
+            analytic_bands: bands_text(&a.bands),
+            analytic_attenuating_points: a.attenuating_points,
+            analytic_valued_points: a.valued_points,
+            unsettled_points: unsettled,
+            points: line.points.len(),
+        }
+    }
 }
 
 /// Bands as text: `1.5-2.2;2.9-inf` (rad/s), empty when there is none.
@@ -539,137 +628,74 @@ pub fn bands_text(bands: &[(f64, f64)]) -> String {
         .join(";")
 }
 
-fn bandwidth_row(line: &MapLine, step: f64) -> Vec<Value> {
-    let s = line.simulated_bandwidth(step);
-    let a = line.analytic_bandwidth(step);
-    let unsettled = line
-        .points
-        .iter()
-        .filter(|p| matches!(p.regime, None | Some(Regime::Irregular | Regime::Undecided)))
-        .count();
-    vec![
-        number(line.restitution),
-        number(line.gap_over_base_amplitude),
-        number(s.bandwidth),
-        s.first_band_start.map_or(Value::Null, number),
-        json!(bands_text(&s.bands)),
-        json!(s.attenuating_points),
-        json!(s.valued_points),
-        number(a.bandwidth),
-        a.first_band_start.map_or(Value::Null, number),
-        json!(bands_text(&a.bands)),
-        json!(a.attenuating_points),
-        json!(a.valued_points),
-        json!(unsettled),
-        json!(line.points.len()),
-    ]
+/// An axis as written in a map's header.
+#[derive(Serialize)]
+struct AxisRecord {
+    min: Option<f64>,
+    max: Option<f64>,
+    count: usize,
 }
 
-fn csv(columns: &[&str], rows: Vec<Vec<Value>>) -> String {
-    let mut out = columns.join(",");
-    out.push('\n');
-    for row in rows {
-        out.push_str(&csv_row(row));
-        out.push('\n');
+impl From<&Axis> for AxisRecord {
+    fn from(a: &Axis) -> Self {
+        AxisRecord {
+            min: finite(a.min),
+            max: finite(a.max),
+            count: a.count,
+        }
     }
-    out
 }
 
-fn objects(columns: &[&str], rows: Vec<Vec<Value>>) -> Vec<Value> {
-    rows.into_iter()
-        .map(|row| {
-            let mut obj = serde_json::Map::new();
-            for (k, v) in columns.iter().zip(row) {
-                obj.insert((*k).to_owned(), v);
-            }
-            Value::Object(obj)
-        })
-        .collect()
+/// What a map was computed with, as written in its header.
+#[derive(Serialize)]
+struct SettingsRecord {
+    frequency_order: &'static str,
+    periodicity_tolerance: f64,
+    max_periods: u64,
+    max_period_multiplicity: u32,
+    root_tolerance: f64,
+    match_tolerance: f64,
 }
 
-impl Map {
-    fn point_rows(&self) -> Vec<Vec<Value>> {
-        self.lines
-            .iter()
-            .flat_map(|l| (0..l.points.len()).map(move |i| point_row(l, i)))
-            .collect()
+/// The header of a map's JSON tables: scene, effects, grid, settings, and `count` rows
+/// under the key `counted` (`points` or `lines`).
+pub fn header(
+    scene: &Scene,
+    grid: &MapGrid,
+    settings: &MapSettings,
+    counted: &str,
+    count: usize,
+) -> Header {
+    #[derive(Serialize)]
+    struct GridRecord {
+        restitution: AxisRecord,
+        gap_over_base_amplitude: AxisRecord,
+        omega: AxisRecord,
     }
-
-    fn bandwidth_rows(&self) -> Vec<Vec<Value>> {
-        let step = self.grid.omega.step();
-        self.lines.iter().map(|l| bandwidth_row(l, step)).collect()
-    }
-
-    /// Every point as CSV: a header of [`POINT_COLUMNS`], one row per `(e, Δ/u_g, ω)`, lines in
-    /// the order of [`Map::lines`]; empty cells where a value does not apply or is not finite.
-    /// Loads with `pandas.read_csv` or MATLAB `readtable`.
-    pub fn points_csv(&self) -> String {
-        csv(&POINT_COLUMNS, self.point_rows())
-    }
-
-    /// The bandwidth of every line as CSV: a header of [`BANDWIDTH_COLUMNS`], one row per
-    /// `(e, Δ/u_g)`.
-    pub fn bandwidth_csv(&self) -> String {
-        csv(&BANDWIDTH_COLUMNS, self.bandwidth_rows())
-    }
-
-    /// What the map was computed with: scene, effects, grid, settings.
-    fn header(&self) -> serde_json::Map<String, Value> {
-        let axis = |a: &Axis| json!({"min": number(a.min), "max": number(a.max), "count": a.count});
-        let mut doc = serde_json::Map::new();
-        doc.insert("scene".into(), json!(self.scene));
-        doc.insert(
-            "effects".into(),
-            json!(self
-                .scene
-                .effects()
-                .iter()
-                .map(|e| e.name())
-                .collect::<Vec<_>>()),
-        );
-        doc.insert(
-            "grid".into(),
-            json!({
-                "restitution": axis(&self.grid.restitution),
-                "gap_over_base_amplitude": axis(&self.grid.gap_over_base_amplitude),
-                "omega": axis(&self.grid.omega),
-            }),
-        );
-        doc.insert(
-            "settings".into(),
-            json!({
-                "frequency_order": "ascending, each frequency started from the previous one's final state",
-                "periodicity_tolerance": self.settings.simulation.periodicity_tolerance,
-                "max_periods": self.settings.simulation.max_periods,
-                "max_period_multiplicity": self.settings.simulation.max_period_multiplicity,
-                "root_tolerance": self.settings.simulation.root_tolerance,
-                "match_tolerance": self.settings.match_tolerance,
-            }),
-        );
-        doc
-    }
-
-    /// Every point as one JSON document: the header (scene, effects, grid, settings) and
-    /// `results`, one object per point with the keys of [`POINT_COLUMNS`].
-    pub fn points_json(&self) -> Value {
-        let mut doc = self.header();
-        doc.insert("points".into(), json!(self.grid.points()));
-        doc.insert(
-            "results".into(),
-            Value::Array(objects(&POINT_COLUMNS, self.point_rows())),
-        );
-        Value::Object(doc)
-    }
-
-    /// The bandwidth of every line as one JSON document: the header and `results`, one object
-    /// per line with the keys of [`BANDWIDTH_COLUMNS`].
-    pub fn bandwidth_json(&self) -> Value {
-        let mut doc = self.header();
-        doc.insert("lines".into(), json!(self.lines.len()));
-        doc.insert(
-            "results".into(),
-            Value::Array(objects(&BANDWIDTH_COLUMNS, self.bandwidth_rows())),
-        );
-        Value::Object(doc)
-    }
+    let mut h = Header::default();
+    h.push("scene", scene);
+    h.push("effects", &scene.effect_names());
+    h.push(
+        "grid",
+        &GridRecord {
+            restitution: (&grid.restitution).into(),
+            gap_over_base_amplitude: (&grid.gap_over_base_amplitude).into(),
+            omega: (&grid.omega).into(),
+        },
+    );
+    let sim = &settings.simulation;
+    h.push(
+        "settings",
+        &SettingsRecord {
+            frequency_order:
+                "ascending, each frequency started from the previous one's final state",
+            periodicity_tolerance: sim.periodicity_tolerance,
+            max_periods: sim.max_periods,
+            max_period_multiplicity: sim.max_period_multiplicity,
+            root_tolerance: sim.root_tolerance,
+            match_tolerance: settings.match_tolerance,
+        },
+    );
+    h.push(counted, &count);
+    h
 }

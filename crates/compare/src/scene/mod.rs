@@ -11,6 +11,14 @@
 //! ```
 //! `unit` and `base` are required; `stops` and `damping` are optional effects. Unknown fields
 //! are refused. Frequencies are not part of a scene.
+//!
+//! This module holds the format and its validation; [`analytic`] and [`simulator`] adapt a
+//! scene to each solver and name what the solver finds ([`analytic::AnalyticPoint`],
+//! [`simulator::SimulatedPoint`]); [`phase`] the conventions of the base phase.
+
+pub mod analytic;
+pub mod phase;
+pub mod simulator;
 
 use rattle_analytic::{Damping, Stops, Unit, UnitError};
 use serde::{Deserialize, Serialize};
@@ -18,7 +26,7 @@ use std::path::{Path, PathBuf};
 use thiserror::Error;
 
 /// The built-in default scene: the paper's §2.2 unit with `Δ = 0.5`, `e = 0.8`.
-pub const PAPER_SCENE: &str = include_str!("../../../data/scenes/paper.json");
+pub const PAPER_SCENE: &str = include_str!("../../../../data/scenes/paper.json");
 
 /// Why a scene could not be used. Every message names the file or the field.
 #[derive(Debug, Error)]
@@ -143,6 +151,10 @@ impl Effect {
 
 impl Scene {
     /// Parses and validates a scene; `origin` names it in error messages.
+    ///
+    /// # Errors
+    /// [`SceneError::Format`] for malformed JSON, an unknown field or a wrong type (with the
+    /// field's path, line and column); [`SceneError::Value`] for a value out of its range.
     pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
         let de = &mut serde_json::Deserializer::from_str(text);
         let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
@@ -164,6 +176,9 @@ impl Scene {
     }
 
     /// Reads, parses and validates the scene file at `path`.
+    ///
+    /// # Errors
+    /// [`SceneError::Read`] when the file cannot be read, else as [`Scene::parse`].
     pub fn load(path: &Path) -> Result<Scene, SceneError> {
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
             path: path.to_owned(),
@@ -173,11 +188,17 @@ impl Scene {
     }
 
     /// The built-in paper scene.
+    ///
+    /// # Panics
+    /// Never: the built-in scene is a fixed, valid text (tested).
     pub fn paper() -> Scene {
         Scene::parse(PAPER_SCENE, "built-in").expect("the built-in scene is valid")
     }
 
     /// Checks every value against its physical range.
+    ///
+    /// # Errors
+    /// The first value out of range, with its field and the allowed range.
     pub fn validate(&self) -> Result<(), UnitError> {
         self.unit_with(self.damping).validate()?;
         if let Some(stops) = self.stops_model() {
@@ -196,6 +217,31 @@ impl Scene {
             effects.push(Effect::Damping);
         }
         effects
+    }
+
+    /// The names of [`Scene::effects`], as outputs list them.
+    pub fn effect_names(&self) -> Vec<&'static str> {
+        self.effects().iter().map(|e| e.name()).collect()
+    }
+
+    /// The effects in words, for tables: `stops, damping`, or `none (linear, undamped)`.
+    pub fn effect_words(&self) -> String {
+        let names = self.effect_names();
+        if names.is_empty() {
+            "none (linear, undamped)".to_owned()
+        } else {
+            names.join(", ")
+        }
+    }
+
+    /// The scene's gap `Δ`, if it has stops.
+    pub fn gap(&self) -> Option<f64> {
+        self.stops.map(|s| s.gap)
+    }
+
+    /// Whether the scene has a dashpot that is not zero.
+    pub fn is_damped(&self) -> bool {
+        self.active_damping().is_some()
     }
 
     /// The dashpots, if the scene has any that is not zero.

@@ -1,9 +1,9 @@
 //! The event-driven simulator on a scene: building its model with only the scene's effects,
 //! starting it from rest or on an analytic orbit, and naming the regime it settles in.
 
-use crate::scene::Scene;
-use nalgebra::{DVector, Vector2, Vector4};
-use rattle_analytic::flow::ForcedFlow;
+use crate::scene::analytic::orbit_state;
+use crate::scene::{phase, Scene};
+use nalgebra::{DVector, Vector4};
 use rattle_analytic::linear::transmittance_db;
 use rattle_analytic::Orbit;
 use rattle_event_driven::{
@@ -39,7 +39,7 @@ pub enum Regime {
     /// The final cycle contains sticking on a stop.
     Sticking,
     /// Undamped and elastic: transients never decay, no steady state to report.
-    Undecided,
+    NoDissipation,
 }
 
 impl Regime {
@@ -52,7 +52,7 @@ impl Regime {
             Regime::Subharmonic => "subharmonic",
             Regime::Irregular => "irregular",
             Regime::Sticking => "sticking",
-            Regime::Undecided => "no-dissipation",
+            Regime::NoDissipation => "no-dissipation",
         }
     }
 
@@ -65,7 +65,7 @@ impl Regime {
             Regime::Subharmonic => "period p > 1",
             Regime::Irregular => "not periodic",
             Regime::Sticking => "sticking",
-            Regime::Undecided => "no dissipation (transients persist)",
+            Regime::NoDissipation => "no dissipation (transients persist)",
         }
     }
 }
@@ -106,19 +106,25 @@ pub fn model(scene: &Scene, omega: f64) -> Result<Model, ModelError> {
     )
 }
 
-/// Where to start: at rest at `t = 0`, or on an analytic orbit (mid-flight, at the right
-/// forcing phase), optionally nudged by a relative `perturbation`.
+/// Relative size of the nudge [`start_on_orbit`] applies: large enough that an unstable orbit
+/// is seen to be left rather than held by exact arithmetic, small enough (far below the match
+/// tolerances of [`crate::verdict`]) that a stable orbit is still the one the run ends on.
+pub const START_PERTURBATION: f64 = 1e-7;
+
+/// The fixed direction of the nudge (any direction off the orbit's tangent will do).
+const NUDGE_DIRECTION: [f64; 4] = [1.0, -0.7, 0.4, 0.9];
+
+/// Where to start on an analytic orbit: mid-way through its first flight (away from any
+/// impact), at the right forcing phase, nudged by a relative `perturbation` of the state
+/// (0 for none).
 pub fn start_on_orbit(scene: &Scene, orbit: &Orbit, perturbation: f64) -> Start {
-    let unit = scene.unit_model();
-    let flow = ForcedFlow::new(&unit, orbit.omega);
-    let t_mid = 0.5 * orbit.beta * flow.period();
-    let p0 = Vector2::new(orbit.alpha.cos(), orbit.alpha.sin());
-    let (x, _) = flow.transition(t_mid).apply(&orbit.state_after_impact, &p0);
+    let period = std::f64::consts::TAU / orbit.omega;
+    let t_mid = 0.5 * orbit.beta * period;
+    let x = orbit_state(scene, orbit, t_mid);
     let scale = x.norm().max(orbit.gap);
-    let nudge = Vector4::new(1.0, -0.7, 0.4, 0.9) * (perturbation * scale);
-    let x = x + nudge;
+    let x = x + Vector4::from(NUDGE_DIRECTION) * (perturbation * scale);
     // Base phase ω t_sim = ω t + α.
-    let time = (t_mid + orbit.alpha / orbit.omega).rem_euclid(flow.period());
+    let time = (t_mid + orbit.alpha / orbit.omega).rem_euclid(period);
     Start {
         state: DVector::from_column_slice(x.as_slice()),
         time,
@@ -126,6 +132,11 @@ pub fn start_on_orbit(scene: &Scene, orbit: &Orbit, perturbation: f64) -> Start 
 }
 
 /// Runs the simulator on `scene` at `omega` from `start` and names the regime.
+///
+/// # Errors
+/// [`SimulateError::Model`] when the scene makes no valid model at `omega`,
+/// [`SimulateError::Simulation`] when the simulator refuses the start or the options, or
+/// meets an unresolved accumulation of events.
 pub fn run(
     scene: &Scene,
     omega: f64,
@@ -151,7 +162,7 @@ pub fn run(
         .then(|| {
             steady.cycle_impacts.iter().find(|i| i.side > 0).map(|i| {
                 let s = &i.state_before;
-                let alpha = wrap(omega * i.phase);
+                let alpha = phase::wrap(omega * i.phase);
                 (Vector4::new(s[0], s[1], s[2], s[3]), alpha)
             })
         })
@@ -166,19 +177,10 @@ pub fn run(
     })
 }
 
-fn wrap(angle: f64) -> f64 {
-    let w = angle.rem_euclid(std::f64::consts::TAU);
-    if w > std::f64::consts::PI {
-        w - std::f64::consts::TAU
-    } else {
-        w
-    }
-}
-
 /// Names the regime of a steady state.
 pub fn regime(steady: &SteadyState) -> Regime {
     match steady.status {
-        Status::NoDissipation => Regime::Undecided,
+        Status::NoDissipation => Regime::NoDissipation,
         Status::NonPeriodic => Regime::Irregular,
         Status::Periodic => {
             if steady.sticking {
@@ -199,29 +201,41 @@ pub fn regime(steady: &SteadyState) -> Regime {
     }
 }
 
-/// The simulator's status as a word: `periodic`, `non-periodic` or `no-dissipation`, with
-/// `, sticking` appended when the final cycle sticks.
-pub fn status_name(steady: &SteadyState) -> String {
-    let base = match steady.status {
-        Status::Periodic => "periodic",
-        Status::NonPeriodic => "non-periodic",
-        Status::NoDissipation => "no-dissipation",
-    };
-    if steady.sticking {
-        format!("{base}, sticking")
-    } else {
-        base.to_owned()
+impl SimulatedPoint {
+    /// The simulator's status as a word: `periodic`, `non-periodic` or `no-dissipation`, with
+    /// `, sticking` appended when the final cycle sticks.
+    pub fn status_name(&self) -> String {
+        let base = match self.steady.status {
+            Status::Periodic => "periodic",
+            Status::NonPeriodic => "non-periodic",
+            Status::NoDissipation => "no-dissipation",
+        };
+        if self.steady.sticking {
+            format!("{base}, sticking")
+        } else {
+            base.to_owned()
+        }
     }
-}
 
-/// Why the run ended, in words: `decided` (periodic, or no dissipation possible),
-/// `fixed-periods`, `period-cap`, `event-cap` or `oscillation-cap`.
-pub fn stop_name(stop: Stop) -> &'static str {
-    match stop {
-        Stop::Settled => "decided",
-        Stop::FixedPeriods => "fixed-periods",
-        Stop::PeriodCap => "period-cap",
-        Stop::EventCap => "event-cap",
-        Stop::OscillationCap => "oscillation-cap",
+    /// Why the run ended, in words: `decided` (periodic, or no dissipation possible),
+    /// `fixed-periods`, `period-cap`, `event-cap` or `oscillation-cap`.
+    pub fn stopped_by(&self) -> &'static str {
+        match self.steady.stopped {
+            Stop::Decided => "decided",
+            Stop::FixedPeriods => "fixed-periods",
+            Stop::PeriodCap => "period-cap",
+            Stop::EventCap => "event-cap",
+            Stop::OscillationCap => "oscillation-cap",
+        }
+    }
+
+    /// For a motion with one impact on each side per period: the fraction `β` of the period
+    /// from the side-1 to the side-2 impact (½ for a symmetric motion).
+    pub fn impact_spacing(&self) -> Option<f64> {
+        let impacts = &self.steady.cycle_impacts;
+        let one = impacts.iter().find(|i| i.side > 0)?;
+        let two = impacts.iter().find(|i| i.side < 0)?;
+        let period = std::f64::consts::TAU / self.omega;
+        Some((two.phase - one.phase).rem_euclid(period) / period)
     }
 }

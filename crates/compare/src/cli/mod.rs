@@ -1,0 +1,204 @@
+//! The `rattle` command: argument parsing, dispatch and exit codes; one module per subcommand.
+//!
+//! Exit codes: 0 success (including "no orbit exists"), 1 a numerical failure with an
+//! explanation, 2 bad input (arguments or scene).
+
+pub mod family;
+pub mod map;
+pub mod merge;
+pub mod orbit;
+pub mod simulate;
+pub mod sweep;
+
+use crate::output::OutputError;
+use crate::scene::{Scene, SceneError};
+use clap::{Args, Parser, Subcommand};
+use rattle_event_driven::SimulationOptions;
+use std::path::PathBuf;
+use thiserror::Error;
+
+/// Steady states of an impacting mass-in-mass unit, two independent ways.
+#[derive(Debug, Parser)]
+#[command(
+    name = "rattle",
+    version,
+    about = "Steady states of an impacting mass-in-mass unit, two independent ways: closed-form orbits (Nigm–Shabana) and exact event-driven simulation"
+)]
+pub struct Cli {
+    /// What to compute.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Analytic steady states at one frequency: the linear response and every two-impact
+    /// orbit (symmetric branches and asymmetric β), with viability and Floquet stability.
+    Orbit(orbit::OrbitArgs),
+    /// The member of the two-impact family whose side-2 impact comes βT after the side-1
+    /// impact: the gap Δ*(β) that admits it, its phase, viability and stability.
+    Family(family::FamilyArgs),
+    /// Event-driven simulation from rest until the motion is periodic (or a cap), or for
+    /// exactly N periods: status, period, impacts per period, outer amplitude.
+    Simulate(simulate::SimulateArgs),
+    /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
+    /// JSON Lines file as it runs.
+    Sweep(sweep::SweepArgs),
+    /// Joins the parts of a sharded sweep (`rattle sweep … --shard K/N`) into the file the
+    /// unsharded sweep would write, byte for byte.
+    Merge(merge::MergeArgs),
+    /// A map over restitution, gap and frequency (each frequency continued from the previous
+    /// one, up the frequencies): the simulated regime and transmittance at every point, the
+    /// analytic prediction beside it, and the attenuation bandwidth of every (e, Δ/u_g) line.
+    Map(map::MapArgs),
+}
+
+/// A failure of a command, with its exit code.
+#[derive(Debug, Error)]
+pub enum RattleError {
+    /// The scene is unreadable or invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A command-line value is out of range.
+    #[error("{0}")]
+    Argument(String),
+    /// An output file cannot be written, or has no known format.
+    #[error(transparent)]
+    Output(#[from] OutputError),
+    /// The computation failed; the message says why.
+    #[error("numerical failure: {0}")]
+    Numerical(String),
+}
+
+impl RattleError {
+    /// 2 for bad input (and unwritable output), 1 for a numerical failure.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            RattleError::Scene(_) | RattleError::Argument(_) | RattleError::Output(_) => 2,
+            RattleError::Numerical(_) => 1,
+        }
+    }
+}
+
+/// Runs a parsed command and returns what it prints on standard output.
+///
+/// # Errors
+/// [`RattleError`], whose [`RattleError::exit_code`] the binary exits with.
+pub fn run(cli: Cli) -> Result<String, RattleError> {
+    match cli.command {
+        Command::Orbit(args) => orbit::run(args),
+        Command::Family(args) => family::run(args),
+        Command::Simulate(args) => simulate::run(args),
+        Command::Sweep(args) => sweep::run(args),
+        Command::Merge(args) => merge::run(args),
+        Command::Map(args) => map::run(args),
+    }
+}
+
+/// Scene and frequency, common to the one-frequency commands.
+#[derive(Debug, Args)]
+pub struct Common {
+    /// Scene file (JSON). Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    pub scene: Option<PathBuf>,
+    /// Angular frequency of the base motion, rad/s (finite, > 0).
+    #[arg(long, allow_hyphen_values = true)]
+    pub omega: f64,
+    /// Print one JSON document instead of a table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Accuracy knobs of the simulator; defaults are [`SimulationOptions::default`]'s.
+#[derive(Debug, Args, Clone, Copy)]
+pub struct Accuracy {
+    /// Relative tolerance of contact times (the simulator's accuracy knob), in [1e-15, 1e-2].
+    #[arg(long, default_value_t = SimulationOptions::default().root_tolerance)]
+    pub tol: f64,
+    /// Relative tolerance of the periodicity test of the steady state, in [1e-14, 1e-2].
+    #[arg(long, default_value_t = SimulationOptions::default().periodicity_tolerance)]
+    pub steady_tol: f64,
+    /// Cap on forcing periods when running until steady.
+    #[arg(long, default_value_t = SimulationOptions::default().max_periods)]
+    pub max_periods: u64,
+    /// Cap on free oscillations of the fastest mode when running until steady (periods ×
+    /// ω_fastest/ω, at least 64 periods): bounds runs forced far below the natural
+    /// frequencies; finite, > 0.
+    #[arg(long, default_value_t = default_max_oscillations())]
+    pub max_oscillations: f64,
+}
+
+fn default_max_oscillations() -> f64 {
+    SimulationOptions::default()
+        .max_oscillations
+        .unwrap_or(f64::INFINITY)
+}
+
+/// Allowed range of `--tol`.
+const ROOT_TOLERANCE_RANGE: (f64, f64) = (1e-15, 1e-2);
+/// Allowed range of `--steady-tol`: below 1e-14 rounding in the stroboscopic state can
+/// prevent a periodic motion from ever repeating.
+const PERIODICITY_TOLERANCE_RANGE: (f64, f64) = (1e-14, 1e-2);
+
+impl Accuracy {
+    /// The simulator's options, after range checks.
+    ///
+    /// # Errors
+    /// [`RattleError::Argument`] naming the option and its allowed range.
+    pub fn options(&self) -> Result<SimulationOptions, RattleError> {
+        in_range("--tol", self.tol, ROOT_TOLERANCE_RANGE)?;
+        in_range("--steady-tol", self.steady_tol, PERIODICITY_TOLERANCE_RANGE)?;
+        if self.max_periods == 0 {
+            return Err(RattleError::Argument("--max-periods must be > 0".into()));
+        }
+        if !(self.max_oscillations.is_finite() && self.max_oscillations > 0.0) {
+            return Err(RattleError::Argument(format!(
+                "--max-oscillations = {} is out of range: must be finite and > 0",
+                self.max_oscillations
+            )));
+        }
+        Ok(SimulationOptions {
+            root_tolerance: self.tol,
+            periodicity_tolerance: self.steady_tol,
+            max_periods: self.max_periods,
+            max_oscillations: Some(self.max_oscillations),
+            ..SimulationOptions::default()
+        })
+    }
+}
+
+fn in_range(option: &str, value: f64, (lo, hi): (f64, f64)) -> Result<(), RattleError> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(RattleError::Argument(format!(
+            "{option} = {value} is out of range: must be in [{lo:e}, {hi:e}]"
+        )))
+    }
+}
+
+/// `omega` if it is finite and positive.
+fn check_omega(option: &str, omega: f64) -> Result<f64, RattleError> {
+    if omega.is_finite() && omega > 0.0 {
+        Ok(omega)
+    } else {
+        Err(RattleError::Argument(format!(
+            "{option} = {omega} is out of range: must be finite and > 0 (rad/s)"
+        )))
+    }
+}
+
+/// The scene at `path`, or the built-in paper scene.
+fn load(path: &Option<PathBuf>) -> Result<Scene, RattleError> {
+    Ok(match path {
+        Some(path) => Scene::load(path)?,
+        None => Scene::paper(),
+    })
+}
+
+/// Pretty JSON of a one-document result, with a final newline.
+fn pretty(record: &impl serde::Serialize) -> Result<String, RattleError> {
+    serde_json::to_string_pretty(record)
+        .map(|s| s + "\n")
+        .map_err(|e| RattleError::Numerical(e.to_string()))
+}

@@ -1,0 +1,114 @@
+//! `rattle orbit`: the analytic picture at one frequency.
+
+use super::{check_omega, load, pretty, Common, RattleError};
+use crate::output::finite;
+use crate::output::records::{LinearRecord, OrbitRecord, OrbitsRecord};
+use crate::scene::analytic::{analyse, OrbitSearch};
+use clap::Args;
+use std::fmt::Write as _;
+
+/// Arguments of `rattle orbit`.
+#[derive(Debug, Args)]
+pub struct OrbitArgs {
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub common: Common,
+    /// Only the symmetric orbits (β = ½); skips the search over β.
+    #[arg(long)]
+    pub symmetric_only: bool,
+}
+
+/// Runs `rattle orbit`.
+///
+/// # Errors
+/// Bad arguments or scene; a numerical failure of the analytic solver.
+pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
+    let omega = check_omega("--omega", args.common.omega)?;
+    let scene = load(&args.common.scene)?;
+    let search = if args.symmetric_only {
+        OrbitSearch::Symmetric
+    } else {
+        OrbitSearch::All
+    };
+    let point =
+        analyse(&scene, omega, search).map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let record = OrbitsRecord {
+        scene: scene.name.clone(),
+        omega: finite(omega),
+        effects: scene.effect_names(),
+        linear: LinearRecord::new(&point.linear, scene.gap()),
+        orbits: point
+            .orbits
+            .iter()
+            .map(|(b, o)| OrbitRecord::new(o, *b))
+            .collect(),
+    };
+    if args.common.json {
+        return pretty(&record);
+    }
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "scene {} at ω = {omega} rad/s; effects: {}",
+        scene.name,
+        scene.effect_words()
+    );
+    let lin = &point.linear;
+    if lin.unbounded {
+        let _ = writeln!(out, "linear: unbounded (undamped exact resonance)");
+    } else {
+        let _ = writeln!(
+            out,
+            "linear: X_o = {:.6}, X_i = {:.6}, |u_i − u_o| = {:.6}, T = {:.3} dB{}",
+            lin.outer_amplitude,
+            lin.inner_amplitude,
+            lin.relative_amplitude,
+            lin.transmittance_db,
+            match record.linear.touches_stops {
+                Some(true) => " (reaches the stops)",
+                Some(false) => " (stays clear of the stops)",
+                None => "",
+            }
+        );
+    }
+    if scene.stops.is_none() {
+        let _ = writeln!(out, "no stops: no impacting orbits");
+        return Ok(out);
+    }
+    if record.orbits.is_empty() {
+        let _ = writeln!(out, "no two-impact orbit exists at this frequency");
+        return Ok(out);
+    }
+    out.push_str(&orbit_table(&record.orbits));
+    Ok(out)
+}
+
+/// A table of orbits, one line each, under a header line.
+pub(crate) fn orbit_table(orbits: &[OrbitRecord]) -> String {
+    let mut out = format!(
+        "{:>6} {:>8} {:>9} {:>10} {:>9} {:>6} {:>6} {:>7}  violations\n",
+        "branch", "beta", "alpha", "X_o", "T(dB)", "viable", "stable", "max|μ|"
+    );
+    let num = |x: Option<f64>| x.unwrap_or(f64::NAN);
+    for o in orbits {
+        let violations: Vec<String> = o.violations.iter().map(|v| v.words()).collect();
+        let _ = writeln!(
+            out,
+            "{:>6} {:>8.5} {:>9.5} {:>10.6} {:>9.3} {:>6} {:>6} {:>7.4}  {}",
+            o.branch,
+            num(o.beta),
+            num(o.alpha),
+            num(o.outer_amplitude),
+            num(o.transmittance_db),
+            o.viable,
+            o.stable,
+            o.largest_multiplier(),
+            if violations.is_empty() {
+                "-".to_owned()
+            } else {
+                violations.join("; ")
+            }
+        );
+    }
+    out
+}

@@ -1,0 +1,103 @@
+//! `rattle sweep`: a frequency sweep, streamed to a file.
+
+use super::{check_omega, load, Accuracy, RattleError};
+use crate::output::{writer, Format, OutputError};
+use crate::runs::axis::Axis;
+use crate::runs::parallel::Progress;
+use crate::runs::shard::Shard;
+use crate::runs::sweep::{header, sweep_rows, Solver};
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `rattle sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    /// Scene file (JSON). Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    pub scene: Option<PathBuf>,
+    /// Lowest angular frequency, rad/s (finite, > 0).
+    #[arg(long)]
+    pub omega_min: f64,
+    /// Highest angular frequency, rad/s (finite, ≥ omega-min).
+    #[arg(long)]
+    pub omega_max: f64,
+    /// Number of frequencies, evenly spaced, ends included (≥ 1).
+    #[arg(long)]
+    pub points: usize,
+    /// Which solver: analytic, event (simulator from rest) or both (with a verdict per point).
+    #[arg(long, value_enum, default_value_t = Solver::Both)]
+    pub solver: Solver,
+    /// Output file: `.csv`, `.json` or `.jsonl`, by extension; rows are written as they are
+    /// computed, in frequency order.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Compute only part K of N (a contiguous block of the frequencies), e.g. `--shard 3/8`;
+    /// join the parts with `rattle merge` (CSV or JSON parts).
+    #[arg(long)]
+    pub shard: Option<String>,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub accuracy: Accuracy,
+}
+
+/// Runs `rattle sweep`.
+///
+/// # Errors
+/// Bad arguments or scene; an output file that cannot be written.
+pub fn run(args: SweepArgs) -> Result<String, RattleError> {
+    let lo = check_omega("--omega-min", args.omega_min)?;
+    let hi = check_omega("--omega-max", args.omega_max)?;
+    if hi < lo {
+        return Err(RattleError::Argument(format!(
+            "--omega-max = {hi} is out of range: must be ≥ --omega-min = {lo}"
+        )));
+    }
+    if args.points == 0 {
+        return Err(RattleError::Argument("--points must be ≥ 1".into()));
+    }
+    let format = Format::of(&args.out, "--out")?;
+    let shard = args
+        .shard
+        .as_deref()
+        .map(Shard::parse)
+        .transpose()
+        .map_err(RattleError::Argument)?;
+    if shard.is_some() && format == Format::JsonLines {
+        return Err(RattleError::Argument(
+            "--shard: parts must be .csv or .json (a .jsonl file has no header to say which part it is)".into(),
+        ));
+    }
+    let options = args.accuracy.options()?;
+    let scene = load(&args.scene)?;
+    let all = Axis::new(lo, hi, args.points).values();
+    let omegas = match shard {
+        Some(s) => &all[s.range(all.len())],
+        None => &all[..],
+    };
+    let io = |source| {
+        RattleError::Output(OutputError::Io {
+            path: args.out.clone(),
+            source,
+        })
+    };
+    let file = std::fs::File::create(&args.out).map_err(io)?;
+    let preamble = shard.map(|s| s.csv_preamble(all.len()));
+    let mut table = writer(
+        format,
+        std::io::BufWriter::new(file),
+        &header(&scene, args.solver, all.len(), shard),
+        preamble.as_deref(),
+    )
+    .map_err(io)?;
+    let progress = Progress::new("sweep", omegas.len(), true);
+    sweep_rows(&scene, omegas, args.solver, &options, &progress, |row| {
+        table.row(&row)
+    })
+    .map_err(io)?;
+    table.finish().map_err(io)?;
+    Ok(format!(
+        "wrote {} ({} frequencies, solver {})\n",
+        args.out.display(),
+        omegas.len(),
+        args.solver.name()
+    ))
+}

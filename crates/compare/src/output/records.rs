@@ -1,0 +1,255 @@
+//! One-document results: the linear steady state, a two-impact orbit with its violations, a
+//! simulation; what `rattle orbit`, `family` and `simulate` print with `--json`.
+
+use super::finite;
+use crate::scene::simulator::SimulatedPoint;
+use crate::scene::Scene;
+use nalgebra::{Complex, Vector4};
+use rattle_analytic::{LinearResponse, Orbit, Violation};
+use serde::Serialize;
+
+/// A state `(u_o, u_i, u̇_o, u̇_i)`.
+pub type StateRecord = [Option<f64>; 4];
+
+/// A state as written.
+pub fn state(x: &Vector4<f64>) -> StateRecord {
+    [finite(x[0]), finite(x[1]), finite(x[2]), finite(x[3])]
+}
+
+/// Floquet multipliers as `[re, im]` pairs.
+pub fn multipliers(m: &[Complex<f64>]) -> Vec<[Option<f64>; 2]> {
+    m.iter().map(|m| [finite(m.re), finite(m.im)]).collect()
+}
+
+/// The linear steady state (stops ignored).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LinearRecord {
+    /// `X_o`, m; `null` at an undamped resonance.
+    pub outer_amplitude: Option<f64>,
+    /// `X_i`, m.
+    pub inner_amplitude: Option<f64>,
+    /// `max|u_i − u_o|`, m.
+    pub relative_amplitude: Option<f64>,
+    /// `20 log10(X_o/u_g)`.
+    pub transmittance_db: Option<f64>,
+    /// Whether the amplitudes are unbounded (undamped exact resonance).
+    pub unbounded: bool,
+    /// Whether the linear motion reaches the stops; `null` without stops.
+    pub touches_stops: Option<bool>,
+}
+
+impl LinearRecord {
+    /// The record of `response`; `gap` the scene's gap, if it has stops.
+    pub fn new(response: &LinearResponse, gap: Option<f64>) -> Self {
+        Self {
+            outer_amplitude: finite(response.outer_amplitude),
+            inner_amplitude: finite(response.inner_amplitude),
+            relative_amplitude: finite(response.relative_amplitude),
+            transmittance_db: finite(response.transmittance_db),
+            unbounded: response.unbounded,
+            touches_stops: gap.map(|g| response.relative_amplitude > g),
+        }
+    }
+}
+
+/// Why an orbit is not a motion.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ViolationRecord {
+    /// The inner mass passes a stop between impacts.
+    Penetration {
+        /// 1 or 2.
+        side: u8,
+        /// Time of the deepest excursion since the side-1 impact, s.
+        time: Option<f64>,
+        /// How far beyond the stop, m.
+        excess: Option<f64>,
+    },
+    /// An impact approached from outside.
+    WrongApproach {
+        /// 1 or 2.
+        side: u8,
+        /// `ṙ⁻`, m/s.
+        relative_velocity: Option<f64>,
+    },
+}
+
+impl ViolationRecord {
+    /// The record of `v`.
+    pub fn new(v: &Violation) -> Self {
+        match *v {
+            Violation::Penetration { side, time, excess } => ViolationRecord::Penetration {
+                side: side.number(),
+                time: finite(time),
+                excess: finite(excess),
+            },
+            Violation::WrongApproach {
+                side,
+                relative_velocity,
+            } => ViolationRecord::WrongApproach {
+                side: side.number(),
+                relative_velocity: finite(relative_velocity),
+            },
+        }
+    }
+
+    /// In words, for tables: `penetrates side 2 by 1.2e-3`.
+    pub fn words(&self) -> String {
+        match self {
+            ViolationRecord::Penetration { side, excess, .. } => {
+                format!(
+                    "penetrates side {side} by {:.3e}",
+                    excess.unwrap_or(f64::NAN)
+                )
+            }
+            ViolationRecord::WrongApproach { side, .. } => {
+                format!("approaches side {side} from outside")
+            }
+        }
+    }
+}
+
+/// One two-impact orbit.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OrbitRecord {
+    /// Branch number (symmetric 0 and 1, asymmetric from 2).
+    pub branch: usize,
+    /// Fraction of the period from the side-1 to the side-2 impact.
+    pub beta: Option<f64>,
+    /// The gap `Δ` the orbit is for, m.
+    pub gap: Option<f64>,
+    /// Base phase at the side-1 impact, rad.
+    pub alpha: Option<f64>,
+    /// State just before the side-1 impact.
+    pub state_before_impact: StateRecord,
+    /// State just after the side-1 impact.
+    pub state_after_impact: StateRecord,
+    /// State just before the side-2 impact.
+    pub state_before_side2: StateRecord,
+    /// `X_o = max|u_o|`, m.
+    pub outer_amplitude: Option<f64>,
+    /// `20 log10(X_o/u_g)`.
+    pub transmittance_db: Option<f64>,
+    /// No violation.
+    pub viable: bool,
+    /// The violations.
+    pub violations: Vec<ViolationRecord>,
+    /// Floquet multipliers `[re, im]`.
+    pub floquet_multipliers: Vec<[Option<f64>; 2]>,
+    /// Every multiplier inside the unit circle.
+    pub stable: bool,
+}
+
+impl OrbitRecord {
+    /// The record of `o` as branch `branch`.
+    pub fn new(o: &Orbit, branch: usize) -> Self {
+        Self {
+            branch,
+            beta: finite(o.beta),
+            gap: finite(o.gap),
+            alpha: finite(o.alpha),
+            state_before_impact: state(&o.state_before_impact),
+            state_after_impact: state(&o.state_after_impact),
+            state_before_side2: state(&o.state_before_side2),
+            outer_amplitude: finite(o.outer_amplitude),
+            transmittance_db: finite(o.transmittance_db),
+            viable: o.viable,
+            violations: o.violations.iter().map(ViolationRecord::new).collect(),
+            floquet_multipliers: multipliers(&o.floquet_multipliers),
+            stable: o.stable,
+        }
+    }
+
+    /// The largest multiplier modulus.
+    pub fn largest_multiplier(&self) -> f64 {
+        self.floquet_multipliers
+            .iter()
+            .map(|[re, im]| re.unwrap_or(f64::NAN).hypot(im.unwrap_or(f64::NAN)))
+            .fold(0.0, f64::max)
+    }
+}
+
+/// What `rattle orbit --json` prints.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OrbitsRecord {
+    /// Scene name.
+    pub scene: String,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// The scene's active effects.
+    pub effects: Vec<&'static str>,
+    /// The linear steady state.
+    pub linear: LinearRecord,
+    /// Every two-impact orbit.
+    pub orbits: Vec<OrbitRecord>,
+}
+
+/// What `rattle family --json` prints: the member of the family at `β`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FamilyRecord {
+    /// Scene name.
+    pub scene: String,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// The scene's active effects.
+    pub effects: Vec<&'static str>,
+    /// `Δ*(β)/u_g`.
+    pub gap_over_base_amplitude: Option<f64>,
+    /// The orbit at the gap `Δ*(β)`: its fields (`beta`, `gap`, `alpha`, …) at the top level.
+    #[serde(flatten)]
+    pub orbit: OrbitRecord,
+}
+
+/// What `rattle simulate --json` prints.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SimulationRecord {
+    /// Scene name.
+    pub scene: String,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// The scene's active effects.
+    pub effects: Vec<&'static str>,
+    /// `periodic`, `non-periodic` or `no-dissipation`, `, sticking` appended when the final
+    /// cycle sticks.
+    pub status: String,
+    /// The regime's name.
+    pub regime: &'static str,
+    /// Least period in forcing periods, when periodic.
+    pub period: Option<u32>,
+    /// Impacts per forcing period over the final cycle.
+    pub impacts_per_period: Option<f64>,
+    /// `X_o = max|u_o|` over the final cycle, m.
+    pub outer_amplitude: Option<f64>,
+    /// `20 log10(X_o/u_g)`; `null` without a steady state.
+    pub transmittance_db: Option<f64>,
+    /// Whether the final cycle sticks.
+    pub sticking: bool,
+    /// Why the run ended.
+    pub stopped_by: &'static str,
+    /// Forcing periods simulated.
+    pub periods_run: u64,
+    /// Impacts over the run.
+    pub impacts: u64,
+}
+
+impl SimulationRecord {
+    /// The record of `sim` on `scene`.
+    pub fn new(scene: &Scene, sim: &SimulatedPoint) -> Self {
+        let s = &sim.steady;
+        Self {
+            scene: scene.name.clone(),
+            omega: finite(sim.omega),
+            effects: scene.effect_names(),
+            status: sim.status_name(),
+            regime: sim.regime.name(),
+            period: s.period,
+            impacts_per_period: finite(s.impacts_per_period),
+            outer_amplitude: finite(sim.outer_amplitude),
+            transmittance_db: sim.transmittance_db.and_then(finite),
+            sticking: s.sticking,
+            stopped_by: sim.stopped_by(),
+            periods_run: s.periods_run,
+            impacts: s.impacts,
+        }
+    }
+}

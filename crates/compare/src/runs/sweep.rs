@@ -1,0 +1,306 @@
+//! Frequency sweeps: one solver or both at every frequency, in parallel, in frequency order;
+//! each point one [`SweepRow`].
+
+use crate::output::{finite, table_row, Header};
+use crate::runs::parallel::{for_each_ordered, parallel_map, Grain, Progress};
+use crate::runs::shard::Shard;
+use crate::scene::analytic::{analyse, AnalyticPoint, OrbitSearch};
+use crate::scene::simulator::{run, SimulatedPoint};
+use crate::scene::Scene;
+use crate::verdict::{compare, ComparedPoint, Starts};
+use rattle_event_driven::{SimulationOptions, Start};
+
+/// Which solver a sweep runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum Solver {
+    /// The closed-form solver: linear steady state and symmetric two-impact orbits.
+    Analytic,
+    /// The event-driven simulator from rest.
+    Event,
+    /// Both, with the simulator also started on every viable orbit, and a verdict.
+    Both,
+}
+
+impl Solver {
+    /// The solver's name as on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Solver::Analytic => "analytic",
+            Solver::Event => "event",
+            Solver::Both => "both",
+        }
+    }
+
+    fn grain(self) -> Grain {
+        match self {
+            Solver::Analytic => Grain::Even,
+            Solver::Event | Solver::Both => Grain::Uneven,
+        }
+    }
+}
+
+/// The result at one frequency of a sweep.
+#[derive(Debug, Clone)]
+pub enum SweepPoint {
+    /// Analytic only.
+    Analytic(AnalyticPoint),
+    /// Simulator only.
+    Event(SimulatedPoint),
+    /// Both and the verdict.
+    Both(Box<ComparedPoint>),
+    /// This frequency failed; the message says why.
+    Failed {
+        /// The frequency.
+        omega: f64,
+        /// Why.
+        message: String,
+    },
+}
+
+/// One frequency with `solver`.
+pub fn point(scene: &Scene, omega: f64, solver: Solver, options: &SimulationOptions) -> SweepPoint {
+    let failed = |message: String| SweepPoint::Failed { omega, message };
+    match solver {
+        Solver::Analytic => analyse(scene, omega, OrbitSearch::Symmetric)
+            .map(SweepPoint::Analytic)
+            .unwrap_or_else(|e| failed(e.to_string())),
+        Solver::Event => run(scene, omega, &Start::rest(2), options)
+            .map(SweepPoint::Event)
+            .unwrap_or_else(|e| failed(e.to_string())),
+        Solver::Both => compare(scene, omega, options, Starts::RestAndOrbits)
+            .map(|c| SweepPoint::Both(Box::new(c)))
+            .unwrap_or_else(|e| failed(e.to_string())),
+    }
+}
+
+/// `solver` on `scene` at every frequency of `omegas`, in parallel, in order.
+pub fn sweep(
+    scene: &Scene,
+    omegas: &[f64],
+    solver: Solver,
+    options: &SimulationOptions,
+    progress: &Progress,
+) -> Vec<SweepPoint> {
+    parallel_map(omegas, solver.grain(), progress, |&omega| {
+        point(scene, omega, solver, options)
+    })
+}
+
+/// [`sweep`], each point's row handed to `sink` in frequency order as soon as its block of
+/// frequencies is done: memory holds one block, whatever the number of frequencies.
+///
+/// # Errors
+/// The first error of `sink`.
+pub fn sweep_rows<E>(
+    scene: &Scene,
+    omegas: &[f64],
+    solver: Solver,
+    options: &SimulationOptions,
+    progress: &Progress,
+    mut sink: impl FnMut(SweepRow) -> Result<(), E>,
+) -> Result<(), E> {
+    let gap = scene.gap();
+    for_each_ordered(
+        omegas,
+        solver.grain(),
+        progress,
+        |&omega| SweepRow::new(&point(scene, omega, solver, options), gap),
+        |row| sink(row),
+    )
+}
+
+table_row! {
+    /// One frequency of a sweep. A cell is empty (CSV) or `null` (JSON) where it does not
+    /// apply to the solver, or is not finite.
+    pub struct SweepRow {
+        /// Angular frequency, rad/s.
+        pub omega: Option<f64>,
+        /// Linear `X_o`, m (`null` at an undamped resonance).
+        pub linear_outer_amplitude: Option<f64>,
+        /// Linear `T`, dB.
+        pub linear_transmittance_db: Option<f64>,
+        /// Whether the linear motion reaches the stops.
+        pub linear_touches_stops: Option<bool>,
+        /// Symmetric two-impact orbits found (0, 1 or 2).
+        pub orbits: Option<usize>,
+        /// Of which stable and viable.
+        pub stable_viable_orbits: Option<usize>,
+        /// Branch 0: base phase at the side-1 impact, rad.
+        pub branch0_alpha: Option<f64>,
+        /// Branch 0: `X_o`, m.
+        pub branch0_outer_amplitude: Option<f64>,
+        /// Branch 0: `T`, dB.
+        pub branch0_transmittance_db: Option<f64>,
+        /// Branch 0: viable.
+        pub branch0_viable: Option<bool>,
+        /// Branch 0: stable.
+        pub branch0_stable: Option<bool>,
+        /// Branch 1: base phase at the side-1 impact, rad.
+        pub branch1_alpha: Option<f64>,
+        /// Branch 1: `X_o`, m.
+        pub branch1_outer_amplitude: Option<f64>,
+        /// Branch 1: `T`, dB.
+        pub branch1_transmittance_db: Option<f64>,
+        /// Branch 1: viable.
+        pub branch1_viable: Option<bool>,
+        /// Branch 1: stable.
+        pub branch1_stable: Option<bool>,
+        /// Simulated regime from rest.
+        pub simulated_regime: Option<&'static str>,
+        /// Simulator status (`periodic`, `non-periodic`, `no-dissipation`, `, sticking`).
+        pub simulated_status: Option<String>,
+        /// Least period, forcing periods.
+        pub simulated_period: Option<u32>,
+        /// Impacts per forcing period over the final cycle.
+        pub simulated_impacts_per_period: Option<f64>,
+        /// Simulated `X_o`, m.
+        pub simulated_outer_amplitude: Option<f64>,
+        /// Simulated `T`, dB.
+        pub simulated_transmittance_db: Option<f64>,
+        /// Whether the final cycle sticks.
+        pub simulated_sticking: Option<bool>,
+        /// The verdict (`--solver both`).
+        pub class: Option<&'static str>,
+        /// Largest relative difference from the matched analytic motion.
+        pub relative_difference: Option<f64>,
+        /// The verdict in words (`beyond`, `contradiction`).
+        pub class_detail: Option<String>,
+        /// What the simulated motion matched, in words.
+        pub matched: Option<String>,
+        /// Why this frequency failed.
+        pub error: Option<String>,
+    }
+}
+
+/// Branch cells `(alpha, X_o, T, viable, stable)` of one symmetric branch.
+type BranchCells = (
+    Option<f64>,
+    Option<f64>,
+    Option<f64>,
+    Option<bool>,
+    Option<bool>,
+);
+
+impl SweepRow {
+    fn empty(omega: f64) -> SweepRow {
+        SweepRow {
+            omega: finite(omega),
+            linear_outer_amplitude: None,
+            linear_transmittance_db: None,
+            linear_touches_stops: None,
+            orbits: None,
+            stable_viable_orbits: None,
+            branch0_alpha: None,
+            branch0_outer_amplitude: None,
+            branch0_transmittance_db: None,
+            branch0_viable: None,
+            branch0_stable: None,
+            branch1_alpha: None,
+            branch1_outer_amplitude: None,
+            branch1_transmittance_db: None,
+            branch1_viable: None,
+            branch1_stable: None,
+            simulated_regime: None,
+            simulated_status: None,
+            simulated_period: None,
+            simulated_impacts_per_period: None,
+            simulated_outer_amplitude: None,
+            simulated_transmittance_db: None,
+            simulated_sticking: None,
+            class: None,
+            relative_difference: None,
+            class_detail: None,
+            matched: None,
+            error: None,
+        }
+    }
+
+    /// The row of `point`; `gap` the scene's gap, if it has stops.
+    pub fn new(point: &SweepPoint, gap: Option<f64>) -> SweepRow {
+        match point {
+            SweepPoint::Analytic(p) => {
+                let mut row = SweepRow::empty(p.omega);
+                row.set_analytic(p, gap);
+                row
+            }
+            SweepPoint::Event(s) => {
+                let mut row = SweepRow::empty(s.omega);
+                row.set_simulated(s);
+                row
+            }
+            SweepPoint::Both(c) => {
+                let mut row = SweepRow::empty(c.analytic.omega);
+                row.set_analytic(&c.analytic, gap);
+                row.set_simulated(&c.from_rest);
+                row.class = Some(c.class.name());
+                row.relative_difference = c.difference.and_then(|d| finite(d.largest()));
+                row.class_detail = Some(c.class.detail().to_owned());
+                row.matched = c.matched.clone();
+                row
+            }
+            SweepPoint::Failed { omega, message } => {
+                let mut row = SweepRow::empty(*omega);
+                row.error = Some(message.clone());
+                row
+            }
+        }
+    }
+
+    fn set_analytic(&mut self, p: &AnalyticPoint, gap: Option<f64>) {
+        self.linear_outer_amplitude = finite(p.linear.outer_amplitude);
+        self.linear_transmittance_db = finite(p.linear.transmittance_db);
+        self.linear_touches_stops = gap.map(|g| p.linear.relative_amplitude > g);
+        self.orbits = Some(p.orbits.len());
+        self.stable_viable_orbits = Some(p.stable_viable_orbits().count());
+        let branch = |b: usize| -> BranchCells {
+            match p.orbits.iter().find(|(k, _)| *k == b) {
+                Some((_, o)) => (
+                    finite(o.alpha),
+                    finite(o.outer_amplitude),
+                    finite(o.transmittance_db),
+                    Some(o.viable),
+                    Some(o.stable),
+                ),
+                None => (None, None, None, None, None),
+            }
+        };
+        (
+            self.branch0_alpha,
+            self.branch0_outer_amplitude,
+            self.branch0_transmittance_db,
+            self.branch0_viable,
+            self.branch0_stable,
+        ) = branch(0);
+        (
+            self.branch1_alpha,
+            self.branch1_outer_amplitude,
+            self.branch1_transmittance_db,
+            self.branch1_viable,
+            self.branch1_stable,
+        ) = branch(1);
+    }
+
+    fn set_simulated(&mut self, s: &SimulatedPoint) {
+        self.simulated_regime = Some(s.regime.name());
+        self.simulated_status = Some(s.status_name());
+        self.simulated_period = s.steady.period;
+        self.simulated_impacts_per_period = finite(s.steady.impacts_per_period);
+        self.simulated_outer_amplitude = finite(s.outer_amplitude);
+        self.simulated_transmittance_db = s.transmittance_db.and_then(finite);
+        self.simulated_sticking = Some(s.steady.sticking);
+    }
+}
+
+/// The header of a sweep's JSON document: scene, solver, effects, the number of frequencies of
+/// the whole sweep and, for a part, which shard it is.
+pub fn header(scene: &Scene, solver: Solver, points: usize, shard: Option<Shard>) -> Header {
+    let mut h = Header::default();
+    h.push("scene", scene);
+    h.push("solver", &solver.name());
+    h.push("effects", &scene.effect_names());
+    h.push("points", &points);
+    if let Some(s) = shard {
+        h.push("shard", &s);
+    }
+    h
+}

@@ -1,0 +1,370 @@
+//! The data of every figure, computed here; [`crate::figures`] only draws it.
+
+use crate::runs::map::{Bandwidth, Map, MapGrid, MapPoint};
+use crate::scene::analytic::{linear_displacements, orbit_state, AnalyticPoint};
+use crate::scene::simulator::{Regime, SimulatedPoint};
+use crate::verdict::ComparedPoint;
+
+/// Samples `(t, u_o, u_i)` of a motion.
+pub type Samples = Vec<(f64, f64, f64)>;
+
+/// Samples per two forcing periods in the time-response figures: 400 resolve the fastest mode
+/// of the paper's unit (ω₂/ω ≤ 5 on its figures) with 40 samples per oscillation.
+pub const TIME_SAMPLES: usize = 400;
+
+/// The paper's Figure 2: the linear steady state at a few frequencies.
+#[derive(Debug, Clone)]
+pub struct LinearTimeResponse {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// Gap `Δ` for the walls (0 without stops).
+    pub gap: f64,
+    /// One panel per frequency.
+    pub panels: Vec<LinearPanel>,
+}
+
+/// One panel of [`LinearTimeResponse`].
+#[derive(Debug, Clone)]
+pub struct LinearPanel {
+    /// Frequency, rad/s.
+    pub omega: f64,
+    /// Two forcing periods of `(t, u_o, u_i)`.
+    pub samples: Samples,
+    /// `X_o`.
+    pub outer_amplitude: f64,
+    /// `X_i`.
+    pub inner_amplitude: f64,
+}
+
+/// Two forcing periods `[0, 2T]` of the linear steady state of `point`.
+pub fn linear_samples(point: &AnalyticPoint) -> Samples {
+    let period = std::f64::consts::TAU / point.omega;
+    (0..=TIME_SAMPLES)
+        .map(|k| {
+            let t = 2.0 * period * k as f64 / TIME_SAMPLES as f64;
+            let (uo, ui) = linear_displacements(&point.linear, point.omega, t);
+            (t, uo, ui)
+        })
+        .collect()
+}
+
+/// Two forcing periods `[0, 2T]` of a two-impact orbit, from its side-1 impact.
+pub fn orbit_samples(scene: &crate::scene::Scene, orbit: &rattle_analytic::Orbit) -> Samples {
+    let period = std::f64::consts::TAU / orbit.omega;
+    (0..=TIME_SAMPLES)
+        .map(|k| {
+            let t = 2.0 * period * k as f64 / TIME_SAMPLES as f64;
+            let x = orbit_state(scene, orbit, t.rem_euclid(period));
+            (t, x[0], x[1])
+        })
+        .collect()
+}
+
+/// One row of the paper's Figure 4.
+#[derive(Debug, Clone)]
+pub struct ImpactRow {
+    /// Frequency, rad/s.
+    pub omega: f64,
+    /// Linear response over two periods.
+    pub linear: Samples,
+    /// Analytic viable orbit over two periods (time from a side-1 impact), if any.
+    pub orbit: Option<Samples>,
+    /// Simulated steady motion over two periods, on the same clock as `orbit` when there is
+    /// one.
+    pub simulated: Samples,
+    /// What the right panel shows, in words.
+    pub note: String,
+}
+
+/// The paper's Figure 4: the linear response beside the impacting steady state.
+#[derive(Debug, Clone)]
+pub struct ImpactTimeResponse {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// Gap `Δ` for the walls.
+    pub gap: f64,
+    /// One row per frequency.
+    pub rows: Vec<ImpactRow>,
+}
+
+/// The paper's Figure 5 with the workbench's evidence.
+#[derive(Debug, Clone)]
+pub struct Transmittance {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// Analytic picture on a fine grid (linear and symmetric orbits).
+    pub analytic: Vec<AnalyticPoint>,
+    /// Simulated steady states from rest.
+    pub simulated: Vec<SimulatedPoint>,
+    /// The paper's claimed attenuation bands: `(from, to, label)`.
+    pub claimed_bands: Vec<(f64, f64, String)>,
+    /// The paper's claimed peaks and valleys: `(ω, label)`.
+    pub claimed_marks: Vec<(f64, String)>,
+}
+
+/// Agreement of the two solvers against frequency.
+#[derive(Debug, Clone)]
+pub struct Agreement {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// The compared points of the sweep.
+    pub points: Vec<ComparedPoint>,
+    /// The match tolerance, drawn as a line.
+    pub tolerance: f64,
+}
+
+/// One member of the two-impact family as drawn.
+#[derive(Debug, Clone, Copy)]
+pub struct Member {
+    /// Fraction of the period between the impacts.
+    pub beta: f64,
+    /// `Δ*(β)/u_g`.
+    pub gap_ratio: f64,
+    /// No penetration, impacts from inside.
+    pub viable: bool,
+    /// Floquet multipliers inside the unit circle.
+    pub stable: bool,
+}
+
+/// A simulated check of one family member.
+#[derive(Debug, Clone, Copy)]
+pub struct Confirmation {
+    /// Frequency, rad/s.
+    pub omega: f64,
+    /// `Δ*(β)/u_g` used as the gap.
+    pub gap_ratio: f64,
+    /// `β` of the analytic member.
+    pub beta: f64,
+    /// Spacing of the simulated impacts over the period, if the simulation settled on two
+    /// impacts per period.
+    pub measured_beta: Option<f64>,
+}
+
+/// The two-impact family `Δ*(β)` for a few frequencies.
+#[derive(Debug, Clone)]
+pub struct BetaFamily {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// Restitution used.
+    pub restitution: f64,
+    /// Per frequency, the members on a grid of `β`.
+    pub curves: Vec<(f64, Vec<Member>)>,
+    /// Simulated confirmations.
+    pub confirmations: Vec<Confirmation>,
+    /// Nigm and Shabana's non-viable band `0 ≤ β ≤ bound`.
+    pub non_viable_bound: f64,
+}
+
+/// Stroboscopic outer displacement against frequency, up and down, and the analytic orbits'.
+#[derive(Debug, Clone)]
+pub struct Bifurcation {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// Frequency range swept, rad/s.
+    pub omega_range: (f64, f64),
+    /// `(ω, u_o(kT))` of the upward sweep.
+    pub up: Vec<(f64, f64)>,
+    /// `(ω, u_o(kT))` of the downward sweep.
+    pub down: Vec<(f64, f64)>,
+    /// `(ω, u_o(kT), stable)` of the viable analytic orbits.
+    pub analytic: Vec<(f64, f64, bool)>,
+}
+
+/// `u_o(kT)` (base phase 0) of a two-impact orbit.
+pub fn stroboscopic_outer(scene: &crate::scene::Scene, orbit: &rattle_analytic::Orbit) -> f64 {
+    let period = std::f64::consts::TAU / orbit.omega;
+    // Time since the side-1 impact at which ω t + α ≡ 0.
+    let t = (-orbit.alpha / orbit.omega).rem_euclid(period);
+    orbit_state(scene, orbit, t)[0]
+}
+
+/// The attenuation of one `(e, Δ/u_g)` cell of the bandwidth map.
+#[derive(Debug, Clone)]
+pub struct BandwidthCell {
+    /// Restitution.
+    pub restitution: f64,
+    /// `Δ/u_g`.
+    pub gap_over_base_amplitude: f64,
+    /// Simulated.
+    pub simulated: Bandwidth,
+    /// As the analytic candidates predict.
+    pub analytic: Bandwidth,
+}
+
+/// The attenuation bandwidth over restitution and gap.
+#[derive(Debug, Clone)]
+pub struct BandwidthMap {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// The grid.
+    pub grid: MapGrid,
+    /// One cell per line of the map.
+    pub cells: Vec<BandwidthCell>,
+}
+
+impl BandwidthMap {
+    /// The figure's data from `map`.
+    pub fn of(map: &Map) -> BandwidthMap {
+        let step = map.grid.omega.step();
+        BandwidthMap {
+            scene_name: map.scene.name.clone(),
+            grid: map.grid,
+            cells: map
+                .lines
+                .iter()
+                .map(|l| BandwidthCell {
+                    restitution: l.restitution,
+                    gap_over_base_amplitude: l.gap_over_base_amplitude,
+                    simulated: l.simulated_bandwidth(step),
+                    analytic: l.analytic_bandwidth(step),
+                })
+                .collect(),
+        }
+    }
+}
+
+/// The classes of the regime map, in legend order.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RegimeClass {
+    /// Periodic, no impact.
+    NoImpact,
+    /// Two impacts per period, period 1, and it is an attracting analytic candidate.
+    TwoImpactAgreeing,
+    /// Two impacts per period, period 1, but no attracting symmetric analytic orbit matches
+    /// it (an asymmetric orbit, or one not yet within the match tolerance).
+    TwoImpactOnly,
+    /// Period 1 with another number or pattern of impacts.
+    MoreImpacts,
+    /// Periodic with period `p > 1`.
+    Subharmonic,
+    /// Not periodic within the cap.
+    Irregular,
+    /// Sticking on a stop in the final cycle.
+    Sticking,
+    /// Undamped and elastic: no steady state.
+    NoDissipation,
+    /// A solver failed.
+    Failed,
+}
+
+impl RegimeClass {
+    /// Every class, in legend order.
+    pub const ALL: [RegimeClass; 9] = [
+        RegimeClass::NoImpact,
+        RegimeClass::TwoImpactAgreeing,
+        RegimeClass::TwoImpactOnly,
+        RegimeClass::MoreImpacts,
+        RegimeClass::Subharmonic,
+        RegimeClass::Irregular,
+        RegimeClass::Sticking,
+        RegimeClass::NoDissipation,
+        RegimeClass::Failed,
+    ];
+
+    /// The class of a map point.
+    pub fn of(point: &MapPoint) -> RegimeClass {
+        match point.regime {
+            None => RegimeClass::Failed,
+            Some(Regime::NoImpact) => RegimeClass::NoImpact,
+            Some(Regime::TwoImpact) if point.analytic_match => RegimeClass::TwoImpactAgreeing,
+            Some(Regime::TwoImpact) => RegimeClass::TwoImpactOnly,
+            Some(Regime::MoreImpacts) => RegimeClass::MoreImpacts,
+            Some(Regime::Subharmonic) => RegimeClass::Subharmonic,
+            Some(Regime::Irregular) => RegimeClass::Irregular,
+            Some(Regime::Sticking) => RegimeClass::Sticking,
+            Some(Regime::NoDissipation) => RegimeClass::NoDissipation,
+        }
+    }
+
+    /// Legend words.
+    pub fn words(self) -> &'static str {
+        match self {
+            RegimeClass::NoImpact => "no impact",
+            RegimeClass::TwoImpactAgreeing => "two impacts, period 1 = symmetric analytic orbit",
+            RegimeClass::TwoImpactOnly => "two impacts, period 1, not a symmetric orbit",
+            RegimeClass::MoreImpacts => "other impacts, period 1",
+            RegimeClass::Subharmonic => "period p > 1",
+            RegimeClass::Irregular => "not periodic within the cap",
+            RegimeClass::Sticking => "sticking",
+            RegimeClass::NoDissipation => "no dissipation",
+            RegimeClass::Failed => "solver failed",
+        }
+    }
+}
+
+/// One point of the regime map.
+#[derive(Debug, Clone, Copy)]
+pub struct RegimeCell {
+    /// Frequency, rad/s.
+    pub omega: f64,
+    /// `Δ/u_g`.
+    pub gap_over_base_amplitude: f64,
+    /// Its class.
+    pub class: RegimeClass,
+}
+
+/// The simulated regime over frequency and gap, at one restitution.
+#[derive(Debug, Clone)]
+pub struct RegimeMap {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// The grid.
+    pub grid: MapGrid,
+    /// The restitution of the map.
+    pub restitution: f64,
+    /// Every point.
+    pub cells: Vec<RegimeCell>,
+    /// Each class of [`RegimeClass::ALL`] with its share of the points, in `[0, 1]`.
+    pub shares: Vec<(RegimeClass, f64)>,
+}
+
+impl RegimeMap {
+    /// The figure's data from `map`.
+    pub fn of(map: &Map) -> RegimeMap {
+        let cells: Vec<RegimeCell> = map
+            .lines
+            .iter()
+            .flat_map(|l| {
+                l.points.iter().map(move |p| RegimeCell {
+                    omega: p.omega,
+                    gap_over_base_amplitude: l.gap_over_base_amplitude,
+                    class: RegimeClass::of(p),
+                })
+            })
+            .collect();
+        let total = cells.len().max(1) as f64;
+        let shares = RegimeClass::ALL
+            .iter()
+            .map(|&class| {
+                let n = cells.iter().filter(|c| c.class == class).count();
+                (class, n as f64 / total)
+            })
+            .collect();
+        RegimeMap {
+            scene_name: map.scene.name.clone(),
+            grid: map.grid,
+            restitution: map.lines.first().map_or(f64::NAN, |l| l.restitution),
+            cells,
+            shares,
+        }
+    }
+}
+
+/// Every figure's data.
+#[derive(Debug, Clone)]
+pub struct Plots {
+    /// Figure 2.
+    pub linear_time_response: LinearTimeResponse,
+    /// Figure 4.
+    pub impact_time_response: ImpactTimeResponse,
+    /// Figure 5.
+    pub transmittance: Transmittance,
+    /// Agreement.
+    pub agreement: Agreement,
+    /// The β family.
+    pub beta_family: BetaFamily,
+    /// Bifurcation sweeps.
+    pub bifurcation: Bifurcation,
+    /// The maps, when the scene has stops.
+    pub maps: Option<(BandwidthMap, RegimeMap)>,
+}

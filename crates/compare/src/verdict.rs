@@ -1,0 +1,444 @@
+//! How the two solvers relate at one frequency: the analytic **candidates** (the motions the
+//! analytic solver says the unit can settle on), what the simulator does from rest and from
+//! each viable orbit, and the **class** of the frequency.
+//!
+//! [`candidates`] is the one definition of "the analytic prediction": sweeps, maps and the
+//! report all call it, and each names the [`Choice`] it makes among the candidates.
+
+use crate::scene::analytic::{analyse, AnalyticPoint, OrbitSearch, BETA_SAMPLES};
+use crate::scene::simulator::{
+    run, start_on_orbit, Regime, SimulateError, SimulatedPoint, START_PERTURBATION,
+};
+use crate::scene::{phase, Scene};
+use nalgebra::Vector4;
+use rattle_analytic::{asymmetric_orbits, Orbit, OrbitError};
+use rattle_event_driven::{SimulationOptions, Start};
+use thiserror::Error;
+
+/// Two results agree when they differ by less than this, relatively: 1000 × the simulator's
+/// default periodicity tolerance (1e-9), because a motion that repeats to `ε` can still be
+/// `ε / (1 − |μ|)` from its orbit (largest Floquet multiplier `μ`); on the paper's scenes the
+/// agreeing points differ by at most 1.8e-7.
+pub const MATCH_TOLERANCE: f64 = 1e-6;
+
+/// `β` farther than this from ½ makes a simulated two-impact motion asymmetric: the simulator
+/// locates impacts to 1e-12 of the period, so a symmetric motion that has settled to 1e-9 is
+/// within about 1e-9 of ½.
+pub const SYMMETRY_TOLERANCE: f64 = 1e-6;
+
+/// A steady motion the analytic solver offers at one frequency.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Candidate {
+    /// Which motion.
+    pub motion: Motion,
+    /// Its transmittance, dB.
+    pub transmittance_db: f64,
+    /// Its outer amplitude `X_o`, m.
+    pub outer_amplitude: f64,
+    /// Whether nearby motions converge to it: a stable viable orbit always; the linear motion
+    /// only with damping (undamped, its free transients never decay).
+    pub attracting: bool,
+}
+
+/// What a candidate is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Motion {
+    /// The linear steady state, clear of the stops.
+    Linear,
+    /// A stable, viable two-impact orbit, by its branch number.
+    Orbit {
+        /// Branch number in [`AnalyticPoint::orbits`].
+        branch: usize,
+    },
+}
+
+/// The candidates at `point` of `scene`: every stable viable orbit of `point` (in branch
+/// order), then the linear motion when it is bounded and stays clear of the stops (always,
+/// without stops).
+pub fn candidates(scene: &Scene, point: &AnalyticPoint) -> Vec<Candidate> {
+    let mut out: Vec<Candidate> = point
+        .stable_viable_orbits()
+        .map(|(branch, o)| Candidate {
+            motion: Motion::Orbit { branch },
+            transmittance_db: o.transmittance_db,
+            outer_amplitude: o.outer_amplitude,
+            attracting: true,
+        })
+        .collect();
+    let linear = &point.linear;
+    let clear = scene
+        .gap()
+        .is_none_or(|gap| linear.relative_amplitude <= gap);
+    if clear && !linear.unbounded {
+        out.push(Candidate {
+            motion: Motion::Linear,
+            transmittance_db: linear.transmittance_db,
+            outer_amplitude: linear.outer_amplitude,
+            attracting: scene.is_damped(),
+        });
+    }
+    out
+}
+
+/// Which candidate a prediction takes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Choice {
+    /// The paper's method (its §3): a stable viable orbit where there is one (the first),
+    /// else the linear motion where it stays clear of the stops, damped or not.
+    PaperMethod,
+    /// The largest transmittance among the attracting candidates, so that a predicted
+    /// attenuation holds whichever of them the unit settles on (the maps).
+    LargestAttracting,
+}
+
+/// The transmittance predicted by `choice` among `candidates`; `None` when there is nothing
+/// to choose.
+pub fn predicted_transmittance(candidates: &[Candidate], choice: Choice) -> Option<f64> {
+    match choice {
+        Choice::PaperMethod => candidates
+            .iter()
+            .find(|c| matches!(c.motion, Motion::Orbit { .. }))
+            .or_else(|| candidates.iter().find(|c| c.motion == Motion::Linear))
+            .map(|c| c.transmittance_db),
+        Choice::LargestAttracting => candidates
+            .iter()
+            .filter(|c| c.attracting)
+            .map(|c| c.transmittance_db)
+            .reduce(f64::max),
+    }
+}
+
+/// How the two solvers relate at one frequency.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Class {
+    /// The simulator from rest settles on an attracting candidate (a two-impact orbit or the
+    /// linear motion clear of the stops).
+    Agreement,
+    /// An attracting candidate exists and holds when started on it, but from rest the
+    /// simulator goes elsewhere.
+    Coexistence,
+    /// No attracting candidate; the simulator shows another regime, named.
+    Beyond(String),
+    /// Anything else, e.g. a "stable" orbit the simulator leaves: explained.
+    Contradiction(String),
+}
+
+impl Class {
+    /// Every class's name, in the order of the summaries.
+    pub const NAMES: [&'static str; 4] = ["agreement", "coexistence", "beyond", "contradiction"];
+
+    /// The class's name in JSON and CSV.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Class::Agreement => "agreement",
+            Class::Coexistence => "coexistence",
+            Class::Beyond(_) => "beyond",
+            Class::Contradiction(_) => "contradiction",
+        }
+    }
+
+    /// Detail for `beyond` and `contradiction`, empty otherwise.
+    pub fn detail(&self) -> &str {
+        match self {
+            Class::Beyond(d) | Class::Contradiction(d) => d,
+            _ => "",
+        }
+    }
+}
+
+/// Differences between a simulated motion and an analytic orbit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Difference {
+    /// `|X_o,sim − X_o| / X_o`.
+    pub outer_amplitude: f64,
+    /// `|x_sim(0⁻) − x(0⁻)| / |x(0⁻)|`, the state just before the side-1 impact.
+    pub impact_state: f64,
+    /// Distance of the base phases at the side-1 impact, radians in `[0, π]`.
+    pub phase: f64,
+}
+
+impl Difference {
+    /// The difference of a motion with outer amplitude `outer_amplitude`, state
+    /// `state_before_side1` just before a side-1 impact and base phase `alpha` there, from
+    /// `orbit`.
+    pub fn between(
+        state_before_side1: &Vector4<f64>,
+        alpha: f64,
+        outer_amplitude: f64,
+        orbit: &Orbit,
+    ) -> Difference {
+        Difference {
+            outer_amplitude: (outer_amplitude - orbit.outer_amplitude).abs()
+                / orbit.outer_amplitude,
+            impact_state: (state_before_side1 - orbit.state_before_impact).norm()
+                / orbit.state_before_impact.norm(),
+            phase: phase::distance(alpha, orbit.alpha),
+        }
+    }
+
+    /// The largest of the relative differences (phase counted relative to π).
+    pub fn largest(&self) -> f64 {
+        self.outer_amplitude
+            .max(self.impact_state)
+            .max(self.phase / std::f64::consts::PI)
+    }
+}
+
+/// Compares a simulated motion with an analytic orbit; `None` unless the simulation is a
+/// two-impact motion (or converging to one).
+pub fn difference(sim: &SimulatedPoint, orbit: &Orbit) -> Option<Difference> {
+    let (state, alpha) = sim.side1_impact?;
+    Some(Difference::between(
+        &state,
+        alpha,
+        sim.outer_amplitude,
+        orbit,
+    ))
+}
+
+/// A viable analytic orbit and what the simulator did when started on it.
+#[derive(Debug, Clone)]
+pub struct Trial {
+    /// Branch number of the orbit.
+    pub branch: usize,
+    /// The simulator's result.
+    pub simulated: SimulatedPoint,
+    /// Whether it stayed on the orbit (difference below [`MATCH_TOLERANCE`]).
+    pub held: bool,
+    /// The difference, if the simulation was a two-impact motion.
+    pub difference: Option<Difference>,
+}
+
+/// Everything both solvers say at one frequency.
+#[derive(Debug, Clone)]
+pub struct ComparedPoint {
+    /// The analytic picture (linear and symmetric orbits).
+    pub analytic: AnalyticPoint,
+    /// The candidates of [`candidates`].
+    pub candidates: Vec<Candidate>,
+    /// The simulator from rest.
+    pub from_rest: SimulatedPoint,
+    /// The simulator from each viable orbit.
+    pub trials: Vec<Trial>,
+    /// Agreement of the from-rest motion with the analytic motion it matches, if any.
+    pub difference: Option<Difference>,
+    /// The verdict.
+    pub class: Class,
+    /// What the from-rest motion matched, in words (e.g. `symmetric branch 1`), if anything.
+    pub matched: Option<String>,
+    /// Whether the analytic prediction "a stable viable orbit exists" matches "the simulator
+    /// holds an orbit started on it".
+    pub prediction_confirmed: bool,
+}
+
+/// A failure of either solver at one frequency.
+#[derive(Debug, Error)]
+pub enum CompareError {
+    /// The analytic solver failed.
+    #[error("analytic: {0}")]
+    Analytic(#[from] OrbitError),
+    /// The simulator failed.
+    #[error("{0}")]
+    Simulation(#[from] SimulateError),
+}
+
+/// Where the simulator is started at each frequency.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Starts {
+    /// From rest only; the verdict then takes every stable viable orbit as held.
+    Rest,
+    /// From rest, and on every viable orbit (nudged by [`START_PERTURBATION`]).
+    RestAndOrbits,
+}
+
+/// Both solvers at `omega`, the simulator started as `starts` says, and the verdict.
+///
+/// # Errors
+/// The first failure of either solver.
+pub fn compare(
+    scene: &Scene,
+    omega: f64,
+    options: &SimulationOptions,
+    starts: Starts,
+) -> Result<ComparedPoint, CompareError> {
+    let analytic = analyse(scene, omega, OrbitSearch::Symmetric)?;
+    let candidates = candidates(scene, &analytic);
+    let from_rest = run(scene, omega, &Start::rest(2), options)?;
+    let mut trials = Vec::new();
+    if starts == Starts::RestAndOrbits {
+        for (branch, orbit) in analytic.orbits.iter().filter(|(_, o)| o.viable) {
+            let start = start_on_orbit(scene, orbit, START_PERTURBATION);
+            let simulated = run(scene, omega, &start, options)?;
+            let difference = difference(&simulated, orbit);
+            let held = difference.is_some_and(|d| d.largest() < MATCH_TOLERANCE);
+            trials.push(Trial {
+                branch: *branch,
+                simulated,
+                held,
+                difference,
+            });
+        }
+    }
+    let attracting_orbits = candidates
+        .iter()
+        .filter(|c| matches!(c.motion, Motion::Orbit { .. }))
+        .count();
+    let linear_candidate = candidates
+        .iter()
+        .find(|c| c.motion == Motion::Linear && c.attracting);
+
+    let (mut difference_from_rest, mut matched) = (None, None);
+    for (branch, o) in analytic.stable_viable_orbits() {
+        if let Some(d) = difference(&from_rest, o) {
+            if difference_from_rest.is_none_or(|best: Difference| d.largest() < best.largest()) {
+                difference_from_rest = Some(d);
+                matched = Some(format!("symmetric branch {branch}"));
+            }
+        }
+    }
+    let asymmetric_spacing = from_rest
+        .impact_spacing()
+        .filter(|b| (b - 0.5).abs() > SYMMETRY_TOLERANCE);
+    // A two-impact motion off the symmetric orbits: look for it in the β family.
+    let look_asymmetric = from_rest.regime == Regime::TwoImpact
+        && asymmetric_spacing.is_some()
+        && !difference_from_rest.is_some_and(|d| d.largest() < MATCH_TOLERANCE);
+    if let (true, Some(stops)) = (look_asymmetric, scene.stops_model()) {
+        for o in asymmetric_orbits(&scene.unit_model(), &stops, omega, BETA_SAMPLES) {
+            if let Some(d) = difference(&from_rest, &o) {
+                if d.largest() < MATCH_TOLERANCE {
+                    difference_from_rest = Some(d);
+                    matched = Some(format!(
+                        "asymmetric orbit β = {:.6} (stable: {})",
+                        o.beta, o.stable
+                    ));
+                }
+            }
+        }
+    }
+    let linear_match = linear_candidate.filter(|c| {
+        from_rest.regime == Regime::NoImpact
+            && (from_rest.outer_amplitude - c.outer_amplitude).abs()
+                < MATCH_TOLERANCE * c.outer_amplitude.max(f64::MIN_POSITIVE)
+    });
+    if let Some(c) = linear_match {
+        difference_from_rest = Some(Difference {
+            outer_amplitude: (from_rest.outer_amplitude - c.outer_amplitude).abs()
+                / c.outer_amplitude,
+            impact_state: 0.0,
+            phase: 0.0,
+        });
+        matched = Some("linear motion clear of the stops".into());
+    }
+    let rest_match = linear_match.is_some()
+        || difference_from_rest.is_some_and(|d| d.largest() < MATCH_TOLERANCE);
+
+    let left: Vec<usize> = trials
+        .iter()
+        .filter(|t| !t.held)
+        .filter(|t| {
+            analytic
+                .orbits
+                .iter()
+                .any(|(b, o)| *b == t.branch && o.stable)
+        })
+        .map(|t| t.branch)
+        .collect();
+    let held_any = trials.iter().any(|t| t.held);
+    let prediction_confirmed = starts == Starts::Rest || (attracting_orbits == 0) != held_any;
+
+    let class = if !left.is_empty() {
+        Class::Contradiction(format!(
+            "stable viable orbit (branch {left:?}) left by the simulator started on it"
+        ))
+    } else if rest_match {
+        Class::Agreement
+    } else if attracting_orbits > 0 || linear_candidate.is_some() {
+        Class::Coexistence
+    } else if from_rest.regime == Regime::TwoImpact {
+        match asymmetric_spacing {
+            Some(beta) => Class::Beyond(format!("asymmetric two-impact orbit, β = {beta:.4}")),
+            None => Class::Contradiction(
+                "the simulator settles on a symmetric two-impact orbit that no stable viable analytic orbit matches".into(),
+            ),
+        }
+    } else {
+        Class::Beyond(from_rest.regime.words().to_owned())
+    };
+    Ok(ComparedPoint {
+        analytic,
+        candidates,
+        from_rest,
+        trials,
+        difference: difference_from_rest,
+        class,
+        matched,
+        prediction_confirmed,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Candidates with hand-set transmittances, to check each choice.
+    fn offered() -> Vec<Candidate> {
+        let orbit = |branch, t| Candidate {
+            motion: Motion::Orbit { branch },
+            transmittance_db: t,
+            outer_amplitude: 1.0,
+            attracting: true,
+        };
+        vec![
+            orbit(1, -3.0),
+            orbit(0, 2.0),
+            Candidate {
+                motion: Motion::Linear,
+                transmittance_db: 5.0,
+                outer_amplitude: 1.0,
+                attracting: false,
+            },
+        ]
+    }
+
+    #[test]
+    fn each_choice_takes_its_candidate() {
+        let c = offered();
+        assert_eq!(predicted_transmittance(&c, Choice::PaperMethod), Some(-3.0));
+        assert_eq!(
+            predicted_transmittance(&c, Choice::LargestAttracting),
+            Some(2.0)
+        );
+        let linear_only = &c[2..];
+        assert_eq!(
+            predicted_transmittance(linear_only, Choice::PaperMethod),
+            Some(5.0)
+        );
+        assert_eq!(
+            predicted_transmittance(linear_only, Choice::LargestAttracting),
+            None
+        );
+        assert_eq!(predicted_transmittance(&[], Choice::PaperMethod), None);
+    }
+
+    #[test]
+    fn the_linear_motion_attracts_only_with_damping() {
+        // Far stops: the linear motion is clear of them at ω = 0.5 (paper unit, X_r ≈ 0.3).
+        let mut scene = Scene::paper();
+        scene.stops = scene.stops.map(|mut s| {
+            s.gap = 10.0;
+            s
+        });
+        let point = analyse(&scene, 0.5, OrbitSearch::Symmetric).unwrap();
+        let undamped = candidates(&scene, &point);
+        assert_eq!(undamped.len(), 1);
+        assert_eq!(undamped[0].motion, Motion::Linear);
+        assert!(!undamped[0].attracting);
+        scene.damping = Some(crate::scene::DampingSpec {
+            outer: 0.1,
+            inner: 0.05,
+        });
+        let point = analyse(&scene, 0.5, OrbitSearch::Symmetric).unwrap();
+        assert!(candidates(&scene, &point)[0].attracting);
+    }
+}

@@ -1,0 +1,174 @@
+//! `cargo xtask figures`: every figure, the maps' tables and the validation report.
+
+use crate::root;
+use clap::Args;
+use rattle_compare::figures;
+use rattle_compare::output::{write_table, Format, Header};
+use rattle_compare::peers::work_precision;
+use rattle_compare::scene::simulator::run as simulate;
+use rattle_compare::scene::{Scene, StopsSpec};
+use rattle_compare::study::paper::READING_B_GAP_FACTOR;
+use rattle_compare::study::report::{agreement, report};
+use rattle_compare::study::{maps, MapSizes, Study, StudySize};
+use rattle_event_driven::{SimulationOptions, Start};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Flags of `cargo xtask figures`.
+#[derive(Debug, Args)]
+pub struct FiguresArgs {
+    /// Scene file (JSON); default: the built-in paper scene.
+    #[arg(long)]
+    scene: Option<PathBuf>,
+    /// A few points of everything (a smoke test of the pipeline).
+    #[arg(long)]
+    quick: bool,
+    /// Write `DIR/figures`, `DIR/data/maps` and `DIR/validation` instead of the repository's.
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+}
+
+/// The accuracy-versus-cost case: the damped paper scene at 2 rad/s, where the simulator from
+/// rest settles on the analytic stable viable orbit (max|μ| = 0.855: 300 periods bring the
+/// transient below 1e-16).
+const WORK_PRECISION_SCENE: &str = "data/scenes/paper-damped.json";
+/// Frequency of the work-precision case, rad/s.
+const WORK_PRECISION_OMEGA: f64 = 2.0;
+/// Periods both integrators run from rest in the work-precision study.
+const WORK_PRECISION_PERIODS: u64 = 300;
+/// Frequencies of the sweep-cost study, rad/s.
+const SWEEP_COST_RANGE: (f64, f64) = (0.5, 4.0);
+/// Period cap of the study's simulations: keeps the full study within a minute on two cores;
+/// points that need longer to settle are reported as not periodic (the report counts them).
+const STUDY_MAX_PERIODS: u64 = 4000;
+/// Frequencies at which the fully elastic, undamped unit is simulated for the report, rad/s.
+const ELASTIC_OMEGAS: [f64; 2] = [1.0, 2.0];
+
+fn write(path: &Path, text: &str) -> Result<(), String> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Runs the task.
+pub fn run(args: FiguresArgs) -> Result<(), String> {
+    let scene = match &args.scene {
+        Some(path) => Scene::load(path).map_err(|e| e.to_string())?,
+        None => Scene::paper(),
+    };
+    let (size, map_sizes) = if args.quick {
+        (StudySize::quick(), MapSizes::quick())
+    } else {
+        (StudySize::full(), MapSizes::full())
+    };
+    let out = args.out.unwrap_or_else(root);
+    let start = Instant::now();
+    let lap = |what: &str| eprintln!("{what}: {:.1} s", start.elapsed().as_secs_f64());
+    let options = SimulationOptions {
+        max_periods: STUDY_MAX_PERIODS,
+        ..SimulationOptions::default()
+    };
+    eprintln!(
+        "study of scene '{}' (reading A: the scene's gap)",
+        scene.name
+    );
+    let main = Study::run(&scene, size, &options, true);
+    lap("study, reading A");
+    let mut other_scene = scene.clone();
+    other_scene.name = format!("{} (half gap)", scene.name);
+    other_scene.stops = scene.stops.map(|s| StopsSpec {
+        gap: READING_B_GAP_FACTOR * s.gap,
+        ..s
+    });
+    let other = Study::run(&other_scene, size.without_extras(), &options, true);
+    lap("study, reading B");
+    let elastic_note = elastic_note(&scene, &options);
+
+    let maps = maps(&scene, map_sizes, true);
+    lap("maps");
+    let data_dir = out.join("data/maps");
+    match &maps {
+        Some((bandwidth, regimes)) => {
+            std::fs::create_dir_all(&data_dir).map_err(|e| e.to_string())?;
+            let table = |name: &str| data_dir.join(name);
+            write_table(
+                &table("bandwidth-map.csv"),
+                Format::Csv,
+                &Header::default(),
+                bandwidth.bandwidth_rows(),
+            )
+            .map_err(|e| e.to_string())?;
+            write_table(
+                &table("regime-map.csv"),
+                Format::Csv,
+                &Header::default(),
+                regimes.point_rows(),
+            )
+            .map_err(|e| e.to_string())?;
+        }
+        None => {
+            eprintln!("no maps: the scene has no stops (a map varies their gap and restitution)")
+        }
+    }
+
+    let figures_dir = out.join("figures");
+    let plots = main.plots(&options, maps.as_ref());
+    let mut written = figures::draw(&plots, &figures_dir).map_err(|e| e.to_string())?;
+    lap("figures");
+
+    let damped = Scene::load(&root().join(WORK_PRECISION_SCENE)).map_err(|e| e.to_string())?;
+    eprintln!("work-precision study on '{}'", damped.name);
+    let precision = work_precision::study(
+        &damped,
+        WORK_PRECISION_OMEGA,
+        WORK_PRECISION_PERIODS,
+        SWEEP_COST_RANGE,
+        &options,
+    )
+    .map_err(|e| e.to_string())?;
+    written
+        .extend(figures::draw_work_precision(&precision, &figures_dir).map_err(|e| e.to_string())?);
+    lap("work-precision");
+
+    let validation = out.join("validation");
+    let doc = serde_json::to_string_pretty(&agreement(&main)).map_err(|e| e.to_string())?;
+    write(&validation.join("agreement.json"), &(doc + "\n"))?;
+    write(
+        &validation.join("report.md"),
+        &report(&main, &other, &elastic_note),
+    )?;
+    for path in &written {
+        eprintln!(
+            "wrote {}",
+            path.strip_prefix(&out).unwrap_or(path).display()
+        );
+    }
+    if maps.is_some() {
+        eprintln!("wrote data/maps/bandwidth-map.csv, data/maps/regime-map.csv");
+    }
+    eprintln!("wrote validation/agreement.json, validation/report.md");
+    eprintln!("figures done in {:.1} s", start.elapsed().as_secs_f64());
+    Ok(())
+}
+
+/// What the simulator says about the scene's unit made fully elastic, at
+/// [`ELASTIC_OMEGAS`].
+fn elastic_note(scene: &Scene, options: &SimulationOptions) -> String {
+    if scene.is_damped() {
+        return "the scene is damped: elastic impacts still dissipate through the dashpots".into();
+    }
+    let mut elastic = scene.clone();
+    elastic.stops = scene.stops.map(|s| StopsSpec {
+        restitution: 1.0,
+        ..s
+    });
+    ELASTIC_OMEGAS
+        .iter()
+        .map(|&w| match simulate(&elastic, w, &Start::rest(2), options) {
+            Ok(sim) => format!("ω = {w}: e = 1, no damping → {}", sim.status_name()),
+            Err(e) => format!("ω = {w}: {e}"),
+        })
+        .collect::<Vec<_>>()
+        .join("; ")
+}

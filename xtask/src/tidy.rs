@@ -1,0 +1,230 @@
+//! Tidy tests: conventions of the repository that a reviewer would otherwise have to catch.
+
+use crate::root;
+use std::path::{Path, PathBuf};
+
+/// The modules of `rattle-compare` from the bottom up: a module may use those at its own rank
+/// or below, never one above it (data flows one way, from scene to figure).
+const LAYERS: [&str; 8] = [
+    "scene", "output", "verdict", "runs", "peers", "study", "figures", "cli",
+];
+
+fn rust_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_owned()];
+    while let Some(d) = stack.pop() {
+        for entry in std::fs::read_dir(&d).expect("source folders are readable") {
+            let path = entry.expect("directory entries are readable").path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                out.push(path);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The lines of a file that are code: up to its `#[cfg(test)]` module, comments dropped.
+fn code_lines(path: &Path) -> Vec<(usize, String)> {
+    let text = std::fs::read_to_string(path).expect("source files are readable");
+    text.lines()
+        .enumerate()
+        .take_while(|(_, l)| l.trim() != "#[cfg(test)]")
+        .filter(|(_, l)| !l.trim_start().starts_with("//"))
+        .map(|(i, l)| (i + 1, l.to_owned()))
+        .collect()
+}
+
+/// The top-level module of `rattle-compare` a source file belongs to.
+fn module_of(src: &Path, file: &Path) -> Option<String> {
+    let rel = file.strip_prefix(src).ok()?;
+    let first = rel.components().next()?.as_os_str().to_str()?;
+    Some(first.trim_end_matches(".rs").to_owned())
+}
+
+/// The modules a line names as `crate::NAME`.
+fn crate_paths(line: &str) -> Vec<String> {
+    line.match_indices("crate::")
+        .map(|(i, m)| {
+            line[i + m.len()..]
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn no_module_of_compare_uses_one_above_it() {
+    let src = root().join("crates/compare/src");
+    let rank = |m: &str| LAYERS.iter().position(|l| *l == m);
+    let mut broken = Vec::new();
+    let mut checked = 0;
+    for file in rust_files(&src) {
+        let Some(module) = module_of(&src, &file) else {
+            continue;
+        };
+        let Some(own) = rank(&module) else {
+            continue; // lib.rs, main.rs
+        };
+        checked += 1;
+        for (n, line) in code_lines(&file) {
+            for used in crate_paths(&line) {
+                if rank(&used).is_some_and(|r| r > own) {
+                    broken.push(format!("{}:{n}: {module} uses {used}", file.display()));
+                }
+            }
+        }
+    }
+    assert!(
+        checked > 20,
+        "only {checked} files checked: has the crate moved?"
+    );
+    assert!(
+        broken.is_empty(),
+        "uses against the layering:\n{}",
+        broken.join("\n")
+    );
+}
+
+#[test]
+fn only_figures_draw_and_figures_only_draw() {
+    let src = root().join("crates/compare/src");
+    let mut broken = Vec::new();
+    for file in rust_files(&src) {
+        let module = module_of(&src, &file).unwrap_or_default();
+        for (n, line) in code_lines(&file) {
+            let at = || format!("{}:{n}", file.display());
+            if module != "figures" && line.contains("plotters") {
+                broken.push(format!("{}: plotters outside figures/", at()));
+            }
+            // A figure calls no solver (it may name the solvers' data types): its data come
+            // computed from the study.
+            if module == "figures" && calls_a_solver(&line) {
+                broken.push(format!("{}: a figure calls a solver", at()));
+            }
+        }
+    }
+    assert!(broken.is_empty(), "{}", broken.join("\n"));
+}
+
+/// Whether `line` calls a function of a solver crate (`rattle_analytic::x(`, `…::y::f(`) or
+/// imports one (`use rattle_analytic::{f, …}` with a lower-case item).
+fn calls_a_solver(line: &str) -> bool {
+    ["rattle_analytic::", "rattle_event_driven::"]
+        .iter()
+        .any(|krate| {
+            line.match_indices(krate).any(|(i, m)| {
+                let path: String = line[i + m.len()..]
+                    .chars()
+                    .take_while(|c| {
+                        c.is_alphanumeric()
+                            || *c == '_'
+                            || *c == ':'
+                            || *c == '{'
+                            || *c == ','
+                            || *c == ' '
+                    })
+                    .collect();
+                let items = path.split([':', '{', ',', ' ']).filter(|s| !s.is_empty());
+                let last_is_function = items.clone().last().is_some_and(|item| {
+                    item.starts_with(|c: char| c.is_lowercase())
+                        && line[i + m.len() + path.len()..].starts_with('(')
+                });
+                // The imported leaves: the items in braces, or the last segment.
+                let leaves: Vec<&str> = match path.split_once('{') {
+                    Some((_, inner)) => inner.split([',', ' ']).filter(|s| !s.is_empty()).collect(),
+                    None => items.last().into_iter().collect(),
+                };
+                let imports_function = line.trim_start().starts_with("use ")
+                    && leaves
+                        .iter()
+                        .any(|item| item.starts_with(|c: char| c.is_lowercase()));
+                last_is_function || imports_function
+            })
+        })
+}
+
+#[test]
+fn library_code_never_unwraps() {
+    let mut broken = Vec::new();
+    for krate in ["analytic", "event-driven", "compare"] {
+        for file in rust_files(&root().join("crates").join(krate).join("src")) {
+            for (n, line) in code_lines(&file) {
+                if line.contains(".unwrap()") {
+                    broken.push(format!("{}:{n}", file.display()));
+                }
+            }
+        }
+    }
+    assert!(
+        broken.is_empty(),
+        "`.unwrap()` in library code (return an error, or `.expect` an invariant and say why):\n{}",
+        broken.join("\n")
+    );
+}
+
+#[test]
+fn ci_checks_what_the_brief_asks() {
+    let ci = std::fs::read_to_string(root().join(".ci/run")).expect(".ci/run exists");
+    for step in [
+        "cargo fmt --all --check",
+        "cargo clippy --workspace --all-targets -- -D warnings",
+        "cargo test --workspace",
+        "cargo doc --workspace --no-deps",
+        "RUSTDOCFLAGS=\"-D warnings\"",
+    ] {
+        assert!(ci.contains(step), ".ci/run does not run `{step}`");
+    }
+    let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md exists");
+    assert!(readme.contains("cargo xtask figures") && readme.contains("cargo test --workspace"));
+}
+
+#[test]
+fn every_committed_figure_is_in_the_readme() {
+    let readme = std::fs::read_to_string(root().join("README.md")).expect("README.md exists");
+    let mut missing = Vec::new();
+    for entry in std::fs::read_dir(root().join("figures")).expect("figures/ exists") {
+        let path = entry.expect("readable").path();
+        if path.extension().is_some_and(|e| e == "png") {
+            let name = path
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or_default();
+            if !readme.contains(&format!("figures/{name}")) {
+                missing.push(name.to_owned());
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "figures not shown in README.md: {missing:?}"
+    );
+}
+
+#[test]
+fn solver_calls_are_told_from_solver_types() {
+    assert!(calls_a_solver(
+        "let r = rattle_analytic::linear_response(&u, w);"
+    ));
+    assert!(calls_a_solver(
+        "use rattle_analytic::{linear_response, Orbit};"
+    ));
+    assert!(calls_a_solver(
+        "rattle_event_driven::simulate(&m, w, &s, &o)"
+    ));
+    assert!(!calls_a_solver(
+        "let o: Option<&rattle_analytic::Orbit> = None;"
+    ));
+    assert!(!calls_a_solver("use rattle_analytic::Orbit;"));
+}
+
+#[test]
+fn the_crate_paths_of_a_line_are_found() {
+    assert_eq!(
+        crate_paths("use crate::runs::map::{Map}; crate::scene::Scene"),
+        vec!["runs".to_owned(), "scene".to_owned()]
+    );
+}
