@@ -52,7 +52,7 @@ pub const GAP_ACCEPTANCE: f64 = 1e-12;
 
 /// Roots within this distance of `½` are the symmetric orbits (left to
 /// [`crate::symmetric_orbits`]). By mirror symmetry `Δ*(β) = Δ*(1 − β)` is even about `½`, so
-/// a gap residual of [`ROOT_RESIDUAL`] pins `β` only to about `√1e-13 ≈ 3e-7` of `½` (for a
+/// the regula falsi's gap residual `1e-13` pins `β` only to about `√1e-13 ≈ 3e-7` of `½` (for a
 /// curvature of order one): `10⁻⁶` cannot tell such a root from `½`. Reasoned, not measured.
 pub const SYMMETRIC_EXCLUSION: f64 = 1e-6;
 
@@ -234,7 +234,16 @@ fn solve(flow: &ForcedFlow, g: &Matrix2<f64>, beta: f64) -> Result<Vector8, Fami
 /// the orbit, its phase, viability and stability.
 ///
 /// Continuous in `β` through `½`, where it equals one of the symmetric orbits of
-/// [`crate::symmetric_orbits`] at gap `Δ*(½)`.
+/// [`crate::symmetric_orbits`] at gap `Δ*(½)`. The unit and `restitution` are not validated
+/// here (see [`Unit::validate`], [`Stops::validate`]).
+///
+/// # Errors
+/// - [`FamilyError::BetaOutOfRange`] unless `0 < β < 1` (NaN included).
+/// - [`FamilyError::Singular`] when the eight orbit equations cannot be solved at this `β`
+///   (an LU solve without a finite solution away from `½`, or a vanishing first-order
+///   condition at `½`).
+/// - [`FamilyError::NoFiniteGap`] when the phase `(cos α, sin α)` of the unit-gap solution is
+///   zero or not finite, so that no finite gap admits this `β`.
 pub fn gap_for_beta(
     unit: &Unit,
     restitution: f64,

@@ -53,7 +53,13 @@ fn left_null(n: &Matrix4x3<f64>) -> Vector4<f64> {
 /// `omega`: zero, one (tangency) or two branches, each with its viability and stability.
 ///
 /// Branch 0 is `α = φ + acos(g/ρ)`, branch 1 is `α = φ − acos(g/ρ)`, where the phase condition
-/// reads `ρ cos(α − φ) = g` with the sign of `L` chosen so that `g ≥ 0`.
+/// reads `ρ cos(α − φ) = g` with the sign of `L` chosen so that `g ≥ 0`. An empty list means
+/// no symmetric orbit exists (the phase line misses the unit circle). The unit and stops are
+/// not validated here (see [`Unit::validate`], [`Stops::validate`]).
+///
+/// # Errors
+/// [`OrbitError::Degenerate`] when the symmetry equations lose rank
+/// ([`DEGENERACY_TOLERANCE`]), so that they do not determine the phase.
 pub fn symmetric_orbits(unit: &Unit, stops: &Stops, omega: f64) -> Result<Vec<Orbit>, OrbitError> {
     let flow = ForcedFlow::new(unit, omega);
     let half = flow.transition(0.5 * flow.period());
