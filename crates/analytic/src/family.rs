@@ -22,8 +22,39 @@ use thiserror::Error;
 type Matrix8 = SMatrix<f64, 8, 8>;
 type Vector8 = SVector<f64, 8>;
 
-/// Half-width of the neighbourhood of `β = ½` bridged by interpolation.
-const NEAR_HALF: f64 = 1e-4;
+/// Half-width of the neighbourhood of `β = ½` bridged by interpolation. The smallest singular
+/// value of `N(β)` vanishes linearly at `½`, so a direct solve at `|β − ½| = h` loses about
+/// `ε/h` (relative); the quadratic through `½ ± h` errs by `O(h³)`. The two balance at
+/// `h = ε^{1/4} ≈ 1.2e-4`: `10⁻⁴`, with an error of order `10⁻¹²` either way.
+pub const NEAR_HALF: f64 = 1e-4;
+
+/// The fewest grid intervals [`asymmetric_orbits`] accepts: grid points `j/samples`,
+/// `0 < j < samples`, so 4 is the least grid with a bracketing interval on each side of `½`
+/// (where mirror pairs `β`, `1 − β` live).
+pub const MIN_SAMPLES: usize = 4;
+
+/// Cap on the regula falsi (Illinois) iterations per bracket. Illinois converges
+/// superlinearly (order ≈ 1.44), so a converging bracket stops long before; the cap bounds a
+/// bracket that stalls.
+const ROOT_ITERATIONS: usize = 200;
+
+/// Regula falsi stops when the relative gap residual `|Δ*(β) − Δ| / Δ` is below this: ten times
+/// tighter than [`GAP_ACCEPTANCE`], so that a root that converges is accepted.
+const ROOT_RESIDUAL: f64 = 1e-13;
+
+/// Regula falsi stops when the bracket on `β ∈ (0, 1)` is narrower than this: about nine ulps
+/// of `½` (`ulp(½) ≈ 1.1e-16`), where further steps no longer move `β`.
+const ROOT_BRACKET: f64 = 1e-15;
+
+/// A root is an orbit of the given gap when `|Δ*(β) − Δ| < GAP_ACCEPTANCE · Δ`. `Δ*(β)` comes
+/// from an 8×8 solve that near `½` carries errors of order `10⁻¹²` (see [`NEAR_HALF`]).
+pub const GAP_ACCEPTANCE: f64 = 1e-12;
+
+/// Roots within this distance of `½` are the symmetric orbits (left to
+/// [`crate::symmetric_orbits`]). By mirror symmetry `Δ*(β) = Δ*(1 − β)` is even about `½`, so
+/// the regula falsi's gap residual `1e-13` pins `β` only to about `√1e-13 ≈ 3e-7` of `½` (for a
+/// curvature of order one): `10⁻⁶` cannot tell such a root from `½`. Reasoned, not measured.
+pub const SYMMETRIC_EXCLUSION: f64 = 1e-6;
 
 /// A failure of the family computation.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -203,7 +234,16 @@ fn solve(flow: &ForcedFlow, g: &Matrix2<f64>, beta: f64) -> Result<Vector8, Fami
 /// the orbit, its phase, viability and stability.
 ///
 /// Continuous in `β` through `½`, where it equals one of the symmetric orbits of
-/// [`crate::symmetric_orbits`] at gap `Δ*(½)`.
+/// [`crate::symmetric_orbits`] at gap `Δ*(½)`. The unit and `restitution` are not validated
+/// here (see [`Unit::validate`], [`Stops::validate`]).
+///
+/// # Errors
+/// - [`FamilyError::BetaOutOfRange`] unless `0 < β < 1` (NaN included).
+/// - [`FamilyError::Singular`] when the eight orbit equations cannot be solved at this `β`
+///   (an LU solve without a finite solution away from `½`, or a vanishing first-order
+///   condition at `½`).
+/// - [`FamilyError::NoFiniteGap`] when the phase `(cos α, sin α)` of the unit-gap solution is
+///   zero or not finite, so that no finite gap admits this `β`.
 pub fn gap_for_beta(
     unit: &Unit,
     restitution: f64,
@@ -249,12 +289,13 @@ pub fn gap_for_beta(
 /// Every asymmetric two-impact orbit (`β ≠ ½`) of `unit` with `stops` at `omega`: the roots
 /// of `Δ*(β) = Δ` on `(0, 1)`.
 ///
-/// Roots are bracketed on a grid of `samples` intervals and refined by regula falsi
-/// (Illinois) to `|Δ*(β) − Δ| < 1e-12 Δ`; two roots within one grid interval can be missed.
-/// Roots within `10⁻⁶` of `½` are the symmetric orbits and are left to
-/// [`crate::symmetric_orbits`]. Mirror images come in pairs `β`, `1 − β`.
+/// Roots are bracketed on a grid of `samples` intervals (at least [`MIN_SAMPLES`]) and refined
+/// by regula falsi (Illinois) to `|Δ*(β) − Δ| < 1e-12 Δ` ([`GAP_ACCEPTANCE`]); two roots within
+/// one grid interval can be missed. Roots within `10⁻⁶` of `½` ([`SYMMETRIC_EXCLUSION`]) are
+/// the symmetric orbits and are left to [`crate::symmetric_orbits`]. Mirror images come in
+/// pairs `β`, `1 − β`. A `β` at which [`gap_for_beta`] fails is skipped, never reported.
 pub fn asymmetric_orbits(unit: &Unit, stops: &Stops, omega: f64, samples: usize) -> Vec<Orbit> {
-    let samples = samples.max(4);
+    let samples = samples.max(MIN_SAMPLES);
     let f = |beta: f64| {
         gap_for_beta(unit, stops.restitution, omega, beta)
             .map(|p| (p.gap - stops.gap) / stops.gap)
@@ -274,10 +315,10 @@ pub fn asymmetric_orbits(unit: &Unit, stops: &Stops, omega: f64, samples: usize)
         }
         let mut side = 0i8;
         let mut root = 0.5 * (a + b);
-        for _ in 0..200 {
+        for _ in 0..ROOT_ITERATIONS {
             root = (a * fb - b * fa) / (fb - fa);
             let fr = f(root);
-            if !fr.is_finite() || fr.abs() < 1e-13 || (b - a) < 1e-15 {
+            if !fr.is_finite() || fr.abs() < ROOT_RESIDUAL || (b - a) < ROOT_BRACKET {
                 break;
             }
             if fr.signum() == fb.signum() {
@@ -296,11 +337,11 @@ pub fn asymmetric_orbits(unit: &Unit, stops: &Stops, omega: f64, samples: usize)
                 side = 1;
             }
         }
-        if (root - 0.5).abs() < 1e-6 {
+        if (root - 0.5).abs() < SYMMETRIC_EXCLUSION {
             continue;
         }
         if let Ok(point) = gap_for_beta(unit, stops.restitution, omega, root) {
-            if ((point.gap - stops.gap) / stops.gap).abs() < 1e-12 {
+            if ((point.gap - stops.gap) / stops.gap).abs() < GAP_ACCEPTANCE {
                 orbits.push(point.orbit);
             }
         }

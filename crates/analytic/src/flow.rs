@@ -20,8 +20,7 @@ pub struct ForcedFlow {
     /// Bound on the fastest rate of the flow, `max(ω, |λ(A)|)`: sets the piece length `1/rate`
     /// of the extremum search.
     rate: f64,
-    /// The last two Taylor tables of [`Self::extrema`]: the branches of a symmetric orbit share
-    /// one flight duration, the two flights of an asymmetric orbit need two.
+    /// The last [`CACHED_TABLES`] Taylor tables of [`Self::extrema`].
     tables: std::cell::RefCell<Vec<Table>>,
 }
 
@@ -69,12 +68,54 @@ pub struct Extrema {
     pub argmin: f64,
 }
 
-/// Degree of the Taylor polynomial of the flow on one piece.
+/// Degree of the Taylor polynomial of the flow on one piece. Pieces start no longer than
+/// `1/rate`, so `‖Âh‖` is of order one and the last term is of order `1/24! ≈ 1.6e-24`: the
+/// tail test ([`TAIL_TOLERANCE`]) has six orders of margin for matrices whose norm exceeds
+/// their spectral radius before a piece must be halved.
 const TAYLOR_DEGREE: usize = 24;
 
-/// A piece is accepted when its last two Taylor terms are below this fraction of the state:
-/// the polynomial then *is* the flow to machine precision.
+/// A piece is accepted when its last two Taylor rows are below this fraction of `|c|₁`: two
+/// orders below the double-precision unit roundoff `ε/2 ≈ 1.1e-16`, so the truncated
+/// polynomial *is* the flow to machine precision.
 const TAIL_TOLERANCE: f64 = 1e-18;
+
+/// Cap on the number of pieces of one flight: pieces are doubled until the tail passes, and a
+/// non-finite augmented matrix (NaN tail) never passes. `2²⁴ ≈ 1.7e7` pieces bound the work
+/// of a pathological flight; a finite flight needs about `duration × rate` pieces (a few
+/// hundred at the lowest frequencies swept).
+const MAX_PIECES: usize = 1 << 24;
+
+/// How many Taylor tables a [`ForcedFlow`] keeps: the branches of a symmetric orbit share
+/// one flight duration, the two flights of an asymmetric orbit need two.
+const CACHED_TABLES: usize = 2;
+
+/// A polynomial coefficient below this fraction of `Σ|q_k|` is dropped: it changes no value
+/// on `[0, 1]` by more than `1e-18` of the polynomial's size, the same truncation level as
+/// [`TAIL_TOLERANCE`] and below rounding.
+const NEGLIGIBLE_COEFFICIENT: f64 = 1e-18;
+
+/// Value resolution of the extremum search, relative to `Σ|q_k|`: an interval whose value
+/// bound cannot beat the extrema found so far by more than this is dropped. About five unit
+/// roundoffs of the largest term: below it, Horner's evaluation cannot tell values apart.
+const VALUE_RESOLUTION: f64 = 1e-15;
+
+/// Smallest half-width (in the piece's unit time `s ∈ [0, 1]`) of an exclusion interval,
+/// reached after about 43 halvings. An interval this narrow is settled by its midpoint: near a
+/// critical point the value differs from the extremum by `½ max|q''| w² = 5e-27 max|q''|`.
+const MIN_HALF_WIDTH: f64 = 1e-13;
+
+/// Depth of the stack of pending exclusion intervals. The search is depth-first and halves
+/// the interval at each level, so at most one interval per level is pending; [`MIN_HALF_WIDTH`]
+/// stops it by level ~43, well inside 128 (the guard on the stack's length never binds).
+const EXCLUSION_STACK: usize = 128;
+
+/// Cap on the safeguarded Newton iterations for a critical point: bisection alone reduces
+/// `[0, 1]` to one ulp in 53 steps, so 100 is never reached by a converging iteration.
+const CRITICAL_POINT_ITERATIONS: usize = 100;
+
+/// Newton on `q'` stops when a step is below this fraction of `1 + |s|`: under one ulp of
+/// `s ∈ [0, 1]` (`ε ≈ 2.2e-16`), where further steps no longer move `s`.
+const CRITICAL_POINT_STEP: f64 = 1e-16;
 
 impl ForcedFlow {
     /// The flow of `unit` under base motion at angular frequency `omega` (> 0).
@@ -92,7 +133,7 @@ impl ForcedFlow {
             augmented,
             omega,
             rate: natural.max(omega),
-            tables: std::cell::RefCell::new(Vec::with_capacity(2)),
+            tables: std::cell::RefCell::new(Vec::with_capacity(CACHED_TABLES)),
         }
     }
 
@@ -133,8 +174,8 @@ impl ForcedFlow {
     /// The flight is cut into equal pieces no longer than `1/max(ω, |λ|)`, halved until the
     /// last two rows `c (Âh)^k / k!` of the degree-24 Taylor expansion are below `1e-18` of
     /// `|c|₁`: on each piece the functional *is* a polynomial to machine precision, its
-    /// coefficients one dot product each with the piece's starting state. Its extrema are found among the piece's ends and the roots of its
-    /// derivative, isolated by exclusion tests with bounds on the second and third derivatives
+    /// coefficients one dot product each with the piece's starting state. Its extrema are
+    /// found among the piece's ends and the roots of its derivative, isolated by exclusion tests with bounds on the second and third derivatives
     /// and polished by safeguarded Newton. No extremum can fall between samples.
     pub fn extrema(
         &self,
@@ -164,7 +205,7 @@ impl ForcedFlow {
         let index = match hit {
             Some(i) => i,
             None => {
-                if cache.len() == 2 {
+                if cache.len() == CACHED_TABLES {
                     cache.remove(0);
                 }
                 cache.push(self.table(duration, functionals));
@@ -210,7 +251,7 @@ impl ForcedFlow {
                     (row[TAYLOR_DEGREE].lp_norm(1) + row[TAYLOR_DEGREE - 1].lp_norm(1)) / size,
                 );
             }
-            if tail <= TAIL_TOLERANCE || pieces >= 1 << 24 {
+            if tail <= TAIL_TOLERANCE || pieces >= MAX_PIECES {
                 break h;
             }
             pieces *= 2;
@@ -270,9 +311,12 @@ fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64) {
     };
     let size: f64 = q.iter().map(|c| c.abs()).sum();
     // Coefficients below rounding of the largest term do not change any value: drop them.
-    let degree = q.iter().rposition(|c| c.abs() > 1e-18 * size).unwrap_or(0);
+    let degree = q
+        .iter()
+        .rposition(|c| c.abs() > NEGLIGIBLE_COEFFICIENT * size)
+        .unwrap_or(0);
     let q = &q[..=degree];
-    let tol = 1e-15 * size;
+    let tol = VALUE_RESOLUTION * size;
     // The whole piece lies within q(0) ± Σ_{k≥1} |q_k|: skip it if that cannot beat the
     // extrema found so far.
     let spread = size - q[0].abs();
@@ -287,7 +331,7 @@ fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64) {
         m2 += k * (k - 1.0) * c.abs();
         m3 += k * (k - 1.0) * (k - 2.0) * c.abs();
     }
-    let mut stack = [(0.0f64, 1.0f64); 128];
+    let mut stack = [(0.0f64, 1.0f64); EXCLUSION_STACK];
     let mut top = 1;
     while top > 0 {
         top -= 1;
@@ -299,14 +343,14 @@ fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64) {
         if cannot_improve || d1.abs() > m2 * w {
             continue;
         }
-        if d2.abs() > m3 * w || w < 1e-13 || top + 2 > stack.len() {
+        if d2.abs() > m3 * w || w < MIN_HALF_WIDTH || top + 2 > stack.len() {
             // At most one critical point (or the interval is as small as it gets): polish it
             // if q' changes sign.
             let (da, db) = (horner(q, a).1, horner(q, b).1);
             if da.signum() != db.signum() {
                 let s = critical_point(q, a, b, da);
                 update(ext, s, horner(q, s).0);
-            } else if w < 1e-13 {
+            } else if w < MIN_HALF_WIDTH {
                 update(ext, m, v);
             }
             continue;
@@ -321,7 +365,7 @@ fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64) {
 /// Newton on `q'`, falling back to bisection whenever a step leaves the bracket.
 fn critical_point(q: &[f64], mut a: f64, mut b: f64, da: f64) -> f64 {
     let mut s = 0.5 * (a + b);
-    for _ in 0..100 {
+    for _ in 0..CRITICAL_POINT_ITERATIONS {
         let (_, d1, d2) = horner(q, s);
         if d1 == 0.0 {
             return s;
@@ -337,7 +381,7 @@ fn critical_point(q: &[f64], mut a: f64, mut b: f64, da: f64) -> f64 {
         } else {
             0.5 * (a + b)
         };
-        if (next - s).abs() <= 1e-16 * (1.0 + s.abs()) {
+        if (next - s).abs() <= CRITICAL_POINT_STEP * (1.0 + s.abs()) {
             return next;
         }
         s = next;

@@ -79,16 +79,38 @@ pub struct Orbit {
     pub violations: Vec<Violation>,
     /// Eigenvalues of the monodromy matrix (with saltation at both impacts).
     pub floquet_multipliers: Vec<Complex<f64>>,
-    /// Asymptotic stability: every Floquet multiplier has modulus `< 1 − 1e-9`.
+    /// Asymptotic stability: every Floquet multiplier has modulus `< 1 − 1e-9`
+    /// ([`STABILITY_MARGIN`]).
     pub stable: bool,
 }
 
 /// Relative tolerance on the stops used for the viability verdict: an interior excursion of
-/// `r` beyond a stop by more than `1e-9 Δ` is a penetration.
+/// `r` beyond a stop by more than `1e-9 Δ` is a penetration. `r` touches `±Δ` at both impacts
+/// (the ends of each flight), where the orbit equations are met only to their residual: up to
+/// `1e-10` of the state for a family orbit near `β = ½` (the tolerance the tests check). One
+/// order above that, an orbit is not declared non-viable by its own rounding at the impacts.
 pub const VIABILITY_TOLERANCE: f64 = 1e-9;
 
-/// Margin inside the unit circle for the stability verdict.
+/// Margin inside the unit circle for the stability verdict. Without dissipation (`e = 1`, no
+/// dashpots) `det(monodromy) = 1` and the multipliers lie on the unit circle up to the
+/// rounding of the monodromy (about `1e-12`); the margin keeps such an orbit from being called
+/// asymptotically stable by rounding. The same value as [`VIABILITY_TOLERANCE`], by choice.
 pub const STABILITY_MARGIN: f64 = 1e-9;
+
+/// Cap on the QR sweeps of one Schur attempt in [`eigenvalues`]. A 4×4 matrix deflates in a
+/// few sweeps per eigenvalue; 1000 is reached only by an iteration that cycles (as nalgebra's
+/// unbounded one did), and then the next attempt is tried.
+pub const SCHUR_ITERATIONS: usize = 1000;
+
+/// Convergence threshold of the Schur iteration: a subdiagonal entry is deflated when it falls
+/// to unit roundoff of its neighbours, the tightest threshold a double can resolve.
+const SCHUR_EPSILON: f64 = f64::EPSILON;
+
+/// Shifts `σ` (in units of `max|m_ij|`) of the fallback attempts in [`eigenvalues`]: two
+/// unrelated values of opposite sign and of order the matrix's size, so that the shifted
+/// iterations follow other paths than the plain one; the shift costs absolute accuracy of
+/// order `ε max|m_ij|` only. Chosen, not tuned.
+const SCHUR_SHIFTS: [f64; 2] = [0.5, -0.37];
 
 /// Gradient of the relative displacement `r = u_i − u_o` with respect to the state.
 pub(crate) fn relative_displacement() -> Vector4<f64> {
@@ -292,10 +314,18 @@ pub fn eigenvalues(m: &Matrix4<f64>) -> Option<[Complex<f64>; 4]> {
     for (matrix, shift) in [
         (*m, 0.0),
         (m.transpose(), 0.0),
-        (m + Matrix4::identity() * (0.5 * scale), 0.5 * scale),
-        (m - Matrix4::identity() * (0.37 * scale), -0.37 * scale),
+        (
+            m + Matrix4::identity() * (SCHUR_SHIFTS[0] * scale),
+            SCHUR_SHIFTS[0] * scale,
+        ),
+        (
+            m + Matrix4::identity() * (SCHUR_SHIFTS[1] * scale),
+            SCHUR_SHIFTS[1] * scale,
+        ),
     ] {
-        if let Some(schur) = nalgebra::linalg::Schur::try_new(matrix, f64::EPSILON, 1000) {
+        if let Some(schur) =
+            nalgebra::linalg::Schur::try_new(matrix, SCHUR_EPSILON, SCHUR_ITERATIONS)
+        {
             let e = schur.complex_eigenvalues();
             return Some([e[0], e[1], e[2], e[3]].map(|l| l - shift));
         }

@@ -17,13 +17,26 @@ use thiserror::Error;
 /// A failure of the orbit computation that is not "no orbit exists".
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum OrbitError {
-    /// The symmetry equations lose rank: the phase is not determined by them.
+    /// The symmetry equations lose rank (below [`DEGENERACY_TOLERANCE`]): the phase is not
+    /// determined by them.
     #[error("the symmetric-orbit equations are degenerate at ω = {omega} (rank < 3)")]
     Degenerate {
         /// The frequency at which it happened.
         omega: f64,
     },
 }
+
+/// Rank test of the symmetry equations: `N_a` is taken to have lost rank when its left null
+/// vector `L` (whose norm is the product of the singular values of `N_a`) is below this
+/// fraction of the product of its column norms (Hadamard's bound, so the ratio lies in
+/// `[0, 1]`). Each minor carries rounding of a few `ε ≈ 2.2e-16` of that product; `1e-13`
+/// (about 450 `ε`) leaves a margin of two orders above rounding. Reasoned, not measured.
+pub const DEGENERACY_TOLERANCE: f64 = 1e-13;
+
+/// Relative cutoff of the SVD solve for the impact state: zero, so no singular value is
+/// dropped. `N_a` has full column rank once it passes [`DEGENERACY_TOLERANCE`], and the
+/// right-hand side lies in its range on the phase line, so the solve is exact.
+const SVD_CUTOFF: f64 = 0.0;
 
 /// Left null vector of a 4×3 matrix of full column rank, by the generalised cross product
 /// `L_i = (−1)^i det(N without row i)`. Its norm relative to the product of the column norms
@@ -40,7 +53,13 @@ fn left_null(n: &Matrix4x3<f64>) -> Vector4<f64> {
 /// `omega`: zero, one (tangency) or two branches, each with its viability and stability.
 ///
 /// Branch 0 is `α = φ + acos(g/ρ)`, branch 1 is `α = φ − acos(g/ρ)`, where the phase condition
-/// reads `ρ cos(α − φ) = g` with the sign of `L` chosen so that `g ≥ 0`.
+/// reads `ρ cos(α − φ) = g` with the sign of `L` chosen so that `g ≥ 0`. An empty list means
+/// no symmetric orbit exists (the phase line misses the unit circle). The unit and stops are
+/// not validated here (see [`Unit::validate`], [`Stops::validate`]).
+///
+/// # Errors
+/// [`OrbitError::Degenerate`] when the symmetry equations lose rank
+/// ([`DEGENERACY_TOLERANCE`]), so that they do not determine the phase.
 pub fn symmetric_orbits(unit: &Unit, stops: &Stops, omega: f64) -> Result<Vec<Orbit>, OrbitError> {
     let flow = ForcedFlow::new(unit, omega);
     let half = flow.transition(0.5 * flow.period());
@@ -61,7 +80,7 @@ pub fn symmetric_orbits(unit: &Unit, stops: &Stops, omega: f64) -> Result<Vec<Or
 
     let mut l = left_null(&n_a);
     let scale: f64 = n_a.column_iter().map(|c| c.norm()).product();
-    if l.norm() <= 1e-13 * scale {
+    if l.norm() <= DEGENERACY_TOLERANCE * scale {
         return Err(OrbitError::Degenerate { omega });
     }
     let mut g_line = l.dot(&rhs);
@@ -93,7 +112,7 @@ pub fn symmetric_orbits(unit: &Unit, stops: &Stops, omega: f64) -> Result<Vec<Or
         let alpha = wrap(alpha);
         let p = Vector2::new(alpha.cos(), alpha.sin());
         let y: Vector3<f64> = svd
-            .solve(&(rhs - half.forced * p), 0.0)
+            .solve(&(rhs - half.forced * p), SVD_CUTOFF)
             .expect("SVD computed with both U and V");
         let before1 = Vector4::new(y[0], y[0] + gap, y[1], y[2]);
         let candidate = Candidate {

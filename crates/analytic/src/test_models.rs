@@ -1,9 +1,16 @@
 //! Reference problems with known answers, shared by the tests of this crate and its users.
+//!
+//! Each model returns the problem *together with* its answer, worked out by hand (Cramer's
+//! rule, the characteristic polynomial, the trace of the system matrix) and written here with
+//! the unit's numbers as literals, so that no answer is computed by the code under test.
+//! The bare problems ([`paper_unit`], [`damped_paper_unit`], [`paper_stops`]) stay for callers
+//! that need only the problem.
 
 use crate::unit::{Damping, Stops, Unit};
+use nalgebra::Complex;
 
 /// The paper's §2.2 unit: `m_i = 1, m_o = 2, k_i = 3, k_o = 6, u_g = 1`, undamped.
-/// `ω² = 1.5, 6`; anti-resonance `√(k_i/m_i)`.
+/// `ω² = 1.5, 6`; anti-resonance `√(k_i/m_i)`. With its answers: [`paper_modes`].
 pub fn paper_unit() -> Unit {
     Unit {
         outer_mass: 2.0,
@@ -15,7 +22,8 @@ pub fn paper_unit() -> Unit {
     }
 }
 
-/// The paper's unit with light dashpots `c_o = 0.1`, `c_i = 0.05`.
+/// The paper's unit with light dashpots `c_o = 0.1`, `c_i = 0.05`. With its answers:
+/// [`damped_steady_state`].
 pub fn damped_paper_unit() -> Unit {
     Unit {
         damping: Some(Damping {
@@ -33,4 +41,187 @@ pub fn paper_stops() -> Stops {
         gap: 0.5,
         restitution: 0.8,
     }
+}
+
+/// The modal facts of the paper's unit, by hand.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModalAnswer {
+    /// `ω_n²` ascending: the roots of `det(K − ω²M) = 2ω⁴ − 15ω² + 18 = 2(ω² − 3/2)(ω² − 6)`.
+    pub natural_frequencies_squared: [f64; 2],
+    /// The anti-resonance `√(k_i/m_i) = √3`, where `U_o = 0`.
+    pub anti_resonance: f64,
+    /// `|P_n| = |φ_n,o| k_o u_g` with mass-normalised shapes `φ₁ = (1, 2)/√6`,
+    /// `φ₂ = (1, −1)/√3`: `(6/√6, 6/√3) = (√6, √12)` (paper §2.2: 2.4495, 3.4641). The sign of
+    /// each depends on the sign convention of its mode shape.
+    pub modal_force_magnitudes: [f64; 2],
+    /// The mass-normalised shapes as `(u_o, u_i)` columns, each with a positive inner-mass
+    /// component: `(1, 2)/√6` and `(−1, 1)/√3`.
+    pub shapes: [[f64; 2]; 2],
+}
+
+/// The paper's unit ([`paper_unit`]) with its modal answer.
+pub fn paper_modes() -> (Unit, ModalAnswer) {
+    let answer = ModalAnswer {
+        natural_frequencies_squared: [1.5, 6.0],
+        anti_resonance: 3f64.sqrt(),
+        modal_force_magnitudes: [6f64.sqrt(), 12f64.sqrt()],
+        shapes: [
+            [1.0 / 6f64.sqrt(), 2.0 / 6f64.sqrt()],
+            [-1.0 / 3f64.sqrt(), 1.0 / 3f64.sqrt()],
+        ],
+    };
+    (paper_unit(), answer)
+}
+
+/// A linear steady state `u(t) = Re{U e^{iωt}}` known in closed form.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SteadyStateAnswer {
+    /// The angular frequency.
+    pub omega: f64,
+    /// `U_o`.
+    pub outer: Complex<f64>,
+    /// `U_i`.
+    pub inner: Complex<f64>,
+    /// `(k_o + k_i + ω² m_o)(k_i + ω² m_i)`, the size of the terms of the determinant: the
+    /// scale against which its rounding is measured (see [`crate::linear::RESONANCE_ULPS`]).
+    pub determinant_scale: f64,
+    /// `|det(K − ω²M + iωC)|`: the relative error of any solve grows like
+    /// `determinant_scale / |det|` near a resonance.
+    pub determinant_norm: f64,
+}
+
+/// The undamped paper unit's steady state at `omega`, by Cramer's rule on the 2×2 system
+/// `[[9 − 2ω², −3], [−3, 3 − ω²]] U = (6, 0)`:
+/// `D = 2ω⁴ − 15ω² + 18`, `U_o = 6(3 − ω²)/D`, `U_i = 18/D`.
+///
+/// # Panics
+/// At the undamped resonances `ω² = 3/2, 6` (`D = 0`, no bounded steady state).
+pub fn paper_steady_state(omega: f64) -> (Unit, SteadyStateAnswer) {
+    let w2 = omega * omega;
+    let d = 2.0 * w2 * w2 - 15.0 * w2 + 18.0;
+    assert!(d != 0.0, "ω = {omega} is an undamped resonance");
+    let answer = SteadyStateAnswer {
+        omega,
+        outer: Complex::new(6.0 * (3.0 - w2) / d, 0.0),
+        inner: Complex::new(18.0 / d, 0.0),
+        determinant_scale: (9.0 + 2.0 * w2) * (3.0 + w2),
+        determinant_norm: d.abs(),
+    };
+    (paper_unit(), answer)
+}
+
+/// Steady states of the undamped paper unit at frequencies where the answer is a small
+/// rational, from [`paper_steady_state`]'s formulas evaluated by hand:
+///
+/// | `ω²` | `D`  | `U_o`  | `U_i`  |
+/// |------|------|--------|--------|
+/// | 1    | 5    | 12/5   | 18/5   |
+/// | 2    | −4   | −3/2   | −9/2   |
+/// | 3    | −9   | 0      | −2     |
+/// | 4    | −10  | 3/5    | −9/5   |
+/// | 9    | 45   | −4/5   | 2/5    |
+///
+/// `ω² = 3` is the anti-resonance (the outer mass stands still); `ω² = 2` lies in the
+/// attenuation band of neither (`|U_o| = 1.5 > u_g`), `ω² = 9` in the band `ω > 2.9`.
+pub fn paper_steady_states_exact() -> (Unit, Vec<SteadyStateAnswer>) {
+    let rows: [(f64, f64, f64, f64); 5] = [
+        (1.0, 5.0, 12.0 / 5.0, 18.0 / 5.0),
+        (2.0, -4.0, -3.0 / 2.0, -9.0 / 2.0),
+        (3.0, -9.0, 0.0, -2.0),
+        (4.0, -10.0, 3.0 / 5.0, -9.0 / 5.0),
+        (9.0, 45.0, -4.0 / 5.0, 2.0 / 5.0),
+    ];
+    let answers = rows
+        .iter()
+        .map(|&(w2, d, uo, ui)| SteadyStateAnswer {
+            omega: f64::sqrt(w2),
+            outer: Complex::new(uo, 0.0),
+            inner: Complex::new(ui, 0.0),
+            determinant_scale: (9.0 + 2.0 * w2) * (3.0 + w2),
+            determinant_norm: f64::abs(d),
+        })
+        .collect();
+    (paper_unit(), answers)
+}
+
+/// The damped paper unit's ([`damped_paper_unit`]) complex steady state at `omega`, by
+/// Cramer's rule on `(K − ω²M + iωC) U = ((k_o + iω c_o) u_g, 0)` with the numbers written out:
+/// `a = 9 − 2ω² + 0.15 iω`, `b = −3 − 0.05 iω`, `c = 3 − ω² + 0.05 iω`, `f = 6 + 0.1 iω`,
+/// `D = a c − b²`, `U_o = c f / D`, `U_i = −b f / D`.
+pub fn damped_steady_state(omega: f64) -> (Unit, SteadyStateAnswer) {
+    let w2 = omega * omega;
+    let a = Complex::new(9.0 - 2.0 * w2, 0.15 * omega);
+    let b = Complex::new(-3.0, -0.05 * omega);
+    let c = Complex::new(3.0 - w2, 0.05 * omega);
+    let f = Complex::new(6.0, 0.1 * omega);
+    let d = a * c - b * b;
+    let answer = SteadyStateAnswer {
+        omega,
+        outer: c * f / d,
+        inner: -b * f / d,
+        determinant_scale: (9.0 + 2.0 * w2) * (3.0 + w2),
+        determinant_norm: d.norm(),
+    };
+    (damped_paper_unit(), answer)
+}
+
+/// The damped paper unit with stops so far away (`Δ = 1000`, `e = 0.8`) that no motion
+/// reaches them: its linear relative amplitude `|U_i − U_o|` stays below 33 at every `ω` (the
+/// damped peak at `ω₁`, 32.66, from [`damped_steady_state`] scanned in steps of `10⁻⁵`), so the answer at every `ω` is *no* two-impact orbit, symmetric or not,
+/// viable or not: in the symmetric equations the phase line lies at a distance proportional to
+/// `Δ` from the origin and misses the unit circle. (The *undamped* unit does have such orbits
+/// near its resonances, where its linear amplitude is unbounded.)
+pub fn unreachable_stops() -> (Unit, Stops) {
+    (
+        damped_paper_unit(),
+        Stops {
+            gap: 1000.0,
+            restitution: 0.8,
+        },
+    )
+}
+
+/// Identities every symmetric two-impact orbit obeys, whatever its branch.
+///
+/// - Half-period symmetry: `u(t + T/2) = −u(t)` for all `t`.
+/// - Restitution at each impact: `ṙ⁺ = −e ṙ⁻`, momentum `m_o u̇_o + m_i u̇_i` kept.
+/// - Liouville: `det E(t) = exp(tr A · t)`, and `det S = e²` for each saltation matrix: `S` is
+///   a rank-one update of `Ĝ = diag(I, G)`, so `det S = det G · ṙ⁺/ṙ⁻`, with
+///   `det G = −e` (expand `G`: `(m_o m_i (1 + e²) − e(m_o² + m_i²) − m_o m_i (1 + e)²)/(m_o +
+///   m_i)²`) and `ṙ⁺/ṙ⁻ = −e`. So `det(monodromy) = e^{2n} exp(tr A · T)`, `n = 2` impacts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SymmetricIdentities {
+    /// Impacts per period: 2.
+    pub impacts_per_period: i32,
+    /// `tr A = −tr(M⁻¹C) = −((c_o + c_i)/m_o + c_i/m_i)`, by hand: `0` undamped,
+    /// `−(0.15/2 + 0.05) = −0.125` for [`damped_paper_unit`].
+    pub system_trace: f64,
+}
+
+impl SymmetricIdentities {
+    /// `det(monodromy) = e^{2n} exp(tr A · 2π/ω)`.
+    pub fn monodromy_determinant(&self, restitution: f64, omega: f64) -> f64 {
+        restitution.powi(2 * self.impacts_per_period)
+            * (self.system_trace * std::f64::consts::TAU / omega).exp()
+    }
+}
+
+/// The undamped and the damped paper unit, each with its symmetric-orbit identities.
+pub fn symmetric_identities() -> [(Unit, SymmetricIdentities); 2] {
+    [
+        (
+            paper_unit(),
+            SymmetricIdentities {
+                impacts_per_period: 2,
+                system_trace: 0.0,
+            },
+        ),
+        (
+            damped_paper_unit(),
+            SymmetricIdentities {
+                impacts_per_period: 2,
+                system_trace: -0.125,
+            },
+        ),
+    ]
 }

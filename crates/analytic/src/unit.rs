@@ -80,6 +80,10 @@ pub struct Unit {
 impl Unit {
     /// Checks every parameter: masses, stiffnesses and base amplitude finite and `> 0`,
     /// dashpots finite and `≥ 0`.
+    ///
+    /// # Errors
+    /// [`UnitError::OutOfRange`] naming the first parameter that fails, in the order of the
+    /// fields.
     pub fn validate(&self) -> Result<(), UnitError> {
         check(
             "unit.outer_mass",
@@ -176,6 +180,9 @@ impl Unit {
 
 impl Stops {
     /// Checks `gap` finite and `> 0`, `restitution` in `[0, 1]`.
+    ///
+    /// # Errors
+    /// [`UnitError::OutOfRange`] naming `stops.gap` or `stops.restitution`, the gap first.
     pub fn validate(&self) -> Result<(), UnitError> {
         check("stops.gap", self.gap, self.gap > 0.0, "> 0")?;
         check(

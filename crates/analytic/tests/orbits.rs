@@ -2,8 +2,13 @@
 //! and its verdicts (viability, Floquet multipliers) must match independent checks.
 
 use nalgebra::{Complex, Matrix4, Vector2, Vector4};
+use rattle_analytic::family::{GAP_ACCEPTANCE, NEAR_HALF};
 use rattle_analytic::flow::ForcedFlow;
-use rattle_analytic::test_models::{damped_paper_unit, paper_stops, paper_unit};
+use rattle_analytic::orbit::VIABILITY_TOLERANCE;
+use rattle_analytic::test_models::{
+    damped_paper_unit, paper_modes, paper_stops, paper_unit, symmetric_identities,
+    unreachable_stops,
+};
 use rattle_analytic::*;
 
 fn r(x: &Vector4<f64>) -> f64 {
@@ -68,6 +73,41 @@ fn check_equations(unit: &Unit, restitution: f64, o: &Orbit, tol: f64) {
     assert!((pt - p0).norm() < 1e-12, "phase closes");
 }
 
+/// The model's half-period symmetry `u(t + T/2) = −u(t)` at interior times: the second
+/// flight, started from the side-2 impact, mirrors the first, started from the side-1 impact;
+/// and restitution `ṙ⁺ = −e ṙ⁻` at the side-2 impact too.
+fn check_half_period_symmetry(unit: &Unit, restitution: f64, o: &Orbit, tol: f64) {
+    let flow = ForcedFlow::new(unit, o.omega);
+    let half = 0.5 * flow.period();
+    let g = Stops {
+        gap: o.gap,
+        restitution,
+    }
+    .impact_map(unit);
+    let scale = o.state_before_impact.norm().max(o.gap).max(1.0);
+    let p0 = Vector2::new(o.alpha.cos(), o.alpha.sin());
+    let (x2, p1) = flow.transition(half).apply(&o.state_after_impact, &p0);
+    let after2 = {
+        let v = g * Vector2::new(x2[2], x2[3]);
+        Vector4::new(x2[0], x2[1], v[0], v[1])
+    };
+    let rd = |x: &Vector4<f64>| x[3] - x[2];
+    assert!(
+        (rd(&after2) + restitution * rd(&x2)).abs() < tol * scale,
+        "side-2 restitution"
+    );
+    for k in 1..8 {
+        let t = half * k as f64 / 8.0;
+        let (first, _) = flow.transition(t).apply(&o.state_after_impact, &p0);
+        let (second, _) = flow.transition(t).apply(&after2, &p1);
+        assert!(
+            (first + second).norm() < tol * scale,
+            "u(t + T/2) + u(t) = {:e} at t = {t}",
+            (first + second).norm()
+        );
+    }
+}
+
 #[test]
 fn symmetric_orbits_satisfy_their_equations() {
     let mut checked = 0;
@@ -81,11 +121,7 @@ fn symmetric_orbits_satisfy_their_equations() {
                 let omega = 0.07 * i as f64;
                 for o in symmetric_orbits(&unit, &stops, omega).unwrap() {
                     check_equations(&unit, e, &o, 1e-12);
-                    // Half-period symmetry: the side-2 state is minus the side-1 state.
-                    assert!(
-                        (o.state_before_side2 + o.state_before_impact).norm()
-                            < 1e-14 * (1.0 + o.state_before_impact.norm())
-                    );
+                    check_half_period_symmetry(&unit, e, &o, 1e-12);
                     checked += 1;
                 }
             }
@@ -101,8 +137,9 @@ fn family_orbits_satisfy_their_equations() {
             for beta in [0.1, 0.25, 0.4, 0.49, 0.5, 0.5 + 3e-5, 0.6, 0.9] {
                 let p = gap_for_beta(&unit, 0.8, omega, beta).unwrap();
                 assert!(p.gap > 0.0 && p.gap.is_finite());
-                // Near ½ the interpolation carries an error of order (10⁻⁴)³.
-                check_equations(&unit, 0.8, &p.orbit, 1e-10);
+                // Near ½ the interpolation carries an error of order NEAR_HALF³ = 10⁻¹²,
+                // amplified by the solve; 100 NEAR_HALF³ is what the tests have always allowed.
+                check_equations(&unit, 0.8, &p.orbit, 100.0 * NEAR_HALF.powi(3));
             }
         }
     }
@@ -155,7 +192,8 @@ fn orbits_are_finite_and_continuous_through_exact_resonance() {
         restitution: 0.8,
     };
     // ω₁ = √1.5 (also the 1:2 internal resonance: mode 2 returns after T/2) and ω₂ = √6.
-    for omega_n in [1.5f64.sqrt(), 6f64.sqrt()] {
+    let (_, modal) = paper_modes();
+    for omega_n in modal.natural_frequencies_squared.map(f64::sqrt) {
         let at = symmetric_orbits(&unit, &stops, omega_n).unwrap();
         assert!(!at.is_empty(), "orbits exist at ω = {omega_n}");
         for o in &at {
@@ -212,7 +250,8 @@ fn violations_are_real_and_viable_orbits_stay_inside() {
                             -o.gap - rt
                         };
                         assert!(
-                            beyond > 0.0 && (beyond - excess).abs() < 1e-9,
+                            beyond > VIABILITY_TOLERANCE * o.gap
+                                && (beyond - excess).abs() < VIABILITY_TOLERANCE * o.gap,
                             "{v:?}: r = {rt}"
                         );
                     }
@@ -241,7 +280,7 @@ fn violations_are_real_and_viable_orbits_stay_inside() {
                 for k in 1..n {
                     let t = flow.period() * 0.5 * k as f64 / n as f64;
                     assert!(
-                        r_at(t).abs() <= o.gap * (1.0 + 1e-9),
+                        r_at(t).abs() <= o.gap * (1.0 + VIABILITY_TOLERANCE),
                         "ω={omega}: |r| > Δ at t={t}"
                     );
                 }
@@ -347,9 +386,9 @@ fn floquet_multipliers_match_a_finite_difference_return_map() {
 
 #[test]
 fn monodromy_determinant_is_e4_times_the_damping_decay() {
-    // det S = e² per impact; det E(T) = exp(tr A · T).
-    for unit in [paper_unit(), damped_paper_unit()] {
-        let tr = unit.system_matrix().trace();
+    // det S = e² per impact; det E(T) = exp(tr A · T), tr A by hand in the model.
+    let mut checked = 0;
+    for (unit, identities) in symmetric_identities() {
         for e in [0.3, 0.8, 1.0] {
             let stops = Stops {
                 gap: 0.5,
@@ -361,15 +400,47 @@ fn monodromy_determinant_is_e4_times_the_damping_decay() {
                         .floquet_multipliers
                         .iter()
                         .fold(Complex::new(1.0, 0.0), |a, b| a * b);
-                    let expect = e.powi(4) * (tr * std::f64::consts::TAU / omega).exp();
+                    let expect = identities.monodromy_determinant(e, omega);
                     assert!(
                         (det.re - expect).abs() < 1e-9 * (1.0 + expect) && det.im.abs() < 1e-9,
                         "{det} vs {expect}"
                     );
+                    checked += 1;
                 }
             }
         }
     }
+    assert!(checked > 10, "only {checked} orbits checked");
+}
+
+#[test]
+fn unreachable_stops_admit_no_orbit() {
+    let (unit, stops) = unreachable_stops();
+    // Every ω of a sweep, and the resonances where the linear motion is largest.
+    let (_, modal) = paper_modes();
+    let omegas: Vec<f64> = (1..=80)
+        .map(|k| 0.05 * k as f64)
+        .chain(modal.natural_frequencies_squared.map(f64::sqrt))
+        .collect();
+    for &omega in &omegas {
+        let (_, linear) = rattle_analytic::test_models::damped_steady_state(omega);
+        assert!((linear.inner - linear.outer).norm() < 33.0);
+        let sym = symmetric_orbits(&unit, &stops, omega).unwrap();
+        assert!(sym.is_empty(), "ω={omega}: {} symmetric orbits", sym.len());
+    }
+    for omega in [0.8, 1.5f64.sqrt(), 2.0, 6f64.sqrt()] {
+        let asym = asymmetric_orbits(&unit, &stops, omega, 100);
+        assert!(
+            asym.is_empty(),
+            "ω={omega}: {} asymmetric orbits",
+            asym.len()
+        );
+    }
+    // The same unit with stops it reaches has orbits at those frequencies: the emptiness
+    // above is the gap's doing.
+    assert!(!symmetric_orbits(&unit, &paper_stops(), 2.0)
+        .unwrap()
+        .is_empty());
 }
 
 #[test]
@@ -407,7 +478,10 @@ fn asymmetric_orbits_come_in_mirror_pairs_and_satisfy_their_equations() {
         };
         let orbits = asymmetric_orbits(&unit, &stops, omega, 200);
         for o in &orbits {
-            check_equations(&unit, 0.8, o, 1e-10);
+            // Each root is accepted at |Δ*(β) − Δ| < GAP_ACCEPTANCE Δ; its own equations hold
+            // to the family's solve error (see family_orbits_satisfy_their_equations).
+            assert!((o.gap - stops.gap).abs() < GAP_ACCEPTANCE * stops.gap);
+            check_equations(&unit, 0.8, o, 100.0 * NEAR_HALF.powi(3));
             assert!(
                 orbits
                     .iter()
