@@ -218,7 +218,7 @@ pub fn status_name(steady: &SteadyState) -> String {
 /// `fixed-periods`, `period-cap`, `event-cap` or `oscillation-cap`.
 pub fn stop_name(stop: Stop) -> &'static str {
     match stop {
-        Stop::Settled => "decided",
+        Stop::Decided => "decided",
         Stop::FixedPeriods => "fixed-periods",
         Stop::PeriodCap => "period-cap",
         Stop::EventCap => "event-cap",
