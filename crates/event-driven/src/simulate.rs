@@ -45,35 +45,35 @@ pub struct SimulationOptions {
     pub record_trajectory: bool,
 }
 
-/// Default [`SimulationOptions::root_tolerance`]: contact times to `1e-12 T`, a few hundred
-/// rounding units of the time within a period, the accuracy the Halley polish reaches in two
-/// evaluations; contact states are then accurate to rounding.
+/// Default [`SimulationOptions::root_tolerance`]: contact times to `1e-12 T`, a few thousand
+/// rounding units of a time within the period, so the contact states are accurate to about the
+/// rounding of the state itself.
 pub const DEFAULT_ROOT_TOLERANCE: f64 = 1e-12;
 
 /// Default [`SimulationOptions::periodicity_tolerance`]: three orders above the root tolerance,
-/// so the state error left by the contact times (`~1e-12` relative) cannot fake or hide a
-/// repetition, and tight enough that transmittances agree with the analytic orbits to
-/// `1e-6` dB.
+/// so the state error left by the contact times cannot fake or hide a repetition. The damped
+/// paper unit at ω = 2 repeats to it after 138 periods (README, performance table).
 pub const DEFAULT_PERIODICITY_TOLERANCE: f64 = 1e-9;
 
-/// Default [`SimulationOptions::max_periods`]: the slowest-decaying transients of the paper's
-/// lightly damped unit settle within a few thousand periods; 20 000 leaves a factor of a few
-/// and bounds a non-settling run to about a second.
+/// Default [`SimulationOptions::max_periods`]: two orders above the 138 periods the damped paper
+/// unit needs at ω = 2, for slower transients near resonance, while a run that never settles
+/// stops within about a second (README, extreme-scene table: 0.7–1.4 s at the period cap).
 pub const DEFAULT_MAX_PERIODS: u64 = 20_000;
 
-/// Default [`SimulationOptions::max_events`]: about two seconds of events at ~1M events/s,
-/// the bound for motions with very many events per period (chatter on tiny gaps).
+/// Default [`SimulationOptions::max_events`]: about two seconds of events at the measured
+/// ~1M impacts/s, the bound for motions with very many events per period (chatter on tiny gaps:
+/// README, extreme-scene table, 1.3–2.5 s at the event cap).
 pub const DEFAULT_MAX_EVENTS: u64 = 2_000_000;
 
-/// Default [`SimulationOptions::max_oscillations`]: the [`DEFAULT_MAX_PERIODS`] periods of a
-/// forcing near the natural frequencies hold ~1e4–1e5 free oscillations; 2e6 lets every
-/// transient decay as long as at ω ≈ ω_n while bounding a forcing far below them (ω = 0.001
-/// on the paper's unit: ~2400 oscillations per period) to about a second.
+/// Default [`SimulationOptions::max_oscillations`]: 20 000 periods near the natural frequencies
+/// hold some 1e4 free oscillations, so transients get as many natural oscillations as there
+/// at any forcing frequency, while a forcing far below them stays bounded (e = 0 undamped at
+/// ω = 0.001, ~2400 oscillations per period: 816 periods, 1.4 s; commit e44174c).
 pub const DEFAULT_MAX_OSCILLATIONS: f64 = 2e6;
 
-/// Default [`SimulationOptions::max_period_multiplicity`]: subharmonic motions of the paper's
-/// unit seen in sweeps have `p ≤ 8`; 16 leaves room while keeping the stroboscopic history
-/// (and the final observation window) short.
+/// Default [`SimulationOptions::max_period_multiplicity`]: `rattle simulate` reports least
+/// periods up to 16. The stroboscopic history is `p + 2` sections long and the periodicity test
+/// tries every multiplicity up to it at each section, so it also bounds that cost.
 pub const DEFAULT_MAX_PERIOD_MULTIPLICITY: u32 = 16;
 
 impl Default for SimulationOptions {
@@ -213,8 +213,9 @@ pub const CONSERVATIVE_MAX_PERIODS: u64 = 1000;
 pub const MIN_OSCILLATION_PERIODS: u64 = 64;
 
 /// More events than this in one forcing period is an unresolved accumulation
-/// ([`SimulationError::EventStorm`]): a resolved chatter sticks after a few hundred bounces
-/// (see [`CHATTER`]), so a million means the accumulation was not detected.
+/// ([`SimulationError::EventStorm`]): a chatter sticks once its remaining bounces fit in `1e-5`
+/// of a period, after about `ln(1e5)/ln(1/e)` bounces from a flight of a period (~50 at
+/// `e = 0.8`, ~1100 at `e = 0.99`), so a million means the accumulation was not detected.
 pub const EVENT_STORM: u64 = 1_000_000;
 
 /// Dense samples per forcing period in [`SteadyState::trajectory`] (ends of each segment
