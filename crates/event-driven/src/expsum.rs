@@ -191,7 +191,55 @@ impl Derivatives {
 /// Grid steps between fresh exponentials in [`ExpSum::first_exit`]: the recurrence
 /// `e^{μ(s + w)} = e^{μs} e^{μw}` gains at most about this many roundings.
 const REANCHOR: usize = 32;
+
+/// Growth factor of the head chunks of [`ExpSum::first_exit`]: a short flight is covered by
+/// chunks that double from the start's clearance, so it is found in about `log₂` of the first
+/// chunk's length over the flight's steps.
 const HEAD: f64 = 2.0;
+
+/// Search chunks per oscillation of the fastest term in [`ExpSum::first_exit`]: an eighth of an
+/// oscillation is short enough for the derivative bounds to exclude most chunks at once.
+const CHUNKS_PER_OSCILLATION: f64 = 8.0;
+
+/// The head of doubling chunks is used when the quadratic model's exit lies within this
+/// fraction of the first chunk (a short bounce), as it is for a slow start (see [`HEAD`]).
+const HEAD_ESTIMATE: f64 = 8.0;
+
+/// A start within this fraction of the band `[lo, hi]` of an edge is "on the edge" (a release,
+/// a graze), and worth a Taylor clearance: far above rounding and the event loop's contact
+/// depth (`1e-12` of the gap), far below the height of a bounce that the grid finds anyway.
+const ON_EDGE: f64 = 1e-6;
+
+/// ... provided its slope would move it by less than this fraction of the band over the first
+/// chunk: a slow departure. A fast one (an impact) is found by the quadratic model or the grid.
+const SLOW_DEPARTURE: f64 = 1e-3;
+
+/// Halvings of the Taylor clearance from its first trial length before giving up (clearance
+/// `0` below `limit / 2¹⁶`): past that, the grid search costs less than more halvings.
+const CLEARANCE_HALVINGS: usize = 16;
+
+/// Interval halvings in [`ExpSum::max_abs`] stop at this fraction of the horizon: a few
+/// rounding units of the time, below which the function cannot be resolved.
+const MAX_ABS_RESOLUTION: f64 = 1e-15;
+
+/// Cap on polishing iterations (Halley, or bisection where Halley leaves the bracket): a
+/// bisection alone halves a bracket to rounding in ~60 steps, so 100 is never reached by a
+/// converging polish.
+const POLISH_ITERATIONS: usize = 100;
+
+/// Halley's a-posteriori stop: the iterate is taken once the step is in the asymptotic regime
+/// (`step × √contraction ≤` this) ...
+const HALLEY_ASYMPTOTIC: f64 = 1e-2;
+
+/// ... and the predicted next error `contraction × step³` is below this fraction of the time
+/// tolerance: the next step could not change the contact time by a visible amount.
+const HALLEY_MARGIN: f64 = 1e-3;
+
+/// `|z|` up to which a degree-3 Taylor series of `e^z` is exact to `1e-17` (see [`exp_small`]).
+const TAYLOR_DEGREE_3: f64 = 1e-4;
+
+/// `|z|` up to which a degree-5 Taylor series of `e^z` is exact to `1e-17` (see [`exp_small`]).
+const TAYLOR_DEGREE_5: f64 = 2e-3;
 
 /// One term `(c₀ + c₁ s + c₂ s² + c₃ s³) e^{μ s}`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -352,8 +400,9 @@ impl ExpSum {
             return None;
         }
         let jerk = self.jerk_bound(horizon);
-        let chunks = ((horizon * self.fastest(horizon) * 8.0 / std::f64::consts::TAU).ceil()
-            as usize)
+        let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
+            / std::f64::consts::TAU)
+            .ceil() as usize)
             .clamp(1, 1 << 30);
         let w = 0.5 * horizon / chunks as f64;
         let SearchStack {
@@ -383,8 +432,8 @@ impl ExpSum {
         let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
         // Only a slow start on an edge (a release, a graze) is worth clearing: a fast one
         // (an impact) is found by the quadratic model or the grid.
-        let on_edge =
-            (f0 - lo).min(hi - f0) <= 1e-6 * (hi - lo) && d0.abs() * first_end < 1e-3 * (hi - lo);
+        let on_edge = (f0 - lo).min(hi - f0) <= ON_EDGE * (hi - lo)
+            && d0.abs() * first_end < SLOW_DEPARTURE * (hi - lo);
         let cleared = if derivatives.0.is_empty() || !on_edge {
             0.0
         } else {
@@ -409,7 +458,9 @@ impl ExpSum {
                 *e = cexp(t.rate, first_end);
             }
             fa = derivatives.value(self, first_end, exps);
-        } else if (cleared > 0.0 && HEAD * cleared < first_end) || 8.0 * estimate < first_end {
+        } else if (cleared > 0.0 && HEAD * cleared < first_end)
+            || HEAD_ESTIMATE * estimate < first_end
+        {
             let mut a = cleared;
             if cleared > 0.0 {
                 fa = self.eval(cleared).0;
@@ -676,7 +727,7 @@ impl ExpSum {
             let (fm, dm) = self.eval(m);
             best = best.max(fm.abs());
             if fm.abs() + dm.abs() * w + 0.5 * curvature * w * w <= best + tolerance
-                || w < 1e-15 * horizon
+                || w < MAX_ABS_RESOLUTION * horizon
             {
                 continue;
             }
@@ -736,7 +787,7 @@ fn taylor_clearance(
         return 0.0;
     }
     let mut h = limit;
-    for _ in 0..16 {
+    for _ in 0..CLEARANCE_HALVINGS {
         if min_on(below, h) > 0.0 && min_on(above, h) > 0.0 {
             return h;
         }
@@ -864,9 +915,9 @@ fn exp_small(z: C64) -> C64 {
         1.0,
     ];
     let size = l1(z);
-    let from = if size <= 1e-4 {
+    let from = if size <= TAYLOR_DEGREE_3 {
         6
-    } else if size <= 2e-3 {
+    } else if size <= TAYLOR_DEGREE_5 {
         4
     } else {
         0
@@ -928,7 +979,7 @@ fn iterate(
         (sign * (v - level), sign * d, sign * dd)
     };
     let mut s = start;
-    for _ in 0..100 {
+    for _ in 0..POLISH_ITERATIONS {
         let (v, d, dd) = g(s);
         if v == 0.0 {
             return s;
@@ -949,8 +1000,8 @@ fn iterate(
             // Halley's error: e⁺ ≈ (f''²/(4f'²) − f'''/(6f')) e³, with e ≈ the step.
             let contraction = 0.25 * (dd / d).powi(2) + jerk / (6.0 * d.abs());
             let converged = step <= tol
-                || (step * contraction.sqrt() <= 1e-2
-                    && contraction * step * step * step <= 1e-3 * tol);
+                || (step * contraction.sqrt() <= HALLEY_ASYMPTOTIC
+                    && contraction * step * step * step <= HALLEY_MARGIN * tol);
             if converged {
                 return halley;
             }

@@ -43,6 +43,19 @@ pub enum FlowError {
 /// Below this `|μ − λ|·T` a forcing rate counts as resonant with a mode.
 const RESONANCE: f64 = 1e-4;
 
+/// A modal basis whose condition number (Frobenius) reaches this is defective (e.g. exactly
+/// critically damped): modal coordinates would lose more than ten of the sixteen digits.
+const DEFECTIVE_CONDITION: f64 = 1e10;
+
+/// Iteration cap of each Schur decomposition tried for the eigenvalues (nalgebra's QR
+/// iterations; a convergent one takes a few per eigenvalue).
+const SCHUR_ITERATIONS: usize = 1000;
+
+/// Shifts (times the matrix's largest entry) of the retries when the Schur iteration on the
+/// matrix and its transpose fails: a shift moves the spectrum off a symmetric configuration
+/// that stalls the iteration; 0.37 is deliberately not a simple fraction.
+const SCHUR_SHIFTS: [f64; 2] = [0.5, -0.37];
+
 /// The modal flow of one linear system at one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct LinearFlow {
@@ -174,10 +187,18 @@ fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<C64>, FlowError> {
     for (matrix, shift) in [
         (a.clone(), 0.0),
         (a.transpose(), 0.0),
-        (a + &identity * (0.5 * scale), 0.5 * scale),
-        (a - &identity * (0.37 * scale), -0.37 * scale),
+        (
+            a + &identity * (SCHUR_SHIFTS[0] * scale),
+            SCHUR_SHIFTS[0] * scale,
+        ),
+        (
+            a - &identity * (-SCHUR_SHIFTS[1] * scale),
+            SCHUR_SHIFTS[1] * scale,
+        ),
     ] {
-        if let Some(schur) = nalgebra::linalg::Schur::try_new(matrix, f64::EPSILON, 1000) {
+        if let Some(schur) =
+            nalgebra::linalg::Schur::try_new(matrix, f64::EPSILON, SCHUR_ITERATIONS)
+        {
             return Ok(schur
                 .complex_eigenvalues()
                 .iter()
@@ -240,7 +261,7 @@ impl LinearFlow {
             .try_inverse()
             .ok_or(FlowError::Defective(f64::INFINITY))?;
         let condition = modes.norm() * inverse.norm();
-        if condition.is_nan() || condition >= 1e10 {
+        if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
             return Err(FlowError::Defective(condition));
         }
         let lift = |f: DVector<C64>| {

@@ -22,4 +22,7 @@ pub mod test_models;
 pub use model::{ContactPair, Model, ModelError};
 pub use simulate::{
     simulate, ImpactRecord, SimulationError, SimulationOptions, Start, Status, SteadyState, Stop,
+    CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS, DEFAULT_MAX_OSCILLATIONS, DEFAULT_MAX_PERIODS,
+    DEFAULT_MAX_PERIOD_MULTIPLICITY, DEFAULT_PERIODICITY_TOLERANCE, DEFAULT_ROOT_TOLERANCE,
+    EVENT_STORM, MIN_OSCILLATION_PERIODS, SAMPLES_PER_PERIOD,
 };

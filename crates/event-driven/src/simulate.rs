@@ -1,8 +1,17 @@
 //! The event loop: exact flights, first contacts, restitution, chatter and sticking, and the
 //! steady state seen through the stroboscopic map at `t = kT`.
+//!
+//! The run is split the way iterative solvers are: the *problem* (a [`Model`], `ω` and the
+//! [`SimulationOptions`]), the *solver* (`Engine`: the free flow, the contact geometry and the
+//! stuck flows, prepared once) and the *state* (`RunState`: everything that changes during a
+//! run). The loop is `init`, then `next_iter` (one free flight or one stuck phase, ending at an
+//! event or at the section `t = kT`) and, at each section, `terminate` (the stopping rules, all
+//! in `stopping_rule`). The events are named points: `impact`, `stick` and `release` (where a
+//! saltation matrix will apply), and each flight is one closed-form segment (where a tangent
+//! propagator will apply).
 
 use crate::expsum::{ExpSum, SearchStack};
-use crate::flow::{FlowError, Functional, LinearFlow};
+use crate::flow::{Flight, FlowError, Functional, LinearFlow};
 use crate::model::{ContactPair, Model};
 use nalgebra::{DMatrix, DVector};
 use std::collections::VecDeque;
@@ -15,7 +24,8 @@ pub struct SimulationOptions {
     pub root_tolerance: f64,
     /// The motion is periodic when the stroboscopic state repeats to this relative tolerance.
     pub periodicity_tolerance: f64,
-    /// Cap on forcing periods when running until steady.
+    /// Cap on forcing periods when running until steady (undamped elastic units, which cannot
+    /// settle, at most [`CONSERVATIVE_MAX_PERIODS`]).
     pub max_periods: u64,
     /// Cap on events (impacts, stick and release) when running until steady: bounds the time
     /// of motions with very many events per period. `None`: no cap.
@@ -25,23 +35,56 @@ pub struct SimulationOptions {
     /// below the natural frequencies (thousands of oscillations per period) would otherwise
     /// make [`Self::max_periods`] periods cost minutes. `None`: no cap.
     pub max_oscillations: Option<f64>,
-    /// Largest period multiplicity `p` looked for.
+    /// Largest period multiplicity `p` looked for (also the length, in periods, of the final
+    /// stretch observed when no period is found).
     pub max_period_multiplicity: u32,
     /// Run exactly this many periods and judge the steady state from the tail.
     pub fixed_periods: Option<u64>,
-    /// Keep dense samples of the final cycle (or final 16 periods).
+    /// Keep dense samples of the final cycle (or the final
+    /// [`Self::max_period_multiplicity`] periods), [`SAMPLES_PER_PERIOD`] per period.
     pub record_trajectory: bool,
 }
+
+/// Default [`SimulationOptions::root_tolerance`]: contact times to `1e-12 T`, a few thousand
+/// rounding units of a time within the period, so the contact states are accurate to about the
+/// rounding of the state itself.
+pub const DEFAULT_ROOT_TOLERANCE: f64 = 1e-12;
+
+/// Default [`SimulationOptions::periodicity_tolerance`]: three orders above the root tolerance,
+/// so the state error left by the contact times cannot fake or hide a repetition. The damped
+/// paper unit at ω = 2 repeats to it after 138 periods (README, performance table).
+pub const DEFAULT_PERIODICITY_TOLERANCE: f64 = 1e-9;
+
+/// Default [`SimulationOptions::max_periods`]: two orders above the 138 periods the damped paper
+/// unit needs at ω = 2, for slower transients near resonance, while a run that never settles
+/// stops within about a second (README, extreme-scene table: 0.7–1.4 s at the period cap).
+pub const DEFAULT_MAX_PERIODS: u64 = 20_000;
+
+/// Default [`SimulationOptions::max_events`]: about two seconds of events at the measured
+/// ~1M impacts/s, the bound for motions with very many events per period (chatter on tiny gaps:
+/// README, extreme-scene table, 1.3–2.5 s at the event cap).
+pub const DEFAULT_MAX_EVENTS: u64 = 2_000_000;
+
+/// Default [`SimulationOptions::max_oscillations`]: 20 000 periods near the natural frequencies
+/// hold some 1e4 free oscillations, so transients get as many natural oscillations as there
+/// at any forcing frequency, while a forcing far below them stays bounded (e = 0 undamped at
+/// ω = 0.001, ~2400 oscillations per period: 816 periods, 1.4 s; commit e44174c).
+pub const DEFAULT_MAX_OSCILLATIONS: f64 = 2e6;
+
+/// Default [`SimulationOptions::max_period_multiplicity`]: `rattle simulate` reports least
+/// periods up to 16. The stroboscopic history is `p + 2` sections long and the periodicity test
+/// tries every multiplicity up to it at each section, so it also bounds that cost.
+pub const DEFAULT_MAX_PERIOD_MULTIPLICITY: u32 = 16;
 
 impl Default for SimulationOptions {
     fn default() -> Self {
         Self {
-            root_tolerance: 1e-12,
-            periodicity_tolerance: 1e-9,
-            max_periods: 20_000,
-            max_events: Some(2_000_000),
-            max_oscillations: Some(2e6),
-            max_period_multiplicity: 16,
+            root_tolerance: DEFAULT_ROOT_TOLERANCE,
+            periodicity_tolerance: DEFAULT_PERIODICITY_TOLERANCE,
+            max_periods: DEFAULT_MAX_PERIODS,
+            max_events: Some(DEFAULT_MAX_EVENTS),
+            max_oscillations: Some(DEFAULT_MAX_OSCILLATIONS),
+            max_period_multiplicity: DEFAULT_MAX_PERIOD_MULTIPLICITY,
             fixed_periods: None,
             record_trajectory: false,
         }
@@ -82,7 +125,8 @@ pub enum Status {
 /// Why a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stop {
-    /// The motion repeated (or nothing could dissipate its transients).
+    /// The motion was decided: it repeated, or nothing can dissipate its transients (printed
+    /// `decided`).
     Decided,
     /// The requested number of periods was run.
     FixedPeriods,
@@ -155,10 +199,90 @@ pub enum SimulationError {
     /// The modal flow does not exist.
     #[error("flow: {0}")]
     Flow(#[from] FlowError),
-    /// Impacts accumulated without a resolution (more than a million in one period).
+    /// Impacts accumulated without a resolution (more than [`EVENT_STORM`] in one period).
     #[error("more than {0} events in one forcing period at t = {1}: an unresolved accumulation")]
     EventStorm(u64, f64),
 }
+
+/// Undamped elastic units (nothing dissipates) are run at most this many periods: no steady
+/// state can be reached, and 1000 periods are enough to report the motion's last stretch.
+pub const CONSERVATIVE_MAX_PERIODS: u64 = 1000;
+
+/// The oscillation cap never cuts a run below this many periods: enough sections to judge a
+/// repetition of multiplicity up to [`DEFAULT_MAX_PERIOD_MULTIPLICITY`] several times over.
+pub const MIN_OSCILLATION_PERIODS: u64 = 64;
+
+/// More events than this in one forcing period is an unresolved accumulation
+/// ([`SimulationError::EventStorm`]): a chatter sticks once its remaining bounces fit in `1e-5`
+/// of a period, after about `ln(1e5)/ln(1/e)` bounces from a flight of a period (~50 at
+/// `e = 0.8`, ~1100 at `e = 0.99`), so a million means the accumulation was not detected.
+pub const EVENT_STORM: u64 = 1_000_000;
+
+/// Dense samples per forcing period in [`SteadyState::trajectory`] (ends of each segment
+/// included): enough to draw a period's motion smoothly.
+pub const SAMPLES_PER_PERIOD: f64 = 200.0;
+
+/// A contact is an excursion beyond a stop deeper than this fraction of the gap scale (plus the
+/// rounding of the positions, [`POSITION_ROUNDING`]): a motion that touches a stop to rounding
+/// does not impact (no event storms at a graze).
+const CONTACT_DEPTH: f64 = 1e-12;
+
+/// Positions are known to this relative rounding of their size (`~100 ε`): an excursion beyond
+/// a stop smaller than that, relative to the largest position, is no contact (introduced for
+/// the base-amplitude-1e6 scene, whose positions dwarf the gap).
+const POSITION_ROUNDING: f64 = 1e-14;
+
+/// Velocities are known to this relative rounding of their size (`~1000 ε`, as they come out of
+/// sums of exponentials of size comparable to the largest velocity): a slower approach is a
+/// graze, not an impact.
+const VELOCITY_ROUNDING: f64 = 1e-13;
+
+/// A relative velocity below this fraction of `ω × gap` after an impact, with the stop pushing,
+/// is a pair at rest on the stop: it sticks.
+const RESTING_VELOCITY: f64 = 1e-10;
+
+/// After a release the pair leaves the stop with zero relative velocity and acceleration;
+/// rounding must not read that as a new contact, so contacts are ignored for this fraction of a
+/// period (a hundred times the default root tolerance).
+const RELEASE_GRACE: f64 = 1e-10;
+
+/// Chatter is cut short when the remaining bounces would all fit in this fraction of a period:
+/// the pair then sticks at once (the state error is of order the remaining relative velocity
+/// times that time). Raised from `1e-6` in commit 0846a1f (the study's 200-frequency sweep),
+/// having been `1e-9` before commit 87b7ae6.
+const CHATTER: f64 = 1e-5;
+
+/// Undamped motion with no impact for this many periods is reported as `NoDissipation`: nothing
+/// will ever dissipate its transients (unless a later beat reaches a stop; the status says so).
+const QUIET: u64 = 500;
+
+/// A period found while running is confirmed at the end with this many times the periodicity
+/// tolerance: a transient through complex multipliers does not decay monotonically, so the
+/// last two sections may repeat slightly less well than the two that triggered detection.
+const CONFIRMATION: f64 = 10.0;
+
+/// Differences within this factor of the tolerance at a smaller multiplicity make a period
+/// ambiguous: a transient decaying through a negative or complex Floquet multiplier can repeat
+/// at `2T` long before it repeats at `T`.
+const AMBIGUITY: f64 = 1e3;
+
+/// Relative accuracy of the closed-form extrema in the amplitudes (`|u_j|` maxima), relative
+/// to `1 + amplitude`: a few hundred rounding units, well below any reported digit.
+const AMPLITUDE_TOLERANCE: f64 = 1e-13;
+
+/// Records (impacts, trajectory samples) within this fraction of a period before the final
+/// cycle's start are kept in it: an impact at the section itself carries an absolute time that
+/// rounds to either side of `kT`.
+const CYCLE_START_SLACK: f64 = 1e-9;
+
+/// In the Gram–Schmidt of a stuck pair's basis of `d⊥`, a projected unit vector shorter than
+/// this is dependent on the ones kept and is dropped: the vectors are of length 1 or 0 up to
+/// rounding (`d` has entries ±1), so any threshold far from both works.
+const BASIS_DROP: f64 = 1e-8;
+
+/// Smallest scale divided by: keeps a relative measure finite when the scale is zero (a run at
+/// rest, a unit with no stops).
+const SCALE_FLOOR: f64 = 1e-300;
 
 /// Geometry of one contact pair.
 struct Pair {
@@ -187,11 +311,14 @@ struct Stuck {
     force_harmonic: nalgebra::Complex<f64>,
 }
 
+/// Free flight, or a pair held on a stop (an index into `Engine::stuck`).
+#[derive(Clone, Copy)]
 enum Mode {
     Free,
     Stuck(usize),
 }
 
+/// The solver: everything prepared once from the problem and fixed during the run.
 struct Engine<'m> {
     model: &'m Model,
     omega: f64,
@@ -201,8 +328,74 @@ struct Engine<'m> {
     /// `u_j` as functionals of the free flow's state, for the amplitudes.
     displacements: Vec<Functional>,
     pairs: Vec<Pair>,
+    /// Reduced flows of pairs held on a stop, built on first use.
     stuck: Vec<Stuck>,
+    /// Contact times are resolved to this (`root_tolerance × T`).
     time_tolerance: f64,
+    /// The largest gap: the scale of the periodicity test and of the contact thresholds.
+    scale: f64,
+    /// [`CONTACT_DEPTH`] × scale.
+    contact_depth: f64,
+    /// [`RESTING_VELOCITY`] × ω × scale.
+    resting_velocity: f64,
+    /// [`RELEASE_GRACE`] × T.
+    release_grace: f64,
+    /// Storage reused by every flight.
+    work: Scratch,
+}
+
+/// Storage reused by every flight, so that no flight allocates.
+#[derive(Default)]
+struct Scratch {
+    gap: ExpSum,
+    stack: SearchStack,
+    coordinate: ExpSum,
+    /// The exponentials of the search at the contact it found, for the contact state.
+    event_exponentials: Vec<nalgebra::Complex<f64>>,
+}
+
+/// The first contact of a flight: `s` after its start, pair `pair`, on `side`.
+#[derive(Clone, Copy)]
+struct Contact {
+    s: f64,
+    pair: usize,
+    side: i8,
+}
+
+/// The run's caps, fixed by the options before the first step.
+struct Plan {
+    /// Largest period multiplicity looked for.
+    p_max: usize,
+    /// The run ends after this many periods unless a rule ends it earlier.
+    limit: u64,
+    /// Why the run ended, if it reaches `limit`.
+    at_limit: Stop,
+    /// Periods observed at the end of a run that found no period (amplitudes, impacts).
+    window_len: u64,
+    /// A fixed number of periods: no rule ends the run early.
+    fixed: bool,
+    max_events: Option<u64>,
+    periodicity_tolerance: f64,
+    record_trajectory: bool,
+}
+
+/// A decision taken at a section: run `until` period `until`, observing the final `cycle`
+/// periods, then stop for `then`.
+#[derive(Clone, Copy)]
+struct Observation {
+    until: u64,
+    cycle: u32,
+    then: Stop,
+}
+
+/// What the stopping rules decide at a section.
+enum Decision {
+    /// Keep going.
+    Continue,
+    /// Observe a final stretch (amplitudes, impacts), then stop.
+    Observe(Observation),
+    /// The run is over.
+    Stop(Stop),
 }
 
 /// Records kept while the final cycle is being observed.
@@ -215,7 +408,66 @@ struct Window {
     trajectory: Vec<(f64, DVector<f64>)>,
 }
 
+/// The state of a run: everything that changes from one step to the next.
+struct RunState {
+    /// Forcing periods completed: the last section crossed is `t = kT`.
+    k: u64,
+    /// Time within the current period, in `[0, T]` (time is carried modulo the period so the
+    /// forcing phase stays exact).
+    tau: f64,
+    /// `(u, u̇)` at `kT + tau`.
+    y: DVector<f64>,
+    /// Free, or held on a stop.
+    mode: Mode,
+    /// Impacts over the whole run.
+    impacts: u64,
+    /// Events (impacts, grazes, sticks, releases) in the current period.
+    events_this_period: u64,
+    /// Events in the completed periods.
+    events_total: u64,
+    /// The period of the last impact.
+    last_impact_period: Option<u64>,
+    /// Contacts are ignored before this time within the period (just after a release or a
+    /// graze); `−∞` when none is pending.
+    grace: f64,
+    /// Stroboscopic history: the states at the last `p_max + 2` sections.
+    ring: VecDeque<DVector<f64>>,
+    /// Records of the final stretch, once it has begun.
+    window: Option<Window>,
+    /// The stopping rules' decision to end the run after an observed final stretch.
+    observing: Option<Observation>,
+}
+
+impl RunState {
+    /// Absolute time of the time `tau` within the current period of length `period`.
+    fn absolute(&self, period: f64, tau: f64) -> f64 {
+        self.k as f64 * period + tau
+    }
+
+    /// Counts one event of the current period.
+    ///
+    /// # Errors
+    /// [`SimulationError::EventStorm`] past [`EVENT_STORM`] events in one period.
+    fn count_event(&mut self, period: f64) -> Result<(), SimulationError> {
+        self.events_this_period += 1;
+        if self.events_this_period > EVENT_STORM {
+            return Err(SimulationError::EventStorm(
+                EVENT_STORM,
+                self.absolute(period, self.tau),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Simulates `model` at `omega` from `start` until steady (or for a fixed number of periods).
+///
+/// # Errors
+/// [`SimulationError::Omega`] for an `omega` that is not finite and positive,
+/// [`SimulationError::Start`] for a start state of the wrong length or not finite,
+/// [`SimulationError::Option`] for tolerances outside `(0, 1)` or a zero multiplicity,
+/// [`SimulationError::Flow`] when a modal flow does not exist (e.g. a defective system), and
+/// [`SimulationError::EventStorm`] when more than [`EVENT_STORM`] events fall in one period.
 pub fn simulate(
     model: &Model,
     omega: f64,
@@ -270,7 +522,7 @@ impl<'m> Engine<'m> {
             .clone()
             .try_inverse()
             .ok_or(FlowError::SingularMass)?;
-        let pairs = model
+        let pairs: Vec<Pair> = model
             .contacts
             .iter()
             .map(|c| {
@@ -298,6 +550,11 @@ impl<'m> Engine<'m> {
                 free.functional(&c)
             })
             .collect();
+        let scale = pairs
+            .iter()
+            .map(|p| p.spec.gap_plus.max(p.spec.gap_minus))
+            .fold(0.0, f64::max)
+            .max(SCALE_FLOOR);
         Ok(Self {
             model,
             omega,
@@ -308,6 +565,11 @@ impl<'m> Engine<'m> {
             pairs,
             stuck: Vec::new(),
             time_tolerance: options.root_tolerance * period,
+            scale,
+            contact_depth: CONTACT_DEPTH * scale,
+            resting_velocity: RESTING_VELOCITY * omega * scale,
+            release_grace: RELEASE_GRACE * period,
+            work: Scratch::default(),
         })
     }
 
@@ -333,7 +595,7 @@ impl<'m> Engine<'m> {
             for b in &basis {
                 v -= b * b.dot(&v);
             }
-            if v.norm() > 1e-8 && basis.len() < n - 1 {
+            if v.norm() > BASIS_DROP && basis.len() < n - 1 {
                 basis.push(v.normalize());
             }
         }
@@ -380,13 +642,6 @@ impl<'m> Engine<'m> {
         Ok(self.stuck.len() - 1)
     }
 
-    fn gap_scale(&self) -> f64 {
-        self.pairs
-            .iter()
-            .map(|p| p.spec.gap_plus.max(p.spec.gap_minus))
-            .fold(0.0, f64::max)
-    }
-
     /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`:
     /// `(M⁻¹d) · (f(τ) − K u − C u̇)`.
     fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
@@ -407,353 +662,485 @@ impl<'m> Engine<'m> {
             .sum()
     }
 
+    /// The run: `init`, then `next_iter` until `terminate` says why it ends, then the report.
     fn run(
         &mut self,
         start: &Start,
         options: &SimulationOptions,
     ) -> Result<SteadyState, SimulationError> {
-        let n = self.n;
-        let period = self.period;
-        let mut k: u64 = 0;
-        let mut tau = start.time.rem_euclid(period);
-        let mut y = start.state.clone();
-        let mut mode = Mode::Free;
-        let mut impacts: u64 = 0;
+        let plan = self.plan(options);
+        let mut state = self.init(start, &plan);
+        let stop = loop {
+            if self.next_iter(&mut state, &plan)? {
+                if let Some(stop) = self.terminate(&mut state, &plan) {
+                    break stop;
+                }
+            }
+        };
+        Ok(self.report(state, stop, &plan))
+    }
+
+    /// The caps of this run.
+    fn plan(&self, options: &SimulationOptions) -> Plan {
         let p_max = options.max_period_multiplicity as usize;
-        let mut ring: VecDeque<DVector<f64>> = VecDeque::with_capacity(p_max + 2);
         let conservative = self.model.conservative();
-        // Periods allowed by the oscillation cap (at least 64, enough to judge a period).
+        // Periods allowed by the oscillation cap.
         let oscillation_periods = options.max_oscillations.map_or(u64::MAX, |cap| {
             let per_period = self.free.fastest_rate() / self.omega;
-            ((cap / per_period.max(1e-300)).floor() as u64).max(64)
+            ((cap / per_period.max(SCALE_FLOOR)).floor() as u64).max(MIN_OSCILLATION_PERIODS)
         });
-        let limit = match options.fixed_periods {
-            Some(n) => n,
-            None if conservative => options.max_periods.min(1000).min(oscillation_periods),
-            None => options.max_periods.min(oscillation_periods),
-        };
-        let window_len = (p_max as u64).min(limit);
-        // Early stop when periodic: detect, then observe `p` more periods.
-        let mut observe_until: Option<(u64, u32)> = None;
-        let mut window: Option<Window> = None;
-        let mut last_impact_period: Option<u64> = None;
-        // Chatter bookkeeping.
-        let mut events_this_period: u64 = 0;
-        let mut events_total: u64 = 0;
-        let mut stopped = if options.fixed_periods.is_some() {
-            Stop::FixedPeriods
-        } else if oscillation_periods
-            < options
-                .max_periods
-                .min(if conservative { 1000 } else { u64::MAX })
-        {
-            Stop::OscillationCap
+        let period_cap = if conservative {
+            options.max_periods.min(CONSERVATIVE_MAX_PERIODS)
         } else {
-            Stop::PeriodCap
+            options.max_periods
         };
-        let tol_scale = self.gap_scale().max(1e-300);
-        let depth = 1e-12 * tol_scale;
-        let v_tiny = 1e-10 * self.omega * tol_scale;
-        // After a release the pair leaves the stop with zero relative velocity and acceleration;
-        // rounding must not read that as a new contact. Contacts are ignored until `grace`.
-        let settle = 1e-10 * period;
-        let mut grace = f64::NEG_INFINITY;
-        // Storage reused by every flight.
-        let mut gap = ExpSum::default();
-        let mut stack = SearchStack::default();
-        let mut coordinate = ExpSum::default();
-        let mut event_exponentials = Vec::new();
+        let (limit, at_limit) = match options.fixed_periods {
+            Some(n) => (n, Stop::FixedPeriods),
+            None if oscillation_periods < period_cap => (oscillation_periods, Stop::OscillationCap),
+            None => (period_cap, Stop::PeriodCap),
+        };
+        Plan {
+            p_max,
+            limit,
+            at_limit,
+            window_len: (p_max as u64).min(limit),
+            fixed: options.fixed_periods.is_some(),
+            max_events: options.max_events,
+            periodicity_tolerance: options.periodicity_tolerance,
+            record_trajectory: options.record_trajectory,
+        }
+    }
 
-        if tau == 0.0 {
-            ring.push_back(y.clone()); // the start is itself a section
-        }
-        loop {
-            // Start the observation window.
-            let window_start = match (options.fixed_periods, observe_until) {
-                (_, Some((until, p))) => until - p as u64,
-                _ => limit.saturating_sub(window_len),
-            };
-            if window.is_none() && k >= window_start {
-                let mut w = Window {
-                    amplitudes: vec![0.0; n],
-                    ..Window::default()
-                };
-                if tau == 0.0 {
-                    w.stroboscopic.push(y.clone());
-                }
-                window = Some(w);
-            }
-            let horizon = period - tau;
-            let absolute = |tau: f64| k as f64 * period + tau;
-            match mode {
-                Mode::Free => {
-                    let flight = self.free.flight(&y, tau);
-                    // Positions are known to rounding relative to their size, not to the gap:
-                    // an excursion beyond a stop smaller than that is no contact.
-                    let position_scale = y.rows(0, n).amax();
-                    let depth = depth + 1e-14 * position_scale;
-                    let mut event: Option<(f64, usize, i8)> = None;
-                    for (i, p) in self.pairs.iter().enumerate() {
-                        flight.expand(&p.relative_displacement, &mut gap);
-                        if let Some((s, side)) = gap.first_exit(
-                            -p.spec.gap_minus,
-                            p.spec.gap_plus,
-                            horizon,
-                            self.time_tolerance,
-                            depth,
-                            &mut stack,
-                        ) {
-                            if event.is_none_or(|e| s < e.0) {
-                                event = Some((s, i, side));
-                                event_exponentials.clear();
-                                if let Some(e) = stack.exponentials_at(s) {
-                                    event_exponentials.extend_from_slice(e);
-                                }
-                            }
-                        }
-                    }
-                    if let Some((s, _, _)) = event {
-                        if tau + s < grace {
-                            // Just released: step past the stop's edge without an event.
-                            let step = (grace - tau).min(horizon);
-                            y = flight.state(step);
-                            tau += step;
-                            if tau >= period {
-                                tau = period;
-                            } else {
-                                continue;
-                            }
-                        }
-                    }
-                    let event = event.filter(|_| tau < period);
-                    let span = if tau >= period {
-                        0.0
-                    } else {
-                        event.map_or(horizon, |e| e.0)
-                    };
-                    if let Some(w) = window.as_mut() {
-                        for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
-                            flight.expand(u, &mut coordinate);
-                            *amp = coordinate.max_abs(span, *amp, 1e-13 * (1.0 + *amp));
-                        }
-                        if options.record_trajectory {
-                            sample(&mut w.trajectory, span, period, |s| {
-                                (absolute(tau + s), flight.state(s))
-                            });
-                        }
-                    }
-                    match event {
-                        None if tau >= period => {}
-                        None => {
-                            flight.state_into(horizon, &mut y);
-                            tau = period;
-                        }
-                        Some((s, i, side)) => {
-                            // Just before the event.
-                            flight.state_at(s, &event_exponentials, &mut y);
-                            tau += s;
-                            events_this_period += 1;
-                            if events_this_period > 1_000_000 {
-                                return Err(SimulationError::EventStorm(1_000_000, absolute(tau)));
-                            }
-                            let p = &self.pairs[i];
-                            let rdot = p.direction.dot(&y.rows(n, n));
-                            // Only an approach counts as an impact; a start on the stop moving
-                            // out of it (rounding) is handled as sticking below.
-                            let e = p.spec.restitution;
-                            // Velocities are known to rounding relative to their size: a slower
-                            // approach is a graze, not an impact.
-                            let velocity_round = 1e-13 * y.rows(n, n).amax();
-                            let approaching = rdot * side as f64 > velocity_round;
-                            if approaching {
-                                if let Some(w) = window.as_mut() {
-                                    w.impacts.push(ImpactRecord {
-                                        time: absolute(tau),
-                                        phase: tau,
-                                        pair: i,
-                                        side,
-                                        state_before: y.clone(),
-                                        relative_velocity: rdot,
-                                    });
-                                }
-                                self.model.apply_impact(i, &mut y, None);
-                                impacts += 1;
-                                last_impact_period = Some(k);
-                            }
-                            // Stick? Post-impact relative speed, and the free relative
-                            // acceleration pushing into the stop.
-                            let rdot_after = p.direction.dot(&y.rows(n, n));
-                            let push = self.free_relative_acceleration(p, &y, tau) * side as f64;
-                            let accumulation = if push > 0.0 && e < 1.0 {
-                                2.0 * rdot_after.abs() / (push * (1.0 - e))
-                            } else {
-                                f64::INFINITY
-                            };
-                            let stick = push > 0.0
-                                && (rdot_after.abs() <= v_tiny + velocity_round
-                                    || accumulation < CHATTER * period
-                                    || !approaching);
-                            if !approaching && !stick {
-                                // A touch that is neither an impact nor a hold (rounding at a
-                                // graze): step past it rather than find it again.
-                                grace = tau + settle;
-                            }
-                            if stick {
-                                // Plastic: relative velocity to zero, momentum kept.
-                                self.model.apply_impact(i, &mut y, Some(0.0));
-                                let idx = self.stuck_index(i, side)?;
-                                mode = Mode::Stuck(idx);
-                            }
-                        }
-                    }
-                }
-                Mode::Stuck(idx) => {
-                    let st = &self.stuck[idx];
-                    let nr = n - 1;
-                    // Reduced state: ũ = Tᵀ(u − u*), ũ̇ = Tᵀ u̇.
-                    let tt = st.basis.transpose();
-                    let mut yr = DVector::zeros(2 * nr);
-                    yr.rows_mut(0, nr)
-                        .copy_from(&(&tt * (y.rows(0, n) - &st.offset)));
-                    yr.rows_mut(nr, nr).copy_from(&(&tt * y.rows(n, n)));
-                    let flight = st.flow.flight(&yr, tau);
-                    let mut force = flight.value_of(&st.force_state).shifted(st.force_constant);
-                    let e = nalgebra::Complex::new(0.0, self.omega * tau).exp();
-                    force.terms.push(crate::expsum::Term {
-                        poly: [
-                            st.force_harmonic * e,
-                            Default::default(),
-                            Default::default(),
-                            Default::default(),
-                        ],
-                        rate: nalgebra::Complex::new(0.0, self.omega),
-                    });
-                    // Held while side·λ < 0: release at the first root of −side·λ.
-                    let hold = if st.side > 0 { force.negated() } else { force };
-                    // `hold` ≥ 0 at the start: the release is its first exit from [0, ∞).
-                    let release = hold
-                        .first_exit(
-                            0.0,
-                            f64::INFINITY,
-                            horizon,
-                            self.time_tolerance,
-                            0.0,
-                            &mut stack,
-                        )
-                        .map(|(s, _)| s);
-                    let span = release.unwrap_or(horizon);
-                    let full = |s: f64| {
-                        let r = flight.state(s);
-                        let mut out = DVector::zeros(2 * n);
-                        out.rows_mut(0, n)
-                            .copy_from(&(&st.basis * r.rows(0, nr) + &st.offset));
-                        out.rows_mut(n, n).copy_from(&(&st.basis * r.rows(nr, nr)));
-                        out
-                    };
-                    if let Some(w) = window.as_mut() {
-                        w.sticking = true;
-                        for (j, amp) in w.amplitudes.iter_mut().enumerate() {
-                            // u_j = T_j · ũ + offset_j.
-                            let mut c = DVector::zeros(2 * nr);
-                            c.rows_mut(0, nr).copy_from(&st.basis.row(j).transpose());
-                            let f = flight.value_of(&c).shifted(st.offset[j]);
-                            *amp = f.max_abs(span, *amp, 1e-13 * (1.0 + *amp));
-                        }
-                        if options.record_trajectory {
-                            sample(&mut w.trajectory, span, period, |s| {
-                                (absolute(tau + s), full(s))
-                            });
-                        }
-                    }
-                    y = full(span);
-                    match release {
-                        Some(s) => {
-                            tau += s;
-                            grace = tau + settle;
-                            mode = Mode::Free;
-                            events_this_period += 1;
-                            if events_this_period > 1_000_000 {
-                                return Err(SimulationError::EventStorm(1_000_000, absolute(tau)));
-                            }
-                        }
-                        None => tau = period,
-                    }
-                }
-            }
-            if tau < period {
-                continue;
-            }
-            // Section t = (k + 1)T.
-            k += 1;
-            tau = 0.0;
-            events_total += events_this_period;
-            events_this_period = 0;
-            grace = f64::NEG_INFINITY; // `grace` is a time within the period just ended
-            if let Some(w) = window.as_mut() {
-                w.stroboscopic.push(y.clone());
-            }
-            ring.push_back(y.clone());
-            if ring.len() > p_max + 2 {
-                ring.pop_front();
-            }
-            let out_of_events = options.fixed_periods.is_none()
-                && observe_until.is_none()
-                && options.max_events.is_some_and(|cap| events_total > cap);
-            if out_of_events {
-                // Observe one more stretch for the amplitudes, then stop.
-                stopped = Stop::EventCap;
-                observe_until = Some((k + window_len, window_len as u32));
-                window = None;
-                continue;
-            }
-            let done = match observe_until {
-                Some((until, _)) => k >= until,
-                None => k >= limit,
-            };
-            // Undamped and no impact for QUIET periods: nothing will ever dissipate the
-            // transients (unless a later beat reaches a stop; the status says so).
-            let quiet = !self.model.has_damping()
-                && options.fixed_periods.is_none()
-                && observe_until.is_none()
-                && k >= QUIET
-                && last_impact_period.is_none_or(|last| k - last > QUIET);
-            if quiet && window.is_none() {
-                // Observe one more stretch for the amplitudes, then stop.
-                observe_until = Some((k + window_len, window_len as u32));
-                continue;
-            }
-            if done {
-                break;
-            }
-            if options.fixed_periods.is_none() && observe_until.is_none() {
-                if let Some(p) =
-                    least_period(&ring, p_max, options.periodicity_tolerance, tol_scale)
-                {
-                    observe_until = Some((k + p as u64, p));
-                    window = None;
-                }
-            }
-        }
-        let window = window.unwrap_or_default();
-        // A period detected while running is confirmed at the end with ten times the
-        // tolerance (a transient through complex multipliers does not decay monotonically);
-        // a fixed run is judged from its tail alone.
-        let period_found = match observe_until {
-            Some((_, p)) if stopped != Stop::EventCap => {
-                (repeat_error(&ring, p as usize, scale_floor(&ring, tol_scale))
-                    <= 10.0 * options.periodicity_tolerance)
-                    .then_some(p)
-            }
-            _ => least_period(&ring, p_max, options.periodicity_tolerance, tol_scale),
+    /// The state at the start: free, at `start`, its time carried modulo the period.
+    fn init(&self, start: &Start, plan: &Plan) -> RunState {
+        let mut state = RunState {
+            k: 0,
+            tau: start.time.rem_euclid(self.period),
+            y: start.state.clone(),
+            mode: Mode::Free,
+            impacts: 0,
+            events_this_period: 0,
+            events_total: 0,
+            last_impact_period: None,
+            grace: f64::NEG_INFINITY,
+            ring: VecDeque::with_capacity(plan.p_max + 2),
+            window: None,
+            observing: None,
         };
-        if matches!(stopped, Stop::PeriodCap | Stop::OscillationCap) && observe_until.is_some() {
-            stopped = Stop::Decided;
+        if state.tau == 0.0 {
+            state.ring.push_back(state.y.clone()); // the start is itself a section
         }
-        let no_recent_impacts =
-            last_impact_period.is_none_or(|last| k.saturating_sub(last) > window_len);
+        state
+    }
+
+    /// One step: a free flight or a stuck phase, up to its first event or to the next section
+    /// `t = (k + 1)T`; at the section, the section check. Returns whether a section was reached.
+    ///
+    /// # Errors
+    /// [`SimulationError::EventStorm`], and [`SimulationError::Flow`] when a stuck flow does not
+    /// exist.
+    fn next_iter(&mut self, state: &mut RunState, plan: &Plan) -> Result<bool, SimulationError> {
+        self.open_window(state, plan);
+        match state.mode {
+            Mode::Free => self.free_flight(state, plan)?,
+            Mode::Stuck(index) => self.stuck_phase(state, index, plan)?,
+        }
+        if state.tau < self.period {
+            return Ok(false);
+        }
+        self.section(state, plan);
+        Ok(true)
+    }
+
+    /// Starts recording the final stretch when its first period begins.
+    fn open_window(&self, state: &mut RunState, plan: &Plan) {
+        let window_start = match state.observing {
+            Some(o) => o.until - o.cycle as u64,
+            None => plan.limit.saturating_sub(plan.window_len),
+        };
+        if state.window.is_none() && state.k >= window_start {
+            let mut w = Window {
+                amplitudes: vec![0.0; self.n],
+                ..Window::default()
+            };
+            if state.tau == 0.0 {
+                w.stroboscopic.push(state.y.clone());
+            }
+            state.window = Some(w);
+        }
+    }
+
+    /// The first contact of `flight` within `horizon`, if any: every pair's relative
+    /// displacement searched for its first exit from `[−gap_minus, gap_plus]`. Leaves the
+    /// search's exponentials at the contact in `work.event_exponentials`.
+    fn first_contact(
+        pairs: &[Pair],
+        work: &mut Scratch,
+        flight: &Flight<'_>,
+        horizon: f64,
+        time_tolerance: f64,
+        depth: f64,
+    ) -> Option<Contact> {
+        let mut contact: Option<Contact> = None;
+        for (i, p) in pairs.iter().enumerate() {
+            flight.expand(&p.relative_displacement, &mut work.gap);
+            if let Some((s, side)) = work.gap.first_exit(
+                -p.spec.gap_minus,
+                p.spec.gap_plus,
+                horizon,
+                time_tolerance,
+                depth,
+                &mut work.stack,
+            ) {
+                if contact.is_none_or(|c| s < c.s) {
+                    contact = Some(Contact { s, pair: i, side });
+                    work.event_exponentials.clear();
+                    if let Some(e) = work.stack.exponentials_at(s) {
+                        work.event_exponentials.extend_from_slice(e);
+                    }
+                }
+            }
+        }
+        contact
+    }
+
+    /// Free flight: the closed-form flow from the current state to its first contact (then the
+    /// contact event) or to the next section.
+    fn free_flight(&mut self, state: &mut RunState, plan: &Plan) -> Result<(), SimulationError> {
+        let n = self.n;
+        let period = self.period;
+        let horizon = period - state.tau;
+        let flight = self.free.flight(&state.y, state.tau);
+        // Positions are known to rounding relative to their size, not to the gap: an excursion
+        // beyond a stop smaller than that is no contact.
+        let depth = self.contact_depth + POSITION_ROUNDING * state.y.rows(0, n).amax();
+        let contact = Self::first_contact(
+            &self.pairs,
+            &mut self.work,
+            &flight,
+            horizon,
+            self.time_tolerance,
+            depth,
+        );
+        if let Some(c) = contact {
+            if state.tau + c.s < state.grace {
+                // Just released (or grazed): step past the stop's edge without an event.
+                let step = (state.grace - state.tau).min(horizon);
+                state.y = flight.state(step);
+                state.tau += step;
+                if state.tau >= period {
+                    state.tau = period;
+                } else {
+                    return Ok(());
+                }
+            }
+        }
+        let contact = contact.filter(|_| state.tau < period);
+        let span = if state.tau >= period {
+            0.0
+        } else {
+            contact.map_or(horizon, |c| c.s)
+        };
+        let tau = state.tau;
+        let k = state.k;
+        if let Some(w) = state.window.as_mut() {
+            for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
+                flight.expand(u, &mut self.work.coordinate);
+                *amp = self
+                    .work
+                    .coordinate
+                    .max_abs(span, *amp, AMPLITUDE_TOLERANCE * (1.0 + *amp));
+            }
+            if plan.record_trajectory {
+                sample(&mut w.trajectory, span, period, |s| {
+                    (k as f64 * period + (tau + s), flight.state(s))
+                });
+            }
+        }
+        match contact {
+            None if state.tau >= period => {}
+            None => {
+                flight.state_into(horizon, &mut state.y);
+                state.tau = period;
+            }
+            Some(c) => {
+                // Just before the contact.
+                flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
+                state.tau += c.s;
+                self.contact(state, c)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// A contact found by the search, with the state just before it: an impact if the pair
+    /// approaches the stop, then a stick if the stop holds it (or the chatter would accumulate
+    /// within [`CHATTER`] of a period); otherwise a graze, stepped past.
+    fn contact(&mut self, state: &mut RunState, c: Contact) -> Result<(), SimulationError> {
+        let n = self.n;
+        state.count_event(self.period)?;
+        let p = &self.pairs[c.pair];
+        let side = c.side as f64;
+        let rdot = p.direction.dot(&state.y.rows(n, n));
+        // Only an approach counts as an impact; a start on the stop moving out of it (rounding)
+        // is handled as sticking below. Velocities are known to rounding relative to their size:
+        // a slower approach is a graze, not an impact.
+        let velocity_round = VELOCITY_ROUNDING * state.y.rows(n, n).amax();
+        let approaching = rdot * side > velocity_round;
+        if approaching {
+            self.impact(state, c, rdot);
+        }
+        // Stick? Post-impact relative speed, and the free relative acceleration pushing into the
+        // stop.
+        let e = p.spec.restitution;
+        let rdot_after = p.direction.dot(&state.y.rows(n, n));
+        let push = self.free_relative_acceleration(p, &state.y, state.tau) * side;
+        let accumulation = if push > 0.0 && e < 1.0 {
+            2.0 * rdot_after.abs() / (push * (1.0 - e))
+        } else {
+            f64::INFINITY
+        };
+        let stick = push > 0.0
+            && (rdot_after.abs() <= self.resting_velocity + velocity_round
+                || accumulation < CHATTER * self.period
+                || !approaching);
+        if stick {
+            self.stick(state, c)?;
+        } else if !approaching {
+            // A touch that is neither an impact nor a hold (rounding at a graze): step past it
+            // rather than find it again.
+            state.grace = state.tau + self.release_grace;
+        }
+        Ok(())
+    }
+
+    /// Event: impact of pair `c.pair` on side `c.side`, approaching at `rdot`. Newton
+    /// restitution along the contact direction, momentum kept.
+    fn impact(&self, state: &mut RunState, c: Contact, rdot: f64) {
+        if let Some(w) = state.window.as_mut() {
+            w.impacts.push(ImpactRecord {
+                time: state.k as f64 * self.period + state.tau,
+                phase: state.tau,
+                pair: c.pair,
+                side: c.side,
+                state_before: state.y.clone(),
+                relative_velocity: rdot,
+            });
+        }
+        self.model.apply_impact(c.pair, &mut state.y, None);
+        state.impacts += 1;
+        state.last_impact_period = Some(state.k);
+    }
+
+    /// Event: pair `c.pair` sticks on side `c.side`. Plastic: relative velocity to zero,
+    /// momentum kept; the run continues on the reduced flow.
+    fn stick(&mut self, state: &mut RunState, c: Contact) -> Result<(), SimulationError> {
+        self.model.apply_impact(c.pair, &mut state.y, Some(0.0));
+        let index = self.stuck_index(c.pair, c.side)?;
+        state.mode = Mode::Stuck(index);
+        Ok(())
+    }
+
+    /// Event: the held pair is released `s` into the stuck phase (the contact force would pull);
+    /// the run continues in free flight.
+    fn release(&self, state: &mut RunState, s: f64) -> Result<(), SimulationError> {
+        state.tau += s;
+        state.grace = state.tau + self.release_grace;
+        state.mode = Mode::Free;
+        state.count_event(self.period)
+    }
+
+    /// Stuck phase: the pair held on its stop moves on the reduced flow until the contact force
+    /// would pull (then the release event) or to the next section.
+    ///
+    /// While a pair is held, other pairs are not watched (the two-degree-of-freedom unit has
+    /// one).
+    fn stuck_phase(
+        &mut self,
+        state: &mut RunState,
+        index: usize,
+        plan: &Plan,
+    ) -> Result<(), SimulationError> {
+        let n = self.n;
+        let period = self.period;
+        let horizon = period - state.tau;
+        let tau = state.tau;
+        let st = &self.stuck[index];
+        let nr = n - 1;
+        // Reduced state: ũ = Tᵀ(u − u*), ũ̇ = Tᵀ u̇.
+        let tt = st.basis.transpose();
+        let mut yr = DVector::zeros(2 * nr);
+        yr.rows_mut(0, nr)
+            .copy_from(&(&tt * (state.y.rows(0, n) - &st.offset)));
+        yr.rows_mut(nr, nr).copy_from(&(&tt * state.y.rows(n, n)));
+        let flight = st.flow.flight(&yr, tau);
+        let mut force = flight.value_of(&st.force_state).shifted(st.force_constant);
+        let e = nalgebra::Complex::new(0.0, self.omega * tau).exp();
+        force.terms.push(crate::expsum::Term {
+            poly: [
+                st.force_harmonic * e,
+                Default::default(),
+                Default::default(),
+                Default::default(),
+            ],
+            rate: nalgebra::Complex::new(0.0, self.omega),
+        });
+        // Held while side·λ < 0: release at the first root of −side·λ.
+        let hold = if st.side > 0 { force.negated() } else { force };
+        // `hold` ≥ 0 at the start: the release is its first exit from [0, ∞).
+        let release = hold
+            .first_exit(
+                0.0,
+                f64::INFINITY,
+                horizon,
+                self.time_tolerance,
+                0.0,
+                &mut self.work.stack,
+            )
+            .map(|(s, _)| s);
+        let span = release.unwrap_or(horizon);
+        let full = |s: f64| {
+            let r = flight.state(s);
+            let mut out = DVector::zeros(2 * n);
+            out.rows_mut(0, n)
+                .copy_from(&(&st.basis * r.rows(0, nr) + &st.offset));
+            out.rows_mut(n, n).copy_from(&(&st.basis * r.rows(nr, nr)));
+            out
+        };
+        let k = state.k;
+        if let Some(w) = state.window.as_mut() {
+            w.sticking = true;
+            for (j, amp) in w.amplitudes.iter_mut().enumerate() {
+                // u_j = T_j · ũ + offset_j.
+                let mut c = DVector::zeros(2 * nr);
+                c.rows_mut(0, nr).copy_from(&st.basis.row(j).transpose());
+                let f = flight.value_of(&c).shifted(st.offset[j]);
+                *amp = f.max_abs(span, *amp, AMPLITUDE_TOLERANCE * (1.0 + *amp));
+            }
+            if plan.record_trajectory {
+                sample(&mut w.trajectory, span, period, |s| {
+                    (k as f64 * period + (tau + s), full(s))
+                });
+            }
+        }
+        state.y = full(span);
+        match release {
+            Some(s) => self.release(state, s)?,
+            None => state.tau = period,
+        }
+        Ok(())
+    }
+
+    /// The section check at `t = (k + 1)T`: the period is counted, the stroboscopic state
+    /// recorded.
+    fn section(&self, state: &mut RunState, plan: &Plan) {
+        state.k += 1;
+        state.tau = 0.0;
+        state.events_total += state.events_this_period;
+        state.events_this_period = 0;
+        state.grace = f64::NEG_INFINITY; // `grace` is a time within the period just ended
+        if let Some(w) = state.window.as_mut() {
+            w.stroboscopic.push(state.y.clone());
+        }
+        state.ring.push_back(state.y.clone());
+        if state.ring.len() > plan.p_max + 2 {
+            state.ring.pop_front();
+        }
+    }
+
+    /// At a section: applies the stopping rules' decision; `Some` when the run is over.
+    fn terminate(&self, state: &mut RunState, plan: &Plan) -> Option<Stop> {
+        match self.stopping_rule(state, plan) {
+            Decision::Continue => None,
+            Decision::Observe(observation) => {
+                state.observing = Some(observation);
+                state.window = None;
+                None
+            }
+            Decision::Stop(stop) => Some(stop),
+        }
+    }
+
+    /// The stopping rules, all of them, checked at each section in this order:
+    ///
+    /// 1. **Event cap** ([`SimulationOptions::max_events`]): a motion with very many events per
+    ///    period would take unbounded time; observe one more stretch for the amplitudes, then
+    ///    stop ([`Stop::EventCap`]).
+    /// 2. **Quiet**: undamped and no impact for [`QUIET`] periods, nothing will ever dissipate
+    ///    the transients; observe one more stretch, then stop ([`Stop::Decided`]).
+    /// 3. **End of the run**: after an observed stretch, for its reason; otherwise at the plan's
+    ///    limit: the fixed number of periods ([`Stop::FixedPeriods`]), the period cap
+    ///    ([`Stop::PeriodCap`], [`CONSERVATIVE_MAX_PERIODS`] for units that cannot settle) or
+    ///    the oscillation cap ([`Stop::OscillationCap`]), whichever is smaller, so every run
+    ///    ends.
+    /// 4. **Periodic**: the stroboscopic state repeats with least multiplicity `p`
+    ///    ([`least_period`]); observe the `p`-period cycle for its amplitudes and impacts, then
+    ///    stop ([`Stop::Decided`]).
+    ///
+    /// Rules 1, 2 and 4 only apply while running until steady and nothing is decided yet.
+    fn stopping_rule(&self, state: &RunState, plan: &Plan) -> Decision {
+        let deciding = !plan.fixed && state.observing.is_none();
+        let observe = |cycle: u64, then: Stop| {
+            Decision::Observe(Observation {
+                until: state.k + cycle,
+                cycle: cycle as u32,
+                then,
+            })
+        };
+        if deciding && plan.max_events.is_some_and(|cap| state.events_total > cap) {
+            return observe(plan.window_len, Stop::EventCap);
+        }
+        let quiet = deciding
+            && !self.model.has_damping()
+            && state.k >= QUIET
+            && state
+                .last_impact_period
+                .is_none_or(|last| state.k - last > QUIET);
+        if quiet && state.window.is_none() {
+            return observe(plan.window_len, Stop::Decided);
+        }
+        match state.observing {
+            Some(o) if state.k >= o.until => return Decision::Stop(o.then),
+            None if state.k >= plan.limit => return Decision::Stop(plan.at_limit),
+            _ => {}
+        }
+        if deciding {
+            if let Some(p) = least_period(
+                &state.ring,
+                plan.p_max,
+                plan.periodicity_tolerance,
+                self.scale,
+            ) {
+                return observe(p as u64, Stop::Decided);
+            }
+        }
+        Decision::Continue
+    }
+
+    /// The steady state (or the tail of the run) from the final state.
+    fn report(&self, state: RunState, stopped: Stop, plan: &Plan) -> SteadyState {
+        let period = self.period;
+        let k = state.k;
+        let ring = &state.ring;
+        let window = state.window.unwrap_or_default();
+        // A period decided while running is confirmed at the end with CONFIRMATION times the
+        // tolerance; a run stopped by a cap or a fixed run is judged from its tail alone.
+        let period_found = match state.observing {
+            Some(o) if o.then == Stop::Decided => {
+                (repeat_error(ring, o.cycle as usize, scale_floor(ring, self.scale))
+                    <= CONFIRMATION * plan.periodicity_tolerance)
+                    .then_some(o.cycle)
+            }
+            _ => least_period(ring, plan.p_max, plan.periodicity_tolerance, self.scale),
+        };
+        let no_recent_impacts = state
+            .last_impact_period
+            .is_none_or(|last| k.saturating_sub(last) > plan.window_len);
         let status = match period_found {
             Some(_) => Status::Periodic,
-            None if conservative || (!self.model.has_damping() && no_recent_impacts) => {
+            None if self.model.conservative()
+                || (!self.model.has_damping() && no_recent_impacts) =>
+            {
                 Status::NoDissipation
             }
             None => Status::NonPeriodic,
@@ -764,10 +1151,11 @@ impl<'m> Engine<'m> {
             None => (window.stroboscopic.len().saturating_sub(1) as u64).max(1),
         };
         let cycle_start = (k - cycle.min(k)) as f64 * period;
+        let slack = CYCLE_START_SLACK * period;
         let cycle_impacts: Vec<ImpactRecord> = window
             .impacts
             .iter()
-            .filter(|i| i.time >= cycle_start - 1e-9 * period)
+            .filter(|i| i.time >= cycle_start - slack)
             .cloned()
             .collect();
         let stroboscopic: Vec<DVector<f64>> = window
@@ -776,14 +1164,14 @@ impl<'m> Engine<'m> {
             .skip(window.stroboscopic.len().saturating_sub(cycle as usize + 1))
             .cloned()
             .collect();
-        let trajectory = options.record_trajectory.then(|| {
+        let trajectory = plan.record_trajectory.then(|| {
             window
                 .trajectory
                 .into_iter()
-                .filter(|(t, _)| *t >= cycle_start - 1e-9 * period)
+                .filter(|(t, _)| *t >= cycle_start - slack)
                 .collect()
         });
-        Ok(SteadyState {
+        SteadyState {
             status,
             period: period_found,
             impacts_per_period: cycle_impacts.len() as f64 / cycle as f64,
@@ -791,34 +1179,26 @@ impl<'m> Engine<'m> {
             sticking: window.sticking,
             stopped,
             periods_run: k,
-            impacts,
+            impacts: state.impacts,
             cycle_impacts,
             stroboscopic,
             final_state: Start {
-                state: y,
+                state: state.y,
                 time: 0.0,
             },
             trajectory,
-        })
+        }
     }
 }
 
-/// Chatter is cut short when the remaining bounces would all fit in this fraction of a period:
-/// the pair then sticks at once (the state error is of order the remaining relative velocity
-/// times that time).
-const CHATTER: f64 = 1e-5;
-
-/// Undamped motion with no impact for this many periods is reported as `NoDissipation`.
-const QUIET: u64 = 500;
-
-/// Dense samples of a segment: about 200 per forcing period, ends included.
+/// Dense samples of a segment: [`SAMPLES_PER_PERIOD`] per forcing period, ends included.
 fn sample<F: Fn(f64) -> (f64, DVector<f64>)>(
     out: &mut Vec<(f64, DVector<f64>)>,
     span: f64,
     period: f64,
     at: F,
 ) {
-    let count = ((span / period) * 200.0).ceil().max(1.0) as usize;
+    let count = ((span / period) * SAMPLES_PER_PERIOD).ceil().max(1.0) as usize;
     for i in 0..=count {
         out.push(at(span * i as f64 / count as f64));
     }
@@ -848,15 +1228,10 @@ fn repeat_error(ring: &VecDeque<DVector<f64>>, p: usize, floor: f64) -> f64 {
                 .map(|(x, y)| (x - y) * (x - y))
                 .sum::<f64>()
                 .sqrt();
-            diff / a.norm().max(floor).max(1e-300)
+            diff / a.norm().max(floor).max(SCALE_FLOOR)
         })
         .fold(0.0, f64::max)
 }
-
-/// Differences within this factor of the tolerance at a smaller multiplicity make a period
-/// ambiguous: a transient decaying through a negative or complex Floquet multiplier can repeat
-/// at `2T` long before it repeats at `T`.
-const AMBIGUITY: f64 = 1e3;
 
 /// The least `p` with `|x_k − x_{k−p}| ≤ tol·scale` at the last two sections, provided no
 /// smaller multiplicity comes within [`AMBIGUITY`] of the tolerance (then it is too early to

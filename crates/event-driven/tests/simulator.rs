@@ -1,9 +1,12 @@
 //! The simulator against independent references: a generic integrator written here, the
 //! conservation laws of an impact, and the behaviours the physics notes require.
 
-use nalgebra::{Complex, DMatrix, DVector};
+use nalgebra::{DMatrix, DVector};
 use rattle_event_driven::flow::LinearFlow;
-use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
+use rattle_event_driven::test_models::{
+    far_stops_unit, free_flight_to_a_stop, linear_damped_unit, paper_impact, paper_unit,
+    LinearSteadyState, LIGHT_DAMPING,
+};
 use rattle_event_driven::*;
 
 const M: [f64; 2] = [2.0, 1.0];
@@ -98,8 +101,8 @@ fn closed_form_flow_matches_a_generic_integrator() {
 #[test]
 fn impacts_conserve_momentum_and_lose_the_predicted_energy() {
     for e in [0.0, 0.3, 0.8, 1.0] {
-        let model = paper_unit(2.0, None, Some((0.5, e)));
-        let before = DVector::from_vec(vec![0.4, -1.3]);
+        let (model, answer) = paper_impact(e);
+        let before = DVector::from_column_slice(&answer.before);
         let after = model.impact_velocities(0, &before, None);
         let p = |v: &DVector<f64>| M[0] * v[0] + M[1] * v[1];
         let energy = |v: &DVector<f64>| 0.5 * (M[0] * v[0] * v[0] + M[1] * v[1] * v[1]);
@@ -112,6 +115,19 @@ fn impacts_conserve_momentum_and_lose_the_predicted_energy() {
             (lost - 0.5 * mu * (1.0 - e * e) * rdot * rdot).abs() < 1e-14,
             "e={e}"
         );
+        // Against the impact matrix written out in the test model: equal to rounding (a few
+        // ulps of velocities of size ~1).
+        for i in 0..2 {
+            assert!(
+                (after[i] - answer.after[i]).abs() < 4.0 * f64::EPSILON,
+                "e={e}: {} vs {}",
+                after[i],
+                answer.after[i]
+            );
+        }
+        assert!((p(&after) - answer.momentum).abs() < 1e-14);
+        assert!(((after[1] - after[0]) - answer.relative_velocity_after).abs() < 1e-14);
+        assert!((lost - answer.energy_lost).abs() < 1e-14);
     }
 }
 
@@ -145,26 +161,9 @@ fn no_penetration_between_events_and_impacts_conserve_momentum_in_the_run() {
     }
 }
 
-/// Steady state of the linear unit (complex amplitudes), written here independently.
+/// Steady state of the linear unit, from the test model's closed form.
 fn linear_steady_state(omega: f64, damping: (f64, f64), t: f64) -> DVector<f64> {
-    let (co, ci) = damping;
-    let w2 = omega * omega;
-    let c = |re: f64, im: f64| Complex::new(re, im);
-    let d00 = c(9.0 - 2.0 * w2, omega * (co + ci));
-    let d01 = c(-3.0, -omega * ci);
-    let d11 = c(3.0 - w2, omega * ci);
-    let det = d00 * d11 - d01 * d01;
-    let f = c(6.0, omega * co);
-    let uo = d11 * f / det;
-    let ui = -d01 * f / det;
-    let e = Complex::new(0.0, omega * t).exp();
-    let iw = Complex::new(0.0, omega);
-    DVector::from_vec(vec![
-        (uo * e).re,
-        (ui * e).re,
-        (uo * iw * e).re,
-        (ui * iw * e).re,
-    ])
+    LinearSteadyState::of_paper_unit(omega, damping).state_at(t)
 }
 
 #[test]
@@ -318,4 +317,102 @@ fn bad_input_is_an_error_not_a_panic() {
     )
     .is_err());
     assert!(simulate(&model, 1.0, &Start::rest(3), &SimulationOptions::default()).is_err());
+}
+
+#[test]
+fn linear_unit_on_its_steady_state_has_the_closed_form_amplitudes() {
+    for omega in [0.5, 1.1, 2.0, 3.9] {
+        let case = linear_damped_unit(omega);
+        let options = SimulationOptions::default();
+        let s = simulate(&case.model, case.omega, &case.start, &options).unwrap();
+        assert_eq!(s.status, Status::Periodic, "ω={omega}");
+        assert_eq!(s.period, Some(1), "ω={omega}");
+        assert_eq!(s.impacts, 0);
+        // Started on the steady state the run repeats at once: the third section completes
+        // the two comparisons the periodicity test needs, then one period is observed.
+        assert_eq!(s.periods_run, 3, "ω={omega}");
+        // The amplitudes are closed-form extrema of the exact motion: as accurate as the
+        // simulator's accuracy knob (the root tolerance, relative).
+        for (got, want) in s.amplitudes.iter().zip(case.answer.amplitudes()) {
+            assert!(
+                (got - want).abs() <= options.root_tolerance * want,
+                "ω={omega}: {got} vs {want}"
+            );
+        }
+    }
+}
+
+#[test]
+fn stops_out_of_reach_never_impact_and_the_run_settles_on_the_linear_answer() {
+    for omega in [0.9, 2.0, 3.0] {
+        let case = far_stops_unit(omega, 0.8);
+        let options = SimulationOptions::default();
+        let s = simulate(&case.model, case.omega, &case.start, &options).unwrap();
+        assert_eq!(s.impacts, 0, "ω={omega}: the stops are out of reach");
+        assert_eq!(s.status, Status::Periodic, "ω={omega}");
+        assert_eq!(s.period, Some(1), "ω={omega}");
+        assert_eq!(s.stopped, Stop::Decided);
+        // The run stopped when the section repeated to the periodicity tolerance (confirmed at
+        // the end to ten times it) relative to the motion's size (at most twice the steady
+        // state's while the transient is that small); a section that repeats to δ is within
+        // ‖Φ(Φ − I)⁻¹‖ δ of the fixed point.
+        let exact = case.answer.steady.state_at(0.0);
+        let repeat = 10.0 * options.periodicity_tolerance * 2.0 * exact.norm();
+        let bound = case.answer.settling_factor * repeat;
+        let error = (&s.final_state.state - &exact).norm();
+        assert!(
+            error <= bound,
+            "ω={omega}: {error:e} from the linear steady state, bound {bound:e}"
+        );
+        // The run went on long enough for the bound to mean something: the transient from rest
+        // is of the size of the steady state.
+        assert!(s.periods_run > 10, "ω={omega}");
+        assert!(case.answer.gap > 2.0 * case.answer.steady.relative_amplitude());
+    }
+}
+
+#[test]
+fn a_free_flight_reaches_the_stop_at_the_closed_form_time() {
+    for e in [0.0, 0.5, 1.0] {
+        let case = free_flight_to_a_stop(e);
+        let options = SimulationOptions {
+            fixed_periods: Some(1),
+            ..SimulationOptions::default()
+        };
+        let s = simulate(&case.model, case.omega, &case.start, &options).unwrap();
+        let first = s.cycle_impacts.first().expect("the stop is reached");
+        let answer = &case.answer;
+        assert_eq!(first.side, 1);
+        // Contact times are resolved to root_tolerance × T.
+        let period = std::f64::consts::TAU / case.omega;
+        let dt = options.root_tolerance * period;
+        assert!(
+            (first.time - answer.time).abs() <= dt,
+            "e={e}: contact at {} vs {}, tolerance {dt:e}",
+            first.time,
+            answer.time
+        );
+        // The velocity there is off by at most |r̈| times the time error (plus rounding of a
+        // velocity of size 1).
+        let dv = answer.relative_acceleration.abs() * dt + 8.0 * f64::EPSILON;
+        assert!(
+            (first.relative_velocity - answer.relative_velocity).abs() <= dv,
+            "e={e}: ṙ⁻ {} vs {}",
+            first.relative_velocity,
+            answer.relative_velocity
+        );
+        // The impact there, applied to the state the simulator recorded, is the test model's
+        // impact matrix to within the same velocity tolerance.
+        let after =
+            case.model
+                .impact_velocities(0, &first.state_before.rows(2, 2).into_owned(), None);
+        for i in 0..2 {
+            assert!(
+                (after[i] - answer.velocities_after[i]).abs() <= dv,
+                "e={e}: velocity {i} after, {} vs {}",
+                after[i],
+                answer.velocities_after[i]
+            );
+        }
+    }
 }
