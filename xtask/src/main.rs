@@ -1,5 +1,5 @@
 //! The project's task runner (`cargo xtask <task>`), after rust-analyzer's `xtask/`: typed
-//! flags, one module per task, and tidy tests ([`tidy`]) that fail when a convention of the
+//! flags, one module per task, and tidy tests (module `tidy`) that fail when a convention of the
 //! repository is broken.
 //!
 //! Tasks: `figures` (see `cargo xtask figures --help`).

@@ -128,15 +128,15 @@ fn calls_a_solver(line: &str) -> bool {
                             || *c == ' '
                     })
                     .collect();
-                let items = path.split([':', '{', ',', ' ']).filter(|s| !s.is_empty());
-                let last_is_function = items.clone().last().is_some_and(|item| {
+                let mut items = path.split([':', '{', ',', ' ']).filter(|s| !s.is_empty());
+                let last_is_function = items.clone().next_back().is_some_and(|item| {
                     item.starts_with(|c: char| c.is_lowercase())
                         && line[i + m.len() + path.len()..].starts_with('(')
                 });
                 // The imported leaves: the items in braces, or the last segment.
                 let leaves: Vec<&str> = match path.split_once('{') {
                     Some((_, inner)) => inner.split([',', ' ']).filter(|s| !s.is_empty()).collect(),
-                    None => items.last().into_iter().collect(),
+                    None => items.next_back().into_iter().collect(),
                 };
                 let imports_function = line.trim_start().starts_with("use ")
                     && leaves

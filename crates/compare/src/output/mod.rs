@@ -1,6 +1,6 @@
 //! Outputs: typed rows and records, and one writer per table format.
 //!
-//! Every table is a row struct declared with [`table_row!`](crate::output::table_row): its
+//! Every table is a row struct declared with `table_row!`: its
 //! field names are the column names, the same in CSV, JSON and JSON Lines. A writer takes rows
 //! one at a time, in order, and writes each at once, so memory does not grow with the number of
 //! rows. Values that do not apply, and numbers that are not finite, are empty cells in CSV and
@@ -29,7 +29,7 @@ pub fn finite(x: f64) -> Option<f64> {
 }
 
 /// A row of a table: a `Serialize` struct whose field names, in order, are [`Row::COLUMNS`].
-/// Declare row types with [`table_row!`](crate::output::table_row) so the two cannot drift.
+/// Declare row types with `table_row!` so the two cannot drift.
 pub trait Row: Serialize {
     /// The column names, in order.
     const COLUMNS: &'static [&'static str];

@@ -215,7 +215,7 @@ pub struct MapLine {
 /// The attenuation of one line: where `T < 0 dB`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Bandwidth {
-    /// Bands `[from, to]` (rad/s) from the samples, as [`crate::bands::bands`] finds them: from
+    /// Bands `[from, to]` (rad/s) from the samples, as [`crate::runs::bands::bands`] finds them: from
     /// the first to the last sample of each run below 0 dB; `to = ∞` when the run reaches the
     /// last frequency. A point without a value ends a band.
     pub bands: Vec<(f64, f64)>,

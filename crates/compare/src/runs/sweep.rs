@@ -97,7 +97,7 @@ pub fn sweep_rows<E>(
     solver: Solver,
     options: &SimulationOptions,
     progress: &Progress,
-    mut sink: impl FnMut(SweepRow) -> Result<(), E>,
+    sink: impl FnMut(SweepRow) -> Result<(), E>,
 ) -> Result<(), E> {
     let gap = scene.gap();
     for_each_ordered(
@@ -105,7 +105,7 @@ pub fn sweep_rows<E>(
         solver.grain(),
         progress,
         |&omega| SweepRow::new(&point(scene, omega, solver, options), gap),
-        |row| sink(row),
+        sink,
     )
 }
 

@@ -45,9 +45,14 @@ pub mod read_off {
 /// "Sides are 0.5 m apart" read as the clearance: the other reading halves the gap.
 pub const READING_B_GAP_FACTOR: f64 = 0.5;
 
-/// The claimed bands `(from, to, label)` and marks `(ω, label)` drawn on the transmittance
-/// figure.
-pub fn claims() -> (Vec<(f64, f64, String)>, Vec<(f64, String)>) {
+/// A claimed band `(from, to, label)`.
+pub type ClaimedBand = (f64, f64, String);
+
+/// A claimed peak or valley `(ω, label)`.
+pub type ClaimedMark = (f64, String);
+
+/// The claimed bands and marks drawn on the transmittance figure.
+pub fn claims() -> (Vec<ClaimedBand>, Vec<ClaimedMark>) {
     let band = |(a, b): (f64, f64), what: &str| {
         let to = if b.is_infinite() {
             "∞".to_owned()
