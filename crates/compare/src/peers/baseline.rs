@@ -47,15 +47,42 @@ pub struct Tolerances {
     pub atol: f64,
 }
 
+/// `atol / rtol` of [`Tolerances::relative`]: the unit's motions are of order a metre, so an
+/// absolute tolerance a thousand times below the relative one only matters near zero
+/// crossings.
+pub const ABSOLUTE_OVER_RELATIVE: f64 = 1e-3;
+
 impl Tolerances {
-    /// `rtol` with `atol = rtol × 1e-3` (scaled to the unit's metre-sized motion).
+    /// `rtol` with `atol = rtol ×` [`ABSOLUTE_OVER_RELATIVE`].
     pub fn relative(rtol: f64) -> Self {
         Self {
             rtol,
-            atol: rtol * 1e-3,
+            atol: rtol * ABSOLUTE_OVER_RELATIVE,
         }
     }
 }
+
+/// The longest step, in forcing periods: a quarter period keeps the forcing's phase resolved
+/// in the dense output where contacts are looked for.
+const MAX_STEP_PER_PERIOD: f64 = 0.25;
+
+/// The step-size controller of Hairer, Nørsett & Wanner (*Solving ODEs I*, II.4, the
+/// `DOPRI5` code): safety factor, and the bounds on the step's change per step.
+const SAFETY: f64 = 0.9;
+/// A step shrinks at most to this fraction of itself.
+const SHRINK_LIMIT: f64 = 0.1;
+/// A step grows at most by this factor.
+const GROWTH_LIMIT: f64 = 5.0;
+/// After an accepted step the next grows at most by `1 / ACCEPTED_FACTOR_FLOOR`.
+const ACCEPTED_FACTOR_FLOOR: f64 = 0.2;
+/// The initial-step heuristic's constants (Hairer's `HINIT`): below `HINIT_SMALL` the norms
+/// are treated as zero and the trial step is `HINIT_FLOOR`; the trial step is `HINIT_FRACTION`
+/// of the state's own scale.
+const HINIT_SMALL: f64 = 1e-5;
+const HINIT_FLOOR: f64 = 1e-6;
+const HINIT_FRACTION: f64 = 0.01;
+/// Below this the derivatives' norms count as zero in `HINIT`.
+const HINIT_ZERO: f64 = 1e-15;
 
 // Dormand–Prince 5(4) coefficients.
 const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
@@ -190,10 +217,10 @@ impl<F: Fn(f64, &State) -> State> Dopri5<F> {
         };
         let d0 = norm(&state);
         let d1 = norm(&self.derivative);
-        let h0 = if d0 < 1e-5 || d1 < 1e-5 {
-            1e-6
+        let h0 = if d0 < HINIT_SMALL || d1 < HINIT_SMALL {
+            HINIT_FLOOR
         } else {
-            0.01 * d0 / d1
+            HINIT_FRACTION * d0 / d1
         }
         .min(max_step);
         let y1 = axpy(&state, h0, &[(1.0, &self.derivative)]);
@@ -201,10 +228,10 @@ impl<F: Fn(f64, &State) -> State> Dopri5<F> {
         self.evaluations += 1;
         let diff: State = std::array::from_fn(|i| f1[i] - self.derivative[i]);
         let d2 = norm(&diff) / h0;
-        let h1 = if d1.max(d2) <= 1e-15 {
-            (h0 * 1e-3).max(1e-6)
+        let h1 = if d1.max(d2) <= HINIT_ZERO {
+            (h0 * 1e-3).max(HINIT_FLOOR)
         } else {
-            (0.01 / d1.max(d2)).powf(0.2)
+            (HINIT_FRACTION / d1.max(d2)).powf(0.2)
         };
         self.step = (100.0 * h0).min(h1).min(max_step);
     }
@@ -268,7 +295,7 @@ impl<F: Fn(f64, &State) -> State> Dopri5<F> {
                 err += (e / sk).powi(2);
             }
             let err = (err / 4.0).sqrt();
-            let factor = (err.powf(0.2) / 0.9).clamp(0.1, 5.0);
+            let factor = (err.powf(0.2) / SAFETY).clamp(1.0 / GROWTH_LIMIT, 1.0 / SHRINK_LIMIT);
             if err <= 1.0 {
                 let mut coefficients = [[0.0; 4]; 5];
                 for i in 0..4 {
@@ -283,7 +310,7 @@ impl<F: Fn(f64, &State) -> State> Dopri5<F> {
                 self.time = t + h;
                 self.state = y1;
                 self.derivative = k7;
-                self.step = h / factor.max(0.2);
+                self.step = h / factor.max(ACCEPTED_FACTOR_FLOOR);
                 self.steps += 1;
                 return Ok(DenseStep {
                     t0: t,
@@ -410,7 +437,7 @@ pub fn run(
     let period = std::f64::consts::TAU / omega;
     let end = start_time + period * periods as f64;
     let last_start = end - period;
-    let max_step = 0.25 * period;
+    let max_step = MAX_STEP_PER_PERIOD * period;
     let mut integrator = Dopri5::new(
         vector_field(scene, omega),
         tolerances,

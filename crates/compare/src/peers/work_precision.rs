@@ -39,6 +39,10 @@ pub const PERIODICITY_TOLERANCES: [f64; 6] = [1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-
 /// within a minute.
 pub const SWEEP_POINTS: [usize; 4] = [10, 20, 40, 80];
 
+/// Step cap of a baseline run: far above the 300-period study's need at `rtol = 1e-12`
+/// (about 10⁵ steps), so only a stalled integration meets it.
+pub const BASELINE_MAX_STEPS: u64 = 50_000_000;
+
 /// A result whose error is above this (relative) is a failure: another motion.
 pub const FAILURE_ERROR: f64 = 0.1;
 
@@ -231,7 +235,7 @@ pub fn baseline_point(
             [0.0; 4],
             periods,
             Tolerances::relative(rtol),
-            50_000_000,
+            BASELINE_MAX_STEPS,
         )
     });
     match result {

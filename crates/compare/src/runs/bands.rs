@@ -41,17 +41,25 @@ pub fn bands(
     out
 }
 
-/// The zero of `f` between `a` and `b` (opposite signs), by bisection to 1e-12.
+/// Band edges are refined to this width, rad/s: far below any frequency the figures or the
+/// report resolve.
+const EDGE_RESOLUTION: f64 = 1e-12;
+
+/// Bisection steps at most: 60 halvings take a bracket of any size that fits a frequency axis
+/// below [`EDGE_RESOLUTION`].
+const EDGE_BISECTIONS: usize = 60;
+
+/// The zero of `f` between `a` and `b` (opposite signs), by bisection to [`EDGE_RESOLUTION`].
 fn crossing(f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
     let fa = f(a);
-    for _ in 0..60 {
+    for _ in 0..EDGE_BISECTIONS {
         let m = 0.5 * (a + b);
         if (f(m) < 0.0) == (fa < 0.0) {
             a = m;
         } else {
             b = m;
         }
-        if b - a < 1e-12 {
+        if b - a < EDGE_RESOLUTION {
             break;
         }
     }
