@@ -196,6 +196,15 @@ fn load(path: &Option<PathBuf>) -> Result<Scene, RattleError> {
     })
 }
 
+/// The first line of a one-frequency table: the scene, the frequency and the active effects.
+fn heading(scene: &Scene, omega: f64) -> String {
+    format!(
+        "scene {} at ω = {omega} rad/s; effects: {}\n",
+        scene.name,
+        scene.effect_words()
+    )
+}
+
 /// Pretty JSON of a one-document result, with a final newline.
 fn pretty(record: &impl serde::Serialize) -> Result<String, RattleError> {
     serde_json::to_string_pretty(record)

@@ -1,6 +1,6 @@
 //! `rattle orbit`: the analytic picture at one frequency.
 
-use super::{check_omega, load, pretty, Common, RattleError};
+use super::{check_omega, heading, load, pretty, Common, RattleError};
 use crate::output::finite;
 use crate::output::records::{LinearRecord, OrbitRecord, OrbitsRecord};
 use crate::scene::analytic::{analyse, OrbitSearch};
@@ -46,13 +46,7 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     if args.common.json {
         return pretty(&record);
     }
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "scene {} at ω = {omega} rad/s; effects: {}",
-        scene.name,
-        scene.effect_words()
-    );
+    let mut out = heading(&scene, omega);
     let lin = &point.linear;
     if lin.unbounded {
         let _ = writeln!(out, "linear: unbounded (undamped exact resonance)");

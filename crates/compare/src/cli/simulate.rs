@@ -1,6 +1,6 @@
 //! `rattle simulate`: the event-driven simulator from rest.
 
-use super::{check_omega, load, pretty, Accuracy, Common, RattleError};
+use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError};
 use crate::output::records::SimulationRecord;
 use crate::scene::simulator::run as simulate;
 use clap::Args;
@@ -42,13 +42,7 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
     if args.common.json {
         return pretty(&record);
     }
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "scene {} at ω = {omega} rad/s; effects: {}",
-        scene.name,
-        scene.effect_words()
-    );
+    let mut out = heading(&scene, omega);
     let _ = writeln!(out, "status: {} ({})", record.status, sim.regime.words());
     let _ = writeln!(
         out,
