@@ -159,3 +159,64 @@ fn simulate_json_has_the_documented_fields() {
     assert_eq!(doc["status"], "no-dissipation");
     assert_eq!(doc["transmittance_db"], serde_json::Value::Null);
 }
+
+#[test]
+fn sweep_writes_the_same_rows_in_every_format_and_refuses_bad_files() {
+    let dir = std::env::temp_dir().join(format!("rattle-cli-sweep-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = |ext: &str| dir.join(format!("s.{ext}")).display().to_string();
+    for ext in ["csv", "json", "jsonl"] {
+        let out = rattle(&[
+            "sweep",
+            "--omega-min",
+            "0.5",
+            "--omega-max",
+            "3",
+            "--points",
+            "6",
+            "--solver",
+            "analytic",
+            "--out",
+            &path(ext),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    let doc: Value = serde_json::from_str(&std::fs::read_to_string(path("json")).unwrap()).unwrap();
+    let rows = doc["results"].as_array().unwrap();
+    let lines: Vec<Value> = std::fs::read_to_string(path("jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(rows, &lines);
+    let csv = std::fs::read_to_string(path("csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + rows.len());
+    // Unknown extension, and a JSON Lines shard: bad input, named.
+    for (out, field) in [(path("txt"), "--out"), (path("jsonl"), "--shard")] {
+        let mut args = vec![
+            "sweep",
+            "--omega-min",
+            "1",
+            "--omega-max",
+            "2",
+            "--points",
+            "2",
+            "--out",
+            &out,
+        ];
+        if field == "--shard" {
+            args.extend(["--shard", "1/2"]);
+        }
+        let o = rattle(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(
+            String::from_utf8_lossy(&o.stderr).contains(field),
+            "{args:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
