@@ -16,10 +16,15 @@
 pub mod expsum;
 pub mod flow;
 pub mod model;
+pub mod newton;
 pub mod simulate;
 pub mod test_models;
 
 pub use model::{ContactPair, Model, ModelError};
+pub use newton::{
+    periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
+    MAX_NEWTON_ITERATIONS, NEWTON_TOLERANCE_FACTOR,
+};
 pub use simulate::{
     simulate, ImpactRecord, SimulationError, SimulationOptions, Start, Status, SteadyState, Stop,
     CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS, DEFAULT_MAX_OSCILLATIONS, DEFAULT_MAX_PERIODS,
