@@ -159,7 +159,7 @@ fn map_at(
 /// section's forcing phase), with its exact Jacobian.
 ///
 /// # Errors
-/// [`NewtonError::Simulation`] for inputs [`crate::simulate`] refuses or a failed run,
+/// [`NewtonError::Simulation`] for inputs [`crate::simulate()`] refuses or a failed run,
 /// [`NewtonError::Periods`] for zero periods, and [`NewtonError::Sticking`] when the run
 /// sticks.
 pub fn stroboscopic_map(

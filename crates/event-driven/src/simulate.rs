@@ -191,7 +191,8 @@ pub struct SteadyState {
     /// The final cycle polished by Newton on the stroboscopic map (from the final state, over
     /// [`Self::period`] periods), with its Floquet multipliers: `None` when the motion is not
     /// periodic, the cycle sticks, [`SimulationOptions::polish`] is off, or Newton failed.
-    pub orbit: Option<PeriodicOrbit>,
+    /// Boxed: it is rare in sweeps and keeps the steady state small.
+    pub orbit: Option<Box<PeriodicOrbit>>,
     /// Why a periodic final cycle has no [`Self::orbit`] (sticking, or Newton's error).
     pub orbit_error: Option<String>,
 }
@@ -509,7 +510,7 @@ pub fn simulate(
             steady.orbit_error = Some("the final cycle sticks".into());
         } else {
             match periodic_orbit(model, omega, &steady.final_state, p, options) {
-                Ok(orbit) => steady.orbit = Some(orbit),
+                Ok(orbit) => steady.orbit = Some(Box::new(orbit)),
                 Err(e) => steady.orbit_error = Some(e.to_string()),
             }
         }
