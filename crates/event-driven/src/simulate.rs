@@ -979,7 +979,7 @@ impl<'m> Engine<'m> {
                 let step = (state.grace - state.tau).min(horizon);
                 state.y = flight.state(step);
                 if let Some(t) = state.tangent.as_mut() {
-                    t.jacobian = self.free.propagator(step) * &t.jacobian;
+                    self.propagate_tangent(t, step);
                 }
                 state.tau += step;
                 if state.tau >= period {
@@ -998,7 +998,7 @@ impl<'m> Engine<'m> {
         let tau = state.tau;
         let k = state.k;
         if let Some(t) = state.tangent.as_mut() {
-            t.jacobian = self.free.propagator(span) * &t.jacobian;
+            self.propagate_tangent(t, span);
         }
         if let Some(w) = state.window.as_mut() {
             for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
@@ -1084,16 +1084,35 @@ impl<'m> Engine<'m> {
                 relative_velocity: rdot,
             });
         }
-        let before = state.tangent.is_some().then(|| state.y.clone());
+        if state.tangent.is_some() {
+            self.impact_with_tangent(state, c);
+        } else {
+            self.model.apply_impact(c.pair, &mut state.y, None);
+        }
+        state.impacts += 1;
+        state.last_impact_period = Some(state.k);
+    }
+
+    /// The restitution of [`Self::impact`] with the tangent flow's saltation matrix (kept out of
+    /// line: ordinary runs never come here).
+    #[cold]
+    #[inline(never)]
+    fn impact_with_tangent(&self, state: &mut RunState, c: Contact) {
+        let before = state.y.clone();
         self.model.apply_impact(c.pair, &mut state.y, None);
-        if let (Some(t), Some(before)) = (state.tangent.as_mut(), before) {
+        if let Some(t) = state.tangent.as_mut() {
             let time = state.k as f64 * self.period + state.tau;
             let s = self.saltation(&t.minv, &self.pairs[c.pair], &before, &state.y, state.tau);
             t.jacobian = s * &t.jacobian;
             t.impacts.push((c.pair, c.side, time));
         }
-        state.impacts += 1;
-        state.last_impact_period = Some(state.k);
+    }
+
+    /// The tangent flow through a flight of duration `span` (out of line, as above).
+    #[cold]
+    #[inline(never)]
+    fn propagate_tangent(&self, tangent: &mut Tangent, span: f64) {
+        tangent.jacobian = self.free.propagator(span) * &tangent.jacobian;
     }
 
     /// Event: pair `c.pair` sticks on side `c.side`. Plastic: relative velocity to zero,
