@@ -74,6 +74,7 @@ fn without_stops_the_map_jacobian_is_the_exact_propagator() {
         let exact = (a * (p as f64 * period)).exp();
         let exact = DMatrix::from_column_slice(4, 4, exact.as_slice());
         let diff = max_entry(&(&map.jacobian - &exact));
+        eprintln!("no stops, {p} periods: |DP − e^{{A pT}}| = {diff:.1e}");
         assert!(diff < 1e-12, "p = {p}: {diff:e}");
         assert!(map.impact_sides.is_empty());
     }
@@ -109,6 +110,10 @@ fn the_determinant_over_a_cycle_counts_the_impacts() {
         assert_eq!(n as u32, 2 * periods);
         let expected = e.powi(2 * n) * (trace * periods as f64 * period).exp();
         let det = map.jacobian.determinant();
+        eprintln!(
+            "{periods} periods, {n} impacts: det DP relative error {:.1e}",
+            (det - expected).abs() / expected
+        );
         assert!(
             (det - expected).abs() < 1e-10 * expected,
             "{periods} periods: det {det:e}, expected {expected:e}"
@@ -128,6 +133,10 @@ fn a_periodic_run_is_polished_and_nothing_else_changes() {
     let a = simulate(&model, omega, &Start::rest(2), &on).unwrap();
     let mut b = simulate(&model, omega, &Start::rest(2), &off).unwrap();
     let orbit = a.orbit.clone().expect("polished");
+    eprintln!(
+        "polished: {} iterations, residual {:.1e}",
+        orbit.iterations, orbit.residual
+    );
     assert!(b.orbit.is_none() && a.orbit_error.is_none() && b.orbit_error.is_none());
     b.orbit = a.orbit.clone();
     assert_eq!(a, b, "polishing changed another output");
@@ -240,6 +249,9 @@ fn a_sticking_run_is_an_error_not_a_jacobian() {
     let s = simulate(&model, 0.8, &Start::rest(2), &options).unwrap();
     assert!(s.sticking);
     assert!(s.orbit.is_none());
+    if s.status == Status::Periodic {
+        assert_eq!(s.orbit_error.as_deref(), Some("the final cycle sticks"));
+    }
     let result = periodic_orbit(&model, 0.8, &s.final_state, 1, &options);
     assert!(
         matches!(result, Err(NewtonError::Sticking(_))),
