@@ -290,3 +290,23 @@ fn bad_inputs_are_errors() {
         Err(NewtonError::Simulation(SimulationError::Start(_)))
     ));
 }
+
+#[test]
+fn a_guess_with_another_impact_sequence_is_refused() {
+    // From rest the first period is a transient with four impacts; the orbit Newton's first
+    // step aims for has two (one on each side): between them two impacts went through a
+    // grazing, and the Jacobian of the first iterate says nothing about the second.
+    let model = paper_unit(2.0, Some(LIGHT_DAMPING), Some((0.5, 0.8)));
+    let options = SimulationOptions::default();
+    let first = stroboscopic_map(&model, 2.0, &Start::rest(2), 1, &options).unwrap();
+    assert_eq!(first.impact_sides, vec![1, -1, -1, -1]);
+    let result = periodic_orbit(&model, 2.0, &Start::rest(2), 1, &options);
+    assert_eq!(
+        result,
+        Err(NewtonError::SignatureChanged {
+            iteration: 1,
+            first: vec![1, -1, -1, -1],
+            now: vec![1, -1],
+        })
+    );
+}
