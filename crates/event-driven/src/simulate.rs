@@ -6,9 +6,11 @@
 //! stuck flows, prepared once) and the *state* (`RunState`: everything that changes during a
 //! run). The loop is `init`, then `next_iter` (one free flight or one stuck phase, ending at an
 //! event or at the section `t = kT`) and, at each section, `terminate` (the stopping rules, all
-//! in `stopping_rule`). The events are named points: `impact`, `stick` and `release` (where a
-//! saltation matrix will apply), and each flight is one closed-form segment (where a tangent
-//! propagator will apply).
+//! in `stopping_rule`). The events are named points: `impact`, `stick` and `release`, and each
+//! flight is one closed-form segment. A run asked for its tangent flow (`Engine::tangent_run`,
+//! used by [`crate::newton`]) multiplies the Jacobian by each flight's propagator and each
+//! impact's saltation matrix, and notes any stick (which has no such Jacobian); ordinary runs
+//! carry no tangent and only test for its absence.
 
 use crate::expsum::{ExpSum, SearchStack};
 use crate::flow::{Flight, FlowError, Functional, LinearFlow};
