@@ -177,7 +177,7 @@ fn cexp(mu: C64, s: f64) -> C64 {
 /// The eigenvalues of the system matrix `a`, by the real Schur form with a bounded QR
 /// iteration; when it does not converge, on the transpose, then on shifted copies `a + σI`
 /// (nalgebra's unbounded iteration can cycle forever on some finite matrices).
-fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<C64>, FlowError> {
+pub(crate) fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<C64>, FlowError> {
     if !a.iter().all(|v| v.is_finite()) {
         return Err(FlowError::NotFinite);
     }
@@ -341,6 +341,24 @@ impl LinearFlow {
     /// The fastest free rate `max |λ_k|` of the system (rad/s).
     pub fn fastest_rate(&self) -> f64 {
         self.rates.iter().map(|l| l.norm()).fold(0.0, f64::max)
+    }
+
+    /// The homogeneous propagator `Φ(s) = ∂y(s)/∂y(0) = e^{A s} = Re(V e^{Λ s} V⁻¹)` of a
+    /// flight of duration `s`: the tangent flow of the linear flight (independent of the
+    /// forcing and of the start phase), from the same modal form as the flights themselves.
+    pub fn propagator(&self, s: f64) -> DMatrix<f64> {
+        let m = 2 * self.dofs;
+        let mut out = DMatrix::zeros(m, m);
+        for &(k, weight) in &self.kept {
+            let e = cexp(self.rates[k], s) * weight;
+            for j in 0..m {
+                let w = self.inverse[(k, j)] * e;
+                for i in 0..m {
+                    out[(i, j)] += (self.modes[(i, k)] * w).re;
+                }
+            }
+        }
+        out
     }
 
     /// Whether flights use the steady forced response (no mode resonant with the forcing); at

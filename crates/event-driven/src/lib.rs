@@ -9,6 +9,10 @@
 //! force would pull. The steady state is read off the stroboscopic map at `t = kT`, with time
 //! carried modulo the period so the forcing phase stays exact over any number of periods.
 //!
+//! Periodic orbits are also found directly, by Newton on the stroboscopic map with its exact
+//! Jacobian (flight propagators and impact saltation matrices), whatever their stability
+//! ([`newton`]); a periodic run is polished that way at its end ([`SteadyState::orbit`]).
+//!
 //! Only the effects a model has are simulated: no contact pairs, no event search; no damping
 //! matrix, no damping terms.
 #![deny(missing_docs)]
@@ -16,10 +20,15 @@
 pub mod expsum;
 pub mod flow;
 pub mod model;
+pub mod newton;
 pub mod simulate;
 pub mod test_models;
 
 pub use model::{ContactPair, Model, ModelError};
+pub use newton::{
+    periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
+    MAX_NEWTON_ITERATIONS, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
+};
 pub use simulate::{
     simulate, ImpactRecord, SimulationError, SimulationOptions, Start, Status, SteadyState, Stop,
     CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS, DEFAULT_MAX_OSCILLATIONS, DEFAULT_MAX_PERIODS,

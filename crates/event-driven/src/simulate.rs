@@ -6,13 +6,16 @@
 //! stuck flows, prepared once) and the *state* (`RunState`: everything that changes during a
 //! run). The loop is `init`, then `next_iter` (one free flight or one stuck phase, ending at an
 //! event or at the section `t = kT`) and, at each section, `terminate` (the stopping rules, all
-//! in `stopping_rule`). The events are named points: `impact`, `stick` and `release` (where a
-//! saltation matrix will apply), and each flight is one closed-form segment (where a tangent
-//! propagator will apply).
+//! in `stopping_rule`). The events are named points: `impact`, `stick` and `release`, and each
+//! flight is one closed-form segment. A run asked for its tangent flow (`Engine::tangent_run`,
+//! used by [`crate::newton`]) multiplies the Jacobian by each flight's propagator and each
+//! impact's saltation matrix, and notes any stick (which has no such Jacobian); ordinary runs
+//! carry no tangent and only test for its absence.
 
 use crate::expsum::{ExpSum, SearchStack};
 use crate::flow::{Flight, FlowError, Functional, LinearFlow};
 use crate::model::{ContactPair, Model};
+use crate::newton::{periodic_orbit, PeriodicOrbit};
 use nalgebra::{DMatrix, DVector};
 use std::collections::VecDeque;
 use thiserror::Error;
@@ -43,6 +46,10 @@ pub struct SimulationOptions {
     /// Keep dense samples of the final cycle (or the final
     /// [`Self::max_period_multiplicity`] periods), [`SAMPLES_PER_PERIOD`] per period.
     pub record_trajectory: bool,
+    /// Polish a periodic final cycle (not sticking) with Newton on the stroboscopic map
+    /// ([`crate::newton::periodic_orbit`]), once at the end of the run, into
+    /// [`SteadyState::orbit`]. Every other output is unchanged by it.
+    pub polish: bool,
 }
 
 /// Default [`SimulationOptions::root_tolerance`]: contact times to `1e-12 T`, a few thousand
@@ -87,6 +94,7 @@ impl Default for SimulationOptions {
             max_period_multiplicity: DEFAULT_MAX_PERIOD_MULTIPLICITY,
             fixed_periods: None,
             record_trajectory: false,
+            polish: true,
         }
     }
 }
@@ -182,6 +190,13 @@ pub struct SteadyState {
     pub final_state: Start,
     /// Dense samples `(t, state)` of the final cycle, if asked for.
     pub trajectory: Option<Vec<(f64, DVector<f64>)>>,
+    /// The final cycle polished by Newton on the stroboscopic map (from the final state, over
+    /// [`Self::period`] periods), with its Floquet multipliers: `None` when the motion is not
+    /// periodic, the cycle sticks, [`SimulationOptions::polish`] is off, or Newton failed.
+    /// Boxed: it is rare in sweeps and keeps the steady state small.
+    pub orbit: Option<Box<PeriodicOrbit>>,
+    /// Why a periodic final cycle has no [`Self::orbit`] (sticking, or Newton's error).
+    pub orbit_error: Option<String>,
 }
 
 /// A failure of the simulation.
@@ -319,7 +334,7 @@ enum Mode {
 }
 
 /// The solver: everything prepared once from the problem and fixed during the run.
-struct Engine<'m> {
+pub(crate) struct Engine<'m> {
     model: &'m Model,
     omega: f64,
     period: f64,
@@ -333,7 +348,7 @@ struct Engine<'m> {
     /// Contact times are resolved to this (`root_tolerance × T`).
     time_tolerance: f64,
     /// The largest gap: the scale of the periodicity test and of the contact thresholds.
-    scale: f64,
+    pub(crate) scale: f64,
     /// [`CONTACT_DEPTH`] × scale.
     contact_depth: f64,
     /// [`RESTING_VELOCITY`] × ω × scale.
@@ -436,6 +451,21 @@ struct RunState {
     window: Option<Window>,
     /// The stopping rules' decision to end the run after an observed final stretch.
     observing: Option<Observation>,
+    /// The tangent flow, when asked for ([`Engine::tangent_run`]); `None` in ordinary runs.
+    tangent: Option<Tangent>,
+}
+
+/// The tangent flow along a run: the Jacobian of the current state with respect to the start
+/// state, as the product of the flights' propagators and the impacts' saltation matrices.
+pub(crate) struct Tangent {
+    /// `∂y/∂y(0)`.
+    pub(crate) jacobian: DMatrix<f64>,
+    /// `M⁻¹`, for the vector field at the impacts.
+    minv: DMatrix<f64>,
+    /// The impacts in time order: pair, side and time since the start.
+    pub(crate) impacts: Vec<(usize, i8, f64)>,
+    /// The time since the start of the first sticking, if any: the Jacobian is then invalid.
+    pub(crate) sticking: Option<f64>,
 }
 
 impl RunState {
@@ -474,6 +504,33 @@ pub fn simulate(
     start: &Start,
     options: &SimulationOptions,
 ) -> Result<SteadyState, SimulationError> {
+    check_inputs(model, omega, start, options)?;
+    let mut engine = Engine::new(model, omega, options)?;
+    let mut steady = engine.run(start, options)?;
+    if let (true, Status::Periodic, Some(p)) = (options.polish, steady.status, steady.period) {
+        if steady.sticking {
+            steady.orbit_error = Some("the final cycle sticks".into());
+        } else {
+            match periodic_orbit(model, omega, &steady.final_state, p, options) {
+                Ok(orbit) => steady.orbit = Some(Box::new(orbit)),
+                Err(e) => steady.orbit_error = Some(e.to_string()),
+            }
+        }
+    }
+    Ok(steady)
+}
+
+/// The checks of [`simulate`] on its inputs.
+///
+/// # Errors
+/// As [`simulate`]: [`SimulationError::Omega`], [`SimulationError::Start`] and
+/// [`SimulationError::Option`].
+pub(crate) fn check_inputs(
+    model: &Model,
+    omega: f64,
+    start: &Start,
+    options: &SimulationOptions,
+) -> Result<(), SimulationError> {
     if !(omega.is_finite() && omega > 0.0) {
         return Err(SimulationError::Omega(omega));
     }
@@ -496,12 +553,15 @@ pub fn simulate(
             "tolerances must be in (0, 1), multiplicity ≥ 1".into(),
         ));
     }
-    let mut engine = Engine::new(model, omega, options)?;
-    engine.run(start, options)
+    Ok(())
 }
 
 impl<'m> Engine<'m> {
-    fn new(
+    /// The solver for `model` at `omega`.
+    ///
+    /// # Errors
+    /// [`SimulationError::Flow`] when the modal flow does not exist.
+    pub(crate) fn new(
         model: &'m Model,
         omega: f64,
         options: &SimulationOptions,
@@ -642,6 +702,98 @@ impl<'m> Engine<'m> {
         Ok(self.stuck.len() - 1)
     }
 
+    /// The free vector field `f(y, τ) = (u̇, M⁻¹(f(τ) − K u − C u̇))` at phase time `tau`.
+    fn vector_field(&self, minv: &DMatrix<f64>, y: &DVector<f64>, tau: f64) -> DVector<f64> {
+        let n = self.n;
+        let m = self.model;
+        let (sin, cos) = (self.omega * tau).sin_cos();
+        let u = y.rows(0, n);
+        let v = y.rows(n, n);
+        let mut force = &m.forcing_cos * cos + &m.forcing_sin * sin - &m.stiffness * u;
+        if let Some(c) = &m.damping {
+            force -= c * v;
+        }
+        let mut f = DVector::zeros(2 * n);
+        f.rows_mut(0, n).copy_from(&v);
+        f.rows_mut(n, n).copy_from(&(minv * force));
+        f
+    }
+
+    /// The saltation matrix of an impact of pair `p` at phase time `tau`, from the states just
+    /// before and just after it: `S = Ĝ + (f⁺ − Ĝ f⁻) h_xᵀ / (h_x · f⁻)`, with the contact
+    /// function `h = d·u ∓ gap` (`h_x = (d, 0)`), `Ĝ` the identity on positions and the
+    /// restitution map `I − (1 + e) M⁻¹d dᵀ/(dᵀM⁻¹d)` on velocities, `f` the vector field.
+    /// `det S = e²`.
+    fn saltation(
+        &self,
+        minv: &DMatrix<f64>,
+        p: &Pair,
+        before: &DVector<f64>,
+        after: &DVector<f64>,
+        tau: f64,
+    ) -> DMatrix<f64> {
+        let n = self.n;
+        let e = p.spec.restitution;
+        let mut g = DMatrix::<f64>::identity(2 * n, 2 * n);
+        let restitution = &p.mobility * p.direction.transpose() * ((1.0 + e) / p.compliance);
+        let mut block = g.view_mut((n, n), (n, n));
+        block -= restitution;
+        let f_before = self.vector_field(minv, before, tau);
+        let f_after = self.vector_field(minv, after, tau);
+        let mut h_x = DVector::zeros(2 * n);
+        h_x.rows_mut(0, n).copy_from(&p.direction);
+        let normal_speed = h_x.dot(&f_before);
+        let jump = f_after - &g * f_before;
+        g + jump * h_x.transpose() / normal_speed
+    }
+
+    /// Runs `periods` periods from state `y` at the section `t = 0` with the tangent flow: the
+    /// state at `t = periods·T` and the tangent record (Jacobian, impacts, sticking).
+    ///
+    /// # Errors
+    /// As [`Engine::next_iter`].
+    pub(crate) fn tangent_run(
+        &mut self,
+        y: &DVector<f64>,
+        periods: u32,
+    ) -> Result<(DVector<f64>, Tangent), SimulationError> {
+        let n = self.n;
+        let plan = Plan {
+            p_max: 1,
+            limit: periods as u64,
+            at_limit: Stop::FixedPeriods,
+            window_len: 0,
+            fixed: true,
+            max_events: None,
+            periodicity_tolerance: DEFAULT_PERIODICITY_TOLERANCE,
+            record_trajectory: false,
+        };
+        let mut state = self.init(
+            &Start {
+                state: y.clone(),
+                time: 0.0,
+            },
+            &plan,
+        );
+        let minv = self
+            .model
+            .mass
+            .clone()
+            .try_inverse()
+            .ok_or(FlowError::SingularMass)?;
+        state.tangent = Some(Tangent {
+            jacobian: DMatrix::identity(2 * n, 2 * n),
+            minv,
+            impacts: Vec::new(),
+            sticking: None,
+        });
+        while state.k < periods as u64 {
+            self.next_iter(&mut state, &plan)?;
+        }
+        let tangent = state.tangent.take().expect("set above");
+        Ok((state.y, tangent))
+    }
+
     /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`:
     /// `(M⁻¹d) · (f(τ) − K u − C u̇)`.
     fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
@@ -726,6 +878,7 @@ impl<'m> Engine<'m> {
             ring: VecDeque::with_capacity(plan.p_max + 2),
             window: None,
             observing: None,
+            tangent: None,
         };
         if state.tau == 0.0 {
             state.ring.push_back(state.y.clone()); // the start is itself a section
@@ -827,6 +980,9 @@ impl<'m> Engine<'m> {
                 // Just released (or grazed): step past the stop's edge without an event.
                 let step = (state.grace - state.tau).min(horizon);
                 state.y = flight.state(step);
+                if let Some(t) = state.tangent.as_mut() {
+                    self.propagate_tangent(t, step);
+                }
                 state.tau += step;
                 if state.tau >= period {
                     state.tau = period;
@@ -843,6 +999,9 @@ impl<'m> Engine<'m> {
         };
         let tau = state.tau;
         let k = state.k;
+        if let Some(t) = state.tangent.as_mut() {
+            self.propagate_tangent(t, span);
+        }
         if let Some(w) = state.window.as_mut() {
             for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
                 flight.expand(u, &mut self.work.coordinate);
@@ -927,15 +1086,45 @@ impl<'m> Engine<'m> {
                 relative_velocity: rdot,
             });
         }
-        self.model.apply_impact(c.pair, &mut state.y, None);
+        if state.tangent.is_some() {
+            self.impact_with_tangent(state, c);
+        } else {
+            self.model.apply_impact(c.pair, &mut state.y, None);
+        }
         state.impacts += 1;
         state.last_impact_period = Some(state.k);
+    }
+
+    /// The restitution of [`Self::impact`] with the tangent flow's saltation matrix (kept out of
+    /// line: ordinary runs never come here).
+    #[cold]
+    #[inline(never)]
+    fn impact_with_tangent(&self, state: &mut RunState, c: Contact) {
+        let before = state.y.clone();
+        self.model.apply_impact(c.pair, &mut state.y, None);
+        if let Some(t) = state.tangent.as_mut() {
+            let time = state.k as f64 * self.period + state.tau;
+            let s = self.saltation(&t.minv, &self.pairs[c.pair], &before, &state.y, state.tau);
+            t.jacobian = s * &t.jacobian;
+            t.impacts.push((c.pair, c.side, time));
+        }
+    }
+
+    /// The tangent flow through a flight of duration `span` (out of line, as above).
+    #[cold]
+    #[inline(never)]
+    fn propagate_tangent(&self, tangent: &mut Tangent, span: f64) {
+        tangent.jacobian = self.free.propagator(span) * &tangent.jacobian;
     }
 
     /// Event: pair `c.pair` sticks on side `c.side`. Plastic: relative velocity to zero,
     /// momentum kept; the run continues on the reduced flow.
     fn stick(&mut self, state: &mut RunState, c: Contact) -> Result<(), SimulationError> {
         self.model.apply_impact(c.pair, &mut state.y, Some(0.0));
+        if let Some(t) = state.tangent.as_mut() {
+            t.sticking
+                .get_or_insert(state.k as f64 * self.period + state.tau);
+        }
         let index = self.stuck_index(c.pair, c.side)?;
         state.mode = Mode::Stuck(index);
         Ok(())
@@ -1187,6 +1376,8 @@ impl<'m> Engine<'m> {
                 time: 0.0,
             },
             trajectory,
+            orbit: None,
+            orbit_error: None,
         }
     }
 }

@@ -1,0 +1,266 @@
+//! The simulator's own Newton: periodic orbits as fixed points of the stroboscopic map, with
+//! its exact Jacobian and the Floquet multipliers.
+//!
+//! `P(y)`: the state after `p` forcing periods from state `y` at a section (a fixed forcing
+//! phase). Its Jacobian `DP` is the tangent flow along the run, with the simulator's own
+//! numerics: the product of each flight's homogeneous propagator `e^{Aτ}`
+//! ([`LinearFlow::propagator`](crate::flow::LinearFlow::propagator)) and, at each impact, the
+//! saltation matrix `S = Ĝ + (f⁺ − Ĝ f⁻) h_xᵀ / (h_x · f⁻)` (contact function
+//! `h = r ∓ Δ`, `Ĝ` the identity on positions and the restitution map on velocities, `f` the
+//! vector field with the forcing at the impact). `det S = e²`, so
+//! `det DP = e^{2n} exp(tr A · pT)` over `n` impacts. A run that sticks has no such Jacobian
+//! (the reduced flow is not a smooth map of the start state): [`NewtonError::Sticking`].
+//!
+//! Newton `y ← y − (DP − I)⁻¹ (P(y) − y)` converges quadratically from a good guess to the
+//! orbit whatever its stability; the eigenvalues of `DP` there are the Floquet multipliers.
+
+use crate::flow::{eigenvalues, FlowError};
+use crate::model::Model;
+use crate::simulate::{check_inputs, Engine, SimulationError, SimulationOptions, Start};
+use nalgebra::{Complex, DMatrix, DVector};
+use thiserror::Error;
+
+/// Newton's iterations are capped at this: from a guess within the basin of quadratic
+/// convergence it takes a handful (measured: 2–4 from a periodic run's final state or an
+/// analytic orbit); more means the guess was too far.
+pub const MAX_NEWTON_ITERATIONS: u32 = 30;
+
+/// The residual `|P(y) − y|`, relative to `max(|y|, gap)`, at which Newton stops, in units of
+/// [`SimulationOptions::root_tolerance`]: contact times are resolved to `root_tolerance × T`,
+/// so the map itself is known to about that relative accuracy.
+pub const NEWTON_TOLERANCE_FACTOR: f64 = 1.0;
+
+/// A residual that stops decreasing (a step that does not halve it) within this factor of the
+/// tolerance is the rounding floor of the map (reached early on strongly unstable orbits, whose
+/// map amplifies rounding by their largest multiplier): Newton has converged as far as the map
+/// allows. Measured floors: `1e-16`–`1e-13` on the paper units (multipliers up to ~300).
+pub const NEWTON_FLOOR_FACTOR: f64 = 1e3;
+
+/// The stroboscopic map at one state, with its Jacobian.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StroboscopicMap {
+    /// `P(y)`: the state after the periods.
+    pub state: DVector<f64>,
+    /// `DP = ∂P/∂y`: flight propagators and impact saltation matrices along the run.
+    pub jacobian: DMatrix<f64>,
+    /// The impacts in time order: `+1` side 1, `−1` side 2.
+    pub impact_sides: Vec<i8>,
+    /// The contact pair of each impact.
+    pub impact_pairs: Vec<usize>,
+    /// The time of each impact after the section.
+    pub impact_times: Vec<f64>,
+}
+
+/// A periodic orbit found by Newton on the simulator's stroboscopic map.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodicOrbit {
+    /// The state `(u, u̇)` at the section, the fixed point of the `periods`-period map.
+    pub state: DVector<f64>,
+    /// The time of the section (the guess's time): the orbit passes through [`Self::state`]
+    /// at `time + k·periods·T`.
+    pub time: f64,
+    /// The section's time within the forcing period, in `[0, T)`.
+    pub phase: f64,
+    /// Forcing periods per cycle `p`.
+    pub periods: u32,
+    /// The impacts over one cycle in time order from the section: `+1` side 1, `−1` side 2.
+    pub impact_sides: Vec<i8>,
+    /// The impacts' times after the section as fractions of the cycle `pT`, in `[0, 1)`.
+    pub impact_phases: Vec<f64>,
+    /// The eigenvalues of `DP` at the fixed point: the simulator's own Floquet multipliers.
+    pub floquet_multipliers: Vec<Complex<f64>>,
+    /// Newton steps taken.
+    pub iterations: u32,
+    /// The final `|P(y) − y|`, relative to `max(|y|, gap)`: at most
+    /// [`NEWTON_TOLERANCE_FACTOR`] × [`SimulationOptions::root_tolerance`], or at most
+    /// [`NEWTON_FLOOR_FACTOR`] times that when the map's rounding floor was reached.
+    pub residual: f64,
+}
+
+/// Why Newton on the stroboscopic map found no orbit.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum NewtonError {
+    /// The inputs, the flow or the run failed.
+    #[error("simulation: {0}")]
+    Simulation(#[from] SimulationError),
+    /// Zero periods asked for.
+    #[error("the cycle must span at least one period")]
+    Periods,
+    /// The run sticks (a plastic impact, or chatter ending on a stop), at this time after the
+    /// section: the stroboscopic map has no saltation-matrix Jacobian there.
+    #[error("the run sticks at t = {0} after the section: no smooth stroboscopic map")]
+    Sticking(f64),
+    /// An iterate's impact sequence differs from the first iterate's: the guess was on the
+    /// wrong side of a grazing.
+    #[error("iteration {iteration}: the impact sequence changed from {first:?} to {now:?}")]
+    SignatureChanged {
+        /// The iteration where it changed.
+        iteration: u32,
+        /// Sides of the first iterate's impacts.
+        first: Vec<i8>,
+        /// Sides of this iterate's impacts.
+        now: Vec<i8>,
+    },
+    /// `DP − I` is singular (a multiplier at 1: a fold, or a family of orbits).
+    #[error("DP − I is singular at iteration {0}")]
+    Singular(u32),
+    /// No convergence within [`MAX_NEWTON_ITERATIONS`] (or a non-finite iterate).
+    #[error("no convergence after {iterations} iterations: residual {residual:e}")]
+    NoConvergence {
+        /// Iterations taken.
+        iterations: u32,
+        /// The last residual.
+        residual: f64,
+    },
+    /// The eigenvalues of `DP` did not converge.
+    #[error("multipliers: {0}")]
+    Eigenvalues(#[from] FlowError),
+}
+
+/// `model` with its forcing advanced by `time` (`f(t) → f(t + time)`), so that a section at
+/// the forcing phase `ω·time` becomes the section `t = 0`. `time = 0` returns an exact copy.
+fn shifted(model: &Model, omega: f64, time: f64) -> Model {
+    let mut out = model.clone();
+    if time != 0.0 {
+        let (sin, cos) = (omega * time).sin_cos();
+        out.forcing_cos = &model.forcing_cos * cos + &model.forcing_sin * sin;
+        out.forcing_sin = &model.forcing_sin * cos - &model.forcing_cos * sin;
+    }
+    out
+}
+
+/// A solver for the map at the section of `start`'s phase.
+fn prepare(
+    model: &Model,
+    omega: f64,
+    start: &Start,
+    periods: u32,
+    options: &SimulationOptions,
+) -> Result<(Model, f64), NewtonError> {
+    check_inputs(model, omega, start, options)?;
+    if periods == 0 {
+        return Err(NewtonError::Periods);
+    }
+    let phase = start.time.rem_euclid(std::f64::consts::TAU / omega);
+    Ok((shifted(model, omega, phase), phase))
+}
+
+fn map_at(
+    engine: &mut Engine<'_>,
+    y: &DVector<f64>,
+    periods: u32,
+) -> Result<StroboscopicMap, NewtonError> {
+    let (state, tangent) = engine.tangent_run(y, periods)?;
+    if let Some(t) = tangent.sticking {
+        return Err(NewtonError::Sticking(t));
+    }
+    Ok(StroboscopicMap {
+        state,
+        jacobian: tangent.jacobian,
+        impact_sides: tangent.impacts.iter().map(|i| i.1).collect(),
+        impact_pairs: tangent.impacts.iter().map(|i| i.0).collect(),
+        impact_times: tangent.impacts.iter().map(|i| i.2).collect(),
+    })
+}
+
+/// The stroboscopic map `P` over `periods` forcing periods from `start` (its time fixes the
+/// section's forcing phase), with its exact Jacobian.
+///
+/// # Errors
+/// [`NewtonError::Simulation`] for inputs [`crate::simulate()`] refuses or a failed run,
+/// [`NewtonError::Periods`] for zero periods, and [`NewtonError::Sticking`] when the run
+/// sticks.
+pub fn stroboscopic_map(
+    model: &Model,
+    omega: f64,
+    start: &Start,
+    periods: u32,
+    options: &SimulationOptions,
+) -> Result<StroboscopicMap, NewtonError> {
+    let (model, _) = prepare(model, omega, start, periods, options)?;
+    let mut engine = Engine::new(&model, omega, options)?;
+    map_at(&mut engine, &start.state, periods)
+}
+
+/// The `periods`-period orbit through the section at `guess`'s forcing phase, by Newton
+/// `y ← y − (DP − I)⁻¹ (P(y) − y)` from `guess`, until the residual `|P(y) − y|` is within
+/// [`NEWTON_TOLERANCE_FACTOR`] × [`SimulationOptions::root_tolerance`] of `max(|y|, gap)` (or
+/// stops decreasing within [`NEWTON_FLOOR_FACTOR`] of that: the map's rounding floor). Every
+/// iterate must keep the first iterate's impact sequence.
+///
+/// # Errors
+/// As [`stroboscopic_map`] at any iterate; [`NewtonError::SignatureChanged`] when an iterate's
+/// impact sequence differs from the first, [`NewtonError::Singular`] when `DP − I` cannot be
+/// solved, [`NewtonError::NoConvergence`] after [`MAX_NEWTON_ITERATIONS`] steps or at a
+/// non-finite iterate, and [`NewtonError::Eigenvalues`] when the multipliers do not converge.
+pub fn periodic_orbit(
+    model: &Model,
+    omega: f64,
+    guess: &Start,
+    periods: u32,
+    options: &SimulationOptions,
+) -> Result<PeriodicOrbit, NewtonError> {
+    let (shifted_model, phase) = prepare(model, omega, guess, periods, options)?;
+    let mut engine = Engine::new(&shifted_model, omega, options)?;
+    let gap = engine.scale;
+    let tolerance = NEWTON_TOLERANCE_FACTOR * options.root_tolerance;
+    let m = guess.state.len();
+    let cycle = periods as f64 * std::f64::consts::TAU / omega;
+    let mut y = guess.state.clone();
+    let mut first: Option<(Vec<usize>, Vec<i8>)> = None;
+    let mut residual = f64::INFINITY;
+    let mut previous = f64::INFINITY;
+    for iteration in 0..=MAX_NEWTON_ITERATIONS {
+        let map = map_at(&mut engine, &y, periods)?;
+        match &first {
+            None => first = Some((map.impact_pairs.clone(), map.impact_sides.clone())),
+            Some((pairs, sides)) => {
+                if *pairs != map.impact_pairs || *sides != map.impact_sides {
+                    return Err(NewtonError::SignatureChanged {
+                        iteration,
+                        first: sides.clone(),
+                        now: map.impact_sides,
+                    });
+                }
+            }
+        }
+        let step = &map.state - &y;
+        residual = step.norm() / y.norm().max(gap);
+        if !residual.is_finite() {
+            break;
+        }
+        let stalled = residual > 0.5 * previous && residual <= NEWTON_FLOOR_FACTOR * tolerance;
+        if residual <= tolerance || stalled {
+            let floquet_multipliers = eigenvalues(&map.jacobian)?;
+            return Ok(PeriodicOrbit {
+                state: y,
+                time: guess.time,
+                phase,
+                periods,
+                impact_sides: map.impact_sides,
+                impact_phases: map.impact_times.iter().map(|t| t / cycle).collect(),
+                floquet_multipliers,
+                iterations: iteration,
+                residual,
+            });
+        }
+        if iteration == MAX_NEWTON_ITERATIONS {
+            break;
+        }
+        previous = residual;
+        let a = map.jacobian - DMatrix::<f64>::identity(m, m);
+        let delta = a
+            .lu()
+            .solve(&step)
+            .ok_or(NewtonError::Singular(iteration))?;
+        // y − (DP − I)⁻¹ (P(y) − y).
+        y -= delta;
+        if y.iter().any(|v| !v.is_finite()) {
+            break;
+        }
+    }
+    Err(NewtonError::NoConvergence {
+        iterations: MAX_NEWTON_ITERATIONS,
+        residual,
+    })
+}
