@@ -17,6 +17,7 @@
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
 #![deny(missing_docs)]
 
+pub mod cycle;
 pub mod family;
 pub mod flow;
 pub mod linear;
@@ -26,6 +27,9 @@ pub mod symmetric;
 pub mod test_models;
 pub mod unit;
 
+pub use cycle::{
+    signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
+};
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use orbit::{Orbit, Side, Violation};

@@ -25,7 +25,9 @@ pub enum SignatureError {
     #[error("--signature is empty: must be a non-empty string of '+' (side 1) and '-' (side 2)")]
     Empty,
     /// The signature text holds a character other than `+` and `-`.
-    #[error("--signature = {text:?} holds {found:?}: only '+' (side 1) and '-' (side 2) are allowed")]
+    #[error(
+        "--signature = {text:?} holds {found:?}: only '+' (side 1) and '-' (side 2) are allowed"
+    )]
     BadCharacter {
         /// The rejected text.
         text: String,
@@ -178,7 +180,10 @@ mod tests {
         assert_eq!(Signature::parse("-+", 1).unwrap().to_string(), "+-");
         assert_eq!(Signature::parse("+", 3).unwrap().to_string(), "+");
         assert_eq!(Signature::parse("-+-+-", 2).unwrap().to_string(), "+-+--");
-        assert_eq!(Signature::parse("-+-+", 2).unwrap().symmetries(), vec![0, 2]);
+        assert_eq!(
+            Signature::parse("-+-+", 2).unwrap().symmetries(),
+            vec![0, 2]
+        );
         let s = Signature::from_sides(&[-1, -1, 1], 2).unwrap();
         assert_eq!((s.to_string(), s.period()), ("+--".to_string(), 2));
     }
@@ -188,7 +193,10 @@ mod tests {
         let message = |r: Result<Signature, SignatureError>| r.unwrap_err().to_string();
         assert!(message(Signature::parse("", 1)).contains("--signature"));
         let m = message(Signature::parse("+x-", 1));
-        assert!(m.contains("--signature") && m.contains("'+'") && m.contains("'-'"), "{m}");
+        assert!(
+            m.contains("--signature") && m.contains("'+'") && m.contains("'-'"),
+            "{m}"
+        );
         let m = message(Signature::parse("+-", 0));
         assert!(m.contains("--period") && m.contains("1..=8"), "{m}");
         assert!(message(Signature::parse("+-", 9)).contains("--period"));
