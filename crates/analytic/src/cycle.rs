@@ -24,6 +24,7 @@ use crate::signature::Signature;
 use crate::symmetric::OrbitError;
 use crate::unit::{Stops, Unit};
 use nalgebra::{Complex, DMatrix, DVector, Matrix2, Matrix4, Matrix6, SMatrix, Vector2, Vector4};
+use std::collections::HashMap;
 
 type Matrix12 = SMatrix<f64, 12, 12>;
 
@@ -44,7 +45,7 @@ pub const NEWTON_ACCEPTANCE: f64 = 1e-11;
 
 /// A Newton step below this (in radians of `α` and in fractions of the cycle) no longer moves
 /// the unknowns beyond a few ulps of numbers of order one.
-const STEP_ROUNDING: f64 = 1e-15;
+pub const STEP_ROUNDING: f64 = 1e-15;
 
 /// Halvings of the Newton step when it would reorder the impacts or raise the residual:
 /// `2⁻³⁰ ≈ 1e-9` of a step; beyond that the direction is useless and the start is abandoned.
@@ -55,19 +56,26 @@ const LINE_SEARCH_HALVINGS: usize = 30;
 pub const MIN_FLIGHT: f64 = 1e-9;
 
 /// Grid points per period of the fastest oscillation of the flow (`max(ω, ω_n)`) in the
-/// multi-start over impact phases: each impact time of any orbit lies within an eighth of
-/// that period of a grid point, where `r(t)` is still monotone or at one extremum, the
-/// regime in which the Newton iteration on the contact conditions is expected to converge.
-pub const GRID_PER_OSCILLATION: f64 = 4.0;
+/// multi-start over impact phases: each impact time of any orbit lies within `1/32` of that
+/// period of a grid point. Four points per period (an eighth) missed non-viable two-impact
+/// orbits of the paper unit at `ω = 0.8` whose Newton basins are narrow; sixteen found
+/// every viable orbit that grids up to four times finer found (see [`signature_orbits`]).
+pub const GRID_PER_OSCILLATION: f64 = 16.0;
 
 /// Fewest grid intervals over the cycle, whatever the frequencies: with `n ≤ 4` impacts
-/// there are then at least `C(7, 3) = 35` ordered phase tuples.
-pub const MIN_GRID: usize = 8;
+/// there are then at least `C(15, 3) = 455` ordered phase tuples.
+pub const MIN_GRID: usize = 16;
+
+/// Up to this many impact-phase tuples, Newton starts from every minimum in `α` of every
+/// tuple's linear residual; above it, only from the minima over the joint grid of impact
+/// phases and `α`. A Newton start costs about 0.2 ms, so this bounds the full search to
+/// about two seconds (`n = 4`, `p = 1`, `ω ≥ 1.2` on the paper unit stay below it).
+pub const FULL_START_TUPLES: usize = 5000;
 
 /// Samples of `α` on which the linear contact residual is scanned for each phase tuple; its
 /// square is a trigonometric polynomial of degree 2 in `α` (at most two minima, at least
 /// `π/2` apart), so 64 samples (`π/32` apart) separate them and land within `π/64` of each.
-const ALPHA_SCAN: usize = 64;
+pub const ALPHA_SCAN: usize = 64;
 
 /// Two converged solutions are the same orbit when their base phases (after bringing both
 /// to the canonical first impact) and impact phases differ by less than this: Newton pins
@@ -275,6 +283,7 @@ impl<'a> Problem<'a> {
         };
         let mut eval = self.evaluate(x[0], &phases(&x))?;
         let mut norm = eval.residual.amax();
+        let mut merit = eval.residual.norm();
         for iteration in 0..=NEWTON_ITERATIONS {
             let scale = self.scale(&eval.y1);
             if !norm.is_finite() {
@@ -308,11 +317,12 @@ impl<'a> Problem<'a> {
                     .collect();
                 if ordered(&trial) {
                     if let Ok(e) = self.evaluate(trial[0], &phases(&trial)) {
-                        let m = e.residual.amax();
-                        if m < norm {
+                        let m = e.residual.norm();
+                        if m < merit {
                             x = trial;
+                            norm = e.residual.amax();
                             eval = e;
-                            norm = m;
+                            merit = m;
                             accepted = true;
                             break;
                         }
@@ -364,9 +374,7 @@ pub fn solve_signature(
     let problem = Problem::new(unit, stops, omega, signature);
     let (x, iterations) = problem.newton(guess)?;
     let (alpha, phases) = canonical_shift(&problem, signature, &x);
-    Ok(assemble(
-        unit, stops, &problem, signature, alpha, &phases, iterations,
-    )?)
+    assemble(unit, stops, &problem, signature, alpha, &phases, iterations)
 }
 
 /// Among the rotations of the cycle that keep the canonical signature, the representation with
@@ -555,20 +563,28 @@ fn quadratic_integral(flow: &ForcedFlow, q: &Matrix6<f64>, start: &Augmented, ta
 /// Every orbit of `signature` found by a systematic multi-start over impact phases,
 /// deduplicated, viable or not, sorted by `α`.
 ///
-/// The cycle `pT` is cut into `N = max(`[`MIN_GRID`]`, ⌈`[`GRID_PER_OSCILLATION`]` · pT ·
-/// max(ω, ω_n)/2π⌉)` intervals; every ordered tuple `0 < φ₂ < … < φₙ < 1` of grid points is a
-/// start. The phase `α` is not gridded: for fixed impact times the contact residuals are
-/// *linear* in `(cos α, sin α)`, so for each tuple the `α` at the (at most two) minima of their
-/// squared norm are found by a scan of [`ALPHA_SCAN`] points, and Newton starts from each.
-/// Why this is fine enough for `n ≤ 4`, `p ≤ 2`: every impact time of any orbit lies within
-/// an eighth of the fastest period of the motion from a grid tuple, close enough that the
-/// contact residuals are near their linearisation, and `α` is then the best one for those
-/// times rather than a grid guess. This is a reasoned choice, checked by refining the grid
-/// (see the tests), not a proof. Orbits of a repeated signature (e.g. `+-+-` over 2 periods)
-/// include those of its root (`+-` over 1 period) traversed twice: they are solutions too.
+/// The cycle `pT` is cut into `N = max(`[`MIN_GRID`]`, ⌈`[`GRID_PER_OSCILLATION`]` · p ·
+/// max(ω, ω_n)/ω⌉)` intervals: [`GRID_PER_OSCILLATION`] points per period of the fastest
+/// oscillation of the motion (the forcing or the highest natural frequency `ω_n`). Every
+/// ordered tuple `0 < φ₂ < … < φₙ < 1` of grid points is scanned. The phase `α` is not a
+/// Newton guess from a coarse grid: for fixed impact times the contact residuals are
+/// *linear* in `(cos α, sin α)`, so each tuple's squared residual is scanned on
+/// [`ALPHA_SCAN`] values of `α` for the cost of one cycle. Newton starts from every minimum
+/// in `α` of every tuple when there are at most [`FULL_START_TUPLES`] tuples, and otherwise
+/// from the nodes that are minima over the joint grid of impact phases and `α`.
 ///
-/// A start whose Newton iteration fails is dropped silently: most starts are far from any
-/// orbit. The unit and stops are not validated here.
+/// Why this grid: each impact time of any orbit lies within `1/32` of the fastest period of
+/// the motion from a grid tuple, where `r(t)` near an impact is close to its linearisation,
+/// and `α` is then the best one for those times. For `n ≤ 4` impacts and `p ≤ 2` on the
+/// paper unit (undamped and damped, `ω` from 0.8 to 3) no refinement of the grid (up to
+/// 4 times finer for two impacts, 2 to 3 times for four) found a viable orbit this grid
+/// missed; refinement does find a few more *non-viable* solutions, whose basins are smaller
+/// than a grid cell (near folds). This is a measured and reasoned claim, not a proof.
+///
+/// Orbits of a repeated signature (e.g. `+-+-` over 2 periods) include those of its root
+/// (`+-` over 1 period) traversed twice: they are solutions too. A start whose Newton
+/// iteration fails is dropped silently: most starts lie far from any orbit. The unit and
+/// stops are not validated here.
 pub fn signature_orbits(
     unit: &Unit,
     stops: &Stops,
@@ -600,35 +616,65 @@ pub fn signature_orbits_on_grid(
     let steps: Vec<Matrix6<f64>> = (0..=grid)
         .map(|m| (a * (m as f64 * problem.cycle / grid as f64)).exp())
         .collect();
-    let mut found: Vec<(Vec<f64>, SignatureOrbit)> = Vec::new();
+    // Pass 1: for every grid tuple, the squared linear contact residual on the α scan.
+    let mut scanned: HashMap<Vec<usize>, Vec<f64>> = HashMap::new();
     let mut tuple: Vec<usize> = (0..n).collect();
     loop {
         if n == 1 || tuple[n - 1] < grid {
-            let mut guess = vec![0.0; n];
-            for i in 1..n {
-                guess[i] = tuple[i] as f64 / grid as f64;
-            }
-            for alpha in linear_alphas(&problem, &steps, &tuple, grid, &h) {
-                guess[0] = alpha;
-                let Ok((x, iterations)) = problem.newton(&guess) else {
-                    continue;
-                };
-                let (alpha, phases) = canonical_shift(&problem, signature, &x);
-                let duplicate = found.iter().any(|(k, _)| same_orbit(k, alpha, &phases));
-                if duplicate {
-                    continue;
-                }
-                if let Ok(orbit) =
-                    assemble(unit, stops, &problem, signature, alpha, &phases, iterations)
-                {
-                    let mut key = vec![alpha];
-                    key.extend_from_slice(&phases[1..]);
-                    found.push((key, orbit));
-                }
-            }
+            scanned.insert(
+                tuple.clone(),
+                linear_scan(&problem, &steps, &tuple, grid, &h),
+            );
         }
         if !next_tuple(&mut tuple, grid) {
             break;
+        }
+    }
+    // Pass 2: Newton from the nodes (tuple, α sample) that are local minima of the residual
+    // in α, and (when there are more than FULL_START_TUPLES tuples) also over their
+    // neighbours in the joint grid (±1 in any impact index and in α).
+    let every = scanned.len() <= FULL_START_TUPLES;
+    let mut starts: Vec<(&Vec<usize>, usize)> = Vec::new();
+    for (t, values) in &scanned {
+        for k in 0..ALPHA_SCAN {
+            let v = values[k];
+            let around = [(k + ALPHA_SCAN - 1) % ALPHA_SCAN, k, (k + 1) % ALPHA_SCAN];
+            let alpha_min = values[around[0]] >= v && values[around[2]] > v;
+            if alpha_min
+                && v.is_finite()
+                && (every
+                    || neighbours(t).all(|m| {
+                        scanned
+                            .get(&m)
+                            .is_none_or(|w| around.iter().all(|&k2| w[k2] >= v))
+                    }))
+            {
+                starts.push((t, k));
+            }
+        }
+    }
+    starts.sort();
+    let mut found: Vec<(Vec<f64>, SignatureOrbit)> = Vec::new();
+    for (tuple, k) in starts {
+        let mut guess = vec![scan_angle(k); n];
+        for i in 1..n {
+            guess[i] = tuple[i] as f64 / grid as f64;
+        }
+        {
+            let Ok((x, iterations)) = problem.newton(&guess) else {
+                continue;
+            };
+            let (alpha, phases) = canonical_shift(&problem, signature, &x);
+            if found.iter().any(|(k, _)| same_orbit(k, alpha, &phases)) {
+                continue;
+            }
+            if let Ok(orbit) =
+                assemble(unit, stops, &problem, signature, alpha, &phases, iterations)
+            {
+                let mut key = vec![alpha];
+                key.extend_from_slice(&phases[1..]);
+                found.push((key, orbit));
+            }
         }
     }
     let mut orbits: Vec<SignatureOrbit> = found.into_iter().map(|(_, o)| o).collect();
@@ -644,6 +690,32 @@ fn same_orbit(key: &[f64], alpha: f64, phases: &[f64]) -> bool {
             .iter()
             .zip(&phases[1..])
             .all(|(a, b)| (a - b).abs() < DEDUP_TOLERANCE)
+}
+
+/// The tuples that differ from `tuple` by at most one grid step in each impact index (the
+/// first index, always 0, excluded), `tuple` itself left out.
+fn neighbours(tuple: &[usize]) -> impl Iterator<Item = Vec<usize>> + '_ {
+    let free = tuple.len() - 1;
+    (0..3usize.pow(free as u32)).filter_map(move |code| {
+        let mut m = tuple.to_vec();
+        let mut c = code;
+        let mut moved = false;
+        for v in m.iter_mut().skip(1) {
+            match c % 3 {
+                1 => {
+                    *v += 1;
+                    moved = true;
+                }
+                2 => {
+                    *v = v.checked_sub(1)?;
+                    moved = true;
+                }
+                _ => {}
+            }
+            c /= 3;
+        }
+        moved.then_some(m)
+    })
 }
 
 /// Advances `tuple = (0, i₂, …, iₙ)`, `0 < i₂ < … < iₙ < grid`, in lexicographic order.
@@ -669,10 +741,15 @@ fn next_tuple(tuple: &mut [usize], grid: usize) -> bool {
     }
 }
 
-/// For impact times on grid points `tuple`, the `α` at the local minima of the squared
-/// contact residual, which is a trigonometric polynomial of degree 2 in `α` because the
-/// residuals are linear in `(cos α, sin α)` for fixed times.
-fn linear_alphas(
+/// Sample `k` of the `α` scan: `−π + 2πk/`[`ALPHA_SCAN`].
+fn scan_angle(k: usize) -> f64 {
+    -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / ALPHA_SCAN as f64
+}
+
+/// For impact times on grid points `tuple`, the squared contact residual on the `α` scan:
+/// for fixed times the residuals are linear in `(cos α, sin α)`, so this costs one cycle.
+/// Infinite where the periodicity solve is singular.
+fn linear_scan(
     problem: &Problem,
     steps: &[Matrix6<f64>],
     tuple: &[usize],
@@ -693,7 +770,7 @@ fn linear_alphas(
     }
     let psi = problem.g_hat * pre[n - 1];
     let Some(k) = (Matrix4::identity() - psi.fixed_view::<4, 4>(0, 0)).try_inverse() else {
-        return Vec::new();
+        return vec![f64::INFINITY; ALPHA_SCAN];
     };
     let y = k * psi.fixed_view::<4, 2>(0, 4);
     // Residual j = a_j · p − s_j Δ.
@@ -719,15 +796,5 @@ fn linear_alphas(
             .map(|j| (coefficients[j].dot(&p) - problem.sides[j] as f64 * problem.gap).powi(2))
             .sum::<f64>()
     };
-    let angle =
-        |k: usize| -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / ALPHA_SCAN as f64;
-    let values: Vec<f64> = (0..ALPHA_SCAN).map(|k| cost(angle(k))).collect();
-    (0..ALPHA_SCAN)
-        .filter(|&k| {
-            let prev = values[(k + ALPHA_SCAN - 1) % ALPHA_SCAN];
-            let next = values[(k + 1) % ALPHA_SCAN];
-            values[k] <= prev && values[k] < next
-        })
-        .map(angle)
-        .collect()
+    (0..ALPHA_SCAN).map(|k| cost(scan_angle(k))).collect()
 }
