@@ -16,6 +16,27 @@ fn main() {
         let sym = symmetric_orbits(&unit, &stops, omega).unwrap();
         println!("ω = {omega}: symmetric solver: {} orbits", sym.len());
         for o in &sym {
+            let s = Signature::parse("+-", 1).unwrap();
+            let g = rattle_analytic::solve_signature(&unit, &stops, omega, &s, &[o.alpha, 0.5])
+                .unwrap();
+            let dmu = g
+                .floquet_multipliers
+                .iter()
+                .map(|a| {
+                    o.floquet_multipliers
+                        .iter()
+                        .map(|b| (a - b).norm())
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(0.0, f64::max);
+            println!(
+                "   general vs symmetric: dα {:.1e} dstate {:.1e} dX_o {:.1e} dμ {:.1e} (Newton iterations {})",
+                (g.alpha - o.alpha).abs(),
+                (g.state_after_impact - o.state_after_impact).amax(),
+                (g.outer_amplitude - o.outer_amplitude).abs(),
+                dmu,
+                g.newton_iterations
+            );
             println!(
                 "   sym α = {:.15} viable {} stable {} X_o {:.12}",
                 o.alpha, o.viable, o.stable, o.outer_amplitude
