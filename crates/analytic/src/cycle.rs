@@ -292,6 +292,19 @@ impl<'a> Problem<'a> {
                 break;
             }
             if norm <= NEWTON_TOLERANCE * scale {
+                // One more full step polishes the quadratic convergence down to rounding;
+                // kept only if it lowers the residual.
+                let polished = eval.jacobian.clone().lu().solve(&(-&eval.residual));
+                if let Some(step) = polished {
+                    let trial: Vec<f64> = x.iter().zip(step.iter()).map(|(a, d)| a + d).collect();
+                    if ordered(&trial) {
+                        if let Ok(e) = self.evaluate(trial[0], &phases(&trial)) {
+                            if e.residual.norm() < merit {
+                                return Ok((trial, iteration + 1));
+                            }
+                        }
+                    }
+                }
                 return Ok((x, iteration));
             }
             if iteration == NEWTON_ITERATIONS {

@@ -8,7 +8,7 @@ use rattle_analytic::test_models::{
 };
 use rattle_analytic::{
     signature_orbits, signature_orbits_on_grid, solve_signature, symmetric_orbits, OrbitError,
-    Signature, SignatureOrbit, Stops, Unit,
+    Side, Signature, SignatureOrbit, Stops, Unit, Violation,
 };
 
 /// Agreement asked of two exact solvers of the same orbit.
@@ -22,6 +22,10 @@ fn wrap(a: f64) -> f64 {
         w
     }
 }
+
+/// Offset of the Newton guess from the symmetric orbit, in radians of `α` and in fractions
+/// of the period: well outside rounding, well inside the basin.
+const PERTURBATION: f64 = 1e-3;
 
 /// Largest distance from a multiplier of `a` to the nearest of `b`, both ways.
 fn multiplier_distance(a: &[Complex<f64>], b: &[Complex<f64>]) -> f64 {
@@ -48,7 +52,9 @@ fn plus_minus_over_one_period_is_the_symmetric_orbit() {
             let symmetric = symmetric_orbits(&unit, &stops, omega).unwrap();
             let found = signature_orbits(&unit, &stops, omega, &signature);
             for o in &symmetric {
-                let g = solve_signature(&unit, &stops, omega, &signature, &[o.alpha, 0.5])
+                // Newton from a perturbed guess, so that it has work to do.
+                let guess = [o.alpha + PERTURBATION, 0.5 - PERTURBATION];
+                let g = solve_signature(&unit, &stops, omega, &signature, &guess)
                     .unwrap_or_else(|e| panic!("ω = {omega}: {e}"));
                 let scale = o.state_after_impact.amax().max(1.0);
                 let checks = [
@@ -87,6 +93,7 @@ fn plus_minus_over_one_period_is_the_symmetric_orbit() {
                     );
                 }
                 assert_eq!((g.viable, g.stable), (o.viable, o.stable), "ω = {omega}");
+                assert!(g.newton_iterations > 0);
                 // The multi-start finds it too, if it is a motion (a non-viable solution may
                 // have too small a basin for the grid: see `signature_orbits`).
                 assert!(
@@ -134,6 +141,58 @@ fn own_equations_defect(unit: &Unit, stops: &Stops, o: &SignatureOrbit) -> f64 {
     // Periodicity: back to the state after the first impact, and to the same forcing phase.
     defect = defect.max((x - o.state_after_impact).amax() / scale);
     defect.max((p - Vector2::new(o.alpha.cos(), o.alpha.sin())).amax())
+}
+
+/// `r(t)` of the orbit at time `t` after its first impact, restarting the exact flow from the
+/// last impact before `t`.
+fn relative_displacement_at(unit: &Unit, stops: &Stops, o: &SignatureOrbit, t: f64) -> f64 {
+    let flow = ForcedFlow::new(unit, o.omega);
+    let cycle = flow.period() * o.period as f64;
+    let j = o
+        .impact_phases
+        .iter()
+        .rposition(|&f| f * cycle <= t)
+        .unwrap();
+    let t0 = o.impact_phases[j] * cycle;
+    let before = o.states_before_impacts[j];
+    let v = stops.impact_map(unit) * Vector2::new(before[2], before[3]);
+    let after = Vector4::new(before[0], before[1], v[0], v[1]);
+    let p0 = Vector2::new(o.alpha.cos(), o.alpha.sin());
+    let (_, pj) = flow.transition(t0).apply(&Vector4::zeros(), &p0);
+    let (x, _) = flow.transition(t - t0).apply(&after, &pj);
+    x[1] - x[0]
+}
+
+#[test]
+fn reported_excursions_beyond_a_stop_are_real() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let mut extra = 0;
+    for text in ["++--", "+-+-"] {
+        let signature = Signature::parse(text, 1).unwrap();
+        for o in signature_orbits(&unit, &stops, 1.5, &signature) {
+            for v in &o.violations {
+                let (side, time, excess) = match *v {
+                    Violation::ExtraImpact { side, time, excess } => {
+                        extra += 1;
+                        (side, time, excess)
+                    }
+                    Violation::Penetration { side, time, excess } => (side, time, excess),
+                    Violation::WrongApproach { .. } => continue,
+                };
+                let r = relative_displacement_at(&unit, &stops, &o, time);
+                let beyond = if side == Side::One {
+                    r - stops.gap
+                } else {
+                    -stops.gap - r
+                };
+                assert!(
+                    (beyond - excess).abs() < 1e-9 && excess > 0.0,
+                    "{v:?}: r = {r}"
+                );
+            }
+        }
+    }
+    assert!(extra > 0, "no extra impact reported");
 }
 
 #[test]
@@ -209,7 +268,7 @@ fn cycle_energy_balances_and_monodromy_obeys_liouville() {
                         (got - want).abs() <= 1e-11 * size,
                         "{text}/{period} ω = {omega}: det {got} vs {want}"
                     );
-                    assert!(o.newton_iterations <= 40);
+                    assert!(o.newton_iterations <= rattle_analytic::cycle::NEWTON_ITERATIONS + 1);
                     checked += 1;
                 }
             }
