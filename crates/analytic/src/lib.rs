@@ -9,6 +9,10 @@
 //!   half-period symmetry, both branches;
 //! - [`family`]: orbits whose side-2 impact comes `βT` after the side-1 impact, for any `β`:
 //!   the gap `Δ*(β)` that admits them, and the asymmetric orbits of a given gap;
+//! - [`signature`] and [`cycle`]: orbits of any impact signature (`+-`, `++--`, … over `p`
+//!   forcing periods) by the Nigm–Shabana method with Newton on exact derivatives, found by
+//!   a systematic multi-start ([`signature_orbits`]) or from a guess ([`solve_signature`]),
+//!   with viability, Floquet multipliers and the cycle's energy balance;
 //! - for every orbit ([`orbit::Orbit`]): the outer amplitude from rigorous extrema, viability
 //!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
 //!   from the monodromy matrix with saltation matrices.
