@@ -74,6 +74,13 @@ pub const MIN_GRID: usize = 16;
 /// about two seconds (`n = 4`, `p = 1`, `ω ≥ 1.2` on the paper unit stay below it).
 pub const FULL_START_TUPLES: usize = 5000;
 
+/// Cap on the impact-phase tuples of [`signature_orbits`]: at low `ω` or long cycles the
+/// grid of [`GRID_PER_OSCILLATION`] is coarsened until `C(N − 1, n − 1)` tuples fit, which
+/// bounds the scan's memory (64 residuals per tuple, about 30 MB) and its time (about a
+/// second). Not binding on the paper unit for `n ≤ 4` impacts above `ω ≈ 1.08` with `p = 2`,
+/// above `ω ≈ 0.54` with `p = 1`.
+pub const MAX_TUPLES: usize = 60_000;
+
 /// Samples of `α` on which the linear contact residual is scanned for each phase tuple; its
 /// square is a trigonometric polynomial of degree 2 in `α` (at most two minima, at least
 /// `π/2` apart), so 64 samples (`π/32` apart) separate them and land within `π/64` of each.
@@ -364,6 +371,7 @@ impl<'a> Problem<'a> {
 /// cycle (`0 < φ₂ < … < φₙ < 1`). The unit and stops are not validated here.
 ///
 /// # Errors
+/// [`OrbitError::InvalidFrequency`] unless `omega` is finite and positive;
 /// [`OrbitError::InvalidGuess`] when `guess` does not have `n` finite entries with ordered
 /// phases in `(0, 1)`; [`OrbitError::SingularCycle`] when the periodicity solve or the Newton
 /// Jacobian is singular; [`OrbitError::NoConvergence`] when Newton does not reach
@@ -375,6 +383,9 @@ pub fn solve_signature(
     signature: &Signature,
     guess: &[f64],
 ) -> Result<SignatureOrbit, OrbitError> {
+    if !(omega.is_finite() && omega > 0.0) {
+        return Err(OrbitError::InvalidFrequency { omega });
+    }
     let n = signature.impacts();
     let ok = guess.len() == n
         && guess.iter().all(|v| v.is_finite())
@@ -606,17 +617,30 @@ pub fn signature_orbits(
     omega: f64,
     signature: &Signature,
 ) -> Vec<SignatureOrbit> {
+    if !(omega.is_finite() && omega > 0.0) {
+        return Vec::new();
+    }
     let nat = modes(unit)
         .natural_frequencies_squared
         .iter()
         .fold(omega, |m, w2| m.max(w2.sqrt()));
-    let grid = ((GRID_PER_OSCILLATION * signature.period() as f64 * nat / omega).ceil() as usize)
-        .max(MIN_GRID);
+    let wanted = (GRID_PER_OSCILLATION * signature.period() as f64 * nat / omega).ceil();
+    let mut grid = (wanted.min(MAX_TUPLES as f64) as usize).max(MIN_GRID);
+    while grid > MIN_GRID && tuples(grid, signature.impacts()) > MAX_TUPLES as f64 {
+        grid -= 1;
+    }
     signature_orbits_on_grid(unit, stops, omega, signature, grid)
 }
 
-/// [`signature_orbits`] with an explicit number of grid intervals over the cycle (at least
-/// the number of impacts).
+/// Number of ordered impact-phase tuples `C(grid − 1, n − 1)` of a grid, as a float.
+fn tuples(grid: usize, n: usize) -> f64 {
+    (1..n).fold(1.0, |c, k| c * (grid - k) as f64 / k as f64)
+}
+
+/// [`signature_orbits`] with an explicit number of grid intervals over the cycle. The work
+/// and memory grow like the number of tuples, `C(grid − 1, n − 1)`: the caller bounds it.
+/// An empty list when `grid` is below the number of impacts or `omega` is not finite and
+/// positive.
 pub fn signature_orbits_on_grid(
     unit: &Unit,
     stops: &Stops,
@@ -625,6 +649,9 @@ pub fn signature_orbits_on_grid(
     grid: usize,
 ) -> Vec<SignatureOrbit> {
     let n = signature.impacts();
+    if grid < n || !(omega.is_finite() && omega > 0.0) {
+        return Vec::new();
+    }
     let problem = Problem::new(unit, stops, omega, signature);
     let a = problem.flow.augmented_matrix();
     let h = join(&relative_displacement(), &Vector2::zeros());

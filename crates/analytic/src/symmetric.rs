@@ -39,6 +39,12 @@ pub enum OrbitError {
         /// The largest contact residual reached.
         residual: f64,
     },
+    /// The forcing frequency is not finite and positive.
+    #[error("omega = {omega} is out of range: must be finite and > 0")]
+    InvalidFrequency {
+        /// The rejected frequency.
+        omega: f64,
+    },
     /// A guess for a signature orbit is not `(α, φ₂, …, φₙ)` with `0 < φ₂ < … < φₙ < 1`.
     #[error("the guess has {len} entries: must be alpha and {impacts} - 1 ordered impact phases in (0, 1)")]
     InvalidGuess {

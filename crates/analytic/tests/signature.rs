@@ -320,4 +320,15 @@ fn bad_inputs_are_refused() {
             Err(OrbitError::InvalidGuess { .. })
         ));
     }
+    for omega in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(
+            solve_signature(&unit, &stops, omega, &s, &[0.1, 0.2, 0.5, 0.7]),
+            Err(OrbitError::InvalidFrequency { .. })
+        ));
+        assert!(signature_orbits(&unit, &stops, omega, &s).is_empty());
+    }
+    // A very low frequency coarsens the grid to MAX_TUPLES tuples instead of exploding.
+    let start = std::time::Instant::now();
+    let _ = signature_orbits(&unit, &stops, 0.05, &Signature::parse("+-+-", 2).unwrap());
+    assert!(start.elapsed().as_secs_f64() < 60.0);
 }
