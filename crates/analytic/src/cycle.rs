@@ -82,8 +82,9 @@ pub const FULL_START_TUPLES: usize = 5000;
 pub const MAX_TUPLES: usize = 60_000;
 
 /// Samples of `α` on which the linear contact residual is scanned for each phase tuple; its
-/// square is a trigonometric polynomial of degree 2 in `α` (at most two minima, at least
-/// `π/2` apart), so 64 samples (`π/32` apart) separate them and land within `π/64` of each.
+/// square is a trigonometric polynomial of degree 2 in `α` (at most two local minima), so 64
+/// samples (`π/32` apart) land within `π/64` of each minimum, and separate the two unless
+/// they nearly merge (then one start serves both).
 pub const ALPHA_SCAN: usize = 64;
 
 /// Two converged solutions are the same orbit when their base phases (after bringing both
