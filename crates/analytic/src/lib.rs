@@ -9,6 +9,10 @@
 //!   half-period symmetry, both branches;
 //! - [`family`]: orbits whose side-2 impact comes `βT` after the side-1 impact, for any `β`:
 //!   the gap `Δ*(β)` that admits them, and the asymmetric orbits of a given gap;
+//! - [`signature`] and [`cycle`]: orbits of any impact signature (`+-`, `++--`, … over `p`
+//!   forcing periods) by the Nigm–Shabana method with Newton on exact derivatives, found by
+//!   a systematic multi-start ([`signature_orbits`]) or from a guess ([`solve_signature`]),
+//!   with viability, Floquet multipliers and the cycle's energy balance;
 //! - for every orbit ([`orbit::Orbit`]): the outer amplitude from rigorous extrema, viability
 //!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
 //!   from the monodromy matrix with saltation matrices.
@@ -17,16 +21,22 @@
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
 #![deny(missing_docs)]
 
+pub mod cycle;
 pub mod family;
 pub mod flow;
 pub mod linear;
 pub mod orbit;
+pub mod signature;
 pub mod symmetric;
 pub mod test_models;
 pub mod unit;
 
+pub use cycle::{
+    signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
+};
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use orbit::{Orbit, Side, Violation};
+pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};

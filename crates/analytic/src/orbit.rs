@@ -50,6 +50,17 @@ pub enum Violation {
         /// The relative velocity `ṙ⁻` just before that impact.
         relative_velocity: f64,
     },
+    /// Between two impacts of a signature orbit, `r(t)` goes beyond a stop and comes back: a
+    /// contact that the signature does not have (neither adjacent impact on that stop is
+    /// approached from outside).
+    ExtraImpact {
+        /// The stop reached.
+        side: Side,
+        /// Time after the first canonical impact at which `r` is furthest beyond the stop.
+        time: f64,
+        /// How far beyond the stop, `> 0`.
+        excess: f64,
+    },
 }
 
 /// A two-impact periodic orbit of the impacting unit and its verdicts.

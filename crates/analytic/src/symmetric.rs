@@ -24,6 +24,35 @@ pub enum OrbitError {
         /// The frequency at which it happened.
         omega: f64,
     },
+    /// The periodicity solve `(I − M_cycle) y₁ = …` or the Newton Jacobian of a signature's
+    /// contact conditions is singular.
+    #[error("the impact-signature cycle equations are singular at ω = {omega}")]
+    SingularCycle {
+        /// The frequency at which it happened.
+        omega: f64,
+    },
+    /// Newton on a signature's contact conditions did not converge.
+    #[error("Newton on the impact-signature equations did not converge at ω = {omega} (residual {residual:e})")]
+    NoConvergence {
+        /// The frequency.
+        omega: f64,
+        /// The largest contact residual reached.
+        residual: f64,
+    },
+    /// The forcing frequency is not finite and positive.
+    #[error("omega = {omega} is out of range: must be finite and > 0")]
+    InvalidFrequency {
+        /// The rejected frequency.
+        omega: f64,
+    },
+    /// A guess for a signature orbit is not `(α, φ₂, …, φₙ)` with `0 < φ₂ < … < φₙ < 1`.
+    #[error("the guess has {len} entries: must be alpha and {impacts} - 1 ordered impact phases in (0, 1)")]
+    InvalidGuess {
+        /// Number of impacts of the signature.
+        impacts: usize,
+        /// Number of entries given.
+        len: usize,
+    },
 }
 
 /// Rank test of the symmetry equations: `N_a` is taken to have lost rank when its left null

@@ -255,6 +255,9 @@ fn violations_are_real_and_viable_orbits_stay_inside() {
                             "{v:?}: r = {rt}"
                         );
                     }
+                    Violation::ExtraImpact { .. } => {
+                        panic!("two-impact orbits report penetrations, not extra impacts: {v:?}")
+                    }
                     Violation::WrongApproach {
                         side,
                         relative_velocity,
