@@ -220,3 +220,81 @@ fn sweep_writes_the_same_rows_in_every_format_and_refuses_bad_files() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Sorted `(re, im)` pairs of a JSON multiplier list, for comparison.
+fn sorted_multipliers(v: &Value) -> Vec<(f64, f64)> {
+    let mut m: Vec<(f64, f64)> = v
+        .as_array()
+        .expect("multipliers")
+        .iter()
+        .map(|p| (p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
+        .collect();
+    m.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    m
+}
+
+#[test]
+fn orbits_of_a_signature_and_the_simulators_own_cycle_agree() {
+    // The paper scene at ω = 2: one viable `+-` orbit, the stable symmetric one; from rest the
+    // simulator settles on it, and its own Newton names the cycle `+-`.
+    let sig = json(&["orbit", "--omega", "2", "--signature", "-+", "--json"]);
+    assert_eq!(sig["signature"], "+-");
+    let viable: Vec<&Value> = sig["orbits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|o| o["viable"] == true)
+        .collect();
+    assert_eq!(viable.len(), 1);
+    let general = viable[0];
+    assert!(general["energy_residual"].as_f64().unwrap() <= 1e-10);
+    let symmetric = json(&["orbit", "--omega", "2", "--symmetric-only", "--json"]);
+    let branch = symmetric["orbits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|o| o["viable"] == true && o["stable"] == true)
+        .expect("a stable viable symmetric orbit");
+    for key in ["alpha", "outer_amplitude"] {
+        let (a, b) = (
+            general[key].as_f64().unwrap(),
+            branch[key].as_f64().unwrap(),
+        );
+        assert!(
+            (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+            "{key}: {a} vs {b}"
+        );
+    }
+    let sim = json(&["simulate", "--omega", "2", "--json"]);
+    assert_eq!(sim["signature"], "+-");
+    let (own, analytic) = (
+        sorted_multipliers(&sim["floquet_multipliers"]),
+        sorted_multipliers(&general["floquet_multipliers"]),
+    );
+    for (a, b) in own.iter().zip(&analytic) {
+        assert!(
+            (a.0 - b.0).hypot(a.1 - b.1) < 1e-8,
+            "simulator {own:?} vs analytic {analytic:?}"
+        );
+    }
+}
+
+#[test]
+fn bad_signatures_exit_2_and_name_the_field() {
+    for (args, field) in [
+        (vec!["--signature", ""], "--signature"),
+        (vec!["--signature", "+x-"], "--signature"),
+        (vec!["--signature", "+-", "--period", "0"], "--period"),
+        (vec!["--signature", "+-", "--period", "99"], "--period"),
+    ] {
+        let mut all = vec!["orbit", "--omega", "2"];
+        all.extend(args.iter().copied());
+        let out = rattle(&all);
+        assert_eq!(out.status.code(), Some(2), "{all:?}");
+        assert!(
+            String::from_utf8_lossy(&out.stderr).contains(field),
+            "{all:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}

@@ -2,9 +2,13 @@
 
 use super::{check_omega, heading, load, pretty, Common, RattleError};
 use crate::output::finite;
-use crate::output::records::{LinearRecord, OrbitRecord, OrbitsRecord};
-use crate::scene::analytic::{analyse, OrbitSearch};
+use crate::output::records::{
+    LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
+};
+use crate::scene::analytic::{analyse, orbits_of_signature, OrbitSearch};
+use crate::scene::Scene;
 use clap::Args;
+use rattle_analytic::Signature;
 use std::fmt::Write as _;
 
 /// Arguments of `rattle orbit`.
@@ -14,8 +18,15 @@ pub struct OrbitArgs {
     #[allow(missing_docs)]
     pub common: Common,
     /// Only the symmetric orbits (β = ½); skips the search over β.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "signature")]
     pub symmetric_only: bool,
+    /// Every orbit with this impact signature instead: the stops hit over one cycle in time
+    /// order, `+` side 1 (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`, `+-+-`).
+    #[arg(long, allow_hyphen_values = true)]
+    pub signature: Option<String>,
+    /// Forcing periods per cycle of the signature, in [1, 8].
+    #[arg(long, default_value_t = 1, requires = "signature")]
+    pub period: u32,
 }
 
 /// Runs `rattle orbit`.
@@ -24,6 +35,12 @@ pub struct OrbitArgs {
 /// Bad arguments or scene; a numerical failure of the analytic solver.
 pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.common.omega)?;
+    if let Some(text) = &args.signature {
+        let signature = Signature::parse(text, args.period)
+            .map_err(|e| RattleError::Argument(e.to_string()))?;
+        let scene = load(&args.common.scene)?;
+        return signature_run(&scene, omega, &signature, args.common.json);
+    }
     let scene = load(&args.common.scene)?;
     let search = if args.symmetric_only {
         OrbitSearch::Symmetric
@@ -74,6 +91,77 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
         return Ok(out);
     }
     out.push_str(&orbit_table(&record.orbits));
+    Ok(out)
+}
+
+/// `rattle orbit --signature`: every orbit of one signature.
+fn signature_run(
+    scene: &Scene,
+    omega: f64,
+    signature: &Signature,
+    json: bool,
+) -> Result<String, RattleError> {
+    if scene.stops.is_none() {
+        return Err(RattleError::Argument(
+            "--signature: the scene has no `stops`, so no impact signature".into(),
+        ));
+    }
+    let record = SignatureOrbitsRecord {
+        scene: scene.name.clone(),
+        omega: finite(omega),
+        effects: scene.effect_names(),
+        signature: signature.to_string(),
+        period: signature.period(),
+        orbits: orbits_of_signature(scene, omega, signature)
+            .iter()
+            .map(SignatureOrbitRecord::new)
+            .collect(),
+    };
+    if json {
+        return pretty(&record);
+    }
+    let mut out = heading(scene, omega);
+    let _ = writeln!(
+        out,
+        "signature {} over {} period(s): {} orbit(s)",
+        record.signature,
+        record.period,
+        record.orbits.len()
+    );
+    if record.orbits.is_empty() {
+        return Ok(out);
+    }
+    let _ = writeln!(
+        out,
+        "{:>5} {:>9} {:>10} {:>9} {:>6} {:>6} {:>9} {:>9}  impact phases; violations",
+        "orbit", "alpha", "X_o", "T(dB)", "viable", "stable", "max|μ|", "energy"
+    );
+    let num = |x: Option<f64>| x.unwrap_or(f64::NAN);
+    for (k, o) in record.orbits.iter().enumerate() {
+        let phases: Vec<String> = o
+            .impact_phases
+            .iter()
+            .map(|p| format!("{:.6}", num(*p)))
+            .collect();
+        let violations: Vec<String> = o.violations.iter().map(|v| v.words()).collect();
+        let _ = writeln!(
+            out,
+            "{k:>5} {:>9.5} {:>10.6} {:>9.3} {:>6} {:>6} {:>9.4} {:>9.1e}  ({}); {}",
+            num(o.alpha),
+            num(o.outer_amplitude),
+            num(o.transmittance_db),
+            o.viable,
+            o.stable,
+            o.largest_multiplier(),
+            num(o.energy_residual),
+            phases.join(", "),
+            if violations.is_empty() {
+                "-".to_owned()
+            } else {
+                violations.join("; ")
+            }
+        );
+    }
     Ok(out)
 }
 

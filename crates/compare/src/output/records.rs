@@ -5,7 +5,7 @@ use super::finite;
 use crate::scene::simulator::SimulatedPoint;
 use crate::scene::Scene;
 use nalgebra::{Complex, Vector4};
-use rattle_analytic::{LinearResponse, Orbit, Violation};
+use rattle_analytic::{LinearResponse, Orbit, SignatureOrbit, Violation};
 use serde::Serialize;
 
 /// A state `(u_o, u_i, u̇_o, u̇_i)`.
@@ -65,6 +65,15 @@ pub enum ViolationRecord {
         /// How far beyond the stop, m.
         excess: Option<f64>,
     },
+    /// An excursion beyond a stop between impacts that is not one of the signature's impacts.
+    ExtraImpact {
+        /// 1 or 2.
+        side: u8,
+        /// Time of the deepest excursion since the first impact, s.
+        time: Option<f64>,
+        /// How far beyond the stop, m.
+        excess: Option<f64>,
+    },
     /// An impact approached from outside.
     WrongApproach {
         /// 1 or 2.
@@ -79,6 +88,11 @@ impl ViolationRecord {
     pub fn new(v: &Violation) -> Self {
         match *v {
             Violation::Penetration { side, time, excess } => ViolationRecord::Penetration {
+                side: side.number(),
+                time: finite(time),
+                excess: finite(excess),
+            },
+            Violation::ExtraImpact { side, time, excess } => ViolationRecord::ExtraImpact {
                 side: side.number(),
                 time: finite(time),
                 excess: finite(excess),
@@ -99,6 +113,12 @@ impl ViolationRecord {
             ViolationRecord::Penetration { side, excess, .. } => {
                 format!(
                     "penetrates side {side} by {:.3e}",
+                    excess.unwrap_or(f64::NAN)
+                )
+            }
+            ViolationRecord::ExtraImpact { side, excess, .. } => {
+                format!(
+                    "reaches side {side} between impacts by {:.3e}",
                     excess.unwrap_or(f64::NAN)
                 )
             }
@@ -162,10 +182,7 @@ impl OrbitRecord {
 
     /// The largest multiplier modulus.
     pub fn largest_multiplier(&self) -> f64 {
-        self.floquet_multipliers
-            .iter()
-            .map(|[re, im]| re.unwrap_or(f64::NAN).hypot(im.unwrap_or(f64::NAN)))
-            .fold(0.0, f64::max)
+        largest(&self.floquet_multipliers)
     }
 }
 
@@ -230,6 +247,14 @@ pub struct SimulationRecord {
     pub periods_run: u64,
     /// Impacts over the run.
     pub impacts: u64,
+    /// The canonical impact signature of the periodic cycle (`+` side 1, `-` side 2), from the
+    /// simulator's own Newton on its stroboscopic map; `null` when not periodic, sticking, or
+    /// when Newton failed (then `orbit_error` says why).
+    pub signature: Option<String>,
+    /// The simulator's own Floquet multipliers `[re, im]` of that cycle.
+    pub floquet_multipliers: Option<Vec<[Option<f64>; 2]>>,
+    /// Why the cycle could not be polished, when it could not.
+    pub orbit_error: Option<String>,
 }
 
 impl SimulationRecord {
@@ -250,6 +275,90 @@ impl SimulationRecord {
             stopped_by: sim.stopped_by(),
             periods_run: s.periods_run,
             impacts: s.impacts,
+            signature: sim.signature().map(|sig| sig.to_string()),
+            floquet_multipliers: s
+                .orbit
+                .as_ref()
+                .map(|o| multipliers(&o.floquet_multipliers)),
+            orbit_error: s.orbit_error.clone(),
         }
     }
+}
+
+/// An orbit of any impact signature.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SignatureOrbitRecord {
+    /// The canonical signature.
+    pub signature: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// Impact times as fractions of the cycle, first = 0, in canonical order.
+    pub impact_phases: Vec<Option<f64>>,
+    /// Base phase at the first canonical impact, rad.
+    pub alpha: Option<f64>,
+    /// State just after that impact.
+    pub state_after_impact: StateRecord,
+    /// `X_o = max|u_o|` over the cycle, m.
+    pub outer_amplitude: Option<f64>,
+    /// `20 log10(X_o/u_g)`.
+    pub transmittance_db: Option<f64>,
+    /// No violation.
+    pub viable: bool,
+    /// The violations.
+    pub violations: Vec<ViolationRecord>,
+    /// Floquet multipliers `[re, im]`.
+    pub floquet_multipliers: Vec<[Option<f64>; 2]>,
+    /// Every multiplier inside the unit circle.
+    pub stable: bool,
+    /// `|base work − (dashpot + impact losses)| / |base work|` over the cycle.
+    pub energy_residual: Option<f64>,
+}
+
+impl SignatureOrbitRecord {
+    /// The record of `o`.
+    pub fn new(o: &SignatureOrbit) -> Self {
+        Self {
+            signature: o.signature.to_string(),
+            period: o.period,
+            impact_phases: o.impact_phases.iter().map(|&p| finite(p)).collect(),
+            alpha: finite(o.alpha),
+            state_after_impact: state(&o.state_after_impact),
+            outer_amplitude: finite(o.outer_amplitude),
+            transmittance_db: finite(o.transmittance_db),
+            viable: o.viable,
+            violations: o.violations.iter().map(ViolationRecord::new).collect(),
+            floquet_multipliers: multipliers(&o.floquet_multipliers),
+            stable: o.stable,
+            energy_residual: finite(o.energy_residual),
+        }
+    }
+
+    /// The largest multiplier modulus.
+    pub fn largest_multiplier(&self) -> f64 {
+        largest(&self.floquet_multipliers)
+    }
+}
+
+/// What `rattle orbit --signature SIG --json` prints.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SignatureOrbitsRecord {
+    /// Scene name.
+    pub scene: String,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// The scene's active effects.
+    pub effects: Vec<&'static str>,
+    /// The canonical signature asked for.
+    pub signature: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// Every distinct orbit found.
+    pub orbits: Vec<SignatureOrbitRecord>,
+}
+
+/// The largest modulus of multipliers written as `[re, im]`.
+fn largest(m: &[[Option<f64>; 2]]) -> f64 {
+    m.iter()
+        .map(|[re, im]| re.unwrap_or(f64::NAN).hypot(im.unwrap_or(f64::NAN)))
+        .fold(0.0, f64::max)
 }

@@ -5,7 +5,8 @@ use crate::scene::Scene;
 use nalgebra::{Complex, Vector2, Vector4};
 use rattle_analytic::flow::ForcedFlow;
 use rattle_analytic::{
-    asymmetric_orbits, linear_response, symmetric_orbits, LinearResponse, Orbit, OrbitError,
+    asymmetric_orbits, linear_response, signature_orbits, symmetric_orbits, LinearResponse, Orbit,
+    OrbitError, Signature, SignatureOrbit,
 };
 
 /// How many grid intervals on `β ∈ (0, 1)` bracket the asymmetric orbits: 400 resolves the
@@ -65,6 +66,19 @@ pub fn analyse(
         linear,
         orbits,
     })
+}
+
+/// Every distinct orbit of `scene` at `omega` with impact signature `signature`, found by the
+/// analytic crate's own multi-start over impact phases; empty without stops.
+pub fn orbits_of_signature(
+    scene: &Scene,
+    omega: f64,
+    signature: &Signature,
+) -> Vec<SignatureOrbit> {
+    match scene.stops_model() {
+        Some(stops) => signature_orbits(&scene.unit_model(), &stops, omega, signature),
+        None => Vec::new(),
+    }
 }
 
 impl AnalyticPoint {

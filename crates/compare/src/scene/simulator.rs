@@ -5,7 +5,7 @@ use crate::scene::analytic::orbit_state;
 use crate::scene::{phase, Scene};
 use nalgebra::{DVector, Vector4};
 use rattle_analytic::linear::transmittance_db;
-use rattle_analytic::Orbit;
+use rattle_analytic::{Orbit, Signature};
 use rattle_event_driven::{
     simulate, Model, ModelError, SimulationError, SimulationOptions, Start, Status, SteadyState,
     Stop,
@@ -227,6 +227,13 @@ impl SimulatedPoint {
             Stop::EventCap => "event-cap",
             Stop::OscillationCap => "oscillation-cap",
         }
+    }
+
+    /// The canonical impact signature of the periodic cycle, from the simulator's own Newton
+    /// polish of it (`None` when there is none).
+    pub fn signature(&self) -> Option<Signature> {
+        let orbit = self.steady.orbit.as_ref()?;
+        Signature::from_sides(&orbit.impact_sides, orbit.periods).ok()
     }
 
     /// For a motion with one impact on each side per period: the fraction `β` of the period
