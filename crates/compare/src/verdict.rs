@@ -5,14 +5,18 @@
 //! [`candidates`] is the one definition of "the analytic prediction": sweeps, maps and the
 //! report all call it, and each names the [`Choice`] it makes among the candidates.
 
-use crate::scene::analytic::{analyse, AnalyticPoint, OrbitSearch, BETA_SAMPLES};
+use crate::scene::analytic::{
+    analyse, signature_orbit_state, AnalyticPoint, OrbitSearch, BETA_SAMPLES,
+};
 use crate::scene::simulator::{
     run, start_on_orbit, Regime, SimulateError, SimulatedPoint, START_PERTURBATION,
 };
 use crate::scene::{phase, Scene};
 use nalgebra::Vector4;
-use rattle_analytic::{asymmetric_orbits, Orbit, OrbitError};
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_analytic::{
+    asymmetric_orbits, solve_signature, Orbit, OrbitError, Signature, SignatureOrbit,
+};
+use rattle_event_driven::{PeriodicOrbit, SimulationOptions, Start, Status};
 use thiserror::Error;
 
 /// Two results agree when they differ by less than this, relatively: 1000 × the simulator's
@@ -375,6 +379,181 @@ pub fn compare(
         matched,
         prediction_confirmed,
     })
+}
+
+/// A simulated periodic motion of any signature beside the analytic orbit of that signature.
+#[derive(Debug, Clone)]
+pub struct CrossCheck {
+    /// Angular frequency, rad/s.
+    pub omega: f64,
+    /// The simulator from rest (with its own Newton-polished cycle when periodic).
+    pub simulated: SimulatedPoint,
+    /// The canonical signature of the simulated cycle, when it is periodic and polished.
+    pub signature: Option<Signature>,
+    /// The analytic orbit of that signature, seeded from the simulated impact phases and solved
+    /// by the analytic crate's own equations.
+    pub analytic: Option<SignatureOrbit>,
+    /// Why there is no analytic orbit, when the simulated cycle has one to look for.
+    pub analytic_error: Option<String>,
+    /// The verdict.
+    pub class: Class,
+    /// The largest of: the difference of the states at the simulator's section relative to
+    /// the state's size, of the impact phases (fractions of the cycle), and of the base phase
+    /// at the first impact over π.
+    pub relative_difference: Option<f64>,
+    /// The largest distance between a simulated Floquet multiplier and its nearest analytic
+    /// one.
+    pub multiplier_difference: Option<f64>,
+}
+
+/// Both solvers on any periodic motion at `omega`: the simulator from rest settles, polishes
+/// its cycle by Newton on its own stroboscopic map and names its signature; the analytic crate
+/// solves that signature from the simulated impact phases; the two are compared.
+///
+/// Classes: `agreement` (the analytic orbit is viable and stable and within
+/// [`MATCH_TOLERANCE`]; or, without impacts, the linear motion); `beyond` (not periodic, no
+/// dissipation, or sticking: outside exact comparison, with the reason); `contradiction`
+/// (the analytic solver finds no orbit, or calls it non-viable or unstable, or it differs).
+///
+/// # Errors
+/// A failure of the simulator.
+pub fn cross_check(
+    scene: &Scene,
+    omega: f64,
+    options: &SimulationOptions,
+) -> Result<CrossCheck, CompareError> {
+    let simulated = run(scene, omega, &Start::rest(2), options)?;
+    let mut check = CrossCheck {
+        omega,
+        signature: simulated.signature(),
+        simulated,
+        analytic: None,
+        analytic_error: None,
+        class: Class::Beyond(String::new()),
+        relative_difference: None,
+        multiplier_difference: None,
+    };
+    let steady = &check.simulated.steady;
+    check.class = match (steady.status, steady.sticking, steady.orbit.as_deref()) {
+        (_, true, _) => Class::Beyond("sticking: outside exact comparison".into()),
+        (Status::NonPeriodic, _, _) => Class::Beyond("not periodic within the cap".into()),
+        (Status::NoDissipation, _, _) => {
+            Class::Beyond("no dissipation: transients never decay".into())
+        }
+        (Status::Periodic, _, _) if steady.cycle_impacts.is_empty() => {
+            let point = analyse(scene, omega, OrbitSearch::Symmetric)?;
+            let linear = candidates(scene, &point)
+                .into_iter()
+                .find(|c| c.motion == Motion::Linear);
+            match linear {
+                Some(c) => {
+                    let d = (check.simulated.outer_amplitude - c.outer_amplitude).abs()
+                        / c.outer_amplitude;
+                    check.relative_difference = Some(d);
+                    if d < MATCH_TOLERANCE {
+                        Class::Agreement
+                    } else {
+                        Class::Contradiction(format!(
+                            "periodic without impacts, {d:.1e} from the linear motion"
+                        ))
+                    }
+                }
+                None => Class::Contradiction(
+                    "periodic without impacts, but the linear motion reaches the stops".into(),
+                ),
+            }
+        }
+        (Status::Periodic, _, None) => Class::Beyond(format!(
+            "the simulator could not polish its cycle: {}",
+            steady.orbit_error.as_deref().unwrap_or("unknown")
+        )),
+        (Status::Periodic, _, Some(orbit)) => {
+            let orbit = orbit.clone();
+            seeded_check(scene, omega, &orbit, &mut check)
+        }
+    };
+    Ok(check)
+}
+
+/// The analytic orbit of the simulated cycle's signature and its differences; the class.
+fn seeded_check(scene: &Scene, omega: f64, cycle: &PeriodicOrbit, check: &mut CrossCheck) -> Class {
+    let (Some(signature), Some(stops)) = (check.signature.clone(), scene.stops_model()) else {
+        return Class::Beyond("no impact signature".into());
+    };
+    let n = cycle.impact_sides.len();
+    let length = cycle.periods as f64 * std::f64::consts::TAU / omega;
+    // The rotations of the simulated impacts that read as the canonical signature.
+    let rotations: Vec<usize> = (0..n)
+        .filter(|&k| (0..n).all(|j| cycle.impact_sides[(k + j) % n] == signature.sides()[j]))
+        .collect();
+    let Some(&k) = rotations.first() else {
+        return Class::Contradiction("the simulated sides do not read as their signature".into());
+    };
+    let phases_from = |k: usize| -> Vec<f64> {
+        (0..n)
+            .map(|j| (cycle.impact_phases[(k + j) % n] - cycle.impact_phases[k]).rem_euclid(1.0))
+            .collect()
+    };
+    let impact_time = |k: usize| cycle.time + cycle.impact_phases[k] * length;
+    let mut guess = vec![phase::wrap(omega * impact_time(k))];
+    guess.extend_from_slice(&phases_from(k)[1..]);
+    let analytic = match solve_signature(&scene.unit_model(), &stops, omega, &signature, &guess) {
+        Ok(o) => o,
+        Err(e) => {
+            check.analytic_error = Some(e.to_string());
+            return Class::Contradiction(format!(
+                "the analytic solver finds no {signature} orbit from the simulated phases: {e}"
+            ));
+        }
+    };
+    // The analytic orbit starts at one of the equivalent rotations: compare with the closest.
+    let difference = rotations
+        .iter()
+        .map(|&k| {
+            let alpha = phase::wrap(omega * impact_time(k));
+            let since = (cycle.time - impact_time(k)).rem_euclid(length);
+            let x = signature_orbit_state(scene, &analytic, since);
+            let y = &cycle.state;
+            let state = (0..4).map(|i| (y[i] - x[i]).abs()).fold(0.0, f64::max)
+                / x.norm().max(f64::MIN_POSITIVE);
+            let phases = phases_from(k)
+                .iter()
+                .zip(&analytic.impact_phases)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            state
+                .max(phases)
+                .max(phase::distance(alpha, analytic.alpha) / std::f64::consts::PI)
+        })
+        .fold(f64::INFINITY, f64::min);
+    let multipliers = cycle
+        .floquet_multipliers
+        .iter()
+        .map(|m| {
+            analytic
+                .floquet_multipliers
+                .iter()
+                .map(|a| (m - a).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max);
+    check.relative_difference = Some(difference);
+    check.multiplier_difference = Some(multipliers);
+    let class = if !analytic.viable {
+        Class::Contradiction(format!(
+            "the simulator settles on a {signature} cycle the analytic solver calls not viable"
+        ))
+    } else if !analytic.stable {
+        Class::Contradiction(format!(
+            "the simulator settles on a {signature} cycle the analytic solver calls unstable"
+        ))
+    } else if difference < MATCH_TOLERANCE {
+        Class::Agreement
+    } else {
+        Class::Contradiction(format!("the {signature} orbits differ by {difference:.1e}"))
+    };
+    check.analytic = Some(analytic);
+    class
 }
 
 #[cfg(test)]

@@ -298,3 +298,31 @@ fn bad_signatures_exit_2_and_name_the_field() {
         );
     }
 }
+
+#[test]
+fn compare_agrees_on_a_four_impact_orbit_and_names_what_it_cannot_compare() {
+    // ω = 1 on the paper scene: the simulator from rest settles on a `++--` cycle (no
+    // two-impact orbit is viable there); the analytic crate solves `++--` from the simulated
+    // phases and finds the same orbit, viable and stable, to rounding.
+    let doc = json(&["compare", "--omega", "1", "--json"]);
+    assert_eq!(doc["simulated"]["signature"], "++--");
+    assert_eq!(doc["analytic"]["signature"], "++--");
+    assert_eq!(doc["class"], "agreement", "{doc:#}");
+    assert!(doc["relative_difference"].as_f64().unwrap() < 1e-10);
+    assert!(doc["multiplier_difference"].as_f64().unwrap() < 1e-8);
+    assert!(doc["analytic"]["energy_residual"].as_f64().unwrap() < 1e-10);
+    // ω = 0.5 on the undamped paper scene: no dissipation, nothing to compare exactly.
+    let doc = json(&["compare", "--omega", "0.5", "--json"]);
+    assert_eq!(doc["class"], "beyond");
+    assert!(doc["analytic"].is_null());
+    // A plastic unit sticks: outside exact comparison, said so.
+    let doc = json(&[
+        "compare",
+        "validation/hard-cases/plastic.json",
+        "--omega",
+        "2",
+        "--json",
+    ]);
+    assert_eq!(doc["class"], "beyond", "{doc:#}");
+    assert!(doc["class_detail"].as_str().unwrap().contains("sticking"));
+}

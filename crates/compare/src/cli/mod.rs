@@ -3,6 +3,7 @@
 //! Exit codes: 0 success (including "no orbit exists"), 1 a numerical failure with an
 //! explanation, 2 bad input (arguments or scene).
 
+pub mod compare;
 pub mod family;
 pub mod map;
 pub mod merge;
@@ -42,6 +43,10 @@ pub enum Command {
     /// Event-driven simulation from rest until the motion is periodic (or a cap), or for
     /// exactly N periods: status, period, impacts per period, outer amplitude.
     Simulate(simulate::SimulateArgs),
+    /// Both solvers on the motion the unit settles on at one frequency, whatever its impact
+    /// signature: the simulator from rest with its own Newton-polished cycle, the analytic
+    /// orbit of that signature solved from the simulated impact phases, and the verdict.
+    Compare(compare::CompareArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
     /// JSON Lines file as it runs.
     Sweep(sweep::SweepArgs),
@@ -90,6 +95,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Orbit(args) => orbit::run(args),
         Command::Family(args) => family::run(args),
         Command::Simulate(args) => simulate::run(args),
+        Command::Compare(args) => compare::run(args),
         Command::Sweep(args) => sweep::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Map(args) => map::run(args),

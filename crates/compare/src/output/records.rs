@@ -362,3 +362,62 @@ fn largest(m: &[[Option<f64>; 2]]) -> f64 {
         .map(|[re, im]| re.unwrap_or(f64::NAN).hypot(im.unwrap_or(f64::NAN)))
         .fold(0.0, f64::max)
 }
+
+/// The simulated side of `rattle compare`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SimulatedCycleRecord {
+    /// As `rattle simulate`'s `status`.
+    pub status: String,
+    /// Least period, forcing periods.
+    pub period: Option<u32>,
+    /// Canonical signature of the polished cycle.
+    pub signature: Option<String>,
+    /// Impacts per forcing period.
+    pub impacts_per_period: Option<f64>,
+    /// `X_o`, m.
+    pub outer_amplitude: Option<f64>,
+    /// The simulator's own Floquet multipliers `[re, im]`.
+    pub floquet_multipliers: Option<Vec<[Option<f64>; 2]>>,
+}
+
+/// The analytic side of `rattle compare`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AnalyticCycleRecord {
+    /// Canonical signature.
+    pub signature: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// `X_o`, m.
+    pub outer_amplitude: Option<f64>,
+    /// No violation.
+    pub viable: bool,
+    /// Every multiplier inside the unit circle.
+    pub stable: bool,
+    /// Floquet multipliers `[re, im]`.
+    pub floquet_multipliers: Vec<[Option<f64>; 2]>,
+    /// Relative energy-balance residual over the cycle.
+    pub energy_residual: Option<f64>,
+}
+
+/// What `rattle compare --json` prints.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CrossCheckRecord {
+    /// Scene name.
+    pub scene: String,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// The simulator from rest.
+    pub simulated: SimulatedCycleRecord,
+    /// The analytic orbit of the simulated signature, or `null`.
+    pub analytic: Option<AnalyticCycleRecord>,
+    /// Why there is no analytic orbit, when one was looked for.
+    pub analytic_error: Option<String>,
+    /// `agreement`, `beyond` or `contradiction`.
+    pub class: &'static str,
+    /// The class in words.
+    pub class_detail: String,
+    /// See `verdict::CrossCheck::relative_difference`.
+    pub relative_difference: Option<f64>,
+    /// Largest distance between a simulated multiplier and its nearest analytic one.
+    pub multiplier_difference: Option<f64>,
+}

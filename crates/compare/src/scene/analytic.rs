@@ -81,6 +81,30 @@ pub fn orbits_of_signature(
     }
 }
 
+/// The state of an orbit of any signature at time `t ∈ [0, pT)` after its first canonical
+/// impact: flight after flight from the state after each impact (velocities mapped by the
+/// scene's restitution), on the analytic crate's own flow.
+pub fn signature_orbit_state(scene: &Scene, orbit: &SignatureOrbit, t: f64) -> Vector4<f64> {
+    let unit = scene.unit_model();
+    let flow = ForcedFlow::new(&unit, orbit.omega);
+    let cycle = orbit.period as f64 * flow.period();
+    let j = orbit
+        .impact_phases
+        .iter()
+        .rposition(|&phi| phi * cycle <= t)
+        .unwrap_or(0);
+    let t_j = orbit.impact_phases[j] * cycle;
+    let p0 = Vector2::new(orbit.alpha.cos(), orbit.alpha.sin());
+    let (_, p_j) = flow.transition(t_j).apply(&Vector4::zeros(), &p0);
+    let x = orbit.states_before_impacts[j];
+    let v = match scene.stops_model() {
+        Some(stops) => stops.impact_map(&unit) * Vector2::new(x[2], x[3]),
+        None => Vector2::new(x[2], x[3]),
+    };
+    let after = Vector4::new(x[0], x[1], v[0], v[1]);
+    flow.transition(t - t_j).apply(&after, &p_j).0
+}
+
 impl AnalyticPoint {
     /// The viable and stable orbits, with their branch numbers.
     pub fn stable_viable_orbits(&self) -> impl Iterator<Item = (usize, &Orbit)> {

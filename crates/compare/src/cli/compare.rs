@@ -1,0 +1,118 @@
+//! `rattle compare`: both solvers on the motion the unit settles on, whatever its signature.
+
+use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError};
+use crate::output::finite;
+use crate::output::records::{
+    multipliers, AnalyticCycleRecord, CrossCheckRecord, SimulatedCycleRecord,
+};
+use crate::scene::Scene;
+use crate::verdict::{cross_check, CrossCheck};
+use clap::Args;
+use std::fmt::Write as _;
+
+/// Arguments of `rattle compare`.
+#[derive(Debug, Args)]
+pub struct CompareArgs {
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub common: Common,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub accuracy: Accuracy,
+}
+
+/// The record of `c` on `scene`.
+fn record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
+    let s = &c.simulated;
+    CrossCheckRecord {
+        scene: scene.name.clone(),
+        omega: finite(c.omega),
+        simulated: SimulatedCycleRecord {
+            status: s.status_name(),
+            period: s.steady.period,
+            signature: c.signature.as_ref().map(|sig| sig.to_string()),
+            impacts_per_period: finite(s.steady.impacts_per_period),
+            outer_amplitude: finite(s.outer_amplitude),
+            floquet_multipliers: s
+                .steady
+                .orbit
+                .as_ref()
+                .map(|o| multipliers(&o.floquet_multipliers)),
+        },
+        analytic: c.analytic.as_ref().map(|o| AnalyticCycleRecord {
+            signature: o.signature.to_string(),
+            period: o.period,
+            outer_amplitude: finite(o.outer_amplitude),
+            viable: o.viable,
+            stable: o.stable,
+            floquet_multipliers: multipliers(&o.floquet_multipliers),
+            energy_residual: finite(o.energy_residual),
+        }),
+        analytic_error: c.analytic_error.clone(),
+        class: c.class.name(),
+        class_detail: c.class.detail().to_owned(),
+        relative_difference: c.relative_difference.and_then(finite),
+        multiplier_difference: c.multiplier_difference.and_then(finite),
+    }
+}
+
+/// Runs `rattle compare`.
+///
+/// # Errors
+/// Bad arguments or scene; a failure of the simulator.
+pub fn run(args: CompareArgs) -> Result<String, RattleError> {
+    let omega = check_omega("--omega", args.common.omega)?;
+    let options = args.accuracy.options()?;
+    let scene = load(&args.common.scene)?;
+    let check =
+        cross_check(&scene, omega, &options).map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let r = record(&scene, &check);
+    if args.common.json {
+        return pretty(&r);
+    }
+    let mut out = heading(&scene, omega);
+    let num = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.9}"));
+    let _ = writeln!(
+        out,
+        "simulated from rest: {}, signature {}, period {}, X_o = {}",
+        r.simulated.status,
+        r.simulated.signature.as_deref().unwrap_or("-"),
+        r.simulated.period.map_or("-".to_owned(), |p| p.to_string()),
+        num(r.simulated.outer_amplitude)
+    );
+    match &r.analytic {
+        Some(a) => {
+            let _ = writeln!(
+                out,
+                "analytic {} orbit from the simulated phases: X_o = {}, viable {}, stable {}, energy residual {:.1e}",
+                a.signature,
+                num(a.outer_amplitude),
+                a.viable,
+                a.stable,
+                a.energy_residual.unwrap_or(f64::NAN)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                out,
+                "analytic: {}",
+                r.analytic_error.as_deref().unwrap_or("nothing to solve")
+            );
+        }
+    }
+    let _ = writeln!(
+        out,
+        "class: {}{}; relative difference {}; multiplier difference {}",
+        r.class,
+        if r.class_detail.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", r.class_detail)
+        },
+        r.relative_difference
+            .map_or("-".to_owned(), |d| format!("{d:.1e}")),
+        r.multiplier_difference
+            .map_or("-".to_owned(), |d| format!("{d:.1e}"))
+    );
+    Ok(out)
+}
