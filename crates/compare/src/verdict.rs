@@ -477,8 +477,13 @@ pub fn cross_check(
 
 /// The analytic orbit of the simulated cycle's signature and its differences; the class.
 fn seeded_check(scene: &Scene, omega: f64, cycle: &PeriodicOrbit, check: &mut CrossCheck) -> Class {
-    let (Some(signature), Some(stops)) = (check.signature.clone(), scene.stops_model()) else {
-        return Class::Beyond("no impact signature".into());
+    let Some(stops) = scene.stops_model() else {
+        return Class::Beyond("no stops".into());
+    };
+    let signature = match Signature::from_sides(&cycle.impact_sides, cycle.periods) {
+        Ok(signature) => signature,
+        // e.g. more impacts per cycle than a signature holds
+        Err(e) => return Class::Beyond(format!("the simulated cycle has no signature: {e}")),
     };
     let n = cycle.impact_sides.len();
     let length = cycle.periods as f64 * std::f64::consts::TAU / omega;
