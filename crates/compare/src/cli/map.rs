@@ -96,16 +96,20 @@ pub fn run(args: MapArgs) -> Result<String, RattleError> {
         .as_deref()
         .map(|p| Format::of(p, "--bandwidth-out"))
         .transpose()?;
-    let simulation = Accuracy {
-        tol: args.tol,
-        steady_tol: args.steady_tol,
-        max_periods: args.max_periods,
-        max_oscillations: super::default_max_oscillations(),
-    }
-    .options()?;
+    let defaults = MapSettings::default();
+    let simulation = SimulationOptions {
+        polish: defaults.simulation.polish,
+        ..Accuracy {
+            tol: args.tol,
+            steady_tol: args.steady_tol,
+            max_periods: args.max_periods,
+            max_oscillations: super::default_max_oscillations(),
+        }
+        .options()?
+    };
     let settings = MapSettings {
         simulation,
-        ..MapSettings::default()
+        ..defaults
     };
     let scene = load(&args.scene)?;
     if scene.stops.is_none() {

@@ -164,6 +164,9 @@ impl Default for MapSettings {
             simulation: SimulationOptions {
                 periodicity_tolerance: MAP_PERIODICITY_TOLERANCE,
                 max_periods: MAP_MAX_PERIODS,
+                // A map point reports no signature: the Newton polish of each periodic point
+                // (a third of the map's time on its short, continued runs) is not run.
+                polish: false,
                 ..SimulationOptions::default()
             },
             match_tolerance: MAP_MATCH_TOLERANCE,
