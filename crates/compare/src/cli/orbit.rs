@@ -4,6 +4,7 @@ use super::{check_omega, heading, load, pretty, Common, RattleError};
 use crate::output::finite;
 use crate::output::records::{
     LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
+    ViolationRecord,
 };
 use crate::scene::analytic::{analyse, orbits_of_signature, OrbitSearch};
 use crate::scene::Scene;
@@ -143,7 +144,6 @@ fn signature_run(
             .iter()
             .map(|p| format!("{:.6}", num(*p)))
             .collect();
-        let violations: Vec<String> = o.violations.iter().map(|v| v.words()).collect();
         let _ = writeln!(
             out,
             "{k:>5} {:>9.5} {:>10.6} {:>9.3} {:>6} {:>6} {:>9.4} {:>9.1e}  ({}); {}",
@@ -155,14 +155,19 @@ fn signature_run(
             o.largest_multiplier(),
             num(o.energy_residual),
             phases.join(", "),
-            if violations.is_empty() {
-                "-".to_owned()
-            } else {
-                violations.join("; ")
-            }
+            violation_words(&o.violations)
         );
     }
     Ok(out)
+}
+
+/// The violations in words, `-` for none.
+fn violation_words(violations: &[ViolationRecord]) -> String {
+    if violations.is_empty() {
+        return "-".to_owned();
+    }
+    let words: Vec<String> = violations.iter().map(|v| v.words()).collect();
+    words.join("; ")
 }
 
 /// A table of orbits, one line each, under a header line.
@@ -173,7 +178,6 @@ pub(crate) fn orbit_table(orbits: &[OrbitRecord]) -> String {
     );
     let num = |x: Option<f64>| x.unwrap_or(f64::NAN);
     for o in orbits {
-        let violations: Vec<String> = o.violations.iter().map(|v| v.words()).collect();
         let _ = writeln!(
             out,
             "{:>6} {:>8.5} {:>9.5} {:>10.6} {:>9.3} {:>6} {:>6} {:>7.4}  {}",
@@ -185,11 +189,7 @@ pub(crate) fn orbit_table(orbits: &[OrbitRecord]) -> String {
             o.viable,
             o.stable,
             o.largest_multiplier(),
-            if violations.is_empty() {
-                "-".to_owned()
-            } else {
-                violations.join("; ")
-            }
+            violation_words(&o.violations)
         );
     }
     out
