@@ -6,17 +6,17 @@
 //! report all call it, and each names the [`Choice`] it makes among the candidates.
 
 use crate::scene::analytic::{
-    analyse, signature_orbit_state, AnalyticPoint, OrbitSearch, BETA_SAMPLES,
+    analyse, orbits_of_signature, signature_orbit_state, AnalyticPoint, OrbitSearch, BETA_SAMPLES,
 };
 use crate::scene::simulator::{
-    run, start_on_orbit, Regime, SimulateError, SimulatedPoint, START_PERTURBATION,
+    model, run, start_on_orbit, Regime, SimulateError, SimulatedPoint, START_PERTURBATION,
 };
 use crate::scene::{phase, Scene};
-use nalgebra::Vector4;
+use nalgebra::{Complex, DVector, Vector4};
 use rattle_analytic::{
     asymmetric_orbits, solve_signature, Orbit, OrbitError, Signature, SignatureOrbit,
 };
-use rattle_event_driven::{PeriodicOrbit, SimulationOptions, Start, Status};
+use rattle_event_driven::{periodic_orbit, PeriodicOrbit, SimulationOptions, Start, Status};
 use thiserror::Error;
 
 /// Two results agree when they differ by less than this, relatively: 1000 × the simulator's
@@ -404,6 +404,84 @@ pub struct CrossCheck {
     /// The largest distance between a simulated Floquet multiplier and its nearest analytic
     /// one.
     pub multiplier_difference: Option<f64>,
+    /// Every viable analytic orbit of the simulated signature, and whether the simulator's own
+    /// Newton confirms it when started on it (stable or not).
+    pub confirmed_orbits: Vec<Confirmation>,
+}
+
+/// A viable analytic orbit and the simulator's Newton started on it.
+#[derive(Debug, Clone)]
+pub struct Confirmation {
+    /// The analytic orbit.
+    pub orbit: SignatureOrbit,
+    /// Whether Newton converged to a cycle with the same signature and a state within
+    /// [`MATCH_TOLERANCE`] of the analytic one.
+    pub confirmed: bool,
+    /// The state difference at the start time, relative to the state's size.
+    pub state_difference: Option<f64>,
+    /// The largest distance between a simulated multiplier and its nearest analytic one.
+    pub multiplier_difference: Option<f64>,
+    /// Why Newton failed, if it did.
+    pub error: Option<String>,
+}
+
+/// The simulator's Newton started on `orbit` mid-way through its first flight.
+fn confirm(
+    scene: &Scene,
+    omega: f64,
+    orbit: &SignatureOrbit,
+    options: &SimulationOptions,
+) -> Confirmation {
+    let cycle = orbit.period as f64 * std::f64::consts::TAU / omega;
+    let first_flight = orbit.impact_phases.get(1).copied().unwrap_or(1.0);
+    let t = 0.5 * first_flight * cycle;
+    let x = signature_orbit_state(scene, orbit, t);
+    let start = Start {
+        state: DVector::from_column_slice(x.as_slice()),
+        // Base phase ω t_sim = α + ω t.
+        time: t + orbit.alpha / omega,
+    };
+    let mut out = Confirmation {
+        orbit: orbit.clone(),
+        confirmed: false,
+        state_difference: None,
+        multiplier_difference: None,
+        error: None,
+    };
+    let newton = model(scene, omega)
+        .map_err(|e| e.to_string())
+        .and_then(|m| {
+            periodic_orbit(&m, omega, &start, orbit.period, options).map_err(|e| e.to_string())
+        });
+    match newton {
+        Ok(found) => {
+            let same = Signature::from_sides(&found.impact_sides, found.periods)
+                .is_ok_and(|s| s == orbit.signature);
+            let d = (0..4)
+                .map(|i| (found.state[i] - x[i]).abs())
+                .fold(0.0, f64::max)
+                / x.norm().max(f64::MIN_POSITIVE);
+            out.state_difference = Some(d);
+            out.multiplier_difference = Some(nearest_distance(
+                &found.floquet_multipliers,
+                &orbit.floquet_multipliers,
+            ));
+            out.confirmed = same && d < MATCH_TOLERANCE;
+        }
+        Err(e) => out.error = Some(e),
+    }
+    out
+}
+
+/// The largest distance from a multiplier of `a` to its nearest one in `b`.
+fn nearest_distance(a: &[Complex<f64>], b: &[Complex<f64>]) -> f64 {
+    a.iter()
+        .map(|m| {
+            b.iter()
+                .map(|n| (m - n).norm())
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(0.0, f64::max)
 }
 
 /// Both solvers on any periodic motion at `omega`: the simulator from rest settles, polishes
@@ -432,6 +510,7 @@ pub fn cross_check(
         class: Class::Beyond(String::new()),
         relative_difference: None,
         multiplier_difference: None,
+        confirmed_orbits: Vec::new(),
     };
     let steady = &check.simulated.steady;
     check.class = match (steady.status, steady.sticking, steady.orbit.as_deref()) {
@@ -469,14 +548,20 @@ pub fn cross_check(
         )),
         (Status::Periodic, _, Some(orbit)) => {
             let orbit = orbit.clone();
-            seeded_check(scene, omega, &orbit, &mut check)
+            seeded_check(scene, omega, &orbit, options, &mut check)
         }
     };
     Ok(check)
 }
 
 /// The analytic orbit of the simulated cycle's signature and its differences; the class.
-fn seeded_check(scene: &Scene, omega: f64, cycle: &PeriodicOrbit, check: &mut CrossCheck) -> Class {
+fn seeded_check(
+    scene: &Scene,
+    omega: f64,
+    cycle: &PeriodicOrbit,
+    options: &SimulationOptions,
+    check: &mut CrossCheck,
+) -> Class {
     let Some(stops) = scene.stops_model() else {
         return Class::Beyond("no stops".into());
     };
@@ -531,17 +616,12 @@ fn seeded_check(scene: &Scene, omega: f64, cycle: &PeriodicOrbit, check: &mut Cr
                 .max(phase::distance(alpha, analytic.alpha) / std::f64::consts::PI)
         })
         .fold(f64::INFINITY, f64::min);
-    let multipliers = cycle
-        .floquet_multipliers
+    let multipliers = nearest_distance(&cycle.floquet_multipliers, &analytic.floquet_multipliers);
+    check.confirmed_orbits = orbits_of_signature(scene, omega, &signature)
         .iter()
-        .map(|m| {
-            analytic
-                .floquet_multipliers
-                .iter()
-                .map(|a| (m - a).norm())
-                .fold(f64::INFINITY, f64::min)
-        })
-        .fold(0.0, f64::max);
+        .filter(|o| o.viable)
+        .map(|o| confirm(scene, omega, o, options))
+        .collect();
     check.relative_difference = Some(difference);
     check.multiplier_difference = Some(multipliers);
     let class = if !analytic.viable {

@@ -311,6 +311,23 @@ fn compare_agrees_on_a_four_impact_orbit_and_names_what_it_cannot_compare() {
     assert!(doc["relative_difference"].as_f64().unwrap() < 1e-10);
     assert!(doc["multiplier_difference"].as_f64().unwrap() < 1e-8);
     assert!(doc["analytic"]["energy_residual"].as_f64().unwrap() < 1e-10);
+    let confirmed = doc["confirmed_orbits"].as_array().unwrap();
+    assert!(!confirmed.is_empty() && confirmed.iter().all(|k| k["confirmed"] == true));
+    // ω = 2.9: the viable `+-` orbits include an unstable one, which no run from rest can
+    // reach; the simulator's own Newton, started on it, confirms it all the same.
+    let doc = json(&["compare", "--omega", "2.9", "--json"]);
+    let unstable: Vec<&Value> = doc["confirmed_orbits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|k| k["stable"] == false)
+        .collect();
+    assert!(!unstable.is_empty(), "{doc:#}");
+    for k in unstable {
+        assert_eq!(k["confirmed"], true, "{k:#}");
+        assert!(k["state_difference"].as_f64().unwrap() < 1e-9);
+        assert!(k["multiplier_difference"].as_f64().unwrap() < 1e-8);
+    }
     // ω = 0.5 on the undamped paper scene: no dissipation, nothing to compare exactly.
     let doc = json(&["compare", "--omega", "0.5", "--json"]);
     assert_eq!(doc["class"], "beyond");

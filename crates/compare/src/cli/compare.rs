@@ -3,7 +3,7 @@
 use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError};
 use crate::output::finite;
 use crate::output::records::{
-    multipliers, AnalyticCycleRecord, CrossCheckRecord, SimulatedCycleRecord,
+    multipliers, AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
 };
 use crate::scene::Scene;
 use crate::verdict::{cross_check, CrossCheck};
@@ -53,6 +53,20 @@ fn record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
         class_detail: c.class.detail().to_owned(),
         relative_difference: c.relative_difference.and_then(finite),
         multiplier_difference: c.multiplier_difference.and_then(finite),
+        confirmed_orbits: c
+            .confirmed_orbits
+            .iter()
+            .map(|k| ConfirmationRecord {
+                alpha: finite(k.orbit.alpha),
+                impact_phases: k.orbit.impact_phases.iter().map(|&p| finite(p)).collect(),
+                stable: k.orbit.stable,
+                outer_amplitude: finite(k.orbit.outer_amplitude),
+                confirmed: k.confirmed,
+                state_difference: k.state_difference.and_then(finite),
+                multiplier_difference: k.multiplier_difference.and_then(finite),
+                error: k.error.clone(),
+            })
+            .collect(),
     }
 }
 
@@ -114,5 +128,21 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
         r.multiplier_difference
             .map_or("-".to_owned(), |d| format!("{d:.1e}"))
     );
+    for k in &r.confirmed_orbits {
+        let _ = writeln!(
+            out,
+            "viable analytic orbit α = {}, stable {}: {} by the simulator's Newton{}",
+            num(k.alpha),
+            k.stable,
+            if k.confirmed {
+                "confirmed"
+            } else {
+                "not confirmed"
+            },
+            k.error
+                .as_ref()
+                .map_or(String::new(), |e| format!(" ({e})"))
+        );
+    }
     Ok(out)
 }

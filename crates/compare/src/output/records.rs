@@ -420,4 +420,28 @@ pub struct CrossCheckRecord {
     pub relative_difference: Option<f64>,
     /// Largest distance between a simulated multiplier and its nearest analytic one.
     pub multiplier_difference: Option<f64>,
+    /// Every viable analytic orbit of the simulated signature, confirmed or not by the
+    /// simulator's own Newton started on it.
+    pub confirmed_orbits: Vec<ConfirmationRecord>,
+}
+
+/// A viable analytic orbit and the simulator's Newton started on it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ConfirmationRecord {
+    /// Base phase at the first canonical impact, rad.
+    pub alpha: Option<f64>,
+    /// Impact phases, fractions of the cycle.
+    pub impact_phases: Vec<Option<f64>>,
+    /// The analytic verdict.
+    pub stable: bool,
+    /// The analytic `X_o`, m.
+    pub outer_amplitude: Option<f64>,
+    /// Whether the simulator's Newton converged to it.
+    pub confirmed: bool,
+    /// State difference, relative.
+    pub state_difference: Option<f64>,
+    /// Largest distance between a simulated multiplier and its nearest analytic one.
+    pub multiplier_difference: Option<f64>,
+    /// Why Newton failed, if it did.
+    pub error: Option<String>,
 }
