@@ -3,7 +3,7 @@
 use super::orbit::orbit_table;
 use super::{check_omega, load, pretty, Common, RattleError};
 use crate::output::finite;
-use crate::output::records::{FamilyRecord, OrbitRecord};
+use crate::output::records::{At, FamilyRecord, OrbitRecord};
 use clap::Args;
 use rattle_analytic::gap_for_beta;
 
@@ -40,9 +40,7 @@ pub fn run(args: FamilyArgs) -> Result<String, RattleError> {
     let point = gap_for_beta(&unit, stops.restitution, omega, beta)
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
     let record = FamilyRecord {
-        scene: scene.name.clone(),
-        omega: finite(omega),
-        effects: scene.effect_names(),
+        at: At::new(&scene, omega),
         gap_over_base_amplitude: finite(point.gap / unit.base_amplitude),
         orbit: OrbitRecord::new(&point.orbit, 0),
     };

@@ -1,9 +1,8 @@
 //! `rattle orbit`: the analytic picture at one frequency.
 
 use super::{check_omega, heading, load, pretty, Common, RattleError};
-use crate::output::finite;
 use crate::output::records::{
-    LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
+    At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
     ViolationRecord,
 };
 use crate::scene::analytic::{analyse, orbits_of_signature, OrbitSearch};
@@ -51,9 +50,7 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     let point =
         analyse(&scene, omega, search).map_err(|e| RattleError::Numerical(e.to_string()))?;
     let record = OrbitsRecord {
-        scene: scene.name.clone(),
-        omega: finite(omega),
-        effects: scene.effect_names(),
+        at: At::new(&scene, omega),
         linear: LinearRecord::new(&point.linear, scene.gap()),
         orbits: point
             .orbits
@@ -108,9 +105,7 @@ fn signature_run(
         ));
     }
     let record = SignatureOrbitsRecord {
-        scene: scene.name.clone(),
-        omega: finite(omega),
-        effects: scene.effect_names(),
+        at: At::new(scene, omega),
         signature: signature.to_string(),
         period: signature.period(),
         orbits: orbits_of_signature(scene, omega, signature)

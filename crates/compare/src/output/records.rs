@@ -21,6 +21,28 @@ pub fn multipliers(m: &[Complex<f64>]) -> Vec<[Option<f64>; 2]> {
     m.iter().map(|m| [finite(m.re), finite(m.im)]).collect()
 }
 
+/// Where a one-frequency result was computed: the fields every such record starts with.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct At {
+    /// Scene name.
+    pub scene: String,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// The scene's active effects.
+    pub effects: Vec<&'static str>,
+}
+
+impl At {
+    /// `scene` at `omega`.
+    pub fn new(scene: &Scene, omega: f64) -> Self {
+        Self {
+            scene: scene.name.clone(),
+            omega: finite(omega),
+            effects: scene.effect_names(),
+        }
+    }
+}
+
 /// The linear steady state (stops ignored).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct LinearRecord {
@@ -189,12 +211,9 @@ impl OrbitRecord {
 /// What `rattle orbit --json` prints.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct OrbitsRecord {
-    /// Scene name.
-    pub scene: String,
-    /// Angular frequency, rad/s.
-    pub omega: Option<f64>,
-    /// The scene's active effects.
-    pub effects: Vec<&'static str>,
+    /// The scene and the frequency.
+    #[serde(flatten)]
+    pub at: At,
     /// The linear steady state.
     pub linear: LinearRecord,
     /// Every two-impact orbit.
@@ -204,12 +223,9 @@ pub struct OrbitsRecord {
 /// What `rattle family --json` prints: the member of the family at `β`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FamilyRecord {
-    /// Scene name.
-    pub scene: String,
-    /// Angular frequency, rad/s.
-    pub omega: Option<f64>,
-    /// The scene's active effects.
-    pub effects: Vec<&'static str>,
+    /// The scene and the frequency.
+    #[serde(flatten)]
+    pub at: At,
     /// `Δ*(β)/u_g`.
     pub gap_over_base_amplitude: Option<f64>,
     /// The orbit at the gap `Δ*(β)`: its fields (`beta`, `gap`, `alpha`, …) at the top level.
@@ -220,12 +236,9 @@ pub struct FamilyRecord {
 /// What `rattle simulate --json` prints.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SimulationRecord {
-    /// Scene name.
-    pub scene: String,
-    /// Angular frequency, rad/s.
-    pub omega: Option<f64>,
-    /// The scene's active effects.
-    pub effects: Vec<&'static str>,
+    /// The scene and the frequency.
+    #[serde(flatten)]
+    pub at: At,
     /// `periodic`, `non-periodic` or `no-dissipation`, `, sticking` appended when the final
     /// cycle sticks.
     pub status: String,
@@ -262,9 +275,7 @@ impl SimulationRecord {
     pub fn new(scene: &Scene, sim: &SimulatedPoint) -> Self {
         let s = &sim.steady;
         Self {
-            scene: scene.name.clone(),
-            omega: finite(sim.omega),
-            effects: scene.effect_names(),
+            at: At::new(scene, sim.omega),
             status: sim.status_name(),
             regime: sim.regime.name(),
             period: s.period,
@@ -342,12 +353,9 @@ impl SignatureOrbitRecord {
 /// What `rattle orbit --signature SIG --json` prints.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SignatureOrbitsRecord {
-    /// Scene name.
-    pub scene: String,
-    /// Angular frequency, rad/s.
-    pub omega: Option<f64>,
-    /// The scene's active effects.
-    pub effects: Vec<&'static str>,
+    /// The scene and the frequency.
+    #[serde(flatten)]
+    pub at: At,
     /// The canonical signature asked for.
     pub signature: String,
     /// Forcing periods per cycle.
