@@ -19,11 +19,16 @@
 
 pub mod expsum;
 pub mod flow;
+pub mod lyapunov;
 pub mod model;
 pub mod newton;
 pub mod simulate;
 pub mod test_models;
 
+pub use lyapunov::{
+    lyapunov_after_steady_state, lyapunov_exponents, LyapunovError, LyapunovOptions,
+    LyapunovSpectrum, Regime, DEFAULT_ALIGNMENT_PERIODS, DEFAULT_LYAPUNOV_PERIODS,
+};
 pub use model::{ContactPair, Model, ModelError};
 pub use newton::{
     periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,

@@ -119,7 +119,7 @@ pub enum NewtonError {
 
 /// `model` with its forcing advanced by `time` (`f(t) → f(t + time)`), so that a section at
 /// the forcing phase `ω·time` becomes the section `t = 0`. `time = 0` returns an exact copy.
-fn shifted(model: &Model, omega: f64, time: f64) -> Model {
+pub(crate) fn shifted(model: &Model, omega: f64, time: f64) -> Model {
     let mut out = model.clone();
     if time != 0.0 {
         let (sin, cos) = (omega * time).sin_cos();

@@ -464,8 +464,35 @@ pub(crate) struct Tangent {
     minv: DMatrix<f64>,
     /// The impacts in time order: pair, side and time since the start.
     pub(crate) impacts: Vec<(usize, i8, f64)>,
-    /// The time since the start of the first sticking, if any: the Jacobian is then invalid.
+    /// The time since the start of the first sticking, if any: the Jacobian then maps onto the
+    /// held pair's constrained tangent space (rank `2n − 2`), no longer a smooth map of the
+    /// start state.
     pub(crate) sticking: Option<f64>,
+    /// The Jacobian just before the impact of the contact being resolved, if it had one: a
+    /// stick that follows it replaces both by one plastic saltation from the state before.
+    before_impact: Option<DMatrix<f64>>,
+    /// Sticks (plastic holds on a stop) so far.
+    pub(crate) sticks: u64,
+    /// Which pairs have stuck so far (each collapses two tangent directions).
+    pub(crate) stuck_pairs: Vec<bool>,
+    /// Time spent held on a stop so far.
+    pub(crate) stuck_time: f64,
+}
+
+impl Tangent {
+    /// The identity tangent of a `2n`-dimensional state, for `pairs` contact pairs.
+    fn new(n: usize, pairs: usize, minv: DMatrix<f64>) -> Self {
+        Tangent {
+            jacobian: DMatrix::identity(2 * n, 2 * n),
+            minv,
+            impacts: Vec::new(),
+            sticking: None,
+            before_impact: None,
+            sticks: 0,
+            stuck_pairs: vec![false; pairs],
+            stuck_time: 0.0,
+        }
+    }
 }
 
 impl RunState {
@@ -757,10 +784,31 @@ impl<'m> Engine<'m> {
         y: &DVector<f64>,
         periods: u32,
     ) -> Result<(DVector<f64>, Tangent), SimulationError> {
+        let identity = DMatrix::identity(y.len(), y.len());
+        self.tangent_periods(y, identity, periods as u64, |_| Ok(()))
+    }
+
+    /// [`Engine::tangent_run`] over `periods` periods with the tangent flow applied to `frame`
+    /// (`2n` rows; the identity gives the Jacobian), calling `at_section` with the tangent at
+    /// each section `t = kT`, `k ≥ 1` (it may replace the Jacobian, e.g. by an orthonormal
+    /// frame, or stop the run with an error).
+    ///
+    /// # Errors
+    /// As [`Engine::next_iter`], and those of `at_section`.
+    pub(crate) fn tangent_periods<F>(
+        &mut self,
+        y: &DVector<f64>,
+        frame: DMatrix<f64>,
+        periods: u64,
+        mut at_section: F,
+    ) -> Result<(DVector<f64>, Tangent), SimulationError>
+    where
+        F: FnMut(&mut Tangent) -> Result<(), SimulationError>,
+    {
         let n = self.n;
         let plan = Plan {
             p_max: 1,
-            limit: periods as u64,
+            limit: periods,
             at_limit: Stop::FixedPeriods,
             window_len: 0,
             fixed: true,
@@ -781,16 +829,19 @@ impl<'m> Engine<'m> {
             .clone()
             .try_inverse()
             .ok_or(FlowError::SingularMass)?;
-        state.tangent = Some(Tangent {
-            jacobian: DMatrix::identity(2 * n, 2 * n),
-            minv,
-            impacts: Vec::new(),
-            sticking: None,
-        });
-        while state.k < periods as u64 {
-            self.next_iter(&mut state, &plan)?;
+        let mut tangent = Tangent::new(n, self.pairs.len(), minv);
+        tangent.jacobian = frame;
+        while state.k < periods {
+            state.tangent = Some(tangent);
+            let at_section_reached = self.next_iter(&mut state, &plan);
+            tangent = state
+                .tangent
+                .take()
+                .ok_or_else(|| SimulationError::Option("tangent flow lost".into()))?;
+            if at_section_reached? {
+                at_section(&mut tangent)?;
+            }
         }
-        let tangent = state.tangent.take().expect("set above");
         Ok((state.y, tangent))
     }
 
@@ -1038,6 +1089,9 @@ impl<'m> Engine<'m> {
     fn contact(&mut self, state: &mut RunState, c: Contact) -> Result<(), SimulationError> {
         let n = self.n;
         state.count_event(self.period)?;
+        if let Some(t) = state.tangent.as_mut() {
+            t.before_impact = None;
+        }
         let p = &self.pairs[c.pair];
         let side = c.side as f64;
         let rdot = p.direction.dot(&state.y.rows(n, n));
@@ -1105,7 +1159,8 @@ impl<'m> Engine<'m> {
         if let Some(t) = state.tangent.as_mut() {
             let time = state.k as f64 * self.period + state.tau;
             let s = self.saltation(&t.minv, &self.pairs[c.pair], &before, &state.y, state.tau);
-            t.jacobian = s * &t.jacobian;
+            let after = s * &t.jacobian;
+            t.before_impact = Some(std::mem::replace(&mut t.jacobian, after));
             t.impacts.push((c.pair, c.side, time));
         }
     }
@@ -1122,12 +1177,72 @@ impl<'m> Engine<'m> {
     fn stick(&mut self, state: &mut RunState, c: Contact) -> Result<(), SimulationError> {
         self.model.apply_impact(c.pair, &mut state.y, Some(0.0));
         if let Some(t) = state.tangent.as_mut() {
-            t.sticking
-                .get_or_insert(state.k as f64 * self.period + state.tau);
+            self.stick_tangent(t, c.pair, state.k as f64 * self.period + state.tau);
         }
         let index = self.stuck_index(c.pair, c.side)?;
         state.mode = Mode::Stuck(index);
         Ok(())
+    }
+
+    /// The tangent flow through a stick of pair `pair` at time `time` since the start (out of
+    /// line): the plastic saltation matrix from the state before the contact (an impact
+    /// resolved just before at the same contact is replaced by it, since the plastic map
+    /// absorbs any restitution: `G₀ G_e = G₀`).
+    ///
+    /// A plastic reset `v⁺ = G₀ v⁻` (`G₀ = I − M⁻¹d dᵀ/w`, `w = dᵀM⁻¹d`) on the surface
+    /// `h = d·u ∓ gap = 0`, onto the constrained flow `f_s`, has the saltation matrix
+    /// `S = Ĝ₀ + (f_s⁺ − Ĝ₀ f⁻) h_xᵀ / ṙ⁻`. The constrained acceleration is the free one
+    /// projected, `a_s = G₀ a`, so `f_s⁺ − Ĝ₀ f⁻ = ṙ⁻ (−M⁻¹d/w, G₀ M⁻¹ C M⁻¹d/w)`: the
+    /// division cancels, and `S = Ĝ₀ + c h_xᵀ` with `c = (−M⁻¹d, G₀ M⁻¹C M⁻¹d)/w`, a
+    /// constant of the pair, valid down to a contact at zero relative velocity. `S` maps every
+    /// perturbation onto the constrained tangent space `d·δu = d·δu̇ = 0` (rank `2n − 2`).
+    #[cold]
+    #[inline(never)]
+    fn stick_tangent(&self, t: &mut Tangent, pair: usize, time: f64) {
+        let n = self.n;
+        let p = &self.pairs[pair];
+        let w = p.compliance;
+        let mut s = DMatrix::<f64>::identity(2 * n, 2 * n);
+        let projection = &p.mobility * p.direction.transpose() / w;
+        let mut block = s.view_mut((n, n), (n, n));
+        block -= &projection;
+        let mut c = DVector::zeros(2 * n);
+        c.rows_mut(0, n).copy_from(&(-&p.mobility / w));
+        if let Some(damping) = &self.model.damping {
+            let drag = &t.minv * (damping * &p.mobility) / w;
+            let projected = &drag - &projection * &drag;
+            c.rows_mut(n, n).copy_from(&projected);
+        }
+        let mut h_x = DVector::zeros(2 * n);
+        h_x.rows_mut(0, n).copy_from(&p.direction);
+        s += c * h_x.transpose();
+        let before = t.before_impact.take().unwrap_or_else(|| t.jacobian.clone());
+        t.jacobian = s * before;
+        t.sticking.get_or_insert(time);
+        t.sticks += 1;
+        if let Some(stuck) = t.stuck_pairs.get_mut(pair) {
+            *stuck = true;
+        }
+    }
+
+    /// The tangent flow through a stuck phase of duration `span` (out of line): the reduced
+    /// flow's propagator `P_r` in the reduced coordinates, `δy ← E P_r Eᵀ δy` with
+    /// `E = diag(T, T)` (`T` the orthonormal basis of `d⊥`). The tangent is already in the
+    /// constrained space (the stick's saltation put it there), where `Eᵀ` is exact.
+    ///
+    /// The release that ends the phase needs no saltation: it happens where the contact force
+    /// is zero, so the free and constrained vector fields agree there (`S = I`).
+    #[cold]
+    #[inline(never)]
+    fn propagate_stuck_tangent(st: &Stuck, t: &mut Tangent, span: f64) {
+        let n = st.basis.nrows();
+        let nr = st.basis.ncols();
+        let mut e = DMatrix::zeros(2 * n, 2 * nr);
+        e.view_mut((0, 0), (n, nr)).copy_from(&st.basis);
+        e.view_mut((n, nr), (n, nr)).copy_from(&st.basis);
+        let reduced = st.flow.propagator(span);
+        t.jacobian = &e * (reduced * (e.transpose() * &t.jacobian));
+        t.stuck_time += span;
     }
 
     /// Event: the held pair is released `s` into the stuck phase (the contact force would pull);
@@ -1213,6 +1328,9 @@ impl<'m> Engine<'m> {
             }
         }
         state.y = full(span);
+        if let Some(t) = state.tangent.as_mut() {
+            Self::propagate_stuck_tangent(st, t, span);
+        }
         match release {
             Some(s) => self.release(state, s)?,
             None => state.tau = period,
