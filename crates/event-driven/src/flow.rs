@@ -349,6 +349,19 @@ impl LinearFlow {
     pub fn propagator(&self, s: f64) -> DMatrix<f64> {
         let m = 2 * self.dofs;
         let mut out = DMatrix::zeros(m, m);
+        self.propagator_into(s, &mut out);
+        out
+    }
+
+    /// [`Self::propagator`] written into `out`, resized to `2n × 2n` if needed (no allocation
+    /// when it already has that size).
+    pub fn propagator_into(&self, s: f64, out: &mut DMatrix<f64>) {
+        let m = 2 * self.dofs;
+        if out.shape() != (m, m) {
+            *out = DMatrix::zeros(m, m);
+        } else {
+            out.fill(0.0);
+        }
         for &(k, weight) in &self.kept {
             let e = cexp(self.rates[k], s) * weight;
             for j in 0..m {
@@ -358,7 +371,6 @@ impl LinearFlow {
                 }
             }
         }
-        out
     }
 
     /// Whether flights use the steady forced response (no mode resonant with the forcing); at

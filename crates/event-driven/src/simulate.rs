@@ -308,6 +308,9 @@ struct Pair {
     mobility: DVector<f64>,
     /// `dᵀ M⁻¹ d`.
     compliance: f64,
+    /// `M⁻¹ C M⁻¹ d` (zero without damping): how the impulse along `d` changes the damping
+    /// force's acceleration, for the saltation matrices.
+    drag: DVector<f64>,
     /// `r` as a functional of the free flow's state.
     relative_displacement: Functional,
 }
@@ -460,37 +463,41 @@ struct RunState {
 pub(crate) struct Tangent {
     /// `∂y/∂y(0)`.
     pub(crate) jacobian: DMatrix<f64>,
-    /// `M⁻¹`, for the vector field at the impacts.
-    minv: DMatrix<f64>,
     /// The impacts in time order: pair, side and time since the start.
     pub(crate) impacts: Vec<(usize, i8, f64)>,
     /// The time since the start of the first sticking, if any: the Jacobian then maps onto the
     /// held pair's constrained tangent space (rank `2n − 2`), no longer a smooth map of the
     /// start state.
     pub(crate) sticking: Option<f64>,
-    /// The Jacobian just before the impact of the contact being resolved, if it had one: a
-    /// stick that follows it replaces both by one plastic saltation from the state before.
-    before_impact: Option<DMatrix<f64>>,
+    /// Whether [`Self::product`] holds the Jacobian just before the impact of the contact being
+    /// resolved: a stick that follows it replaces both by one plastic saltation from the state
+    /// before.
+    before_impact: bool,
     /// Sticks (plastic holds on a stop) so far.
     pub(crate) sticks: u64,
     /// Which pairs have stuck so far (each collapses two tangent directions).
     pub(crate) stuck_pairs: Vec<bool>,
     /// Time spent held on a stop so far.
     pub(crate) stuck_time: f64,
+    /// Storage for a flight's propagator and the product, reused by every flight (the product
+    /// also keeps the Jacobian before an impact, see [`Self::before_impact`]).
+    propagator: DMatrix<f64>,
+    product: DMatrix<f64>,
 }
 
 impl Tangent {
     /// The identity tangent of a `2n`-dimensional state, for `pairs` contact pairs.
-    fn new(n: usize, pairs: usize, minv: DMatrix<f64>) -> Self {
+    fn new(n: usize, pairs: usize) -> Self {
         Tangent {
             jacobian: DMatrix::identity(2 * n, 2 * n),
-            minv,
             impacts: Vec::new(),
             sticking: None,
-            before_impact: None,
+            before_impact: false,
             sticks: 0,
             stuck_pairs: vec![false; pairs],
             stuck_time: 0.0,
+            propagator: DMatrix::zeros(0, 0),
+            product: DMatrix::zeros(0, 0),
         }
     }
 }
@@ -621,11 +628,16 @@ impl<'m> Engine<'m> {
                 let mobility = &minv * &d;
                 let compliance = d.dot(&mobility);
                 let relative_displacement = free.functional(&position);
+                let drag = match &model.damping {
+                    Some(damping) => &minv * (damping * &mobility),
+                    None => DVector::zeros(n),
+                };
                 Pair {
                     spec: *c,
                     direction: d,
                     mobility,
                     compliance,
+                    drag,
                     relative_displacement,
                 }
             })
@@ -729,49 +741,34 @@ impl<'m> Engine<'m> {
         Ok(self.stuck.len() - 1)
     }
 
-    /// The free vector field `f(y, τ) = (u̇, M⁻¹(f(τ) − K u − C u̇))` at phase time `tau`.
-    fn vector_field(&self, minv: &DMatrix<f64>, y: &DVector<f64>, tau: f64) -> DVector<f64> {
+    /// Applies the saltation matrix of an impact of pair `p` to the tangent `t`, in place:
+    /// `S = Ĝ + (f⁺ − Ĝ f⁻) h_xᵀ / (h_x · f⁻)`, with the contact function `h = d·u ∓ gap`
+    /// (`h_x = (d, 0)`, `h_x · f⁻ = ṙ⁻`), `Ĝ` the identity on positions and the restitution
+    /// map `G = I − (1 + e) M⁻¹d dᵀ/w` (`w = dᵀM⁻¹d`) on velocities, `f` the vector field.
+    /// The jump of the field is closed form: with `v⁺ − v⁻ = −(1 + e) ṙ⁻ M⁻¹d / w`,
+    /// `(f⁺ − Ĝ f⁻)/ṙ⁻ = ((1 + e)/w) (−M⁻¹d, M⁻¹CM⁻¹d + M⁻¹d r̈⁻/ṙ⁻)`, `r̈⁻` the free
+    /// relative acceleration just before. So `S J` is `J` with its velocity rows corrected
+    /// along `M⁻¹d` and a rank-one term in `dᵀ J_u`: no matrix is formed. `det S = e²`.
+    fn apply_saltation(&self, t: &mut Tangent, p: &Pair, before: &DVector<f64>, tau: f64) {
         let n = self.n;
-        let m = self.model;
-        let (sin, cos) = (self.omega * tau).sin_cos();
-        let u = y.rows(0, n);
-        let v = y.rows(n, n);
-        let mut force = &m.forcing_cos * cos + &m.forcing_sin * sin - &m.stiffness * u;
-        if let Some(c) = &m.damping {
-            force -= c * v;
+        let factor = (1.0 + p.spec.restitution) / p.compliance;
+        let rdot = p.direction.dot(&before.rows(n, n));
+        let rddot = self.free_relative_acceleration(p, before, tau);
+        let ratio = rddot / rdot;
+        let j = &mut t.jacobian;
+        for col in 0..j.ncols() {
+            let mut a = 0.0; // dᵀ δu
+            let mut b = 0.0; // dᵀ δu̇
+            for i in 0..n {
+                a += p.direction[i] * j[(i, col)];
+                b += p.direction[i] * j[(n + i, col)];
+            }
+            for i in 0..n {
+                j[(i, col)] -= factor * p.mobility[i] * a;
+                j[(n + i, col)] +=
+                    factor * (-p.mobility[i] * b + (p.drag[i] + p.mobility[i] * ratio) * a);
+            }
         }
-        let mut f = DVector::zeros(2 * n);
-        f.rows_mut(0, n).copy_from(&v);
-        f.rows_mut(n, n).copy_from(&(minv * force));
-        f
-    }
-
-    /// The saltation matrix of an impact of pair `p` at phase time `tau`, from the states just
-    /// before and just after it: `S = Ĝ + (f⁺ − Ĝ f⁻) h_xᵀ / (h_x · f⁻)`, with the contact
-    /// function `h = d·u ∓ gap` (`h_x = (d, 0)`), `Ĝ` the identity on positions and the
-    /// restitution map `I − (1 + e) M⁻¹d dᵀ/(dᵀM⁻¹d)` on velocities, `f` the vector field.
-    /// `det S = e²`.
-    fn saltation(
-        &self,
-        minv: &DMatrix<f64>,
-        p: &Pair,
-        before: &DVector<f64>,
-        after: &DVector<f64>,
-        tau: f64,
-    ) -> DMatrix<f64> {
-        let n = self.n;
-        let e = p.spec.restitution;
-        let mut g = DMatrix::<f64>::identity(2 * n, 2 * n);
-        let restitution = &p.mobility * p.direction.transpose() * ((1.0 + e) / p.compliance);
-        let mut block = g.view_mut((n, n), (n, n));
-        block -= restitution;
-        let f_before = self.vector_field(minv, before, tau);
-        let f_after = self.vector_field(minv, after, tau);
-        let mut h_x = DVector::zeros(2 * n);
-        h_x.rows_mut(0, n).copy_from(&p.direction);
-        let normal_speed = h_x.dot(&f_before);
-        let jump = f_after - &g * f_before;
-        g + jump * h_x.transpose() / normal_speed
     }
 
     /// Runs `periods` periods from state `y` at the section `t = 0` with the tangent flow: the
@@ -823,13 +820,7 @@ impl<'m> Engine<'m> {
             },
             &plan,
         );
-        let minv = self
-            .model
-            .mass
-            .clone()
-            .try_inverse()
-            .ok_or(FlowError::SingularMass)?;
-        let mut tangent = Tangent::new(n, self.pairs.len(), minv);
+        let mut tangent = Tangent::new(n, self.pairs.len());
         tangent.jacobian = frame;
         while state.k < periods {
             state.tangent = Some(tangent);
@@ -1090,7 +1081,7 @@ impl<'m> Engine<'m> {
         let n = self.n;
         state.count_event(self.period)?;
         if let Some(t) = state.tangent.as_mut() {
-            t.before_impact = None;
+            t.before_impact = false;
         }
         let p = &self.pairs[c.pair];
         let side = c.side as f64;
@@ -1154,22 +1145,33 @@ impl<'m> Engine<'m> {
     #[cold]
     #[inline(never)]
     fn impact_with_tangent(&self, state: &mut RunState, c: Contact) {
-        let before = state.y.clone();
-        self.model.apply_impact(c.pair, &mut state.y, None);
         if let Some(t) = state.tangent.as_mut() {
             let time = state.k as f64 * self.period + state.tau;
-            let s = self.saltation(&t.minv, &self.pairs[c.pair], &before, &state.y, state.tau);
-            let after = s * &t.jacobian;
-            t.before_impact = Some(std::mem::replace(&mut t.jacobian, after));
+            // `product` keeps the Jacobian before the impact.
+            if t.product.shape() != t.jacobian.shape() {
+                t.product = t.jacobian.clone();
+            } else {
+                t.product.copy_from(&t.jacobian);
+            }
+            t.before_impact = true;
+            self.apply_saltation(t, &self.pairs[c.pair], &state.y, state.tau);
             t.impacts.push((c.pair, c.side, time));
         }
+        self.model.apply_impact(c.pair, &mut state.y, None);
     }
 
     /// The tangent flow through a flight of duration `span` (out of line, as above).
     #[cold]
     #[inline(never)]
     fn propagate_tangent(&self, tangent: &mut Tangent, span: f64) {
-        tangent.jacobian = self.free.propagator(span) * &tangent.jacobian;
+        self.free.propagator_into(span, &mut tangent.propagator);
+        if tangent.product.shape() != tangent.jacobian.shape() {
+            tangent.product = tangent.jacobian.clone();
+        }
+        tangent
+            .product
+            .gemm(1.0, &tangent.propagator, &tangent.jacobian, 0.0);
+        std::mem::swap(&mut tangent.product, &mut tangent.jacobian);
     }
 
     /// Event: pair `c.pair` sticks on side `c.side`. Plastic: relative velocity to zero,
@@ -1208,16 +1210,19 @@ impl<'m> Engine<'m> {
         block -= &projection;
         let mut c = DVector::zeros(2 * n);
         c.rows_mut(0, n).copy_from(&(-&p.mobility / w));
-        if let Some(damping) = &self.model.damping {
-            let drag = &t.minv * (damping * &p.mobility) / w;
+        if self.model.has_damping() {
+            let drag = &p.drag / w;
             let projected = &drag - &projection * &drag;
             c.rows_mut(n, n).copy_from(&projected);
         }
         let mut h_x = DVector::zeros(2 * n);
         h_x.rows_mut(0, n).copy_from(&p.direction);
         s += c * h_x.transpose();
-        let before = t.before_impact.take().unwrap_or_else(|| t.jacobian.clone());
-        t.jacobian = s * before;
+        t.jacobian = if std::mem::take(&mut t.before_impact) {
+            s * &t.product
+        } else {
+            s * &t.jacobian
+        };
         t.sticking.get_or_insert(time);
         t.sticks += 1;
         if let Some(stuck) = t.stuck_pairs.get_mut(pair) {
