@@ -13,6 +13,10 @@
 //! Jacobian (flight propagators and impact saltation matrices), whatever their stability
 //! ([`newton`]); a periodic run is polished that way at its end ([`SteadyState::orbit`]).
 //!
+//! The same tangent flow, extended through sticking and re-orthonormalised once per period,
+//! gives the Lyapunov spectrum ([`lyapunov`]); a traced run of the same engine samples a
+//! stretch of motion exactly, events included ([`trajectory`]).
+//!
 //! Only the effects a model has are simulated: no contact pairs, no event search; no damping
 //! matrix, no damping terms.
 #![deny(missing_docs)]
@@ -24,6 +28,7 @@ pub mod model;
 pub mod newton;
 pub mod simulate;
 pub mod test_models;
+pub mod trajectory;
 
 pub use lyapunov::{
     lyapunov_after_steady_state, lyapunov_exponents, LyapunovError, LyapunovOptions,
@@ -39,4 +44,8 @@ pub use simulate::{
     CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS, DEFAULT_MAX_OSCILLATIONS, DEFAULT_MAX_PERIODS,
     DEFAULT_MAX_PERIOD_MULTIPLICITY, DEFAULT_PERIODICITY_TOLERANCE, DEFAULT_ROOT_TOLERANCE,
     EVENT_STORM, MIN_OSCILLATION_PERIODS, SAMPLES_PER_PERIOD,
+};
+pub use trajectory::{
+    final_cycle_trajectory, sample_trajectory, RowKind, Trajectory, TrajectoryError,
+    TrajectoryImpact, TrajectoryOptions, TrajectoryRow,
 };

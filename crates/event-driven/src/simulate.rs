@@ -9,8 +9,12 @@
 //! in `stopping_rule`). The events are named points: `impact`, `stick` and `release`, and each
 //! flight is one closed-form segment. A run asked for its tangent flow (`Engine::tangent_run`,
 //! used by [`crate::newton`]) multiplies the Jacobian by each flight's propagator and each
-//! impact's saltation matrix, and notes any stick (which has no such Jacobian); ordinary runs
-//! carry no tangent and only test for its absence.
+//! impact's saltation matrix, at a stick by the plastic saltation onto the held pair's
+//! constrained tangent space and while held by the reduced propagator (a run that sticks has
+//! no invertible Jacobian, which [`crate::newton`] refuses; [`crate::lyapunov`] counts the
+//! collapsed directions); ordinary runs carry no tangent and only test for its absence. A
+//! traced run (`Engine::trace_run`, used by [`crate::trajectory`]) samples each segment's
+//! closed form and each event's states.
 
 use crate::expsum::{ExpSum, SearchStack};
 use crate::flow::{Flight, FlowError, Functional, LinearFlow};
@@ -456,6 +460,72 @@ struct RunState {
     observing: Option<Observation>,
     /// The tangent flow, when asked for ([`Engine::tangent_run`]); `None` in ordinary runs.
     tangent: Option<Tangent>,
+    /// Exact samples of the run, when asked for ([`Engine::trace_run`]); `None` otherwise.
+    trace: Option<Trace>,
+}
+
+/// What a row of a sampled trajectory is ([`crate::trajectory::TrajectoryRow::kind`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RowKind {
+    /// A uniform sample in time.
+    Sample,
+    /// The state just before an impact (or a stick without impact).
+    BeforeImpact,
+    /// The state just after an impact's restitution.
+    AfterImpact,
+    /// The state just after a stick (the plastic hold on a stop).
+    AfterStick,
+}
+
+/// An impact seen by a traced run.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct TracedImpact {
+    /// Time since the run's start (a section).
+    pub(crate) time: f64,
+    pub(crate) pair: usize,
+    pub(crate) side: i8,
+    /// `ṙ⁻`.
+    pub(crate) relative_velocity: f64,
+    /// The state just before.
+    pub(crate) state_before: DVector<f64>,
+}
+
+/// The exact samples of a traced run: uniform samples, and each event's states.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Trace {
+    /// Uniform samples per period.
+    pub(crate) per_period: u64,
+    /// The next uniform sample's index within the current period.
+    next: u64,
+    /// `(time since the start, kind, state)`, in time order.
+    pub(crate) rows: Vec<(f64, RowKind, DVector<f64>)>,
+    pub(crate) impacts: Vec<TracedImpact>,
+}
+
+impl Trace {
+    /// The uniform samples `t_j = jT/N` of period `k` inside the segment `[tau, tau + span)`,
+    /// from the segment's closed form `at(s)`, `s = t_j − tau`.
+    fn segment<F: Fn(f64) -> DVector<f64>>(
+        &mut self,
+        k: u64,
+        period: f64,
+        tau: f64,
+        span: f64,
+        at: F,
+    ) {
+        let step = period / self.per_period as f64;
+        while self.next < self.per_period {
+            let tj = self.next as f64 * step;
+            if tj >= tau + span {
+                break;
+            }
+            if tj >= tau {
+                self.rows
+                    .push((k as f64 * period + tj, RowKind::Sample, at(tj - tau)));
+            }
+            self.next += 1;
+        }
+    }
 }
 
 /// The tangent flow along a run: the Jacobian of the current state with respect to the start
@@ -836,6 +906,49 @@ impl<'m> Engine<'m> {
         Ok((state.y, tangent))
     }
 
+    /// Runs `periods` periods from state `y` at the section `t = 0`, tracing it: `per_period`
+    /// uniform samples per period from each segment's closed form (the last at
+    /// `t = periods·T`), each impact's states before and after, each stick's, and the impacts.
+    ///
+    /// # Errors
+    /// As [`Engine::next_iter`].
+    pub(crate) fn trace_run(
+        &mut self,
+        y: &DVector<f64>,
+        periods: u64,
+        per_period: u64,
+    ) -> Result<Trace, SimulationError> {
+        let plan = Plan {
+            p_max: 1,
+            limit: periods,
+            at_limit: Stop::FixedPeriods,
+            window_len: 0,
+            fixed: true,
+            max_events: None,
+            periodicity_tolerance: DEFAULT_PERIODICITY_TOLERANCE,
+            record_trajectory: false,
+        };
+        let mut state = self.init(
+            &Start {
+                state: y.clone(),
+                time: 0.0,
+            },
+            &plan,
+        );
+        state.trace = Some(Trace {
+            per_period: per_period.max(1),
+            ..Trace::default()
+        });
+        while state.k < periods {
+            self.next_iter(&mut state, &plan)?;
+        }
+        let mut trace = state.trace.take().unwrap_or_default();
+        trace
+            .rows
+            .push((periods as f64 * self.period, RowKind::Sample, state.y));
+        Ok(trace)
+    }
+
     /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`:
     /// `(M⁻¹d) · (f(τ) − K u − C u̇)`.
     fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
@@ -921,6 +1034,7 @@ impl<'m> Engine<'m> {
             window: None,
             observing: None,
             tangent: None,
+            trace: None,
         };
         if state.tau == 0.0 {
             state.ring.push_back(state.y.clone()); // the start is itself a section
@@ -1021,6 +1135,9 @@ impl<'m> Engine<'m> {
             if state.tau + c.s < state.grace {
                 // Just released (or grazed): step past the stop's edge without an event.
                 let step = (state.grace - state.tau).min(horizon);
+                if let Some(trace) = state.trace.as_mut() {
+                    trace.segment(state.k, period, state.tau, step, |s| flight.state(s));
+                }
                 state.y = flight.state(step);
                 if let Some(t) = state.tangent.as_mut() {
                     self.propagate_tangent(t, step);
@@ -1043,6 +1160,9 @@ impl<'m> Engine<'m> {
         let k = state.k;
         if let Some(t) = state.tangent.as_mut() {
             self.propagate_tangent(t, span);
+        }
+        if let Some(trace) = state.trace.as_mut() {
+            trace.segment(k, period, tau, span, |s| flight.state(s));
         }
         if let Some(w) = state.window.as_mut() {
             for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
@@ -1131,10 +1251,28 @@ impl<'m> Engine<'m> {
                 relative_velocity: rdot,
             });
         }
+        let time = state.k as f64 * self.period + state.tau;
+        if let Some(trace) = state.trace.as_mut() {
+            trace
+                .rows
+                .push((time, RowKind::BeforeImpact, state.y.clone()));
+            trace.impacts.push(TracedImpact {
+                time,
+                pair: c.pair,
+                side: c.side,
+                relative_velocity: rdot,
+                state_before: state.y.clone(),
+            });
+        }
         if state.tangent.is_some() {
             self.impact_with_tangent(state, c);
         } else {
             self.model.apply_impact(c.pair, &mut state.y, None);
+        }
+        if let Some(trace) = state.trace.as_mut() {
+            trace
+                .rows
+                .push((time, RowKind::AfterImpact, state.y.clone()));
         }
         state.impacts += 1;
         state.last_impact_period = Some(state.k);
@@ -1177,7 +1315,24 @@ impl<'m> Engine<'m> {
     /// Event: pair `c.pair` sticks on side `c.side`. Plastic: relative velocity to zero,
     /// momentum kept; the run continues on the reduced flow.
     fn stick(&mut self, state: &mut RunState, c: Contact) -> Result<(), SimulationError> {
+        let time = state.k as f64 * self.period + state.tau;
+        if let Some(trace) = state.trace.as_mut() {
+            let after_impact = trace
+                .rows
+                .last()
+                .is_some_and(|r| r.0 == time && r.1 == RowKind::AfterImpact);
+            if !after_impact {
+                trace
+                    .rows
+                    .push((time, RowKind::BeforeImpact, state.y.clone()));
+            }
+        }
         self.model.apply_impact(c.pair, &mut state.y, Some(0.0));
+        if let Some(trace) = state.trace.as_mut() {
+            trace
+                .rows
+                .push((time, RowKind::AfterStick, state.y.clone()));
+        }
         if let Some(t) = state.tangent.as_mut() {
             self.stick_tangent(t, c.pair, state.k as f64 * self.period + state.tau);
         }
@@ -1332,6 +1487,9 @@ impl<'m> Engine<'m> {
                 });
             }
         }
+        if let Some(trace) = state.trace.as_mut() {
+            trace.segment(k, period, tau, span, full);
+        }
         state.y = full(span);
         if let Some(t) = state.tangent.as_mut() {
             Self::propagate_stuck_tangent(st, t, span);
@@ -1347,6 +1505,9 @@ impl<'m> Engine<'m> {
     /// recorded.
     fn section(&self, state: &mut RunState, plan: &Plan) {
         state.k += 1;
+        if let Some(trace) = state.trace.as_mut() {
+            trace.next = 0;
+        }
         state.tau = 0.0;
         state.events_total += state.events_this_period;
         state.events_this_period = 0;
