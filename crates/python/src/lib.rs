@@ -285,7 +285,7 @@ fn orbit(
     symmetric_only: bool,
 ) -> PyResult<String> {
     let omega = check_omega("omega", omega)?;
-    let scene = scene.scene.clone();
+    let scene = &scene.scene;
     let Some(text) = signature else {
         if period != 1 {
             return Err(PyValueError::new_err(
@@ -298,9 +298,9 @@ fn orbit(
             OrbitSearch::All
         };
         let record = compute(py, || {
-            let point = analyse(&scene, omega, search).map_err(|e| e.to_string())?;
+            let point = analyse(scene, omega, search).map_err(|e| e.to_string())?;
             Ok(OrbitsRecord {
-                at: At::new(&scene, omega),
+                at: At::new(scene, omega),
                 linear: LinearRecord::new(&point.linear, scene.gap()),
                 orbits: point
                     .orbits
@@ -326,10 +326,10 @@ fn orbit(
     }
     let record = compute(py, || {
         Ok(SignatureOrbitsRecord {
-            at: At::new(&scene, omega),
+            at: At::new(scene, omega),
             signature: signature.to_string(),
             period: signature.period(),
-            orbits: orbits_of_signature(&scene, omega, &signature)
+            orbits: orbits_of_signature(scene, omega, &signature)
                 .iter()
                 .map(SignatureOrbitRecord::new)
                 .collect(),
