@@ -1,0 +1,430 @@
+"""Steady states of an impacting mass-in-mass unit, two independent ways, from Python.
+
+An inner mass rattles between two stops (``r = u_i - u_o = ±gap``) inside an outer mass whose
+base moves as ``u_g cos(ωt)``. Two solvers that share no numerics describe it:
+
+- the closed-form (Nigm–Shabana) orbits: :func:`orbit`;
+- the exact event-driven simulator: :func:`simulate`;
+
+and :func:`compare` and :func:`sweep` put them side by side. Each function does what the
+``rattle`` command of the same name does, on the same library calls, and its result's
+``.to_dict()`` equals the command's ``--json`` output for the same inputs, number for number.
+
+Errors: a bad scene or argument raises :class:`ValueError` (for a scene, the command's message:
+the field's path and its allowed range); an unreadable scene file :class:`OSError`; a numerical
+failure :class:`RuntimeError`. The computations release the GIL; a sweep runs on the Rust
+thread pool (``RAYON_NUM_THREADS`` sets its size).
+
+Pending (being built elsewhere): trajectories (``trajectory=``), Lyapunov exponents
+(``lyapunov=``) and :func:`continue_branch`; asking for them raises
+:class:`NotImplementedError`.
+"""
+
+import json as _json
+import math as _math
+
+import numpy as _np
+
+from . import _rattle
+
+__all__ = [
+    "Scene",
+    "Record",
+    "OrbitResult",
+    "SignatureOrbits",
+    "Simulation",
+    "Comparison",
+    "Sweep",
+    "orbit",
+    "simulate",
+    "compare",
+    "sweep",
+    "frequencies",
+    "continue_branch",
+    "DEFAULTS",
+]
+
+__version__ = _rattle.__version__
+
+#: The simulator's default accuracy knobs, as the command's: ``tol`` (relative tolerance of
+#: contact times), ``steady_tol`` (of the periodicity test), ``max_periods`` (cap on forcing
+#: periods), ``max_oscillations`` (cap on free oscillations of the fastest mode).
+DEFAULTS = dict(_rattle.defaults())
+
+_TOL = DEFAULTS["tol"]
+_STEADY_TOL = DEFAULTS["steady_tol"]
+_MAX_PERIODS = DEFAULTS["max_periods"]
+_MAX_OSCILLATIONS = DEFAULTS["max_oscillations"]
+
+
+def _plain(value):
+    """JSON for numpy scalars and arrays inside a scene dictionary."""
+    if hasattr(value, "tolist"):
+        return value.tolist()
+    raise TypeError(f"{type(value).__name__} is not a JSON value")
+
+
+def _finite_copy(value, path, non_finite):
+    """``value`` with each non-finite float replaced by 1.0 (JSON has no NaN), its path and
+    value appended to ``non_finite``: the scene is validated with them put back."""
+    if isinstance(value, dict):
+        return {
+            k: _finite_copy(v, f"{path}.{k}" if path else str(k), non_finite)
+            for k, v in value.items()
+        }
+    if isinstance(value, float) and not _math.isfinite(value):
+        non_finite.append((path, value))
+        return 1.0
+    return value
+
+
+class Scene:
+    """One unit: masses, springs, base motion, and optionally stops and dashpots.
+
+    Build it with :meth:`from_file`, :meth:`from_dict` or :meth:`paper`; it is validated on
+    construction and immutable. The format is the command's scene file::
+
+        {"name": "paper",
+         "unit": {"outer_mass": 2.0, "inner_mass": 1.0,
+                  "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+         "base": {"amplitude": 1.0},
+         "stops": {"gap": 0.5, "restitution": 0.8},
+         "damping": {"outer": 0.0, "inner": 0.0}}
+
+    ``unit`` and ``base`` are required, ``stops`` and ``damping`` optional; unknown fields are
+    refused.
+    """
+
+    __slots__ = ("_native",)
+
+    def __init__(self, native):
+        """Wraps a native scene; use the ``from_*`` constructors instead."""
+        if not isinstance(native, _rattle.NativeScene):
+            raise TypeError("use Scene.from_file, Scene.from_dict or Scene.paper")
+        self._native = native
+
+    @classmethod
+    def from_file(cls, path):
+        """Reads and validates the scene file at ``path`` (JSON), as ``rattle … PATH`` does.
+
+        Raises :class:`FileNotFoundError`/:class:`OSError` when the file cannot be read and
+        :class:`ValueError` when it is not a valid scene (the command's message: file, field
+        path and allowed range).
+        """
+        return cls(_rattle.NativeScene.load(str(path)))
+
+    @classmethod
+    def from_dict(cls, d):
+        """Validates a scene given as a dictionary of the scene file's shape.
+
+        Raises :class:`ValueError` naming the field path (e.g. ``stops.restitution``) and its
+        allowed range, as the command does for a file (the origin is called ``dict``).
+        """
+        if not isinstance(d, dict):
+            raise TypeError(f"a scene is a dict, not {type(d).__name__}")
+        non_finite = []
+        finite = _finite_copy(d, "", non_finite)
+        text = _json.dumps(finite, default=_plain)
+        return cls(_rattle.NativeScene.from_dict_json(text, non_finite))
+
+    @classmethod
+    def paper(cls):
+        """The command's built-in scene: the paper's unit with gap 0.5 and restitution 0.8."""
+        return cls(_rattle.NativeScene.paper())
+
+    @property
+    def name(self):
+        """The scene's name."""
+        return self._native.name
+
+    @property
+    def effects(self):
+        """The active effects, as outputs list them: ``["stops"]``, ``["stops", "damping"]``…"""
+        return list(self._native.effects)
+
+    def to_dict(self):
+        """The scene as a dictionary of the scene file's shape."""
+        return _json.loads(self._native.to_json())
+
+    def __eq__(self, other):
+        return isinstance(other, Scene) and self.to_dict() == other.to_dict()
+
+    def __hash__(self):
+        return hash(self._native.to_json())
+
+    def __repr__(self):
+        return f"Scene.from_dict({self.to_dict()!r})"
+
+
+def _native_scene(scene):
+    if not isinstance(scene, Scene):
+        raise TypeError(f"scene must be a rattle.Scene, not {type(scene).__name__}")
+    return scene._native
+
+
+class Record:
+    """A result: every field of the command's JSON document as an attribute.
+
+    Nested objects are :class:`Record` too, lists stay lists, ``null`` is ``None``. A field
+    whose name is a Python keyword (``class``) is also reachable with a trailing underscore
+    (``class_``). :meth:`to_dict` gives the command's ``--json`` document.
+    """
+
+    def __init__(self, data):
+        """Wraps one decoded JSON object."""
+        self._data = data
+        for key, value in data.items():
+            wrapped = _wrap(value)
+            self.__dict__[key] = wrapped
+            if key in ("class", "from", "import", "in", "is", "not", "or", "and"):
+                self.__dict__[key + "_"] = wrapped
+
+    def to_dict(self):
+        """The command's ``--json`` document for this result (a fresh copy)."""
+        return _json.loads(_json.dumps(self._data))
+
+    def keys(self):
+        """The field names, in the command's order."""
+        return list(self._data)
+
+    def __eq__(self, other):
+        return isinstance(other, Record) and self._data == other._data
+
+    __hash__ = None
+
+    def __repr__(self):
+        fields = ", ".join(
+            f"{k}={v!r}" for k, v in self._data.items() if not isinstance(v, (dict, list))
+        )
+        return f"{type(self).__name__}({fields}, …)"
+
+
+def _wrap(value):
+    if isinstance(value, dict):
+        return Record(value)
+    if isinstance(value, list):
+        return [_wrap(v) for v in value]
+    return value
+
+
+class OrbitResult(Record):
+    """``rattle orbit --json``: ``scene``, ``omega``, ``effects``, ``linear`` (the linear steady
+    state: ``outer_amplitude``, ``inner_amplitude``, ``relative_amplitude``,
+    ``transmittance_db``, ``unbounded``, ``touches_stops``) and ``orbits``, every two-impact
+    orbit (``branch``, ``beta``, ``gap``, ``alpha``, the states at the impacts,
+    ``outer_amplitude``, ``transmittance_db``, ``viable``, ``violations``,
+    ``floquet_multipliers`` as ``[re, im]``, ``stable``)."""
+
+
+class SignatureOrbits(Record):
+    """``rattle orbit --signature SIG --json``: ``scene``, ``omega``, ``effects``,
+    ``signature`` (canonical), ``period`` and ``orbits``, every orbit of that signature
+    (``impact_phases``, ``alpha``, ``state_after_impact``, ``outer_amplitude``,
+    ``transmittance_db``, ``viable``, ``violations``, ``floquet_multipliers``, ``stable``,
+    ``energy_residual``)."""
+
+
+class Simulation(Record):
+    """``rattle simulate --json``: ``scene``, ``omega``, ``effects``, ``status``, ``regime``,
+    ``period``, ``impacts_per_period``, ``outer_amplitude``, ``transmittance_db``,
+    ``sticking``, ``stopped_by``, ``periods_run``, ``impacts``, ``signature``,
+    ``floquet_multipliers``, ``orbit_error``."""
+
+
+class Comparison(Record):
+    """``rattle compare --json``: ``scene``, ``omega``, ``simulated`` (the cycle from rest),
+    ``analytic`` (the orbit of the simulated signature, or ``None``), ``analytic_error``,
+    ``class`` (also ``class_``: ``agreement``, ``beyond`` or ``contradiction``),
+    ``class_detail``, ``relative_difference``, ``multiplier_difference``,
+    ``confirmed_orbits``."""
+
+
+class Sweep:
+    """``rattle sweep --out FILE.json``: one row per frequency, as columns.
+
+    Attributes: ``scene`` (dict), ``solver``, ``effects``, ``points``, ``columns`` (a dict of
+    numpy arrays in the command's column order), and each column by name (``sweep.omega``,
+    ``sweep.simulated_transmittance_db``…). Column types, fixed whatever the data:
+
+    - numbers, counts included (``orbits``, ``simulated_period``): ``float64``, NaN where the
+      command writes ``null`` (a cell that does not apply, or a number that is not finite);
+    - flags (``branch0_stable``…): ``bool``, ``False`` where the command writes ``null``
+      (the matching number column is NaN there);
+    - words (``simulated_regime``, ``class``, ``error``…): ``object``, ``str`` or ``None``.
+
+    :meth:`to_dict` is the command's JSON document (with ``null`` kept as ``None``),
+    :meth:`to_pandas` a DataFrame of the columns when pandas is installed.
+    """
+
+    def __init__(self, native):
+        """Wraps a native sweep; use :func:`sweep`."""
+        self._native = native
+        header = _json.loads(native.header_json())
+        self.scene = header["scene"]
+        self.solver = header["solver"]
+        self.effects = header["effects"]
+        self.points = header["points"]
+        self.columns = dict(native.columns())
+        for column in self.columns.values():
+            column.flags.writeable = False
+
+    def __getattr__(self, name):
+        columns = self.__dict__.get("columns", {})
+        if name in columns:
+            return columns[name]
+        if name.endswith("_") and name[:-1] in columns:
+            return columns[name[:-1]]
+        raise AttributeError(f"Sweep has no attribute or column {name!r}")
+
+    def __len__(self):
+        return len(self._native)
+
+    def to_dict(self):
+        """The command's JSON document: the header fields, then ``results``, one dict per
+        frequency."""
+        doc = _json.loads(self._native.header_json())
+        doc["results"] = _json.loads(self._native.rows_json())
+        return doc
+
+    def to_pandas(self):
+        """The columns as a :class:`pandas.DataFrame` (needs pandas, not installed with
+        rattle: ``pip install pandas``)."""
+        try:
+            import pandas
+        except ImportError as e:
+            raise ImportError("Sweep.to_pandas needs pandas: pip install pandas") from e
+        return pandas.DataFrame({name: column.copy() for name, column in self.columns.items()})
+
+    def __repr__(self):
+        return f"Sweep(scene={self.scene.get('name')!r}, solver={self.solver!r}, points={self.points})"
+
+
+def _pending(feature):
+    raise NotImplementedError(
+        f"{feature} is pending: trajectories, Lyapunov exponents and continuation are being "
+        "built in the library and are not exposed yet"
+    )
+
+
+def orbit(scene, omega, signature=None, period=1, symmetric_only=False):
+    """The analytic solver at one frequency, as ``rattle orbit --json``.
+
+    Without ``signature``: the linear steady state and every two-impact orbit (symmetric
+    branches 0 and 1, then the asymmetric ones unless ``symmetric_only``), each with its
+    viability and Floquet stability; returns an :class:`OrbitResult`.
+
+    With ``signature`` (the stops hit over one cycle in time order, ``+`` side 1, ``-`` side 2,
+    any rotation, e.g. ``"+-"``, ``"++--"``) and ``period`` (forcing periods per cycle, 1 to 8):
+    every orbit of that signature; returns :class:`SignatureOrbits`.
+
+    ``omega`` is the base's angular frequency in rad/s (finite, > 0).
+    """
+    text = _rattle.orbit(_native_scene(scene), float(omega), signature, period, symmetric_only)
+    data = _json.loads(text)
+    return SignatureOrbits(data) if signature is not None else OrbitResult(data)
+
+
+def simulate(
+    scene,
+    omega,
+    periods=None,
+    tol=_TOL,
+    steady_tol=_STEADY_TOL,
+    max_periods=_MAX_PERIODS,
+    max_oscillations=_MAX_OSCILLATIONS,
+    trajectory=False,
+    lyapunov=False,
+):
+    """The event-driven simulator from rest, as ``rattle simulate --json``.
+
+    Runs until the motion is periodic (or a cap), or exactly ``periods`` forcing periods.
+    ``tol`` is the relative tolerance of contact times (1e-15 to 1e-2), ``steady_tol`` that of
+    the periodicity test (1e-14 to 1e-2), ``max_periods`` and ``max_oscillations`` the caps of
+    a run until steady. Returns a :class:`Simulation`.
+
+    ``trajectory`` and ``lyapunov`` are pending and raise :class:`NotImplementedError`.
+    """
+    if trajectory:
+        _pending("simulate(trajectory=True)")
+    if lyapunov:
+        _pending("simulate(lyapunov=True)")
+    text = _rattle.simulate(
+        _native_scene(scene),
+        float(omega),
+        periods,
+        float(tol),
+        float(steady_tol),
+        max_periods,
+        float(max_oscillations),
+    )
+    return Simulation(_json.loads(text))
+
+
+def compare(
+    scene,
+    omega,
+    tol=_TOL,
+    steady_tol=_STEADY_TOL,
+    max_periods=_MAX_PERIODS,
+    max_oscillations=_MAX_OSCILLATIONS,
+):
+    """Both solvers on the motion the unit settles on, as ``rattle compare --json``.
+
+    The simulator runs from rest and polishes its cycle; the analytic orbit of that impact
+    signature is solved from the simulated phases; the verdict says whether they agree.
+    Accuracy knobs as :func:`simulate`. Returns a :class:`Comparison`.
+    """
+    text = _rattle.compare(
+        _native_scene(scene),
+        float(omega),
+        float(tol),
+        float(steady_tol),
+        max_periods,
+        float(max_oscillations),
+    )
+    return Comparison(_json.loads(text))
+
+
+def sweep(
+    scene,
+    omegas,
+    solver="both",
+    tol=_TOL,
+    steady_tol=_STEADY_TOL,
+    max_periods=_MAX_PERIODS,
+    max_oscillations=_MAX_OSCILLATIONS,
+):
+    """A frequency sweep with one solver or both, in parallel, as ``rattle sweep``.
+
+    ``omegas``: the frequencies, rad/s, any 1-D sequence (each finite and > 0); use
+    :func:`frequencies` for the command's evenly spaced axis. ``solver``: ``"analytic"``
+    (linear steady state and symmetric orbits), ``"event"`` (simulator from rest) or
+    ``"both"`` (also the simulator started on every viable orbit, and a verdict). A frequency
+    that fails gives a row with its ``error``, as in the command. Returns a :class:`Sweep`.
+    """
+    omegas = _np.ascontiguousarray(omegas, dtype=_np.float64)
+    if omegas.ndim != 1:
+        raise ValueError(f"omegas must be one-dimensional, not of shape {omegas.shape}")
+    native = _rattle.sweep(
+        _native_scene(scene),
+        omegas,
+        str(solver),
+        float(tol),
+        float(steady_tol),
+        max_periods,
+        float(max_oscillations),
+    )
+    return Sweep(native)
+
+
+def frequencies(omega_min, omega_max, points):
+    """``points`` evenly spaced frequencies from ``omega_min`` to ``omega_max``, ends included:
+    the axis of ``rattle sweep --omega-min … --omega-max … --points …``, value for value
+    (a ``float64`` array)."""
+    return _rattle.frequencies(float(omega_min), float(omega_max), points)
+
+
+def continue_branch(*args, **kwargs):
+    """Numerical continuation of an orbit branch: pending, raises
+    :class:`NotImplementedError`."""
+    _pending("continue_branch")

@@ -1,0 +1,720 @@
+//! The native half of the `rattle` Python package, imported as `rattle._rattle`.
+//!
+//! Every function here does what the matching `rattle` command does, on the same library calls
+//! of `rattle-compare`, and returns the same serializable record the command prints with
+//! `--json`, as JSON text: the pure-Python half (`python/rattle/__init__.py`) turns it into
+//! objects with attributes and `.to_dict()`. Going through the command's own JSON makes the
+//! dictionaries equal to the command's output by construction (same keys, same order, lists
+//! where it has lists, `None` where it has `null`), and costs microseconds (measured in the
+//! crate's README note).
+//!
+//! Contracts at the boundary:
+//! - the computation runs with the GIL released (`Python::detach`), sweeps on rayon's pool;
+//! - bad input is a `ValueError` whose message is the command's (a scene's field path and
+//!   allowed range word for word; options named as the Python parameters, e.g. `tol` for
+//!   `--tol`); an unreadable scene file an `OSError`; a numerical failure a `RuntimeError`
+//!   (`numerical failure: …`, as the command says it);
+//! - a panic never crosses the boundary: it is caught and raised as a `RuntimeError` that says
+//!   it is a bug.
+#![deny(missing_docs)]
+
+use numpy::{PyArray1, PyReadonlyArray1};
+use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+use rattle_analytic::Signature;
+use rattle_compare::cli::Accuracy;
+use rattle_compare::output::finite;
+use rattle_compare::output::records::{
+    multipliers, At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
+    SignatureOrbitsRecord, SimulationRecord,
+};
+use rattle_compare::output::records::{
+    AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
+};
+use rattle_compare::output::Row;
+use rattle_compare::runs::axis::Axis;
+use rattle_compare::runs::parallel::Progress;
+use rattle_compare::runs::sweep::{header, sweep as sweep_points, Solver, SweepRow};
+use rattle_compare::scene::analytic::{analyse, orbits_of_signature, OrbitSearch};
+use rattle_compare::scene::simulator::run as simulate_scene;
+use rattle_compare::scene::{Scene, SceneError};
+use rattle_compare::verdict::{cross_check, CrossCheck};
+use rattle_event_driven::{SimulationOptions, Start};
+use serde::Serialize;
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
+
+/// The origin a scene built from a Python dictionary is named by in error messages (the
+/// command names the file, or `built-in`).
+const DICT_ORIGIN: &str = "dict";
+
+/// A validated scene, as the command loads it.
+#[pyclass(frozen, module = "rattle._rattle")]
+struct NativeScene {
+    scene: Scene,
+}
+
+/// The Python exception for a scene that could not be used: the command's message. A scene
+/// from a dictionary has no lines, so its format errors leave out the line and column.
+fn scene_error(error: SceneError) -> PyErr {
+    match error {
+        SceneError::Read { ref source, .. } => {
+            if source.kind() == std::io::ErrorKind::NotFound {
+                PyFileNotFoundError::new_err(error.to_string())
+            } else {
+                PyOSError::new_err(error.to_string())
+            }
+        }
+        SceneError::Format {
+            ref origin,
+            ref path_in_scene,
+            ref message,
+            ..
+        } if origin == DICT_ORIGIN => {
+            PyValueError::new_err(format!("{origin}: {path_in_scene}: {message}"))
+        }
+        SceneError::Format { .. } | SceneError::Value { .. } => {
+            PyValueError::new_err(error.to_string())
+        }
+    }
+}
+
+#[pymethods]
+impl NativeScene {
+    /// Reads and validates the scene file at `path`, as `rattle … PATH` does.
+    #[staticmethod]
+    fn load(path: PathBuf) -> PyResult<Self> {
+        Scene::load(&path)
+            .map(|scene| NativeScene { scene })
+            .map_err(scene_error)
+    }
+
+    /// Parses and validates a scene given as JSON text built from a dictionary.
+    ///
+    /// JSON has no NaN or infinity, so the dictionary's non-finite numbers come apart, as
+    /// `(field path, value)` pairs, with finite placeholders at their places in `text`: once
+    /// the text has the scene's shape they are put back and the scene is validated, so that a
+    /// NaN is refused as the command refuses any value out of range (field path and range).
+    #[staticmethod]
+    fn from_dict_json(text: &str, non_finite: Vec<(String, f64)>) -> PyResult<Self> {
+        let checked = Scene::parse(text, DICT_ORIGIN);
+        if non_finite.is_empty() {
+            return checked
+                .map(|scene| NativeScene { scene })
+                .map_err(scene_error);
+        }
+        if let Err(e @ (SceneError::Format { .. } | SceneError::Read { .. })) = checked {
+            return Err(scene_error(e));
+        }
+        let mut scene: Scene =
+            serde_json::from_str(text).map_err(|e| PyValueError::new_err(e.to_string()))?;
+        for (path, value) in &non_finite {
+            set_number(&mut scene, path, *value)?;
+        }
+        scene
+            .validate()
+            .map_err(|source| {
+                scene_error(SceneError::Value {
+                    origin: DICT_ORIGIN.to_owned(),
+                    source,
+                })
+            })
+            .map(|()| NativeScene { scene })
+    }
+
+    /// The command's built-in paper scene.
+    #[staticmethod]
+    fn paper() -> Self {
+        NativeScene {
+            scene: Scene::paper(),
+        }
+    }
+
+    /// The scene as JSON text (the format of a scene file).
+    fn to_json(&self) -> PyResult<String> {
+        json(&self.scene)
+    }
+
+    /// The scene's name.
+    #[getter]
+    fn name(&self) -> &str {
+        &self.scene.name
+    }
+
+    /// The scene's active effects, as outputs list them.
+    #[getter]
+    fn effects(&self) -> Vec<&'static str> {
+        self.scene.effect_names()
+    }
+}
+
+/// Sets the number at `path` (e.g. `stops.gap`) of `scene` to `value`.
+fn set_number(scene: &mut Scene, path: &str, value: f64) -> PyResult<()> {
+    let field = match path {
+        "unit.outer_mass" => Some(&mut scene.unit.outer_mass),
+        "unit.inner_mass" => Some(&mut scene.unit.inner_mass),
+        "unit.outer_stiffness" => Some(&mut scene.unit.outer_stiffness),
+        "unit.inner_stiffness" => Some(&mut scene.unit.inner_stiffness),
+        "base.amplitude" => Some(&mut scene.base.amplitude),
+        "stops.gap" => scene.stops.as_mut().map(|s| &mut s.gap),
+        "stops.restitution" => scene.stops.as_mut().map(|s| &mut s.restitution),
+        "damping.outer" => scene.damping.as_mut().map(|d| &mut d.outer),
+        "damping.inner" => scene.damping.as_mut().map(|d| &mut d.inner),
+        _ => None,
+    };
+    match field {
+        Some(field) => {
+            *field = value;
+            Ok(())
+        }
+        None => Err(PyValueError::new_err(format!(
+            "{DICT_ORIGIN}: {path}: {value} is not a value of the scene format"
+        ))),
+    }
+}
+
+/// Compact JSON text of a record.
+fn json(record: &impl Serialize) -> PyResult<String> {
+    serde_json::to_string(record).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
+
+/// The text of a panic's payload.
+fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = payload.downcast_ref::<&str>() {
+        (*s).to_owned()
+    } else if let Some(s) = payload.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic".to_owned()
+    }
+}
+
+/// Runs `work` with the GIL released. Its error is a numerical failure (`RuntimeError`, worded
+/// as the command words it); a panic is caught and raised as a `RuntimeError`, never unwound
+/// into Python.
+fn compute<T: Send>(
+    py: Python<'_>,
+    work: impl FnOnce() -> Result<T, String> + Send,
+) -> PyResult<T> {
+    py.detach(|| catch_unwind(AssertUnwindSafe(work)))
+        .map_err(|payload| {
+            PyRuntimeError::new_err(format!(
+                "internal error (a bug in rattle, please report it): {}",
+                panic_text(payload.as_ref())
+            ))
+        })?
+        .map_err(|message| PyRuntimeError::new_err(format!("numerical failure: {message}")))
+}
+
+/// The command's options named as this module's parameters (`--steady-tol` is `steady_tol`).
+fn python_names(message: &str) -> String {
+    message
+        .replace("--max-oscillations", "max_oscillations")
+        .replace("--max-periods", "max_periods")
+        .replace("--steady-tol", "steady_tol")
+        .replace("--tol", "tol")
+        .replace("--signature", "signature")
+        .replace("--period", "period")
+}
+
+/// `omega` if finite and positive; else the command's message, naming `name`.
+fn check_omega(name: &str, omega: f64) -> PyResult<f64> {
+    if omega.is_finite() && omega > 0.0 {
+        Ok(omega)
+    } else {
+        Err(PyValueError::new_err(format!(
+            "{name} = {omega} is out of range: must be finite and > 0 (rad/s)"
+        )))
+    }
+}
+
+/// A count that must be at least 1.
+fn positive(name: &str, value: i64) -> PyResult<u64> {
+    u64::try_from(value)
+        .ok()
+        .filter(|&n| n > 0)
+        .ok_or_else(|| PyValueError::new_err(format!("{name} must be > 0")))
+}
+
+/// The simulator's options from the accuracy knobs, checked by the command's own ranges
+/// ([`Accuracy::options`]).
+fn options(
+    tol: f64,
+    steady_tol: f64,
+    max_periods: i64,
+    max_oscillations: f64,
+) -> PyResult<SimulationOptions> {
+    let max_periods = positive("max_periods", max_periods)?;
+    Accuracy {
+        tol,
+        steady_tol,
+        max_periods,
+        max_oscillations,
+    }
+    .options()
+    .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))
+}
+
+/// The default accuracy knobs, as the command's: `tol`, `steady_tol`, `max_periods`,
+/// `max_oscillations`.
+#[pyfunction]
+fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = SimulationOptions::default();
+    let out = PyDict::new(py);
+    out.set_item("tol", d.root_tolerance)?;
+    out.set_item("steady_tol", d.periodicity_tolerance)?;
+    out.set_item("max_periods", d.max_periods)?;
+    out.set_item(
+        "max_oscillations",
+        d.max_oscillations.unwrap_or(f64::INFINITY),
+    )?;
+    Ok(out)
+}
+
+/// `rattle orbit --json`: the linear steady state and every two-impact orbit, or, with a
+/// signature, every orbit of that signature.
+#[pyfunction]
+#[pyo3(signature = (scene, omega, signature=None, period=1, symmetric_only=false))]
+fn orbit(
+    py: Python<'_>,
+    scene: &NativeScene,
+    omega: f64,
+    signature: Option<&str>,
+    period: i64,
+    symmetric_only: bool,
+) -> PyResult<String> {
+    let omega = check_omega("omega", omega)?;
+    let scene = &scene.scene;
+    let Some(text) = signature else {
+        if period != 1 {
+            return Err(PyValueError::new_err(
+                "period applies to an orbit of a given signature: pass signature too",
+            ));
+        }
+        let search = if symmetric_only {
+            OrbitSearch::Symmetric
+        } else {
+            OrbitSearch::All
+        };
+        let record = compute(py, || {
+            let point = analyse(scene, omega, search).map_err(|e| e.to_string())?;
+            Ok(OrbitsRecord {
+                at: At::new(scene, omega),
+                linear: LinearRecord::new(&point.linear, scene.gap()),
+                orbits: point
+                    .orbits
+                    .iter()
+                    .map(|(b, o)| OrbitRecord::new(o, *b))
+                    .collect(),
+            })
+        })?;
+        return json(&record);
+    };
+    if symmetric_only {
+        return Err(PyValueError::new_err(
+            "symmetric_only and signature exclude each other",
+        ));
+    }
+    let period = u32::try_from(period).unwrap_or(0);
+    let signature = Signature::parse(text, period)
+        .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
+    if scene.stops.is_none() {
+        return Err(PyValueError::new_err(
+            "signature: the scene has no `stops`, so no impact signature",
+        ));
+    }
+    let record = compute(py, || {
+        Ok(SignatureOrbitsRecord {
+            at: At::new(scene, omega),
+            signature: signature.to_string(),
+            period: signature.period(),
+            orbits: orbits_of_signature(scene, omega, &signature)
+                .iter()
+                .map(SignatureOrbitRecord::new)
+                .collect(),
+        })
+    })?;
+    json(&record)
+}
+
+/// `rattle simulate --json`: the event-driven simulator from rest.
+#[pyfunction]
+#[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations))]
+#[allow(clippy::too_many_arguments)]
+fn simulate(
+    py: Python<'_>,
+    scene: &NativeScene,
+    omega: f64,
+    periods: Option<i64>,
+    tol: f64,
+    steady_tol: f64,
+    max_periods: i64,
+    max_oscillations: f64,
+) -> PyResult<String> {
+    let omega = check_omega("omega", omega)?;
+    let mut options = options(tol, steady_tol, max_periods, max_oscillations)?;
+    if let Some(n) = periods {
+        options.fixed_periods = Some(positive("periods", n)?);
+    }
+    let scene = &scene.scene;
+    let record = compute(py, || {
+        simulate_scene(scene, omega, &Start::rest(2), &options)
+            .map(|sim| SimulationRecord::new(scene, &sim))
+            .map_err(|e| e.to_string())
+    })?;
+    json(&record)
+}
+
+/// The record `rattle compare --json` prints for `c` on `scene`.
+///
+/// A copy of the private `record` of `rattle_compare::cli::compare`, field for field: the
+/// tests hold the two equal through the command's output.
+fn cross_check_record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
+    let s = &c.simulated;
+    CrossCheckRecord {
+        scene: scene.name.clone(),
+        omega: finite(c.omega),
+        simulated: SimulatedCycleRecord {
+            status: s.status_name(),
+            period: s.steady.period,
+            signature: c.signature.as_ref().map(|sig| sig.to_string()),
+            impacts_per_period: finite(s.steady.impacts_per_period),
+            outer_amplitude: finite(s.outer_amplitude),
+            floquet_multipliers: s
+                .steady
+                .orbit
+                .as_ref()
+                .map(|o| multipliers(&o.floquet_multipliers)),
+        },
+        analytic: c.analytic.as_ref().map(|o| AnalyticCycleRecord {
+            signature: o.signature.to_string(),
+            period: o.period,
+            outer_amplitude: finite(o.outer_amplitude),
+            viable: o.viable,
+            stable: o.stable,
+            floquet_multipliers: multipliers(&o.floquet_multipliers),
+            energy_residual: finite(o.energy_residual),
+        }),
+        analytic_error: c.analytic_error.clone(),
+        class: c.class.name(),
+        class_detail: c.class.detail().to_owned(),
+        relative_difference: c.relative_difference.and_then(finite),
+        multiplier_difference: c.multiplier_difference.and_then(finite),
+        confirmed_orbits: c
+            .confirmed_orbits
+            .iter()
+            .map(|k| ConfirmationRecord {
+                alpha: finite(k.orbit.alpha),
+                impact_phases: k.orbit.impact_phases.iter().map(|&p| finite(p)).collect(),
+                stable: k.orbit.stable,
+                outer_amplitude: finite(k.orbit.outer_amplitude),
+                confirmed: k.confirmed,
+                state_difference: k.state_difference.and_then(finite),
+                multiplier_difference: k.multiplier_difference.and_then(finite),
+                error: k.error.clone(),
+            })
+            .collect(),
+    }
+}
+
+/// `rattle compare --json`: both solvers on the motion the unit settles on.
+#[pyfunction]
+#[pyo3(signature = (scene, omega, tol, steady_tol, max_periods, max_oscillations))]
+fn compare(
+    py: Python<'_>,
+    scene: &NativeScene,
+    omega: f64,
+    tol: f64,
+    steady_tol: f64,
+    max_periods: i64,
+    max_oscillations: f64,
+) -> PyResult<String> {
+    let omega = check_omega("omega", omega)?;
+    let options = options(tol, steady_tol, max_periods, max_oscillations)?;
+    let scene = &scene.scene;
+    let record = compute(py, || {
+        cross_check(scene, omega, &options)
+            .map(|c| cross_check_record(scene, &c))
+            .map_err(|e| e.to_string())
+    })?;
+    json(&record)
+}
+
+/// A sweep's result: the command's header and one [`SweepRow`] per frequency.
+#[pyclass(frozen, module = "rattle._rattle")]
+struct NativeSweep {
+    /// The header fields, each value as compact JSON text.
+    header: Vec<(String, String)>,
+    /// The rows, in frequency order.
+    rows: Vec<SweepRow>,
+}
+
+/// How a sweep column is handed to numpy.
+enum Column {
+    /// `float64`, NaN where the row has none.
+    Number(Vec<f64>),
+    /// `bool`, `False` where the row has none.
+    Flag(Vec<bool>),
+    /// `object`: `str`, or `None` where the row has none.
+    Text(Vec<Option<String>>),
+}
+
+fn number(rows: &[SweepRow], cell: impl Fn(&SweepRow) -> Option<f64>) -> Column {
+    Column::Number(rows.iter().map(|r| cell(r).unwrap_or(f64::NAN)).collect())
+}
+
+fn count<N: Into<f64>>(rows: &[SweepRow], cell: impl Fn(&SweepRow) -> Option<N>) -> Column {
+    Column::Number(
+        rows.iter()
+            .map(|r| cell(r).map_or(f64::NAN, Into::into))
+            .collect(),
+    )
+}
+
+fn flag(rows: &[SweepRow], cell: impl Fn(&SweepRow) -> Option<bool>) -> Column {
+    Column::Flag(rows.iter().map(|r| cell(r).unwrap_or(false)).collect())
+}
+
+fn text(rows: &[SweepRow], cell: impl Fn(&SweepRow) -> Option<String>) -> Column {
+    Column::Text(rows.iter().map(cell).collect())
+}
+
+/// Every column of `rows`, in [`SweepRow::COLUMNS`] order. A count is exact in `float64`
+/// (sweeps have fewer than 2^53 orbits).
+fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
+    let small = |n: usize| u32::try_from(n).unwrap_or(u32::MAX);
+    vec![
+        ("omega", number(rows, |r| r.omega)),
+        (
+            "linear_outer_amplitude",
+            number(rows, |r| r.linear_outer_amplitude),
+        ),
+        (
+            "linear_transmittance_db",
+            number(rows, |r| r.linear_transmittance_db),
+        ),
+        (
+            "linear_touches_stops",
+            flag(rows, |r| r.linear_touches_stops),
+        ),
+        ("orbits", count(rows, |r| r.orbits.map(small))),
+        (
+            "stable_viable_orbits",
+            count(rows, |r| r.stable_viable_orbits.map(small)),
+        ),
+        ("branch0_alpha", number(rows, |r| r.branch0_alpha)),
+        (
+            "branch0_outer_amplitude",
+            number(rows, |r| r.branch0_outer_amplitude),
+        ),
+        (
+            "branch0_transmittance_db",
+            number(rows, |r| r.branch0_transmittance_db),
+        ),
+        ("branch0_viable", flag(rows, |r| r.branch0_viable)),
+        ("branch0_stable", flag(rows, |r| r.branch0_stable)),
+        ("branch1_alpha", number(rows, |r| r.branch1_alpha)),
+        (
+            "branch1_outer_amplitude",
+            number(rows, |r| r.branch1_outer_amplitude),
+        ),
+        (
+            "branch1_transmittance_db",
+            number(rows, |r| r.branch1_transmittance_db),
+        ),
+        ("branch1_viable", flag(rows, |r| r.branch1_viable)),
+        ("branch1_stable", flag(rows, |r| r.branch1_stable)),
+        (
+            "simulated_regime",
+            text(rows, |r| r.simulated_regime.map(str::to_owned)),
+        ),
+        (
+            "simulated_status",
+            text(rows, |r| r.simulated_status.clone()),
+        ),
+        ("simulated_period", count(rows, |r| r.simulated_period)),
+        (
+            "simulated_impacts_per_period",
+            number(rows, |r| r.simulated_impacts_per_period),
+        ),
+        (
+            "simulated_outer_amplitude",
+            number(rows, |r| r.simulated_outer_amplitude),
+        ),
+        (
+            "simulated_transmittance_db",
+            number(rows, |r| r.simulated_transmittance_db),
+        ),
+        ("simulated_sticking", flag(rows, |r| r.simulated_sticking)),
+        ("class", text(rows, |r| r.class.map(str::to_owned))),
+        (
+            "relative_difference",
+            number(rows, |r| r.relative_difference),
+        ),
+        ("class_detail", text(rows, |r| r.class_detail.clone())),
+        ("matched", text(rows, |r| r.matched.clone())),
+        ("error", text(rows, |r| r.error.clone())),
+    ]
+}
+
+#[pymethods]
+impl NativeSweep {
+    /// The command's JSON header (`scene`, `solver`, `effects`, `points`) as a JSON object.
+    fn header_json(&self) -> String {
+        let fields: Vec<String> = self
+            .header
+            .iter()
+            .map(|(key, value)| {
+                let key = serde_json::to_string(key).unwrap_or_else(|_| "\"?\"".to_owned());
+                format!("{key}:{value}")
+            })
+            .collect();
+        format!("{{{}}}", fields.join(","))
+    }
+
+    /// The rows as one JSON array, each row as the command writes it.
+    fn rows_json(&self) -> PyResult<String> {
+        json(&self.rows)
+    }
+
+    /// The columns, in the command's order, as `(name, numpy array)` pairs.
+    ///
+    /// # Errors
+    /// A `RuntimeError` if the columns here no longer match the command's (a bug).
+    fn columns<'py>(&self, py: Python<'py>) -> PyResult<Vec<(&'static str, Bound<'py, PyAny>)>> {
+        let columns = columns(&self.rows);
+        let names: Vec<&str> = columns.iter().map(|(n, _)| *n).collect();
+        if names != SweepRow::COLUMNS {
+            return Err(PyRuntimeError::new_err(format!(
+                "internal error (a bug in rattle, please report it): sweep columns {names:?} differ from the command's {:?}",
+                SweepRow::COLUMNS
+            )));
+        }
+        columns
+            .into_iter()
+            .map(|(name, column)| {
+                let array = match column {
+                    Column::Number(v) => PyArray1::from_vec(py, v).into_any(),
+                    Column::Flag(v) => PyArray1::from_vec(py, v).into_any(),
+                    Column::Text(v) => {
+                        let objects: Vec<Py<PyAny>> = v
+                            .into_iter()
+                            .map(|s| match s {
+                                Some(s) => PyString::new(py, &s).into_any().unbind(),
+                                None => py.None(),
+                            })
+                            .collect();
+                        PyArray1::from_vec(py, objects).into_any()
+                    }
+                };
+                Ok((name, array))
+            })
+            .collect()
+    }
+
+    fn __len__(&self) -> usize {
+        self.rows.len()
+    }
+}
+
+/// The solver called `name` on the command line.
+fn solver(name: &str) -> PyResult<Solver> {
+    [Solver::Analytic, Solver::Event, Solver::Both]
+        .into_iter()
+        .find(|s| s.name() == name)
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "solver = {name:?} is not a solver: must be one of \"analytic\", \"event\", \"both\""
+            ))
+        })
+}
+
+/// `rattle sweep --out FILE.json`: `solver` at every frequency of `omegas`, in parallel on
+/// rayon's pool, in order.
+#[pyfunction]
+#[pyo3(signature = (scene, omegas, solver_name, tol, steady_tol, max_periods, max_oscillations))]
+#[allow(clippy::too_many_arguments)]
+fn sweep(
+    py: Python<'_>,
+    scene: &NativeScene,
+    omegas: PyReadonlyArray1<'_, f64>,
+    solver_name: &str,
+    tol: f64,
+    steady_tol: f64,
+    max_periods: i64,
+    max_oscillations: f64,
+) -> PyResult<NativeSweep> {
+    let omegas = omegas.as_array().to_vec();
+    for (i, &omega) in omegas.iter().enumerate() {
+        check_omega(&format!("omegas[{i}]"), omega)?;
+    }
+    let solver = solver(solver_name)?;
+    let options = options(tol, steady_tol, max_periods, max_oscillations)?;
+    let scene = &scene.scene;
+    let rows = compute(py, || {
+        let gap = scene.gap();
+        Ok(
+            sweep_points(scene, &omegas, solver, &options, &Progress::hidden())
+                .iter()
+                .map(|p| SweepRow::new(p, gap))
+                .collect::<Vec<_>>(),
+        )
+    })?;
+    Ok(NativeSweep {
+        header: header(scene, solver, omegas.len(), None).fields().to_vec(),
+        rows,
+    })
+}
+
+/// `count` evenly spaced frequencies from `omega_min` to `omega_max`, ends included: the axis
+/// of `rattle sweep --omega-min … --omega-max … --points …`, value for value.
+#[pyfunction]
+fn frequencies<'py>(
+    py: Python<'py>,
+    omega_min: f64,
+    omega_max: f64,
+    points: i64,
+) -> PyResult<Bound<'py, PyArray1<f64>>> {
+    let lo = check_omega("omega_min", omega_min)?;
+    let hi = check_omega("omega_max", omega_max)?;
+    if hi < lo {
+        return Err(PyValueError::new_err(format!(
+            "omega_max = {hi} is out of range: must be ≥ omega_min = {lo}"
+        )));
+    }
+    let points = usize::try_from(points)
+        .ok()
+        .filter(|&n| n >= 1)
+        .ok_or_else(|| PyValueError::new_err("points must be ≥ 1"))?;
+    Ok(PyArray1::from_vec(py, Axis::new(lo, hi, points).values()))
+}
+
+/// Exercises the boundary's failure paths, for the tests (no input is known to make either
+/// solver fail): `"error"` fails as a numerical failure, `"panic"` panics inside the released
+/// computation; both must come out as `RuntimeError`.
+#[pyfunction]
+fn _boundary_check(py: Python<'_>, kind: &str) -> PyResult<()> {
+    let kind = kind.to_owned();
+    compute(py, move || match kind.as_str() {
+        "error" => Err("a failure from the boundary check".to_owned()),
+        "panic" => panic!("a panic from the boundary check"),
+        _ => Ok(()),
+    })
+}
+
+/// The native module.
+#[pymodule]
+fn _rattle(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<NativeScene>()?;
+    m.add_class::<NativeSweep>()?;
+    m.add_function(wrap_pyfunction!(defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(orbit, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(compare, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(frequencies, m)?)?;
+    m.add_function(wrap_pyfunction!(_boundary_check, m)?)?;
+    Ok(())
+}

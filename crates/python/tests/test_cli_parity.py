@@ -1,0 +1,123 @@
+"""Every function on the paper scene (and the shipped scene files) against the `rattle`
+command's JSON for the same inputs: equal dictionaries, number for number (a float parsed
+from the command's shortest round-trip text is the same double the package computed)."""
+
+import json
+
+import pytest
+import rattle
+from conftest import SCENES
+
+#: Frequencies covering the paper scene's regimes: below the first resonance (no impact on a
+#: settled motion), between them (two-impact motion, 2.0), near the unstable orbit at 2.9,
+#: and above both (3.5).
+OMEGAS = [0.8, 2.0, 2.9, 3.5]
+
+
+@pytest.mark.parametrize("omega", OMEGAS)
+def test_orbit_is_the_commands(rattle_cli, omega):
+    ours = rattle.orbit(rattle.Scene.paper(), omega)
+    assert isinstance(ours, rattle.OrbitResult)
+    assert ours.to_dict() == rattle_cli.json("orbit", "--omega", omega)
+    symmetric = rattle.orbit(rattle.Scene.paper(), omega, symmetric_only=True)
+    assert symmetric.to_dict() == rattle_cli.json(
+        "orbit", "--omega", omega, "--symmetric-only"
+    )
+
+
+@pytest.mark.parametrize(
+    "signature, period, omega", [("+-", 1, 2.0), ("-+", 1, 2.9), ("++--", 2, 1.2), ("+", 1, 3.5)]
+)
+def test_orbit_of_a_signature_is_the_commands(rattle_cli, signature, period, omega):
+    ours = rattle.orbit(rattle.Scene.paper(), omega, signature=signature, period=period)
+    assert isinstance(ours, rattle.SignatureOrbits)
+    theirs = rattle_cli.json(
+        "orbit", "--omega", omega, "--signature", signature, "--period", period
+    )
+    assert ours.to_dict() == theirs
+
+
+@pytest.mark.parametrize("omega", OMEGAS)
+def test_simulate_is_the_commands(rattle_cli, omega):
+    ours = rattle.simulate(rattle.Scene.paper(), omega)
+    assert isinstance(ours, rattle.Simulation)
+    assert ours.to_dict() == rattle_cli.json("simulate", "--omega", omega)
+
+
+def test_simulate_with_options_is_the_commands(rattle_cli):
+    scene = rattle.Scene.paper()
+    ours = rattle.simulate(scene, 2.0, periods=100, tol=1e-10)
+    theirs = rattle_cli.json("simulate", "--omega", 2.0, "--periods", 100, "--tol", 1e-10)
+    assert ours.to_dict() == theirs
+    ours = rattle.simulate(scene, 3.5, steady_tol=1e-8, max_periods=50, max_oscillations=500.0)
+    theirs = rattle_cli.json(
+        "simulate", "--omega", 3.5, "--steady-tol", 1e-8, "--max-periods", 50,
+        "--max-oscillations", 500.0,
+    )
+    assert ours.to_dict() == theirs
+
+
+@pytest.mark.parametrize("omega", OMEGAS)
+def test_compare_is_the_commands(rattle_cli, omega):
+    ours = rattle.compare(rattle.Scene.paper(), omega)
+    assert isinstance(ours, rattle.Comparison)
+    assert ours.to_dict() == rattle_cli.json("compare", "--omega", omega)
+    assert ours.class_ == ours.to_dict()["class"]
+
+
+@pytest.mark.parametrize("solver, points", [("analytic", 40), ("event", 9), ("both", 7)])
+def test_sweep_is_the_commands(rattle_cli, tmp_path, solver, points):
+    out = tmp_path / "sweep.json"
+    code, _, err = rattle_cli.run(
+        "sweep", "--omega-min", 0.5, "--omega-max", 3.5, "--points", points,
+        "--solver", solver, "--out", out,
+    )
+    assert code == 0, err
+    theirs = json.loads(out.read_text())
+    ours = rattle.sweep(rattle.Scene.paper(), rattle.frequencies(0.5, 3.5, points), solver=solver)
+    assert ours.to_dict() == theirs
+    assert (ours.scene, ours.solver, ours.effects, ours.points) == (
+        theirs["scene"], theirs["solver"], theirs["effects"], theirs["points"]
+    )
+
+
+@pytest.mark.parametrize("path", sorted(SCENES.glob("*.json")), ids=lambda p: p.name)
+def test_scene_files_give_the_commands_results(rattle_cli, path):
+    scene = rattle.Scene.from_file(path)
+    assert scene.to_dict() == rattle.Scene.from_dict(json.loads(path.read_text())).to_dict()
+    assert rattle.orbit(scene, 2.0).to_dict() == rattle_cli.json("orbit", path, "--omega", 2.0)
+    assert rattle.simulate(scene, 2.0).to_dict() == rattle_cli.json(
+        "simulate", path, "--omega", 2.0
+    )
+
+
+def test_the_paper_scene_is_the_commands_built_in_scene():
+    shipped = json.loads((SCENES / "paper.json").read_text())
+    assert rattle.Scene.paper().to_dict() == shipped
+    assert rattle.Scene.paper() == rattle.Scene.from_dict(shipped)
+    assert rattle.Scene.paper().effects == ["stops"]
+
+
+def test_attributes_are_the_documents_fields():
+    result = rattle.simulate(rattle.Scene.paper(), 2.0)
+    document = result.to_dict()
+    assert result.keys() == list(document)
+    for key, value in document.items():
+        assert getattr(result, key) == value or isinstance(value, (dict, list))
+    orbits = rattle.orbit(rattle.Scene.paper(), 2.0)
+    assert orbits.linear.transmittance_db == orbits.to_dict()["linear"]["transmittance_db"]
+    assert [o.branch for o in orbits.orbits] == [o["branch"] for o in orbits.to_dict()["orbits"]]
+    # to_dict hands out a copy: changing it changes nothing.
+    document["omega"] = -1.0
+    assert result.to_dict()["omega"] == 2.0
+
+
+def test_frequencies_are_the_commands_axis(rattle_cli, tmp_path):
+    out = tmp_path / "axis.json"
+    code, _, err = rattle_cli.run(
+        "sweep", "--omega-min", 0.1, "--omega-max", 4.0, "--points", 400,
+        "--solver", "analytic", "--out", out,
+    )
+    assert code == 0, err
+    theirs = [row["omega"] for row in json.loads(out.read_text())["results"]]
+    assert rattle.frequencies(0.1, 4.0, 400).tolist() == theirs
