@@ -6,16 +6,14 @@
 //! report all call it, and each names the [`Choice`] it makes among the candidates.
 
 use crate::scene::analytic::{
-    analyse, orbits_of_signature, signature_orbit_state, AnalyticPoint, OrbitSearch, BETA_SAMPLES,
+    analyse, orbits_of_signature, signature_orbit_state, AnalyticPoint, OrbitSearch,
 };
 use crate::scene::simulator::{
     model, run, start_on_orbit, Regime, SimulateError, SimulatedPoint, START_PERTURBATION,
 };
 use crate::scene::{phase, Scene};
 use nalgebra::{Complex, DVector, Vector4};
-use rattle_analytic::{
-    asymmetric_orbits, solve_signature, Orbit, OrbitError, Signature, SignatureOrbit,
-};
+use rattle_analytic::{solve_signature, Orbit, OrbitError, Signature, SignatureOrbit};
 use rattle_event_driven::{periodic_orbit, PeriodicOrbit, SimulationOptions, Start, Status};
 use thiserror::Error;
 
@@ -24,11 +22,6 @@ use thiserror::Error;
 /// `ε / (1 − |μ|)` from its orbit (largest Floquet multiplier `μ`); on the paper's scenes the
 /// agreeing points differ by at most 1.8e-7.
 pub const MATCH_TOLERANCE: f64 = 1e-6;
-
-/// `β` farther than this from ½ makes a simulated two-impact motion asymmetric: the simulator
-/// locates impacts to 1e-12 of the period, so a symmetric motion that has settled to 1e-9 is
-/// within about 1e-9 of ½.
-pub const SYMMETRY_TOLERANCE: f64 = 1e-6;
 
 /// A steady motion the analytic solver offers at one frequency.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -224,15 +217,25 @@ pub struct ComparedPoint {
     pub from_rest: SimulatedPoint,
     /// The simulator from each viable orbit.
     pub trials: Vec<Trial>,
-    /// Agreement of the from-rest motion with the analytic motion it matches, if any.
-    pub difference: Option<Difference>,
-    /// The verdict.
+    /// The largest relative difference of the from-rest motion from the analytic motion of its
+    /// signature ([`CrossCheck::relative_difference`]).
+    pub difference: Option<f64>,
+    /// The verdict: the [`CrossCheck`]'s class, except that a stable viable two-impact orbit
+    /// the simulator leaves is a contradiction, and a from-rest motion beyond exact comparison
+    /// beside an attracting analytic candidate ([`ComparedPoint::coexisting`]) is a
+    /// coexistence.
     pub class: Class,
-    /// What the from-rest motion matched, in words (e.g. `symmetric branch 1`), if anything.
+    /// What the from-rest motion agrees with, in words (e.g. `++-- orbit over 1 period(s)`).
     pub matched: Option<String>,
     /// Whether the analytic prediction "a stable viable orbit exists" matches "the simulator
     /// holds an orbit started on it".
     pub prediction_confirmed: bool,
+    /// Whether an attracting analytic candidate (a stable viable symmetric orbit that holds
+    /// when started on it, or the damped linear motion clear of the stops) exists that the
+    /// from-rest motion is not on: the unit has more than one attractor here.
+    pub coexisting: bool,
+    /// The from-rest motion beside the analytic orbit of its signature, whatever the signature.
+    pub cross: CrossCheck,
 }
 
 /// A failure of either solver at one frequency.
@@ -283,60 +286,7 @@ pub fn compare(
             });
         }
     }
-    let attracting_orbits = candidates
-        .iter()
-        .filter(|c| matches!(c.motion, Motion::Orbit { .. }))
-        .count();
-    let linear_candidate = candidates
-        .iter()
-        .find(|c| c.motion == Motion::Linear && c.attracting);
-
-    let (mut difference_from_rest, mut matched) = (None, None);
-    for (branch, o) in analytic.stable_viable_orbits() {
-        if let Some(d) = difference(&from_rest, o) {
-            if difference_from_rest.is_none_or(|best: Difference| d.largest() < best.largest()) {
-                difference_from_rest = Some(d);
-                matched = Some(format!("symmetric branch {branch}"));
-            }
-        }
-    }
-    let asymmetric_spacing = from_rest
-        .impact_spacing()
-        .filter(|b| (b - 0.5).abs() > SYMMETRY_TOLERANCE);
-    // A two-impact motion off the symmetric orbits: look for it in the β family.
-    let look_asymmetric = from_rest.regime == Regime::TwoImpact
-        && asymmetric_spacing.is_some()
-        && !difference_from_rest.is_some_and(|d| d.largest() < MATCH_TOLERANCE);
-    if let (true, Some(stops)) = (look_asymmetric, scene.stops_model()) {
-        for o in asymmetric_orbits(&scene.unit_model(), &stops, omega, BETA_SAMPLES) {
-            if let Some(d) = difference(&from_rest, &o) {
-                if d.largest() < MATCH_TOLERANCE {
-                    difference_from_rest = Some(d);
-                    matched = Some(format!(
-                        "asymmetric orbit β = {:.6} (stable: {})",
-                        o.beta, o.stable
-                    ));
-                }
-            }
-        }
-    }
-    let linear_match = linear_candidate.filter(|c| {
-        from_rest.regime == Regime::NoImpact
-            && (from_rest.outer_amplitude - c.outer_amplitude).abs()
-                < MATCH_TOLERANCE * c.outer_amplitude.max(f64::MIN_POSITIVE)
-    });
-    if let Some(c) = linear_match {
-        difference_from_rest = Some(Difference {
-            outer_amplitude: (from_rest.outer_amplitude - c.outer_amplitude).abs()
-                / c.outer_amplitude,
-            impact_state: 0.0,
-            phase: 0.0,
-        });
-        matched = Some("linear motion clear of the stops".into());
-    }
-    let rest_match = linear_match.is_some()
-        || difference_from_rest.is_some_and(|d| d.largest() < MATCH_TOLERANCE);
-
+    let cross = cross_check_simulated(scene, omega, from_rest.clone(), options, Confirm::Seeded)?;
     let left: Vec<usize> = trials
         .iter()
         .filter(|t| !t.held)
@@ -349,35 +299,59 @@ pub fn compare(
         .map(|t| t.branch)
         .collect();
     let held_any = trials.iter().any(|t| t.held);
+    let attracting_orbits = candidates
+        .iter()
+        .filter(|c| matches!(c.motion, Motion::Orbit { .. }))
+        .count();
     let prediction_confirmed = starts == Starts::Rest || (attracting_orbits == 0) != held_any;
-
+    // An attracting candidate the from-rest motion is not on (an orbit only if it holds when
+    // started on it, where that was tried).
+    let coexisting = candidates
+        .iter()
+        .filter(|c| c.attracting)
+        .any(|c| match c.motion {
+            Motion::Orbit { branch } => {
+                let held =
+                    starts == Starts::Rest || trials.iter().any(|t| t.branch == branch && t.held);
+                let on_it = analytic
+                    .orbits
+                    .iter()
+                    .find(|(b, _)| *b == branch)
+                    .and_then(|(_, o)| difference(&from_rest, o))
+                    .is_some_and(|d| d.largest() < MATCH_TOLERANCE);
+                held && !on_it
+            }
+            Motion::Linear => {
+                from_rest.regime != Regime::NoImpact
+                    || (from_rest.outer_amplitude - c.outer_amplitude).abs()
+                        >= MATCH_TOLERANCE * c.outer_amplitude.max(f64::MIN_POSITIVE)
+            }
+        });
     let class = if !left.is_empty() {
         Class::Contradiction(format!(
             "stable viable orbit (branch {left:?}) left by the simulator started on it"
         ))
-    } else if rest_match {
-        Class::Agreement
-    } else if attracting_orbits > 0 || linear_candidate.is_some() {
-        Class::Coexistence
-    } else if from_rest.regime == Regime::TwoImpact {
-        match asymmetric_spacing {
-            Some(beta) => Class::Beyond(format!("asymmetric two-impact orbit, β = {beta:.4}")),
-            None => Class::Contradiction(
-                "the simulator settles on a symmetric two-impact orbit that no stable viable analytic orbit matches".into(),
-            ),
-        }
     } else {
-        Class::Beyond(from_rest.regime.words().to_owned())
+        match &cross.class {
+            Class::Beyond(_) if coexisting => Class::Coexistence,
+            other => other.clone(),
+        }
     };
+    let matched = (cross.class == Class::Agreement).then(|| match &cross.signature {
+        Some(sig) => format!("{sig} orbit over {} period(s)", sig.period()),
+        None => "linear motion clear of the stops".to_owned(),
+    });
     Ok(ComparedPoint {
         analytic,
         candidates,
         from_rest,
         trials,
-        difference: difference_from_rest,
+        difference: cross.relative_difference,
         class,
         matched,
         prediction_confirmed,
+        coexisting,
+        cross,
     })
 }
 
@@ -435,7 +409,7 @@ pub struct Confirmation {
 }
 
 /// The simulator's Newton started on `orbit` mid-way through its first flight.
-fn confirm(
+fn confirm_orbit(
     scene: &Scene,
     omega: f64,
     orbit: &SignatureOrbit,
@@ -510,6 +484,32 @@ pub fn cross_check(
     options: &SimulationOptions,
 ) -> Result<CrossCheck, CompareError> {
     let simulated = run(scene, omega, &Start::rest(2), options)?;
+    cross_check_simulated(scene, omega, simulated, options, Confirm::Every)
+}
+
+/// Which viable analytic orbits of the simulated signature a cross-check confirms with the
+/// simulator's own Newton.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Confirm {
+    /// Every one the analytic multi-start finds (within [`MULTI_START_IMPACTS`] and
+    /// [`MULTI_START_PERIODS`]; beyond, the seeded one): `rattle compare`.
+    Every,
+    /// Only the orbit seeded from the simulated phases: sweeps, where the multi-start at every
+    /// frequency would cost up to two seconds a point.
+    Seeded,
+}
+
+/// [`cross_check`] of a motion `simulated` from rest at `omega`, confirming `confirm` orbits.
+///
+/// # Errors
+/// A failure of the analytic solver on the linear motion.
+pub fn cross_check_simulated(
+    scene: &Scene,
+    omega: f64,
+    simulated: SimulatedPoint,
+    options: &SimulationOptions,
+    confirm: Confirm,
+) -> Result<CrossCheck, CompareError> {
     let mut check = CrossCheck {
         omega,
         signature: simulated.signature(),
@@ -557,7 +557,7 @@ pub fn cross_check(
         )),
         (Status::Periodic, _, Some(orbit)) => {
             let orbit = orbit.clone();
-            seeded_check(scene, omega, &orbit, options, &mut check)
+            seeded_check(scene, omega, &orbit, options, confirm, &mut check)
         }
     };
     Ok(check)
@@ -569,6 +569,7 @@ fn seeded_check(
     omega: f64,
     cycle: &PeriodicOrbit,
     options: &SimulationOptions,
+    confirm: Confirm,
     check: &mut CrossCheck,
 ) -> Class {
     let Some(stops) = scene.stops_model() else {
@@ -626,8 +627,9 @@ fn seeded_check(
         })
         .fold(f64::INFINITY, f64::min);
     let multipliers = nearest_distance(&cycle.floquet_multipliers, &analytic.floquet_multipliers);
-    let within_search =
-        signature.impacts() <= MULTI_START_IMPACTS && signature.period() <= MULTI_START_PERIODS;
+    let within_search = confirm == Confirm::Every
+        && signature.impacts() <= MULTI_START_IMPACTS
+        && signature.period() <= MULTI_START_PERIODS;
     let viable: Vec<SignatureOrbit> = if within_search {
         orbits_of_signature(scene, omega, &signature)
             .into_iter()
@@ -641,7 +643,7 @@ fn seeded_check(
     };
     check.confirmed_orbits = viable
         .iter()
-        .map(|o| confirm(scene, omega, o, options))
+        .map(|o| confirm_orbit(scene, omega, o, options))
         .collect();
     check.relative_difference = Some(difference);
     check.multiplier_difference = Some(multipliers);

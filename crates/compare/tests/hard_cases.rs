@@ -37,7 +37,7 @@ fn beta_half_symmetric_orbit_is_found_and_reached() {
     )
     .unwrap();
     assert_eq!(p.class, Class::Agreement);
-    assert!(p.difference.unwrap().largest() < MATCH_TOLERANCE);
+    assert!(p.difference.unwrap() < MATCH_TOLERANCE);
 }
 
 #[test]
@@ -144,7 +144,10 @@ fn coexisting_attractors_are_named() {
         Starts::RestAndOrbits,
     )
     .unwrap();
-    assert_eq!(p.class, Class::Coexistence, "{:?}", p.class);
+    // From rest the unit settles on a periodic motion of another signature, which the analytic
+    // orbit of that signature matches; a stable symmetric orbit holds when started on it.
+    assert_eq!(p.class, Class::Agreement, "{:?}", p.class);
+    assert!(p.coexisting);
     assert!(p.trials.iter().any(|t| t.held));
     assert_ne!(p.from_rest.regime, Regime::TwoImpact);
 }

@@ -1,5 +1,6 @@
-//! Agreement of the two solvers against frequency: the relative difference where both settle on
-//! the same motion (log scale), and the class of every point.
+//! Agreement of the two solvers against frequency: where both solvers give the same periodic
+//! motion, the relative difference of the orbits and the distance of their Floquet multipliers
+//! (log scale), coloured by impact signature; below, the class of every frequency.
 
 use crate::figures::plot::{err, legend, text, Figure};
 use crate::study::plots::Agreement;
@@ -7,6 +8,7 @@ use crate::verdict::Class;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
+/// Differences below this are drawn at it (an exact zero has no place on a log axis).
 const FLOOR: f64 = 1e-16;
 
 fn class_colour(class: &Class) -> RGBColor {
@@ -27,6 +29,18 @@ fn class_row(class: &Class) -> f64 {
     }
 }
 
+/// Colours of the signatures, in order of their first appearance.
+const SIGNATURE_COLOURS: [RGBColor; 8] = [
+    RGBColor(0, 114, 178),
+    RGBColor(213, 94, 0),
+    RGBColor(0, 158, 115),
+    RGBColor(204, 121, 167),
+    RGBColor(86, 180, 233),
+    RGBColor(230, 159, 0),
+    RGBColor(120, 60, 160),
+    RGBColor(90, 90, 90),
+];
+
 impl Figure for Agreement {
     fn name(&self) -> &str {
         "agreement"
@@ -37,8 +51,8 @@ impl Figure for Agreement {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let wmin = self.points.first().map_or(0.0, |p| p.analytic.omega);
-        let wmax = self.points.last().map_or(1.0, |p| p.analytic.omega);
+        let wmin = self.points.first().map_or(0.0, |p| p.omega);
+        let wmax = self.points.last().map_or(1.0, |p| p.omega);
         let mut chart = ChartBuilder::on(root)
             .caption(
                 format!(
@@ -55,7 +69,7 @@ impl Figure for Agreement {
         chart
             .configure_mesh()
             .x_desc("base frequency ω (rad/s)")
-            .y_desc("relative difference (X_o, impact state)")
+            .y_desc("relative difference (orbit; Floquet multipliers)")
             .y_label_formatter(&|v| format!("{v:.0e}"))
             .label_style(text(18))
             .axis_desc_style(text(20))
@@ -77,24 +91,52 @@ impl Figure for Agreement {
                     RGBColor(120, 120, 120).stroke_width(2),
                 )
             });
-        let agree: Vec<(f64, f64)> = self
-            .points
-            .iter()
-            .filter(|p| p.class == Class::Agreement)
-            .filter_map(|p| {
-                p.difference
-                    .map(|d| (p.analytic.omega, d.largest().max(FLOOR)))
-            })
-            .collect();
-        chart
-            .draw_series(
-                agree
-                    .iter()
-                    .map(|&(w, d)| Circle::new((w, d), 3, BLACK.filled())),
-            )
-            .map_err(err)?
-            .label("agreement: relative difference")
-            .legend(|(x, y)| Circle::new((x + 10, y), 4, BLACK.filled()));
+        let mut signatures: Vec<String> = Vec::new();
+        for p in self.points.iter().filter(|p| p.class == Class::Agreement) {
+            let sig = p.signature.clone().unwrap_or_else(|| "linear".to_owned());
+            if !signatures.contains(&sig) {
+                signatures.push(sig);
+            }
+        }
+        for (k, sig) in signatures.iter().enumerate() {
+            let colour = SIGNATURE_COLOURS[k % SIGNATURE_COLOURS.len()];
+            let of_sig: Vec<_> = self
+                .points
+                .iter()
+                .filter(|p| p.class == Class::Agreement)
+                .filter(|p| p.signature.as_deref().unwrap_or("linear") == sig)
+                .collect();
+            let state: Vec<(f64, f64)> = of_sig
+                .iter()
+                .filter_map(|p| p.relative_difference.map(|d| (p.omega, d.max(FLOOR))))
+                .collect();
+            let multipliers: Vec<(f64, f64)> = of_sig
+                .iter()
+                .filter_map(|p| p.multiplier_difference.map(|d| (p.omega, d.max(FLOOR))))
+                .collect();
+            chart
+                .draw_series(
+                    state
+                        .iter()
+                        .map(|&(w, d)| Circle::new((w, d), 4, colour.filled())),
+                )
+                .map_err(err)?
+                .label(format!("{sig}: orbit difference ({} points)", of_sig.len()))
+                .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
+            if !multipliers.is_empty() {
+                chart
+                    .draw_series(
+                        multipliers
+                            .iter()
+                            .map(|&(w, d)| TriangleMarker::new((w, d), 5, colour.stroke_width(2))),
+                    )
+                    .map_err(err)?
+                    .label(format!("{sig}: multiplier difference"))
+                    .legend(move |(x, y)| {
+                        TriangleMarker::new((x + 10, y), 5, colour.stroke_width(2))
+                    });
+            }
+        }
         let names = [
             (Class::Agreement, "class: agreement"),
             (
@@ -103,7 +145,7 @@ impl Figure for Agreement {
             ),
             (
                 Class::Beyond(String::new()),
-                "class: beyond the two-impact model",
+                "class: beyond exact comparison (not periodic, sticking, no dissipation)",
             ),
             (Class::Contradiction(String::new()), "class: contradiction"),
         ];
@@ -112,7 +154,7 @@ impl Figure for Agreement {
                 .points
                 .iter()
                 .filter(|p| p.class.name() == class.name())
-                .map(|p| (p.analytic.omega, class_row(&class)))
+                .map(|p| (p.omega, class_row(&class)))
                 .collect();
             let colour = class_colour(&class);
             chart

@@ -17,7 +17,8 @@ pub enum Solver {
     Analytic,
     /// The event-driven simulator from rest.
     Event,
-    /// Both, with the simulator also started on every viable orbit, and a verdict.
+    /// Both: the simulator from rest beside the analytic orbit of its signature (any
+    /// signature), the simulator also started on every viable symmetric orbit, and a verdict.
     Both,
 }
 
@@ -159,10 +160,22 @@ table_row! {
         pub simulated_transmittance_db: Option<f64>,
         /// Whether the final cycle sticks.
         pub simulated_sticking: Option<bool>,
+        /// The simulated cycle's canonical impact signature (periodic, polished by Newton).
+        pub simulated_signature: Option<String>,
+        /// `X_o` of the analytic orbit of the simulated signature (`--solver both`), m.
+        pub analytic_outer_amplitude: Option<f64>,
+        /// Whether that analytic orbit is viable.
+        pub analytic_viable: Option<bool>,
+        /// Whether that analytic orbit is stable.
+        pub analytic_stable: Option<bool>,
+        /// Its energy balance residual, relative.
+        pub analytic_energy_residual: Option<f64>,
         /// The verdict (`--solver both`).
         pub class: Option<&'static str>,
-        /// Largest relative difference from the matched analytic motion.
+        /// Largest relative difference from the analytic motion of the simulated signature.
         pub relative_difference: Option<f64>,
+        /// Largest distance between a simulated Floquet multiplier and the nearest analytic one.
+        pub multiplier_difference: Option<f64>,
         /// The verdict in words (`beyond`, `contradiction`).
         pub class_detail: Option<String>,
         /// What the simulated motion matched, in words.
@@ -207,8 +220,14 @@ impl SweepRow {
             simulated_outer_amplitude: None,
             simulated_transmittance_db: None,
             simulated_sticking: None,
+            simulated_signature: None,
+            analytic_outer_amplitude: None,
+            analytic_viable: None,
+            analytic_stable: None,
+            analytic_energy_residual: None,
             class: None,
             relative_difference: None,
+            multiplier_difference: None,
             class_detail: None,
             matched: None,
             error: None,
@@ -233,9 +252,16 @@ impl SweepRow {
                 row.set_analytic(&c.analytic, gap);
                 row.set_simulated(&c.from_rest);
                 row.class = Some(c.class.name());
-                row.relative_difference = c.difference.and_then(|d| finite(d.largest()));
+                row.relative_difference = c.difference.and_then(finite);
+                row.multiplier_difference = c.cross.multiplier_difference.and_then(finite);
                 row.class_detail = Some(c.class.detail().to_owned());
                 row.matched = c.matched.clone();
+                if let Some(o) = &c.cross.analytic {
+                    row.analytic_outer_amplitude = finite(o.outer_amplitude);
+                    row.analytic_viable = Some(o.viable);
+                    row.analytic_stable = Some(o.stable);
+                    row.analytic_energy_residual = finite(o.energy_residual);
+                }
                 row
             }
             SweepPoint::Failed { omega, message } => {
@@ -288,6 +314,7 @@ impl SweepRow {
         self.simulated_outer_amplitude = finite(s.outer_amplitude);
         self.simulated_transmittance_db = s.transmittance_db.and_then(finite);
         self.simulated_sticking = Some(s.steady.sticking);
+        self.simulated_signature = s.signature().map(|sig| sig.to_string());
     }
 }
 

@@ -14,9 +14,9 @@ use crate::scene::simulator::{run, start_on_orbit, Regime, SimulatedPoint, START
 use crate::scene::{DampingSpec, Scene, StopsSpec};
 use crate::verdict::{compare, ComparedPoint, Starts, MATCH_TOLERANCE};
 use plots::{
-    linear_samples, orbit_samples, stroboscopic_outer, Agreement, BandwidthMap, BetaFamily,
-    Bifurcation, Confirmation, ImpactRow, ImpactTimeResponse, LinearPanel, LinearTimeResponse,
-    Member, Plots, RegimeMap, Samples, Transmittance,
+    linear_samples, orbit_samples, stroboscopic_outer, Agreement, AgreementPoint, BandwidthMap,
+    BetaFamily, Bifurcation, Confirmation, ImpactRow, ImpactTimeResponse, LinearPanel,
+    LinearTimeResponse, Member, Plots, RegimeMap, Samples, Transmittance,
 };
 use rattle_analytic::gap_for_beta;
 use rattle_event_driven::{SimulationOptions, Start};
@@ -420,7 +420,7 @@ impl Study {
             },
             agreement: Agreement {
                 scene_name: name.clone(),
-                points: self.compared.clone(),
+                points: self.compared.iter().map(AgreementPoint::of).collect(),
                 tolerance: MATCH_TOLERANCE,
             },
             beta_family: BetaFamily {

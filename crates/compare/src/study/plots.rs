@@ -3,7 +3,7 @@
 use crate::runs::map::{Bandwidth, Map, MapGrid, MapPoint};
 use crate::scene::analytic::{linear_displacements, orbit_state, AnalyticPoint};
 use crate::scene::simulator::{Regime, SimulatedPoint};
-use crate::verdict::ComparedPoint;
+use crate::verdict::{Class, ComparedPoint};
 
 /// Samples `(t, u_o, u_i)` of a motion.
 pub type Samples = Vec<(f64, f64, f64)>;
@@ -107,10 +107,38 @@ pub struct Transmittance {
 pub struct Agreement {
     /// Scene name, for the title.
     pub scene_name: String,
-    /// The compared points of the sweep.
-    pub points: Vec<ComparedPoint>,
+    /// Every frequency of the compared sweep.
+    pub points: Vec<AgreementPoint>,
     /// The match tolerance, drawn as a line.
     pub tolerance: f64,
+}
+
+/// One frequency of [`Agreement`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct AgreementPoint {
+    /// Frequency, rad/s.
+    pub omega: f64,
+    /// The verdict.
+    pub class: Class,
+    /// The simulated cycle's canonical signature, when periodic with impacts.
+    pub signature: Option<String>,
+    /// Largest relative difference from the analytic orbit of that signature.
+    pub relative_difference: Option<f64>,
+    /// Largest distance between the two solvers' Floquet multipliers.
+    pub multiplier_difference: Option<f64>,
+}
+
+impl AgreementPoint {
+    /// The point of `p`.
+    pub fn of(p: &ComparedPoint) -> Self {
+        Self {
+            omega: p.analytic.omega,
+            class: p.class.clone(),
+            signature: p.cross.signature.as_ref().map(|s| s.to_string()),
+            relative_difference: p.difference,
+            multiplier_difference: p.cross.multiplier_difference,
+        }
+    }
 }
 
 /// One member of the two-impact family as drawn.

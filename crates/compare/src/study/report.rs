@@ -34,44 +34,97 @@ pub struct AgreementRecord {
     pub points: usize,
     /// Frequencies where a solver failed.
     pub failed_points: usize,
-    /// Frequencies in agreement.
+    /// Frequencies where the simulator from rest is periodic and does not stick: the motions
+    /// that can be compared exactly, whatever their signature.
+    pub periodic_points: usize,
+    /// Frequencies in agreement (any signature, or the linear motion).
     pub points_compared: usize,
-    /// The largest relative difference among them.
+    /// `points_compared / periodic_points`.
+    pub agreement_fraction: Option<f64>,
+    /// The largest relative difference among the agreeing points (state at the section, impact
+    /// phases, base phase).
     pub max_relative_difference: Option<f64>,
+    /// The largest distance between a simulated Floquet multiplier and its nearest analytic
+    /// one among the agreeing points.
+    pub max_multiplier_difference: Option<f64>,
+    /// The largest energy residual of the analytic orbits of the agreeing points.
+    pub max_energy_residual: Option<f64>,
     /// The fraction of frequencies where "a stable viable orbit exists" matches "the simulator
-    /// holds an orbit started on it".
+    /// holds an orbit started on it" (symmetric two-impact orbits).
     pub classification_agreement: Option<f64>,
     /// Frequencies per class.
     pub by_class: BTreeMap<&'static str, usize>,
+    /// Frequencies where another attracting analytic motion exists beside the one the unit
+    /// takes from rest (whatever the class).
+    pub coexisting_points: usize,
+    /// Agreeing frequencies per canonical signature (`linear` for a motion without impacts).
+    pub by_signature: BTreeMap<String, usize>,
+    /// Frequencies beyond exact comparison, per reason.
+    pub beyond: BTreeMap<String, usize>,
     /// Every contradiction.
     pub contradictions: Vec<ContradictionRecord>,
 }
 
-/// `agreement.json`: points compared (class agreement), the largest relative difference among
-/// them, the fraction of points where the analytic prediction (a stable viable orbit exists)
-/// matches what the simulator does when started on the orbit, and the count of each class.
+/// The largest of some optional values, `None` when there are none.
+fn largest(values: impl Iterator<Item = Option<f64>>) -> Option<f64> {
+    values.flatten().reduce(f64::max).and_then(finite)
+}
+
+/// `agreement.json`: the class of every frequency (the from-rest motion beside the analytic
+/// orbit of its signature), the agreeing points by signature with their largest differences,
+/// and the reasons for the points beyond exact comparison.
 pub fn agreement(study: &Study) -> AgreementRecord {
     let pts = &study.compared;
     let agreeing: Vec<&ComparedPoint> =
         pts.iter().filter(|p| p.class == Class::Agreement).collect();
-    let max_diff = agreeing
+    let periodic = pts
         .iter()
-        .filter_map(|p| p.difference.map(|d| d.largest()))
-        .fold(0.0, f64::max);
+        .filter(|p| {
+            p.from_rest.steady.status == rattle_event_driven::Status::Periodic
+                && !p.from_rest.steady.sticking
+        })
+        .count();
     let confirmed = pts.iter().filter(|p| p.prediction_confirmed).count();
+    let mut by_signature = BTreeMap::new();
+    for p in &agreeing {
+        let key = p
+            .cross
+            .signature
+            .as_ref()
+            .map_or_else(|| "linear".to_owned(), |s| s.to_string());
+        *by_signature.entry(key).or_insert(0) += 1;
+    }
+    let mut beyond = BTreeMap::new();
+    for p in pts.iter().filter(|p| matches!(p.class, Class::Beyond(_))) {
+        let reason = p.class.detail();
+        // "not periodic within the cap", "sticking: …": the words before any colon.
+        let key = reason.split(':').next().unwrap_or(reason).trim().to_owned();
+        *beyond.entry(key).or_insert(0) += 1;
+    }
     AgreementRecord {
         scene: study.scene.clone(),
         omega_min: study.size.omega_min,
         omega_max: study.size.omega_max,
         points: pts.len(),
         failed_points: study.failures.len(),
+        periodic_points: periodic,
         points_compared: agreeing.len(),
-        max_relative_difference: (!agreeing.is_empty()).then_some(max_diff).and_then(finite),
+        agreement_fraction: (periodic > 0).then(|| agreeing.len() as f64 / periodic as f64),
+        max_relative_difference: largest(agreeing.iter().map(|p| p.difference)),
+        max_multiplier_difference: largest(agreeing.iter().map(|p| p.cross.multiplier_difference)),
+        max_energy_residual: largest(
+            agreeing
+                .iter()
+                .map(|p| p.cross.analytic.as_ref().map(|o| o.energy_residual)),
+        ),
         classification_agreement: (!pts.is_empty()).then(|| confirmed as f64 / pts.len() as f64),
         by_class: Class::NAMES
             .iter()
             .map(|&name| (name, pts.iter().filter(|p| p.class.name() == name).count()))
             .collect(),
+        coexisting_points: pts.iter().filter(|p| p.coexisting).count(),
+        by_signature,
+        beyond,
         contradictions: pts
             .iter()
             .filter(|p| matches!(p.class, Class::Contradiction(_)))
@@ -265,12 +318,24 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str) -> String {
     let a = serde_json::to_value(agreement(main)).unwrap_or_default();
     let _ = writeln!(
         r,
-        "{} frequencies; classes: {}. Points in agreement: {}, largest relative difference {}. \
-         Classification agreement (analytic \"stable viable orbit exists\" vs the simulator holding an orbit started on it): {}. Failed points: {}.",
+        "At each of {} frequencies the simulator settles from rest; when its motion is periodic it polishes the cycle \
+         by Newton on its own stroboscopic map and names its impact signature, and the analytic solver solves that \
+         signature from the simulated impact phases with its own equations. Classes: {} (another attracting analytic motion beside the one taken from rest at {} of them). \
+         Periodic, non-sticking motions: {}; in agreement: {} (fraction {}), by signature {}. \
+         Largest relative difference {}, largest multiplier difference {}, largest energy residual {}. \
+         Beyond exact comparison: {} (a sticking cycle, chatter ending on a stop, has no signature to solve). \
+         Classification agreement (analytic \"stable viable symmetric orbit exists\" vs the simulator holding an orbit started on it): {}. Failed points: {}.",
         a["points"],
         a["by_class"],
+        a["coexisting_points"],
+        a["periodic_points"],
         a["points_compared"],
+        a["agreement_fraction"],
+        a["by_signature"],
         a["max_relative_difference"],
+        a["max_multiplier_difference"],
+        a["max_energy_residual"],
+        a["beyond"],
         a["classification_agreement"],
         a["failed_points"]
     );
@@ -282,5 +347,131 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str) -> String {
             c["detail"].as_str().unwrap_or("")
         );
     }
+    let _ = writeln!(r, "\n## Band by band (reading A)\n");
+    let _ = writeln!(
+        r,
+        "Consecutive frequencies where the unit, from rest, takes the same motion. \"exists\" lists the analytic motions \
+         found at those frequencies: symmetric two-impact orbits (viable, and of those stable) and the linear motion \
+         clear of the stops; \"analytic orbit\" the orbit of the simulated signature solved by the analytic crate.\n"
+    );
+    let _ = writeln!(
+        r,
+        "| ω (rad/s) | points | the unit takes (from rest) | class | exists (analytic) | analytic orbit of that signature |\n| --- | --- | --- | --- | --- | --- |"
+    );
+    for b in motion_bands(main) {
+        let _ = writeln!(
+            r,
+            "| {:.3}–{:.3} | {} | {} | {} | {} | {} |",
+            b.omega_min, b.omega_max, b.points, b.taken, b.classes, b.exists, b.analytic
+        );
+    }
     r
+}
+
+/// Consecutive compared frequencies over which the unit takes the same motion from rest.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionBand {
+    /// First frequency, rad/s.
+    pub omega_min: f64,
+    /// Last frequency, rad/s.
+    pub omega_max: f64,
+    /// Frequencies in the band.
+    pub points: usize,
+    /// The motion from rest, in words (`+-`, `++--`, `not periodic`, …).
+    pub taken: String,
+    /// The classes of its frequencies with their counts.
+    pub classes: String,
+    /// The analytic motions found there (symmetric orbits, linear motion), with counts.
+    pub exists: String,
+    /// What the analytic orbit of the simulated signature is at those frequencies.
+    pub analytic: String,
+}
+
+/// The motion from rest at `p`, in words.
+fn motion_taken(p: &ComparedPoint) -> String {
+    let steady = &p.from_rest.steady;
+    match (&p.cross.signature, steady.status, steady.sticking) {
+        (_, _, true) => "sticking cycle".to_owned(),
+        (Some(sig), _, _) => format!("`{sig}` over {} period(s)", sig.period()),
+        (None, rattle_event_driven::Status::Periodic, _) if steady.cycle_impacts.is_empty() => {
+            "linear motion (no impacts)".to_owned()
+        }
+        _ => p.from_rest.status_name(),
+    }
+}
+
+/// Counts of labels, in first-seen order, as `label ×n; …`.
+fn tally(labels: impl Iterator<Item = String>) -> String {
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    for l in labels {
+        match counts.iter_mut().find(|(k, _)| *k == l) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((l, 1)),
+        }
+    }
+    if counts.is_empty() {
+        return "—".to_owned();
+    }
+    counts
+        .iter()
+        .map(|(k, n)| format!("{k} ×{n}"))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The compared sweep of `study`, cut into bands of one motion from rest.
+pub fn motion_bands(study: &Study) -> Vec<MotionBand> {
+    let mut bands: Vec<(String, Vec<&ComparedPoint>)> = Vec::new();
+    for p in &study.compared {
+        let taken = motion_taken(p);
+        match bands.last_mut() {
+            Some((t, pts)) if *t == taken => pts.push(p),
+            _ => bands.push((taken, vec![p])),
+        }
+    }
+    bands
+        .into_iter()
+        .map(|(taken, pts)| {
+            let exists = tally(pts.iter().flat_map(|p| {
+                let mut labels = Vec::new();
+                let viable = p.analytic.orbits.iter().filter(|(_, o)| o.viable).count();
+                let stable = p
+                    .analytic
+                    .orbits
+                    .iter()
+                    .filter(|(_, o)| o.viable && o.stable)
+                    .count();
+                if viable > 0 {
+                    labels.push(format!("{viable} viable `+-` ({stable} stable)"));
+                }
+                if p.candidates
+                    .iter()
+                    .any(|c| c.motion == crate::verdict::Motion::Linear)
+                {
+                    labels.push("linear clear of the stops".to_owned());
+                }
+                labels
+            }));
+            let analytic = tally(pts.iter().filter_map(|p| {
+                let sig = p.cross.signature.as_ref()?;
+                Some(match &p.cross.analytic {
+                    Some(o) => format!(
+                        "`{sig}` {}, {}",
+                        if o.viable { "viable" } else { "not viable" },
+                        if o.stable { "stable" } else { "unstable" }
+                    ),
+                    None => format!("`{sig}` not found"),
+                })
+            }));
+            MotionBand {
+                omega_min: pts.first().map_or(f64::NAN, |p| p.analytic.omega),
+                omega_max: pts.last().map_or(f64::NAN, |p| p.analytic.omega),
+                points: pts.len(),
+                classes: tally(pts.iter().map(|p| p.class.name().to_owned())),
+                taken,
+                exists,
+                analytic,
+            }
+        })
+        .collect()
 }
