@@ -57,6 +57,28 @@ pub const CORRECTOR_ITERATIONS: usize = 8;
 /// [`crate::cycle::NEWTON_ACCEPTANCE`]; this bound is a factor 2.5 above that scatter.
 pub const CORRECTOR_ACCEPTANCE: f64 = 1e-10;
 
+/// Rounding of the contact residuals in units of `ε · cond(K)` (times the motion's size),
+/// `K = I − Ψ_xx` the periodicity matrix. Measured on the paper unit's symmetric branch at
+/// `ω = 2.4554` (near `√6`): `cond(K) = 4.2e5` and the residual scattered between `8e-12` and
+/// `1.1e-10` of the size from one rounding to the next, i.e. up to 1.2 `ε cond(K)`.
+pub const ROUNDING_ULPS: f64 = 4.0;
+
+/// The fallback acceptance of the corrector at one evaluation, relative to the motion's
+/// size: [`CORRECTOR_ACCEPTANCE`], or the rounding floor `ROUNDING_ULPS · ε · cond(K)` where
+/// the periodicity solve is ill-conditioned (near a natural frequency), whichever is larger.
+/// Points accepted above [`CORRECTOR_ACCEPTANCE`] carry their residual in
+/// [`ContinuationPoint::residual`]; the floor is capped at [`MAX_ROUNDING_FLOOR`].
+fn rounding_floor(eval: &Eval) -> f64 {
+    CORRECTOR_ACCEPTANCE
+        .max(ROUNDING_ULPS * f64::EPSILON * eval.conditioning)
+        .min(MAX_ROUNDING_FLOOR)
+}
+
+/// Cap on the corrector's rounding floor (`ROUNDING_ULPS · ε · cond(K)`): closer to an undamped resonance (`cond(K)` above about `10⁷`)
+/// the residuals cannot be met to `1e-8` of the motion's size in double precision, and the
+/// branch ends there ([`EndReason::StepBelowMinimum`]) rather than carry such points.
+pub const MAX_ROUNDING_FLOOR: f64 = 1e-8;
+
 /// Newton's residual has stalled (rounding) when an iteration reduces it by less than this
 /// factor: quadratic convergence reduces it by orders of magnitude per iteration.
 const STALL_RATIO: f64 = 0.25;
@@ -84,6 +106,10 @@ pub const CHORD_ITERATIONS: usize = 10;
 /// least this factor: it is then too far from the previous point for its Jacobian.
 const CHORD_CONTRACTION: f64 = 0.5;
 
+/// A full-Newton fallback of at most this many iterations (quadratic convergence from the
+/// predictor) counts as [`HARD_ITERATIONS`] for the step control: the step is kept.
+const FALLBACK_QUICK: usize = 3;
+
 /// Step growth when the corrector converged in at most [`EASY_ITERATIONS`] iterations.
 const STEP_GROWTH: f64 = 1.5;
 
@@ -95,8 +121,8 @@ const STEP_GROWTH: f64 = 1.5;
 /// the curves resolved for plotting at half the cost of ≤ 3.
 const EASY_ITERATIONS: usize = 4;
 
-/// Chord iterations above which the next step is shrunk by [`STEP_SHRINK`] (a full Newton
-/// fallback counts as [`CHORD_ITERATIONS`] more): twice [`EASY_ITERATIONS`].
+/// Chord iterations above which the next step is shrunk by [`STEP_SHRINK`] (a slow full
+/// Newton fallback counts as [`CHORD_ITERATIONS`]): twice [`EASY_ITERATIONS`].
 const HARD_ITERATIONS: usize = 8;
 
 /// Shrink factor after a hard step, and after a rejected one (halved then).
@@ -505,6 +531,9 @@ struct Eval {
     y1: Vector4<f64>,
     p0: Vector2<f64>,
     residual: DVector<f64>,
+    /// `‖K‖∞ ‖K⁻¹‖∞` of the periodicity matrix `K = I − Ψ_xx`: the residuals carry rounding
+    /// of about this many units of the motion's size.
+    conditioning: f64,
     /// `∂R/∂X`, `n × (n + 1)`.
     jacobian: DMatrix<f64>,
 }
@@ -641,10 +670,17 @@ impl<'a> System<'a> {
             pre.push(flights[f] * self.g_hat * pre[f - 1]);
         }
         let psi = self.g_hat * pre[n - 1];
-        let lu = (Matrix4::identity() - psi.fixed_view::<4, 4>(0, 0)).lu();
+        let k = Matrix4::identity() - psi.fixed_view::<4, 4>(0, 0);
+        let lu = k.lu();
         if !lu.is_invertible() {
             return None;
         }
+        let inf_norm = |m: &Matrix4<f64>| {
+            (0..4)
+                .map(|i| (0..4).map(|j| m[(i, j)].abs()).sum::<f64>())
+                .fold(0.0, f64::max)
+        };
+        let conditioning = inf_norm(&k) * lu.try_inverse().map_or(f64::INFINITY, |i| inf_norm(&i));
         let psi_xp = psi.fixed_view::<4, 2>(0, 4).into_owned();
         let p0 = Vector2::new(alpha.cos(), alpha.sin());
         let y1 = lu.solve(&(psi_xp * p0))?;
@@ -663,6 +699,7 @@ impl<'a> System<'a> {
                 y1,
                 p0,
                 residual,
+                conditioning,
                 jacobian: DMatrix::zeros(0, 0),
             });
         }
@@ -722,6 +759,7 @@ impl<'a> System<'a> {
             y1,
             p0,
             residual,
+            conditioning,
             jacobian,
         })
     }
@@ -749,9 +787,8 @@ impl<'a> System<'a> {
             }
             // Converged; or stalled at the rounding floor of an ill-conditioned cycle, below
             // the fallback acceptance of `cycle`'s Newton.
-            if norm <= NEWTON_TOLERANCE * scale
-                || (norm > STALL_RATIO * last && norm <= CORRECTOR_ACCEPTANCE * scale)
-            {
+            let floor = rounding_floor(&eval) * scale;
+            if norm <= NEWTON_TOLERANCE * scale || (norm > STALL_RATIO * last && norm <= floor) {
                 return Some((x, eval, iteration));
             }
             last = norm;
@@ -760,7 +797,7 @@ impl<'a> System<'a> {
             }
             let step = self.newton_step(&x, &eval, constraint)?;
             if step.amax() <= STEP_ROUNDING * (1.0 + x[n].abs()) {
-                return (norm <= CORRECTOR_ACCEPTANCE * scale).then_some((x, eval, iteration));
+                return (norm <= floor).then_some((x, eval, iteration));
             }
             for k in 0..=n {
                 x[k] += step[k];
@@ -805,11 +842,16 @@ impl<'a> System<'a> {
             let eval = self.evaluate_residual(&x)?;
             let norm = eval.residual.amax();
             let scale = self.scale(&eval.y1);
-            if !norm.is_finite() || norm > CHORD_CONTRACTION * last {
+            if !norm.is_finite() {
                 return None;
             }
             if norm <= NEWTON_TOLERANCE * scale {
                 return Some((x, eval, iteration));
+            }
+            if norm > CHORD_CONTRACTION * last {
+                // Not contracting: too far from the Jacobian's point, or at the rounding
+                // floor of the evaluation; full Newton tells the two apart.
+                return None;
             }
             last = norm;
             let mut rhs = DVector::zeros(n + 1);
@@ -841,8 +883,16 @@ impl<'a> System<'a> {
                 return Some((x, eval, iterations));
             }
         }
-        self.correct(guess, constraint)
-            .map(|(x, e, it)| (x, e, it + CHORD_ITERATIONS))
+        // A quick full Newton (at a rounding floor the chord iteration cannot finish) keeps
+        // the step; a slow one shrinks it.
+        self.correct(guess, constraint).map(|(x, e, it)| {
+            let count = if it <= FALLBACK_QUICK {
+                HARD_ITERATIONS
+            } else {
+                CHORD_ITERATIONS
+            };
+            (x, e, count)
+        })
     }
 
     /// The unit tangent at a point with Jacobian `jacobian`, oriented along `previous`:
