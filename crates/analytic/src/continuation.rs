@@ -996,21 +996,7 @@ impl<'a> System<'a> {
         let n = self.n();
         let omega = x[n];
         let flow = ForcedFlow::new(self.unit, omega);
-        let z1 = join(&eval.y1, &eval.p0);
-        let before: Vec<Augmented> = (0..n)
-            .map(|j| eval.pre[if j == 0 { n - 1 } else { j - 1 }] * z1)
-            .collect();
-        let x_before: Vec<Vector4<f64>> =
-            before.iter().map(|z| z.fixed_rows::<4>(0).into()).collect();
-        let p_at: Vec<Vector2<f64>> = (0..n)
-            .map(|j| {
-                if j == 0 {
-                    eval.p0
-                } else {
-                    before[j].fixed_rows::<2>(4).into()
-                }
-            })
-            .collect();
+        let (x_before, p_at) = self.impact_states(eval);
         let approach: Vec<f64> = (0..n)
             .map(|j| self.sides[j] as f64 * (x_before[j][3] - x_before[j][2]))
             .collect();
@@ -1043,13 +1029,7 @@ impl<'a> System<'a> {
         let tol = VIABILITY_TOLERANCE * self.gap;
         let viable = approach.iter().all(|&v| v > 0.0) && clearance.iter().all(|&c| c >= -tol);
 
-        let mut monodromy = Matrix4::identity();
-        for f in 0..n {
-            let next = (f + 1) % n;
-            let hom = eval.flights[f].fixed_view::<4, 4>(0, 0).into_owned();
-            let s = saltation(&flow, &self.g, &x_before[next], &p_at[next]);
-            monodromy = s * hom * monodromy;
-        }
+        let monodromy = self.monodromy(&flow, eval, &x_before, &p_at);
         let floquet_multipliers: Vec<Complex<f64>> = eigenvalues(&monodromy)
             .map(|e| e.to_vec())
             .unwrap_or_else(|| vec![Complex::new(f64::NAN, f64::NAN); 4]);
