@@ -3,9 +3,12 @@
 //!
 //! The unknowns are those of [`crate::cycle`], `x = (α, φ₂ … φₙ)`, with the forcing frequency
 //! `ω` appended: `X = (x, ω)`. The `n` contact residuals `R(X)` define a curve in `X`; it is
-//! followed by a tangent predictor `X₀ + h t₀` and a Newton corrector on the bordered system
-//! `[R(X); t₀ · (X − X_pred)] = 0`, so the branch is followed through folds. Step control uses
-//! the corrector's iteration count.
+//! followed by a tangent predictor `X₀ + h t₀` and a corrector on the bordered system
+//! `[R(X); t₀ · (X − X_pred)] = 0`, so the branch is followed through folds. The corrector is
+//! a chord Newton iteration with the exact Jacobian of the previous point (each iteration one
+//! residual evaluation), falling back to full Newton; step control uses its iteration count.
+//! Where the periodicity solve is ill-conditioned (near a natural frequency) points are
+//! accepted at its rounding floor, `ε · cond(I − Ψ_xx)`, and carry their residual.
 //!
 //! All derivatives are exact. In the forcing angle `σ = ωt` the flight over the phase fraction
 //! `Δφ` of a cycle of `p` periods is `Φ = exp(B(ω) σ)`, `σ = 2πp Δφ`, `B = Â/ω`, so `ω`
@@ -373,7 +376,9 @@ pub struct ContinuationPoint {
     pub viable: bool,
     /// Eigenvalues of the monodromy matrix.
     pub floquet_multipliers: Vec<Complex<f64>>,
-    /// `dω/ds` along the unit tangent in `(α, φ₂ … φₙ, ω)`: zero at a fold.
+    /// `dω/ds` along the unit tangent in `(α, φ₂ … φₙ, ω)`, oriented along the order of
+    /// [`Branch::points`] (for an [`Event`]'s point: along the direction in which the branch
+    /// was being followed when the event was found): zero at a fold.
     pub domega_ds: f64,
     /// The largest contact residual `|r(t_j⁻) − s_j Δ|` of the point.
     pub residual: f64,
