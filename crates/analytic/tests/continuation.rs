@@ -450,3 +450,86 @@ fn event_and_end_names() {
     assert_eq!(EndReason::OmegaMax.name(), "omega-max");
     assert_eq!(EndReason::FlightMerged.name(), "flight-merged");
 }
+
+#[test]
+fn neimark_sacker_puts_a_complex_pair_on_the_unit_circle() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = symmetric_start(2.9);
+    let settings = ContinuationSettings {
+        follow_switches: false,
+        ..ContinuationSettings::new(2.9, 3.5)
+    };
+    let c = continue_orbit(&unit, &stops, &start, &settings).unwrap();
+    let event = c
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::NeimarkSacker)
+        .expect("a Neimark–Sacker event on the symmetric branch");
+    // The cycle solver's own multipliers at the located ω.
+    let mut guess = vec![event.point.alpha];
+    guess.extend_from_slice(&event.point.impact_phases[1..]);
+    let orbit = solve_signature(&unit, &stops, event.omega, &start.signature, &guess).unwrap();
+    let on_circle = orbit
+        .floquet_multipliers
+        .iter()
+        .filter(|m| m.im.abs() > 1e-6)
+        .map(|m| (m.norm() - 1.0).abs())
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        on_circle < 1e-8,
+        "||μ| − 1| = {on_circle:e} at ω = {}",
+        event.omega
+    );
+}
+
+#[test]
+fn vanishing_impact_has_zero_relative_velocity() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    // The other symmetric orbit at ω = 3.5 (the one that is not a motion).
+    let signature = Signature::parse("+-", 1).unwrap();
+    let start = signature_orbits(&unit, &stops, 3.5, &signature)
+        .into_iter()
+        .find(|o| (o.impact_phases[1] - 0.5).abs() < 1e-9 && !o.viable)
+        .expect("a non-viable symmetric orbit at 3.5");
+    let settings = ContinuationSettings {
+        follow_switches: false,
+        ..ContinuationSettings::new(3.0, 3.7)
+    };
+    let c = continue_orbit(&unit, &stops, &start, &settings).unwrap();
+    let event = c
+        .events
+        .iter()
+        .find(|e| e.kind == EventKind::VanishingImpact)
+        .expect("a vanishing impact on the symmetric branch");
+    let mut guess = vec![event.point.alpha];
+    guess.extend_from_slice(&event.point.impact_phases[1..]);
+    let orbit = solve_signature(&unit, &stops, event.omega, &start.signature, &guess).unwrap();
+    let phase = event.phase.unwrap();
+    let j = orbit
+        .impact_phases
+        .iter()
+        .position(|p| (p - phase).abs() < 1e-9)
+        .expect("the impact of the event");
+    let x = orbit.states_before_impacts[j];
+    // Relative to the velocity scale ω Δ of the motion.
+    let rdot = (x[3] - x[2]) / (event.omega * stops.gap);
+    assert!(
+        rdot.abs() < 1e-9,
+        "ṙ⁻/(ωΔ) = {rdot:e} at ω = {}",
+        event.omega
+    );
+    // On one side the impact is approached from outside, on the other from inside.
+    let approach = |w: f64| {
+        let p = c.branches[0]
+            .points
+            .iter()
+            .min_by(|a, b| (a.omega - w).abs().total_cmp(&(b.omega - w).abs()))
+            .unwrap();
+        let mut guess = vec![p.alpha];
+        guess.extend_from_slice(&p.impact_phases[1..]);
+        let o = solve_signature(&unit, &stops, p.omega, &start.signature, &guess).unwrap();
+        let x = o.states_before_impacts[j];
+        signature.sides()[j] as f64 * (x[3] - x[2])
+    };
+    assert!(approach(event.omega - 0.05) * approach(event.omega + 0.05) < 0.0);
+}
