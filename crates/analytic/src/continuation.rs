@@ -183,6 +183,11 @@ const SWITCH_STEP: f64 = 0.1;
 /// not told apart from a loop.
 const LOOP_CLOSURE: f64 = 0.1;
 
+/// A loop closes only where the branch comes back through its seed travelling the same way:
+/// the tangents agree to this cosine (a branch crossing the seed at a branch point, or
+/// passing near it, does not).
+const LOOP_TANGENT_COSINE: f64 = 0.99;
+
 /// Fewest points before closure of a loop is tested.
 const LOOP_MIN_POINTS: usize = 8;
 
@@ -1567,7 +1572,16 @@ fn follow_direction(
         events.extend(detect(system, &prev, &node, origin));
         node.point.domega_ds = node.tangent[n];
         // Closed loop: the step from `prev` to `node` passes the seed.
-        if nodes.len() >= LOOP_MIN_POINTS && passes(&prev.x, &node.x, &seed.x, h) {
+        let along: f64 = node
+            .tangent
+            .iter()
+            .zip(&seed.tangent)
+            .map(|(a, b)| a * b * direction)
+            .sum();
+        if nodes.len() >= LOOP_MIN_POINTS
+            && along > LOOP_TANGENT_COSINE
+            && passes(&prev.x, &node.x, &seed.x, h)
+        {
             nodes.push(node);
             return (nodes, events, end(EndReason::ClosedLoop, x[n]));
         }
