@@ -183,15 +183,59 @@ impl ForcedFlow {
         duration: f64,
         functionals: &[Augmented],
     ) -> Vec<Extrema> {
+        self.mixed_extrema(
+            start,
+            duration,
+            functionals,
+            &vec![false; functionals.len()],
+        )
+    }
+
+    /// Extrema of the linear functionals `c · z(t)` over the *interior critical points* of the
+    /// flight only: the times `0 < t < duration` where `d(c · z)/dt = 0`, found with the same
+    /// guarantee as [`Self::extrema`]. The flight's ends are not candidates, so a functional
+    /// that is monotone along the whole flight has `max = −∞`, `min = +∞` (and `NaN` times).
+    ///
+    /// This is what decides grazing: between two impacts `r(t)` touches a stop from inside at
+    /// an interior critical point, while at the flight's ends it sits on the stops anyway.
+    pub fn critical_extrema(
+        &self,
+        start: &Augmented,
+        duration: f64,
+        functionals: &[Augmented],
+    ) -> Vec<Extrema> {
+        self.mixed_extrema(start, duration, functionals, &vec![true; functionals.len()])
+    }
+
+    /// [`Self::extrema`] for the functionals whose `critical` flag is false and
+    /// [`Self::critical_extrema`] for the others, in one pass over the flight (one Taylor
+    /// table). `critical` has one flag per functional (missing flags count as false).
+    pub fn mixed_extrema(
+        &self,
+        start: &Augmented,
+        duration: f64,
+        functionals: &[Augmented],
+        critical: &[bool],
+    ) -> Vec<Extrema> {
         let mut found: Vec<Extrema> = functionals
             .iter()
-            .map(|c| {
-                let v = c.dot(start);
-                Extrema {
-                    max: v,
-                    argmax: 0.0,
-                    min: v,
-                    argmin: 0.0,
+            .enumerate()
+            .map(|(i, c)| {
+                if critical.get(i).copied().unwrap_or(false) {
+                    Extrema {
+                        max: f64::NEG_INFINITY,
+                        argmax: f64::NAN,
+                        min: f64::INFINITY,
+                        argmin: f64::NAN,
+                    }
+                } else {
+                    let v = c.dot(start);
+                    Extrema {
+                        max: v,
+                        argmax: 0.0,
+                        min: v,
+                        argmin: 0.0,
+                    }
                 }
             })
             .collect();
@@ -219,11 +263,12 @@ impl ForcedFlow {
         let mut poly = [0.0; TAYLOR_DEGREE + 1];
         for piece in 0..pieces {
             let t0 = piece as f64 * h;
-            for (row, ext) in rows.iter().zip(found.iter_mut()) {
+            for (i, (row, ext)) in rows.iter().zip(found.iter_mut()).enumerate() {
                 for (pk, rk) in poly.iter_mut().zip(row.iter()) {
                     *pk = rk.dot(&z);
                 }
-                polynomial_extrema(&poly, ext, t0, h);
+                let critical_only = critical.get(i).copied().unwrap_or(false);
+                polynomial_extrema(&poly, ext, t0, h, critical_only);
             }
             z = step * z;
         }
@@ -298,7 +343,9 @@ fn horner(q: &[f64], s: f64) -> (f64, f64, f64) {
 /// of `q'` when `|q'(m)| > w · max|q''|`, and at most one when `|q''(m)| > w · max|q'''|`
 /// (then a sign change brackets it and safeguarded Newton polishes it); intervals whose value
 /// bound cannot beat the extrema found so far are dropped.
-fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64) {
+///
+/// With `critical_only`, the piece's ends are not candidates: only roots of `q'`.
+fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64, critical_only: bool) {
     let update = |ext: &mut Extrema, s: f64, v: f64| {
         if v > ext.max {
             ext.max = v;
@@ -323,8 +370,10 @@ fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64) {
     if q[0] + spread <= ext.max + tol && q[0] - spread >= ext.min - tol {
         return;
     }
-    update(ext, 0.0, q[0]);
-    update(ext, 1.0, horner(q, 1.0).0);
+    if !critical_only {
+        update(ext, 0.0, q[0]);
+        update(ext, 1.0, horner(q, 1.0).0);
+    }
     let (mut m2, mut m3) = (0.0, 0.0);
     for (k, c) in q.iter().enumerate() {
         let k = k as f64;
@@ -409,7 +458,7 @@ mod tests {
             min: f64::INFINITY,
             argmin: 0.0,
         };
-        polynomial_extrema(&q, &mut e, 10.0, 2.0);
+        polynomial_extrema(&q, &mut e, 10.0, 2.0, false);
         assert!(e.max.abs() < 1e-15, "max {}", e.max);
         assert!((e.argmax - 10.6).abs() < 1e-9, "at {}", e.argmax);
         assert!((e.min - (-0.49 + 1e-3 * 0.7f64.powi(4))).abs() < 1e-15);

@@ -13,6 +13,10 @@
 //!   forcing periods) by the Nigm–Shabana method with Newton on exact derivatives, found by
 //!   a systematic multi-start ([`signature_orbits`]) or from a guess ([`solve_signature`]),
 //!   with viability, Floquet multipliers and the cycle's energy balance;
+//! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
+//!   ([`continue_orbit`]) through folds, with exact derivatives in `ω`, the bifurcation events
+//!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
+//!   impact) located to `1e-8` in `ω`, and the branches that leave at them;
 //! - for every orbit ([`orbit::Orbit`]): the outer amplitude from rigorous extrema, viability
 //!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
 //!   from the monodromy matrix with saltation matrices.
@@ -21,6 +25,7 @@
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
 #![deny(missing_docs)]
 
+pub mod continuation;
 pub mod cycle;
 pub mod family;
 pub mod flow;
@@ -31,6 +36,10 @@ pub mod symmetric;
 pub mod test_models;
 pub mod unit;
 
+pub use continuation::{
+    continue_orbit, Branch, BranchEnd, Continuation, ContinuationError, ContinuationPoint,
+    ContinuationSettings, EndReason, Event, EventKind,
+};
 pub use cycle::{
     signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
 };
