@@ -67,8 +67,6 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
     let lap = |what: &str| eprintln!("{what}: {:.1} s", start.elapsed().as_secs_f64());
     let options = SimulationOptions {
         max_periods: STUDY_MAX_PERIODS,
-        // Nothing the study shows uses the simulator's polished cycle yet.
-        polish: false,
         ..SimulationOptions::default()
     };
     eprintln!(

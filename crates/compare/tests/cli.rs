@@ -343,3 +343,163 @@ fn compare_agrees_on_a_four_impact_orbit_and_names_what_it_cannot_compare() {
     assert_eq!(doc["class"], "beyond", "{doc:#}");
     assert!(doc["class_detail"].as_str().unwrap().contains("sticking"));
 }
+
+#[test]
+fn continue_json_follows_the_branches_and_locates_the_branch_point() {
+    // The symmetric `+-` orbits of the paper scene at ω = 3 continued over [2.7, 3.1]: the
+    // asymmetric pair β, 1 − β leaves the symmetric branch where Δ*(½) = Δ (Nigm–Shabana's
+    // family, computed here on its own by bisection), and the command follows it.
+    let doc = json(&[
+        "continue",
+        "--signature",
+        "+-",
+        "--omega",
+        "3",
+        "--omega-min",
+        "2.7",
+        "--omega-max",
+        "3.1",
+        "--json",
+    ]);
+    assert_eq!(doc["signature"], "+-");
+    assert_eq!(doc["period"], 1);
+    let points = doc["points"].as_array().unwrap();
+    assert!(points.len() > 10);
+    for p in points {
+        for key in [
+            "branch",
+            "omega",
+            "outer_amplitude",
+            "transmittance_db",
+            "stable",
+            "viable",
+            "floquet_multipliers",
+        ] {
+            assert!(p.get(key).is_some(), "point lacks {key}");
+        }
+        let w = p["omega"].as_f64().unwrap();
+        assert!((2.7 - 1e-12..=3.1 + 1e-12).contains(&w), "{w}");
+    }
+    let kinds = [
+        "fold",
+        "branch-point",
+        "period-doubling",
+        "neimark-sacker",
+        "grazing",
+        "vanishing-impact",
+    ];
+    let events = doc["events"].as_array().unwrap();
+    for e in events {
+        assert!(kinds.contains(&e["kind"].as_str().unwrap()), "{e}");
+        assert!(e["branch"].as_u64().is_some() && e["omega"].is_number());
+    }
+    let scene = rattle_compare::scene::Scene::paper();
+    let (unit, stops) = (scene.unit_model(), scene.stops_model().unwrap());
+    let excess = |w: f64| {
+        rattle_analytic::gap_for_beta(&unit, stops.restitution, w, 0.5)
+            .unwrap()
+            .gap
+            - stops.gap
+    };
+    let (mut lo, mut hi) = (2.8, 3.0);
+    assert!(excess(lo) * excess(hi) < 0.0);
+    for _ in 0..60 {
+        let mid = 0.5 * (lo + hi);
+        if excess(lo) * excess(mid) <= 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let branch_point = events
+        .iter()
+        .find(|e| e["kind"] == "branch-point" && e["branch"] == 0)
+        .expect("a branch point on the symmetric branch");
+    assert!(
+        (branch_point["omega"].as_f64().unwrap() - 0.5 * (lo + hi)).abs() < 1e-8,
+        "{branch_point} vs {}",
+        0.5 * (lo + hi)
+    );
+    let branches = doc["branches"].as_array().unwrap();
+    assert!(branches.len() >= 2, "the asymmetric branch is followed too");
+    let ends = doc["ends"].as_array().unwrap();
+    assert!(!ends.is_empty());
+    for e in ends {
+        assert!(e["reason"].is_string() && e["branch"].as_u64().is_some());
+    }
+}
+
+#[test]
+fn bad_continuation_arguments_exit_2_and_name_the_field() {
+    let base = [
+        "continue",
+        "--omega",
+        "3",
+        "--omega-min",
+        "2.7",
+        "--omega-max",
+        "3.1",
+    ];
+    for (extra, field) in [
+        (vec!["--signature", "+x"], "--signature"),
+        (vec!["--signature", "+-", "--period", "0"], "--period"),
+        (vec!["--signature", "+-", "--orbit", "99"], "--orbit"),
+        (vec!["--signature", "+-", "--max-step", "0"], "--max-step"),
+        (
+            vec!["--signature", "+-", "--max-branches", "0"],
+            "--max-branches",
+        ),
+    ] {
+        let mut all: Vec<&str> = base.to_vec();
+        all.extend(extra.iter().copied());
+        let out = rattle(&all);
+        assert_eq!(out.status.code(), Some(2), "{all:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(field), "{all:?}: {stderr}");
+    }
+    let out = rattle(&[
+        "continue",
+        "--signature",
+        "+-",
+        "--omega",
+        "5",
+        "--omega-min",
+        "2.7",
+        "--omega-max",
+        "3.1",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--omega"));
+}
+
+#[test]
+fn continue_writes_the_points_as_csv() {
+    let path = std::env::temp_dir().join(format!("rattle-continue-{}.csv", std::process::id()));
+    let out = rattle(&[
+        "continue",
+        "--signature",
+        "+-",
+        "--omega",
+        "3",
+        "--omega-min",
+        "2.95",
+        "--omega-max",
+        "3.05",
+        "--no-switch",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let _ = std::fs::remove_file(&path);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "branch,signature,period,omega,alpha,outer_amplitude,transmittance_db,stable,viable,largest_multiplier"
+    );
+    assert!(lines.count() > 5);
+}

@@ -4,6 +4,7 @@
 //! explanation, 2 bad input (arguments or scene).
 
 pub mod compare;
+pub mod continuation;
 pub mod family;
 pub mod map;
 pub mod merge;
@@ -47,6 +48,10 @@ pub enum Command {
     /// signature: the simulator from rest with its own Newton-polished cycle, the analytic
     /// orbit of that signature solved from the simulated impact phases, and the verdict.
     Compare(compare::CompareArgs),
+    /// Pseudo-arclength continuation in ω of every orbit of an impact signature found at one
+    /// frequency, through folds, with its bifurcations (fold, branch point, period doubling,
+    /// Neimark–Sacker, grazing, vanishing impact) and the branches they lead onto.
+    Continue(continuation::ContinueArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
     /// JSON Lines file as it runs.
     Sweep(sweep::SweepArgs),
@@ -96,6 +101,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Family(args) => family::run(args),
         Command::Simulate(args) => simulate::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Continue(args) => continuation::run(args),
         Command::Sweep(args) => sweep::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Map(args) => map::run(args),

@@ -9,7 +9,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 /// Differences below this are drawn at it (an exact zero has no place on a log axis).
-const FLOOR: f64 = 1e-16;
+const FLOOR: f64 = 1e-19;
 
 fn class_colour(class: &Class) -> RGBColor {
     match class {
@@ -22,10 +22,10 @@ fn class_colour(class: &Class) -> RGBColor {
 
 fn class_row(class: &Class) -> f64 {
     match class {
-        Class::Agreement => 3e-16,
-        Class::Coexistence => 1e-15,
-        Class::Beyond(_) => 3e-15,
-        Class::Contradiction(_) => 1e-14,
+        Class::Agreement => 3e-19,
+        Class::Coexistence => 1e-18,
+        Class::Beyond(_) => 3e-18,
+        Class::Contradiction(_) => 1e-17,
     }
 }
 
@@ -91,51 +91,65 @@ impl Figure for Agreement {
                     RGBColor(120, 120, 120).stroke_width(2),
                 )
             });
-        let mut signatures: Vec<String> = Vec::new();
+        // The most frequent signatures get their own colour; the rest share the last.
+        let mut counts: Vec<(String, usize)> = Vec::new();
         for p in self.points.iter().filter(|p| p.class == Class::Agreement) {
             let sig = p.signature.clone().unwrap_or_else(|| "linear".to_owned());
-            if !signatures.contains(&sig) {
-                signatures.push(sig);
+            match counts.iter_mut().find(|(k, _)| *k == sig) {
+                Some((_, n)) => *n += 1,
+                None => counts.push((sig, 1)),
             }
         }
-        for (k, sig) in signatures.iter().enumerate() {
-            let colour = SIGNATURE_COLOURS[k % SIGNATURE_COLOURS.len()];
-            let of_sig: Vec<_> = self
-                .points
+        counts.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        let named = SIGNATURE_COLOURS.len() - 1;
+        let colour = |sig: &str| {
+            counts
                 .iter()
-                .filter(|p| p.class == Class::Agreement)
-                .filter(|p| p.signature.as_deref().unwrap_or("linear") == sig)
-                .collect();
-            let state: Vec<(f64, f64)> = of_sig
-                .iter()
-                .filter_map(|p| p.relative_difference.map(|d| (p.omega, d.max(FLOOR))))
-                .collect();
-            let multipliers: Vec<(f64, f64)> = of_sig
-                .iter()
-                .filter_map(|p| p.multiplier_difference.map(|d| (p.omega, d.max(FLOOR))))
-                .collect();
+                .take(named)
+                .position(|(s, _)| s == sig)
+                .map_or(SIGNATURE_COLOURS[named], |k| SIGNATURE_COLOURS[k])
+        };
+        let agreeing: Vec<_> = self
+            .points
+            .iter()
+            .filter(|p| p.class == Class::Agreement)
+            .map(|p| (p, colour(p.signature.as_deref().unwrap_or("linear"))))
+            .collect();
+        chart
+            .draw_series(agreeing.iter().filter_map(|(p, c)| {
+                p.relative_difference
+                    .map(|d| Circle::new((p.omega, d.max(FLOOR)), 4, c.filled()))
+            }))
+            .map_err(err)?
+            .label("orbit difference (state, impact phases, base phase)")
+            .legend(|(x, y)| Circle::new((x + 10, y), 4, BLACK.filled()));
+        chart
+            .draw_series(agreeing.iter().filter_map(|(p, c)| {
+                p.multiplier_difference
+                    .map(|d| TriangleMarker::new((p.omega, d.max(FLOOR)), 5, c.stroke_width(2)))
+            }))
+            .map_err(err)?
+            .label("Floquet multiplier difference")
+            .legend(|(x, y)| TriangleMarker::new((x + 10, y), 5, BLACK.stroke_width(2)));
+        for (k, (sig, n)) in counts.iter().take(named).enumerate() {
+            let c = SIGNATURE_COLOURS[k];
             chart
-                .draw_series(
-                    state
-                        .iter()
-                        .map(|&(w, d)| Circle::new((w, d), 4, colour.filled())),
-                )
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
                 .map_err(err)?
-                .label(format!("{sig}: orbit difference ({} points)", of_sig.len()))
-                .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
-            if !multipliers.is_empty() {
-                chart
-                    .draw_series(
-                        multipliers
-                            .iter()
-                            .map(|&(w, d)| TriangleMarker::new((w, d), 5, colour.stroke_width(2))),
-                    )
-                    .map_err(err)?
-                    .label(format!("{sig}: multiplier difference"))
-                    .legend(move |(x, y)| {
-                        TriangleMarker::new((x + 10, y), 5, colour.stroke_width(2))
-                    });
-            }
+                .label(format!("signature {sig}: {n} points"))
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
+        }
+        if counts.len() > named {
+            let rest: usize = counts.iter().skip(named).map(|(_, n)| n).sum();
+            let c = SIGNATURE_COLOURS[named];
+            chart
+                .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+                .map_err(err)?
+                .label(format!(
+                    "{} other signatures: {rest} points",
+                    counts.len() - named
+                ))
+                .legend(move |(x, y)| Rectangle::new([(x, y - 5), (x + 12, y + 5)], c.filled()));
         }
         let names = [
             (Class::Agreement, "class: agreement"),

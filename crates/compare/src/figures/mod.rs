@@ -5,6 +5,7 @@ pub mod agreement;
 pub mod bandwidth_map;
 pub mod beta_family;
 pub mod bifurcation;
+pub mod frequency_response;
 pub mod impact_time_response;
 pub mod linear_time_response;
 pub mod plot;
@@ -27,6 +28,7 @@ pub fn draw(plots: &Plots, dir: &Path) -> Result<Vec<PathBuf>, PlotError> {
     written.extend(save(&plots.impact_time_response, dir)?);
     written.extend(save(&plots.transmittance, dir)?);
     written.extend(save(&plots.agreement, dir)?);
+    written.extend(save(&plots.frequency_response, dir)?);
     written.extend(save(&plots.beta_family, dir)?);
     written.extend(save(&plots.bifurcation, dir)?);
     if let Some((bandwidth, regimes)) = &plots.maps {

@@ -453,3 +453,113 @@ pub struct ConfirmationRecord {
     /// Why Newton failed, if it did.
     pub error: Option<String>,
 }
+
+/// One point of a continued branch (`rattle continue --json`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContinuationPointRecord {
+    /// Index of its branch in `branches`.
+    pub branch: usize,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// Base phase at the first canonical impact, rad.
+    pub alpha: Option<f64>,
+    /// Impact times as fractions of the cycle.
+    pub impact_phases: Vec<Option<f64>>,
+    /// `X_o`, m.
+    pub outer_amplitude: Option<f64>,
+    /// `T`, dB.
+    pub transmittance_db: Option<f64>,
+    /// Every Floquet multiplier inside the unit circle.
+    pub stable: bool,
+    /// No penetration, every impact from inside, no extra impact.
+    pub viable: bool,
+    /// Floquet multipliers `[re, im]`.
+    pub floquet_multipliers: Vec<[Option<f64>; 2]>,
+}
+
+impl ContinuationPointRecord {
+    /// The record of `p`.
+    pub fn new(p: &rattle_analytic::continuation::ContinuationPoint) -> Self {
+        Self {
+            branch: p.branch,
+            omega: finite(p.omega),
+            alpha: finite(p.alpha),
+            impact_phases: p.impact_phases.iter().map(|&x| finite(x)).collect(),
+            outer_amplitude: finite(p.outer_amplitude),
+            transmittance_db: finite(p.transmittance_db),
+            stable: p.stable,
+            viable: p.viable,
+            floquet_multipliers: multipliers(&p.floquet_multipliers),
+        }
+    }
+}
+
+/// A branch of a continuation: its signature and where it came from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BranchRecord {
+    /// Its index.
+    pub branch: usize,
+    /// Its canonical signature.
+    pub signature: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// The event it was switched onto at, if any (index into `events`).
+    pub from_event: Option<usize>,
+    /// Its number of points.
+    pub points: usize,
+}
+
+/// A bifurcation or signature change on a branch.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EventRecord {
+    /// The branch it lies on.
+    pub branch: usize,
+    /// `fold`, `branch-point`, `period-doubling`, `neimark-sacker`, `grazing` or
+    /// `vanishing-impact`.
+    pub kind: &'static str,
+    /// Angular frequency, rad/s (located to 1e-8).
+    pub omega: Option<f64>,
+    /// The signature of the branch switched onto, where there is one.
+    pub signature_after: Option<String>,
+    /// Its period.
+    pub period_after: Option<u32>,
+    /// `X_o` at the event, m.
+    pub outer_amplitude: Option<f64>,
+}
+
+/// How a branch ends.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EndRecord {
+    /// The branch.
+    pub branch: usize,
+    /// Angular frequency of its last point, rad/s.
+    pub omega: Option<f64>,
+    /// Why it ends (`omega-min`, `omega-max`, `step-below-minimum`, `point-cap`,
+    /// `flight-merged`, `vanishing-impact`, `newton-failed`, `closed-loop`).
+    pub reason: &'static str,
+}
+
+/// `rattle continue --json`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ContinuationRecord {
+    /// Scene name.
+    pub scene: String,
+    /// The signature asked for, canonical.
+    pub signature: String,
+    /// Its period.
+    pub period: u32,
+    /// The start frequency, rad/s.
+    pub omega_start: Option<f64>,
+    /// Orbits of the signature found at the start frequency.
+    pub start_orbits: usize,
+    /// Which of them were followed (the others lie on a branch already followed).
+    pub followed_starts: Vec<usize>,
+    /// Every branch followed, including those switched onto.
+    pub branches: Vec<BranchRecord>,
+    /// Every point of every branch, branch by branch, in the order followed.
+    pub points: Vec<ContinuationPointRecord>,
+    /// Every event.
+    pub events: Vec<EventRecord>,
+    /// Every end.
+    pub ends: Vec<EndRecord>,
+}

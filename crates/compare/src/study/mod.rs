@@ -7,18 +7,22 @@ pub mod plots;
 pub mod report;
 
 use crate::runs::axis::Axis;
+use crate::runs::continuation::Branches;
 use crate::runs::map::{Map, MapGrid, MapSettings};
 use crate::runs::parallel::{parallel_map, Grain, Progress};
+use crate::scene::analytic::orbits_of_signature;
 use crate::scene::analytic::{analyse, AnalyticPoint, OrbitSearch};
 use crate::scene::simulator::{run, start_on_orbit, Regime, SimulatedPoint, START_PERTURBATION};
 use crate::scene::{DampingSpec, Scene, StopsSpec};
 use crate::verdict::{compare, ComparedPoint, Starts, MATCH_TOLERANCE};
 use plots::{
     linear_samples, orbit_samples, stroboscopic_outer, Agreement, AgreementPoint, BandwidthMap,
-    BetaFamily, Bifurcation, Confirmation, ImpactRow, ImpactTimeResponse, LinearPanel,
-    LinearTimeResponse, Member, Plots, RegimeMap, Samples, Transmittance,
+    BetaFamily, Bifurcation, Confirmation, FrequencyResponse, ImpactRow, ImpactTimeResponse,
+    LinearPanel, LinearTimeResponse, Member, Plots, RegimeMap, Samples, Transmittance,
 };
+use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::gap_for_beta;
+use rattle_analytic::{Signature, SignatureOrbit};
 use rattle_event_driven::{SimulationOptions, Start};
 
 /// Sizes of the study; [`StudySize::full`] for the committed figures, [`StudySize::quick`] for
@@ -39,6 +43,8 @@ pub struct StudySize {
     pub beta_points: usize,
     /// Whether the compared sweep also starts the simulator on every viable orbit.
     pub start_on_orbits: bool,
+    /// Whether to continue the branches of the frequency response.
+    pub continuation: bool,
 }
 
 impl StudySize {
@@ -52,11 +58,12 @@ impl StudySize {
             bifurcation_points: 200,
             beta_points: 197,
             start_on_orbits: true,
+            continuation: true,
         }
     }
 
-    /// Half the compared frequencies, without the bifurcation sweeps, the family and the starts
-    /// on the orbits: what a second reading of the scene needs for the report (bands,
+    /// Half the compared frequencies, without the bifurcation sweeps, the family, the starts
+    /// on the orbits and the continuation: what a second reading of the scene needs for the report (bands,
     /// Figure 4).
     pub fn without_extras(self) -> Self {
         Self {
@@ -64,6 +71,7 @@ impl StudySize {
             bifurcation_points: 0,
             beta_points: 0,
             start_on_orbits: false,
+            continuation: false,
             ..self
         }
     }
@@ -78,6 +86,7 @@ impl StudySize {
             bifurcation_points: 12,
             beta_points: 20,
             start_on_orbits: true,
+            continuation: true,
         }
     }
 }
@@ -112,6 +121,65 @@ pub struct Study {
     pub family: Vec<FamilyCurve>,
     /// Simulated checks of stable viable family members.
     pub confirmations: Vec<Confirmation>,
+    /// Branches continued in ω from the symmetric two-impact orbits and from the analytic orbit
+    /// of every periodic simulated motion of the compared sweep.
+    pub branches: Branches,
+}
+
+/// Frequencies at which the `+-` orbits seed the study's continuation: one in each region of
+/// the paper unit's axis (below ω₁, between the modes, around the anti-resonance, above ω₂).
+pub const TWO_IMPACT_SEEDS: [f64; 4] = [0.5, 1.5, 2.2, 3.0];
+
+/// The study's continuation settings within `[omega_min, omega_max]`: at most
+/// [`STUDY_BRANCHES`] branches of [`STUDY_BRANCH_POINTS`] points from each seed, so that
+/// the period-doubling cascades of the paper unit (each doubling a branch of twice the
+/// impacts) do not dominate `cargo xtask figures`.
+pub fn study_continuation(omega_min: f64, omega_max: f64) -> ContinuationSettings {
+    ContinuationSettings {
+        max_branches: STUDY_BRANCHES,
+        max_points_per_branch: STUDY_BRANCH_POINTS,
+        ..ContinuationSettings::new(omega_min, omega_max)
+    }
+}
+
+/// Branches followed from each seed of the study (the seed's own, then switches).
+pub const STUDY_BRANCHES: usize = 4;
+/// Points per branch in the study (both directions together).
+pub const STUDY_BRANCH_POINTS: usize = 1500;
+
+/// Every branch through the seeds: the `+-` orbits at [`TWO_IMPACT_SEEDS`], then the viable
+/// analytic orbit of each periodic simulated motion of `compared`, each skipped when a branch
+/// already followed passes through it. Seeds the continuation refuses are skipped.
+fn branches(scene: &Scene, size: &StudySize, compared: &[ComparedPoint]) -> Branches {
+    let mut out = Branches::default();
+    let (Some(stops), true) = (scene.stops_model(), size.continuation) else {
+        return out;
+    };
+    let unit = scene.unit_model();
+    let settings = study_continuation(size.omega_min, size.omega_max);
+    let two_impact = Signature::parse("+-", 1).ok();
+    let mut seeds: Vec<SignatureOrbit> = TWO_IMPACT_SEEDS
+        .iter()
+        .filter(|&&w| w >= size.omega_min && w <= size.omega_max)
+        .flat_map(|&w| {
+            two_impact
+                .as_ref()
+                .map(|sig| orbits_of_signature(scene, w, sig))
+                .unwrap_or_default()
+        })
+        .filter(|o| o.viable)
+        .collect();
+    seeds.extend(
+        compared
+            .iter()
+            .filter_map(|p| p.cross.analytic.clone())
+            .filter(|o| o.viable),
+    );
+    for seed in &seeds {
+        // A refused seed (Newton fails to restart it) leaves the other seeds' branches.
+        let _ = out.extend(&unit, &stops, seed, &settings);
+    }
+    out
 }
 
 impl Study {
@@ -176,6 +244,8 @@ impl Study {
             None => (Vec::new(), Vec::new()),
         };
         lap("family");
+        let branches = branches(scene, &size, &compared);
+        lap("continuation");
         Study {
             scene: scene.clone(),
             size,
@@ -186,6 +256,7 @@ impl Study {
             bifurcation_down,
             family,
             confirmations,
+            branches,
         }
     }
 
@@ -418,6 +489,12 @@ impl Study {
                 claimed_bands,
                 claimed_marks,
             },
+            frequency_response: FrequencyResponse::new(
+                &name,
+                &self.analytic,
+                &self.branches,
+                &self.compared,
+            ),
             agreement: Agreement {
                 scene_name: name.clone(),
                 points: self.compared.iter().map(AgreementPoint::of).collect(),

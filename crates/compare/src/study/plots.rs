@@ -113,6 +113,101 @@ pub struct Agreement {
     pub tolerance: f64,
 }
 
+/// The paper's Figure 5 done completely: the linear curve, every continued branch (viable
+/// stretches, stable or not) coloured by signature, the bifurcation events, and the simulated
+/// points from rest.
+#[derive(Debug, Clone)]
+pub struct FrequencyResponse {
+    /// Scene name, for the title.
+    pub scene_name: String,
+    /// `(ω, T)` of the linear steady state.
+    pub linear: Vec<(f64, f64)>,
+    /// Every viable stretch of every branch.
+    pub stretches: Vec<Stretch>,
+    /// Every event on a viable point: `(ω, T, kind)`.
+    pub events: Vec<(f64, f64, &'static str)>,
+    /// The simulated steady states from rest: `(ω, T, signature)` (`None` when not periodic
+    /// with impacts).
+    pub simulated: Vec<(f64, f64, Option<String>)>,
+}
+
+/// Consecutive viable points of one branch with one stability.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stretch {
+    /// The branch's canonical signature.
+    pub signature: String,
+    /// Whether every point of the stretch is stable.
+    pub stable: bool,
+    /// `(ω, T)`.
+    pub points: Vec<(f64, f64)>,
+}
+
+impl FrequencyResponse {
+    /// The figure's data from the study's branches, analytic grid and compared sweep.
+    pub fn new(
+        scene_name: &str,
+        analytic: &[AnalyticPoint],
+        branches: &crate::runs::continuation::Branches,
+        compared: &[ComparedPoint],
+    ) -> Self {
+        let mut stretches: Vec<Stretch> = Vec::new();
+        for b in &branches.branches {
+            let signature = b.signature.to_string();
+            let mut current: Option<Stretch> = None;
+            for p in &b.points {
+                let keep = p.viable && p.transmittance_db.is_finite();
+                match (&mut current, keep) {
+                    (Some(s), true) if s.stable == p.stable => {
+                        s.points.push((p.omega, p.transmittance_db))
+                    }
+                    (_, true) => {
+                        // A change of stability: the new stretch starts where the old ends.
+                        let mut points = Vec::new();
+                        if let Some(s) = current.take() {
+                            points.extend(s.points.last().copied());
+                            stretches.push(s);
+                        }
+                        points.push((p.omega, p.transmittance_db));
+                        current = Some(Stretch {
+                            signature: signature.clone(),
+                            stable: p.stable,
+                            points,
+                        });
+                    }
+                    (_, false) => stretches.extend(current.take()),
+                }
+            }
+            stretches.extend(current);
+        }
+        Self {
+            scene_name: scene_name.to_owned(),
+            linear: analytic
+                .iter()
+                .filter(|p| p.linear.transmittance_db.is_finite())
+                .map(|p| (p.omega, p.linear.transmittance_db))
+                .collect(),
+            stretches,
+            events: branches
+                .events
+                .iter()
+                .filter(|e| e.point.viable && e.point.transmittance_db.is_finite())
+                .map(|e| (e.omega, e.point.transmittance_db, e.kind.name()))
+                .collect(),
+            simulated: compared
+                .iter()
+                .filter_map(|p| {
+                    let t = p.from_rest.transmittance_db?;
+                    Some((
+                        p.analytic.omega,
+                        t,
+                        p.cross.signature.as_ref().map(|s| s.to_string()),
+                    ))
+                })
+                .collect(),
+        }
+    }
+}
+
 /// One frequency of [`Agreement`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct AgreementPoint {
@@ -389,6 +484,8 @@ pub struct Plots {
     pub transmittance: Transmittance,
     /// Agreement.
     pub agreement: Agreement,
+    /// The complete frequency response (continued branches).
+    pub frequency_response: FrequencyResponse,
     /// The β family.
     pub beta_family: BetaFamily,
     /// Bifurcation sweeps.

@@ -352,17 +352,26 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str) -> String {
         r,
         "Consecutive frequencies where the unit, from rest, takes the same motion. \"exists\" lists the analytic motions \
          found at those frequencies: symmetric two-impact orbits (viable, and of those stable) and the linear motion \
-         clear of the stops; \"analytic orbit\" the orbit of the simulated signature solved by the analytic crate.\n"
+         clear of the stops; \"stable viable branches\" the signatures of the branches continued in ω (from the `+-` orbits and \
+         from every periodic simulated motion, see figures/frequency-response) that have a stable viable orbit in the band; \
+         \"analytic orbit\" the orbit of the simulated signature solved by the analytic crate.\n"
     );
     let _ = writeln!(
         r,
-        "| ω (rad/s) | points | the unit takes (from rest) | class | exists (analytic) | analytic orbit of that signature |\n| --- | --- | --- | --- | --- | --- |"
+        "| ω (rad/s) | points | the unit takes (from rest) | class | exists (analytic, at the swept frequencies) | stable viable branches (continuation) | analytic orbit of that signature |\n| --- | --- | --- | --- | --- | --- | --- |"
     );
     for b in motion_bands(main) {
         let _ = writeln!(
             r,
-            "| {:.3}–{:.3} | {} | {} | {} | {} | {} |",
-            b.omega_min, b.omega_max, b.points, b.taken, b.classes, b.exists, b.analytic
+            "| {:.3}–{:.3} | {} | {} | {} | {} | {} | {} |",
+            b.omega_min,
+            b.omega_max,
+            b.points,
+            b.taken,
+            b.classes,
+            b.exists,
+            b.stable_branches,
+            b.analytic
         );
     }
     r
@@ -385,6 +394,8 @@ pub struct MotionBand {
     pub exists: String,
     /// What the analytic orbit of the simulated signature is at those frequencies.
     pub analytic: String,
+    /// The signatures of the continued branches with a stable viable point in the band.
+    pub stable_branches: String,
 }
 
 /// The motion from rest at `p`, in words.
@@ -396,6 +407,10 @@ fn motion_taken(p: &ComparedPoint) -> String {
         (None, rattle_event_driven::Status::Periodic, _) if steady.cycle_impacts.is_empty() => {
             "linear motion (no impacts)".to_owned()
         }
+        (None, rattle_event_driven::Status::Periodic, _) => format!(
+            "periodic, {} impacts per period (more than a signature holds)",
+            steady.impacts_per_period
+        ),
         _ => p.from_rest.status_name(),
     }
 }
@@ -463,9 +478,30 @@ pub fn motion_bands(study: &Study) -> Vec<MotionBand> {
                     None => format!("`{sig}` not found"),
                 })
             }));
+            let omega_min = pts.first().map_or(f64::NAN, |p| p.analytic.omega);
+            let omega_max = pts.last().map_or(f64::NAN, |p| p.analytic.omega);
+            let mut stable: Vec<String> = study
+                .branches
+                .branches
+                .iter()
+                .filter(|b| {
+                    b.points.iter().any(|p| {
+                        p.stable && p.viable && p.omega >= omega_min && p.omega <= omega_max
+                    })
+                })
+                .map(|b| format!("`{}`", b.signature))
+                .collect();
+            stable.dedup();
+            stable.sort();
+            stable.dedup();
             MotionBand {
-                omega_min: pts.first().map_or(f64::NAN, |p| p.analytic.omega),
-                omega_max: pts.last().map_or(f64::NAN, |p| p.analytic.omega),
+                omega_min,
+                omega_max,
+                stable_branches: if stable.is_empty() {
+                    "—".to_owned()
+                } else {
+                    stable.join(", ")
+                },
                 points: pts.len(),
                 classes: tally(pts.iter().map(|p| p.class.name().to_owned())),
                 taken,

@@ -1,0 +1,259 @@
+//! Continuation in ω of every orbit of a signature found at one frequency: the branches, their
+//! bifurcation events and ends, numbered across starts.
+
+use crate::output::finite;
+use crate::output::records::{
+    BranchRecord, ContinuationPointRecord, ContinuationRecord, EndRecord, EventRecord,
+};
+use crate::scene::analytic::orbits_of_signature;
+use crate::scene::Scene;
+use rattle_analytic::continuation::{
+    continue_orbit, Branch, BranchEnd, ContinuationError, ContinuationSettings, Event,
+};
+use rattle_analytic::{Signature, SignatureOrbit};
+use std::f64::consts::PI;
+use thiserror::Error;
+
+/// A start orbit lies on a branch already followed when, interpolated to the start's
+/// frequency, the branch's base phase (over π) and impact phases are this close: far above the
+/// corrector's tolerance (1e-10), far below the distance of two distinct orbits of the unit
+/// at one frequency (measured ≥ 1e-2 on the paper unit).
+pub const SAME_BRANCH: f64 = 1e-5;
+
+/// Every branch followed from the orbits of a signature at one frequency.
+#[derive(Debug, Clone)]
+pub struct Followed {
+    /// The signature asked for, canonical.
+    pub signature: Signature,
+    /// The frequency of the start orbits, rad/s.
+    pub omega_start: f64,
+    /// The orbits found at `omega_start` (all of them, viable or not).
+    pub start_orbits: Vec<SignatureOrbit>,
+    /// Indices into `start_orbits` of the orbits followed; the others lie on a branch already
+    /// followed.
+    pub followed_starts: Vec<usize>,
+    /// Every branch, event and end, numbered across starts.
+    pub branches: Branches,
+}
+
+/// Why no continuation could be run.
+#[derive(Debug, Error)]
+pub enum FollowError {
+    /// The scene has no stops: there is no impacting orbit to follow.
+    #[error("the scene has no stops: there is no impacting orbit to follow")]
+    NoStops,
+    /// No orbit of the signature at the start frequency.
+    #[error("no {signature} orbit over {period} period(s) at ω = {omega}: nothing to follow (try `rattle orbit --signature`)")]
+    NoOrbit {
+        /// The signature.
+        signature: String,
+        /// Its period.
+        period: u32,
+        /// The start frequency.
+        omega: f64,
+    },
+    /// `--orbit K` beyond the orbits found.
+    #[error(
+        "--orbit = {asked} is out of range: {found} orbit(s) found at ω = {omega}, numbered from 0"
+    )]
+    OrbitIndex {
+        /// The index asked for.
+        asked: usize,
+        /// How many were found.
+        found: usize,
+        /// The start frequency.
+        omega: f64,
+    },
+    /// The analytic continuation refused its settings or start.
+    #[error("{0}")]
+    Continuation(#[from] ContinuationError),
+}
+
+/// Follows every orbit of `signature` at `omega_start` (or only the `orbit`-th) within the
+/// settings' frequency range, both directions, switching branches as the settings say.
+///
+/// # Errors
+/// See [`FollowError`].
+pub fn follow(
+    scene: &Scene,
+    signature: &Signature,
+    omega_start: f64,
+    orbit: Option<usize>,
+    settings: &ContinuationSettings,
+) -> Result<Followed, FollowError> {
+    settings.validate()?;
+    let stops = scene.stops_model().ok_or(FollowError::NoStops)?;
+    let unit = scene.unit_model();
+    let start_orbits = orbits_of_signature(scene, omega_start, signature);
+    if start_orbits.is_empty() {
+        return Err(FollowError::NoOrbit {
+            signature: signature.to_string(),
+            period: signature.period(),
+            omega: omega_start,
+        });
+    }
+    let chosen: Vec<usize> = match orbit {
+        Some(k) if k >= start_orbits.len() => {
+            return Err(FollowError::OrbitIndex {
+                asked: k,
+                found: start_orbits.len(),
+                omega: omega_start,
+            })
+        }
+        Some(k) => vec![k],
+        None => (0..start_orbits.len()).collect(),
+    };
+    let mut out = Followed {
+        signature: signature.clone(),
+        omega_start,
+        start_orbits: Vec::new(),
+        followed_starts: Vec::new(),
+        branches: Branches::default(),
+    };
+    for k in chosen {
+        if out
+            .branches
+            .extend(&unit, &stops, &start_orbits[k], settings)?
+        {
+            out.followed_starts.push(k);
+        }
+    }
+    out.start_orbits = start_orbits;
+    Ok(out)
+}
+
+/// Branches, events and ends numbered across continuations from several starts.
+#[derive(Debug, Clone, Default)]
+pub struct Branches {
+    /// Every branch (`Branch::index` is the position here).
+    pub branches: Vec<Branch>,
+    /// Every event; `Event::branch` indexes `branches`.
+    pub events: Vec<Event>,
+    /// How each branch ends (one entry per end of each branch).
+    pub ends: Vec<BranchEnd>,
+}
+
+impl Branches {
+    /// Follows `start` unless a branch already followed passes through it; returns whether it
+    /// was followed.
+    ///
+    /// # Errors
+    /// The continuation's refusal of its settings or start.
+    pub fn extend(
+        &mut self,
+        unit: &rattle_analytic::Unit,
+        stops: &rattle_analytic::Stops,
+        start: &SignatureOrbit,
+        settings: &ContinuationSettings,
+    ) -> Result<bool, ContinuationError> {
+        if self.branches.iter().any(|b| passes_through(b, start)) {
+            return Ok(false);
+        }
+        let c = continue_orbit(unit, stops, start, settings)?;
+        let (branch_offset, event_offset) = (self.branches.len(), self.events.len());
+        self.branches.extend(c.branches.into_iter().map(|mut b| {
+            b.index += branch_offset;
+            b.from_event = b.from_event.map(|e| e + event_offset);
+            for p in &mut b.points {
+                p.branch += branch_offset;
+            }
+            b
+        }));
+        self.events.extend(c.events.into_iter().map(|mut e| {
+            e.branch += branch_offset;
+            e.point.branch += branch_offset;
+            e
+        }));
+        self.ends.extend(c.ends.into_iter().map(|mut e| {
+            e.branch += branch_offset;
+            e
+        }));
+        Ok(true)
+    }
+}
+
+/// Whether `branch` passes through `orbit`: two consecutive points bracket its frequency and,
+/// interpolated there, match its base phase and impact phases within [`SAME_BRANCH`].
+fn passes_through(branch: &Branch, orbit: &SignatureOrbit) -> bool {
+    if branch.signature != orbit.signature {
+        return false;
+    }
+    let w = orbit.omega;
+    branch.points.windows(2).any(|pair| {
+        let (a, b) = (&pair[0], &pair[1]);
+        let (lo, hi) = (a.omega.min(b.omega), a.omega.max(b.omega));
+        if !(lo <= w && w <= hi) {
+            return false;
+        }
+        let s = if hi > lo {
+            (w - a.omega) / (b.omega - a.omega)
+        } else {
+            0.0
+        };
+        let alpha_step = crate::scene::phase::wrap(b.alpha - a.alpha);
+        let alpha = a.alpha + s * alpha_step;
+        let phase_close = a
+            .impact_phases
+            .iter()
+            .zip(&b.impact_phases)
+            .zip(&orbit.impact_phases)
+            .all(|((pa, pb), po)| (pa + s * (pb - pa) - po).abs() < SAME_BRANCH);
+        phase_close && crate::scene::phase::distance(alpha, orbit.alpha) / PI < SAME_BRANCH
+    })
+}
+
+impl Followed {
+    /// The record of the run on the scene named `scene`.
+    pub fn record(&self, scene: &str) -> ContinuationRecord {
+        let f = self;
+        ContinuationRecord {
+            scene: scene.to_owned(),
+            signature: f.signature.to_string(),
+            period: f.signature.period(),
+            omega_start: finite(f.omega_start),
+            start_orbits: f.start_orbits.len(),
+            followed_starts: f.followed_starts.clone(),
+            branches: f
+                .branches
+                .branches
+                .iter()
+                .map(|b| BranchRecord {
+                    branch: b.index,
+                    signature: b.signature.to_string(),
+                    period: b.period,
+                    from_event: b.from_event,
+                    points: b.points.len(),
+                })
+                .collect(),
+            points: f
+                .branches
+                .branches
+                .iter()
+                .flat_map(|b| b.points.iter().map(ContinuationPointRecord::new))
+                .collect(),
+            events: f
+                .branches
+                .events
+                .iter()
+                .map(|e| EventRecord {
+                    branch: e.branch,
+                    kind: e.kind.name(),
+                    omega: finite(e.omega),
+                    signature_after: e.signature_after.as_ref().map(|s| s.to_string()),
+                    period_after: e.period_after,
+                    outer_amplitude: finite(e.point.outer_amplitude),
+                })
+                .collect(),
+            ends: f
+                .branches
+                .ends
+                .iter()
+                .map(|e| EndRecord {
+                    branch: e.branch,
+                    omega: finite(e.omega),
+                    reason: e.reason.name(),
+                })
+                .collect(),
+        }
+    }
+}
