@@ -34,7 +34,7 @@ pub use lyapunov::{
     lyapunov_after_steady_state, lyapunov_exponents, LyapunovError, LyapunovOptions,
     LyapunovSpectrum, Regime, DEFAULT_ALIGNMENT_PERIODS, DEFAULT_LYAPUNOV_PERIODS,
 };
-pub use model::{ContactPair, Model, ModelError};
+pub use model::{CellParameters, CellStops, ContactPair, Model, ModelError, MAX_CELLS};
 pub use newton::{
     periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
     MAX_NEWTON_ITERATIONS, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
