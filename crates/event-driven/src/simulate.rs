@@ -1284,11 +1284,13 @@ impl<'m> Engine<'m> {
         let mut step = f64::INFINITY;
         for (i, functional, shift) in watched {
             let spec = &pairs[i].spec;
+            // Only a contact before the earliest found so far matters: search up to it.
+            let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
             flight.expand(functional, &mut work.gap);
             if let Some((s, side)) = work.gap.first_exit(
                 -spec.gap_minus - shift,
                 spec.gap_plus - shift,
-                horizon,
+                within,
                 time_tolerance,
                 depth,
                 &mut work.stack,
