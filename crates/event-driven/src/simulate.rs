@@ -407,7 +407,10 @@ pub(crate) struct Engine<'m> {
 /// Storage reused by every flight, so that no flight allocates.
 #[derive(Default)]
 struct Scratch {
-    gap: ExpSum,
+    /// Each watched pair's gap in the current flight.
+    gaps: Vec<ExpSum>,
+    /// The watch's search order: `(estimated exit, slot in gaps, pair, lo, hi)`.
+    order: Vec<(f64, usize, usize, f64, f64)>,
     stack: SearchStack,
     coordinate: ExpSum,
     /// The exponentials of the search at the contact it found, for the contact state.
@@ -1282,14 +1285,29 @@ impl<'m> Engine<'m> {
     {
         let mut contact: Option<Contact> = None;
         let mut step = f64::INFINITY;
-        for (i, functional, shift) in watched {
+        // Every pair's gap, then the searches in the order of their quadratic estimates: the
+        // likely first contact is found first and cuts the others' horizons short.
+        work.order.clear();
+        for (count, (i, functional, shift)) in watched.enumerate() {
+            if work.gaps.len() <= count {
+                work.gaps.push(ExpSum::default());
+            }
+            let gap = &mut work.gaps[count];
+            flight.expand(functional, gap);
             let spec = &pairs[i].spec;
+            let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
+            work.order
+                .push((gap.estimated_exit(lo, hi), count, i, lo, hi));
+        }
+        work.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for &(_, slot, i, lo, hi) in &work.order {
             // Only a contact before the earliest found so far matters: search up to it.
             let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
-            flight.expand(functional, &mut work.gap);
-            if let Some((s, side)) = work.gap.first_exit(
-                -spec.gap_minus - shift,
-                spec.gap_plus - shift,
+            if let Some((s, side)) = work.gaps[slot].first_exit_until(
+                lo,
+                hi,
+                horizon,
                 within,
                 time_tolerance,
                 depth,
@@ -1297,7 +1315,7 @@ impl<'m> Engine<'m> {
             ) {
                 if tau + s < grace[i] {
                     step = step.min(grace[i] - tau);
-                } else if contact.is_none_or(|c| s < c.s) {
+                } else if contact.is_none_or(|c| s < c.s || (s == c.s && i < c.pair)) {
                     contact = Some(Contact { s, pair: i, side });
                     work.event_exponentials.clear();
                     if let Some(e) = work.stack.exponentials_at(s) {

@@ -66,8 +66,12 @@ pub fn paper_chain(
     damping: Option<(f64, f64)>,
     stops: Option<CellStops>,
 ) -> Model {
-    Model::chain(&vec![paper_cell(damping, stops); cells], BASE_AMPLITUDE, omega)
-        .expect("the paper's chain is valid")
+    Model::chain(
+        &vec![paper_cell(damping, stops); cells],
+        BASE_AMPLITUDE,
+        omega,
+    )
+    .expect("the paper's chain is valid")
 }
 
 /// A problem with its exact answer.

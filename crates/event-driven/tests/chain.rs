@@ -544,7 +544,10 @@ fn one_pair_held_while_another_flies_and_both_are_watched() {
         .filter(|r| r.time < held_until)
         .count();
     assert!(held_rows > 10, "held for only {held_rows} rows");
-    for r in trajectory.rows[stick..].iter().filter(|r| r.time < held_until) {
+    for r in trajectory.rows[stick..]
+        .iter()
+        .filter(|r| r.time < held_until)
+    {
         assert!((r.velocities[1] - r.velocities[0]).abs() <= scale);
     }
     let during: Vec<&TrajectoryImpact> = trajectory
@@ -564,7 +567,9 @@ fn chain_validation_names_the_cell_and_the_field() {
     let good = paper_cell(None, Some(CellStops::symmetric(0.5, 0.8)));
     let mut bad = good;
     bad.inner_stiffness = -1.0;
-    let err = Model::chain(&[good, bad], 1.0, 1.0).unwrap_err().to_string();
+    let err = Model::chain(&[good, bad], 1.0, 1.0)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("cells[1].inner_stiffness"), "{err}");
     let mut bad = good;
     bad.stops = Some(CellStops {
@@ -588,7 +593,9 @@ fn chain_validation_names_the_cell_and_the_field() {
     assert!(err.contains("cells"), "{err}");
     assert!(Model::chain(&vec![good; MAX_CELLS + 1], 1.0, 1.0).is_err());
     assert!(Model::chain(&vec![good; MAX_CELLS], 1.0, 1.0).is_ok());
-    let err = Model::chain(&[good], 1.0, f64::NAN).unwrap_err().to_string();
+    let err = Model::chain(&[good], 1.0, f64::NAN)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("omega"), "{err}");
 }
 
@@ -599,7 +606,12 @@ fn tangent_tools_run_on_chains() {
     // to tr A + 2 ln(e) × impacts per second when nothing sticks (tests/lyapunov.rs).
     let omega = 2.0;
     for e in [0.8, 0.0] {
-        let model = paper_chain(3, omega, Some(LIGHT_DAMPING), Some(CellStops::symmetric(0.5, e)));
+        let model = paper_chain(
+            3,
+            omega,
+            Some(LIGHT_DAMPING),
+            Some(CellStops::symmetric(0.5, e)),
+        );
         let options = SimulationOptions {
             max_periods: 300,
             ..SimulationOptions::default()
@@ -615,9 +627,13 @@ fn tangent_tools_run_on_chains() {
         if let Ok(s) = spectrum {
             assert_eq!(s.exponents.len() + s.collapsed, 12);
         }
-        let trajectory =
-            sample_trajectory(&model, omega, &steady.final_state, &trajectory_options(2, 50))
-                .unwrap();
+        let trajectory = sample_trajectory(
+            &model,
+            omega,
+            &steady.final_state,
+            &trajectory_options(2, 50),
+        )
+        .unwrap();
         check_within_stops(&trajectory, &model);
     }
 }
