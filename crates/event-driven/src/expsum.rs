@@ -72,21 +72,26 @@ pub struct SearchStack {
     doubled: Vec<C64>,
 }
 
-/// The exponentials at the end of the first chunk, `first_end`: from the cache when it is a
-/// whole chunk (`chunks > 1`: `first_end = 2w`), else computed.
+/// The exponentials at the end of the first chunk, `first_end`: when it is a whole chunk
+/// (`chunks > 1`: `first_end = 2w`), from the cache kept with the grid's steps, filled on
+/// first use.
 fn set_exponentials(
     exps: &mut [C64],
     terms: &[Term],
     first_end: f64,
     chunks: usize,
-    doubled: &[C64],
+    doubled: &mut Vec<C64>,
 ) {
     if chunks > 1 && doubled.len() == terms.len() {
         exps.copy_from_slice(doubled);
-    } else {
-        for (e, t) in exps.iter_mut().zip(terms) {
-            *e = cexp(t.rate, first_end);
-        }
+        return;
+    }
+    for (e, t) in exps.iter_mut().zip(terms) {
+        *e = cexp(t.rate, first_end);
+    }
+    if chunks > 1 {
+        doubled.clear();
+        doubled.extend_from_slice(exps);
     }
 }
 
@@ -512,7 +517,6 @@ impl ExpSum {
             steps.clear();
             steps.extend(self.terms.iter().map(|t| cexp(t.rate, w)));
             doubled.clear();
-            doubled.extend(self.terms.iter().map(|t| cexp(t.rate, 2.0 * w)));
             step_rates.clear();
             step_rates.extend(self.terms.iter().map(|t| t.rate));
             *step_key = w;

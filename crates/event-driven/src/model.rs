@@ -51,12 +51,12 @@ pub struct ContactPair {
 
 /// Largest number of cells of [`Model::chain`]. The solver's cost grows with the cube of the
 /// size: the modal flow is a dense eigendecomposition of the `4N × 4N` state matrix (again for
-/// each set of held pairs met), and every flight expands each of the `N` pairs' gaps over all
-/// `4N` modes, `O(N²)` per flight with `O(N)` events per period. At 64 cells (256 states) one
-/// decomposition is some 10⁸ flops and a period of a chain impacting in every cell some 10⁶,
-/// so a run stays within seconds; beyond that the crowding of a long chain's modal
-/// frequencies (spacing `∝ 1/N²` at the band edges) also erodes the conditioning of the
-/// eigenvectors the closed form rests on.
+/// each set of held pairs met, `O((4N)³)`: some 10⁸ flops at 64 cells), and every flight
+/// expands each of the `N` pairs' gaps over all `4N` modes, `O(N²)` per flight with `O(N)`
+/// impacting pairs per period, so a period costs `O(N³)`: 512 times an 8-cell chain's at 64
+/// cells (the 8-cell chain runs at about 0.1 ms per impact, `benches/chain.rs`). Beyond that
+/// the crowding of a long chain's modal frequencies (spacing `∝ 1/N²` at the band edges) also
+/// erodes the conditioning of the eigenvectors the closed form rests on.
 pub const MAX_CELLS: usize = 64;
 
 /// The stops of one cell: `r = u_i − u_o ∈ [−gap_minus, gap_plus]`, Newton restitution `e`.

@@ -15,6 +15,20 @@
 //! collapsed directions); ordinary runs carry no tangent and only test for its absence. A
 //! traced run (`Engine::trace_run`, used by [`crate::trajectory`]) samples each segment's
 //! closed form and each event's states.
+//!
+//! **Many contact pairs** (chains of cells, [`Model::chain`]): every pair is watched at all
+//! times with the same first-contact guarantee. In free flight all pairs' gaps are searched
+//! (in the order of their quadratic estimates, each search cut at the earliest contact found
+//! so far). Any set of pairs may be held on their stops at once: the motion is then the
+//! constrained flow with the held pairs' relative coordinates fixed (`Stuck`), each held pair
+//! is released when its own contact force would pull, and the other pairs are searched in
+//! the constrained flow. Contacts are resolved one at a time in time order, ties by pair
+//! index (see `Engine::free_flight` for what that assumes).
+//!
+//! The tangent flow through a stick or an impact made while other pairs are held uses the
+//! free saltation matrices (exact when the event's pair shares no degree of freedom with the
+//! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
+//! exact in any case); [`crate::newton`] refuses sticking runs anyway.
 
 use crate::expsum::{ExpSum, SearchStack};
 use crate::flow::{Flight, FlowError, Functional, LinearFlow};
@@ -369,7 +383,7 @@ enum Watch {
     Clear,
 }
 
-/// Free flight, or a pair held on a stop (an index into `Engine::stuck`).
+/// Free flight, or a set of pairs held on their stops (an index into `Engine::stuck`).
 #[derive(Clone, Copy)]
 enum Mode {
     Free,
