@@ -466,16 +466,20 @@ impl ExpSum {
         // `f(0)` is farther than `horizon × sup|f'|` from both edges no exit is possible (a
         // short horizon, cut to an earlier contact of another pair, is mostly decided here).
         let (mut centre, mut spread) = (0.0, 0.0);
+        // Second order: `f(s) ∈ f(0) + [min(0, f'(0)s), max(0, f'(0)s)] ± ½ s² sup|f''|`.
         let (mut start, mut speed, mut size0) = (0.0, 0.0, 0.0);
+        let (mut slope0, mut bend) = (0.0, 0.0);
         for t in &self.terms {
             start += t.poly[0].re;
+            slope0 += (t.poly[1] + t.poly[0] * t.rate).re;
             size0 += l1(t.poly[0]);
             if t.rate == C64::default() && t.poly[1..].iter().all(|c| *c == C64::default()) {
                 centre += t.poly[0].re;
             } else {
-                let ([size, slope, ..], rate, growth) = term_bounds(t, cutoff);
+                let ([size, slope, curve, _], rate, growth) = term_bounds(t, cutoff);
                 spread += size * growth;
                 speed += (slope + rate * size) * growth;
+                bend += (curve + rate * (2.0 * slope + rate * size)) * growth;
             }
         }
         if centre + spread < hi && centre - spread > lo {
@@ -483,6 +487,11 @@ impl ExpSum {
         }
         let drift = cutoff * speed + DRIFT_ROUNDING * size0;
         if start + drift < hi && start - drift > lo {
+            return None;
+        }
+        let reach = 0.5 * cutoff * cutoff * bend + DRIFT_ROUNDING * (size0 + cutoff * speed);
+        let moved = slope0 * cutoff;
+        if start + moved.max(0.0) + reach < hi && start + moved.min(0.0) - reach > lo {
             return None;
         }
         let jerk = self.jerk_bound(horizon);
