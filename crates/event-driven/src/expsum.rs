@@ -18,6 +18,11 @@ fn cexp(mu: C64, s: f64) -> C64 {
     }
 }
 
+/// The drift test of [`ExpSum::first_exit`] widens its band by this many rounding units of the
+/// terms' sizes at `s = 0`: `f(0)` is their sum, known to a few rounding units of them, so a
+/// start that close to an edge is left to the full search.
+const DRIFT_ROUNDING: f64 = 64.0 * f64::EPSILON;
+
 /// For one term on `[0, h]`: bounds on its polynomial and the polynomial's first three
 /// derivatives (absolute coefficients at `s = h`), `|μ|` (as `|re| + |im|`), and the growth
 /// factor `max(1, e^{Re μ h})`.
@@ -59,6 +64,35 @@ pub struct SearchStack {
     polish: Exponentials,
     /// The exponentials at one bisection point.
     point: Vec<C64>,
+    /// The grid step `w` of [`Self::steps`] (`NaN` before the first search).
+    step_key: f64,
+    /// The rates [`Self::steps`] were computed for.
+    step_rates: Vec<C64>,
+    /// `e^{2μ_j w}`: the first chunk's end.
+    doubled: Vec<C64>,
+}
+
+/// The exponentials at the end of the first chunk, `first_end`: when it is a whole chunk
+/// (`chunks > 1`: `first_end = 2w`), from the cache kept with the grid's steps, filled on
+/// first use.
+fn set_exponentials(
+    exps: &mut [C64],
+    terms: &[Term],
+    first_end: f64,
+    chunks: usize,
+    doubled: &mut Vec<C64>,
+) {
+    if chunks > 1 && doubled.len() == terms.len() {
+        exps.copy_from_slice(doubled);
+        return;
+    }
+    for (e, t) in exps.iter_mut().zip(terms) {
+        *e = cexp(t.rate, first_end);
+    }
+    if chunks > 1 {
+        doubled.clear();
+        doubled.extend_from_slice(exps);
+    }
 }
 
 impl SearchStack {
@@ -352,6 +386,19 @@ impl ExpSum {
         (v, d, dd)
     }
 
+    /// Where the quadratic Taylor model of `f` at `s = 0` first leaves `(lo, hi)` (`∞` if it
+    /// does not): an estimate only, with no transcendental evaluation, to order searches.
+    pub fn estimated_exit(&self, lo: f64, hi: f64) -> f64 {
+        let (mut f0, mut d0, mut dd0) = (0.0, 0.0, 0.0);
+        for t in &self.terms {
+            let (p, mu) = (t.poly, t.rate);
+            f0 += p[0].re;
+            d0 += (p[1] + p[0] * mu).re;
+            dd0 += (p[2] * 2.0 + (p[1] * 2.0 + p[0] * mu) * mu).re;
+        }
+        quadratic_exit(f0, d0, dd0, lo, hi)
+    }
+
     /// The first `s ∈ [0, horizon]` where `f` leaves the open band `(lo, hi)`: `(s, +1)` on
     /// reaching `hi`, `(s, −1)` on reaching `lo`. `f(0)` is inside the band or on an edge; a
     /// start on an edge moving back inside is not an exit. `stack` is scratch storage.
@@ -385,18 +432,66 @@ impl ExpSum {
         depth_tolerance: f64,
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
+        self.first_exit_until(
+            lo,
+            hi,
+            horizon,
+            horizon,
+            time_tolerance,
+            depth_tolerance,
+            stack,
+        )
+    }
+
+    /// [`Self::first_exit`] on the grid of `horizon`, but searched only until `cutoff ≤
+    /// horizon`: every exit before `cutoff` is found as there (an exit after it may or may not
+    /// be reported). Searches of several functionals of one flight with one `horizon` share
+    /// the grid, and `stack` keeps the grid's exponential steps from one to the next when the
+    /// rates are the same (a flight's pairs all have the flow's rates).
+    #[allow(clippy::too_many_arguments)]
+    pub fn first_exit_until(
+        &self,
+        lo: f64,
+        hi: f64,
+        horizon: f64,
+        cutoff: f64,
+        time_tolerance: f64,
+        depth_tolerance: f64,
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
+        let cutoff = cutoff.min(horizon);
         // Envelope test: constant part ± the largest each varying term can be on the horizon.
         // When that band lies inside (lo, hi) no exit is possible, at no evaluation cost.
+        // Drift test: `|f(s) − f(0)| ≤ s sup|f'|`, `sup|f'| ≤ Σ (|p'| + |μ||p|) growth`; when
+        // `f(0)` is farther than `horizon × sup|f'|` from both edges no exit is possible (a
+        // short horizon, cut to an earlier contact of another pair, is mostly decided here).
         let (mut centre, mut spread) = (0.0, 0.0);
+        // Second order: `f(s) ∈ f(0) + [min(0, f'(0)s), max(0, f'(0)s)] ± ½ s² sup|f''|`.
+        let (mut start, mut speed, mut size0) = (0.0, 0.0, 0.0);
+        let (mut slope0, mut bend) = (0.0, 0.0);
         for t in &self.terms {
+            start += t.poly[0].re;
+            slope0 += (t.poly[1] + t.poly[0] * t.rate).re;
+            size0 += l1(t.poly[0]);
             if t.rate == C64::default() && t.poly[1..].iter().all(|c| *c == C64::default()) {
                 centre += t.poly[0].re;
             } else {
-                let ([size, ..], _, growth) = term_bounds(t, horizon);
+                let ([size, slope, curve, _], rate, growth) = term_bounds(t, cutoff);
                 spread += size * growth;
+                speed += (slope + rate * size) * growth;
+                bend += (curve + rate * (2.0 * slope + rate * size)) * growth;
             }
         }
         if centre + spread < hi && centre - spread > lo {
+            return None;
+        }
+        let drift = cutoff * speed + DRIFT_ROUNDING * size0;
+        if start + drift < hi && start - drift > lo {
+            return None;
+        }
+        let reach = 0.5 * cutoff * cutoff * bend + DRIFT_ROUNDING * (size0 + cutoff * speed);
+        let moved = slope0 * cutoff;
+        if start + moved.max(0.0) + reach < hi && start + moved.min(0.0) - reach > lo {
             return None;
         }
         let jerk = self.jerk_bound(horizon);
@@ -412,6 +507,9 @@ impl ExpSum {
             derivatives,
             polish: scratch,
             point,
+            step_key,
+            step_rates,
+            doubled,
         } = stack;
         // A bound on |f''''| over the horizon, computed when a chunk first needs it.
         let mut fourth = f64::NAN;
@@ -419,8 +517,19 @@ impl ExpSum {
         scratch.at = f64::NAN;
         exps.clear();
         exps.resize(self.terms.len(), C64::new(1.0, 0.0));
-        steps.clear();
-        steps.extend(self.terms.iter().map(|t| cexp(t.rate, w)));
+        let same_rates = step_rates.len() == self.terms.len()
+            && step_rates
+                .iter()
+                .zip(&self.terms)
+                .all(|(r, t)| *r == t.rate);
+        if !(same_rates && *step_key == w) {
+            steps.clear();
+            steps.extend(self.terms.iter().map(|t| cexp(t.rate, w)));
+            doubled.clear();
+            step_rates.clear();
+            step_rates.extend(self.terms.iter().map(|t| t.rate));
+            *step_key = w;
+        }
         let (f0, d0, dd0) = derivatives.at(self, 0.0, exps);
         let mut fa = f0;
         // Head: when the flight may leave the band long before the first chunk ends (a bounce
@@ -454,9 +563,7 @@ impl ExpSum {
         let mut first = 0;
         if cleared >= first_end {
             first = 1;
-            for (e, t) in exps.iter_mut().zip(&self.terms) {
-                *e = cexp(t.rate, first_end);
-            }
+            set_exponentials(exps, &self.terms, first_end, chunks, doubled);
             fa = derivatives.value(self, first_end, exps);
         } else if (cleared > 0.0 && HEAD * cleared < first_end)
             || HEAD_ESTIMATE * estimate < first_end
@@ -470,7 +577,7 @@ impl ExpSum {
             } else {
                 cleared
             };
-            while a < first_end {
+            while a < first_end && a < cutoff {
                 let b = if a + 2.0 * length >= first_end {
                     first_end
                 } else {
@@ -498,13 +605,14 @@ impl ExpSum {
                 length *= 2.0;
             }
             first = 1;
-            for (e, t) in exps.iter_mut().zip(&self.terms) {
-                *e = cexp(t.rate, first_end);
-            }
+            set_exponentials(exps, &self.terms, first_end, chunks, doubled);
         }
         let jerk_reach = jerk * w * w * w / 6.0;
         for i in first..chunks {
             let a = 2.0 * w * i as f64;
+            if a >= cutoff {
+                break;
+            }
             let b = if i + 1 == chunks {
                 horizon
             } else {

@@ -17,6 +17,10 @@
 //! gives the Lyapunov spectrum ([`lyapunov`]); a traced run of the same engine samples a
 //! stretch of motion exactly, events included ([`trajectory`]).
 //!
+//! Chains of impacting cells ([`Model::chain`], the metamaterial) are models with one contact
+//! pair per cell; any pairs may stick, chatter or fly at the same time, each watched with the
+//! same guarantee ([`simulate()`]).
+//!
 //! Only the effects a model has are simulated: no contact pairs, no event search; no damping
 //! matrix, no damping terms.
 #![deny(missing_docs)]
@@ -34,7 +38,7 @@ pub use lyapunov::{
     lyapunov_after_steady_state, lyapunov_exponents, LyapunovError, LyapunovOptions,
     LyapunovSpectrum, Regime, DEFAULT_ALIGNMENT_PERIODS, DEFAULT_LYAPUNOV_PERIODS,
 };
-pub use model::{ContactPair, Model, ModelError};
+pub use model::{CellParameters, CellStops, ContactPair, Model, ModelError, MAX_CELLS};
 pub use newton::{
     periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
     MAX_NEWTON_ITERATIONS, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,

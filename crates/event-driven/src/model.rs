@@ -49,6 +49,57 @@ pub struct ContactPair {
     pub restitution: f64,
 }
 
+/// Largest number of cells of [`Model::chain`]. The solver's cost grows with the cube of the
+/// size: the modal flow is a dense eigendecomposition of the `4N × 4N` state matrix (again for
+/// each set of held pairs met, `O((4N)³)`: some 10⁸ flops at 64 cells), and every flight
+/// expands each of the `N` pairs' gaps over all `4N` modes, `O(N²)` per flight with `O(N)`
+/// impacting pairs per period, so a period costs `O(N³)`: 512 times an 8-cell chain's at 64
+/// cells (the 8-cell chain runs at about 0.1 ms per impact, `benches/chain.rs`). Beyond that
+/// the crowding of a long chain's modal frequencies (spacing `∝ 1/N²` at the band edges) also
+/// erodes the conditioning of the eigenvectors the closed form rests on.
+pub const MAX_CELLS: usize = 64;
+
+/// The stops of one cell: `r = u_i − u_o ∈ [−gap_minus, gap_plus]`, Newton restitution `e`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellStops {
+    /// Distance to side 1 (`r = +gap_plus`), `> 0`.
+    pub gap_plus: f64,
+    /// Distance to side 2 (`r = −gap_minus`), `> 0`.
+    pub gap_minus: f64,
+    /// Newton restitution `e ∈ [0, 1]`.
+    pub restitution: f64,
+}
+
+impl CellStops {
+    /// Stops at `±gap` (the unit's `stops = Some((gap, restitution))`).
+    pub fn symmetric(gap: f64, restitution: f64) -> CellStops {
+        CellStops {
+            gap_plus: gap,
+            gap_minus: gap,
+            restitution,
+        }
+    }
+}
+
+/// One cell of a chain ([`Model::chain`]): the unit's parameters without the base's.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellParameters {
+    /// `m_o > 0`.
+    pub outer_mass: f64,
+    /// `m_i > 0`.
+    pub inner_mass: f64,
+    /// `k_o > 0`: to the previous cell's outer mass (the base for the first cell).
+    pub outer_stiffness: f64,
+    /// `k_i > 0`: inner to outer mass.
+    pub inner_stiffness: f64,
+    /// `c_o ≥ 0`, beside `k_o`; `None` adds no damping term of its own.
+    pub outer_damping: Option<f64>,
+    /// `c_i ≥ 0`, beside `k_i`; `None` adds no damping term of its own.
+    pub inner_damping: Option<f64>,
+    /// The cell's contact pair, if any.
+    pub stops: Option<CellStops>,
+}
+
 /// `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt`, with contact pairs.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Model {
@@ -214,6 +265,157 @@ impl Model {
             None => Vec::new(),
         };
         Model::new(mass, stiffness, damping, forcing_cos, forcing_sin, contacts)
+    }
+
+    /// A chain of `cells.len()` mass-in-mass cells in series (the impacting metamaterial):
+    /// outer mass `j` is tied to outer mass `j − 1` by cell `j`'s `k_o` (and `c_o`), the first
+    /// to the base, which moves as `u_g cos ωt` and forces it as in [`Self::two_dof_unit`];
+    /// inner mass `j` sits inside outer mass `j` on `k_i` (and `c_i`), with its own contact
+    /// pair when the cell has stops.
+    ///
+    /// State ordering: `u = (u_o1, u_i1, u_o2, u_i2, …)` (DOF `2j` the outer mass of cell
+    /// `j + 1`, DOF `2j + 1` its inner mass); the contact pairs are listed in cell order, one
+    /// per cell with stops, each `r_j = u_ij − u_oj ∈ [−gap_minus, gap_plus]`. One cell builds
+    /// the very matrices of [`Self::two_dof_unit`] (same entries, same floating-point sums).
+    /// Damping terms are present when any cell has a dashpot.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] naming the cell and field (`cells[j].outer_mass`, …,
+    /// `cells[j].stops.gap_plus`, `base.amplitude`, `omega`) for a value out of range, and
+    /// for a number of cells outside `1..=`[`MAX_CELLS`] (field `cells`).
+    pub fn chain(
+        cells: &[CellParameters],
+        base_amplitude: f64,
+        omega: f64,
+    ) -> Result<Model, ModelError> {
+        let count = cells.len();
+        check(
+            "cells",
+            count as f64,
+            (1..=MAX_CELLS).contains(&count),
+            "a number of cells in 1..=64",
+        )?;
+        for (j, c) in cells.iter().enumerate() {
+            let field = |name: &str| format!("cells[{j}].{name}");
+            check(
+                &field("outer_mass"),
+                c.outer_mass,
+                c.outer_mass > 0.0,
+                "> 0",
+            )?;
+            check(
+                &field("inner_mass"),
+                c.inner_mass,
+                c.inner_mass > 0.0,
+                "> 0",
+            )?;
+            check(
+                &field("outer_stiffness"),
+                c.outer_stiffness,
+                c.outer_stiffness > 0.0,
+                "> 0",
+            )?;
+            check(
+                &field("inner_stiffness"),
+                c.inner_stiffness,
+                c.inner_stiffness > 0.0,
+                "> 0",
+            )?;
+            let (co, ci) = (
+                c.outer_damping.unwrap_or(0.0),
+                c.inner_damping.unwrap_or(0.0),
+            );
+            check(&field("outer_damping"), co, co >= 0.0, ">= 0")?;
+            check(&field("inner_damping"), ci, ci >= 0.0, ">= 0")?;
+            if let Some(stops) = &c.stops {
+                check(
+                    &field("stops.gap_plus"),
+                    stops.gap_plus,
+                    stops.gap_plus > 0.0,
+                    "> 0",
+                )?;
+                check(
+                    &field("stops.gap_minus"),
+                    stops.gap_minus,
+                    stops.gap_minus > 0.0,
+                    "> 0",
+                )?;
+                check(
+                    &field("stops.restitution"),
+                    stops.restitution,
+                    (0.0..=1.0).contains(&stops.restitution),
+                    "in [0, 1]",
+                )?;
+            }
+        }
+        check(
+            "base.amplitude",
+            base_amplitude,
+            base_amplitude > 0.0,
+            "> 0",
+        )?;
+        check("omega", omega, omega > 0.0, "> 0")?;
+        let n = 2 * count;
+        let damped = cells
+            .iter()
+            .any(|c| c.outer_damping.is_some() || c.inner_damping.is_some());
+        let mut mass = DMatrix::zeros(n, n);
+        let mut stiffness = DMatrix::zeros(n, n);
+        let mut damping = DMatrix::zeros(n, n);
+        let mut contacts = Vec::new();
+        for (j, c) in cells.iter().enumerate() {
+            let (o, i) = (2 * j, 2 * j + 1);
+            let (co, ci) = (
+                c.outer_damping.unwrap_or(0.0),
+                c.inner_damping.unwrap_or(0.0),
+            );
+            mass[(o, o)] = c.outer_mass;
+            mass[(i, i)] = c.inner_mass;
+            // Cell j's own springs, summed as in the unit: k_o + k_i on the outer diagonal.
+            stiffness[(o, o)] = c.outer_stiffness + c.inner_stiffness;
+            stiffness[(o, i)] = -c.inner_stiffness;
+            stiffness[(i, o)] = -c.inner_stiffness;
+            stiffness[(i, i)] = c.inner_stiffness;
+            damping[(o, o)] = co + ci;
+            damping[(o, i)] = -ci;
+            damping[(i, o)] = -ci;
+            damping[(i, i)] = ci;
+            // Cell j + 1's outer spring ties outer mass j + 1 to outer mass j.
+            if let Some(next) = cells.get(j + 1) {
+                let p = o + 2;
+                stiffness[(o, o)] += next.outer_stiffness;
+                stiffness[(o, p)] = -next.outer_stiffness;
+                stiffness[(p, o)] = -next.outer_stiffness;
+                let cn = next.outer_damping.unwrap_or(0.0);
+                damping[(o, o)] += cn;
+                damping[(o, p)] = -cn;
+                damping[(p, o)] = -cn;
+            }
+            if let Some(stops) = c.stops {
+                contacts.push(ContactPair {
+                    plus_dof: i,
+                    minus_dof: o,
+                    gap_plus: stops.gap_plus,
+                    gap_minus: stops.gap_minus,
+                    restitution: stops.restitution,
+                });
+            }
+        }
+        // Only the first cell's outer spring and dashpot reach the base.
+        let first = &cells[0];
+        let co = first.outer_damping.unwrap_or(0.0);
+        let mut forcing_cos = DVector::zeros(n);
+        let mut forcing_sin = DVector::zeros(n);
+        forcing_cos[0] = first.outer_stiffness * base_amplitude;
+        forcing_sin[0] = -co * base_amplitude * omega;
+        Model::new(
+            mass,
+            stiffness,
+            damped.then_some(damping),
+            forcing_cos,
+            forcing_sin,
+            contacts,
+        )
     }
 
     /// Whether damping terms are present.

@@ -15,6 +15,20 @@
 //! collapsed directions); ordinary runs carry no tangent and only test for its absence. A
 //! traced run (`Engine::trace_run`, used by [`crate::trajectory`]) samples each segment's
 //! closed form and each event's states.
+//!
+//! **Many contact pairs** (chains of cells, [`Model::chain`]): every pair is watched at all
+//! times with the same first-contact guarantee. In free flight all pairs' gaps are searched
+//! (in the order of their quadratic estimates, each search cut at the earliest contact found
+//! so far). Any set of pairs may be held on their stops at once: the motion is then the
+//! constrained flow with the held pairs' relative coordinates fixed (`Stuck`), each held pair
+//! is released when its own contact force would pull, and the other pairs are searched in
+//! the constrained flow. Contacts are resolved one at a time in time order, ties by pair
+//! index (see `Engine::free_flight` for what that assumes).
+//!
+//! The tangent flow through a stick or an impact made while other pairs are held uses the
+//! free saltation matrices (exact when the event's pair shares no degree of freedom with the
+//! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
+//! exact in any case); [`crate::newton`] refuses sticking runs anyway.
 
 use crate::expsum::{ExpSum, SearchStack};
 use crate::flow::{Flight, FlowError, Functional, LinearFlow};
@@ -221,6 +235,10 @@ pub enum SimulationError {
     /// Impacts accumulated without a resolution (more than [`EVENT_STORM`] in one period).
     #[error("more than {0} events in one forcing period at t = {1}: an unresolved accumulation")]
     EventStorm(u64, f64),
+    /// The pairs to be held at once constrain dependent directions (or all of them): no
+    /// constrained flow exists for them.
+    #[error("cannot hold contact pairs {0:?} at once: their directions are dependent")]
+    DependentHolds(Vec<usize>),
 }
 
 /// Undamped elastic units (nothing dissipates) are run at most this many periods: no steady
@@ -319,21 +337,53 @@ struct Pair {
     relative_displacement: Functional,
 }
 
-/// A contact pair held on one stop: the reduced flow and the contact force.
+/// A set of contact pairs held on their stops at once: the constrained (reduced) flow, each
+/// held pair's contact force and each other pair's relative displacement in it.
+///
+/// With `D` the held pairs' directions (rows), the constraint `D u = g` (`g_p = +gap_plus` or
+/// `−gap_minus`) leaves `u = T ũ + u*`, `T` an orthonormal basis of `null D`,
+/// `u* = Dᵀ(DDᵀ)⁻¹g`; the reduced flow is `TᵀMT ũ̈ + TᵀCT ũ̇ + TᵀKT ũ = Tᵀ(f − K u*)`. The
+/// contact forces `λ` (`M ü = f − C u̇ − K u + Dᵀλ`) follow from `D ü = 0`:
+/// `λ = −W⁻¹ D M⁻¹ (f − C u̇ − K u)`, `W = D M⁻¹ Dᵀ`.
 struct Stuck {
-    pair: usize,
-    side: i8,
+    /// `(pair, side)` of the held pairs, in pair order.
+    held: Vec<(usize, i8)>,
     flow: LinearFlow,
     /// `u = basis ũ + offset`.
     basis: DMatrix<f64>,
     offset: DVector<f64>,
-    /// Contact force along `d`: `λ = force_state · (ũ, ũ̇) + force_constant + Re{force_harmonic e^{iωt}}`.
-    force_state: DVector<f64>,
-    force_constant: f64,
-    force_harmonic: nalgebra::Complex<f64>,
+    /// Per held pair, its contact force along `d`.
+    forces: Vec<HeldForce>,
+    /// The pairs not held, watched for contact: `(pair, r as a functional of the reduced
+    /// state, d·u*)`, `r = functional + d·u*`.
+    watched: Vec<(usize, Functional, f64)>,
+    /// `D` (held directions as rows).
+    constraint: DMatrix<f64>,
+    /// `M⁻¹ Dᵀ W⁻¹`: the constraint's correction of accelerations and impulses,
+    /// `a = a_free − reaction · D a_free`.
+    reaction: DMatrix<f64>,
 }
 
-/// Free flight, or a pair held on a stop (an index into `Engine::stuck`).
+/// The contact force of one held pair:
+/// `λ = state · (ũ, ũ̇) + constant + Re{harmonic e^{iωt}}`; held while `side · λ < 0`.
+struct HeldForce {
+    state: DVector<f64>,
+    constant: f64,
+    harmonic: nalgebra::Complex<f64>,
+}
+
+/// What the watch of the pairs in flight found first.
+enum Watch {
+    /// A contact to resolve.
+    Contact(Contact),
+    /// A pair in its grace time (just released or grazed) reaches its edge first: step this
+    /// long without an event.
+    Step(f64),
+    /// No contact within the horizon.
+    Clear,
+}
+
+/// Free flight, or a set of pairs held on their stops (an index into `Engine::stuck`).
 #[derive(Clone, Copy)]
 enum Mode {
     Free,
@@ -350,7 +400,9 @@ pub(crate) struct Engine<'m> {
     /// `u_j` as functionals of the free flow's state, for the amplitudes.
     displacements: Vec<Functional>,
     pairs: Vec<Pair>,
-    /// Reduced flows of pairs held on a stop, built on first use.
+    /// `M⁻¹`.
+    inverse_mass: DMatrix<f64>,
+    /// Reduced flows of sets of pairs held on their stops, built on first use.
     stuck: Vec<Stuck>,
     /// Contact times are resolved to this (`root_tolerance × T`).
     time_tolerance: f64,
@@ -369,7 +421,10 @@ pub(crate) struct Engine<'m> {
 /// Storage reused by every flight, so that no flight allocates.
 #[derive(Default)]
 struct Scratch {
-    gap: ExpSum,
+    /// Each watched pair's gap in the current flight.
+    gaps: Vec<ExpSum>,
+    /// The watch's search order: `(estimated exit, slot in gaps, pair, lo, hi)`.
+    order: Vec<(f64, usize, usize, f64, f64)>,
     stack: SearchStack,
     coordinate: ExpSum,
     /// The exponentials of the search at the contact it found, for the contact state.
@@ -449,9 +504,9 @@ struct RunState {
     events_total: u64,
     /// The period of the last impact.
     last_impact_period: Option<u64>,
-    /// Contacts are ignored before this time within the period (just after a release or a
-    /// graze); `−∞` when none is pending.
-    grace: f64,
+    /// Per pair: its contacts are ignored before this time within the period (just after its
+    /// release or graze); `−∞` when none is pending.
+    grace: Vec<f64>,
     /// Stroboscopic history: the states at the last `p_max + 2` sections.
     ring: VecDeque<DVector<f64>>,
     /// Records of the final stretch, once it has begun.
@@ -732,6 +787,7 @@ impl<'m> Engine<'m> {
             free,
             displacements,
             pairs,
+            inverse_mass: minv,
             stuck: Vec::new(),
             time_tolerance: options.root_tolerance * period,
             scale,
@@ -742,39 +798,92 @@ impl<'m> Engine<'m> {
         })
     }
 
-    /// The reduced flow of pair `pair` held on `side`, built on first use.
-    fn stuck_index(&mut self, pair: usize, side: i8) -> Result<usize, SimulationError> {
-        if let Some(i) = self
-            .stuck
-            .iter()
-            .position(|s| s.pair == pair && s.side == side)
-        {
+    /// The constrained flow of the pairs `held` (`(pair, side)`, in pair order) on their
+    /// stops, built on first use (see [`Stuck`]). One held pair gives the same numbers as the
+    /// one-pair construction it generalises (same Gram–Schmidt, offset and force weights).
+    ///
+    /// # Errors
+    /// [`SimulationError::DependentHolds`] when the held directions are dependent or leave no
+    /// free direction, and [`SimulationError::Flow`] when the reduced flow does not exist.
+    fn stuck_index(&mut self, held: &[(usize, i8)]) -> Result<usize, SimulationError> {
+        if let Some(i) = self.stuck.iter().position(|s| s.held == held) {
             return Ok(i);
         }
         let n = self.n;
-        let p = &self.pairs[pair];
-        let d = &p.direction;
-        // Orthonormal basis of d⊥ by Gram–Schmidt on the unit vectors.
-        let dn = d.normalize();
+        let h = held.len();
+        let dependent = || SimulationError::DependentHolds(held.iter().map(|h| h.0).collect());
+        if h == 0 || h >= n {
+            return Err(dependent());
+        }
+        // Orthonormal basis of span D, then of its complement by Gram–Schmidt on the unit
+        // vectors.
+        let mut spanned: Vec<DVector<f64>> = Vec::with_capacity(h);
+        for &(pair, _) in held {
+            let mut v = self.pairs[pair].direction.clone();
+            for b in &spanned {
+                v -= b * b.dot(&v);
+            }
+            if v.norm() <= BASIS_DROP {
+                return Err(dependent());
+            }
+            spanned.push(v.normalize());
+        }
         let mut basis: Vec<DVector<f64>> = Vec::new();
         for i in 0..n {
             let mut v = DVector::zeros(n);
             v[i] = 1.0;
-            v -= &dn * dn.dot(&v);
+            for b in &spanned {
+                v -= b * b.dot(&v);
+            }
             for b in &basis {
                 v -= b * b.dot(&v);
             }
-            if v.norm() > BASIS_DROP && basis.len() < n - 1 {
+            if v.norm() > BASIS_DROP && basis.len() < n - h {
                 basis.push(v.normalize());
             }
         }
+        let nr = n - h;
         let t = DMatrix::from_columns(&basis);
-        let gap = if side > 0 {
-            p.spec.gap_plus
-        } else {
-            -p.spec.gap_minus
+        let gaps = DVector::from_iterator(
+            h,
+            held.iter().map(|&(pair, side)| {
+                let spec = &self.pairs[pair].spec;
+                if side > 0 {
+                    spec.gap_plus
+                } else {
+                    -spec.gap_minus
+                }
+            }),
+        );
+        let directions: Vec<DVector<f64>> = held
+            .iter()
+            .map(|&(pair, _)| self.pairs[pair].direction.clone())
+            .collect();
+        let constraint =
+            DMatrix::from_rows(&directions.iter().map(|d| d.transpose()).collect::<Vec<_>>());
+        // W = D M⁻¹ Dᵀ; one pair divides by its compliance, as the one-pair flow did.
+        let mobilities = DMatrix::from_columns(
+            &held
+                .iter()
+                .map(|&(pair, _)| self.pairs[pair].mobility.clone())
+                .collect::<Vec<_>>(),
+        );
+        let w = &constraint * &mobilities;
+        let w_inverse = w.clone().try_inverse().ok_or_else(dependent)?;
+        let solve = |x: DMatrix<f64>| -> DMatrix<f64> {
+            if h == 1 {
+                x / w[(0, 0)]
+            } else {
+                &w_inverse * x
+            }
         };
-        let offset = d * (gap / d.norm_squared());
+        let offset = if h == 1 {
+            &directions[0] * (gaps[0] / directions[0].norm_squared())
+        } else {
+            let ddt = &constraint * constraint.transpose();
+            let x = ddt.try_inverse().ok_or_else(dependent)? * &gaps;
+            constraint.transpose() * x
+        };
         let m = &self.model.mass;
         let k = &self.model.stiffness;
         let tt = t.transpose();
@@ -785,30 +894,116 @@ impl<'m> Engine<'m> {
         let fs = &tt * &self.model.forcing_sin;
         let f0 = -(&tt * (k * &offset));
         let flow = LinearFlow::new(&mr, cr.as_ref(), &kr, &fc, &fs, &f0, self.omega)?;
-        // λ = −dᵀM⁻¹(f − C u̇ − K u)/(dᵀM⁻¹d), u = Tũ + u*, u̇ = Tũ̇.
-        let w = p.compliance;
-        let mob = p.mobility.transpose();
-        let a = (&mob * k * &t) / w;
-        let mut force_state = DVector::zeros(2 * (n - 1));
-        force_state.rows_mut(0, n - 1).copy_from(&a.transpose());
-        if let Some(c) = &self.model.damping {
-            let b = (&mob * c * &t) / w;
-            force_state.rows_mut(n - 1, n - 1).copy_from(&b.transpose());
-        }
-        let force_constant = (&mob * k * &offset)[(0, 0)] / w;
-        let lc = -(&mob * &self.model.forcing_cos)[(0, 0)] / w;
-        let ls = -(&mob * &self.model.forcing_sin)[(0, 0)] / w;
+        // λ = −W⁻¹DM⁻¹(f − C u̇ − K u), u = Tũ + u*, u̇ = Tũ̇.
+        let mob = mobilities.transpose();
+        let a = solve(&mob * k * &t);
+        let b = self.model.damping.as_ref().map(|c| solve(&mob * c * &t));
+        let constants = solve(&mob * k * DMatrix::from_column_slice(n, 1, offset.as_slice()));
+        let fcos =
+            solve(&mob * DMatrix::from_column_slice(n, 1, self.model.forcing_cos.as_slice()));
+        let fsin =
+            solve(&mob * DMatrix::from_column_slice(n, 1, self.model.forcing_sin.as_slice()));
+        let forces = (0..h)
+            .map(|row| {
+                let mut state = DVector::zeros(2 * nr);
+                state.rows_mut(0, nr).copy_from(&a.row(row).transpose());
+                if let Some(b) = &b {
+                    state.rows_mut(nr, nr).copy_from(&b.row(row).transpose());
+                }
+                HeldForce {
+                    state,
+                    constant: constants[(row, 0)],
+                    harmonic: nalgebra::Complex::new(-fcos[(row, 0)], fsin[(row, 0)]),
+                }
+            })
+            .collect();
+        let watched = (0..self.pairs.len())
+            .filter(|q| held.iter().all(|&(pair, _)| pair != *q))
+            .map(|q| {
+                let d = &self.pairs[q].direction;
+                let mut c = DVector::zeros(2 * nr);
+                c.rows_mut(0, nr).copy_from(&(&tt * d));
+                (q, flow.functional(&c), d.dot(&offset))
+            })
+            .collect();
+        let reaction = &mobilities * &w_inverse;
         self.stuck.push(Stuck {
-            pair,
-            side,
+            held: held.to_vec(),
             flow,
             basis: t,
             offset,
-            force_state,
-            force_constant,
-            force_harmonic: nalgebra::Complex::new(lc, -ls),
+            forces,
+            watched,
+            constraint,
+            reaction,
         });
         Ok(self.stuck.len() - 1)
+    }
+
+    /// The held set after pair `pair` sticks on `side` in `mode`.
+    fn held_with(&self, mode: Mode, pair: usize, side: i8) -> Vec<(usize, i8)> {
+        let mut held = match mode {
+            Mode::Free => Vec::new(),
+            Mode::Stuck(i) => self.stuck[i].held.clone(),
+        };
+        held.retain(|h| h.0 != pair);
+        held.push((pair, side));
+        held.sort_unstable();
+        held
+    }
+
+    /// Relative acceleration `r̈` of pair `pair` at state `y`, phase time `tau`, in `mode`:
+    /// the free one, or with the held pairs' contact forces (`a = a_free − R D a_free`).
+    fn relative_acceleration(&self, pair: usize, y: &DVector<f64>, tau: f64, mode: Mode) -> f64 {
+        let p = &self.pairs[pair];
+        match mode {
+            Mode::Free => self.free_relative_acceleration(p, y, tau),
+            Mode::Stuck(i) => {
+                let st = &self.stuck[i];
+                let free = self.free_acceleration(y, tau);
+                let correction = &st.reaction * (&st.constraint * &free);
+                p.direction.dot(&(free - correction))
+            }
+        }
+    }
+
+    /// The free acceleration `M⁻¹(f(τ) − K u − C u̇)` at state `y`.
+    fn free_acceleration(&self, y: &DVector<f64>, tau: f64) -> DVector<f64> {
+        let n = self.n;
+        let m = self.model;
+        let (sin, cos) = (self.omega * tau).sin_cos();
+        let mut f = &m.forcing_cos * cos + &m.forcing_sin * sin - &m.stiffness * y.rows(0, n);
+        if let Some(c) = &m.damping {
+            f -= c * y.rows(n, n);
+        }
+        &self.inverse_mass * f
+    }
+
+    /// Newton restitution of pair `pair` (restitution `e`, the pair's own if `None`) in
+    /// `mode`: free, or with the held pairs' constraints kept (`D u̇ = 0`), along the
+    /// constrained mobility `m_c = M⁻¹d − R D M⁻¹d`. When the impact does not reach the held
+    /// pairs (`D M⁻¹ d = 0`, e.g. pairs of different cells of a chain) both are the free
+    /// impact, applied as such.
+    fn restitute(&self, pair: usize, y: &mut DVector<f64>, e: Option<f64>, mode: Mode) {
+        let st = match mode {
+            Mode::Free => None,
+            Mode::Stuck(i) => Some(&self.stuck[i]),
+        };
+        let p = &self.pairs[pair];
+        let coupling = st.map(|st| &st.constraint * &p.mobility);
+        match (st, coupling) {
+            (Some(st), Some(coupling)) if coupling.iter().any(|&c| c != 0.0) => {
+                let n = self.n;
+                let e = e.unwrap_or(p.spec.restitution);
+                let mc = &p.mobility - &st.reaction * coupling;
+                let rdot = p.direction.dot(&y.rows(n, n));
+                let scale = (1.0 + e) * rdot / p.direction.dot(&mc);
+                for i in 0..n {
+                    y[n + i] -= mc[i] * scale;
+                }
+            }
+            _ => self.model.apply_impact(pair, y, e),
+        }
     }
 
     /// Applies the saltation matrix of an impact of pair `p` to the tangent `t`, in place:
@@ -1029,7 +1224,7 @@ impl<'m> Engine<'m> {
             events_this_period: 0,
             events_total: 0,
             last_impact_period: None,
-            grace: f64::NEG_INFINITY,
+            grace: vec![f64::NEG_INFINITY; self.pairs.len()],
             ring: VecDeque::with_capacity(plan.p_max + 2),
             window: None,
             observing: None,
@@ -1079,29 +1274,62 @@ impl<'m> Engine<'m> {
         }
     }
 
-    /// The first contact of `flight` within `horizon`, if any: every pair's relative
-    /// displacement searched for its first exit from `[−gap_minus, gap_plus]`. Leaves the
-    /// search's exponentials at the contact in `work.event_exponentials`.
-    fn first_contact(
+    /// The first contact of `flight` within `horizon` among the `watched` pairs
+    /// (`(pair, r − shift as a functional of the flight's state, shift)`): each pair's relative
+    /// displacement searched for its first exit from `[−gap_minus, gap_plus]`, every pair with
+    /// the search's guarantee. A pair in its grace time (`tau + s < grace[pair]`) counts no
+    /// contact; if it reaches its edge before any other pair's contact, the flight steps to the
+    /// end of its grace without an event. Ties go to the lower pair index (see
+    /// [`Engine::free_flight`]). Leaves the search's exponentials at the contact in
+    /// `work.event_exponentials`.
+    #[allow(clippy::too_many_arguments)]
+    fn watch<'f, I>(
         pairs: &[Pair],
+        watched: I,
         work: &mut Scratch,
         flight: &Flight<'_>,
         horizon: f64,
         time_tolerance: f64,
         depth: f64,
-    ) -> Option<Contact> {
+        grace: &[f64],
+        tau: f64,
+    ) -> Watch
+    where
+        I: Iterator<Item = (usize, &'f Functional, f64)>,
+    {
         let mut contact: Option<Contact> = None;
-        for (i, p) in pairs.iter().enumerate() {
-            flight.expand(&p.relative_displacement, &mut work.gap);
-            if let Some((s, side)) = work.gap.first_exit(
-                -p.spec.gap_minus,
-                p.spec.gap_plus,
+        let mut step = f64::INFINITY;
+        // Every pair's gap, then the searches in the order of their quadratic estimates: the
+        // likely first contact is found first and cuts the others' horizons short.
+        work.order.clear();
+        for (count, (i, functional, shift)) in watched.enumerate() {
+            if work.gaps.len() <= count {
+                work.gaps.push(ExpSum::default());
+            }
+            let gap = &mut work.gaps[count];
+            flight.expand(functional, gap);
+            let spec = &pairs[i].spec;
+            let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
+            work.order
+                .push((gap.estimated_exit(lo, hi), count, i, lo, hi));
+        }
+        work.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        for &(_, slot, i, lo, hi) in &work.order {
+            // Only a contact before the earliest found so far matters: search up to it.
+            let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
+            if let Some((s, side)) = work.gaps[slot].first_exit_until(
+                lo,
+                hi,
                 horizon,
+                within,
                 time_tolerance,
                 depth,
                 &mut work.stack,
             ) {
-                if contact.is_none_or(|c| s < c.s) {
+                if tau + s < grace[i] {
+                    step = step.min(grace[i] - tau);
+                } else if contact.is_none_or(|c| s < c.s || (s == c.s && i < c.pair)) {
                     contact = Some(Contact { s, pair: i, side });
                     work.event_exponentials.clear();
                     if let Some(e) = work.stack.exponentials_at(s) {
@@ -1110,11 +1338,26 @@ impl<'m> Engine<'m> {
                 }
             }
         }
-        contact
+        match contact {
+            Some(c) if c.s <= step => Watch::Contact(c),
+            _ if step < horizon => Watch::Step(step),
+            Some(c) => Watch::Contact(c),
+            None => Watch::Clear,
+        }
     }
 
     /// Free flight: the closed-form flow from the current state to its first contact (then the
     /// contact event) or to the next section.
+    ///
+    /// Contacts of different pairs are resolved one at a time, in time order: the flight ends
+    /// at the earliest, which is resolved; the next flight starts there and finds the others
+    /// (a pair whose contact is at the same instant, `s = 0`, at once). Ties go to the lower
+    /// pair index. This is exact when the impacts commute: an impact of one pair changes the
+    /// velocities along `M⁻¹d` only, so it leaves another pair's relative velocity unchanged
+    /// when `dᵀM⁻¹d' = 0` (pairs sharing no degree of freedom under a diagonal mass matrix,
+    /// such as the cells of a chain, coupled to one another only through springs and
+    /// dashpots). Pairs that share a degree of freedom and impact at the same instant are
+    /// resolved in index order (a sequential-impact model).
     fn free_flight(&mut self, state: &mut RunState, plan: &Plan) -> Result<(), SimulationError> {
         let n = self.n;
         let period = self.period;
@@ -1123,39 +1366,37 @@ impl<'m> Engine<'m> {
         // Positions are known to rounding relative to their size, not to the gap: an excursion
         // beyond a stop smaller than that is no contact.
         let depth = self.contact_depth + POSITION_ROUNDING * state.y.rows(0, n).amax();
-        let contact = Self::first_contact(
+        let watch = Self::watch(
             &self.pairs,
+            self.pairs
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (i, &p.relative_displacement, 0.0)),
             &mut self.work,
             &flight,
             horizon,
             self.time_tolerance,
             depth,
+            &state.grace,
+            state.tau,
         );
-        if let Some(c) = contact {
-            if state.tau + c.s < state.grace {
-                // Just released (or grazed): step past the stop's edge without an event.
-                let step = (state.grace - state.tau).min(horizon);
-                if let Some(trace) = state.trace.as_mut() {
-                    trace.segment(state.k, period, state.tau, step, |s| flight.state(s));
-                }
-                state.y = flight.state(step);
-                if let Some(t) = state.tangent.as_mut() {
-                    self.propagate_tangent(t, step);
-                }
-                state.tau += step;
-                if state.tau >= period {
-                    state.tau = period;
-                } else {
-                    return Ok(());
-                }
+        if let Watch::Step(step) = watch {
+            // Just released (or grazed): step past the stop's edge without an event.
+            if let Some(trace) = state.trace.as_mut() {
+                trace.segment(state.k, period, state.tau, step, |s| flight.state(s));
             }
+            state.y = flight.state(step);
+            if let Some(t) = state.tangent.as_mut() {
+                self.propagate_tangent(t, step);
+            }
+            state.tau += step;
+            return Ok(());
         }
-        let contact = contact.filter(|_| state.tau < period);
-        let span = if state.tau >= period {
-            0.0
-        } else {
-            contact.map_or(horizon, |c| c.s)
+        let contact = match watch {
+            Watch::Contact(c) => Some(c),
+            _ => None,
         };
+        let span = contact.map_or(horizon, |c| c.s);
         let tau = state.tau;
         let k = state.k;
         if let Some(t) = state.tangent.as_mut() {
@@ -1179,7 +1420,6 @@ impl<'m> Engine<'m> {
             }
         }
         match contact {
-            None if state.tau >= period => {}
             None => {
                 flight.state_into(horizon, &mut state.y);
                 state.tau = period;
@@ -1196,7 +1436,9 @@ impl<'m> Engine<'m> {
 
     /// A contact found by the search, with the state just before it: an impact if the pair
     /// approaches the stop, then a stick if the stop holds it (or the chatter would accumulate
-    /// within [`CHATTER`] of a period); otherwise a graze, stepped past.
+    /// within [`CHATTER`] of a period); otherwise a graze, stepped past. In a stuck phase the
+    /// impact keeps the held pairs' constraints and the stop's push is the constrained
+    /// acceleration's; a stick adds the pair to the held set.
     fn contact(&mut self, state: &mut RunState, c: Contact) -> Result<(), SimulationError> {
         let n = self.n;
         state.count_event(self.period)?;
@@ -1214,11 +1456,12 @@ impl<'m> Engine<'m> {
         if approaching {
             self.impact(state, c, rdot);
         }
-        // Stick? Post-impact relative speed, and the free relative acceleration pushing into the
+        // Stick? Post-impact relative speed, and the relative acceleration pushing into the
         // stop.
+        let p = &self.pairs[c.pair];
         let e = p.spec.restitution;
         let rdot_after = p.direction.dot(&state.y.rows(n, n));
-        let push = self.free_relative_acceleration(p, &state.y, state.tau) * side;
+        let push = self.relative_acceleration(c.pair, &state.y, state.tau, state.mode) * side;
         let accumulation = if push > 0.0 && e < 1.0 {
             2.0 * rdot_after.abs() / (push * (1.0 - e))
         } else {
@@ -1233,7 +1476,7 @@ impl<'m> Engine<'m> {
         } else if !approaching {
             // A touch that is neither an impact nor a hold (rounding at a graze): step past it
             // rather than find it again.
-            state.grace = state.tau + self.release_grace;
+            state.grace[c.pair] = state.tau + self.release_grace;
         }
         Ok(())
     }
@@ -1267,7 +1510,8 @@ impl<'m> Engine<'m> {
         if state.tangent.is_some() {
             self.impact_with_tangent(state, c);
         } else {
-            self.model.apply_impact(c.pair, &mut state.y, None);
+            let mode = state.mode;
+            self.restitute(c.pair, &mut state.y, None, mode);
         }
         if let Some(trace) = state.trace.as_mut() {
             trace
@@ -1295,7 +1539,8 @@ impl<'m> Engine<'m> {
             self.apply_saltation(t, &self.pairs[c.pair], &state.y, state.tau);
             t.impacts.push((c.pair, c.side, time));
         }
-        self.model.apply_impact(c.pair, &mut state.y, None);
+        let mode = state.mode;
+        self.restitute(c.pair, &mut state.y, None, mode);
     }
 
     /// The tangent flow through a flight of duration `span` (out of line, as above).
@@ -1327,7 +1572,8 @@ impl<'m> Engine<'m> {
                     .push((time, RowKind::BeforeImpact, state.y.clone()));
             }
         }
-        self.model.apply_impact(c.pair, &mut state.y, Some(0.0));
+        let mode = state.mode;
+        self.restitute(c.pair, &mut state.y, Some(0.0), mode);
         if let Some(trace) = state.trace.as_mut() {
             trace
                 .rows
@@ -1336,7 +1582,8 @@ impl<'m> Engine<'m> {
         if let Some(t) = state.tangent.as_mut() {
             self.stick_tangent(t, c.pair, state.k as f64 * self.period + state.tau);
         }
-        let index = self.stuck_index(c.pair, c.side)?;
+        let held = self.held_with(state.mode, c.pair, c.side);
+        let index = self.stuck_index(&held)?;
         state.mode = Mode::Stuck(index);
         Ok(())
     }
@@ -1405,20 +1652,37 @@ impl<'m> Engine<'m> {
         t.stuck_time += span;
     }
 
-    /// Event: the held pair is released `s` into the stuck phase (the contact force would pull);
-    /// the run continues in free flight.
-    fn release(&self, state: &mut RunState, s: f64) -> Result<(), SimulationError> {
+    /// Event: the held pair at position `released` of the held set is let go `s` into the
+    /// stuck phase (its contact force would pull); the others stay held, and the run
+    /// continues on their constrained flow (free flight when none is left).
+    fn release(
+        &mut self,
+        state: &mut RunState,
+        index: usize,
+        released: usize,
+        s: f64,
+    ) -> Result<(), SimulationError> {
         state.tau += s;
-        state.grace = state.tau + self.release_grace;
-        state.mode = Mode::Free;
+        let mut held = self.stuck[index].held.clone();
+        let (pair, _) = held.remove(released);
+        state.grace[pair] = state.tau + self.release_grace;
+        state.mode = if held.is_empty() {
+            Mode::Free
+        } else {
+            Mode::Stuck(self.stuck_index(&held)?)
+        };
         state.count_event(self.period)
     }
 
-    /// Stuck phase: the pair held on its stop moves on the reduced flow until the contact force
-    /// would pull (then the release event) or to the next section.
+    /// Stuck phase: the held pairs ride their stops on the constrained flow until one's
+    /// contact force would pull (its release), another pair reaches a stop (a contact: impact,
+    /// or a stick that joins the held set), or the next section.
     ///
-    /// While a pair is held, other pairs are not watched (the two-degree-of-freedom unit has
-    /// one).
+    /// Every pair is watched at all times: the pairs not held are searched for their first
+    /// contact in the constrained flow with the same guarantee as in free flight, and each
+    /// held pair's contact force for its first sign change (the watch runs up to the first
+    /// release). The earliest event ends the phase; a contact found at the release's instant
+    /// is resolved first, and the release is found again at once by the next phase.
     fn stuck_phase(
         &mut self,
         state: &mut RunState,
@@ -1430,7 +1694,7 @@ impl<'m> Engine<'m> {
         let horizon = period - state.tau;
         let tau = state.tau;
         let st = &self.stuck[index];
-        let nr = n - 1;
+        let nr = st.basis.ncols();
         // Reduced state: ũ = Tᵀ(u − u*), ũ̇ = Tᵀ u̇.
         let tt = st.basis.transpose();
         let mut yr = DVector::zeros(2 * nr);
@@ -1438,31 +1702,57 @@ impl<'m> Engine<'m> {
             .copy_from(&(&tt * (state.y.rows(0, n) - &st.offset)));
         yr.rows_mut(nr, nr).copy_from(&(&tt * state.y.rows(n, n)));
         let flight = st.flow.flight(&yr, tau);
-        let mut force = flight.value_of(&st.force_state).shifted(st.force_constant);
-        let e = nalgebra::Complex::new(0.0, self.omega * tau).exp();
-        force.terms.push(crate::expsum::Term {
-            poly: [
-                st.force_harmonic * e,
-                Default::default(),
-                Default::default(),
-                Default::default(),
-            ],
-            rate: nalgebra::Complex::new(0.0, self.omega),
-        });
-        // Held while side·λ < 0: release at the first root of −side·λ.
-        let hold = if st.side > 0 { force.negated() } else { force };
-        // `hold` ≥ 0 at the start: the release is its first exit from [0, ∞).
-        let release = hold
-            .first_exit(
+        let rotation = nalgebra::Complex::new(0.0, self.omega * tau).exp();
+        // The first release: held while side·λ < 0, released at the first root of −side·λ.
+        let mut release: Option<(f64, usize)> = None;
+        for (position, (force, &(_, side))) in st.forces.iter().zip(&st.held).enumerate() {
+            let mut lambda = flight.value_of(&force.state).shifted(force.constant);
+            lambda.terms.push(crate::expsum::Term {
+                poly: [
+                    force.harmonic * rotation,
+                    Default::default(),
+                    Default::default(),
+                    Default::default(),
+                ],
+                rate: nalgebra::Complex::new(0.0, self.omega),
+            });
+            let hold = if side > 0 { lambda.negated() } else { lambda };
+            // `hold` ≥ 0 at the start: the release is its first exit from [0, ∞).
+            if let Some((s, _)) = hold.first_exit(
                 0.0,
                 f64::INFINITY,
-                horizon,
+                release.map_or(horizon, |r| r.0),
                 self.time_tolerance,
                 0.0,
                 &mut self.work.stack,
+            ) {
+                if release.is_none_or(|r| s < r.0) {
+                    release = Some((s, position));
+                }
+            }
+        }
+        let watch_horizon = release.map_or(horizon, |r| r.0);
+        let depth = self.contact_depth + POSITION_ROUNDING * state.y.rows(0, n).amax();
+        let watch = if st.watched.is_empty() || watch_horizon <= 0.0 {
+            Watch::Clear
+        } else {
+            Self::watch(
+                &self.pairs,
+                st.watched.iter().map(|(q, f, shift)| (*q, f, *shift)),
+                &mut self.work,
+                &flight,
+                watch_horizon,
+                self.time_tolerance,
+                depth,
+                &state.grace,
+                tau,
             )
-            .map(|(s, _)| s);
-        let span = release.unwrap_or(horizon);
+        };
+        let span = match watch {
+            Watch::Contact(c) => c.s,
+            Watch::Step(s) => s,
+            Watch::Clear => watch_horizon,
+        };
         let full = |s: f64| {
             let r = flight.state(s);
             let mut out = DVector::zeros(2 * n);
@@ -1494,9 +1784,14 @@ impl<'m> Engine<'m> {
         if let Some(t) = state.tangent.as_mut() {
             Self::propagate_stuck_tangent(st, t, span);
         }
-        match release {
-            Some(s) => self.release(state, s)?,
-            None => state.tau = period,
+        match (watch, release) {
+            (Watch::Contact(c), _) => {
+                state.tau += span;
+                self.contact(state, c)?;
+            }
+            (Watch::Step(_), _) => state.tau += span,
+            (Watch::Clear, Some((s, position))) => self.release(state, index, position, s)?,
+            (Watch::Clear, None) => state.tau = period,
         }
         Ok(())
     }
@@ -1511,7 +1806,8 @@ impl<'m> Engine<'m> {
         state.tau = 0.0;
         state.events_total += state.events_this_period;
         state.events_this_period = 0;
-        state.grace = f64::NEG_INFINITY; // `grace` is a time within the period just ended
+        // `grace` is a time within the period just ended.
+        state.grace.fill(f64::NEG_INFINITY);
         if let Some(w) = state.window.as_mut() {
             w.stroboscopic.push(state.y.clone());
         }

@@ -3,7 +3,7 @@
 //! unit (`m_o = 2, m_i = 1, k_o = 6, k_i = 3, u_g = 1`, `ω_n² = 1.5, 6`) in the variants the
 //! tests need, a single undamped oscillator flying to a stop, and one impact.
 
-use crate::model::{ContactPair, Model};
+use crate::model::{CellParameters, CellStops, ContactPair, Model};
 use crate::simulate::Start;
 use nalgebra::{Complex, DMatrix, DVector, Matrix4};
 
@@ -39,6 +39,39 @@ pub fn paper_unit(omega: f64, damping: Option<(f64, f64)>, stops: Option<(f64, f
         stops,
     )
     .expect("the paper's unit is valid")
+}
+
+/// The paper's unit as one cell of a chain, with optional dashpots `(c_o, c_i)` and stops.
+pub fn paper_cell(damping: Option<(f64, f64)>, stops: Option<CellStops>) -> CellParameters {
+    CellParameters {
+        outer_mass: OUTER_MASS,
+        inner_mass: INNER_MASS,
+        outer_stiffness: OUTER_STIFFNESS,
+        inner_stiffness: INNER_STIFFNESS,
+        outer_damping: damping.map(|d| d.0),
+        inner_damping: damping.map(|d| d.1),
+        stops,
+    }
+}
+
+/// A chain of `cells` copies of the paper's cell at `omega` (base amplitude
+/// [`BASE_AMPLITUDE`]).
+///
+/// # Panics
+/// If `cells` is outside `1..=`[`crate::model::MAX_CELLS`] or a value is out of range (see
+/// [`Model::chain`]).
+pub fn paper_chain(
+    cells: usize,
+    omega: f64,
+    damping: Option<(f64, f64)>,
+    stops: Option<CellStops>,
+) -> Model {
+    Model::chain(
+        &vec![paper_cell(damping, stops); cells],
+        BASE_AMPLITUDE,
+        omega,
+    )
+    .expect("the paper's chain is valid")
 }
 
 /// A problem with its exact answer.
