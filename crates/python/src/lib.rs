@@ -547,10 +547,28 @@ fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
             number(rows, |r| r.simulated_transmittance_db),
         ),
         ("simulated_sticking", flag(rows, |r| r.simulated_sticking)),
+        (
+            "simulated_signature",
+            text(rows, |r| r.simulated_signature.clone()),
+        ),
+        (
+            "analytic_outer_amplitude",
+            number(rows, |r| r.analytic_outer_amplitude),
+        ),
+        ("analytic_viable", flag(rows, |r| r.analytic_viable)),
+        ("analytic_stable", flag(rows, |r| r.analytic_stable)),
+        (
+            "analytic_energy_residual",
+            number(rows, |r| r.analytic_energy_residual),
+        ),
         ("class", text(rows, |r| r.class.map(str::to_owned))),
         (
             "relative_difference",
             number(rows, |r| r.relative_difference),
+        ),
+        (
+            "multiplier_difference",
+            number(rows, |r| r.multiplier_difference),
         ),
         ("class_detail", text(rows, |r| r.class_detail.clone())),
         ("matched", text(rows, |r| r.matched.clone())),

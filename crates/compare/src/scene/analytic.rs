@@ -166,3 +166,90 @@ mod tests {
         }
     }
 }
+
+/// What a row of a sampled orbit is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SampleKind {
+    /// A uniform sample in time.
+    Sample,
+    /// The state just before an impact.
+    BeforeImpact,
+    /// The state just after it.
+    AfterImpact,
+}
+
+/// A state of a sampled orbit at a time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitSample {
+    /// Time with the base at `u_g cos ωt`, s (the cycle lies in `[t₀, t₀ + pT)`, `t₀ < T`).
+    pub time: f64,
+    /// What the row is.
+    pub kind: SampleKind,
+    /// `(u_o, u_i, u̇_o, u̇_i)`.
+    pub state: Vector4<f64>,
+}
+
+/// An impact of a sampled orbit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OrbitImpact {
+    /// Time with the base at `u_g cos ωt`, s.
+    pub time: f64,
+    /// `+1` side 1 (`r = +Δ`), `−1` side 2.
+    pub side: i8,
+    /// The state just before it.
+    pub before: Vector4<f64>,
+}
+
+/// One cycle of `orbit` sampled from its closed form: `samples_per_period` uniform samples per
+/// forcing period from its first canonical impact, and every impact as two rows (before and
+/// after), in time order. Times are the forcing's own (`u_g cos ωt`), so that a simulated cycle
+/// sampled the same way overlays it directly.
+pub fn sample_signature_orbit(
+    scene: &Scene,
+    orbit: &SignatureOrbit,
+    samples_per_period: u64,
+) -> (Vec<OrbitSample>, Vec<OrbitImpact>) {
+    let period = std::f64::consts::TAU / orbit.omega;
+    let cycle = orbit.period as f64 * period;
+    // The base phase α at the first impact: t = t' + α/ω, brought into [0, T).
+    let shift = (orbit.alpha / orbit.omega).rem_euclid(period);
+    let n = samples_per_period.max(1) * u64::from(orbit.period);
+    let mut rows: Vec<OrbitSample> = (0..n)
+        .map(|k| {
+            let t = k as f64 * cycle / n as f64;
+            OrbitSample {
+                time: shift + t,
+                kind: SampleKind::Sample,
+                state: signature_orbit_state(scene, orbit, t),
+            }
+        })
+        .collect();
+    let mut impacts = Vec::new();
+    for (j, (&phase, &side)) in orbit
+        .impact_phases
+        .iter()
+        .zip(orbit.signature.sides())
+        .enumerate()
+    {
+        let t = phase * cycle;
+        let before = orbit.states_before_impacts[j];
+        impacts.push(OrbitImpact {
+            time: shift + t,
+            side,
+            before,
+        });
+        rows.push(OrbitSample {
+            time: shift + t,
+            kind: SampleKind::BeforeImpact,
+            state: before,
+        });
+        rows.push(OrbitSample {
+            time: shift + t,
+            kind: SampleKind::AfterImpact,
+            state: signature_orbit_state(scene, orbit, t),
+        });
+    }
+    // Stable: a sample at an impact's time stays before the impact's two rows.
+    rows.sort_by(|a, b| a.time.total_cmp(&b.time));
+    (rows, impacts)
+}
