@@ -503,3 +503,159 @@ fn continue_writes_the_points_as_csv() {
     );
     assert!(lines.count() > 5);
 }
+
+/// The rows of a CSV file written by the command, as (header, records).
+fn csv_rows(path: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .unwrap()
+        .split(',')
+        .map(str::to_owned)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_owned).collect())
+        .collect();
+    (header, rows)
+}
+
+fn column(header: &[String], name: &str) -> usize {
+    header.iter().position(|h| h == name).unwrap()
+}
+
+#[test]
+fn simulated_and_analytic_cycles_overlay_through_their_trajectories() {
+    // ω = 2 on the paper scene: the simulator from rest settles on the stable viable `+-`
+    // orbit. Its final cycle and the analytic orbit, each sampled from its own closed form,
+    // must show the same impacts at the same forcing times, and obey the stops and the
+    // restitution law in every row.
+    let dir = std::env::temp_dir().join(format!("rattle-trajectory-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = |name: &str| dir.join(name).to_str().unwrap().to_owned();
+    let out = rattle(&[
+        "simulate",
+        "--omega",
+        "2",
+        "--trajectory",
+        &file("sim.csv"),
+        "--impacts",
+        &file("sim-impacts.csv"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc = json(&["orbit", "--omega", "2", "--signature", "+-", "--json"]);
+    let k = doc["orbits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|o| o["viable"] == true && o["stable"] == true)
+        .expect("a stable viable +- orbit at ω = 2");
+    let out = rattle(&[
+        "orbit",
+        "--omega",
+        "2",
+        "--signature",
+        "+-",
+        "--orbit",
+        &k.to_string(),
+        "--trajectory",
+        &file("orbit.csv"),
+        "--impacts",
+        &file("orbit-impacts.csv"),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (gap, e) = (0.5, 0.8);
+    for name in ["sim.csv", "orbit.csv"] {
+        let (h, rows) = csv_rows(&dir.join(name));
+        assert_eq!(h.join(","), "t,kind,base,u_o,u_i,v_o,v_i,r");
+        let (r, kind) = (column(&h, "r"), column(&h, "kind"));
+        let (v_o, v_i) = (column(&h, "v_o"), column(&h, "v_i"));
+        let value = |row: &Vec<String>, c: usize| row[c].parse::<f64>().unwrap();
+        for row in &rows {
+            assert!(value(row, r).abs() <= gap * (1.0 + 1e-9), "{name}: {row:?}");
+        }
+        let mut jumps = 0;
+        for pair in rows.windows(2) {
+            if pair[0][kind] == "before_impact" {
+                assert_eq!(pair[1][kind], "after_impact", "{name}");
+                let before = value(&pair[0], v_i) - value(&pair[0], v_o);
+                let after = value(&pair[1], v_i) - value(&pair[1], v_o);
+                assert!((after + e * before).abs() <= 1e-12 * before.abs(), "{name}");
+                jumps += 1;
+            }
+        }
+        assert_eq!(jumps, 2, "{name}: two impacts per cycle");
+    }
+    let (h, sim) = csv_rows(&dir.join("sim-impacts.csv"));
+    let (_, orbit) = csv_rows(&dir.join("orbit-impacts.csv"));
+    let period = std::f64::consts::TAU / 2.0;
+    let (t, side, u_o) = (column(&h, "t"), column(&h, "side"), column(&h, "u_o"));
+    for a in &orbit {
+        let ta: f64 = a[t].parse().unwrap();
+        let matched = sim.iter().any(|s| {
+            let ts: f64 = s[t].parse().unwrap();
+            let dt = (ts - ta).rem_euclid(period);
+            let dt = dt.min(period - dt);
+            let du = (s[u_o].parse::<f64>().unwrap() - a[u_o].parse::<f64>().unwrap()).abs();
+            s[side] == a[side] && dt < 1e-8 && du < 1e-8
+        });
+        assert!(
+            matched,
+            "analytic impact {a:?} not in the simulated cycle {sim:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn bad_trajectory_options_exit_2_and_name_the_option() {
+    for (args, option) in [
+        (
+            vec!["simulate", "--omega", "2", "--trajectory", "t.txt"],
+            "--trajectory",
+        ),
+        (
+            vec![
+                "simulate",
+                "--omega",
+                "2",
+                "--trajectory",
+                "t.csv",
+                "--samples-per-period",
+                "0",
+            ],
+            "--samples-per-period",
+        ),
+        (
+            vec!["orbit", "--omega", "2", "--trajectory", "t.csv"],
+            "--signature",
+        ),
+        (
+            vec![
+                "orbit",
+                "--omega",
+                "2",
+                "--signature",
+                "+-",
+                "--orbit",
+                "99",
+                "--trajectory",
+                "t.csv",
+            ],
+            "--orbit",
+        ),
+    ] {
+        let out = rattle(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(option), "{args:?}: {stderr}");
+    }
+}

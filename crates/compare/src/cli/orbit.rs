@@ -1,11 +1,13 @@
 //! `rattle orbit`: the analytic picture at one frequency.
 
-use super::{check_omega, heading, load, pretty, Common, RattleError};
+use super::{check_omega, heading, load, pretty, Common, RattleError, TrajectoryArgs};
 use crate::output::records::{
     At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
     ViolationRecord,
 };
-use crate::scene::analytic::{analyse, orbits_of_signature, OrbitSearch};
+use crate::output::trajectory::analytic_rows;
+use crate::output::{write_table, Format, Header};
+use crate::scene::analytic::{analyse, orbits_of_signature, sample_signature_orbit, OrbitSearch};
 use crate::scene::Scene;
 use clap::Args;
 use rattle_analytic::Signature;
@@ -27,6 +29,13 @@ pub struct OrbitArgs {
     /// Forcing periods per cycle of the signature, in [1, 8].
     #[arg(long, default_value_t = 1, requires = "signature")]
     pub period: u32,
+    /// With --trajectory: which orbit of the signature to sample (numbered from 0, as
+    /// listed).
+    #[arg(long, default_value_t = 0, requires = "trajectory")]
+    pub orbit: usize,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub trajectory: TrajectoryArgs,
 }
 
 /// Runs `rattle orbit`.
@@ -35,11 +44,17 @@ pub struct OrbitArgs {
 /// Bad arguments or scene; a numerical failure of the analytic solver.
 pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.common.omega)?;
+    args.trajectory.check()?;
     if let Some(text) = &args.signature {
         let signature = Signature::parse(text, args.period)
             .map_err(|e| RattleError::Argument(e.to_string()))?;
         let scene = load(&args.common.scene)?;
-        return signature_run(&scene, omega, &signature, args.common.json);
+        return signature_run(&scene, omega, &signature, &args);
+    }
+    if args.trajectory.trajectory.is_some() {
+        return Err(RattleError::Argument(
+            "--trajectory needs --signature (for the two-impact orbits: --signature +-)".into(),
+        ));
     }
     let scene = load(&args.common.scene)?;
     let search = if args.symmetric_only {
@@ -97,23 +112,47 @@ fn signature_run(
     scene: &Scene,
     omega: f64,
     signature: &Signature,
-    json: bool,
+    args: &OrbitArgs,
 ) -> Result<String, RattleError> {
     if scene.stops.is_none() {
         return Err(RattleError::Argument(
             "--signature: the scene has no `stops`, so no impact signature".into(),
         ));
     }
+    let orbits = orbits_of_signature(scene, omega, signature);
+    if let Some(path) = &args.trajectory.trajectory {
+        let orbit = orbits.get(args.orbit).ok_or_else(|| {
+            RattleError::Argument(format!(
+                "--orbit = {} is out of range: {} orbit(s) of {signature} at ω = {omega}, numbered from 0",
+                args.orbit,
+                orbits.len()
+            ))
+        })?;
+        let (samples, impacts) =
+            sample_signature_orbit(scene, orbit, args.trajectory.samples_per_period);
+        let (rows, impacts) = analytic_rows(&samples, &impacts, omega, scene.base.amplitude);
+        write_table(
+            path,
+            Format::of(path, "--trajectory")?,
+            &Header::default(),
+            rows,
+        )?;
+        if let Some(path) = &args.trajectory.impacts {
+            write_table(
+                path,
+                Format::of(path, "--impacts")?,
+                &Header::default(),
+                impacts,
+            )?;
+        }
+    }
     let record = SignatureOrbitsRecord {
         at: At::new(scene, omega),
         signature: signature.to_string(),
         period: signature.period(),
-        orbits: orbits_of_signature(scene, omega, signature)
-            .iter()
-            .map(SignatureOrbitRecord::new)
-            .collect(),
+        orbits: orbits.iter().map(SignatureOrbitRecord::new).collect(),
     };
-    if json {
+    if args.common.json {
         return pretty(&record);
     }
     let mut out = heading(scene, omega);

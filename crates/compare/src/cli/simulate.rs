@@ -1,10 +1,14 @@
 //! `rattle simulate`: the event-driven simulator from rest.
 
-use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError};
+use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError, TrajectoryArgs};
 use crate::output::records::SimulationRecord;
-use crate::scene::simulator::run as simulate;
+use crate::output::trajectory::simulated_rows;
+use crate::output::{write_table, Format, Header};
+use crate::scene::simulator::{model, run as simulate, SimulatedPoint};
+use crate::scene::Scene;
 use clap::Args;
-use rattle_event_driven::Start;
+use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
+use rattle_event_driven::{SimulationOptions, Start};
 use std::fmt::Write as _;
 
 /// Arguments of `rattle simulate`.
@@ -20,6 +24,50 @@ pub struct SimulateArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub accuracy: Accuracy,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub trajectory: TrajectoryArgs,
+}
+
+/// Writes the trajectory files of `args` for the run `sim`.
+fn write_trajectory(
+    args: &TrajectoryArgs,
+    scene: &Scene,
+    sim: &SimulatedPoint,
+    options: &SimulationOptions,
+) -> Result<(), RattleError> {
+    let Some(path) = &args.trajectory else {
+        return Ok(());
+    };
+    let m = model(scene, sim.omega).map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let trajectory = final_cycle_trajectory(
+        &m,
+        sim.omega,
+        &sim.steady,
+        &TrajectoryOptions {
+            periods: 1,
+            samples_per_period: args.samples_per_period,
+            base_amplitude: scene.base.amplitude,
+            simulation: options.clone(),
+        },
+    )
+    .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let (rows, impacts) = simulated_rows(&trajectory);
+    write_table(
+        path,
+        Format::of(path, "--trajectory")?,
+        &Header::default(),
+        rows,
+    )?;
+    if let Some(path) = &args.impacts {
+        write_table(
+            path,
+            Format::of(path, "--impacts")?,
+            &Header::default(),
+            impacts,
+        )?;
+    }
+    Ok(())
 }
 
 /// Runs `rattle simulate`.
@@ -35,9 +83,11 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         }
         options.fixed_periods = Some(n);
     }
+    args.trajectory.check()?;
     let scene = load(&args.common.scene)?;
     let sim = simulate(&scene, omega, &Start::rest(2), &options)
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    write_trajectory(&args.trajectory, &scene, &sim, &options)?;
     let record = SimulationRecord::new(&scene, &sim);
     if args.common.json {
         return pretty(&record);

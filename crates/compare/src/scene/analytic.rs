@@ -249,7 +249,16 @@ pub fn sample_signature_orbit(
             state: signature_orbit_state(scene, orbit, t),
         });
     }
-    // Stable: a sample at an impact's time stays before the impact's two rows.
-    rows.sort_by(|a, b| a.time.total_cmp(&b.time));
+    // At an impact's time: before, after, then a uniform sample there (the state after).
+    let rank = |k: SampleKind| match k {
+        SampleKind::BeforeImpact => 0,
+        SampleKind::AfterImpact => 1,
+        SampleKind::Sample => 2,
+    };
+    rows.sort_by(|a, b| {
+        a.time
+            .total_cmp(&b.time)
+            .then(rank(a.kind).cmp(&rank(b.kind)))
+    });
     (rows, impacts)
 }
