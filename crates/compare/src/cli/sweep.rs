@@ -7,6 +7,7 @@ use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
 use crate::runs::sweep::{header, sweep_rows, Solver};
 use clap::Args;
+use std::collections::BTreeMap;
 use std::path::PathBuf;
 
 /// Arguments of `rattle sweep`.
@@ -89,15 +90,39 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
     )
     .map_err(io)?;
     let progress = Progress::new("sweep", omegas.len(), true);
+    let mut by_class: BTreeMap<&'static str, usize> = BTreeMap::new();
+    let mut by_signature: BTreeMap<String, usize> = BTreeMap::new();
     sweep_rows(&scene, omegas, args.solver, &options, &progress, |row| {
+        if let Some(class) = row.class {
+            *by_class.entry(class).or_insert(0) += 1;
+            if class == "agreement" {
+                let sig = row.simulated_signature.clone();
+                *by_signature
+                    .entry(sig.unwrap_or_else(|| "linear".to_owned()))
+                    .or_insert(0) += 1;
+            }
+        }
         table.row(&row)
     })
     .map_err(io)?;
     table.finish().map_err(io)?;
-    Ok(format!(
+    let mut out = format!(
         "wrote {} ({} frequencies, solver {})\n",
         args.out.display(),
         omegas.len(),
         args.solver.name()
-    ))
+    );
+    if !by_class.is_empty() {
+        let classes: Vec<String> = by_class.iter().map(|(k, n)| format!("{k} {n}")).collect();
+        let signatures: Vec<String> = by_signature
+            .iter()
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
+        out += &format!(
+            "classes: {}\nagreement by signature: {}\n",
+            classes.join(", "),
+            signatures.join(", ")
+        );
+    }
+    Ok(out)
 }
