@@ -16,6 +16,8 @@
 //! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
 //!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
 //!   state (the model the signature solver is to be generalised onto);
+//! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
+//!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
 //!   ([`continue_orbit`]) through folds, with exact derivatives in `ω`, the bifurcation events
 //!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
@@ -35,6 +37,7 @@ pub mod flow;
 pub mod linear;
 pub mod model;
 pub mod orbit;
+pub mod sequence;
 pub mod signature;
 pub mod symmetric;
 pub mod test_models;
@@ -51,6 +54,7 @@ pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{ContactPair, HarmonicForcing, HarmonicState, LinearModel, ModelError};
 pub use orbit::{Orbit, Side, Violation};
+pub use sequence::{ImpactSequence, PairImpact, SequenceError};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};

@@ -345,3 +345,47 @@ fn bad_models_are_refused_with_the_field_named() {
     let f = field_of(LinearModel::unit(&paper_unit(), &bad_stops));
     assert_eq!(f, "stops.gap");
 }
+
+#[test]
+fn impact_sequences_are_canonical_rotations_and_name_their_pairs() {
+    // One pair: the sequence of a signature, in the signature's canonical form.
+    let one = ImpactSequence::parse("-++-", 2).unwrap();
+    assert_eq!(one.to_string(), "0+ 0+ 0- 0-");
+    assert_eq!(
+        one.as_signature(),
+        Some(Signature::parse("++--", 2).unwrap())
+    );
+    // Two pairs, each `+-`: every rotation gives the same canonical sequence.
+    let a = ImpactSequence::parse("1- 0+ 1+ 0-", 1).unwrap();
+    let b = ImpactSequence::parse("0+ 1+ 0- 1-", 1).unwrap();
+    assert_eq!(a, b);
+    assert_eq!(a.to_string(), "0+ 1+ 0- 1-");
+    assert_eq!(a.as_signature(), None);
+    assert_eq!(
+        a.pair_signature(1),
+        Some(Signature::parse("+-", 1).unwrap())
+    );
+    assert_eq!(a.pair_signature(2), None);
+    let chain = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2).unwrap();
+    assert_eq!(a.check(&chain), Ok(()));
+    let unit = LinearModel::unit(&damped_paper_unit(), &paper_stops()).unwrap();
+    assert_eq!(
+        a.check(&unit),
+        Err(SequenceError::Pair { pair: 1, pairs: 1 })
+    );
+    // Refused: bad tokens, empty, bad period.
+    assert_eq!(
+        ImpactSequence::parse("0+ 1x", 1),
+        Err(SequenceError::BadToken {
+            token: "1x".to_string()
+        })
+    );
+    assert_eq!(
+        ImpactSequence::parse("", 1),
+        Err(SequenceError::Signature(SignatureError::Empty))
+    );
+    assert!(matches!(
+        ImpactSequence::parse("0+ 0-", 0),
+        Err(SequenceError::Signature(SignatureError::Period { .. }))
+    ));
+}
