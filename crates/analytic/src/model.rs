@@ -462,6 +462,94 @@ impl LinearModel {
     }
 }
 
+/// The forced flow of a [`LinearModel`] over a time `t`, the blocks of `exp(Â t)`:
+/// `x(t) = E x(0) + F p(0)`, `p(t) = R p(0)`, `x = (u, u̇)`, `p = (cos θ, sin θ)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelTransition {
+    /// `E(t)` (`2n × 2n`): the free flow, also the variational flow.
+    pub homogeneous: DMatrix<f64>,
+    /// `F(t)` (`2n × 2`): the response to the initial forcing phase.
+    pub forced: DMatrix<f64>,
+    /// `R(ωt)` (`2 × 2`): the rotation of the forcing phase.
+    pub rotation: DMatrix<f64>,
+}
+
+impl ModelTransition {
+    /// Applies the flow: `(x, p) ↦ (E x + F p, R p)`.
+    pub fn apply(&self, x: &DVector<f64>, p: &DVector<f64>) -> (DVector<f64>, DVector<f64>) {
+        (&self.homogeneous * x + &self.forced * p, &self.rotation * p)
+    }
+}
+
+impl LinearModel {
+    /// The exact forced flow over time `t` at `omega`: `exp(Â t)` of
+    /// [`LinearModel::augmented_matrix`], split into blocks.
+    pub fn transition(&self, omega: f64, t: f64) -> ModelTransition {
+        let n2 = 2 * self.dofs();
+        let full = (self.augmented_matrix(omega) * t).exp();
+        ModelTransition {
+            homogeneous: full.view((0, 0), (n2, n2)).into_owned(),
+            forced: full.view((0, n2), (n2, 2)).into_owned(),
+            rotation: full.view((n2, n2), (2, 2)).into_owned(),
+        }
+    }
+
+    /// The vector field `ẋ = A x + b(p)` of the state `x = (u, u̇)` at forcing phase
+    /// `p = (cos θ, sin θ)`.
+    ///
+    /// # Panics
+    /// If `x` does not have `2n` entries or `p` two.
+    pub fn vector_field(&self, omega: f64, x: &DVector<f64>, p: &DVector<f64>) -> DVector<f64> {
+        let n = self.dofs();
+        let mut field = self.system_matrix() * x;
+        let force = &self.forcing.cosine * p[0] + self.forcing.sine_at(omega) * p[1];
+        let mut accelerations = field.rows_mut(n, n);
+        accelerations += &self.mass_inverse * force;
+        field
+    }
+
+    /// The state after an impact of `pair`: positions kept, velocities mapped by
+    /// [`LinearModel::impact_map`].
+    ///
+    /// # Panics
+    /// If `pair` is not an index of [`LinearModel::pairs`] or `x` does not have `2n` entries.
+    pub fn impact_state(&self, pair: usize, x: &DVector<f64>) -> DVector<f64> {
+        let n = self.dofs();
+        let mut after = x.clone();
+        let velocities = self.impact_map(pair) * x.rows(n, n);
+        after.rows_mut(n, n).copy_from(&velocities);
+        after
+    }
+
+    /// Saltation matrix (`2n × 2n`) of an impact of `pair` from the state `before` at phase
+    /// `p`, on the surface `h = wᵀu ∓ gap`: `S = Ĝ + (f⁺ − Ĝ f⁻) h_xᵀ / (h_x · f⁻)`,
+    /// `Ĝ = diag(I, G)`, `h_x = (w, 0)`, `f∓` the vector field before and after.
+    ///
+    /// # Panics
+    /// As [`LinearModel::impact_state`].
+    pub fn saltation(
+        &self,
+        omega: f64,
+        pair: usize,
+        before: &DVector<f64>,
+        p: &DVector<f64>,
+    ) -> DMatrix<f64> {
+        let n = self.dofs();
+        let after = self.impact_state(pair, before);
+        let f_minus = self.vector_field(omega, before, p);
+        let f_plus = self.vector_field(omega, &after, p);
+        let mut g_hat = DMatrix::identity(2 * n, 2 * n);
+        g_hat
+            .view_mut((n, n), (n, n))
+            .copy_from(&self.impact_map(pair));
+        let mut hx = DVector::zeros(2 * n);
+        hx.rows_mut(0, n).copy_from(&self.pairs[pair].direction);
+        let jump = &f_plus - &g_hat * &f_minus;
+        let rate = hx.dot(&f_minus);
+        g_hat + jump * hx.transpose() / rate
+    }
+}
+
 /// A harmonic motion `u(t) = U_c cos θ + U_s sin θ`, `θ = ωt + α`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HarmonicState {
@@ -481,5 +569,56 @@ impl HarmonicState {
     /// clear of its stops exactly when this is `≤` the smaller gap.
     pub fn relative_amplitude(&self, pair: &ContactPair) -> f64 {
         pair.relative(&self.cosine).hypot(pair.relative(&self.sine))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flow::ForcedFlow;
+    use crate::test_models::{damped_paper_unit, paper_stops};
+    use nalgebra::{Vector2, Vector4};
+
+    /// The unit's model carries the unit's own flow and saltation (crate-private in
+    /// [`crate::orbit`]): the same matrices computed in another order, to a few ulps of the
+    /// exponential's accuracy.
+    #[test]
+    fn unit_model_has_the_units_flow_and_saltation() {
+        const TOLERANCE: f64 = 1e-13;
+        let unit = damped_paper_unit();
+        let stops = paper_stops();
+        let model = LinearModel::unit(&unit, &stops).unwrap_or_else(|e| panic!("{e}"));
+        let omega = 1.7;
+        let flow = ForcedFlow::new(&unit, omega);
+        let t = 0.37 * flow.period();
+        let fixed = flow.transition(t);
+        let general = model.transition(omega, t);
+        let x = Vector4::new(0.2, 0.7, -0.3, 1.1);
+        let p = Vector2::new(0.6, 0.8);
+        let (fx, fp) = fixed.apply(&x, &p);
+        let (gx, gp) = general.apply(
+            &DVector::from_column_slice(x.as_slice()),
+            &DVector::from_column_slice(p.as_slice()),
+        );
+        for k in 0..4 {
+            assert!((fx[k] - gx[k]).abs() <= TOLERANCE * fx.amax(), "state {k}");
+        }
+        assert!((fp[0] - gp[0]).abs() <= TOLERANCE && (fp[1] - gp[1]).abs() <= TOLERANCE);
+        let g = stops.impact_map(&unit);
+        let fixed = crate::orbit::saltation(&flow, &g, &x, &p);
+        let general = model.saltation(
+            omega,
+            0,
+            &DVector::from_column_slice(x.as_slice()),
+            &DVector::from_column_slice(p.as_slice()),
+        );
+        for j in 0..4 {
+            for k in 0..4 {
+                assert!(
+                    (fixed[(j, k)] - general[(j, k)]).abs() <= TOLERANCE * fixed.amax(),
+                    "saltation ({j}, {k})"
+                );
+            }
+        }
     }
 }
