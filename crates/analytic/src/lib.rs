@@ -53,7 +53,8 @@ pub use cycle::{
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
-    ContactPair, HarmonicForcing, HarmonicState, LinearModel, ModelError, ModelTransition,
+    ContactPair, CycleEvaluation, HarmonicForcing, HarmonicState, LinearModel, ModelError,
+    ModelTransition,
 };
 pub use orbit::{Orbit, Side, Violation};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};

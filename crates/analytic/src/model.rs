@@ -550,6 +550,98 @@ impl LinearModel {
     }
 }
 
+/// A cycle of a [`LinearModel`] at fixed impact times: the periodic state and the contact
+/// residuals, the quantities the signature solver's Newton drives to zero.
+#[derive(Debug, Clone, PartialEq)]
+pub struct CycleEvaluation {
+    /// State `(u, u̇)` just after the first impact of the sequence, from the periodicity solve.
+    pub state_after_first_impact: DVector<f64>,
+    /// State just before each impact, in the sequence's order.
+    pub states_before_impacts: Vec<DVector<f64>>,
+    /// `w_jᵀ u(t_j⁻) − s_j gap_j` of each impact, in the sequence's order.
+    pub contact_residuals: DVector<f64>,
+}
+
+impl LinearModel {
+    /// The cycle of `sequence` at `omega` with base phase `alpha` at the first impact and
+    /// impact times `phases` (fractions of the cycle `pT`, the first 0): the state after the
+    /// first impact from the linear periodicity solve `(I − Φ) y = Ψ p₀` (flights and impact
+    /// maps in turn, `p₀ = (cos α, sin α)`), the states before every impact and the contact
+    /// residuals. The inputs are not checked beyond what the solve needs.
+    ///
+    /// # Errors
+    /// [`ModelError::Unbounded`] when `I − Φ` is singular (no unique periodic state for these
+    /// impact times).
+    ///
+    /// # Panics
+    /// If `phases` does not have one entry per impact or the sequence names a pair the model
+    /// lacks (see [`crate::ImpactSequence::check`]).
+    pub fn evaluate_cycle(
+        &self,
+        omega: f64,
+        sequence: &crate::sequence::ImpactSequence,
+        alpha: f64,
+        phases: &[f64],
+    ) -> Result<CycleEvaluation, ModelError> {
+        let impacts = sequence.impacts();
+        let m = impacts.len();
+        assert_eq!(phases.len(), m, "one phase per impact");
+        let n2 = 2 * self.dofs();
+        let cycle = f64::from(sequence.period()) * std::f64::consts::TAU / omega;
+        let p0 = DVector::from_vec(vec![alpha.cos(), alpha.sin()]);
+        // x = A y + B p₀ along the cycle; the phase at the current time is R p₀.
+        let mut a = DMatrix::<f64>::identity(n2, n2);
+        let mut b = DMatrix::<f64>::zeros(n2, 2);
+        let mut r = DMatrix::<f64>::identity(2, 2);
+        let mut before = Vec::with_capacity(m);
+        let mut g_hats = Vec::with_capacity(m);
+        for impact in impacts {
+            let mut g_hat = DMatrix::identity(n2, n2);
+            g_hat
+                .view_mut((n2 / 2, n2 / 2), (n2 / 2, n2 / 2))
+                .copy_from(&self.impact_map(impact.pair));
+            g_hats.push(g_hat);
+        }
+        for j in 0..m {
+            let end = if j + 1 < m { phases[j + 1] } else { 1.0 };
+            let flight = self.transition(omega, (end - phases[j]) * cycle);
+            a = &flight.homogeneous * a;
+            b = &flight.homogeneous * b + &flight.forced * &r;
+            r = &flight.rotation * r;
+            before.push((a.clone(), b.clone()));
+            let g_hat = &g_hats[(j + 1) % m];
+            a = g_hat * a;
+            b = g_hat * b;
+        }
+        let lhs = DMatrix::<f64>::identity(n2, n2) - a;
+        let y = lhs
+            .lu()
+            .solve(&(b * &p0))
+            .ok_or(ModelError::Unbounded { omega })?;
+        // `before[j]` is the state before impact `j + 1` (mod m): rotate to sequence order.
+        let mut states = vec![DVector::zeros(n2); m];
+        let mut residuals = DVector::zeros(m);
+        for (j, (aj, bj)) in before.iter().enumerate() {
+            let k = (j + 1) % m;
+            let x = aj * &y + bj * &p0;
+            let impact = impacts[k];
+            let pair = &self.pairs[impact.pair];
+            let stop = if impact.side == 1 {
+                pair.gap_side1
+            } else {
+                -pair.gap_side2
+            };
+            residuals[k] = pair.relative(&x.rows(0, n2 / 2).into_owned()) - stop;
+            states[k] = x;
+        }
+        Ok(CycleEvaluation {
+            state_after_first_impact: y,
+            states_before_impacts: states,
+            contact_residuals: residuals,
+        })
+    }
+}
+
 /// A harmonic motion `u(t) = U_c cos θ + U_s sin θ`, `θ = ωt + α`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HarmonicState {

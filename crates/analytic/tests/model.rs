@@ -389,3 +389,45 @@ fn impact_sequences_are_canonical_rotations_and_name_their_pairs() {
         Err(SequenceError::Signature(SignatureError::Period { .. }))
     ));
 }
+
+/// The general model's cycle, evaluated at the impact times and phase of the unit's own
+/// signature orbits (`+-` and `++--` of the existing fixed-size solver), reproduces their
+/// periodic state and closes every contact: both are the same equations.
+#[test]
+fn general_cycle_at_the_units_orbits_reproduces_them() {
+    /// Agreement of two exact computations of the same cycle (different products of
+    /// exponentials): the solver's own tolerance is 1e-12 relative.
+    const AGREEMENT: f64 = 1e-12;
+    let stops = paper_stops();
+    let mut compared = 0;
+    for unit in [paper_unit(), damped_paper_unit()] {
+        let model = LinearModel::unit(&unit, &stops).unwrap();
+        for (text, omega) in [("+-", 1.2), ("+-", 2.6), ("++--", 1.5), ("++--", 2.0)] {
+            let signature = Signature::parse(text, 1).unwrap();
+            let sequence = ImpactSequence::from_signature(&signature);
+            for o in signature_orbits(&unit, &stops, omega, &signature) {
+                let cycle = model
+                    .evaluate_cycle(omega, &sequence, o.alpha, &o.impact_phases)
+                    .unwrap();
+                let scale = o.state_after_impact.amax().max(1.0);
+                for k in 0..4 {
+                    let d = (cycle.state_after_first_impact[k] - o.state_after_impact[k]).abs();
+                    assert!(
+                        d <= AGREEMENT * scale,
+                        "{text} at {omega}: state {k} off by {d:e}"
+                    );
+                    for (x, y) in cycle
+                        .states_before_impacts
+                        .iter()
+                        .zip(&o.states_before_impacts)
+                    {
+                        assert!((x[k] - y[k]).abs() <= AGREEMENT * scale);
+                    }
+                }
+                assert!(cycle.contact_residuals.amax() <= AGREEMENT * scale);
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 8, "only {compared} orbits compared");
+}
