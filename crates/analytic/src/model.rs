@@ -560,6 +560,20 @@ pub struct CycleEvaluation {
     pub states_before_impacts: Vec<DVector<f64>>,
     /// `w_jᵀ u(t_j⁻) − s_j gap_j` of each impact, in the sequence's order.
     pub contact_residuals: DVector<f64>,
+    /// The monodromy matrix (`2n × 2n`) over the cycle from just after the first impact:
+    /// flight propagators and the saltation matrix of every impact.
+    pub monodromy: DMatrix<f64>,
+}
+
+impl CycleEvaluation {
+    /// Floquet multipliers: the eigenvalues of [`CycleEvaluation::monodromy`].
+    pub fn floquet_multipliers(&self) -> Vec<nalgebra::Complex<f64>> {
+        self.monodromy
+            .complex_eigenvalues()
+            .iter()
+            .copied()
+            .collect()
+    }
 }
 
 impl LinearModel {
@@ -594,6 +608,7 @@ impl LinearModel {
         let mut b = DMatrix::<f64>::zeros(n2, 2);
         let mut r = DMatrix::<f64>::identity(2, 2);
         let mut before = Vec::with_capacity(m);
+        let mut flights = Vec::with_capacity(m);
         let mut g_hats = Vec::with_capacity(m);
         for impact in impacts {
             let mut g_hat = DMatrix::identity(n2, n2);
@@ -608,7 +623,8 @@ impl LinearModel {
             a = &flight.homogeneous * a;
             b = &flight.homogeneous * b + &flight.forced * &r;
             r = &flight.rotation * r;
-            before.push((a.clone(), b.clone()));
+            before.push((a.clone(), b.clone(), r.clone()));
+            flights.push(flight.homogeneous);
             let g_hat = &g_hats[(j + 1) % m];
             a = g_hat * a;
             b = g_hat * b;
@@ -621,7 +637,8 @@ impl LinearModel {
         // `before[j]` is the state before impact `j + 1` (mod m): rotate to sequence order.
         let mut states = vec![DVector::zeros(n2); m];
         let mut residuals = DVector::zeros(m);
-        for (j, (aj, bj)) in before.iter().enumerate() {
+        let mut monodromy = DMatrix::<f64>::identity(n2, n2);
+        for (j, (aj, bj, rj)) in before.iter().enumerate() {
             let k = (j + 1) % m;
             let x = aj * &y + bj * &p0;
             let impact = impacts[k];
@@ -632,12 +649,15 @@ impl LinearModel {
                 -pair.gap_side2
             };
             residuals[k] = pair.relative(&x.rows(0, n2 / 2).into_owned()) - stop;
+            let saltation = self.saltation(omega, impact.pair, &x, &(rj * &p0));
+            monodromy = saltation * (&flights[j] * monodromy);
             states[k] = x;
         }
         Ok(CycleEvaluation {
             state_after_first_impact: y,
             states_before_impacts: states,
             contact_residuals: residuals,
+            monodromy,
         })
     }
 }

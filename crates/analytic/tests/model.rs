@@ -398,6 +398,10 @@ fn general_cycle_at_the_units_orbits_reproduces_them() {
     /// Agreement of two exact computations of the same cycle (different products of
     /// exponentials): the solver's own tolerance is 1e-12 relative.
     const AGREEMENT: f64 = 1e-12;
+    /// Eigenvalues of two products of the same matrices: the conditioning of a possibly
+    /// non-normal monodromy magnifies the 1e-12 agreement of the matrices; 1e-8 is the
+    /// issue's tolerance for multipliers of two independent solvers.
+    const MULTIPLIERS: f64 = 1e-8;
     let stops = paper_stops();
     let mut compared = 0;
     for unit in [paper_unit(), damped_paper_unit()] {
@@ -425,6 +429,22 @@ fn general_cycle_at_the_units_orbits_reproduces_them() {
                     }
                 }
                 assert!(cycle.contact_residuals.amax() <= AGREEMENT * scale);
+                // Floquet multipliers: each of the fixed solver's has a general one within
+                // the tolerance (matched one to one).
+                let mut general = cycle.floquet_multipliers();
+                assert_eq!(general.len(), o.floquet_multipliers.len());
+                for mu in &o.floquet_multipliers {
+                    let (best, d) = general
+                        .iter()
+                        .enumerate()
+                        .map(|(i, g)| (i, (g - mu).norm()))
+                        .fold((0, f64::INFINITY), |a, b| if b.1 < a.1 { b } else { a });
+                    assert!(
+                        d <= MULTIPLIERS,
+                        "{text} at {omega}: multiplier {mu} off by {d:e}"
+                    );
+                    general.swap_remove(best);
+                }
                 compared += 1;
             }
         }
