@@ -13,6 +13,11 @@
 //!   forcing periods) by the Nigm–Shabana method with Newton on exact derivatives, found by
 //!   a systematic multi-start ([`signature_orbits`]) or from a guess ([`solve_signature`]),
 //!   with viability, Floquet multipliers and the cycle's energy balance;
+//! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
+//!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
+//!   state (the model the signature solver is to be generalised onto);
+//! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
+//!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
 //!   ([`continue_orbit`]) through folds, with exact derivatives in `ω`, the bifurcation events
 //!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
@@ -30,7 +35,9 @@ pub mod cycle;
 pub mod family;
 pub mod flow;
 pub mod linear;
+pub mod model;
 pub mod orbit;
+pub mod sequence;
 pub mod signature;
 pub mod symmetric;
 pub mod test_models;
@@ -45,7 +52,12 @@ pub use cycle::{
 };
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use linear::{linear_response, modes, LinearResponse, Modes};
+pub use model::{
+    ContactPair, CycleEvaluation, HarmonicForcing, HarmonicState, LinearModel, ModelError,
+    ModelTransition,
+};
 pub use orbit::{Orbit, Side, Violation};
+pub use sequence::{ImpactSequence, PairImpact, SequenceError};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};

@@ -1,0 +1,221 @@
+//! Impact sequences of a model with several contact pairs: the time-ordered list of
+//! `(pair, side)` impacts over one least period of `p` forcing periods.
+//!
+//! For one pair this is a [`Signature`] (`ImpactSequence::from_signature`). For several pairs
+//! each impact names its pair. Text form: whitespace-separated tokens `<pair><side>`, the pair
+//! index from 0 and the side `+` (side 1) or `-` (side 2), e.g. `"0+ 1+ 0- 1-"`; a text
+//! without pair indices (`"+-"`) is a signature of pair 0. Canonical form: the rotation whose
+//! list of `(pair, side)` is smallest in lexicographic order, pairs ascending and `+` before
+//! `-` (for one pair, the canonical form of [`Signature`]).
+
+use std::fmt;
+use thiserror::Error;
+
+use crate::model::LinearModel;
+use crate::signature::{Signature, SignatureError, MAX_PERIOD};
+
+/// Largest number of impacts in a sequence: a chain of 16 cells with the `++--` signature in
+/// each (64 impacts) is the largest chain orbit this workbench is to study.
+pub const MAX_SEQUENCE_IMPACTS: usize = 64;
+
+/// An impact sequence that cannot be used, with the field it came from.
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+pub enum SequenceError {
+    /// The sequence is empty, holds a bad side or character, or the period is out of range.
+    #[error(transparent)]
+    Signature(#[from] SignatureError),
+    /// A token is not `<pair><side>`.
+    #[error("--signature token {token:?} is not a pair index followed by '+' or '-'")]
+    BadToken {
+        /// The rejected token.
+        token: String,
+    },
+    /// The sequence has more impacts than [`MAX_SEQUENCE_IMPACTS`].
+    #[error("--signature has {impacts} impacts: at most {max} are allowed")]
+    TooManyImpacts {
+        /// Number of impacts given.
+        impacts: usize,
+        /// The cap, [`MAX_SEQUENCE_IMPACTS`].
+        max: usize,
+    },
+    /// An impact names a pair the model does not have.
+    #[error("--signature names pair {pair}: the model has pairs 0..{pairs}")]
+    Pair {
+        /// The rejected pair index.
+        pair: usize,
+        /// Number of pairs of the model.
+        pairs: usize,
+    },
+}
+
+/// One impact of a sequence: which pair hits which of its stops.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct PairImpact {
+    /// Index of the contact pair in [`LinearModel::pairs`].
+    pub pair: usize,
+    /// `+1` for side 1 (`r = +gap_side1`), `−1` for side 2 (`r = −gap_side2`).
+    pub side: i8,
+}
+
+impl PairImpact {
+    /// Order key: pair ascending, then `+` before `-`.
+    fn key(self) -> (usize, u8) {
+        (self.pair, u8::from(self.side != 1))
+    }
+}
+
+/// The impacts of all pairs over one cycle of `period` forcing periods, in time order and
+/// canonical rotation.
+#[derive(Debug, Clone, PartialEq, Eq, Hash)]
+pub struct ImpactSequence {
+    impacts: Vec<PairImpact>,
+    period: u32,
+}
+
+impl ImpactSequence {
+    /// The sequence of time-ordered impacts over `period` forcing periods, rotated to
+    /// canonical form.
+    ///
+    /// # Errors
+    /// [`SequenceError::Signature`] for an empty list, a side other than `±1` or a period
+    /// outside `1..=MAX_PERIOD`; [`SequenceError::TooManyImpacts`] above
+    /// [`MAX_SEQUENCE_IMPACTS`].
+    pub fn new(impacts: &[PairImpact], period: u32) -> Result<Self, SequenceError> {
+        if impacts.is_empty() {
+            return Err(SignatureError::Empty.into());
+        }
+        if let Some(bad) = impacts.iter().find(|i| i.side != 1 && i.side != -1) {
+            return Err(SignatureError::BadSide { side: bad.side }.into());
+        }
+        if impacts.len() > MAX_SEQUENCE_IMPACTS {
+            return Err(SequenceError::TooManyImpacts {
+                impacts: impacts.len(),
+                max: MAX_SEQUENCE_IMPACTS,
+            });
+        }
+        if period == 0 || period > MAX_PERIOD {
+            return Err(SignatureError::Period {
+                period,
+                max: MAX_PERIOD,
+            }
+            .into());
+        }
+        let n = impacts.len();
+        let keys: Vec<(usize, u8)> = impacts.iter().map(|i| i.key()).collect();
+        let keys = &keys;
+        let rotation = move |s: usize| (0..n).map(move |k| keys[(k + s) % n]);
+        let shift = (1..n).fold(0, |best, s| {
+            if rotation(s).lt(rotation(best)) {
+                s
+            } else {
+                best
+            }
+        });
+        Ok(Self {
+            impacts: (0..n).map(|k| impacts[(k + shift) % n]).collect(),
+            period,
+        })
+    }
+
+    /// The sequence of a one-pair signature: every impact on pair 0.
+    pub fn from_signature(signature: &Signature) -> Self {
+        Self {
+            impacts: signature
+                .sides()
+                .iter()
+                .map(|&side| PairImpact { pair: 0, side })
+                .collect(),
+            period: signature.period(),
+        }
+    }
+
+    /// Parses the text form (see the module docs) with its period.
+    ///
+    /// # Errors
+    /// As [`Signature::parse`] for a text without pair indices; otherwise
+    /// [`SequenceError::BadToken`] for a token that is not `<pair><side>`, and as
+    /// [`ImpactSequence::new`].
+    pub fn parse(text: &str, period: u32) -> Result<Self, SequenceError> {
+        let text = text.trim();
+        if !text.chars().any(|c| c.is_ascii_digit()) {
+            return Ok(Self::from_signature(&Signature::parse(text, period)?));
+        }
+        let impacts = text
+            .split_whitespace()
+            .map(|token| {
+                let bad = || SequenceError::BadToken {
+                    token: token.to_string(),
+                };
+                let (pair, side) = token.split_at(token.len().saturating_sub(1));
+                let side = match side {
+                    "+" => 1,
+                    "-" => -1,
+                    _ => return Err(bad()),
+                };
+                let pair = pair.parse::<usize>().map_err(|_| bad())?;
+                Ok(PairImpact { pair, side })
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Self::new(&impacts, period)
+    }
+
+    /// The impacts in canonical order.
+    pub fn impacts(&self) -> &[PairImpact] {
+        &self.impacts
+    }
+
+    /// Number of forcing periods in the cycle.
+    pub fn period(&self) -> u32 {
+        self.period
+    }
+
+    /// The one-pair signature of this sequence when every impact is on pair 0.
+    pub fn as_signature(&self) -> Option<Signature> {
+        if self.impacts.iter().all(|i| i.pair == 0) {
+            let sides: Vec<i8> = self.impacts.iter().map(|i| i.side).collect();
+            Signature::from_sides(&sides, self.period).ok()
+        } else {
+            None
+        }
+    }
+
+    /// The signature of pair `pair` alone (its own impacts in time order, canonical), or
+    /// `None` if that pair does not impact in this cycle.
+    pub fn pair_signature(&self, pair: usize) -> Option<Signature> {
+        let sides: Vec<i8> = self
+            .impacts
+            .iter()
+            .filter(|i| i.pair == pair)
+            .map(|i| i.side)
+            .collect();
+        Signature::from_sides(&sides, self.period).ok()
+    }
+
+    /// Checks that every impact names a pair of `model`.
+    ///
+    /// # Errors
+    /// [`SequenceError::Pair`] for the first impact on a pair the model lacks.
+    pub fn check(&self, model: &LinearModel) -> Result<(), SequenceError> {
+        let pairs = model.pairs().len();
+        match self.impacts.iter().find(|i| i.pair >= pairs) {
+            Some(bad) => Err(SequenceError::Pair {
+                pair: bad.pair,
+                pairs,
+            }),
+            None => Ok(()),
+        }
+    }
+}
+
+impl fmt::Display for ImpactSequence {
+    /// The text form: `0+ 1+ 0- 1-`.
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (k, i) in self.impacts.iter().enumerate() {
+            if k > 0 {
+                f.write_str(" ")?;
+            }
+            write!(f, "{}{}", i.pair, if i.side == 1 { '+' } else { '-' })?;
+        }
+        Ok(())
+    }
+}
