@@ -601,15 +601,16 @@ fn continue_branch(
     let followed = compute(py, || {
         Ok(follow(scene, &signature, omega, orbit, &settings).map(|f| f.record(&scene.name)))
     })?;
-    let record = followed.map_err(|e| {
-        let message = python_names(&e.to_string());
-        match e {
-            FollowError::OrbitIndex { .. } | FollowError::NoStops => PyValueError::new_err(message),
-            FollowError::Continuation(ref c) if c.to_string().contains("out of range") => {
-                PyValueError::new_err(message)
-            }
-            _ => PyRuntimeError::new_err(format!("numerical failure: {message}")),
+    // Which errors are the caller's is the command's split (its exit code 2 against 1); a
+    // numerical failure keeps the command's words (its hint names a command).
+    let record = followed.map_err(|e| match e {
+        FollowError::OrbitIndex { .. } | FollowError::NoStops => {
+            PyValueError::new_err(python_names(&e.to_string()))
         }
+        FollowError::Continuation(ref c) if c.to_string().contains("out of range") => {
+            PyValueError::new_err(python_names(&e.to_string()))
+        }
+        _ => PyRuntimeError::new_err(format!("numerical failure: {e}")),
     })?;
     json(&record)
 }
