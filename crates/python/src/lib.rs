@@ -22,8 +22,9 @@ use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
+use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
-use rattle_compare::cli::Accuracy;
+use rattle_compare::cli::{Accuracy, MAX_SAMPLES_PER_PERIOD};
 use rattle_compare::output::finite;
 use rattle_compare::output::records::{
     multipliers, At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
@@ -32,14 +33,19 @@ use rattle_compare::output::records::{
 use rattle_compare::output::records::{
     AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
 };
+use rattle_compare::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, TrajectoryRow};
 use rattle_compare::output::Row;
 use rattle_compare::runs::axis::Axis;
+use rattle_compare::runs::continuation::{follow, FollowError};
 use rattle_compare::runs::parallel::Progress;
 use rattle_compare::runs::sweep::{header, sweep as sweep_points, Solver, SweepRow};
-use rattle_compare::scene::analytic::{analyse, orbits_of_signature, OrbitSearch};
-use rattle_compare::scene::simulator::run as simulate_scene;
+use rattle_compare::scene::analytic::{
+    analyse, orbits_of_signature, sample_signature_orbit, OrbitSearch,
+};
+use rattle_compare::scene::simulator::{model, run as simulate_scene};
 use rattle_compare::scene::{Scene, SceneError};
 use rattle_compare::verdict::{cross_check, CrossCheck};
+use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::{SimulationOptions, Start};
 use serde::Serialize;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -215,7 +221,15 @@ fn python_names(message: &str) -> String {
         .replace("--steady-tol", "steady_tol")
         .replace("--tol", "tol")
         .replace("--signature", "signature")
+        .replace("--samples-per-period", "samples_per_period")
         .replace("--period", "period")
+        .replace("--orbit", "orbit")
+        .replace("--max-step", "max_step")
+        .replace("--max-branches", "max_branches")
+        .replace("--omega-min", "omega_min")
+        .replace("--omega-max", "omega_max")
+        .replace("--omega", "omega")
+        .replace("continuation.max_step", "max_step")
 }
 
 /// `omega` if finite and positive; else the command's message, naming `name`.
@@ -338,12 +352,82 @@ fn orbit(
     json(&record)
 }
 
-/// `rattle simulate --json`: the event-driven simulator from rest.
+/// `samples_per_period` if in the command's range `[1, MAX_SAMPLES_PER_PERIOD]`; else the
+/// command's message for `--samples-per-period`, named as the Python parameter.
+fn check_samples(samples_per_period: i64) -> PyResult<u64> {
+    u64::try_from(samples_per_period)
+        .ok()
+        .filter(|n| (1..=MAX_SAMPLES_PER_PERIOD).contains(n))
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "samples_per_period = {samples_per_period} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]"
+            ))
+        })
+}
+
+/// A trajectory's two tables, as the command writes them with `--trajectory` and `--impacts`.
+type Tables = (Vec<TrajectoryRow>, Vec<ImpactRow>);
+
+/// A table handed to Python: `(column name, numpy array)` pairs in the command's order.
+type PyColumns<'py> = Vec<(&'static str, Bound<'py, PyAny>)>;
+
+/// A `float64` array of one column, NaN where the command writes nothing (not finite).
+fn float_column<'py, R>(
+    py: Python<'py>,
+    rows: &[R],
+    cell: impl Fn(&R) -> Option<f64>,
+) -> Bound<'py, PyAny> {
+    PyArray1::from_vec(
+        py,
+        rows.iter().map(|r| cell(r).unwrap_or(f64::NAN)).collect(),
+    )
+    .into_any()
+}
+
+/// The columns `t, kind, base, u_o, u_i, v_o, v_i, r` of the command's `--trajectory` file.
+fn trajectory_columns<'py>(py: Python<'py>, rows: &[TrajectoryRow]) -> PyColumns<'py> {
+    let kinds: Vec<Py<PyAny>> = rows
+        .iter()
+        .map(|r| PyString::new(py, r.kind).into_any().unbind())
+        .collect();
+    vec![
+        ("t", float_column(py, rows, |r| r.t)),
+        ("kind", PyArray1::from_vec(py, kinds).into_any()),
+        ("base", float_column(py, rows, |r| r.base)),
+        ("u_o", float_column(py, rows, |r| r.u_o)),
+        ("u_i", float_column(py, rows, |r| r.u_i)),
+        ("v_o", float_column(py, rows, |r| r.v_o)),
+        ("v_i", float_column(py, rows, |r| r.v_i)),
+        ("r", float_column(py, rows, |r| r.r)),
+    ]
+}
+
+/// The columns `t, side, relative_velocity_before, u_o, u_i, v_o_before, v_i_before` of the
+/// command's `--impacts` file; `side` as `int64` (1 or 2).
+fn impact_columns<'py>(py: Python<'py>, rows: &[ImpactRow]) -> PyColumns<'py> {
+    let sides: Vec<i64> = rows.iter().map(|r| i64::from(r.side)).collect();
+    vec![
+        ("t", float_column(py, rows, |r| r.t)),
+        ("side", PyArray1::from_vec(py, sides).into_any()),
+        (
+            "relative_velocity_before",
+            float_column(py, rows, |r| r.relative_velocity_before),
+        ),
+        ("u_o", float_column(py, rows, |r| r.u_o)),
+        ("u_i", float_column(py, rows, |r| r.u_i)),
+        ("v_o_before", float_column(py, rows, |r| r.v_o_before)),
+        ("v_i_before", float_column(py, rows, |r| r.v_i_before)),
+    ]
+}
+
+/// `rattle simulate --json`: the event-driven simulator from rest; with `samples_per_period`,
+/// also the tables `--trajectory` and `--impacts` write (the final cycle, or with `periods`
+/// the last period, sampled from the closed form).
 #[pyfunction]
-#[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations))]
-#[allow(clippy::too_many_arguments)]
-fn simulate(
-    py: Python<'_>,
+#[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations, samples_per_period=None))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn simulate<'py>(
+    py: Python<'py>,
     scene: &NativeScene,
     omega: f64,
     periods: Option<i64>,
@@ -351,17 +435,182 @@ fn simulate(
     steady_tol: f64,
     max_periods: i64,
     max_oscillations: f64,
-) -> PyResult<String> {
+    samples_per_period: Option<i64>,
+) -> PyResult<(String, Option<(PyColumns<'py>, PyColumns<'py>)>)> {
     let omega = check_omega("omega", omega)?;
     let mut options = options(tol, steady_tol, max_periods, max_oscillations)?;
     if let Some(n) = periods {
         options.fixed_periods = Some(positive("periods", n)?);
     }
+    let samples = samples_per_period.map(check_samples).transpose()?;
     let scene = &scene.scene;
-    let record = compute(py, || {
-        simulate_scene(scene, omega, &Start::rest(2), &options)
-            .map(|sim| SimulationRecord::new(scene, &sim))
-            .map_err(|e| e.to_string())
+    let (record, tables) = compute(py, || {
+        let sim =
+            simulate_scene(scene, omega, &Start::rest(2), &options).map_err(|e| e.to_string())?;
+        let tables: Option<Tables> = match samples {
+            None => None,
+            Some(samples_per_period) => {
+                let m = model(scene, sim.omega).map_err(|e| e.to_string())?;
+                let trajectory = final_cycle_trajectory(
+                    &m,
+                    sim.omega,
+                    &sim.steady,
+                    &TrajectoryOptions {
+                        periods: 1,
+                        samples_per_period,
+                        base_amplitude: scene.base.amplitude,
+                        simulation: options.clone(),
+                    },
+                )
+                .map_err(|e| e.to_string())?;
+                Some(simulated_rows(&trajectory))
+            }
+        };
+        Ok((SimulationRecord::new(scene, &sim), tables))
+    })?;
+    let tables =
+        tables.map(|(rows, impacts)| (trajectory_columns(py, &rows), impact_columns(py, &impacts)));
+    Ok((json(&record)?, tables))
+}
+
+/// `rattle orbit --signature SIG --period P --orbit K --trajectory F --impacts I --json`: the
+/// orbits of the signature (the command's JSON) and the `orbit`-th of them sampled from the
+/// closed form, as the two tables the command writes.
+#[pyfunction]
+#[pyo3(signature = (scene, omega, signature, period, orbit, samples_per_period))]
+fn orbit_trajectory<'py>(
+    py: Python<'py>,
+    scene: &NativeScene,
+    omega: f64,
+    signature: &str,
+    period: i64,
+    orbit: i64,
+    samples_per_period: i64,
+) -> PyResult<(String, PyColumns<'py>, PyColumns<'py>)> {
+    let omega = check_omega("omega", omega)?;
+    let samples = check_samples(samples_per_period)?;
+    let period = u32::try_from(period).unwrap_or(0);
+    let signature = Signature::parse(signature, period)
+        .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
+    let scene = &scene.scene;
+    if scene.stops.is_none() {
+        return Err(PyValueError::new_err(
+            "signature: the scene has no `stops`, so no impact signature",
+        ));
+    }
+    let (record, tables) = compute(py, || {
+        let orbits = orbits_of_signature(scene, omega, &signature);
+        let tables = usize::try_from(orbit)
+            .ok()
+            .and_then(|k| orbits.get(k))
+            .map(|o| {
+                let (samples, impacts) = sample_signature_orbit(scene, o, samples);
+                analytic_rows(&samples, &impacts, omega, scene.base.amplitude)
+            });
+        let record = SignatureOrbitsRecord {
+            at: At::new(scene, omega),
+            signature: signature.to_string(),
+            period: signature.period(),
+            orbits: orbits.iter().map(SignatureOrbitRecord::new).collect(),
+        };
+        Ok((record, tables))
+    })?;
+    let Some((rows, impacts)) = tables else {
+        return Err(PyValueError::new_err(format!(
+            "orbit = {orbit} is out of range: {} orbit(s) of {signature} at ω = {omega}, numbered from 0",
+            record.orbits.len()
+        )));
+    };
+    Ok((
+        json(&record)?,
+        trajectory_columns(py, &rows),
+        impact_columns(py, &impacts),
+    ))
+}
+
+/// The continuation's default `max_step` and `max_branches`, as the command's.
+#[pyfunction]
+fn continuation_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = ContinuationSettings::default();
+    let out = PyDict::new(py);
+    out.set_item("max_step", d.max_step)?;
+    out.set_item("max_branches", d.max_branches)?;
+    Ok(out)
+}
+
+/// `rattle continue --json`: every orbit of `signature` at `omega` (or only the `orbit`-th)
+/// followed in ω over `[omega_min, omega_max]`, with the command's settings, checks and
+/// messages (options named as the Python parameters).
+#[pyfunction]
+#[pyo3(signature = (scene, signature, omega, omega_min, omega_max, period, orbit, switch, max_step, max_branches))]
+#[allow(clippy::too_many_arguments)]
+fn continue_branch(
+    py: Python<'_>,
+    scene: &NativeScene,
+    signature: &str,
+    omega: f64,
+    omega_min: f64,
+    omega_max: f64,
+    period: i64,
+    orbit: Option<i64>,
+    switch: bool,
+    max_step: f64,
+    max_branches: i64,
+) -> PyResult<String> {
+    let omega = check_omega("omega", omega)?;
+    let period = u32::try_from(period).unwrap_or(0);
+    let signature = Signature::parse(signature, period)
+        .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
+    let max_branches = usize::try_from(max_branches).unwrap_or(0);
+    let mut settings = ContinuationSettings {
+        max_step,
+        max_branches,
+        follow_switches: switch,
+        ..ContinuationSettings::new(omega_min, omega_max)
+    };
+    if !(max_step.is_finite() && max_step >= settings.min_step) {
+        return Err(PyValueError::new_err(format!(
+            "max_step = {max_step} is out of range: must be finite and ≥ {:e}",
+            settings.min_step
+        )));
+    }
+    if max_branches == 0 {
+        return Err(PyValueError::new_err(
+            "max_branches = 0 is out of range: must be ≥ 1",
+        ));
+    }
+    if settings.initial_step > settings.max_step {
+        settings.initial_step = settings.max_step;
+    }
+    settings
+        .validate()
+        .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
+    if !(omega_min..=omega_max).contains(&omega) {
+        return Err(PyValueError::new_err(format!(
+            "omega = {omega} is out of range: must be in [omega_min, omega_max] = [{omega_min}, {omega_max}]"
+        )));
+    }
+    let orbit = orbit
+        .map(|k| {
+            usize::try_from(k).map_err(|_| {
+                PyValueError::new_err(format!("orbit = {k} is out of range: must be ≥ 0"))
+            })
+        })
+        .transpose()?;
+    let scene = &scene.scene;
+    let followed = compute(py, || {
+        Ok(follow(scene, &signature, omega, orbit, &settings).map(|f| f.record(&scene.name)))
+    })?;
+    // Which errors are the caller's is the command's split (its exit code 2 against 1); a
+    // numerical failure keeps the command's words (its hint names a command).
+    let record = followed.map_err(|e| match e {
+        FollowError::OrbitIndex { .. } | FollowError::NoStops => {
+            PyValueError::new_err(python_names(&e.to_string()))
+        }
+        FollowError::Continuation(ref c) if c.to_string().contains("out of range") => {
+            PyValueError::new_err(python_names(&e.to_string()))
+        }
+        _ => PyRuntimeError::new_err(format!("numerical failure: {e}")),
     })?;
     json(&record)
 }
@@ -730,6 +979,9 @@ fn _rattle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(defaults, m)?)?;
     m.add_function(wrap_pyfunction!(orbit, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(orbit_trajectory, m)?)?;
+    m.add_function(wrap_pyfunction!(continuation_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(continue_branch, m)?)?;
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(frequencies, m)?)?;

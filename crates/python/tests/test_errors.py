@@ -178,11 +178,7 @@ def test_bad_sweep_inputs():
 def test_pending_features_say_so():
     scene = rattle.Scene.paper()
     with pytest.raises(NotImplementedError, match="pending"):
-        rattle.simulate(scene, 2.0, trajectory=True)
-    with pytest.raises(NotImplementedError, match="pending"):
         rattle.simulate(scene, 2.0, lyapunov=True)
-    with pytest.raises(NotImplementedError, match="pending"):
-        rattle.continue_branch(scene)
 
 
 def test_failures_inside_rust_are_runtime_errors():

@@ -6,7 +6,10 @@ base moves as ``u_g cos(ωt)``. Two solvers that share no numerics describe it:
 - the closed-form (Nigm–Shabana) orbits: :func:`orbit`;
 - the exact event-driven simulator: :func:`simulate`;
 
-and :func:`compare` and :func:`sweep` put them side by side. Each function does what the
+and :func:`compare` and :func:`sweep` put them side by side; :func:`continue_branch` follows the
+orbits of a signature in frequency. ``simulate(..., trajectory=True)`` and
+:func:`orbit_trajectory` give a cycle's time history, sampled from the closed form, as the
+command's ``--trajectory`` and ``--impacts`` tables. Each function does what the
 ``rattle`` command of the same name does, on the same library calls, and its result's
 ``.to_dict()`` equals the command's ``--json`` output for the same inputs, number for number.
 
@@ -15,8 +18,7 @@ the field's path and its allowed range); an unreadable scene file :class:`OSErro
 failure :class:`RuntimeError`. The computations release the GIL; a sweep runs on the Rust
 thread pool (``RAYON_NUM_THREADS`` sets its size).
 
-Pending (being built elsewhere): trajectories (``trajectory=``), Lyapunov exponents
-(``lyapunov=``) and :func:`continue_branch`; asking for them raises
+Pending (being built elsewhere): Lyapunov exponents (``lyapunov=``); asking for them raises
 :class:`NotImplementedError`.
 """
 
@@ -35,13 +37,19 @@ __all__ = [
     "Simulation",
     "Comparison",
     "Sweep",
+    "Table",
+    "OrbitCycle",
+    "Continuation",
     "orbit",
+    "orbit_trajectory",
     "simulate",
     "compare",
     "sweep",
     "frequencies",
     "continue_branch",
     "DEFAULTS",
+    "CONTINUATION_DEFAULTS",
+    "SAMPLES_PER_PERIOD",
 ]
 
 __version__ = _rattle.__version__
@@ -55,6 +63,15 @@ _TOL = DEFAULTS["tol"]
 _STEADY_TOL = DEFAULTS["steady_tol"]
 _MAX_PERIODS = DEFAULTS["max_periods"]
 _MAX_OSCILLATIONS = DEFAULTS["max_oscillations"]
+
+#: The continuation's default settings, as the command's: ``max_step`` (largest step along a
+#: branch, in α, impact phases and ω together) and ``max_branches`` (cap on the branches
+#: followed per start orbit).
+CONTINUATION_DEFAULTS = dict(_rattle.continuation_defaults())
+
+#: Uniform samples per forcing period of a trajectory by default, as the command's
+#: ``--samples-per-period``.
+SAMPLES_PER_PERIOD = 200
 
 
 def _plain(value):
@@ -224,11 +241,120 @@ class SignatureOrbits(Record):
     ``energy_residual``)."""
 
 
+class Table:
+    """A table the command writes as a file (``--trajectory``, ``--impacts``), as columns.
+
+    ``columns`` is a dict of read-only numpy arrays in the command's column order; each column
+    is also an attribute (``table.t``, ``table.r``…). Numbers are ``float64`` (NaN where the
+    command writes nothing), words (``kind``) ``object`` arrays of ``str``, the impact
+    ``side`` ``int64`` (1 for ``r = +gap``, 2 for ``r = -gap``). ``len(table)`` is the number
+    of rows; :meth:`to_pandas` a DataFrame when pandas is installed.
+    """
+
+    def __init__(self, columns):
+        """Wraps ``(name, array)`` pairs; the tables come from :func:`simulate` and
+        :func:`orbit_trajectory`."""
+        self.columns = dict(columns)
+        for column in self.columns.values():
+            column.flags.writeable = False
+
+    def __getattr__(self, name):
+        columns = self.__dict__.get("columns", {})
+        if name in columns:
+            return columns[name]
+        raise AttributeError(f"Table has no attribute or column {name!r}")
+
+    def __len__(self):
+        return len(next(iter(self.columns.values()))) if self.columns else 0
+
+    def to_pandas(self):
+        """The columns as a :class:`pandas.DataFrame` (needs pandas, not installed with
+        rattle: ``pip install pandas``)."""
+        try:
+            import pandas
+        except ImportError as e:
+            raise ImportError("Table.to_pandas needs pandas: pip install pandas") from e
+        return pandas.DataFrame({name: column.copy() for name, column in self.columns.items()})
+
+    def __repr__(self):
+        return f"Table(columns={list(self.columns)}, rows={len(self)})"
+
+
 class Simulation(Record):
     """``rattle simulate --json``: ``scene``, ``omega``, ``effects``, ``status``, ``regime``,
     ``period``, ``impacts_per_period``, ``outer_amplitude``, ``transmittance_db``,
     ``sticking``, ``stopped_by``, ``periods_run``, ``impacts``, ``signature``,
-    ``floquet_multipliers``, ``orbit_error``."""
+    ``floquet_multipliers``, ``orbit_error``.
+
+    With ``simulate(..., trajectory=True)`` also ``trajectory`` and ``impact_table``
+    (:class:`Table`, see :func:`simulate`; ``impacts`` is already the command's count of
+    impacts). They are not part of :meth:`to_dict`: the command writes them to their own
+    files. Without it, both are ``None``."""
+
+    def __init__(self, data, trajectory=None, impacts=None):
+        """Wraps the command's document and, when sampled, the two trajectory tables."""
+        super().__init__(data)
+        self.__dict__["trajectory"] = trajectory
+        self.__dict__["impact_table"] = impacts
+
+
+class OrbitCycle:
+    """One analytic orbit sampled over its cycle: what ``rattle orbit --signature SIG
+    --orbit K --trajectory F.csv --impacts I.csv`` writes, see :func:`orbit_trajectory`.
+
+    Attributes: ``trajectory`` and ``impact_table`` (:class:`Table`, named as on
+    :class:`Simulation` so that the two solvers' cycles overlay with the same code), ``orbit`` (the orbit's
+    record, as listed in ``orbits.orbits[index]``), ``index``, and ``orbits``, the
+    :class:`SignatureOrbits` of every orbit of the signature at that frequency (the command's
+    ``--json`` document).
+    """
+
+    def __init__(self, orbits, index, trajectory, impacts):
+        """Wraps the parts; use :func:`orbit_trajectory`."""
+        self.orbits = orbits
+        self.index = index
+        self.orbit = orbits.orbits[index]
+        self.trajectory = trajectory
+        self.impact_table = impacts
+
+    def __repr__(self):
+        return (
+            f"OrbitCycle(signature={self.orbits.signature!r}, period={self.orbits.period}, "
+            f"omega={self.orbits.omega!r}, index={self.index}, rows={len(self.trajectory)})"
+        )
+
+
+class Continuation(Record):
+    """``rattle continue --json``: ``scene``, ``signature`` (canonical), ``period``,
+    ``omega_start``, ``start_orbits`` (how many orbits of the signature were found there),
+    ``followed_starts`` (which were followed; the others lie on a branch already followed),
+    ``branches`` (each branch: its index, signature, period, the event it left from…),
+    ``points`` (every point of every branch, branch by branch: ``branch``, ``omega``,
+    ``alpha``, ``impact_phases``, ``outer_amplitude``, ``transmittance_db``, ``stable``,
+    ``viable``, ``floquet_multipliers``), ``events`` (bifurcations, grazings…) and ``ends``
+    (how each branch ends). :meth:`points_columns` gives the points as numpy arrays."""
+
+    def points_columns(self):
+        """The points as a dict of numpy arrays, for plotting: ``branch`` (``int64``),
+        ``omega``, ``alpha``, ``outer_amplitude``, ``transmittance_db`` (``float64``, NaN where
+        the command writes ``null``), ``stable`` and ``viable`` (``bool``), in the order of
+        :attr:`points`."""
+        points = self._data["points"]
+
+        def number(key):
+            return _np.array(
+                [_np.nan if p[key] is None else p[key] for p in points], dtype=_np.float64
+            )
+
+        return {
+            "branch": _np.array([p["branch"] for p in points], dtype=_np.int64),
+            "omega": number("omega"),
+            "alpha": number("alpha"),
+            "outer_amplitude": number("outer_amplitude"),
+            "transmittance_db": number("transmittance_db"),
+            "stable": _np.array([p["stable"] for p in points], dtype=bool),
+            "viable": _np.array([p["viable"] for p in points], dtype=bool),
+        }
 
 
 class Comparison(Record):
@@ -301,7 +427,7 @@ class Sweep:
 
 def _pending(feature):
     raise NotImplementedError(
-        f"{feature} is pending: trajectories, Lyapunov exponents and continuation are being "
+        f"{feature} is pending: Lyapunov exponents are being "
         "built in the library and are not exposed yet"
     )
 
@@ -333,6 +459,7 @@ def simulate(
     max_periods=_MAX_PERIODS,
     max_oscillations=_MAX_OSCILLATIONS,
     trajectory=False,
+    samples_per_period=SAMPLES_PER_PERIOD,
     lyapunov=False,
 ):
     """The event-driven simulator from rest, as ``rattle simulate --json``.
@@ -342,13 +469,22 @@ def simulate(
     the periodicity test (1e-14 to 1e-2), ``max_periods`` and ``max_oscillations`` the caps of
     a run until steady. Returns a :class:`Simulation`.
 
-    ``trajectory`` and ``lyapunov`` are pending and raise :class:`NotImplementedError`.
+    With ``trajectory=True`` the result also carries, as :class:`Table`, what
+    ``rattle simulate --trajectory F.csv --impacts I.csv --samples-per-period N`` writes:
+    ``trajectory``, the final cycle sampled from the closed form (its ``period`` forcing
+    periods; for a motion that is not periodic, the run's observed final stretch), with
+    ``samples_per_period`` uniform samples per forcing period (1 to 100000, both ends of the
+    stretch included) and each impact as two rows, before and after (columns ``t, kind, base, u_o, u_i, v_o, v_i,
+    r``; ``t`` in s with the base at ``u_g cos ωt``, ``kind`` one of ``sample``,
+    ``before_impact``, ``after_impact``, ``after_stick``), and ``impact_table``, every impact
+    of that stretch (``t, side, relative_velocity_before, u_o, u_i, v_o_before,
+    v_i_before``).
+
+    ``lyapunov`` is pending and raises :class:`NotImplementedError`.
     """
-    if trajectory:
-        _pending("simulate(trajectory=True)")
     if lyapunov:
         _pending("simulate(lyapunov=True)")
-    text = _rattle.simulate(
+    text, tables = _rattle.simulate(
         _native_scene(scene),
         float(omega),
         periods,
@@ -356,8 +492,36 @@ def simulate(
         float(steady_tol),
         max_periods,
         float(max_oscillations),
+        samples_per_period if trajectory else None,
     )
-    return Simulation(_json.loads(text))
+    if tables is None:
+        return Simulation(_json.loads(text))
+    rows, impacts = tables
+    return Simulation(_json.loads(text), Table(rows), Table(impacts))
+
+
+def orbit_trajectory(
+    scene, omega, signature, period=1, orbit=0, samples_per_period=SAMPLES_PER_PERIOD
+):
+    """One analytic orbit's cycle sampled from the closed form, as
+    ``rattle orbit --signature SIG --period P --orbit K --trajectory F.csv --impacts I.csv``.
+
+    ``signature`` and ``period`` as in :func:`orbit`; ``orbit`` is which orbit of the signature
+    (numbered from 0, in the order ``orbit(scene, omega, signature, period).orbits`` lists
+    them); ``samples_per_period`` uniform samples per forcing period (1 to 100000), each impact
+    adding two rows (before and after). The tables have the columns of
+    ``simulate(..., trajectory=True)``, so the two solvers' cycles overlay directly. Returns
+    an :class:`OrbitCycle`; an ``orbit`` out of range is a :class:`ValueError` naming
+    ``orbit`` and how many orbits there are.
+
+    A function of its own rather than ``orbit(..., trajectory=True)``: it needs a signature
+    and picks one orbit, where :func:`orbit` lists them all, with or without a signature; and
+    its result has one type whatever the arguments.
+    """
+    text, rows, impacts = _rattle.orbit_trajectory(
+        _native_scene(scene), float(omega), signature, period, orbit, samples_per_period
+    )
+    return OrbitCycle(SignatureOrbits(_json.loads(text)), orbit, Table(rows), Table(impacts))
 
 
 def compare(
@@ -424,7 +588,43 @@ def frequencies(omega_min, omega_max, points):
     return _rattle.frequencies(float(omega_min), float(omega_max), points)
 
 
-def continue_branch(*args, **kwargs):
-    """Numerical continuation of an orbit branch: pending, raises
-    :class:`NotImplementedError`."""
-    _pending("continue_branch")
+def continue_branch(
+    scene,
+    signature,
+    omega,
+    omega_min,
+    omega_max,
+    period=1,
+    orbit=None,
+    switch=True,
+    max_step=CONTINUATION_DEFAULTS["max_step"],
+    max_branches=CONTINUATION_DEFAULTS["max_branches"],
+):
+    """The branches through the orbits of a signature, followed in frequency, as
+    ``rattle continue --json``.
+
+    Every orbit of ``signature`` (over ``period`` forcing periods, as in :func:`orbit`) found
+    at ``omega`` (or only the ``orbit``-th, numbered from 0 as :func:`orbit` lists them) is
+    followed both ways within ``[omega_min, omega_max]`` (``omega`` inside it), its stability
+    and viability tracked, and its events (branch points, period doublings, grazings…)
+    located; with ``switch`` (the command without ``--no-switch``) the branches leaving at
+    them are followed too. ``max_step`` is the largest step along a branch (in α, impact
+    phases and ω together, ≥ 1e-9), ``max_branches`` the cap on the branches per start
+    orbit (≥ 1). Returns a :class:`Continuation`.
+
+    A bad argument is a :class:`ValueError` naming it (``omega_min``, ``max_step``,
+    ``orbit``…); no orbit of the signature at ``omega`` a :class:`RuntimeError`.
+    """
+    text = _rattle.continue_branch(
+        _native_scene(scene),
+        signature,
+        float(omega),
+        float(omega_min),
+        float(omega_max),
+        period,
+        orbit,
+        bool(switch),
+        float(max_step),
+        max_branches,
+    )
+    return Continuation(_json.loads(text))
