@@ -5,8 +5,12 @@ use clap::Args;
 use rattle_compare::figures;
 use rattle_compare::output::{write_table, Format, Header};
 use rattle_compare::peers::work_precision;
+use rattle_compare::runs::axis::Axis;
+use rattle_compare::runs::basins::{basin_options, BasinGrid};
+use rattle_compare::runs::parallel::Progress;
 use rattle_compare::scene::simulator::run as simulate;
 use rattle_compare::scene::{Scene, StopsSpec};
+use rattle_compare::study::chaos::chaos_samples;
 use rattle_compare::study::paper::READING_B_GAP_FACTOR;
 use rattle_compare::study::report::{agreement, report};
 use rattle_compare::study::{maps, MapSizes, Study, StudySize};
@@ -43,6 +47,40 @@ const SWEEP_COST_RANGE: (f64, f64) = (0.5, 4.0);
 const STUDY_MAX_PERIODS: u64 = 4000;
 /// Frequencies at which the fully elastic, undamped unit is simulated for the report, rad/s.
 const ELASTIC_OMEGAS: [f64; 2] = [1.0, 2.0];
+
+/// Frequency of the basins figure, rad/s: on the paper's unit (Δ = 0.5, e = 0.8, undamped)
+/// the starts at rest split there between a four-impact motion `++--`, the symmetric
+/// two-impact orbit `+-` and motions that do not repeat within the cap (measured with
+/// `rattle basins --omega 1.9`, 30 × 30 starts over ±1.5 m; at the coexistence frequency 1.86
+/// of the hard cases nearly every start at rest reaches `++--`).
+const BASINS_OMEGA: f64 = 1.9;
+/// Half-width of the basins grid in both displacements, m: three gaps either side.
+const BASINS_EXTENT: f64 = 1.5;
+/// Starts per side of the basins grid: 10 000 starts, about 3 s on two threads (the issue's
+/// 200 × 200, 11 s, would take `cargo xtask figures` past its minute; `rattle basins --points
+/// 200` draws it).
+const BASINS_POINTS: usize = 100;
+
+/// Frequencies of the Lyapunov figure over the paper's axis 0.1–4 rad/s (step 0.02 rad/s);
+/// each non-periodic point runs 2000 periods of exponents, periodic ones take theirs from
+/// their Floquet multipliers (the Newton polish, on for this run).
+const LYAPUNOV_POINTS: usize = 196;
+
+fn size_lyapunov(quick: bool) -> usize {
+    if quick {
+        8
+    } else {
+        LYAPUNOV_POINTS
+    }
+}
+
+fn size_basins(quick: bool) -> usize {
+    if quick {
+        10
+    } else {
+        BASINS_POINTS
+    }
+}
 
 fn write(path: &Path, text: &str) -> Result<(), String> {
     if let Some(dir) = path.parent() {
@@ -130,6 +168,50 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
     written
         .extend(figures::draw_work_precision(&precision, &figures_dir).map_err(|e| e.to_string())?);
     lap("work-precision");
+
+    let basins = rattle_compare::runs::basins::basins(
+        &scene,
+        BASINS_OMEGA,
+        BasinGrid {
+            outer: Axis::new(-BASINS_EXTENT, BASINS_EXTENT, size_basins(args.quick)),
+            inner: Axis::new(-BASINS_EXTENT, BASINS_EXTENT, size_basins(args.quick)),
+        },
+        &basin_options(),
+        &Progress::new("basins", 0, false),
+    );
+    written.extend(
+        figures::draw_basins(
+            &figures::basins::BasinsFigure {
+                scene_name: scene.name.clone(),
+                basins,
+            },
+            &figures_dir,
+        )
+        .map_err(|e| e.to_string())?,
+    );
+    lap("basins");
+
+    let lyapunov_options = SimulationOptions {
+        max_periods: STUDY_MAX_PERIODS,
+        ..SimulationOptions::default()
+    };
+    let samples = chaos_samples(
+        &scene,
+        &Axis::new(0.1, 4.0, size_lyapunov(args.quick)).values(),
+        &lyapunov_options,
+        &Progress::new("lyapunov", 0, false),
+    );
+    written.extend(
+        figures::draw_lyapunov(
+            &figures::lyapunov::LyapunovFigure {
+                scene_name: scene.name.clone(),
+                samples,
+            },
+            &figures_dir,
+        )
+        .map_err(|e| e.to_string())?,
+    );
+    lap("lyapunov");
 
     let validation = out.join("validation");
     let doc = serde_json::to_string_pretty(&agreement(&main)).map_err(|e| e.to_string())?;

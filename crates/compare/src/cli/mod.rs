@@ -3,6 +3,7 @@
 //! Exit codes: 0 success (including "no orbit exists"), 1 a numerical failure with an
 //! explanation, 2 bad input (arguments or scene).
 
+pub mod basins;
 pub mod compare;
 pub mod continuation;
 pub mod family;
@@ -62,6 +63,10 @@ pub enum Command {
     /// one, up the frequencies): the simulated regime and transmittance at every point, the
     /// analytic prediction beside it, and the attenuation bandwidth of every (e, Δ/u_g) line.
     Map(map::MapArgs),
+    /// Basins of attraction at one frequency: a grid of starts at rest (outer and inner
+    /// displacement), each run to its steady state and numbered by the attractor it reaches
+    /// (signature and amplitude, or not periodic), in parallel, written to a file.
+    Basins(basins::BasinsArgs),
 }
 
 /// A failure of a command, with its exit code.
@@ -105,6 +110,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Sweep(args) => sweep::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Map(args) => map::run(args),
+        Command::Basins(args) => basins::run(args),
     }
 }
 

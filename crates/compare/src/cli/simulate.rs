@@ -1,12 +1,14 @@
 //! `rattle simulate`: the event-driven simulator from rest.
 
 use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError, TrajectoryArgs};
-use crate::output::records::SimulationRecord;
+use crate::output::records::{LyapunovRecord, SimulationRecord};
 use crate::output::trajectory::simulated_rows;
 use crate::output::{write_table, Format, Header};
+use crate::scene::lyapunov::spectrum;
 use crate::scene::simulator::{model, run as simulate, SimulatedPoint};
 use crate::scene::Scene;
 use clap::Args;
+use rattle_event_driven::lyapunov::{BATCHES, DEFAULT_LYAPUNOV_PERIODS};
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::{SimulationOptions, Start};
 use std::fmt::Write as _;
@@ -27,6 +29,9 @@ pub struct SimulateArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub trajectory: TrajectoryArgs,
+    #[command(flatten)]
+    #[allow(missing_docs)]
+    pub lyapunov: LyapunovArgs,
 }
 
 /// Writes the trajectory files of `args` for the run `sim`.
@@ -70,6 +75,17 @@ fn write_trajectory(
     Ok(())
 }
 
+/// The `--lyapunov` flags of `rattle simulate`.
+#[derive(Debug, Args)]
+pub struct LyapunovArgs {
+    /// After the steady-state run, compute the Lyapunov exponents over more periods.
+    #[arg(long)]
+    pub lyapunov: bool,
+    /// Forcing periods of the exponents' run (at least 10).
+    #[arg(long, default_value_t = DEFAULT_LYAPUNOV_PERIODS)]
+    pub lyapunov_periods: u64,
+}
+
 /// Runs `rattle simulate`.
 ///
 /// # Errors
@@ -89,8 +105,12 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
     write_trajectory(&args.trajectory, &scene, &sim, &options)?;
     let record = SimulationRecord::new(&scene, &sim);
+    let exponents = lyapunov_record(&args.lyapunov, &scene, &sim, &options)?;
     if args.common.json {
-        return pretty(&record);
+        return pretty(&WithLyapunov {
+            record: &record,
+            lyapunov: exponents.as_ref(),
+        });
     }
     let mut out = heading(&scene, omega);
     let _ = writeln!(out, "status: {} ({})", record.status, sim.regime.words());
@@ -118,5 +138,64 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         "periods run: {}, impacts: {}",
         record.periods_run, record.impacts
     );
+    if let Some(l) = &exponents {
+        write_lyapunov(&mut out, l);
+    }
     Ok(out)
+}
+
+/// A simulation record with the exponents, when asked for, flattened into one document.
+#[derive(serde::Serialize)]
+struct WithLyapunov<'a> {
+    #[serde(flatten)]
+    record: &'a SimulationRecord,
+    #[serde(flatten)]
+    lyapunov: Option<&'a LyapunovRecord>,
+}
+
+/// The exponents of `sim` when `--lyapunov` asks for them.
+fn lyapunov_record(
+    args: &LyapunovArgs,
+    scene: &crate::scene::Scene,
+    sim: &crate::scene::simulator::SimulatedPoint,
+    options: &rattle_event_driven::SimulationOptions,
+) -> Result<Option<LyapunovRecord>, RattleError> {
+    if !args.lyapunov {
+        return Ok(None);
+    }
+    if args.lyapunov_periods < BATCHES {
+        return Err(RattleError::Argument(format!(
+            "--lyapunov-periods = {} is out of range: must be at least {BATCHES}",
+            args.lyapunov_periods
+        )));
+    }
+    let spectrum = spectrum(scene, sim, args.lyapunov_periods, options)
+        .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    Ok(Some(LyapunovRecord::new(sim, &spectrum)))
+}
+
+/// The table lines of the exponents.
+fn write_lyapunov(out: &mut String, l: &LyapunovRecord) {
+    let list = |v: &[Option<f64>]| {
+        v.iter()
+            .map(|x| x.map_or("null".to_owned(), |x| format!("{x:.6}")))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    let _ = writeln!(
+        out,
+        "lyapunov exponents (1/s, {} periods): [{}] ± {}{}",
+        l.lyapunov_periods,
+        list(&l.lyapunov_exponents),
+        l.lyapunov_uncertainty
+            .map_or("undefined".to_owned(), |u| format!("{u:.6}")),
+        if l.lyapunov_collapsed > 0 {
+            format!(", {} collapsed by sticking (−∞)", l.lyapunov_collapsed)
+        } else {
+            String::new()
+        }
+    );
+    if let Some(r) = l.lyapunov_regime {
+        let _ = writeln!(out, "lyapunov regime: {r}");
+    }
 }

@@ -3,11 +3,13 @@
 
 pub mod agreement;
 pub mod bandwidth_map;
+pub mod basins;
 pub mod beta_family;
 pub mod bifurcation;
 pub mod frequency_response;
 pub mod impact_time_response;
 pub mod linear_time_response;
+pub mod lyapunov;
 pub mod plot;
 pub mod regime_map;
 pub mod transmittance;
@@ -57,4 +59,23 @@ pub fn draw_work_precision(study: &WorkPrecision, dir: &Path) -> Result<Vec<Path
         dir,
     )?);
     Ok(written)
+}
+
+/// Draws the basins figure (`basins`) into `dir`; returns the files written.
+///
+/// # Errors
+/// The figure cannot be drawn or written, with its path.
+pub fn draw_basins(figure: &basins::BasinsFigure, dir: &Path) -> Result<Vec<PathBuf>, PlotError> {
+    save(figure, dir)
+}
+
+/// Draws the Lyapunov figure (`lyapunov`) into `dir`; returns the files written.
+///
+/// # Errors
+/// The figure cannot be drawn or written, with its path.
+pub fn draw_lyapunov(
+    figure: &lyapunov::LyapunovFigure,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    save(figure, dir)
 }

@@ -563,3 +563,37 @@ pub struct ContinuationRecord {
     /// Every end.
     pub ends: Vec<EndRecord>,
 }
+/// The Lyapunov exponents of a simulated motion (`rattle simulate --lyapunov`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct LyapunovRecord {
+    /// The finite exponents in descending order, 1/s (`null` for a non-finite one).
+    pub lyapunov_exponents: Vec<Option<f64>>,
+    /// The uncertainty of the largest exponent, 1/s (`null` when every direction collapsed).
+    pub lyapunov_uncertainty: Option<f64>,
+    /// The uncertainty of each exponent, 1/s, same order.
+    pub lyapunov_uncertainties: Vec<Option<f64>>,
+    /// Directions contracted to zero by sticking (exponents `−∞`, not listed).
+    pub lyapunov_collapsed: usize,
+    /// Forcing periods averaged over.
+    pub lyapunov_periods: u64,
+    /// For a motion that did not repeat: `chaotic`, `quasi-periodic` or `unsettled`; `null`
+    /// for a periodic one.
+    pub lyapunov_regime: Option<&'static str>,
+}
+
+impl LyapunovRecord {
+    /// The record of `spectrum`, computed on the motion `sim`.
+    pub fn new(
+        sim: &SimulatedPoint,
+        spectrum: &rattle_event_driven::lyapunov::LyapunovSpectrum,
+    ) -> Self {
+        Self {
+            lyapunov_exponents: spectrum.exponents.iter().map(|&v| finite(v)).collect(),
+            lyapunov_uncertainty: finite(spectrum.uncertainty),
+            lyapunov_uncertainties: spectrum.uncertainties.iter().map(|&v| finite(v)).collect(),
+            lyapunov_collapsed: spectrum.collapsed,
+            lyapunov_periods: spectrum.periods,
+            lyapunov_regime: crate::scene::lyapunov::non_periodic_regime(sim, spectrum),
+        }
+    }
+}

@@ -27,9 +27,11 @@ use crate::runs::axis::Axis;
 use crate::runs::bands::bands;
 use crate::runs::parallel::{for_each_ordered, Grain, Progress};
 use crate::scene::analytic::{analyse, OrbitSearch};
+use crate::scene::lyapunov::chaos;
 use crate::scene::simulator::{run, Regime};
 use crate::scene::{Scene, StopsSpec};
 use crate::verdict::{candidates, difference, predicted_transmittance, Choice, Motion};
+use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
 use rattle_event_driven::{SimulationOptions, Start};
 use serde::Serialize;
 use thiserror::Error;
@@ -46,6 +48,15 @@ pub const MAP_PERIODICITY_TOLERANCE: f64 = 1e-5;
 /// points irregular, so 400 settles nearly all that settle at all, at a quarter of the cost
 /// of 1500 (irregular points run to the cap and dominate the cost).
 pub const MAP_MAX_PERIODS: u64 = 400;
+
+/// Forcing periods of the exponents' run at a map point that did not repeat within
+/// [`MAP_MAX_PERIODS`]: 200 (20 per batch), fewer than a sweep's 2000 to keep the map's cost
+/// in check (irregular points already dominate it; 200 periods plus the 100 of alignment cost
+/// about 1.4 × 300 plain periods, about as much as the point's own run to the cap). The
+/// uncertainty is larger by `√10` than at 2000 periods, so weakly chaotic points may read
+/// `quasi-periodic`: the regime is a cheap first reading, `rattle simulate --lyapunov` the
+/// careful one.
+pub const MAP_LYAPUNOV_PERIODS: u64 = 200;
 
 /// Periods run per point when nothing can dissipate (no damping, `e = 1`): the simulator calls
 /// such a motion `no-dissipation` whatever the cap (unless it repeats), so a short run suffices.
@@ -153,6 +164,10 @@ pub struct MapSettings {
     pub simulation: SimulationOptions,
     /// Relative tolerance for "the simulated motion is the analytic candidate".
     pub match_tolerance: f64,
+    /// Forcing periods of the exponents' run at a point that did not repeat; `None` computes
+    /// no exponents (the largest exponent of periodic points, from their multipliers, needs
+    /// the polish, which the map does not run).
+    pub lyapunov_periods: Option<u64>,
 }
 
 impl Default for MapSettings {
@@ -170,6 +185,7 @@ impl Default for MapSettings {
                 ..SimulationOptions::default()
             },
             match_tolerance: MAP_MATCH_TOLERANCE,
+            lyapunov_periods: Some(MAP_LYAPUNOV_PERIODS),
         }
     }
 }
@@ -202,6 +218,10 @@ pub struct MapPoint {
     pub analytic_match: bool,
     /// A failure of either solver at this point.
     pub error: Option<String>,
+    /// The largest Lyapunov exponent of a point that did not repeat, 1/s.
+    pub largest_exponent: Option<f64>,
+    /// Its regime: chaotic, quasi-periodic or unsettled.
+    pub lyapunov_regime: Option<LyapunovRegime>,
 }
 
 /// One line of a map: fixed restitution and gap, frequencies ascending.
@@ -327,6 +347,8 @@ pub fn line(
             analytic_transmittance_db: None,
             analytic_match: false,
             error: None,
+            largest_exponent: None,
+            lyapunov_regime: None,
         };
         let sim = match run(&scene, omega, &start, &options) {
             Ok(sim) => {
@@ -338,6 +360,16 @@ pub fn line(
                 point.transmittance_db = sim.transmittance_db;
                 point.stopped_by = sim.stopped_by();
                 point.periods_run = sim.steady.periods_run;
+                if let (Regime::Irregular, Some(periods)) = (sim.regime, settings.lyapunov_periods)
+                {
+                    match chaos(&scene, &sim, periods, &options) {
+                        Ok(c) => {
+                            point.largest_exponent = c.largest_exponent;
+                            point.lyapunov_regime = c.regime;
+                        }
+                        Err(e) => point.error = Some(format!("lyapunov: {e}")),
+                    }
+                }
                 Some(sim)
             }
             Err(e) => {
@@ -515,6 +547,10 @@ table_row! {
         pub continued_from: &'static str,
         /// A failure of either solver.
         pub error: Option<String>,
+        /// The largest Lyapunov exponent of a point that did not repeat, 1/s.
+        pub largest_exponent: Option<f64>,
+        /// Its regime: `chaotic`, `quasi-periodic` or `unsettled`.
+        pub lyapunov_regime: Option<&'static str>,
     }
 }
 
@@ -544,6 +580,8 @@ impl MapPointRow {
                     "previous-frequency"
                 },
                 error: p.error.clone(),
+                largest_exponent: p.largest_exponent.and_then(finite),
+                lyapunov_regime: p.lyapunov_regime.map(LyapunovRegime::name),
             })
     }
 }

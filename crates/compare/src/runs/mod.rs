@@ -7,6 +7,7 @@
 
 pub mod axis;
 pub mod bands;
+pub mod basins;
 pub mod continuation;
 pub mod map;
 pub mod parallel;

@@ -5,6 +5,7 @@ use crate::output::{finite, table_row, Header};
 use crate::runs::parallel::{for_each_ordered, parallel_map, Grain, Progress};
 use crate::runs::shard::Shard;
 use crate::scene::analytic::{analyse, AnalyticPoint, OrbitSearch};
+use crate::scene::lyapunov::{chaos, SWEEP_LYAPUNOV_PERIODS};
 use crate::scene::simulator::{run, SimulatedPoint};
 use crate::scene::Scene;
 use crate::verdict::{compare, ComparedPoint, Starts};
@@ -105,7 +106,12 @@ pub fn sweep_rows<E>(
         omegas,
         solver.grain(),
         progress,
-        |&omega| SweepRow::new(&point(scene, omega, solver, options), gap),
+        |&omega| {
+            let p = point(scene, omega, solver, options);
+            let mut row = SweepRow::new(&p, gap);
+            row.set_chaos(scene, &p, options);
+            row
+        },
         sink,
     )
 }
@@ -162,6 +168,12 @@ table_row! {
         pub simulated_sticking: Option<bool>,
         /// The simulated cycle's canonical impact signature (periodic, polished by Newton).
         pub simulated_signature: Option<String>,
+        /// The largest Lyapunov exponent of the simulated motion, 1/s ([`crate::scene::lyapunov::Chaos`]).
+        pub largest_exponent: Option<f64>,
+        /// Its uncertainty, 1/s.
+        pub largest_exponent_uncertainty: Option<f64>,
+        /// A non-periodic motion's regime: `chaotic`, `quasi-periodic` or `unsettled`.
+        pub lyapunov_regime: Option<&'static str>,
         /// `X_o` of the analytic orbit of the simulated signature (`--solver both`), m.
         pub analytic_outer_amplitude: Option<f64>,
         /// Whether that analytic orbit is viable.
@@ -221,6 +233,9 @@ impl SweepRow {
             simulated_transmittance_db: None,
             simulated_sticking: None,
             simulated_signature: None,
+            largest_exponent: None,
+            largest_exponent_uncertainty: None,
+            lyapunov_regime: None,
             analytic_outer_amplitude: None,
             analytic_viable: None,
             analytic_stable: None,
@@ -304,6 +319,31 @@ impl SweepRow {
             self.branch1_viable,
             self.branch1_stable,
         ) = branch(1);
+    }
+
+    /// Fills the Lyapunov columns from the simulated motion of `point` on `scene` (an
+    /// exponents' run of [`SWEEP_LYAPUNOV_PERIODS`] for a non-periodic one); a failure of that
+    /// run goes to [`SweepRow::error`].
+    pub fn set_chaos(&mut self, scene: &Scene, point: &SweepPoint, options: &SimulationOptions) {
+        let sim = match point {
+            SweepPoint::Event(s) => s,
+            SweepPoint::Both(c) => &c.from_rest,
+            SweepPoint::Analytic(_) | SweepPoint::Failed { .. } => return,
+        };
+        match chaos(scene, sim, SWEEP_LYAPUNOV_PERIODS, options) {
+            Ok(c) => {
+                self.largest_exponent = c.largest_exponent.and_then(finite);
+                self.largest_exponent_uncertainty = c.uncertainty.and_then(finite);
+                self.lyapunov_regime = c.regime.map(|r| r.name());
+            }
+            Err(e) => {
+                let message = format!("lyapunov: {e}");
+                self.error = Some(match self.error.take() {
+                    Some(first) => format!("{first}; {message}"),
+                    None => message,
+                });
+            }
+        }
     }
 
     fn set_simulated(&mut self, s: &SimulatedPoint) {

@@ -17,6 +17,7 @@
 //! [`simulator::SimulatedPoint`]); [`phase`] the conventions of the base phase.
 
 pub mod analytic;
+pub mod lyapunov;
 pub mod phase;
 pub mod simulator;
 

@@ -2,6 +2,7 @@
 //! show, computed once from one scene. [`plots`] holds each figure's data, [`paper`] the
 //! paper's claims and numbers, [`report`] the validation outputs.
 
+pub mod chaos;
 pub mod paper;
 pub mod plots;
 pub mod report;
@@ -433,18 +434,23 @@ pub fn maps(scene: &Scene, sizes: MapSizes, progress: bool) -> Option<(Map, Map)
         gap_over_base_amplitude: gaps,
         omega: Axis::new(MAP_OMEGAS.0, MAP_OMEGAS.1, sizes.regime_points),
     };
-    let run = |grid: MapGrid, label: &str| {
+    // The bandwidth map shows no regime: no exponents there.
+    let bandwidth_settings = MapSettings {
+        lyapunov_periods: None,
+        ..settings.clone()
+    };
+    let run = |grid: MapGrid, settings: &MapSettings, label: &str| {
         let lines = grid.restitution.count * grid.gap_over_base_amplitude.count;
         Map::run(
             &scene,
             grid,
-            &settings,
+            settings,
             &Progress::new(label, lines, progress),
         )
     };
     // Both grids are valid by construction and the scene has stops.
-    let bandwidth = run(bandwidth_grid, "bandwidth map").ok()?;
-    let regimes = run(regime_grid, "regime map").ok()?;
+    let bandwidth = run(bandwidth_grid, &bandwidth_settings, "bandwidth map").ok()?;
+    let regimes = run(regime_grid, &settings, "regime map").ok()?;
     Some((bandwidth, regimes))
 }
 

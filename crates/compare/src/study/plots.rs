@@ -4,6 +4,7 @@ use crate::runs::map::{Bandwidth, Map, MapGrid, MapPoint};
 use crate::scene::analytic::{linear_displacements, orbit_state, AnalyticPoint};
 use crate::scene::simulator::{Regime, SimulatedPoint};
 use crate::verdict::{Class, ComparedPoint};
+use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
 
 /// Samples `(t, u_o, u_i)` of a motion.
 pub type Samples = Vec<(f64, f64, f64)>;
@@ -360,8 +361,14 @@ pub enum RegimeClass {
     MoreImpacts,
     /// Periodic with period `p > 1`.
     Subharmonic,
-    /// Not periodic within the cap.
+    /// Not periodic within the cap, no exponents computed (or their run failed).
     Irregular,
+    /// Not periodic, largest Lyapunov exponent positive beyond its uncertainty.
+    Chaotic,
+    /// Not periodic, largest exponent zero within its uncertainty.
+    QuasiPeriodic,
+    /// Not periodic within the cap, yet converging (largest exponent negative).
+    Unsettled,
     /// Sticking on a stop in the final cycle.
     Sticking,
     /// Undamped and elastic: no steady state.
@@ -372,13 +379,16 @@ pub enum RegimeClass {
 
 impl RegimeClass {
     /// Every class, in legend order.
-    pub const ALL: [RegimeClass; 9] = [
+    pub const ALL: [RegimeClass; 12] = [
         RegimeClass::NoImpact,
         RegimeClass::TwoImpactAgreeing,
         RegimeClass::TwoImpactOnly,
         RegimeClass::MoreImpacts,
         RegimeClass::Subharmonic,
         RegimeClass::Irregular,
+        RegimeClass::Chaotic,
+        RegimeClass::QuasiPeriodic,
+        RegimeClass::Unsettled,
         RegimeClass::Sticking,
         RegimeClass::NoDissipation,
         RegimeClass::Failed,
@@ -393,7 +403,12 @@ impl RegimeClass {
             Some(Regime::TwoImpact) => RegimeClass::TwoImpactOnly,
             Some(Regime::MoreImpacts) => RegimeClass::MoreImpacts,
             Some(Regime::Subharmonic) => RegimeClass::Subharmonic,
-            Some(Regime::Irregular) => RegimeClass::Irregular,
+            Some(Regime::Irregular) => match point.lyapunov_regime {
+                Some(LyapunovRegime::Chaotic) => RegimeClass::Chaotic,
+                Some(LyapunovRegime::QuasiPeriodic) => RegimeClass::QuasiPeriodic,
+                Some(LyapunovRegime::Unsettled) => RegimeClass::Unsettled,
+                None => RegimeClass::Irregular,
+            },
             Some(Regime::Sticking) => RegimeClass::Sticking,
             Some(Regime::NoDissipation) => RegimeClass::NoDissipation,
         }
@@ -408,6 +423,9 @@ impl RegimeClass {
             RegimeClass::MoreImpacts => "other impacts, period 1",
             RegimeClass::Subharmonic => "period p > 1",
             RegimeClass::Irregular => "not periodic within the cap",
+            RegimeClass::Chaotic => "chaotic (largest Lyapunov exponent > 0)",
+            RegimeClass::QuasiPeriodic => "quasi-periodic (largest exponent ≈ 0)",
+            RegimeClass::Unsettled => "not periodic yet converging (exponent < 0)",
             RegimeClass::Sticking => "sticking",
             RegimeClass::NoDissipation => "no dissipation",
             RegimeClass::Failed => "solver failed",

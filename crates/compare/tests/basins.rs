@@ -1,0 +1,76 @@
+//! Basins of attraction: deterministic whatever the thread count, and a start on a stable
+//! orbit coloured by that orbit.
+
+use rattle_compare::runs::basins::{basin_options, destination, Attractor};
+use rattle_compare::scene::analytic::{analyse, OrbitSearch};
+use rattle_compare::scene::simulator::start_on_orbit;
+use rattle_compare::scene::Scene;
+use std::process::Command;
+
+/// The coexistence frequency of the paper's unit (`validation/hard-cases/coexistence.json`,
+/// `tests/hard_cases.rs`): from rest a four-impact motion, beside a stable symmetric orbit.
+const COEXISTENCE_OMEGA: f64 = 1.86;
+
+fn basins_file(threads: &str, out: &std::path::Path) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_rattle"))
+        .args([
+            "basins",
+            "--omega",
+            "1.86",
+            "--outer-min",
+            "-1.5",
+            "--outer-max",
+            "1.5",
+            "--inner-min",
+            "-1.5",
+            "--inner-max",
+            "1.5",
+            "--points",
+            "12",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .env("RAYON_NUM_THREADS", threads)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .output()
+        .expect("rattle runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    std::fs::read_to_string(out).unwrap()
+}
+
+#[test]
+fn the_same_grid_on_one_and_two_threads_gives_identical_files() {
+    let dir = std::env::temp_dir().join(format!("rattle-basins-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let one = basins_file("1", &dir.join("one.csv"));
+    let two = basins_file("2", &dir.join("two.csv"));
+    assert_eq!(one.lines().count(), 1 + 12 * 12);
+    assert_eq!(one, two);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_start_exactly_on_a_stable_orbit_is_coloured_by_that_orbit() {
+    let scene = Scene::paper();
+    let analytic = analyse(&scene, COEXISTENCE_OMEGA, OrbitSearch::Symmetric).unwrap();
+    let (_, orbit) = analytic
+        .stable_viable_orbits()
+        .next()
+        .expect("a stable symmetric orbit at the coexistence frequency");
+    let start = start_on_orbit(&scene, orbit, 0.0);
+    let (attractor, _, _) = destination(&scene, COEXISTENCE_OMEGA, &start, &basin_options());
+    let expected = Attractor::Periodic {
+        signature: Some("+-".into()),
+        period: 1,
+        outer_amplitude: orbit.outer_amplitude,
+    };
+    assert!(attractor.same(&expected), "{attractor:?} vs {expected:?}");
+    // From rest the unit goes elsewhere: the two are different attractors.
+    let (from_rest, _, _) = destination(
+        &scene,
+        COEXISTENCE_OMEGA,
+        &rattle_compare::runs::basins::start_at_rest(0.0, 0.0),
+        &basin_options(),
+    );
+    assert!(!from_rest.same(&expected), "{from_rest:?}");
+}
