@@ -38,7 +38,7 @@ use rattle_compare::output::Row;
 use rattle_compare::runs::axis::Axis;
 use rattle_compare::runs::continuation::{follow, FollowError};
 use rattle_compare::runs::parallel::Progress;
-use rattle_compare::runs::sweep::{header, sweep as sweep_points, Solver, SweepRow};
+use rattle_compare::runs::sweep::{header, sweep_rows, Solver, SweepRow};
 use rattle_compare::scene::analytic::{
     analyse, orbits_of_signature, sample_signature_orbit, OrbitSearch,
 };
@@ -800,6 +800,15 @@ fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
             "simulated_signature",
             text(rows, |r| r.simulated_signature.clone()),
         ),
+        ("largest_exponent", number(rows, |r| r.largest_exponent)),
+        (
+            "largest_exponent_uncertainty",
+            number(rows, |r| r.largest_exponent_uncertainty),
+        ),
+        (
+            "lyapunov_regime",
+            text(rows, |r| r.lyapunov_regime.map(str::to_owned)),
+        ),
         (
             "analytic_outer_amplitude",
             number(rows, |r| r.analytic_outer_amplitude),
@@ -920,13 +929,23 @@ fn sweep(
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
     let rows = compute(py, || {
-        let gap = scene.gap();
-        Ok(
-            sweep_points(scene, &omegas, solver, &options, &Progress::hidden())
-                .iter()
-                .map(|p| SweepRow::new(p, gap))
-                .collect::<Vec<_>>(),
-        )
+        // The command's own row builder (with the Lyapunov columns), rows kept in order.
+        let mut rows = Vec::with_capacity(omegas.len());
+        let done: Result<(), std::convert::Infallible> = sweep_rows(
+            scene,
+            &omegas,
+            solver,
+            &options,
+            &Progress::hidden(),
+            |row| {
+                rows.push(row);
+                Ok(())
+            },
+        );
+        match done {
+            Ok(()) => Ok(rows),
+            Err(never) => match never {},
+        }
     })?;
     Ok(NativeSweep {
         header: header(scene, solver, omegas.len(), None).fields().to_vec(),

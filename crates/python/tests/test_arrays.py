@@ -14,13 +14,15 @@ NUMBER = {
     "branch1_transmittance_db", "simulated_period", "simulated_impacts_per_period",
     "simulated_outer_amplitude", "simulated_transmittance_db", "relative_difference",
     "analytic_outer_amplitude", "analytic_energy_residual", "multiplier_difference",
+    "largest_exponent", "largest_exponent_uncertainty",
 }
 FLAG = {
     "linear_touches_stops", "branch0_viable", "branch0_stable", "branch1_viable",
     "branch1_stable", "simulated_sticking", "analytic_viable", "analytic_stable",
 }
 TEXT = {
-    "simulated_regime", "simulated_status", "simulated_signature", "class", "class_detail",
+    "simulated_regime", "simulated_status", "simulated_signature", "lyapunov_regime", "class",
+    "class_detail",
     "matched", "error",
 }
 
