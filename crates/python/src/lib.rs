@@ -25,13 +25,9 @@ use pyo3::types::{PyDict, PyString};
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
 use rattle_compare::cli::{Accuracy, MAX_SAMPLES_PER_PERIOD};
-use rattle_compare::output::finite;
 use rattle_compare::output::records::{
-    multipliers, At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
+    At, CrossCheckRecord, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
     SignatureOrbitsRecord, SimulationRecord,
-};
-use rattle_compare::output::records::{
-    AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
 };
 use rattle_compare::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, TrajectoryRow};
 use rattle_compare::output::Row;
@@ -615,56 +611,9 @@ fn continue_branch(
     json(&record)
 }
 
-/// The record `rattle compare --json` prints for `c` on `scene`.
-///
-/// A copy of the private `record` of `rattle_compare::cli::compare`, field for field: the
-/// tests hold the two equal through the command's output.
+/// The record `rattle compare --json` prints for `c` on `scene`: the command's own builder.
 fn cross_check_record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
-    let s = &c.simulated;
-    CrossCheckRecord {
-        scene: scene.name.clone(),
-        omega: finite(c.omega),
-        simulated: SimulatedCycleRecord {
-            status: s.status_name(),
-            period: s.steady.period,
-            signature: c.signature.as_ref().map(|sig| sig.to_string()),
-            impacts_per_period: finite(s.steady.impacts_per_period),
-            outer_amplitude: finite(s.outer_amplitude),
-            floquet_multipliers: s
-                .steady
-                .orbit
-                .as_ref()
-                .map(|o| multipliers(&o.floquet_multipliers)),
-        },
-        analytic: c.analytic.as_ref().map(|o| AnalyticCycleRecord {
-            signature: o.signature.to_string(),
-            period: o.period,
-            outer_amplitude: finite(o.outer_amplitude),
-            viable: o.viable,
-            stable: o.stable,
-            floquet_multipliers: multipliers(&o.floquet_multipliers),
-            energy_residual: finite(o.energy_residual),
-        }),
-        analytic_error: c.analytic_error.clone(),
-        class: c.class.name(),
-        class_detail: c.class.detail().to_owned(),
-        relative_difference: c.relative_difference.and_then(finite),
-        multiplier_difference: c.multiplier_difference.and_then(finite),
-        confirmed_orbits: c
-            .confirmed_orbits
-            .iter()
-            .map(|k| ConfirmationRecord {
-                alpha: finite(k.orbit.alpha),
-                impact_phases: k.orbit.impact_phases.iter().map(|&p| finite(p)).collect(),
-                stable: k.orbit.stable,
-                outer_amplitude: finite(k.orbit.outer_amplitude),
-                confirmed: k.confirmed,
-                state_difference: k.state_difference.and_then(finite),
-                multiplier_difference: k.multiplier_difference.and_then(finite),
-                error: k.error.clone(),
-            })
-            .collect(),
-    }
+    rattle_compare::cli::compare::record(scene, c)
 }
 
 /// `rattle compare --json`: both solvers on the motion the unit settles on.

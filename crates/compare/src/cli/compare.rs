@@ -21,8 +21,8 @@ pub struct CompareArgs {
     pub accuracy: Accuracy,
 }
 
-/// The record of `c` on `scene`.
-fn record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
+/// The record `rattle compare --json` prints for `c` on `scene` (also the Python package's).
+pub fn record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
     let s = &c.simulated;
     CrossCheckRecord {
         scene: scene.name.clone(),
