@@ -59,7 +59,7 @@ const BASINS_EXTENT: f64 = 1.5;
 /// Starts per side of the basins grid: 10 000 starts, about 3 s on two threads (the issue's
 /// 200 × 200, 11 s, would take `cargo xtask figures` past its minute; `rattle basins --points
 /// 200` draws it).
-const BASINS_POINTS: usize = 100;
+const BASINS_POINTS: usize = 200;
 
 /// Frequencies of the Lyapunov figure over the paper's axis 0.1–4 rad/s (step 0.02 rad/s);
 /// each non-periodic point runs 2000 periods of exponents, periodic ones take theirs from

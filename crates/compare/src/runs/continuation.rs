@@ -11,6 +11,7 @@ use rattle_analytic::continuation::{
     continue_orbit, Branch, BranchEnd, ContinuationError, ContinuationSettings, Event,
 };
 use rattle_analytic::{Signature, SignatureOrbit};
+use rayon::prelude::*;
 use std::f64::consts::PI;
 use thiserror::Error;
 
@@ -110,11 +111,10 @@ pub fn follow(
         followed_starts: Vec::new(),
         branches: Branches::default(),
     };
-    for k in chosen {
-        if out
-            .branches
-            .extend(&unit, &stops, &start_orbits[k], settings)?
-        {
+    let starts: Vec<SignatureOrbit> = chosen.iter().map(|&k| start_orbits[k].clone()).collect();
+    let outcome = out.branches.extend_all(&unit, &stops, &starts, settings);
+    for (k, followed) in chosen.into_iter().zip(outcome) {
+        if followed? {
             out.followed_starts.push(k);
         }
     }
@@ -146,10 +146,65 @@ impl Branches {
         start: &SignatureOrbit,
         settings: &ContinuationSettings,
     ) -> Result<bool, ContinuationError> {
-        if self.branches.iter().any(|b| passes_through(b, start)) {
+        if self.followed(start) {
             return Ok(false);
         }
-        let c = continue_orbit(unit, stops, start, settings)?;
+        self.append(continue_orbit(unit, stops, start, settings)?);
+        Ok(true)
+    }
+
+    /// [`Branches::extend`] for each of `starts` in turn, with the same result (branches,
+    /// numbering, skipped starts), the continuations run in parallel: a wave of as many
+    /// starts not yet followed as there are threads runs at once, and is merged in order,
+    /// a start skipped when a branch merged before it passes through it (its continuation is
+    /// then wasted work, never a change of the result). Returns, per start, whether it was
+    /// followed (`Ok(true)`), lies on a branch already followed (`Ok(false)`) or was refused.
+    pub fn extend_all(
+        &mut self,
+        unit: &rattle_analytic::Unit,
+        stops: &rattle_analytic::Stops,
+        starts: &[SignatureOrbit],
+        settings: &ContinuationSettings,
+    ) -> Vec<Result<bool, ContinuationError>> {
+        let wave_size = rayon::current_num_threads().max(1);
+        let mut outcome: Vec<Option<Result<bool, ContinuationError>>> =
+            starts.iter().map(|_| None).collect();
+        let mut next = 0;
+        while next < starts.len() {
+            let mut wave = Vec::with_capacity(wave_size);
+            while next < starts.len() && wave.len() < wave_size {
+                if self.followed(&starts[next]) {
+                    outcome[next] = Some(Ok(false));
+                } else {
+                    wave.push(next);
+                }
+                next += 1;
+            }
+            let runs: Vec<_> = wave
+                .par_iter()
+                .map(|&k| continue_orbit(unit, stops, &starts[k], settings))
+                .collect();
+            for (k, run) in wave.into_iter().zip(runs) {
+                outcome[k] = Some(match run {
+                    Ok(_) if self.followed(&starts[k]) => Ok(false),
+                    Ok(c) => {
+                        self.append(c);
+                        Ok(true)
+                    }
+                    Err(e) => Err(e),
+                });
+            }
+        }
+        outcome.into_iter().flatten().collect()
+    }
+
+    /// Whether a branch already followed passes through `start`.
+    fn followed(&self, start: &SignatureOrbit) -> bool {
+        self.branches.iter().any(|b| passes_through(b, start))
+    }
+
+    /// Appends one continuation's branches, events and ends, renumbered after those here.
+    fn append(&mut self, c: rattle_analytic::continuation::Continuation) {
         let (branch_offset, event_offset) = (self.branches.len(), self.events.len());
         self.branches.extend(c.branches.into_iter().map(|mut b| {
             b.index += branch_offset;
@@ -168,7 +223,6 @@ impl Branches {
             e.branch += branch_offset;
             e
         }));
-        Ok(true)
     }
 }
 
@@ -254,6 +308,62 @@ impl Followed {
                     reason: e.reason.name(),
                 })
                 .collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Seeds on the paper unit: the viable `+-` orbits at four frequencies, two of which (2.2
+    /// and 2.4 rad/s) lie on one branch, so the later one is skipped.
+    fn seeds(scene: &Scene) -> Vec<SignatureOrbit> {
+        let sig = Signature::parse("+-", 1).expect("a valid signature");
+        [0.5, 2.2, 2.4, 3.0]
+            .iter()
+            .flat_map(|&w| orbits_of_signature(scene, w, &sig))
+            .filter(|o| o.viable)
+            .collect()
+    }
+
+    fn settings() -> ContinuationSettings {
+        ContinuationSettings {
+            max_branches: 2,
+            max_points_per_branch: 300,
+            ..ContinuationSettings::new(0.5, 3.5)
+        }
+    }
+
+    fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("a thread pool")
+            .install(f)
+    }
+
+    #[test]
+    fn parallel_waves_give_the_serial_result_on_any_thread_count() {
+        let scene = Scene::paper();
+        let (unit, stops) = (scene.unit_model(), scene.stops_model().expect("stops"));
+        let starts = seeds(&scene);
+        assert!(starts.len() >= 4, "{} seeds", starts.len());
+        let mut serial = Branches::default();
+        let serial_outcome: Vec<bool> = starts
+            .iter()
+            .map(|s| serial.extend(&unit, &stops, s, &settings()).expect("followed"))
+            .collect();
+        assert!(serial_outcome.contains(&false), "a seed lies on a branch followed");
+        for threads in [1, 2, 3] {
+            let (parallel, outcome) = in_pool(threads, || {
+                let mut b = Branches::default();
+                let outcome = b.extend_all(&unit, &stops, &starts, &settings());
+                (b, outcome)
+            });
+            let outcome: Vec<bool> = outcome.into_iter().map(|r| r.expect("followed")).collect();
+            assert_eq!(outcome, serial_outcome, "{threads} threads");
+            assert_eq!(format!("{parallel:?}"), format!("{serial:?}"), "{threads} threads");
         }
     }
 }

@@ -62,7 +62,31 @@ pub enum SceneError {
         /// The field, the value and the allowed range.
         source: UnitError,
     },
+    /// A value of one cell of a `chain` is out of its physical range.
+    #[error("{origin}: chain[{cell}].{source}")]
+    CellValue {
+        /// The file, or `built-in`.
+        origin: String,
+        /// The cell, from 0.
+        cell: usize,
+        /// The field within the cell, the value and the allowed range.
+        source: UnitError,
+    },
+    /// The chain's length is out of range, or given twice.
+    #[error("{origin}: {field}: {message}")]
+    Chain {
+        /// The file, or `built-in`.
+        origin: String,
+        /// `cells` or `chain`.
+        field: &'static str,
+        /// What is wrong, with the allowed range.
+        message: String,
+    },
 }
+
+/// Most cells a chain may have: the simulator's [`rattle_event_driven::MAX_CELLS`] (its
+/// dense `2N`-dimensional modal flow costs `O(N³)` to set up and `O(N²)` per step).
+pub const MAX_CELLS: usize = rattle_event_driven::MAX_CELLS;
 
 /// The unit's masses and springs.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -125,6 +149,29 @@ pub struct Scene {
     /// Dashpots, if any.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damping: Option<DampingSpec>,
+    /// A chain of this many identical cells in series (outer mass `j` tied to outer mass
+    /// `j − 1` by `k_o` and `c_o`, the first to the base); absent: one cell, the unit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cells: Option<usize>,
+    /// A graded chain: one entry per cell, each replacing the blocks it gives (`unit`,
+    /// `stops`, `damping`) of the scene's own, which it inherits otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chain: Option<Vec<CellSpec>>,
+}
+
+/// One cell of a graded chain: the blocks it gives replace the scene's.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CellSpec {
+    /// The cell's masses and springs (`outer_stiffness` ties it to the previous cell).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unit: Option<UnitSpec>,
+    /// The cell's stops.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stops: Option<StopsSpec>,
+    /// The cell's dashpots.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub damping: Option<DampingSpec>,
 }
 
 fn unnamed() -> String {
@@ -169,11 +216,107 @@ impl Scene {
                 column: inner.column(),
             }
         })?;
-        scene.validate().map_err(|source| SceneError::Value {
-            origin: origin.to_owned(),
-            source,
-        })?;
+        let scene = scene.normalized(origin)?;
+        scene.validate_in(origin)?;
         Ok(scene)
+    }
+
+    /// The scene with its chain in one form: `cells` and `chain` are exclusive, a chain of one
+    /// cell is that cell as the scene's own unit (so every one-cell scene reads the same),
+    /// and `cells: 1` is no chain.
+    fn normalized(mut self, origin: &str) -> Result<Scene, SceneError> {
+        let chain_error = |field, message: String| SceneError::Chain {
+            origin: origin.to_owned(),
+            field,
+            message,
+        };
+        if self.cells.is_some() && self.chain.is_some() {
+            return Err(chain_error(
+                "cells",
+                "give either `cells` (identical cells) or `chain` (one entry per cell), not both"
+                    .to_owned(),
+            ));
+        }
+        let count = self.cell_count();
+        if !(1..=MAX_CELLS).contains(&count) {
+            let field = if self.chain.is_some() { "chain" } else { "cells" };
+            return Err(chain_error(
+                field,
+                format!("{count} cells is out of range: must be 1..={MAX_CELLS}"),
+            ));
+        }
+        if count == 1 {
+            if let Some(cell) = self.chain.take().and_then(|c| c.first().copied()) {
+                self = self.cell_scene(&cell);
+            }
+            self.cells = None;
+        }
+        Ok(self)
+    }
+
+    fn validate_in(&self, origin: &str) -> Result<(), SceneError> {
+        match &self.chain {
+            Some(chain) => chain.iter().enumerate().try_for_each(|(cell, spec)| {
+                self.cell_scene(spec)
+                    .validate()
+                    .map_err(|source| SceneError::CellValue {
+                        origin: origin.to_owned(),
+                        cell,
+                        source,
+                    })
+            }),
+            None => self.validate().map_err(|source| SceneError::Value {
+                origin: origin.to_owned(),
+                source,
+            }),
+        }
+    }
+
+    /// Number of cells in series (1 for a single unit).
+    pub fn cell_count(&self) -> usize {
+        match (&self.chain, self.cells) {
+            (Some(chain), _) => chain.len(),
+            (None, Some(n)) => n,
+            (None, None) => 1,
+        }
+    }
+
+    /// Number of contact pairs: the cells with stops.
+    pub fn pair_count(&self) -> usize {
+        self.cell_scenes()
+            .iter()
+            .filter(|c| c.stops.is_some())
+            .count()
+    }
+
+    /// Whether the scene is a chain of more than one cell.
+    pub fn is_chain(&self) -> bool {
+        self.cell_count() > 1
+    }
+
+    /// Each cell as a one-cell scene (the scene's name; no `cells`, no `chain`), in order
+    /// from the base; a single unit gives itself.
+    pub fn cell_scenes(&self) -> Vec<Scene> {
+        match &self.chain {
+            Some(chain) => chain.iter().map(|c| self.cell_scene(c)).collect(),
+            None => {
+                let one = self.cell_scene(&CellSpec::default());
+                vec![one; self.cell_count()]
+            }
+        }
+    }
+
+    /// This scene's blocks with those `cell` gives in their place.
+    fn cell_scene(&self, cell: &CellSpec) -> Scene {
+        Scene {
+            name: self.name.clone(),
+            unit: cell.unit.unwrap_or(self.unit),
+            base: self.base,
+            stops: cell.stops.or(self.stops),
+            damping: cell.damping.or(self.damping),
+            cells: None,
+            chain: None,
+        }
     }
 
     /// Reads, parses and validates the scene file at `path`.
@@ -210,11 +353,12 @@ impl Scene {
 
     /// The effects this scene calls for, in a fixed order.
     pub fn effects(&self) -> Vec<Effect> {
+        let cells = self.cell_scenes();
         let mut effects = Vec::new();
-        if self.stops.is_some() {
+        if cells.iter().any(|c| c.stops.is_some()) {
             effects.push(Effect::Stops);
         }
-        if self.active_damping().is_some() {
+        if cells.iter().any(|c| c.active_damping().is_some()) {
             effects.push(Effect::Damping);
         }
         effects
@@ -240,9 +384,11 @@ impl Scene {
         self.stops.map(|s| s.gap)
     }
 
-    /// Whether the scene has a dashpot that is not zero.
+    /// Whether the scene has a dashpot that is not zero (in any cell).
     pub fn is_damped(&self) -> bool {
-        self.active_damping().is_some()
+        self.cell_scenes()
+            .iter()
+            .any(|c| c.active_damping().is_some())
     }
 
     /// The dashpots, if the scene has any that is not zero.

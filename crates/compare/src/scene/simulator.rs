@@ -7,7 +7,7 @@ use nalgebra::{DVector, Vector4};
 use rattle_analytic::linear::transmittance_db;
 use rattle_analytic::{Orbit, Signature};
 use rattle_event_driven::{
-    simulate, Model, ModelError, SimulationError, SimulationOptions, Start, Status, SteadyState,
+    simulate, CellParameters, CellStops, Model, ModelError, SimulationError, SimulationOptions, Start, Status, SteadyState,
     Stop,
 };
 use thiserror::Error;
@@ -89,8 +89,27 @@ pub struct SimulatedPoint {
 }
 
 /// The simulator's model of `scene` at `omega`: contact pair only with stops, damping terms
-/// only with damping.
+/// only with damping; a chain of cells as [`Model::chain`], one cell as the unit.
 pub fn model(scene: &Scene, omega: f64) -> Result<Model, ModelError> {
+    if scene.is_chain() {
+        let cells: Vec<CellParameters> = scene
+            .cell_scenes()
+            .iter()
+            .map(|cell| {
+                let unit = cell.unit_model();
+                CellParameters {
+                    outer_mass: unit.outer_mass,
+                    inner_mass: unit.inner_mass,
+                    outer_stiffness: unit.outer_stiffness,
+                    inner_stiffness: unit.inner_stiffness,
+                    outer_damping: unit.damping.map(|d| d.outer),
+                    inner_damping: unit.damping.map(|d| d.inner),
+                    stops: cell.stops.map(|s| CellStops::symmetric(s.gap, s.restitution)),
+                }
+            })
+            .collect();
+        return Model::chain(&cells, scene.base.amplitude, omega);
+    }
     let unit = scene.unit_model();
     let damping = unit.damping;
     Model::two_dof_unit(
@@ -145,8 +164,14 @@ pub fn run(
 ) -> Result<SimulatedPoint, SimulateError> {
     let model = model(scene, omega)?;
     let steady = simulate(&model, omega, start, options)?;
-    let regime = regime(&steady);
-    let outer_amplitude = steady.amplitudes.first().copied().unwrap_or(f64::NAN);
+    let regime = if scene.is_chain() {
+        chain_regime(&steady)
+    } else {
+        regime(&steady)
+    };
+    // The last cell's outer mass: coordinate 2(N − 1) (0 for the unit).
+    let last_outer = 2 * (scene.cell_count() - 1);
+    let outer_amplitude = steady.amplitudes.get(last_outer).copied().unwrap_or(f64::NAN);
     let settled = !matches!(steady.status, Status::NoDissipation);
     let transmittance = (settled && outer_amplitude.is_finite())
         .then(|| transmittance_db(outer_amplitude, scene.base.amplitude));
@@ -157,8 +182,9 @@ pub fn run(
             .cycle_impacts
             .windows(2)
             .all(|w| w[0].side != w[1].side);
-    let side1_impact = (regime == Regime::TwoImpact
-        || (regime == Regime::Irregular && alternating))
+    let side1_impact = (!scene.is_chain()
+        && (regime == Regime::TwoImpact
+            || (regime == Regime::Irregular && alternating)))
         .then(|| {
             steady.cycle_impacts.iter().find(|i| i.side > 0).map(|i| {
                 let s = &i.state_before;
@@ -201,7 +227,40 @@ pub fn regime(steady: &SteadyState) -> Regime {
     }
 }
 
+/// Names the regime of a chain's steady state: as [`regime`], except that a period-1 motion
+/// with impacts is [`Regime::MoreImpacts`] (the two-impact motion is the unit's).
+pub fn chain_regime(steady: &SteadyState) -> Regime {
+    match regime(steady) {
+        Regime::TwoImpact => Regime::MoreImpacts,
+        other => other,
+    }
+}
+
 impl SimulatedPoint {
+    /// `max|u_o,j|` of every cell's outer mass over the final cycle, from the base out.
+    pub fn cell_outer_amplitudes(&self) -> Vec<f64> {
+        self.steady.amplitudes.iter().step_by(2).copied().collect()
+    }
+
+    /// Impacts per forcing period of each of the scene's `pairs` contact pairs (one per cell
+    /// with stops, from the base out) over the final cycle; they sum to the steady state's
+    /// `impacts_per_period`.
+    pub fn pair_impacts_per_period(&self, pairs: usize) -> Vec<f64> {
+        let mut counts = vec![0.0; pairs];
+        for impact in &self.steady.cycle_impacts {
+            if let Some(c) = counts.get_mut(impact.pair) {
+                *c += 1.0;
+            }
+        }
+        let total: f64 = counts.iter().sum();
+        let scale = if total > 0.0 {
+            self.steady.impacts_per_period / total
+        } else {
+            0.0
+        };
+        counts.iter().map(|c| c * scale).collect()
+    }
+
     /// The simulator's status as a word: `periodic`, `non-periodic` or `no-dissipation`, with
     /// `, sticking` appended when the final cycle sticks.
     pub fn status_name(&self) -> String {

@@ -176,10 +176,8 @@ fn branches(scene: &Scene, size: &StudySize, compared: &[ComparedPoint]) -> Bran
             .filter_map(|p| p.cross.analytic.clone())
             .filter(|o| o.viable),
     );
-    for seed in &seeds {
-        // A refused seed (Newton fails to restart it) leaves the other seeds' branches.
-        let _ = out.extend(&unit, &stops, seed, &settings);
-    }
+    // A refused seed (Newton fails to restart it) leaves the other seeds' branches.
+    let _ = out.extend_all(&unit, &stops, &seeds, &settings);
     out
 }
 
@@ -373,7 +371,7 @@ impl MapSizes {
     /// rad/s) it takes about 28 s and the command stays within a minute.
     pub fn full() -> MapSizes {
         MapSizes {
-            restitutions: 21,
+            restitutions: 11,
             gaps: 16,
             bandwidth_points: 160,
             regime_points: 300,
