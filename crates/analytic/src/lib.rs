@@ -16,6 +16,9 @@
 //! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
 //!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
 //!   state (the model the signature solver is to be generalised onto);
+//! - [`chain`]: chains of cells in series, graded or not ([`Cell`], at most [`MAX_CELLS`]),
+//!   and the linear chain's steady state by transfer matrices ([`chain_response`]), finite at
+//!   every local resonance and unbounded only at the chain's own undamped resonances;
 //! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
 //!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
@@ -30,6 +33,7 @@
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
 #![deny(missing_docs)]
 
+pub mod chain;
 pub mod continuation;
 pub mod cycle;
 pub mod family;
@@ -43,6 +47,7 @@ pub mod symmetric;
 pub mod test_models;
 pub mod unit;
 
+pub use chain::{chain_response, validate_chain, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
     continue_orbit, Branch, BranchEnd, Continuation, ContinuationError, ContinuationPoint,
     ContinuationSettings, EndReason, Event, EventKind,
