@@ -32,7 +32,7 @@
 //!
 //! The finite chain has no bounded steady state where `Ũ_0 = 0` (an undamped resonance of the
 //! chain on a fixed base); that is declared when `|Ũ_0|` is within rounding of the sizes of the
-//! terms that formed it ([`CHAIN_RESONANCE_ULPS`]) and reported as `unbounded`, never NaN.
+//! terms that form it ([`CHAIN_RESONANCE_ULPS`]) and reported as `unbounded`, never NaN.
 
 use nalgebra::{Complex, DMatrix, DVector};
 
@@ -88,18 +88,23 @@ impl Cell {
     /// `chain[index].inner_stiffness`, `chain[index].damping.outer` or
     /// `chain[index].damping.inner`.
     pub fn validate(&self, index: usize) -> Result<(), ModelError> {
+        self.validate_as(&format!("chain[{index}]"))
+    }
+
+    /// [`Cell::validate`] with the fields named `{prefix}.outer_mass`, ….
+    pub(crate) fn validate_as(&self, prefix: &str) -> Result<(), ModelError> {
         for (name, value) in [
             ("outer_mass", self.outer_mass),
             ("inner_mass", self.inner_mass),
             ("outer_stiffness", self.outer_stiffness),
             ("inner_stiffness", self.inner_stiffness),
         ] {
-            check(format!("chain[{index}].{name}"), value, value > 0.0, "> 0")?;
+            check(format!("{prefix}.{name}"), value, value > 0.0, "> 0")?;
         }
         if let Some(d) = self.damping {
             for (name, value) in [("outer", d.outer), ("inner", d.inner)] {
                 check(
-                    format!("chain[{index}].damping.{name}"),
+                    format!("{prefix}.damping.{name}"),
                     value,
                     value >= 0.0,
                     ">= 0",
@@ -110,7 +115,12 @@ impl Cell {
     }
 }
 
-fn check(field: String, value: f64, ok: bool, allowed: &'static str) -> Result<(), ModelError> {
+pub(crate) fn check(
+    field: String,
+    value: f64,
+    ok: bool,
+    allowed: &'static str,
+) -> Result<(), ModelError> {
     if value.is_finite() && ok {
         Ok(())
     } else {
@@ -236,13 +246,13 @@ pub(crate) fn assemble(
 }
 
 /// Undamped resonance of a finite chain is declared when `|Ũ_0|` (see the module notes) is
-/// within `CHAIN_RESONANCE_ULPS · N` ulps of the sizes of the terms that formed it, the same
-/// sweep run on absolute values with every coefficient replaced by the sum of the magnitudes
-/// of its terms (`|k_i| + m_i ω² + ω c_i` for `D`). Reasoning (not a measurement): each
-/// backward step is two complex multiply-adds and a division per component, a few ulps each,
-/// and the errors of `N` steps add at most linearly against that bound; 64 per cell is the
-/// margin [`crate::linear::RESONANCE_ULPS`] leaves for the unit, which a one-cell chain
-/// reproduces.
+/// within `CHAIN_RESONANCE_ULPS` ulps of its first-order rounding scale
+/// `Σ_j |ℓ_j| S_j |x̃_j|`: `Ũ_0 = ℓ_j M_j x̃_j` for every `j`, with `ℓ_j = (1, 0) M_1 ⋯ M_{j−1}`
+/// the forward product, `M_j` cell `j`'s scaled backward step and `S_j` its entries' term sizes
+/// (`|k_i| + m_i ω² + ω c_i` for `D`, …), so a relative error `ε` in each term of each step moves
+/// `Ũ_0` by at most `ε` times that sum. Reasoning (not a measurement): each entry is formed and
+/// applied with a few complex roundings; 64 is the margin [`crate::linear::RESONANCE_ULPS`]
+/// leaves for the unit, whose determinant a one-cell chain's `Ũ_0` is (over `κ`).
 pub const CHAIN_RESONANCE_ULPS: f64 = 64.0;
 
 /// The linear chain's steady state `u(t) = Re{U e^{iωt}}` at one frequency.
@@ -325,37 +335,34 @@ pub fn chain_response(
     let steps: Vec<Step> = cells.iter().map(|c| Step::new(c, omega)).collect();
     // Backward sweep: (u, f) = (Ũ_j, F̃_{j+1}) normalised, `bound` the same sweep on sizes,
     // both with the common log scale `log_scale`. `states[j]` is Ũ_j (j = 0 … N).
-    let mut states = vec![
-        Scaled {
-            value: Complex::new(0.0, 0.0),
-            log_scale: 0.0,
-        };
-        n + 1
-    ];
-    let (mut u, mut f) = (Complex::new(1.0, 0.0), Complex::new(0.0, 0.0));
-    let (mut bu, mut bf) = (1.0_f64, 0.0_f64);
+    // Backward sweep: x̃_j = (Ũ_j, F̃_{j+1}) kept normalised, `states[j]` its first entry and
+    // `tails[j]` the whole state, both with the log scale `log_scale`.
+    let zero = Complex::new(0.0, 0.0);
+    let mut tails = vec![(zero, zero, 0.0); n + 1];
+    let (mut u, mut f) = (Complex::new(1.0, 0.0), zero);
     let mut log_scale = 0.0;
-    states[n] = Scaled {
-        value: u,
-        log_scale,
-    };
+    tails[n] = (u, f, log_scale);
     for j in (1..=n).rev() {
         let s = &steps[j - 1];
         let f_new = s.d * f + s.a * u;
         let u_new = s.d * u - f_new / s.kappa;
-        let bf_new = s.d_size * bf + s.a_size * bu;
-        let bu_new = s.d_size * bu + bf_new / s.kappa.norm();
-        // The sizes bound the values; normalise both by the bound's largest entry.
-        let r = bu_new.max(bf_new);
-        (u, f, bu, bf) = (u_new / r, f_new / r, bu_new / r, bf_new / r);
+        let r = u_new.norm().max(f_new.norm());
+        if r == 0.0 {
+            // Both entries exactly zero: Ũ_0 = 0 below, a resonance.
+            u = zero;
+            break;
+        }
+        (u, f) = (u_new / r, f_new / r);
         log_scale += r.ln();
-        states[j - 1] = Scaled {
-            value: u,
-            log_scale,
-        };
+        tails[j - 1] = (u, f, log_scale);
     }
-    let resonance = u.norm() <= CHAIN_RESONANCE_ULPS * n as f64 * f64::EPSILON * bu;
-    if resonance || u.norm() == 0.0 {
+    let states: Vec<Scaled> = tails
+        .iter()
+        .map(|&(value, _, log_scale)| Scaled { value, log_scale })
+        .collect();
+    let resonance =
+        u.norm() <= CHAIN_RESONANCE_ULPS * f64::EPSILON * rounding_scale(&steps, &tails);
+    if resonance {
         let inf = Complex::new(f64::INFINITY, 0.0);
         return Ok(ChainResponse {
             omega,
@@ -413,4 +420,34 @@ pub fn chain_response(
         outer_amplitude: last,
         unbounded: false,
     })
+}
+
+/// `Σ_j |ℓ_j| S_j |x̃_j|` of [`CHAIN_RESONANCE_ULPS`], relative to the scale of `x̃_0`:
+/// `tails[j] = (Ũ_j, F̃_{j+1}, log scale)` normalised, `ℓ_j` carried forward normalised too.
+fn rounding_scale(steps: &[Step], tails: &[(Complex<f64>, Complex<f64>, f64)]) -> f64 {
+    let base_log = tails[0].2;
+    let (mut l0, mut l1) = (Complex::new(1.0, 0.0), Complex::new(0.0, 0.0));
+    let mut l_log = 0.0;
+    let mut total = 0.0;
+    for (j, s) in steps.iter().enumerate() {
+        let (u, f, x_log) = tails[j + 1];
+        let kappa = s.kappa.norm();
+        // S = [[|D| + |A|/|κ|, |D|/|κ|], [|A|, |D|]] in term sizes.
+        let s00 = s.d_size + s.a_size / kappa;
+        let s01 = s.d_size / kappa;
+        let term = l0.norm() * (s00 * u.norm() + s01 * f.norm())
+            + l1.norm() * (s.a_size * u.norm() + s.d_size * f.norm());
+        total += term * (l_log + x_log - base_log).exp();
+        // ℓ ← ℓ M_j, M = [[D − A/κ, −D/κ], [A, D]].
+        let m00 = s.d - s.a / s.kappa;
+        let m01 = -s.d / s.kappa;
+        let (n0, n1) = (l0 * m00 + l1 * s.a, l0 * m01 + l1 * s.d);
+        let r = n0.norm().max(n1.norm());
+        if r == 0.0 {
+            break;
+        }
+        (l0, l1) = (n0 / r, n1 / r);
+        l_log += r.ln();
+    }
+    total
 }
