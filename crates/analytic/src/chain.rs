@@ -17,7 +17,7 @@
 //! `F_j = F_{j+1} + ω² m_eff,j U_j`, `U_{j−1} = U_j − F_j / κ_j`,
 //!
 //! started at the free end `(U_N, F_{N+1}) = (1, 0)` and scaled at the end so that
-//! `U_0 = u_g`. Two things keep it exact and finite:
+//! `U_0 = u_g`. Two things keep it accurate and finite:
 //!
 //! - each step is multiplied through by `D_j`, so the local resonance `D_j = 0` (where
 //!   `m_eff,j` is infinite and outer mass `j` stands still) is an ordinary step: with
@@ -333,8 +333,6 @@ pub fn chain_response(
     check("omega".to_string(), omega, omega >= 0.0, ">= 0")?;
     let n = cells.len();
     let steps: Vec<Step> = cells.iter().map(|c| Step::new(c, omega)).collect();
-    // Backward sweep: (u, f) = (Ũ_j, F̃_{j+1}) normalised, `bound` the same sweep on sizes,
-    // both with the common log scale `log_scale`. `states[j]` is Ũ_j (j = 0 … N).
     // Backward sweep: x̃_j = (Ũ_j, F̃_{j+1}) kept normalised, `states[j]` its first entry and
     // `tails[j]` the whole state, both with the log scale `log_scale`.
     let zero = Complex::new(0.0, 0.0);
