@@ -16,6 +16,12 @@
 //! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
 //!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
 //!   state (the model the signature solver is to be generalised onto);
+//! - [`chain`]: chains of cells in series, graded or not ([`Cell`], at most [`MAX_CELLS`]),
+//!   and the linear chain's steady state by transfer matrices ([`chain_response`]), finite at
+//!   every local resonance and unbounded only at the chain's own undamped resonances;
+//! - [`lattice`]: the infinite lattice of identical cells: Bloch waves, attenuation per cell
+//!   ([`bloch_wave`]), band edges and stop bands of the undamped lattice in closed form
+//!   ([`band_edges`], [`stop_bands`]);
 //! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
 //!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
@@ -30,10 +36,12 @@
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
 #![deny(missing_docs)]
 
+pub mod chain;
 pub mod continuation;
 pub mod cycle;
 pub mod family;
 pub mod flow;
+pub mod lattice;
 pub mod linear;
 pub mod model;
 pub mod orbit;
@@ -43,6 +51,7 @@ pub mod symmetric;
 pub mod test_models;
 pub mod unit;
 
+pub use chain::{chain_response, validate_chain, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
     continue_orbit, Branch, BranchEnd, Continuation, ContinuationError, ContinuationPoint,
     ContinuationSettings, EndReason, Event, EventKind,
@@ -51,6 +60,10 @@ pub use cycle::{
     signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
 };
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
+pub use lattice::{
+    band_edges, bloch_wave, effective_mass, stop_bands, BandEdges, BlochWave, StopBand,
+    StopBandKind,
+};
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
     ContactPair, CycleEvaluation, HarmonicForcing, HarmonicState, LinearModel, ModelError,

@@ -460,6 +460,24 @@ impl LinearModel {
             sine: solution.rows(n, n).into_owned(),
         })
     }
+
+    /// A graded chain: cell `j` with its own masses, springs, dashpots and stops, in series as
+    /// in [`LinearModel::chain`] (cell `j`'s `k_o`, `c_o` tie its outer mass to cell `j − 1`'s,
+    /// the first cell's to the base, which moves as `base_amplitude · cos ωt`). Identical cells
+    /// give [`LinearModel::chain`] and one cell [`LinearModel::unit`], bit for bit.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] naming `chain` if there are no cells or more than
+    /// [`crate::chain::MAX_CELLS`], else the first bad field as `chain[j].outer_mass`, …,
+    /// `chain[j].damping.inner` (see [`crate::Cell::validate`]), then `base.amplitude`, then
+    /// `chain[j].stops.gap` (`> 0`) or `chain[j].stops.restitution` (in `[0, 1]`).
+    pub fn graded_chain(
+        cells: &[(crate::chain::Cell, Stops)],
+        base_amplitude: f64,
+    ) -> Result<Self, ModelError> {
+        let m = crate::chain::assemble(cells, base_amplitude)?;
+        Self::new(m.mass, m.damping, m.stiffness, m.forcing, m.pairs)
+    }
 }
 
 /// The forced flow of a [`LinearModel`] over a time `t`, the blocks of `exp(Â t)`:
