@@ -14,7 +14,7 @@ use rattle_compare::study::chaos::chaos_samples;
 use rattle_compare::study::paper::READING_B_GAP_FACTOR;
 use rattle_compare::study::report::{agreement, report};
 use rattle_compare::study::{maps, MapSizes, Study, StudySize};
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_event_driven::SimulationOptions;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -247,9 +247,16 @@ fn elastic_note(scene: &Scene, options: &SimulationOptions) -> String {
     });
     ELASTIC_OMEGAS
         .iter()
-        .map(|&w| match simulate(&elastic, w, &Start::rest(2), options) {
-            Ok(sim) => format!("ω = {w}: e = 1, no damping → {}", sim.status_name()),
-            Err(e) => format!("ω = {w}: {e}"),
+        .map(|&w| {
+            match simulate(
+                &elastic,
+                w,
+                &rattle_compare::scene::simulator::rest(&elastic),
+                options,
+            ) {
+                Ok(sim) => format!("ω = {w}: e = 1, no damping → {}", sim.status_name()),
+                Err(e) => format!("ω = {w}: {e}"),
+            }
         })
         .collect::<Vec<_>>()
         .join("; ")

@@ -270,7 +270,7 @@ pub fn compare(
 ) -> Result<ComparedPoint, CompareError> {
     let analytic = analyse(scene, omega, OrbitSearch::Symmetric)?;
     let candidates = candidates(scene, &analytic);
-    let from_rest = run(scene, omega, &Start::rest(2), options)?;
+    let from_rest = run(scene, omega, &crate::scene::simulator::rest(scene), options)?;
     let mut trials = Vec::new();
     if starts == Starts::RestAndOrbits {
         for (branch, orbit) in analytic.orbits.iter().filter(|(_, o)| o.viable) {
@@ -483,7 +483,7 @@ pub fn cross_check(
     omega: f64,
     options: &SimulationOptions,
 ) -> Result<CrossCheck, CompareError> {
-    let simulated = run(scene, omega, &Start::rest(2), options)?;
+    let simulated = run(scene, omega, &crate::scene::simulator::rest(scene), options)?;
     cross_check_simulated(scene, omega, simulated, options, Confirm::Every)
 }
 

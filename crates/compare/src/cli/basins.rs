@@ -1,6 +1,6 @@
 //! `rattle basins`: a grid of starts at rest, each coloured by the attractor it reaches.
 
-use super::{check_omega, load, RattleError};
+use super::{check_omega, load_unit, RattleError};
 use crate::output::{finite, table_row, write_table, Format, Header};
 use crate::runs::axis::Axis;
 use crate::runs::basins::{basin_options, basins, BasinGrid, Basins};
@@ -90,7 +90,7 @@ pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
         outer: axis("outer", args.outer_min, args.outer_max, args.points)?,
         inner: axis("inner", args.inner_min, args.inner_max, args.points)?,
     };
-    let scene = load(&args.scene)?;
+    let scene = load_unit(&args.scene, "rattle basins")?;
     let progress = Progress::new("basins", args.points * args.points, true);
     let b = basins(&scene, omega, grid, &basin_options(), &progress);
     let mut header = Header::default();

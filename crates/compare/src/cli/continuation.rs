@@ -1,7 +1,7 @@
 //! `rattle continue`: the branches through every orbit of a signature at one frequency,
 //! followed in ω with their bifurcations.
 
-use super::{check_omega, load, pretty, RattleError};
+use super::{check_omega, load_unit, pretty, RattleError};
 use crate::output::records::ContinuationPointRecord;
 use crate::output::{finite, table_row, writer, Format, Header, OutputError};
 use crate::runs::continuation::{follow, FollowError, Followed};
@@ -152,7 +152,7 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
                 .into(),
         ));
     }
-    let scene = load(&args.scene)?;
+    let scene = load_unit(&args.scene, "rattle continue")?;
     let followed =
         follow(&scene, &signature, omega, args.orbit, &settings).map_err(|e| match e {
             FollowError::OrbitIndex { .. } | FollowError::NoStops => {

@@ -259,6 +259,41 @@ fn load(path: &Option<PathBuf>) -> Result<Scene, RattleError> {
     })
 }
 
+/// The commands that take a chain of cells so far.
+pub const CHAIN_COMMANDS: &str = "`rattle simulate` and `rattle sweep --solver event`";
+
+/// The scene at `path` (or the built-in paper scene) for a command that works on a single
+/// unit only.
+///
+/// # Errors
+/// As [`load`]; [`RattleError::Argument`] naming `cells`/`chain` when the scene is a chain.
+fn load_unit(path: &Option<PathBuf>, command: &str) -> Result<Scene, RattleError> {
+    let scene = load(path)?;
+    refuse_chain(&scene, command)?;
+    Ok(scene)
+}
+
+/// Refuses a chain scene for a command that works on a single unit only.
+///
+/// # Errors
+/// [`RattleError::Argument`] naming `cells`/`chain` and the commands that take chains.
+fn refuse_chain(scene: &Scene, command: &str) -> Result<(), RattleError> {
+    if !scene.is_chain() {
+        return Ok(());
+    }
+    let field = if scene.chain.is_some() {
+        "chain"
+    } else {
+        "cells"
+    };
+    Err(RattleError::Argument(format!(
+        "scene '{}' is a chain of {} cells (`{field}`): `{command}` works on a single unit \
+         (one cell); chains are taken by {CHAIN_COMMANDS}",
+        scene.name,
+        scene.cell_count()
+    )))
+}
+
 /// The first line of a one-frequency table: the scene, the frequency and the active effects.
 fn heading(scene: &Scene, omega: f64) -> String {
     format!(

@@ -1,6 +1,6 @@
 //! `rattle orbit`: the analytic picture at one frequency.
 
-use super::{check_omega, heading, load, pretty, Common, RattleError, TrajectoryArgs};
+use super::{check_omega, heading, load_unit, pretty, Common, RattleError, TrajectoryArgs};
 use crate::output::records::{
     At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
     ViolationRecord,
@@ -48,7 +48,7 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     if let Some(text) = &args.signature {
         let signature = Signature::parse(text, args.period)
             .map_err(|e| RattleError::Argument(e.to_string()))?;
-        let scene = load(&args.common.scene)?;
+        let scene = load_unit(&args.common.scene, "rattle orbit")?;
         return signature_run(&scene, omega, &signature, &args);
     }
     if args.trajectory.trajectory.is_some() {
@@ -56,7 +56,7 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
             "--trajectory needs --signature (for the two-impact orbits: --signature +-)".into(),
         ));
     }
-    let scene = load(&args.common.scene)?;
+    let scene = load_unit(&args.common.scene, "rattle orbit")?;
     let search = if args.symmetric_only {
         OrbitSearch::Symmetric
     } else {

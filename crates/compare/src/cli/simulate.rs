@@ -10,7 +10,7 @@ use crate::scene::Scene;
 use clap::Args;
 use rattle_event_driven::lyapunov::{BATCHES, DEFAULT_LYAPUNOV_PERIODS};
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
 
 /// Arguments of `rattle simulate`.
@@ -101,8 +101,13 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
     }
     args.trajectory.check()?;
     let scene = load(&args.common.scene)?;
-    let sim = simulate(&scene, omega, &Start::rest(2), &options)
-        .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let sim = simulate(
+        &scene,
+        omega,
+        &crate::scene::simulator::rest(&scene),
+        &options,
+    )
+    .map_err(|e| RattleError::Numerical(e.to_string()))?;
     write_trajectory(&args.trajectory, &scene, &sim, &options)?;
     let record = SimulationRecord::new(&scene, &sim);
     let exponents = lyapunov_record(&args.lyapunov, &scene, &sim, &options)?;

@@ -1,6 +1,6 @@
 //! `rattle sweep`: a frequency sweep, streamed to a file.
 
-use super::{check_omega, load, Accuracy, RattleError};
+use super::{check_omega, load, refuse_chain, Accuracy, RattleError};
 use crate::output::{writer, Format, OutputError};
 use crate::runs::axis::Axis;
 use crate::runs::parallel::Progress;
@@ -69,6 +69,12 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
     }
     let options = args.accuracy.options()?;
     let scene = load(&args.scene)?;
+    if args.solver != Solver::Event {
+        refuse_chain(
+            &scene,
+            &format!("rattle sweep --solver {}", args.solver.name()),
+        )?;
+    }
     let all = Axis::new(lo, hi, args.points).values();
     let omegas = match shard {
         Some(s) => &all[s.range(all.len())],

@@ -248,10 +248,21 @@ pub struct SimulationRecord {
     pub period: Option<u32>,
     /// Impacts per forcing period over the final cycle.
     pub impacts_per_period: Option<f64>,
-    /// `X_o = max|u_o|` over the final cycle, m.
+    /// `X_o = max|u_o|` over the final cycle, m: of the last cell's outer mass in a chain.
     pub outer_amplitude: Option<f64>,
     /// `20 log10(X_o/u_g)`; `null` without a steady state.
     pub transmittance_db: Option<f64>,
+    /// `max|u_o,j|` of every cell's outer mass over the final cycle, m, from the base out (one
+    /// entry for a single unit).
+    pub cell_outer_amplitudes: Vec<Option<f64>>,
+    /// Impacts per forcing period of each contact pair (each cell with stops, from the base
+    /// out) over the final cycle; they sum to `impacts_per_period`.
+    pub pair_impacts_per_period: Vec<Option<f64>>,
+    /// Each contact pair's canonical impact signature over the final cycle when it repeats,
+    /// from the simulated impacts: `""` for a pair that does not impact, `null` for one with
+    /// more impacts than a signature holds; the whole list `null` when not periodic or
+    /// sticking.
+    pub pair_signatures: Option<Vec<Option<String>>>,
     /// Whether the final cycle sticks.
     pub sticking: bool,
     /// Why the run ended.
@@ -282,6 +293,21 @@ impl SimulationRecord {
             impacts_per_period: finite(s.impacts_per_period),
             outer_amplitude: finite(sim.outer_amplitude),
             transmittance_db: sim.transmittance_db.and_then(finite),
+            cell_outer_amplitudes: sim
+                .cell_outer_amplitudes()
+                .into_iter()
+                .map(finite)
+                .collect(),
+            pair_impacts_per_period: sim
+                .pair_impacts_per_period(scene.pair_count())
+                .into_iter()
+                .map(finite)
+                .collect(),
+            pair_signatures: sim.pair_signatures(scene.pair_count()).map(|sigs| {
+                sigs.into_iter()
+                    .map(|s| s.ok().map(|s| s.map(|s| s.to_string()).unwrap_or_default()))
+                    .collect()
+            }),
             sticking: s.sticking,
             stopped_by: sim.stopped_by(),
             periods_run: s.periods_run,

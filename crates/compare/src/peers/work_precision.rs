@@ -18,7 +18,7 @@ use crate::scene::Scene;
 use crate::verdict::{difference, Difference};
 use nalgebra::Vector4;
 use rattle_analytic::{Orbit, OrbitError};
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_event_driven::SimulationOptions;
 use std::time::{Duration, Instant};
 
 use thiserror::Error;
@@ -175,7 +175,12 @@ pub fn event_driven_point(
         ..SimulationOptions::default()
     };
     let (seconds, result) = min_time(3, budget, || {
-        run(scene, orbit.omega, &Start::rest(2), &options)
+        run(
+            scene,
+            orbit.omega,
+            &crate::scene::simulator::rest(scene),
+            &options,
+        )
     });
     match result {
         Ok(sim) => {
@@ -297,8 +302,14 @@ pub fn study(
                 periodicity_tolerance: tol,
                 ..options.clone()
             };
-            let (seconds, result) =
-                min_time(3, budget, || run(scene, omega, &Start::rest(2), &options));
+            let (seconds, result) = min_time(3, budget, || {
+                run(
+                    scene,
+                    omega,
+                    &crate::scene::simulator::rest(scene),
+                    &options,
+                )
+            });
             let (periods_run, error) = match result {
                 Ok(sim) => (
                     (sim.steady.status == rattle_event_driven::Status::Periodic)

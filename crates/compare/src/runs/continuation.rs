@@ -352,9 +352,16 @@ mod tests {
         let mut serial = Branches::default();
         let serial_outcome: Vec<bool> = starts
             .iter()
-            .map(|s| serial.extend(&unit, &stops, s, &settings()).expect("followed"))
+            .map(|s| {
+                serial
+                    .extend(&unit, &stops, s, &settings())
+                    .expect("followed")
+            })
             .collect();
-        assert!(serial_outcome.contains(&false), "a seed lies on a branch followed");
+        assert!(
+            serial_outcome.contains(&false),
+            "a seed lies on a branch followed"
+        );
         for threads in [1, 2, 3] {
             let (parallel, outcome) = in_pool(threads, || {
                 let mut b = Branches::default();
@@ -363,7 +370,11 @@ mod tests {
             });
             let outcome: Vec<bool> = outcome.into_iter().map(|r| r.expect("followed")).collect();
             assert_eq!(outcome, serial_outcome, "{threads} threads");
-            assert_eq!(format!("{parallel:?}"), format!("{serial:?}"), "{threads} threads");
+            assert_eq!(
+                format!("{parallel:?}"),
+                format!("{serial:?}"),
+                "{threads} threads"
+            );
         }
     }
 }

@@ -32,7 +32,7 @@ use crate::scene::simulator::{run, Regime};
 use crate::scene::{Scene, StopsSpec};
 use crate::verdict::{candidates, difference, predicted_transmittance, Choice, Motion};
 use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_event_driven::SimulationOptions;
 use serde::Serialize;
 use thiserror::Error;
 
@@ -331,7 +331,7 @@ pub fn line(
     if !damped && restitution == 1.0 {
         options.max_periods = options.max_periods.min(MAP_CONSERVATIVE_PERIODS);
     }
-    let mut start = Start::rest(2);
+    let mut start = crate::scene::simulator::rest(&scene);
     let mut points = Vec::with_capacity(omegas.len());
     for &omega in omegas {
         let mut point = MapPoint {
@@ -373,7 +373,7 @@ pub fn line(
                 Some(sim)
             }
             Err(e) => {
-                start = Start::rest(2);
+                start = crate::scene::simulator::rest(&scene);
                 point.error = Some(format!("simulation: {e}"));
                 None
             }

@@ -9,7 +9,7 @@ use crate::scene::lyapunov::{chaos, SWEEP_LYAPUNOV_PERIODS};
 use crate::scene::simulator::{run, SimulatedPoint};
 use crate::scene::Scene;
 use crate::verdict::{compare, ComparedPoint, Starts};
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_event_driven::SimulationOptions;
 
 /// Which solver a sweep runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -66,7 +66,7 @@ pub fn point(scene: &Scene, omega: f64, solver: Solver, options: &SimulationOpti
         Solver::Analytic => analyse(scene, omega, OrbitSearch::Symmetric)
             .map(SweepPoint::Analytic)
             .unwrap_or_else(|e| failed(e.to_string())),
-        Solver::Event => run(scene, omega, &Start::rest(2), options)
+        Solver::Event => run(scene, omega, &crate::scene::simulator::rest(scene), options)
             .map(SweepPoint::Event)
             .unwrap_or_else(|e| failed(e.to_string())),
         Solver::Both => compare(scene, omega, options, Starts::RestAndOrbits)

@@ -239,7 +239,11 @@ impl Scene {
         }
         let count = self.cell_count();
         if !(1..=MAX_CELLS).contains(&count) {
-            let field = if self.chain.is_some() { "chain" } else { "cells" };
+            let field = if self.chain.is_some() {
+                "chain"
+            } else {
+                "cells"
+            };
             return Err(chain_error(
                 field,
                 format!("{count} cells is out of range: must be 1..={MAX_CELLS}"),

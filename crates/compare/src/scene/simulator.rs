@@ -7,8 +7,8 @@ use nalgebra::{DVector, Vector4};
 use rattle_analytic::linear::transmittance_db;
 use rattle_analytic::{Orbit, Signature};
 use rattle_event_driven::{
-    simulate, CellParameters, CellStops, Model, ModelError, SimulationError, SimulationOptions, Start, Status, SteadyState,
-    Stop,
+    simulate, CellParameters, CellStops, Model, ModelError, SimulationError, SimulationOptions,
+    Start, Status, SteadyState, Stop,
 };
 use thiserror::Error;
 
@@ -83,6 +83,8 @@ pub struct SimulatedPoint {
     pub outer_amplitude: f64,
     /// `20 log10(X_o/u_g)`, `None` when no steady state was reached.
     pub transmittance_db: Option<f64>,
+    /// Cells of the scene (1 for a single unit).
+    pub cells: usize,
     /// For a two-impact motion: the state just before the side-1 impact and the base phase
     /// `α ∈ (−π, π]` there, to compare with an analytic orbit.
     pub side1_impact: Option<(Vector4<f64>, f64)>,
@@ -104,7 +106,9 @@ pub fn model(scene: &Scene, omega: f64) -> Result<Model, ModelError> {
                     inner_stiffness: unit.inner_stiffness,
                     outer_damping: unit.damping.map(|d| d.outer),
                     inner_damping: unit.damping.map(|d| d.inner),
-                    stops: cell.stops.map(|s| CellStops::symmetric(s.gap, s.restitution)),
+                    stops: cell
+                        .stops
+                        .map(|s| CellStops::symmetric(s.gap, s.restitution)),
                 }
             })
             .collect();
@@ -123,6 +127,11 @@ pub fn model(scene: &Scene, omega: f64) -> Result<Model, ModelError> {
         omega,
         scene.stops.map(|s| (s.gap, s.restitution)),
     )
+}
+
+/// The start at rest at `t = 0` for `scene`'s model (every cell).
+pub fn rest(scene: &Scene) -> Start {
+    Start::rest(2 * scene.cell_count())
 }
 
 /// Relative size of the nudge [`start_on_orbit`] applies: large enough that an unstable orbit
@@ -171,7 +180,11 @@ pub fn run(
     };
     // The last cell's outer mass: coordinate 2(N − 1) (0 for the unit).
     let last_outer = 2 * (scene.cell_count() - 1);
-    let outer_amplitude = steady.amplitudes.get(last_outer).copied().unwrap_or(f64::NAN);
+    let outer_amplitude = steady
+        .amplitudes
+        .get(last_outer)
+        .copied()
+        .unwrap_or(f64::NAN);
     let settled = !matches!(steady.status, Status::NoDissipation);
     let transmittance = (settled && outer_amplitude.is_finite())
         .then(|| transmittance_db(outer_amplitude, scene.base.amplitude));
@@ -183,8 +196,7 @@ pub fn run(
             .windows(2)
             .all(|w| w[0].side != w[1].side);
     let side1_impact = (!scene.is_chain()
-        && (regime == Regime::TwoImpact
-            || (regime == Regime::Irregular && alternating)))
+        && (regime == Regime::TwoImpact || (regime == Regime::Irregular && alternating)))
         .then(|| {
             steady.cycle_impacts.iter().find(|i| i.side > 0).map(|i| {
                 let s = &i.state_before;
@@ -199,6 +211,7 @@ pub fn run(
         steady,
         outer_amplitude,
         transmittance_db: transmittance,
+        cells: scene.cell_count(),
         side1_impact,
     })
 }
@@ -289,10 +302,44 @@ impl SimulatedPoint {
     }
 
     /// The canonical impact signature of the periodic cycle, from the simulator's own Newton
-    /// polish of it (`None` when there is none).
+    /// polish of it (`None` when there is none, and for a chain, whose pairs each have their
+    /// own: [`Self::pair_signatures`]).
     pub fn signature(&self) -> Option<Signature> {
+        if self.cells > 1 {
+            return None;
+        }
         let orbit = self.steady.orbit.as_ref()?;
         Signature::from_sides(&orbit.impact_sides, orbit.periods).ok()
+    }
+
+    /// Each of the `pairs` contact pairs' canonical signature over the final cycle, from the
+    /// simulated impacts: `Ok(None)` for a pair without impacts, `Err` when its impacts are
+    /// beyond what a signature holds; `None` when the motion is not periodic or sticks.
+    pub fn pair_signatures(
+        &self,
+        pairs: usize,
+    ) -> Option<Vec<Result<Option<Signature>, rattle_analytic::SignatureError>>> {
+        let s = &self.steady;
+        let period = s
+            .period
+            .filter(|_| s.status == Status::Periodic && !s.sticking)?;
+        Some(
+            (0..pairs)
+                .map(|pair| {
+                    let sides: Vec<i8> = s
+                        .cycle_impacts
+                        .iter()
+                        .filter(|i| i.pair == pair)
+                        .map(|i| i.side)
+                        .collect();
+                    if sides.is_empty() {
+                        Ok(None)
+                    } else {
+                        Signature::from_sides(&sides, period).map(Some)
+                    }
+                })
+                .collect(),
+        )
     }
 
     /// For a motion with one impact on each side per period: the fraction `β` of the period

@@ -7,7 +7,7 @@ use crate::scene::lyapunov::{chaos, Chaos, SWEEP_LYAPUNOV_PERIODS};
 use crate::scene::simulator::run;
 use crate::scene::Scene;
 use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
 
 /// One frequency of the axis: the largest exponent of the motion from rest and its regime.
@@ -30,7 +30,7 @@ pub fn chaos_samples(
     progress: &Progress,
 ) -> Vec<ChaosSample> {
     parallel_map(omegas, Grain::Uneven, progress, |&omega| {
-        match run(scene, omega, &Start::rest(2), options) {
+        match run(scene, omega, &crate::scene::simulator::rest(scene), options) {
             Ok(sim) => ChaosSample {
                 omega,
                 chaos: chaos(scene, &sim, SWEEP_LYAPUNOV_PERIODS, options).unwrap_or_default(),

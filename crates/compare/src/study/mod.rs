@@ -24,7 +24,7 @@ use plots::{
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::gap_for_beta;
 use rattle_analytic::{Signature, SignatureOrbit};
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_event_driven::SimulationOptions;
 
 /// Sizes of the study; [`StudySize::full`] for the committed figures, [`StudySize::quick`] for
 /// a smoke test.
@@ -269,7 +269,7 @@ impl Study {
 /// at the same forcing phase; returns the stroboscopic `u_o` of each steady state.
 fn continuation(scene: &Scene, omegas: &[f64], options: &SimulationOptions) -> Vec<(f64, f64)> {
     let mut out = Vec::new();
-    let mut start = Start::rest(2);
+    let mut start = crate::scene::simulator::rest(scene);
     let mut last_omega = omegas.first().copied().unwrap_or(1.0);
     for &omega in omegas {
         // Keep the forcing phase: θ = ω_old t_old = ω_new t_new.
@@ -569,10 +569,11 @@ fn impact_rows(scene: &Scene, options: &SimulationOptions) -> Vec<ImpactRow> {
                 }
                 None => {
                     opts.fixed_periods = Some(FIGURE4_PERIODS.1);
-                    let (simulated, words) = match run(scene, omega, &Start::rest(2), &opts) {
-                        Ok(sim) => (last_periods(&sim, period, 0.0), sim.regime.words()),
-                        Err(_) => (Vec::new(), "simulation failed"),
-                    };
+                    let (simulated, words) =
+                        match run(scene, omega, &crate::scene::simulator::rest(scene), &opts) {
+                            Ok(sim) => (last_periods(&sim, period, 0.0), sim.regime.words()),
+                            Err(_) => (Vec::new(), "simulation failed"),
+                        };
                     ImpactRow {
                         omega,
                         linear,
