@@ -10,6 +10,7 @@ use rattle_compare::runs::basins::{basin_options, BasinGrid};
 use rattle_compare::runs::parallel::Progress;
 use rattle_compare::scene::simulator::run as simulate;
 use rattle_compare::scene::{Scene, StopsSpec};
+use rattle_compare::study::chain::{chain_section, chain_study};
 use rattle_compare::study::chaos::chaos_samples;
 use rattle_compare::study::paper::READING_B_GAP_FACTOR;
 use rattle_compare::study::report::{agreement, report};
@@ -95,6 +96,14 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
         Some(path) => Scene::load(path).map_err(|e| e.to_string())?,
         None => Scene::paper(),
     };
+    if scene.is_chain() {
+        return Err(format!(
+            "scene '{}' is a chain of {} cells: the figures are drawn for one cell (the chain \
+             figures build their chains of it)",
+            scene.name,
+            scene.cell_count()
+        ));
+    }
     let (size, map_sizes) = if args.quick {
         (StudySize::quick(), MapSizes::quick())
     } else {
@@ -213,12 +222,16 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
     );
     lap("lyapunov");
 
+    let chains = chain_study(&scene, args.quick, false);
+    written.extend(figures::draw_chains(&chains, &figures_dir).map_err(|e| e.to_string())?);
+    lap("chains");
+
     let validation = out.join("validation");
     let doc = serde_json::to_string_pretty(&agreement(&main)).map_err(|e| e.to_string())?;
     write(&validation.join("agreement.json"), &(doc + "\n"))?;
     write(
         &validation.join("report.md"),
-        &report(&main, &other, &elastic_note),
+        &(report(&main, &other, &elastic_note) + &chain_section(&chains)),
     )?;
     for path in &written {
         eprintln!(

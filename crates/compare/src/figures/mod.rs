@@ -6,6 +6,7 @@ pub mod bandwidth_map;
 pub mod basins;
 pub mod beta_family;
 pub mod bifurcation;
+pub mod chain;
 pub mod frequency_response;
 pub mod impact_time_response;
 pub mod linear_time_response;
@@ -78,4 +79,18 @@ pub fn draw_lyapunov(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     save(figure, dir)
+}
+
+/// Draws the chain figures (`chain-transmission`, `chain-wave`) into `dir`; returns the files
+/// written.
+///
+/// # Errors
+/// A figure cannot be drawn or written, with its path.
+pub fn draw_chains(
+    study: &crate::study::chain::ChainStudy,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let mut written = save(&chain::ChainTransmission(study), dir)?;
+    written.extend(save(&chain::ChainWave(study), dir)?);
+    Ok(written)
 }
