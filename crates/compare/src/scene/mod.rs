@@ -512,4 +512,74 @@ mod tests {
             .to_string()
             .contains("damping.outer"));
     }
+
+    fn chain_scene(extra: &str) -> Result<Scene, SceneError> {
+        let text = PAPER_SCENE.trim_end().trim_end_matches('}').to_owned() + "," + extra + "}";
+        Scene::parse(&text, "x.json")
+    }
+
+    #[test]
+    fn cells_repeat_the_unit_and_one_cell_is_the_unit() {
+        let five = chain_scene(r#""cells": 5"#).expect("a valid chain");
+        assert_eq!(five.cell_count(), 5);
+        assert!(five.is_chain());
+        assert!(five
+            .cell_scenes()
+            .iter()
+            .all(|c| c.unit == five.unit && !c.is_chain()));
+        assert_eq!(five.pair_count(), 5);
+        let one = chain_scene(r#""cells": 1"#).expect("a valid chain");
+        assert_eq!(one, Scene::paper());
+        let listed = chain_scene(r#""chain": [{"stops": {"gap": 0.3, "restitution": 0.5}}]"#)
+            .expect("a valid chain");
+        assert!(!listed.is_chain());
+        assert_eq!(
+            listed.stops.map(|s| (s.gap, s.restitution)),
+            Some((0.3, 0.5))
+        );
+        assert_eq!(listed.unit, Scene::paper().unit);
+    }
+
+    #[test]
+    fn a_graded_chain_inherits_the_blocks_a_cell_does_not_give() {
+        let s = chain_scene(
+            r#""chain": [{}, {"stops": {"gap": 0.2, "restitution": 0.4}}, {"damping": {"outer": 0.3}}]"#,
+        )
+        .expect("a valid chain");
+        let cells = s.cell_scenes();
+        assert_eq!(cells.len(), 3);
+        assert_eq!(cells[0], s.cell_scenes()[0]);
+        assert_eq!(cells[0].stops, Scene::paper().stops);
+        assert_eq!(cells[1].stops.map(|s| s.gap), Some(0.2));
+        assert_eq!(cells[2].damping.map(|d| d.outer), Some(0.3));
+        assert!(s.is_damped());
+        assert_eq!(s.effect_names(), vec!["stops", "damping"]);
+    }
+
+    #[test]
+    fn bad_chains_are_refused_naming_the_field_and_range() {
+        let err = |extra: &str| chain_scene(extra).unwrap_err().to_string();
+        let e = err(r#""cells": 0"#);
+        assert!(e.contains("cells") && e.contains("1..=64"), "{e}");
+        let e = err(r#""cells": 65"#);
+        assert!(e.contains("cells") && e.contains("1..=64"), "{e}");
+        let e = err(r#""cells": -1"#);
+        assert!(e.contains("cells") && e.contains("invalid value"), "{e}");
+        let e = err(r#""chain": []"#);
+        assert!(e.contains("chain") && e.contains("1..=64"), "{e}");
+        let e = err(r#""cells": 2, "chain": [{}, {}]"#);
+        assert!(e.contains("cells") && e.contains("not both"), "{e}");
+        let e = err(r#""chain": [{}, {"stops": {"gap": -0.1, "restitution": 0.5}}]"#);
+        assert!(e.contains("chain[1].stops.gap") && e.contains("> 0"), "{e}");
+        let e = err(r#""chain": [{}, {"unit": {"outer_mass": 2.0}}]"#);
+        assert!(
+            e.contains("chain[1].unit") && e.contains("missing field"),
+            "{e}"
+        );
+        let e = err(r#""chain": [{"stop": {}}]"#);
+        assert!(
+            e.contains("chain[0].stop") && e.contains("unknown field"),
+            "{e}"
+        );
+    }
 }
