@@ -260,7 +260,8 @@ fn load(path: &Option<PathBuf>) -> Result<Scene, RattleError> {
 }
 
 /// The commands that take a chain of cells so far.
-pub const CHAIN_COMMANDS: &str = "`rattle simulate` and `rattle sweep --solver event`";
+pub const CHAIN_COMMANDS: &str =
+    "`rattle simulate` and `rattle sweep --solver event` or `--solver analytic` (the linear chain)";
 
 /// The scene at `path` (or the built-in paper scene) for a command that works on a single
 /// unit only.

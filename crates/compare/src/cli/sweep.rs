@@ -69,7 +69,7 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
     }
     let options = args.accuracy.options()?;
     let scene = load(&args.scene)?;
-    if args.solver != Solver::Event {
+    if args.solver == Solver::Both {
         refuse_chain(
             &scene,
             &format!("rattle sweep --solver {}", args.solver.name()),

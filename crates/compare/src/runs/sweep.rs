@@ -101,14 +101,13 @@ pub fn sweep_rows<E>(
     progress: &Progress,
     sink: impl FnMut(SweepRow) -> Result<(), E>,
 ) -> Result<(), E> {
-    let gap = scene.gap();
     for_each_ordered(
         omegas,
         solver.grain(),
         progress,
         |&omega| {
             let p = point(scene, omega, solver, options);
-            let mut row = SweepRow::new(&p, gap);
+            let mut row = SweepRow::new(&p);
             row.set_chaos(scene, &p, options);
             row
         },
@@ -249,12 +248,12 @@ impl SweepRow {
         }
     }
 
-    /// The row of `point`; `gap` the scene's gap, if it has stops.
-    pub fn new(point: &SweepPoint, gap: Option<f64>) -> SweepRow {
+    /// The row of `point`.
+    pub fn new(point: &SweepPoint) -> SweepRow {
         match point {
             SweepPoint::Analytic(p) => {
                 let mut row = SweepRow::empty(p.omega);
-                row.set_analytic(p, gap);
+                row.set_analytic(p);
                 row
             }
             SweepPoint::Event(s) => {
@@ -264,7 +263,7 @@ impl SweepRow {
             }
             SweepPoint::Both(c) => {
                 let mut row = SweepRow::empty(c.analytic.omega);
-                row.set_analytic(&c.analytic, gap);
+                row.set_analytic(&c.analytic);
                 row.set_simulated(&c.from_rest);
                 row.class = Some(c.class.name());
                 row.relative_difference = c.difference.and_then(finite);
@@ -287,10 +286,14 @@ impl SweepRow {
         }
     }
 
-    fn set_analytic(&mut self, p: &AnalyticPoint, gap: Option<f64>) {
+    fn set_analytic(&mut self, p: &AnalyticPoint) {
         self.linear_outer_amplitude = finite(p.linear.outer_amplitude);
         self.linear_transmittance_db = finite(p.linear.transmittance_db);
-        self.linear_touches_stops = gap.map(|g| p.linear.relative_amplitude > g);
+        self.linear_touches_stops = p.touches_stops;
+        if p.cells > 1 {
+            // A chain's orbits are not searched by the sweep.
+            return;
+        }
         self.orbits = Some(p.orbits.len());
         self.stable_viable_orbits = Some(p.stable_viable_orbits().count());
         let branch = |b: usize| -> BranchCells {

@@ -5,8 +5,8 @@ use crate::scene::Scene;
 use nalgebra::{Complex, Vector2, Vector4};
 use rattle_analytic::flow::ForcedFlow;
 use rattle_analytic::{
-    asymmetric_orbits, linear_response, signature_orbits, symmetric_orbits, LinearResponse, Orbit,
-    OrbitError, Signature, SignatureOrbit,
+    asymmetric_orbits, chain_response, linear_response, signature_orbits, symmetric_orbits, Cell,
+    LinearResponse, Orbit, OrbitError, Signature, SignatureOrbit,
 };
 
 /// How many grid intervals on `β ∈ (0, 1)` bracket the asymmetric orbits: 400 resolves the
@@ -19,8 +19,15 @@ pub const BETA_SAMPLES: usize = 400;
 pub struct AnalyticPoint {
     /// Angular frequency, rad/s.
     pub omega: f64,
-    /// The linear steady state (stops ignored).
+    /// The linear steady state (stops ignored); of a chain, the last cell's (its
+    /// `relative_amplitude` that cell's own).
     pub linear: LinearResponse,
+    /// Whether the linear steady state reaches the stops of some contact pair (`None`
+    /// without stops).
+    pub touches_stops: Option<bool>,
+    /// Cells of the scene (1 for a single unit); a chain's orbits are not searched here
+    /// (`orbits` is empty).
+    pub cells: usize,
     /// Two-impact orbits with their branch numbers: symmetric branches 0 and 1 first, then
     /// asymmetric ones (numbered from 2) if asked for. Empty without stops.
     pub orbits: Vec<(usize, Orbit)>,
@@ -44,8 +51,12 @@ pub fn analyse(
     omega: f64,
     search: OrbitSearch,
 ) -> Result<AnalyticPoint, OrbitError> {
+    if scene.is_chain() {
+        return Ok(analyse_chain(scene, omega));
+    }
     let unit = scene.unit_model();
     let linear = linear_response(&unit, omega);
+    let touches_stops = scene.gap().map(|g| linear.relative_amplitude > g);
     let mut orbits = Vec::new();
     if let Some(stops) = scene.stops_model() {
         let symmetric = symmetric_orbits(&unit, &stops, omega)?;
@@ -64,8 +75,66 @@ pub fn analyse(
     Ok(AnalyticPoint {
         omega,
         linear,
+        touches_stops,
+        cells: 1,
         orbits,
     })
+}
+
+/// The linear steady state of a chain scene by the analytic crate's transfer matrices.
+fn analyse_chain(scene: &Scene, omega: f64) -> AnalyticPoint {
+    let cell_scenes = scene.cell_scenes();
+    let cells: Vec<Cell> = cell_scenes
+        .iter()
+        .map(|c| Cell::of_unit(&c.unit_model()))
+        .collect();
+    let unbounded = || LinearResponse {
+        outer: Complex::new(f64::INFINITY, 0.0),
+        inner: Complex::new(f64::INFINITY, 0.0),
+        outer_amplitude: f64::INFINITY,
+        inner_amplitude: f64::INFINITY,
+        relative_amplitude: f64::INFINITY,
+        transmittance_db: f64::INFINITY,
+        unbounded: true,
+    };
+    // The scene is valid, so the chain is; an unbounded response has infinite amplitudes.
+    let response = chain_response(&cells, scene.base.amplitude, omega).ok();
+    let linear = match &response {
+        Some(r) if !r.unbounded => {
+            let (outer, inner) = (r.outer[cells.len() - 1], r.inner[cells.len() - 1]);
+            LinearResponse {
+                outer,
+                inner,
+                outer_amplitude: outer.norm(),
+                inner_amplitude: inner.norm(),
+                relative_amplitude: (inner - outer).norm(),
+                transmittance_db: r.transmittance_db,
+                unbounded: false,
+            }
+        }
+        _ => unbounded(),
+    };
+    let touches_stops = scene
+        .effects()
+        .contains(&crate::scene::Effect::Stops)
+        .then(|| {
+            cell_scenes
+                .iter()
+                .enumerate()
+                .any(|(j, c)| match (&response, c.stops) {
+                    (Some(r), Some(stops)) => {
+                        r.unbounded || (r.inner[j] - r.outer[j]).norm() > stops.gap
+                    }
+                    _ => false,
+                })
+        });
+    AnalyticPoint {
+        omega,
+        linear,
+        touches_stops,
+        cells: cells.len(),
+        orbits: Vec::new(),
+    }
 }
 
 /// Every distinct orbit of `scene` at `omega` with impact signature `signature`, found by the
