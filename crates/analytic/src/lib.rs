@@ -18,6 +18,10 @@
 //!   state (the model the signature solver is to be generalised onto);
 //! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
 //!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
+//! - [`sequence_orbit`], [`sequence_verdicts`] and [`sequence_search`]: orbits of any impact
+//!   sequence on any [`LinearModel`] (the signature solver generalised: problem, Newton solver
+//!   and state; amplitudes, viability per pair, Floquet multipliers and energy balance; the
+//!   multi-start [`sequence_orbits`]), with [`model_flight`]'s rigorous extrema and integrals;
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
 //!   ([`continue_orbit`]) through folds, with exact derivatives in `ω`, the bifurcation events
 //!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
@@ -36,8 +40,12 @@ pub mod family;
 pub mod flow;
 pub mod linear;
 pub mod model;
+pub mod model_flight;
 pub mod orbit;
 pub mod sequence;
+pub mod sequence_orbit;
+pub mod sequence_search;
+pub mod sequence_verdicts;
 pub mod signature;
 pub mod symmetric;
 pub mod test_models;
@@ -58,6 +66,12 @@ pub use model::{
 };
 pub use orbit::{Orbit, Side, Violation};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};
+pub use sequence_orbit::{
+    NewtonState, SequenceEvaluation, SequenceNewton, SequenceOrbitError, SequenceProblem,
+    Termination,
+};
+pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
+pub use sequence_verdicts::{solve_sequence, ModelEnergy, SequenceOrbit, SequenceViolation};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};
