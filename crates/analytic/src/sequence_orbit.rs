@@ -554,3 +554,47 @@ fn polish(problem: &SequenceProblem, s: NewtonState) -> NewtonState {
     }
     s
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_models::{damped_paper_unit, paper_stops};
+
+    /// The exact Jacobian against central differences of the residuals (a check of the
+    /// derivation only; the solver never differences): with step `1e-6` the difference
+    /// quotient's truncation is `O(1e-12)` and its rounding `O(1e-10)` of the residuals' size.
+    #[test]
+    fn jacobian_is_the_derivative_of_the_residuals() {
+        let model = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let sequence = ImpactSequence::parse("0+ 1- 0- 1+", 1).unwrap_or_else(|e| panic!("{e}"));
+        let problem =
+            SequenceProblem::new(&model, 2.3, &sequence).unwrap_or_else(|e| panic!("{e}"));
+        let x = [0.7, 0.21, 0.48, 0.83];
+        let exact = problem
+            .evaluate(&x)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .jacobian;
+        let step = 1e-6;
+        let scale = exact.amax();
+        for i in 0..4 {
+            let shifted = |d: f64| {
+                let mut y = x;
+                y[i] += d;
+                problem
+                    .evaluate(&y)
+                    .unwrap_or_else(|e| panic!("{e}"))
+                    .residual
+            };
+            let quotient = (shifted(step) - shifted(-step)) / (2.0 * step);
+            for j in 0..4 {
+                assert!(
+                    (quotient[j] - exact[(j, i)]).abs() <= 1e-7 * scale,
+                    "∂r{j}/∂x{i}: {} vs {}",
+                    quotient[j],
+                    exact[(j, i)]
+                );
+            }
+        }
+    }
+}

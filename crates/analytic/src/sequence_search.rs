@@ -27,7 +27,8 @@ use std::collections::HashMap;
 ///
 /// The grid has `N = max(`[`MIN_GRID`]`, ⌈`[`GRID_PER_OSCILLATION`]` · p · max(ω, ω_n)/ω⌉)`
 /// intervals, `ω_n` the largest modulus of an eigenvalue of the model's system matrix,
-/// coarsened until the number of tuples `C(N − 1, m − 1)` is at most [`MAX_TUPLES`].
+/// coarsened until the number of tuples `C(N − 1, m − 1)` is at most [`MAX_TUPLES`] (never
+/// below `max(`[`MIN_GRID`]`, m)`: a sequence of many impacts gets at least one tuple).
 ///
 /// # Errors
 /// [`SequenceOrbitError::InvalidFrequency`] and [`SequenceOrbitError::Sequence`] as
@@ -45,16 +46,18 @@ pub fn sequence_orbits(
     let fastest = omega.max(natural);
     let wanted = (GRID_PER_OSCILLATION * f64::from(sequence.period()) * fastest / omega).ceil();
     let m = sequence.impacts().len();
-    let mut grid = (wanted.min(MAX_TUPLES as f64) as usize).max(MIN_GRID);
-    while grid > MIN_GRID && tuples(grid, m) > MAX_TUPLES as f64 {
+    let fewest = MIN_GRID.max(m);
+    let mut grid = (wanted.min(MAX_TUPLES as f64) as usize).max(fewest);
+    while grid > fewest && tuples(grid, m) > MAX_TUPLES as f64 {
         grid -= 1;
     }
     sequence_orbits_on_grid(model, omega, sequence, grid)
 }
 
-/// Number of ordered impact-phase tuples `C(grid − 1, m − 1)` of a grid, as a float.
+/// Number of ordered impact-phase tuples `C(grid − 1, m − 1)` of a grid, as a float (0 when
+/// the grid has fewer points than impacts).
 fn tuples(grid: usize, m: usize) -> f64 {
-    (1..m).fold(1.0, |c, k| c * (grid - k) as f64 / k as f64)
+    (1..m).fold(1.0, |c, k| c * (grid as f64 - k as f64).max(0.0) / k as f64)
 }
 
 /// [`sequence_orbits`] with an explicit number of grid intervals over the cycle. The work and
@@ -140,11 +143,25 @@ fn same_orbit(orbit: &SequenceOrbit, alpha: f64, phases: &[f64]) -> bool {
             .all(|(a, b)| (a - b).abs() < DEDUP_TOLERANCE)
 }
 
+/// Most free impact indices for which [`neighbours`] walks the full cube of `3^(m − 1) − 1`
+/// neighbours (80 for five impacts); above, only the `2(m − 1)` neighbours along one index.
+const FULL_NEIGHBOURHOOD: usize = 4;
+
 /// The tuples that differ from `tuple` by at most one grid step in each impact index (the
-/// first, always 0, excluded), `tuple` itself left out.
-fn neighbours(tuple: &[usize]) -> impl Iterator<Item = Vec<usize>> + '_ {
+/// first, always 0, excluded), `tuple` itself left out; for more than
+/// [`FULL_NEIGHBOURHOOD`] free indices, those that differ by one step in one index only.
+fn neighbours(tuple: &[usize]) -> Box<dyn Iterator<Item = Vec<usize>> + '_> {
     let free = tuple.len() - 1;
-    (0..3usize.pow(free as u32)).filter_map(move |code| {
+    if free > FULL_NEIGHBOURHOOD {
+        return Box::new((1..tuple.len()).flat_map(move |i| {
+            [1isize, -1].into_iter().filter_map(move |d| {
+                let mut t = tuple.to_vec();
+                t[i] = t[i].checked_add_signed(d)?;
+                Some(t)
+            })
+        }));
+    }
+    Box::new((0..3usize.pow(free as u32)).filter_map(move |code| {
         let mut t = tuple.to_vec();
         let mut c = code;
         let mut moved = false;
@@ -163,7 +180,7 @@ fn neighbours(tuple: &[usize]) -> impl Iterator<Item = Vec<usize>> + '_ {
             c /= 3;
         }
         moved.then_some(t)
-    })
+    }))
 }
 
 /// Advances `tuple = (0, i₂, …, i_m)`, `0 < i₂ < … < i_m < grid`, in lexicographic order.

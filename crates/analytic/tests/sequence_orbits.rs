@@ -523,3 +523,42 @@ fn orbit_serialises_with_the_units_field_names() {
     assert_eq!(json["floquet_multipliers"].as_array().unwrap().len(), 8);
     assert!(json.get("monodromy").is_none());
 }
+
+/// Other signatures of the unit, searched on the same grid by both paths: the same orbits.
+/// A coarse explicit grid (12 intervals) keeps the four-impact searches short; the default
+/// grids agree too (checked by hand when this test was written: `++--` at `ω = 1.5`, 7
+/// orbits each, `+-+-` over 2 periods, 61 and 53 orbits, undamped and damped).
+#[test]
+fn other_signatures_of_the_unit_equal_the_fixed_size_search() {
+    let stops = paper_stops();
+    let mut compared = 0;
+    for (unit, name) in [(paper_unit(), "undamped"), (damped_paper_unit(), "damped")] {
+        let model = LinearModel::unit(&unit, &stops).unwrap();
+        for (text, period, omega, grid) in [
+            ("+", 1, 2.0, None),
+            ("+", 2, 1.0, None),
+            ("++--", 1, 1.5, Some(12)),
+            ("+-+-", 2, 1.5, Some(12)),
+        ] {
+            let signature = Signature::parse(text, period).unwrap();
+            let sequence = ImpactSequence::from_signature(&signature);
+            let (fixed, general) = match grid {
+                None => (
+                    signature_orbits(&unit, &stops, omega, &signature),
+                    sequence_orbits(&model, omega, &sequence).unwrap(),
+                ),
+                Some(g) => (
+                    signature_orbits_on_grid(&unit, &stops, omega, &signature, g),
+                    sequence_orbits_on_grid(&model, omega, &sequence, g).unwrap(),
+                ),
+            };
+            let context = format!("{name} {text}/{period} at ω = {omega}");
+            assert_eq!(general.len(), fixed.len(), "{context}: number of orbits");
+            for (g, f) in general.iter().zip(&fixed) {
+                assert_same_orbit(g, f, &context);
+                compared += 1;
+            }
+        }
+    }
+    assert!(compared >= 20, "only {compared} orbits compared");
+}
