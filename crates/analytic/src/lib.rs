@@ -15,7 +15,7 @@
 //!   with viability, Floquet multipliers and the cycle's energy balance;
 //! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
 //!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
-//!   state (the model the signature solver is to be generalised onto);
+//!   state (the model the sequence solver below runs on);
 //! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
 //!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
 //! - [`sequence_orbit`], [`sequence_verdicts`] and [`sequence_search`]: orbits of any impact
