@@ -71,7 +71,9 @@ pub use sequence_orbit::{
     Termination,
 };
 pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
-pub use sequence_verdicts::{solve_sequence, ModelEnergy, SequenceOrbit, SequenceViolation};
+pub use sequence_verdicts::{
+    solve_sequence, ModelEnergy, SequenceOrbit, SequenceViolation, ENERGY_EXCHANGE_FRACTION,
+};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};

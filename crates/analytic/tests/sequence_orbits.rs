@@ -562,3 +562,45 @@ fn other_signatures_of_the_unit_equal_the_fixed_size_search() {
     }
     assert!(compared >= 20, "only {compared} orbits compared");
 }
+
+/// Undamped models (`tr A = 0`): the monodromy has determinant `e^{2m}` exactly (Liouville),
+/// and with elastic stops (`e = 1`, the unit's `+-` orbits) energy is conserved: the forcing's
+/// work over the cycle is zero to rounding, measured against the energy floor.
+#[test]
+fn undamped_orbits_obey_liouville_and_conserve_energy() {
+    let mut checked = 0;
+    let sequence = ImpactSequence::parse(CHAIN_SEQUENCE, 1).unwrap();
+    let chain = LinearModel::chain(&paper_unit(), &paper_stops(), 2).unwrap();
+    let elastic = Stops {
+        restitution: 1.0,
+        ..paper_stops()
+    };
+    let unit = LinearModel::unit(&paper_unit(), &elastic).unwrap();
+    let cases = [
+        (&chain, &sequence, 3.0, 0.8f64),
+        (&chain, &sequence, CHAIN_OMEGA, 0.8),
+        (&unit, &plus_minus(), 2.6, 1.0),
+        (&unit, &plus_minus(), 3.3, 1.0),
+    ];
+    for (model, sequence, omega, restitution) in cases {
+        for o in sequence_orbits(model, omega, sequence).unwrap() {
+            let context = format!("{sequence} at ω = {omega}, α = {}", o.alpha);
+            let m = o.impact_phases.len() as i32;
+            let expected = restitution.powi(2 * m);
+            let det = o.monodromy.determinant();
+            assert!((det - expected).abs() <= 1e-10, "{context}: det {det}");
+            assert!(own_equations_defect(model, &o) <= AGREEMENT, "{context}");
+            assert!(
+                o.energy_residual <= 1e-10,
+                "{context}: {:e}",
+                o.energy_residual
+            );
+            if restitution == 1.0 {
+                assert_eq!(o.energy.impact_losses, 0.0);
+                assert_eq!(o.energy.dashpot_dissipation, 0.0);
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 4, "only {checked} orbits checked");
+}
