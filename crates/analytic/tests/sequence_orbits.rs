@@ -604,3 +604,20 @@ fn undamped_orbits_obey_liouville_and_conserve_energy() {
     }
     assert!(checked >= 4, "only {checked} orbits checked");
 }
+
+/// A sequence of more impacts than the grid's minimum (20 > 16 intervals): the search keeps at
+/// least one grid point per impact and uses the axis neighbourhood, and returns (regression:
+/// the tuple count once underflowed for grids smaller than the impact count).
+#[test]
+fn many_impact_sequences_are_searched_without_failure() {
+    let model = two_cells();
+    let sequence = ImpactSequence::parse(&"0+ 1+ 0- 1- ".repeat(5), 1).unwrap();
+    assert_eq!(sequence.impacts().len(), 20);
+    let orbits = sequence_orbits(&model, 3.0, &sequence).unwrap();
+    for o in &orbits {
+        assert!(own_equations_defect(&model, o) <= AGREEMENT);
+    }
+    assert!(sequence_orbits_on_grid(&model, 3.0, &sequence, 19)
+        .unwrap()
+        .is_empty());
+}
