@@ -177,6 +177,22 @@ impl<'a> SequenceProblem<'a> {
         self.cycle
     }
 
+    /// `Ĝ_j = diag(I_n, G_{k_j}, I₂)` of each impact, in sequence order.
+    pub fn impact_matrices(&self) -> &[DMatrix<f64>] {
+        &self.g_hats
+    }
+
+    /// `h_j = (w_{k_j}, 0, 0)` of each impact: its pair coordinate as a functional of the
+    /// augmented state.
+    pub fn contact_functionals(&self) -> &[DVector<f64>] {
+        &self.contacts
+    }
+
+    /// `s_j gap` of each impact: where its pair coordinate must be.
+    pub fn contact_positions(&self) -> &[f64] {
+        &self.stops
+    }
+
     /// Number of impacts `m`, also the number of unknowns.
     pub fn impacts(&self) -> usize {
         self.stops.len()
@@ -267,34 +283,39 @@ impl<'a> SequenceProblem<'a> {
         for f in 0..m - 1 {
             jacobian[(f + 1, 0)] = h[f + 1].dot(&(&pre[f] * &dz1));
         }
-        // t_i (impact i ≥ 1): flight i − 1 grows, flight i shrinks; Pre_f is unchanged for
-        // f < i − 1.
+        // t_i (impact i ≥ 1): flight i − 1 grows, flight i shrinks, so
+        // ∂Pre_f = Φ_f Ĝ_f ∂Pre_{f−1} + c_f Â Pre_f with c_{i−1} = 1, c_i = −1, and
+        // ∂Pre_f = 0 for f < i − 1.
         for i in 1..m {
             let c = |f: usize| (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
-            let mut dpre: Vec<DMatrix<f64>> = Vec::with_capacity(m);
+            let mut dpre: Vec<Option<DMatrix<f64>>> = Vec::with_capacity(m);
             for f in 0..m {
-                let d = if f + 1 < i {
-                    DMatrix::zeros(n2 + 2, n2 + 2)
-                } else if f == 0 {
-                    a * &flights[0] * c(0)
-                } else {
-                    let carried = &self.g_hats[f] * &dpre[f - 1];
-                    let mut d = &flights[f] * carried;
-                    let cf = c(f);
-                    if cf != 0.0 {
-                        d += a * (&flights[f] * (&self.g_hats[f] * &pre[f - 1])) * cf;
-                    }
-                    d
-                };
-                dpre.push(d);
+                let carried = f
+                    .checked_sub(1)
+                    .and_then(|g| dpre[g].as_ref())
+                    .map(|previous| &flights[f] * (&self.g_hats[f] * previous));
+                let cf = c(f);
+                let own = (cf != 0.0).then(|| a * &pre[f] * cf);
+                dpre.push(match (carried, own) {
+                    (Some(d), Some(o)) => Some(d + o),
+                    (d, o) => d.or(o),
+                });
             }
-            let dpsi = &self.g_hats[0] * &dpre[m - 1];
+            let Some(last) = dpre[m - 1].as_ref() else {
+                return Err(singular);
+            };
+            let dpsi = &self.g_hats[0] * last;
             let rhs = dpsi.view((0, 0), (n2, n2)) * &y1 + dpsi.view((0, n2), (n2, 2)) * &p0;
-            let dz1 = join(&solve(rhs)?, &DVector::zeros(2));
+            let dy1 = solve(rhs)?;
+            let dz1 = join(&dy1, &DVector::zeros(2));
             jacobian[(0, i)] = h[0].dot(&dz1) * self.cycle;
             for f in 0..m - 1 {
-                jacobian[(f + 1, i)] =
-                    h[f + 1].dot(&(&dpre[f] * &z1 + &pre[f] * &dz1)) * self.cycle;
+                let moved = &pre[f] * &dz1;
+                let total = match dpre[f].as_ref() {
+                    Some(d) => d * &z1 + moved,
+                    None => moved,
+                };
+                jacobian[(f + 1, i)] = h[f + 1].dot(&total) * self.cycle;
             }
         }
         Ok(SequenceEvaluation {

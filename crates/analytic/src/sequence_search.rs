@@ -19,7 +19,7 @@ use crate::orbit::wrap;
 use crate::sequence::ImpactSequence;
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
 use crate::sequence_verdicts::{assemble, SequenceOrbit};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 use std::collections::HashMap;
 
 /// Every orbit of `sequence` on `model` at `omega` found by the multi-start, deduplicated,
@@ -219,17 +219,11 @@ fn linear_scan(
     tuple: &[usize],
     grid: usize,
 ) -> Vec<f64> {
-    let model = problem.model();
-    let impacts = problem.sequence().impacts();
     let m = tuple.len();
-    let n = model.dofs();
-    let n2 = 2 * n;
-    let g_hat = |j: usize| {
-        let mut g = DMatrix::<f64>::identity(n2 + 2, n2 + 2);
-        g.view_mut((n, n), (n, n))
-            .copy_from(&model.impact_map(impacts[j].pair));
-        g
-    };
+    let n2 = 2 * problem.model().dofs();
+    let g_hat = problem.impact_matrices();
+    let h = problem.contact_functionals();
+    let stops = problem.contact_positions();
     let flight = |f: usize| {
         let end = if f + 1 < m { tuple[f + 1] } else { grid };
         &steps[end - tuple[f]]
@@ -237,49 +231,36 @@ fn linear_scan(
     let mut pre: Vec<DMatrix<f64>> = Vec::with_capacity(m);
     pre.push(flight(0).clone());
     for f in 1..m {
-        let next = flight(f) * (g_hat(f) * &pre[f - 1]);
+        let next = flight(f) * (&g_hat[f] * &pre[f - 1]);
         pre.push(next);
     }
-    let psi = g_hat(0) * &pre[m - 1];
+    let psi = &g_hat[0] * &pre[m - 1];
     let Some(k) = (DMatrix::<f64>::identity(n2, n2) - psi.view((0, 0), (n2, n2))).try_inverse()
     else {
         return vec![f64::INFINITY; ALPHA_SCAN];
     };
-    let y = k * psi.view((0, n2), (n2, 2));
-    let pairs = model.pairs();
-    let stop = |j: usize| {
-        let pair = &pairs[impacts[j].pair];
-        if impacts[j].side == 1 {
-            pair.gap_side1
-        } else {
-            -pair.gap_side2
-        }
-    };
+    // The augmented states after the first impact for p₀ = (1, 0) and (0, 1).
+    let mut z = DMatrix::<f64>::zeros(n2 + 2, 2);
+    z.view_mut((0, 0), (n2, 2))
+        .copy_from(&(k * psi.view((0, n2), (n2, 2))));
+    z[(n2, 0)] = 1.0;
+    z[(n2 + 1, 1)] = 1.0;
     // Residual j = c_j · p − stop_j.
     let coefficients: Vec<[f64; 2]> = (0..m)
         .map(|j| {
-            let mut h = DVector::zeros(n2 + 2);
-            h.rows_mut(0, n)
-                .copy_from(&pairs[impacts[j].pair].direction);
-            let mut c = [0.0; 2];
-            for (col, cc) in c.iter_mut().enumerate() {
-                let mut z = DVector::zeros(n2 + 2);
-                z.rows_mut(0, n2).copy_from(&y.column(col));
-                z[n2 + col] = 1.0;
-                *cc = if j == 0 {
-                    h.dot(&z)
-                } else {
-                    h.dot(&(&pre[j - 1] * z))
-                };
-            }
-            c
+            let row = if j == 0 {
+                h[0].transpose() * &z
+            } else {
+                (h[j].transpose() * &pre[j - 1]) * &z
+            };
+            [row[0], row[1]]
         })
         .collect();
     (0..ALPHA_SCAN)
         .map(|k| {
             let (c, s) = (scan_angle(k).cos(), scan_angle(k).sin());
             (0..m)
-                .map(|j| (coefficients[j][0] * c + coefficients[j][1] * s - stop(j)).powi(2))
+                .map(|j| (coefficients[j][0] * c + coefficients[j][1] * s - stops[j]).powi(2))
                 .sum()
         })
         .collect()
