@@ -62,7 +62,9 @@ pub enum SequenceViolation {
 /// On a base-driven model `f` is the force of the moving base (`k_o u_g + c_o u̇_g` on the
 /// first outer mass) and `C` holds the dashpot to the base as one to the ground: the terms
 /// differ from the unit's [`crate::EnergyBalance`] (which measures `k_o` and `c_o` from the
-/// moving base) by cycle integrals of exact derivatives and of `c_o u̇_g²`; both balances hold.
+/// moving base) by cycle integrals of exact derivatives (which vanish) and by
+/// `∮ c_o (2u̇_o u̇_g − u̇_g²) dt`, carried by the work and the dissipation alike: both balances
+/// hold.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ModelEnergy {
     /// `∮ u̇ᵀ f(t) dt`.
