@@ -51,7 +51,7 @@ pub const STEP_ROUNDING: f64 = 1e-15;
 /// 2-norm: `2⁻¹⁰ ≈ 1e-3` of a step; beyond that the direction is useless and the start is
 /// abandoned. (30 halvings cost the multi-start 2–3 times more and found the same viable
 /// orbits on the paper unit; see [`signature_orbits`].)
-const LINE_SEARCH_HALVINGS: usize = 10;
+pub(crate) const LINE_SEARCH_HALVINGS: usize = 10;
 
 /// A flight shorter than this fraction of the cycle is two impacts merging: a grazing limit,
 /// not an orbit of the signature. Far below any grid spacing, far above rounding of the times.

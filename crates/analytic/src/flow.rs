@@ -72,18 +72,18 @@ pub struct Extrema {
 /// `1/rate`, so `‖Âh‖` is of order one and the last term is of order `1/24! ≈ 1.6e-24`: the
 /// tail test ([`TAIL_TOLERANCE`]) has six orders of margin for matrices whose norm exceeds
 /// their spectral radius before a piece must be halved.
-const TAYLOR_DEGREE: usize = 24;
+pub(crate) const TAYLOR_DEGREE: usize = 24;
 
 /// A piece is accepted when its last two Taylor rows are below this fraction of `|c|₁`: two
 /// orders below the double-precision unit roundoff `ε/2 ≈ 1.1e-16`, so the truncated
 /// polynomial *is* the flow to machine precision.
-const TAIL_TOLERANCE: f64 = 1e-18;
+pub(crate) const TAIL_TOLERANCE: f64 = 1e-18;
 
 /// Cap on the number of pieces of one flight: pieces are doubled until the tail passes, and a
 /// non-finite augmented matrix (NaN tail) never passes. `2²⁴ ≈ 1.7e7` pieces bound the work
 /// of a pathological flight; a finite flight needs about `duration × rate` pieces (a few
 /// hundred at the lowest frequencies swept).
-const MAX_PIECES: usize = 1 << 24;
+pub(crate) const MAX_PIECES: usize = 1 << 24;
 
 /// How many Taylor tables a [`ForcedFlow`] keeps: the branches of a symmetric orbit share
 /// one flight duration, the two flights of an asymmetric orbit need two.
@@ -345,7 +345,13 @@ fn horner(q: &[f64], s: f64) -> (f64, f64, f64) {
 /// bound cannot beat the extrema found so far are dropped.
 ///
 /// With `critical_only`, the piece's ends are not candidates: only roots of `q'`.
-fn polynomial_extrema(q: &[f64], ext: &mut Extrema, t0: f64, h: f64, critical_only: bool) {
+pub(crate) fn polynomial_extrema(
+    q: &[f64],
+    ext: &mut Extrema,
+    t0: f64,
+    h: f64,
+    critical_only: bool,
+) {
     let update = |ext: &mut Extrema, s: f64, v: f64| {
         if v > ext.max {
             ext.max = v;

@@ -15,7 +15,7 @@
 //!   with viability, Floquet multipliers and the cycle's energy balance;
 //! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
 //!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
-//!   state (the model the signature solver is to be generalised onto);
+//!   state (the model the sequence solver below runs on);
 //! - [`chain`]: chains of cells in series, graded or not ([`Cell`], at most [`MAX_CELLS`]),
 //!   and the linear chain's steady state by transfer matrices ([`chain_response`]), finite at
 //!   every local resonance and unbounded only at the chain's own undamped resonances;
@@ -24,6 +24,10 @@
 //!   ([`band_edges`], [`stop_bands`]);
 //! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
 //!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
+//! - [`sequence_orbit`], [`sequence_verdicts`] and [`sequence_search`]: orbits of any impact
+//!   sequence on any [`LinearModel`] (the signature solver generalised: problem, Newton solver
+//!   and state; amplitudes, viability per pair, Floquet multipliers and energy balance; the
+//!   multi-start [`sequence_orbits`]), with [`model_flight`]'s rigorous extrema and integrals;
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
 //!   ([`continue_orbit`]) through folds, with exact derivatives in `ω`, the bifurcation events
 //!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
@@ -44,8 +48,12 @@ pub mod flow;
 pub mod lattice;
 pub mod linear;
 pub mod model;
+pub mod model_flight;
 pub mod orbit;
 pub mod sequence;
+pub mod sequence_orbit;
+pub mod sequence_search;
+pub mod sequence_verdicts;
 pub mod signature;
 pub mod symmetric;
 pub mod test_models;
@@ -71,6 +79,14 @@ pub use model::{
 };
 pub use orbit::{Orbit, Side, Violation};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};
+pub use sequence_orbit::{
+    NewtonState, SequenceEvaluation, SequenceNewton, SequenceOrbitError, SequenceProblem,
+    Termination,
+};
+pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
+pub use sequence_verdicts::{
+    solve_sequence, ModelEnergy, SequenceOrbit, SequenceViolation, ENERGY_EXCHANGE_FRACTION,
+};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};

@@ -1,15 +1,16 @@
 //! A general linear model with contact pairs: `n` degrees of freedom, mass `M`, damping `C`,
 //! stiffness `K`, harmonic base forcing, and rigid two-sided stops on relative coordinates.
 //!
-//! This is the model the signature solver is to be generalised onto, so that a chain of cells
-//! is a new model, not a new solver. The unit ([`LinearModel::unit`]) and a chain of `N` unit
+//! This is the model the signature solver is generalised onto ([`crate::sequence_orbit`]), so
+//! that a chain of cells is a new model, not a new solver. The unit ([`LinearModel::unit`]) and a chain of `N` unit
 //! cells in series ([`LinearModel::chain`]) are built here. The crate's own numerics only: the
 //! impact map, the augmented matrix of the forced flow and the linear steady state are derived
 //! here from `M`, `C`, `K` and the forcing.
 //!
-//! Today ([`LinearModel`] is new) the unit's signature solver and continuation still run on the
-//! fixed-size path of [`crate::cycle`]; the tests check that this model reproduces the unit's
-//! impact map, augmented matrix and linear steady state.
+//! The unit's signature solver and continuation stay on the faster fixed-size path of
+//! [`crate::cycle`]; the tests check that this model reproduces the unit's impact map,
+//! augmented matrix and linear steady state, and that the general sequence solver on it finds
+//! the fixed-size solver's orbits.
 
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;

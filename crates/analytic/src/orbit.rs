@@ -115,13 +115,13 @@ pub const SCHUR_ITERATIONS: usize = 1000;
 
 /// Convergence threshold of the Schur iteration: a subdiagonal entry is deflated when it falls
 /// to unit roundoff of its neighbours, the tightest threshold a double can resolve.
-const SCHUR_EPSILON: f64 = f64::EPSILON;
+pub(crate) const SCHUR_EPSILON: f64 = f64::EPSILON;
 
 /// Shifts `σ` (in units of `max|m_ij|`) of the fallback attempts in [`eigenvalues`]: two
 /// unrelated values of opposite sign and of order the matrix's size, so that the shifted
 /// iterations follow other paths than the plain one; the shift costs absolute accuracy of
 /// order `ε max|m_ij|` only. Chosen, not tuned.
-const SCHUR_SHIFTS: [f64; 2] = [0.5, -0.37];
+pub(crate) const SCHUR_SHIFTS: [f64; 2] = [0.5, -0.37];
 
 /// Gradient of the relative displacement `r = u_i − u_o` with respect to the state.
 pub(crate) fn relative_displacement() -> Vector4<f64> {

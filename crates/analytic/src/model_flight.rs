@@ -1,0 +1,216 @@
+//! Closed-form quantities along one flight of a [`LinearModel`] (between two impacts): the
+//! rigorous extrema of linear functionals of the state, the integral of a quadratic form of
+//! the state, and the eigenvalues of a monodromy matrix of any size.
+//!
+//! The same methods as the unit's fixed-size [`crate::flow::ForcedFlow`], on the model's
+//! augmented matrix `Â` (`(2n + 2) × (2n + 2)`): on pieces of the flight no longer than
+//! `1/max(ω, |λ|)` every functional `c · z(t)` *is* its degree-24 Taylor polynomial to machine
+//! precision, and its extrema are found among the piece's ends and the roots of its derivative
+//! (by the unit's exclusion search); integrals of quadratic forms come from Van Loan's block
+//! exponential.
+
+use crate::flow::{polynomial_extrema, Extrema, MAX_PIECES, TAIL_TOLERANCE, TAYLOR_DEGREE};
+use crate::model::LinearModel;
+use crate::orbit::{SCHUR_EPSILON, SCHUR_ITERATIONS, SCHUR_SHIFTS};
+use nalgebra::{Complex, DMatrix, DVector};
+
+/// The augmented flow of a [`LinearModel`] at one frequency, with the rate that sets the
+/// length of the pieces of the extremum search.
+#[derive(Debug, Clone)]
+pub struct ModelFlight {
+    augmented: DMatrix<f64>,
+    rate: f64,
+}
+
+impl ModelFlight {
+    /// The flow of `model` at `omega` (> 0).
+    pub fn new(model: &LinearModel, omega: f64) -> Self {
+        let augmented = model.augmented_matrix(omega);
+        let n = model.dofs();
+        // |λ|² ≤ ‖M⁻¹K‖ + |λ| ‖M⁻¹C‖ for every eigenvalue of the quadratic pencil (row norms of
+        // the acceleration rows of A).
+        let row_norm = |col: usize| {
+            (n..2 * n)
+                .map(|i| (col..col + n).map(|j| augmented[(i, j)].abs()).sum::<f64>())
+                .fold(0.0, f64::max)
+        };
+        let (k, c) = (row_norm(0), row_norm(n));
+        let natural = 0.5 * (c + (c * c + 4.0 * k).sqrt());
+        Self {
+            augmented,
+            rate: natural.max(omega),
+        }
+    }
+
+    /// The augmented matrix `Â`.
+    pub fn augmented_matrix(&self) -> &DMatrix<f64> {
+        &self.augmented
+    }
+
+    /// Extrema of the linear functionals `c · z(t)` over `t ∈ [0, duration]` from the augmented
+    /// state `start`, ends included, with the guarantee of [`crate::flow::ForcedFlow::extrema`]:
+    /// no extremum can fall between samples.
+    ///
+    /// # Panics
+    /// If `start` or a functional does not have `2n + 2` entries.
+    pub fn extrema(
+        &self,
+        start: &DVector<f64>,
+        duration: f64,
+        functionals: &[DVector<f64>],
+    ) -> Vec<Extrema> {
+        let mut found: Vec<Extrema> = functionals
+            .iter()
+            .map(|c| {
+                let v = c.dot(start);
+                Extrema {
+                    max: v,
+                    argmax: 0.0,
+                    min: v,
+                    argmin: 0.0,
+                }
+            })
+            .collect();
+        if duration <= 0.0 || functionals.is_empty() {
+            return found;
+        }
+        let mut pieces = (duration * self.rate).ceil().max(1.0) as usize;
+        let mut rows: Vec<Vec<DVector<f64>>> = Vec::with_capacity(functionals.len());
+        let h = loop {
+            let h = duration / pieces as f64;
+            let step_t = (&self.augmented * h).transpose();
+            rows.clear();
+            let mut tail: f64 = 0.0;
+            for c in functionals {
+                let mut row = Vec::with_capacity(TAYLOR_DEGREE + 1);
+                row.push(c.clone());
+                for k in 1..=TAYLOR_DEGREE {
+                    let next = &step_t * &row[k - 1] / k as f64;
+                    row.push(next);
+                }
+                let size = c.lp_norm(1).max(f64::MIN_POSITIVE);
+                tail = tail.max(
+                    (row[TAYLOR_DEGREE].lp_norm(1) + row[TAYLOR_DEGREE - 1].lp_norm(1)) / size,
+                );
+                rows.push(row);
+            }
+            if tail <= TAIL_TOLERANCE || pieces >= MAX_PIECES {
+                break h;
+            }
+            pieces *= 2;
+        };
+        let step = (&self.augmented * h).exp();
+        let mut z = start.clone();
+        let mut poly = [0.0; TAYLOR_DEGREE + 1];
+        for piece in 0..pieces {
+            let t0 = piece as f64 * h;
+            for (row, ext) in rows.iter().zip(found.iter_mut()) {
+                for (pk, rk) in poly.iter_mut().zip(row.iter()) {
+                    *pk = rk.dot(&z);
+                }
+                polynomial_extrema(&poly, ext, t0, h, false);
+            }
+            z = &step * z;
+        }
+        found
+    }
+
+    /// `∫₀^τ z(t)ᵀ Q z(t) dt` along the exact flow from `start`, in closed form by Van Loan's
+    /// block exponential: `exp([[−Âᵀ, Q], [0, Â]] τ) = [[·, G], [0, e^{Âτ}]]` and
+    /// `∫₀^τ e^{Âᵀs} Q e^{Âs} ds = e^{Âτ}ᵀ G`.
+    ///
+    /// # Panics
+    /// If `q` is not `(2n + 2) × (2n + 2)` or `start` does not have `2n + 2` entries.
+    pub fn quadratic_integral(&self, q: &DMatrix<f64>, start: &DVector<f64>, tau: f64) -> f64 {
+        let m = self.augmented.nrows();
+        let mut c = DMatrix::zeros(2 * m, 2 * m);
+        c.view_mut((0, 0), (m, m))
+            .copy_from(&(-self.augmented.transpose()));
+        c.view_mut((0, m), (m, m)).copy_from(q);
+        c.view_mut((m, m), (m, m)).copy_from(&self.augmented);
+        let ex = (c * tau).exp();
+        let gram = ex.view((m, m), (m, m)).transpose() * ex.view((0, m), (m, m));
+        start.dot(&(gram * start))
+    }
+}
+
+/// The eigenvalues of a square matrix by the real Schur form with a bounded QR iteration,
+/// with the fallbacks of [`crate::orbit::eigenvalues`] (the transpose, then shifted copies):
+/// `None` for a non-finite matrix or when every attempt fails.
+pub fn eigenvalues(m: &DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
+    if !m.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let n = m.nrows();
+    let scale = m.amax().max(f64::MIN_POSITIVE);
+    let identity = DMatrix::<f64>::identity(n, n);
+    let attempts = [
+        (m.clone(), 0.0),
+        (m.transpose(), 0.0),
+        (
+            m + &identity * (SCHUR_SHIFTS[0] * scale),
+            SCHUR_SHIFTS[0] * scale,
+        ),
+        (
+            m + &identity * (SCHUR_SHIFTS[1] * scale),
+            SCHUR_SHIFTS[1] * scale,
+        ),
+    ];
+    for (matrix, shift) in attempts {
+        if let Some(schur) =
+            nalgebra::linalg::Schur::try_new(matrix, SCHUR_EPSILON, SCHUR_ITERATIONS)
+        {
+            return Some(
+                schur
+                    .complex_eigenvalues()
+                    .iter()
+                    .map(|l| l - shift)
+                    .collect(),
+            );
+        }
+    }
+    None
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::flow::{join, Augmented, ForcedFlow};
+    use crate::test_models::{damped_paper_unit, paper_stops};
+    use nalgebra::{Vector2, Vector4};
+
+    /// On the unit, the general extremum search finds the fixed-size one's extrema (same
+    /// method, matrices of another size): equal to a few ulps of the motion.
+    #[test]
+    fn extrema_of_the_unit_equal_the_fixed_size_flows() {
+        let unit = damped_paper_unit();
+        let model = LinearModel::unit(&unit, &paper_stops()).unwrap_or_else(|e| panic!("{e}"));
+        let omega = 1.3;
+        let fixed = ForcedFlow::new(&unit, omega);
+        let general = ModelFlight::new(&model, omega);
+        let x = Vector4::new(0.2, -0.4, 1.1, -0.7);
+        let p = Vector2::new(0.6, 0.8);
+        let c = Augmented::new(-1.0, 1.0, 0.0, 0.0, 0.0, 0.0);
+        let e1 = fixed.extrema(&join(&x, &p), 7.0, &[c])[0];
+        let start = DVector::from_column_slice(join(&x, &p).as_slice());
+        let e2 = general.extrema(&start, 7.0, &[DVector::from_column_slice(c.as_slice())])[0];
+        assert!((e1.max - e2.max).abs() < 1e-13, "{e1:?} {e2:?}");
+        assert!((e1.min - e2.min).abs() < 1e-13, "{e1:?} {e2:?}");
+        assert!((e1.argmax - e2.argmax).abs() < 1e-6 && (e1.argmin - e2.argmin).abs() < 1e-6);
+    }
+
+    /// `∫₀^τ p₀² dt` with `p₀ = cos(ωt)`: `τ/2 + sin(2ωτ)/(4ω)`, by hand.
+    #[test]
+    fn quadratic_integral_of_the_forcing_phase_is_exact() {
+        let model = LinearModel::unit(&damped_paper_unit(), &paper_stops())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let omega = 1.7;
+        let flight = ModelFlight::new(&model, omega);
+        let mut q = DMatrix::zeros(6, 6);
+        q[(4, 4)] = 1.0;
+        let start = DVector::from_vec(vec![0.3, 0.1, -0.2, 0.4, 1.0, 0.0]);
+        let tau = 2.3;
+        let exact = tau / 2.0 + (2.0 * omega * tau).sin() / (4.0 * omega);
+        assert!((flight.quadratic_integral(&q, &start, tau) - exact).abs() < 1e-13);
+    }
+}
