@@ -331,3 +331,22 @@ pub fn sample_signature_orbit(
     });
     (rows, impacts)
 }
+
+/// The analytic crate's general model of a chain scene (or a unit): every cell with its own
+/// stops, one contact pair each, numbered from the base.
+///
+/// # Errors
+/// The index of the first cell without stops (a pair cannot be numbered without them).
+pub fn chain_model(scene: &Scene) -> Result<rattle_analytic::LinearModel, usize> {
+    let cells = scene
+        .cell_scenes()
+        .iter()
+        .enumerate()
+        .map(|(j, c)| {
+            let stops = c.stops_model().ok_or(j)?;
+            Ok((Cell::of_unit(&c.unit_model()), stops))
+        })
+        .collect::<Result<Vec<_>, usize>>()?;
+    // The scene is valid, hence so is the chain built of its cells.
+    rattle_analytic::LinearModel::graded_chain(&cells, scene.base.amplitude).map_err(|_| 0)
+}
