@@ -26,14 +26,24 @@ const DRIFT_ROUNDING: f64 = 64.0 * f64::EPSILON;
 /// For one term on `[0, h]`: bounds on its polynomial and the polynomial's first three
 /// derivatives (absolute coefficients at `s = h`), `|μ|` (as `|re| + |im|`), and the growth
 /// factor `max(1, e^{Re μ h})`.
+///
+/// A constant polynomial (every steady-response flight's terms) takes a short path with the
+/// same values: the higher coefficients are exact zeros, and so are their contributions.
+#[inline]
 fn term_bounds(t: &Term, h: f64) -> ([f64; 4], f64, f64) {
-    let a = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
-    let p = [
-        a[0] + h * (a[1] + h * (a[2] + h * a[3])),
-        a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]),
-        2.0 * a[2] + 6.0 * h * a[3],
-        6.0 * a[3],
-    ];
+    let zero = C64::default();
+    let constant = t.poly[1] == zero && t.poly[2] == zero && t.poly[3] == zero;
+    let p = if constant && h.is_finite() {
+        [l1(t.poly[0]), 0.0, 0.0, 0.0]
+    } else {
+        let a = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
+        [
+            a[0] + h * (a[1] + h * (a[2] + h * a[3])),
+            a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]),
+            2.0 * a[2] + 6.0 * h * a[3],
+            6.0 * a[3],
+        ]
+    };
     let growth = if t.rate.re > 0.0 {
         (t.rate.re * h).exp()
     } else {

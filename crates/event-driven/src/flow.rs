@@ -69,6 +69,9 @@ pub struct LinearFlow {
     modes: DMatrix<C64>,
     /// `V⁻¹`.
     inverse: DMatrix<C64>,
+    /// `V⁻¹` row by row (row `k` at `k·2n..(k + 1)·2n`): the modal coordinates of a state
+    /// as contiguous dot products.
+    inverse_rows: Vec<C64>,
     /// Modal forcing on `e^{+iωt}`, `e^{−iωt}` and the constant.
     plus: DVector<C64>,
     minus: DVector<C64>,
@@ -318,6 +321,7 @@ impl LinearFlow {
                     .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
                     .collect(),
             });
+        let inverse_rows = inverse.transpose().as_slice().to_vec();
         Ok(Self {
             dofs: n,
             omega,
@@ -325,6 +329,7 @@ impl LinearFlow {
             rates,
             modes,
             inverse,
+            inverse_rows,
             plus,
             minus,
             constant,
@@ -388,10 +393,11 @@ impl LinearFlow {
         let form = match &self.steady {
             Some(p) => {
                 let mut deviation = vec![C64::default(); m];
+                let y = y.as_slice();
                 for &(k, _) in &self.kept {
                     let mut z = C64::default();
-                    for j in 0..m {
-                        z += self.inverse[(k, j)] * y[j];
+                    for (v, &yj) in self.inverse_rows[k * m..(k + 1) * m].iter().zip(y) {
+                        z += *v * yj;
                     }
                     deviation[k] =
                         z - (p.plus[k] * phase + p.minus[k] * phase.conj() + p.constant[k]);
@@ -476,7 +482,8 @@ impl Flight<'_> {
                         + p.minus[k] * forced.conj()
                         + p.constant[k])
                         * weight;
-                    for (yi, v) in y.iter_mut().zip(&f.modes.as_slice()[k * m..(k + 1) * m]) {
+                    let column = &f.modes.as_slice()[k * m..(k + 1) * m];
+                    for (yi, v) in y.as_mut_slice().iter_mut().zip(column) {
                         *yi += v.re * zk.re - v.im * zk.im;
                     }
                 }
@@ -496,7 +503,8 @@ impl Flight<'_> {
                             * phi_shared(l, el, zero, C64::new(1.0, 0.0), s, f.period);
                     }
                     let zk = zk * weight;
-                    for (yi, v) in y.iter_mut().zip(&f.modes.as_slice()[k * m..(k + 1) * m]) {
+                    let column = &f.modes.as_slice()[k * m..(k + 1) * m];
+                    for (yi, v) in y.as_mut_slice().iter_mut().zip(column) {
                         *yi += v.re * zk.re - v.im * zk.im;
                     }
                 }

@@ -335,6 +335,20 @@ struct Pair {
     drag: DVector<f64>,
     /// `r` as a functional of the free flow's state.
     relative_displacement: Functional,
+    /// The nonzero rows of `r̈ = (M⁻¹d) · (f(τ) − K u − C u̇)`, for
+    /// [`Engine::free_relative_acceleration`]: per row `i` with `(M⁻¹d)_i ≠ 0`, that entry and
+    /// the nonzero `K_ij` (index `j` into the state) and `C_ij` (index `n + j`), in the order
+    /// of the dense sum.
+    acceleration_rows: Vec<AccelerationRow>,
+}
+
+/// One row `i` of [`Pair::acceleration_rows`]: `(M⁻¹d)_i (f_i(τ) − Σ_j (K_ij u_j + C_ij u̇_j))`
+/// with only its nonzero coefficients.
+struct AccelerationRow {
+    row: usize,
+    mobility: f64,
+    /// `(index into the state, coefficient)`, `K_ij` at `j` then `C_ij` at `n + j`, `j` rising.
+    coefficients: Vec<(usize, f64)>,
 }
 
 /// A set of contact pairs held on their stops at once: the constrained (reduced) flow, each
@@ -757,6 +771,21 @@ impl<'m> Engine<'m> {
                     Some(damping) => &minv * (damping * &mobility),
                     None => DVector::zeros(n),
                 };
+                let acceleration_rows = (0..n)
+                    .filter(|&i| mobility[i] != 0.0)
+                    .map(|i| AccelerationRow {
+                        row: i,
+                        mobility: mobility[i],
+                        coefficients: (0..n)
+                            .flat_map(|j| {
+                                let k = (j, model.stiffness[(i, j)]);
+                                let c = (n + j, model.damping.as_ref().map_or(0.0, |c| c[(i, j)]));
+                                [k, c]
+                            })
+                            .filter(|&(_, v)| v != 0.0)
+                            .collect(),
+                    })
+                    .collect();
                 Pair {
                     spec: *c,
                     direction: d,
@@ -764,6 +793,7 @@ impl<'m> Engine<'m> {
                     compliance,
                     drag,
                     relative_displacement,
+                    acceleration_rows,
                 }
             })
             .collect();
@@ -1145,21 +1175,22 @@ impl<'m> Engine<'m> {
     }
 
     /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`:
-    /// `(M⁻¹d) · (f(τ) − K u − C u̇)`.
+    /// `(M⁻¹d) · (f(τ) − K u − C u̇)`, summed row by row over the nonzero entries only
+    /// ([`Pair::acceleration_rows`]): the terms left out are exact zeros, so the value is the
+    /// dense sum's.
     fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
-        let n = self.n;
         let m = self.model;
         let (sin, cos) = (self.omega * tau).sin_cos();
-        (0..n)
-            .map(|i| {
+        let y = y.as_slice();
+        p.acceleration_rows
+            .iter()
+            .map(|r| {
+                let i = r.row;
                 let mut f = m.forcing_cos[i] * cos + m.forcing_sin[i] * sin;
-                for j in 0..n {
-                    f -= m.stiffness[(i, j)] * y[j];
-                    if let Some(c) = &m.damping {
-                        f -= c[(i, j)] * y[n + j];
-                    }
+                for &(j, v) in &r.coefficients {
+                    f -= v * y[j];
                 }
-                p.mobility[i] * f
+                r.mobility * f
             })
             .sum()
     }
