@@ -479,17 +479,61 @@ impl ExpSum {
         // Second order: `f(s) ∈ f(0) + [min(0, f'(0)s), max(0, f'(0)s)] ± ½ s² sup|f''|`.
         let (mut start, mut speed, mut size0) = (0.0, 0.0, 0.0);
         let (mut slope0, mut bend) = (0.0, 0.0);
-        for t in &self.terms {
+        // Third order (searches cut short only): `f''(0)` and `sup|f'''|` on `[0, cutoff]`.
+        let cut = cutoff < horizon;
+        let (mut curve0, mut jerk_cut) = (0.0, 0.0);
+        let zero = C64::default();
+        let constant = cutoff.is_finite()
+            && self
+                .terms
+                .iter()
+                .all(|t| t.poly[1] == zero && t.poly[2] == zero && t.poly[3] == zero);
+        // Every polynomial a constant (the steady-response flights): the same sums without
+        // the higher coefficients, which are exact zeros and add nothing.
+        for t in self.terms.iter().filter(|_| constant) {
+            let (c, mu) = (t.poly[0], t.rate);
+            start += c.re;
+            slope0 += (c * mu).re;
+            let size = l1(c);
+            size0 += size;
+            if mu == zero {
+                centre += c.re;
+            } else {
+                let rate = l1(mu);
+                let growth = if mu.re > 0.0 {
+                    (mu.re * cutoff).exp()
+                } else {
+                    1.0
+                };
+                spread += size * growth;
+                speed += (rate * size) * growth;
+                bend += (rate * (rate * size)) * growth;
+                if cut {
+                    curve0 += (c * mu * mu).re;
+                    jerk_cut += (rate * rate * rate * size) * growth;
+                }
+            }
+        }
+        for t in self.terms.iter().filter(|_| !constant) {
             start += t.poly[0].re;
             slope0 += (t.poly[1] + t.poly[0] * t.rate).re;
             size0 += l1(t.poly[0]);
             if t.rate == C64::default() && t.poly[1..].iter().all(|c| *c == C64::default()) {
                 centre += t.poly[0].re;
             } else {
-                let ([size, slope, curve, _], rate, growth) = term_bounds(t, cutoff);
+                let ([size, slope, curve, third], rate, growth) = term_bounds(t, cutoff);
                 spread += size * growth;
                 speed += (slope + rate * size) * growth;
                 bend += (curve + rate * (2.0 * slope + rate * size)) * growth;
+                if cut {
+                    let (p, mu) = (t.poly, t.rate);
+                    curve0 += (p[2] * 2.0 + (p[1] * 2.0 + p[0] * mu) * mu).re;
+                    jerk_cut += (third
+                        + 3.0 * rate * curve
+                        + 3.0 * rate * rate * slope
+                        + rate * rate * rate * size)
+                        * growth;
+                }
             }
         }
         if centre + spread < hi && centre - spread > lo {
@@ -503,6 +547,27 @@ impl ExpSum {
         let moved = slope0 * cutoff;
         if start + moved.max(0.0) + reach < hi && start + moved.min(0.0) - reach > lo {
             return None;
+        }
+        // A search cut short of its horizon (the watch of several pairs, at an earlier
+        // contact of another pair) is short: one order more decides most of them here, before
+        // the grid is set up. `f(s) ∈ f(0) + f'(0)s + ½f''(0)s² ± ⅙ s³ sup|f'''|`, the
+        // quadratic's extremes on `[0, cutoff]` at its ends or its vertex.
+        if cut {
+            let quadratic = |s: f64| s * (slope0 + 0.5 * curve0 * s);
+            let end = quadratic(cutoff);
+            let (mut upper, mut lower) = (end.max(0.0), end.min(0.0));
+            if curve0 != 0.0 {
+                let vertex = -slope0 / curve0;
+                if vertex > 0.0 && vertex < cutoff {
+                    upper = upper.max(quadratic(vertex));
+                    lower = lower.min(quadratic(vertex));
+                }
+            }
+            let reach = cutoff * cutoff * cutoff * jerk_cut / 6.0
+                + DRIFT_ROUNDING * (size0 + cutoff * speed + 0.5 * cutoff * cutoff * bend);
+            if start + upper + reach < hi && start + lower - reach > lo {
+                return None;
+            }
         }
         let jerk = self.jerk_bound(horizon);
         let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION

@@ -531,12 +531,11 @@ impl Flight<'_> {
             Form::Steady {
                 deviation, phase, ..
             } => {
-                for &(k, weight) in &f.kept {
-                    out.terms.push(Term {
-                        poly: [weights[k] * deviation[k] * weight, zero, zero, zero],
-                        rate: f.rates[k],
-                    });
-                }
+                let weights = weights.as_slice();
+                out.terms.extend(f.kept.iter().map(|&(k, weight)| Term {
+                    poly: [weights[k] * deviation[k] * weight, zero, zero, zero],
+                    rate: f.rates[k],
+                }));
                 out.terms.push(Term {
                     poly: [functional.forced * phase, zero, zero, zero],
                     rate: w,
