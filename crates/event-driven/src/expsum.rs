@@ -483,23 +483,36 @@ impl ExpSum {
         let cut = cutoff < horizon;
         let (mut curve0, mut jerk_cut) = (0.0, 0.0);
         let zero = C64::default();
+        // Every polynomial a constant (the steady-response flights; `+0` coefficients, which
+        // is how flights write them; anything else takes the general path): the same sums
+        // without the higher coefficients, which are exact zeros and add nothing, and the
+        // grid's `sup|f'''|` ([`Self::jerk_bound`]) in the same pass.
         let constant = cutoff.is_finite()
-            && self
-                .terms
-                .iter()
-                .all(|t| t.poly[1] == zero && t.poly[2] == zero && t.poly[3] == zero);
-        // Every polynomial a constant (the steady-response flights): the same sums without
-        // the higher coefficients, which are exact zeros and add nothing.
+            && horizon.is_finite()
+            && self.terms.iter().all(|t| {
+                t.poly[1..]
+                    .iter()
+                    .fold(0, |bits, c| bits | c.re.to_bits() | c.im.to_bits())
+                    == 0
+            });
+        let mut jerk_horizon = 0.0;
         for t in self.terms.iter().filter(|_| constant) {
             let (c, mu) = (t.poly[0], t.rate);
+            let slope = c * mu;
             start += c.re;
-            slope0 += (c * mu).re;
+            slope0 += slope.re;
             let size = l1(c);
             size0 += size;
+            let rate = l1(mu);
+            let growth_horizon = if mu.re > 0.0 {
+                (mu.re * horizon).exp()
+            } else {
+                1.0
+            };
+            jerk_horizon += rate * rate * rate * size * growth_horizon;
             if mu == zero {
                 centre += c.re;
             } else {
-                let rate = l1(mu);
                 let growth = if mu.re > 0.0 {
                     (mu.re * cutoff).exp()
                 } else {
@@ -509,7 +522,7 @@ impl ExpSum {
                 speed += (rate * size) * growth;
                 bend += (rate * (rate * size)) * growth;
                 if cut {
-                    curve0 += (c * mu * mu).re;
+                    curve0 += slope.re * mu.re - slope.im * mu.im;
                     jerk_cut += (rate * rate * rate * size) * growth;
                 }
             }
@@ -569,7 +582,11 @@ impl ExpSum {
                 return None;
             }
         }
-        let jerk = self.jerk_bound(horizon);
+        let jerk = if constant {
+            jerk_horizon
+        } else {
+            self.jerk_bound(horizon)
+        };
         let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
             / std::f64::consts::TAU)
             .ceil() as usize)

@@ -69,9 +69,12 @@ pub struct LinearFlow {
     modes: DMatrix<C64>,
     /// `V⁻¹`.
     inverse: DMatrix<C64>,
-    /// `V⁻¹` row by row (row `k` at `k·2n..(k + 1)·2n`): the modal coordinates of a state
-    /// as contiguous dot products.
-    inverse_rows: Vec<C64>,
+    /// `V⁻¹` row by row (row `k` at `k·2n..(k + 1)·2n`), real and imaginary parts apart: the
+    /// modal coordinates of a state as contiguous dot products.
+    inverse_rows: (Vec<f64>, Vec<f64>),
+    /// The eigenvectors column by column (column `k` at `k·2n..(k + 1)·2n`), real and
+    /// imaginary parts apart: a state from its modal coordinates as contiguous sums.
+    mode_columns: (Vec<f64>, Vec<f64>),
     /// Modal forcing on `e^{+iωt}`, `e^{−iωt}` and the constant.
     plus: DVector<C64>,
     minus: DVector<C64>,
@@ -321,7 +324,14 @@ impl LinearFlow {
                     .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
                     .collect(),
             });
-        let inverse_rows = inverse.transpose().as_slice().to_vec();
+        let apart = |m: &DMatrix<C64>| {
+            (
+                m.as_slice().iter().map(|c| c.re).collect(),
+                m.as_slice().iter().map(|c| c.im).collect(),
+            )
+        };
+        let inverse_rows = apart(&inverse.transpose());
+        let mode_columns = apart(&modes);
         Ok(Self {
             dofs: n,
             omega,
@@ -330,12 +340,28 @@ impl LinearFlow {
             modes,
             inverse,
             inverse_rows,
+            mode_columns,
             plus,
             minus,
             constant,
             kept,
             steady,
         })
+    }
+
+    /// `y += Re(v_k z)`, `v_k` the `k`-th eigenvector: one mode's part of a state.
+    #[inline]
+    fn add_mode(&self, k: usize, z: C64, y: &mut [f64]) {
+        let m = 2 * self.dofs;
+        let (columns_re, columns_im) = &self.mode_columns;
+        let column = k * m..(k + 1) * m;
+        for ((yi, &vr), &vi) in y
+            .iter_mut()
+            .zip(&columns_re[column.clone()])
+            .zip(&columns_im[column])
+        {
+            *yi += vr * z.re - vi * z.im;
+        }
     }
 
     /// Degrees of freedom.
@@ -394,11 +420,15 @@ impl LinearFlow {
             Some(p) => {
                 let mut deviation = vec![C64::default(); m];
                 let y = y.as_slice();
+                let (rows_re, rows_im) = &self.inverse_rows;
                 for &(k, _) in &self.kept {
-                    let mut z = C64::default();
-                    for (v, &yj) in self.inverse_rows[k * m..(k + 1) * m].iter().zip(y) {
-                        z += *v * yj;
+                    let row = k * m..(k + 1) * m;
+                    let (mut re, mut im) = (0.0, 0.0);
+                    for ((&vr, &vi), &yj) in rows_re[row.clone()].iter().zip(&rows_im[row]).zip(y) {
+                        re += vr * yj;
+                        im += vi * yj;
                     }
+                    let z = C64::new(re, im);
                     deviation[k] =
                         z - (p.plus[k] * phase + p.minus[k] * phase.conj() + p.constant[k]);
                 }
@@ -459,7 +489,6 @@ impl Flight<'_> {
 
     fn state_with(&self, s: f64, exponentials: Option<&[C64]>, y: &mut DVector<f64>) {
         let f = self.flow;
-        let m = 2 * f.dofs;
         y.fill(0.0);
         // `expand` lists the kept modes, then the forcing.
         let known = exponentials.filter(|e| e.len() > f.kept.len());
@@ -482,10 +511,7 @@ impl Flight<'_> {
                         + p.minus[k] * forced.conj()
                         + p.constant[k])
                         * weight;
-                    let column = &f.modes.as_slice()[k * m..(k + 1) * m];
-                    for (yi, v) in y.as_mut_slice().iter_mut().zip(column) {
-                        *yi += v.re * zk.re - v.im * zk.im;
-                    }
+                    f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
             Form::General { start, plus, minus } => {
@@ -503,10 +529,7 @@ impl Flight<'_> {
                             * phi_shared(l, el, zero, C64::new(1.0, 0.0), s, f.period);
                     }
                     let zk = zk * weight;
-                    let column = &f.modes.as_slice()[k * m..(k + 1) * m];
-                    for (yi, v) in y.as_mut_slice().iter_mut().zip(column) {
-                        *yi += v.re * zk.re - v.im * zk.im;
-                    }
+                    f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
         }
