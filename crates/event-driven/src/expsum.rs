@@ -578,7 +578,19 @@ impl ExpSum {
             }
             let reach = cutoff * cutoff * cutoff * jerk_cut / 6.0
                 + DRIFT_ROUNDING * (size0 + cutoff * speed + 0.5 * cutoff * cutoff * bend);
-            if start + upper + reach < hi && start + lower - reach > lo {
+            // A start on an edge moving back inside (the pair that has just impacted) is no
+            // exit there, and none follows while the motion keeps away from that edge:
+            // `f(s) − f(0) = s (f'(0) + ½f''(0)s ± ⅙ sup|f'''| s²)`, whose bracket is convex
+            // (concave) in `s` for the upper (lower) bound, so its extreme on `[0, cutoff]` is
+            // at an end; `f'(0)` and `f''(0)` carry rounding of `speed` and `bend`.
+            let slope_slack = DRIFT_ROUNDING * (speed + 0.5 * cutoff * bend);
+            let slope_end = slope0 + 0.5 * curve0 * cutoff;
+            let third = jerk_cut * cutoff * cutoff / 6.0;
+            let below = start + upper + reach < hi
+                || (start <= hi && slope0.max(slope_end + third) + slope_slack < 0.0);
+            let above = start + lower - reach > lo
+                || (start >= lo && slope0.min(slope_end - third) - slope_slack > 0.0);
+            if below && above {
                 return None;
             }
         }
