@@ -897,6 +897,41 @@ impl ExpSum {
         derivatives.at3(self, s, point)
     }
 
+    /// Whether `|f| < floor` on `[0, horizon]` with room for the rounding of any evaluation
+    /// there (see [`Self::max_abs`]; `false` when that cannot be told from the Taylor bound at
+    /// `0`, or for terms with a polynomial or a growing rate).
+    fn bounded_by(&self, floor: f64, horizon: f64) -> bool {
+        let zero = C64::default();
+        let (mut value, mut slope, mut curve) = (0.0, 0.0, 0.0);
+        let (mut size, mut speed, mut bend, mut jerk) = (0.0, 0.0, 0.0, 0.0);
+        for t in &self.terms {
+            if t.rate.re > 0.0 || t.poly[1..].iter().any(|c| *c != zero) {
+                return false;
+            }
+            let (c, mu) = (t.poly[0], t.rate);
+            let cm = c * mu;
+            value += c.re;
+            slope += cm.re;
+            curve += (cm * mu).re;
+            let (a, m) = (l1(c), l1(mu));
+            size += a;
+            speed += a * m;
+            bend += a * m * m;
+            jerk += a * m * m * m;
+        }
+        let h = horizon;
+        let quadratic = |s: f64| value + s * (slope + 0.5 * curve * s);
+        let mut largest = quadratic(0.0).abs().max(quadratic(h).abs());
+        if curve != 0.0 {
+            let vertex = -slope / curve;
+            if vertex > 0.0 && vertex < h {
+                largest = largest.max(quadratic(vertex).abs());
+            }
+        }
+        let rounding = DRIFT_ROUNDING * (size + h * speed + 0.5 * h * h * bend);
+        largest + jerk * h * h * h / 6.0 + 2.0 * rounding < floor
+    }
+
     /// `f + c`.
     pub fn shifted(&self, c: f64) -> ExpSum {
         let mut out = self.clone();
@@ -927,7 +962,16 @@ impl ExpSum {
     /// and bound with the curvature bound. Intervals where `|f|` cannot exceed the larger of
     /// `floor` and the best value so far by more than `tolerance` are not refined, so a running
     /// maximum passed as `floor` makes most calls cost one evaluation.
+    ///
+    /// A call whose floor already bounds `|f|` on the whole horizon returns it at once: for
+    /// terms with constant polynomials and no growing rate, `|f(s)| ≤ |f(0)| + |f'(0)| s +
+    /// ½f''(0) s² ± ⅙ s³ sup|f'''|` plus the rounding of every evaluation (`DRIFT_ROUNDING` of
+    /// the terms' sizes), and when that is below the floor no evaluation could exceed it
+    /// either.
     pub fn max_abs(&self, horizon: f64, floor: f64, tolerance: f64) -> f64 {
+        if self.bounded_by(floor, horizon) {
+            return floor;
+        }
         let curvature = self.curvature_bound(horizon);
         let mut best = floor
             .max(self.eval(0.0).0.abs())
