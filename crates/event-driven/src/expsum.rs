@@ -301,6 +301,169 @@ pub struct ExpSum {
     pub terms: Vec<Term>,
 }
 
+/// The sums behind the first, evaluation-free tests of [`ExpSum::first_exit_until`] (see
+/// [`Summary::excludes`]): `f(0)`, `f'(0)`, `f''(0)`, the constant part, and bounds on the
+/// varying part's size and on `|f'|`, `|f''|`, `|f'''|` over `[0, cutoff]` (and `|f'''|`
+/// over the horizon, for the grid), from the terms' absolute coefficients and rates.
+///
+/// Terms with constant polynomials are added one by one ([`Summary::add`]); a flight can so
+/// summarise a functional without writing its terms out, with the very sums the search
+/// would form.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Summary {
+    /// `f(0)`.
+    start: f64,
+    /// `f'(0)`.
+    slope0: f64,
+    /// `f''(0)`.
+    curve0: f64,
+    /// `Σ |c|` over every term: the rounding scale of `f(0)`.
+    size0: f64,
+    /// The constant terms' sum.
+    centre: f64,
+    /// A bound on the varying terms' size on `[0, cutoff]`.
+    spread: f64,
+    /// A bound on `|f'|` on `[0, cutoff]`.
+    speed: f64,
+    /// A bound on `|f''|` on `[0, cutoff]`.
+    bend: f64,
+    /// A bound on `|f'''|` on `[0, cutoff]`.
+    jerk_cut: f64,
+    /// A bound on `|f'''|` on `[0, horizon]`.
+    jerk_horizon: f64,
+}
+
+impl Summary {
+    /// Adds the term `c e^{μs}` (a constant polynomial), for a search cut at `cutoff` on the
+    /// grid of `horizon` (both finite; they matter only for a growing rate, `Re μ > 0`).
+    #[inline]
+    pub(crate) fn add(&mut self, c: C64, mu: C64, cutoff: f64, horizon: f64) {
+        let slope = c * mu;
+        self.start += c.re;
+        self.slope0 += slope.re;
+        let size = l1(c);
+        self.size0 += size;
+        let rate = l1(mu);
+        let growth_horizon = if mu.re > 0.0 {
+            (mu.re * horizon).exp()
+        } else {
+            1.0
+        };
+        self.jerk_horizon += rate * rate * rate * size * growth_horizon;
+        if mu == C64::default() {
+            self.centre += c.re;
+        } else {
+            let growth = if mu.re > 0.0 {
+                (mu.re * cutoff).exp()
+            } else {
+                1.0
+            };
+            self.spread += size * growth;
+            self.speed += (rate * size) * growth;
+            self.bend += (rate * (rate * size)) * growth;
+            self.curve0 += slope.re * mu.re - slope.im * mu.im;
+            self.jerk_cut += (rate * rate * rate * size) * growth;
+        }
+    }
+
+    /// [`Self::add`] for a rate that does not grow (`Re μ ≤ 0`): the same sums, without the
+    /// growth factors, which are then exactly 1.
+    #[inline]
+    pub(crate) fn add_decaying(&mut self, c: C64, mu: C64) {
+        if mu.re == 0.0 && mu.im == 0.0 {
+            self.start += c.re;
+            self.slope0 += (c * mu).re;
+            let size = l1(c);
+            self.size0 += size;
+            self.jerk_horizon += 0.0 * size;
+            self.centre += c.re;
+        } else {
+            let rate = l1(mu);
+            self.add_moving(c, mu, rate, rate * rate * rate);
+        }
+    }
+
+    /// [`Self::add_decaying`] for a rate `μ ≠ 0`, given `rate = |Re μ| + |Im μ|` and
+    /// `cube = (rate · rate) · rate`.
+    #[inline]
+    pub(crate) fn add_moving(&mut self, c: C64, mu: C64, rate: f64, cube: f64) {
+        let slope = c * mu;
+        self.start += c.re;
+        self.slope0 += slope.re;
+        let size = l1(c);
+        self.size0 += size;
+        let jerk = cube * size;
+        self.jerk_horizon += jerk;
+        self.spread += size;
+        self.speed += rate * size;
+        self.bend += rate * (rate * size);
+        self.curve0 += slope.re * mu.re - slope.im * mu.im;
+        self.jerk_cut += jerk;
+    }
+
+    /// Where the quadratic Taylor model at `0` first leaves `(lo, hi)`, as
+    /// [`ExpSum::estimated_exit`].
+    pub(crate) fn estimated_exit(&self, lo: f64, hi: f64) -> f64 {
+        quadratic_exit(self.start, self.slope0, self.curve0, lo, hi)
+    }
+
+    /// Whether `f` provably stays inside `(lo, hi)` on `[0, cutoff]` (a start on an edge
+    /// moving back inside counts as inside), by bounds alone:
+    ///
+    /// - envelope: the constant part ± the largest the varying terms can be;
+    /// - drift: `|f(s) − f(0)| ≤ s sup|f'|` (a short horizon, cut to an earlier contact of
+    ///   another pair, is mostly decided here);
+    /// - second order: `f(s) ∈ f(0) + [min(0, f'(0)s), max(0, f'(0)s)] ± ½ s² sup|f''|`;
+    /// - for a search cut short of its horizon (`cutoff < horizon`: the watch of several
+    ///   pairs, at an earlier contact of another pair), third order:
+    ///   `f(s) ∈ f(0) + f'(0)s + ½f''(0)s² ± ⅙ s³ sup|f'''|`, the quadratic's extremes on
+    ///   `[0, cutoff]` at its ends or its vertex; and for a start on an edge moving back
+    ///   inside (the pair that has just impacted), `f(s) − f(0) = s (f'(0) + ½f''(0)s ±
+    ///   ⅙ sup|f'''| s²)`, whose bracket is convex (concave) in `s` for the upper (lower)
+    ///   bound, so its extreme on `[0, cutoff]` is at an end.
+    ///
+    /// Each test carries the rounding of the sums (`DRIFT_ROUNDING` of the terms' sizes).
+    pub(crate) fn excludes(&self, lo: f64, hi: f64, cutoff: f64, horizon: f64) -> bool {
+        let (start, slope0, curve0) = (self.start, self.slope0, self.curve0);
+        let (size0, speed, bend) = (self.size0, self.speed, self.bend);
+        if self.centre + self.spread < hi && self.centre - self.spread > lo {
+            return true;
+        }
+        let drift = cutoff * speed + DRIFT_ROUNDING * size0;
+        if start + drift < hi && start - drift > lo {
+            return true;
+        }
+        let reach = 0.5 * cutoff * cutoff * bend + DRIFT_ROUNDING * (size0 + cutoff * speed);
+        let moved = slope0 * cutoff;
+        if start + moved.max(0.0) + reach < hi && start + moved.min(0.0) - reach > lo {
+            return true;
+        }
+        if cutoff >= horizon {
+            return false;
+        }
+        let quadratic = |s: f64| s * (slope0 + 0.5 * curve0 * s);
+        let end = quadratic(cutoff);
+        let (mut upper, mut lower) = (end.max(0.0), end.min(0.0));
+        if curve0 != 0.0 {
+            let vertex = -slope0 / curve0;
+            if vertex > 0.0 && vertex < cutoff {
+                upper = upper.max(quadratic(vertex));
+                lower = lower.min(quadratic(vertex));
+            }
+        }
+        let reach = cutoff * cutoff * cutoff * self.jerk_cut / 6.0
+            + DRIFT_ROUNDING * (size0 + cutoff * speed + 0.5 * cutoff * cutoff * bend);
+        let slope_slack = DRIFT_ROUNDING * (speed + 0.5 * cutoff * bend);
+        let slope_end = slope0 + 0.5 * curve0 * cutoff;
+        let third = self.jerk_cut * cutoff * cutoff / 6.0;
+        let below = start + upper + reach < hi
+            || (start <= hi && slope0.max(slope_end + third) + slope_slack < 0.0);
+        let above = start + lower - reach > lo
+            || (start >= lo && slope0.min(slope_end - third) - slope_slack > 0.0);
+        below && above
+    }
+}
+
 impl ExpSum {
     /// Value and first derivative at `s`.
     #[inline]
@@ -475,14 +638,7 @@ impl ExpSum {
         // Drift test: `|f(s) − f(0)| ≤ s sup|f'|`, `sup|f'| ≤ Σ (|p'| + |μ||p|) growth`; when
         // `f(0)` is farther than `horizon × sup|f'|` from both edges no exit is possible (a
         // short horizon, cut to an earlier contact of another pair, is mostly decided here).
-        let (mut centre, mut spread) = (0.0, 0.0);
-        // Second order: `f(s) ∈ f(0) + [min(0, f'(0)s), max(0, f'(0)s)] ± ½ s² sup|f''|`.
-        let (mut start, mut speed, mut size0) = (0.0, 0.0, 0.0);
-        let (mut slope0, mut bend) = (0.0, 0.0);
-        // Third order (searches cut short only): `f''(0)` and `sup|f'''|` on `[0, cutoff]`.
         let cut = cutoff < horizon;
-        let (mut curve0, mut jerk_cut) = (0.0, 0.0);
-        let zero = C64::default();
         // Every polynomial a constant (the steady-response flights; `+0` coefficients, which
         // is how flights write them; anything else takes the general path): the same sums
         // without the higher coefficients, which are exact zeros and add nothing, and the
@@ -495,53 +651,25 @@ impl ExpSum {
                     .fold(0, |bits, c| bits | c.re.to_bits() | c.im.to_bits())
                     == 0
             });
-        let mut jerk_horizon = 0.0;
+        let mut sum = Summary::default();
         for t in self.terms.iter().filter(|_| constant) {
-            let (c, mu) = (t.poly[0], t.rate);
-            let slope = c * mu;
-            start += c.re;
-            slope0 += slope.re;
-            let size = l1(c);
-            size0 += size;
-            let rate = l1(mu);
-            let growth_horizon = if mu.re > 0.0 {
-                (mu.re * horizon).exp()
-            } else {
-                1.0
-            };
-            jerk_horizon += rate * rate * rate * size * growth_horizon;
-            if mu == zero {
-                centre += c.re;
-            } else {
-                let growth = if mu.re > 0.0 {
-                    (mu.re * cutoff).exp()
-                } else {
-                    1.0
-                };
-                spread += size * growth;
-                speed += (rate * size) * growth;
-                bend += (rate * (rate * size)) * growth;
-                if cut {
-                    curve0 += slope.re * mu.re - slope.im * mu.im;
-                    jerk_cut += (rate * rate * rate * size) * growth;
-                }
-            }
+            sum.add(t.poly[0], t.rate, cutoff, horizon);
         }
         for t in self.terms.iter().filter(|_| !constant) {
-            start += t.poly[0].re;
-            slope0 += (t.poly[1] + t.poly[0] * t.rate).re;
-            size0 += l1(t.poly[0]);
+            sum.start += t.poly[0].re;
+            sum.slope0 += (t.poly[1] + t.poly[0] * t.rate).re;
+            sum.size0 += l1(t.poly[0]);
             if t.rate == C64::default() && t.poly[1..].iter().all(|c| *c == C64::default()) {
-                centre += t.poly[0].re;
+                sum.centre += t.poly[0].re;
             } else {
                 let ([size, slope, curve, third], rate, growth) = term_bounds(t, cutoff);
-                spread += size * growth;
-                speed += (slope + rate * size) * growth;
-                bend += (curve + rate * (2.0 * slope + rate * size)) * growth;
+                sum.spread += size * growth;
+                sum.speed += (slope + rate * size) * growth;
+                sum.bend += (curve + rate * (2.0 * slope + rate * size)) * growth;
                 if cut {
                     let (p, mu) = (t.poly, t.rate);
-                    curve0 += (p[2] * 2.0 + (p[1] * 2.0 + p[0] * mu) * mu).re;
-                    jerk_cut += (third
+                    sum.curve0 += (p[2] * 2.0 + (p[1] * 2.0 + p[0] * mu) * mu).re;
+                    sum.jerk_cut += (third
                         + 3.0 * rate * curve
                         + 3.0 * rate * rate * slope
                         + rate * rate * rate * size)
@@ -549,53 +677,11 @@ impl ExpSum {
                 }
             }
         }
-        if centre + spread < hi && centre - spread > lo {
+        if sum.excludes(lo, hi, cutoff, horizon) {
             return None;
-        }
-        let drift = cutoff * speed + DRIFT_ROUNDING * size0;
-        if start + drift < hi && start - drift > lo {
-            return None;
-        }
-        let reach = 0.5 * cutoff * cutoff * bend + DRIFT_ROUNDING * (size0 + cutoff * speed);
-        let moved = slope0 * cutoff;
-        if start + moved.max(0.0) + reach < hi && start + moved.min(0.0) - reach > lo {
-            return None;
-        }
-        // A search cut short of its horizon (the watch of several pairs, at an earlier
-        // contact of another pair) is short: one order more decides most of them here, before
-        // the grid is set up. `f(s) ∈ f(0) + f'(0)s + ½f''(0)s² ± ⅙ s³ sup|f'''|`, the
-        // quadratic's extremes on `[0, cutoff]` at its ends or its vertex.
-        if cut {
-            let quadratic = |s: f64| s * (slope0 + 0.5 * curve0 * s);
-            let end = quadratic(cutoff);
-            let (mut upper, mut lower) = (end.max(0.0), end.min(0.0));
-            if curve0 != 0.0 {
-                let vertex = -slope0 / curve0;
-                if vertex > 0.0 && vertex < cutoff {
-                    upper = upper.max(quadratic(vertex));
-                    lower = lower.min(quadratic(vertex));
-                }
-            }
-            let reach = cutoff * cutoff * cutoff * jerk_cut / 6.0
-                + DRIFT_ROUNDING * (size0 + cutoff * speed + 0.5 * cutoff * cutoff * bend);
-            // A start on an edge moving back inside (the pair that has just impacted) is no
-            // exit there, and none follows while the motion keeps away from that edge:
-            // `f(s) − f(0) = s (f'(0) + ½f''(0)s ± ⅙ sup|f'''| s²)`, whose bracket is convex
-            // (concave) in `s` for the upper (lower) bound, so its extreme on `[0, cutoff]` is
-            // at an end; `f'(0)` and `f''(0)` carry rounding of `speed` and `bend`.
-            let slope_slack = DRIFT_ROUNDING * (speed + 0.5 * cutoff * bend);
-            let slope_end = slope0 + 0.5 * curve0 * cutoff;
-            let third = jerk_cut * cutoff * cutoff / 6.0;
-            let below = start + upper + reach < hi
-                || (start <= hi && slope0.max(slope_end + third) + slope_slack < 0.0);
-            let above = start + lower - reach > lo
-                || (start >= lo && slope0.min(slope_end - third) - slope_slack > 0.0);
-            if below && above {
-                return None;
-            }
         }
         let jerk = if constant {
-            jerk_horizon
+            sum.jerk_horizon
         } else {
             self.jerk_bound(horizon)
         };

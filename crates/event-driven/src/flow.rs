@@ -15,7 +15,7 @@
 //! folded into one (`Re Σ = 2 Re` of one of each pair), halving the exponentials again.
 //! The eigenvectors come from the quadratic pencil: `(λ²M + λC + K) φ = 0`, `v = (φ, λφ)`.
 
-use crate::expsum::{ExpSum, Term};
+use crate::expsum::{ExpSum, Summary, Term};
 use nalgebra::{Complex, DMatrix, DVector};
 use thiserror::Error;
 
@@ -82,6 +82,8 @@ pub struct LinearFlow {
     /// The modes that carry a real motion: one of each conjugate pair (weight 2) and every
     /// real mode (weight 1), so that `Re Σ_all = Σ_kept weight · Re`.
     kept: Vec<(usize, f64)>,
+    /// Per kept mode, `|Re λ| + |Im λ|` and its cube `(r · r) · r`, for [`Flight::summarize`].
+    kept_sizes: Vec<(f64, f64)>,
     /// The forced steady response, when no mode is resonant with the forcing.
     steady: Option<SteadyResponse>,
 }
@@ -289,7 +291,7 @@ impl LinearFlow {
             .iter()
             .enumerate()
             .all(|(k, r)| r.im == 0.0 || partner(k).is_some());
-        let kept = if pairs_exact {
+        let kept: Vec<(usize, f64)> = if pairs_exact {
             rates
                 .iter()
                 .enumerate()
@@ -299,6 +301,13 @@ impl LinearFlow {
         } else {
             (0..rates.len()).map(|k| (k, 1.0)).collect()
         };
+        let kept_sizes = kept
+            .iter()
+            .map(|&(k, _)| {
+                let rate = rates[k].re.abs() + rates[k].im.abs();
+                (rate, rate * rate * rate)
+            })
+            .collect();
         let w = C64::new(0.0, omega);
         let has_constant = constant.iter().any(|c| *c != C64::default());
         let steady = rates
@@ -345,6 +354,7 @@ impl LinearFlow {
             minus,
             constant,
             kept,
+            kept_sizes,
             steady,
         })
     }
@@ -533,6 +543,37 @@ impl Flight<'_> {
                 }
             }
         }
+    }
+
+    /// The [`Summary`] of the functional's terms, as [`Self::expand`] would write them (same
+    /// products, same order), without writing them: for the steady-response form when no
+    /// rate grows (then the summary holds for any cutoff); `None` otherwise.
+    pub(crate) fn summarize(&self, functional: &Functional, horizon: f64) -> Option<Summary> {
+        let f = self.flow;
+        let Form::Steady {
+            deviation, phase, ..
+        } = &self.form
+        else {
+            return None;
+        };
+        if !horizon.is_finite() || f.rates.iter().any(|r| r.re > 0.0) {
+            return None;
+        }
+        let weights = functional.weights.as_slice();
+        let mut sum = Summary::default();
+        for (&(k, weight), &(rate, cube)) in f.kept.iter().zip(&f.kept_sizes) {
+            let (c, mu) = (weights[k] * deviation[k] * weight, f.rates[k]);
+            if rate == 0.0 {
+                sum.add_decaying(c, mu);
+            } else {
+                sum.add_moving(c, mu, rate, cube);
+            }
+        }
+        sum.add_decaying(functional.forced * phase, C64::new(0.0, f.omega));
+        if functional.constant != 0.0 {
+            sum.add_decaying(C64::new(functional.constant, 0.0), C64::default());
+        }
+        Some(sum)
     }
 
     /// The linear functional `c · y(s)` as a sum of exponential terms in `s`.

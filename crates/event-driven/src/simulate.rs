@@ -30,7 +30,7 @@
 //! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
 //! exact in any case); [`crate::newton`] refuses sticking runs anyway.
 
-use crate::expsum::{ExpSum, SearchStack};
+use crate::expsum::{ExpSum, SearchStack, Summary};
 use crate::flow::{Flight, FlowError, Functional, LinearFlow};
 use crate::model::{ContactPair, Model};
 use crate::newton::{periodic_orbit, PeriodicOrbit};
@@ -437,6 +437,9 @@ pub(crate) struct Engine<'m> {
 struct Scratch {
     /// Each watched pair's gap in the current flight.
     gaps: Vec<ExpSum>,
+    /// Each watched pair's gap summarised ([`Flight::summarize`]) when several pairs are
+    /// watched: its terms are then written out only for a search.
+    summaries: Vec<Option<Summary>>,
     /// The watch's search order: `(estimated exit, slot in gaps, pair, lo, hi)`.
     order: Vec<(f64, usize, usize, f64, f64)>,
     stack: SearchStack,
@@ -1331,24 +1334,48 @@ impl<'m> Engine<'m> {
         let mut contact: Option<Contact> = None;
         let mut step = f64::INFINITY;
         // Every pair's gap, then the searches in the order of their quadratic estimates: the
-        // likely first contact is found first and cuts the others' horizons short.
+        // likely first contact is found first and cuts the others' horizons short. With
+        // several pairs, each gap is first only summarised (the sums the search's first tests
+        // form, from the same products): a pair those tests exclude up to the earliest
+        // contact found is decided without writing its terms out, as its search would decide
+        // it.
+        let watched: Vec<(usize, &Functional, f64)> = watched.collect();
+        let several = watched.len() > 1;
         work.order.clear();
-        for (count, (i, functional, shift)) in watched.enumerate() {
+        for (count, &(i, functional, shift)) in watched.iter().enumerate() {
             if work.gaps.len() <= count {
                 work.gaps.push(ExpSum::default());
+                work.summaries.push(None);
             }
-            let gap = &mut work.gaps[count];
-            flight.expand(functional, gap);
             let spec = &pairs[i].spec;
             let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
-            work.order
-                .push((gap.estimated_exit(lo, hi), count, i, lo, hi));
+            let summary = if several {
+                flight.summarize(functional, horizon)
+            } else {
+                None
+            };
+            work.summaries[count] = summary;
+            let estimate = match summary {
+                Some(summary) => summary.estimated_exit(lo, hi),
+                None => {
+                    let gap = &mut work.gaps[count];
+                    flight.expand(functional, gap);
+                    gap.estimated_exit(lo, hi)
+                }
+            };
+            work.order.push((estimate, count, i, lo, hi));
         }
         work.order
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         for &(_, slot, i, lo, hi) in &work.order {
             // Only a contact before the earliest found so far matters: search up to it.
             let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
+            if let Some(summary) = work.summaries[slot] {
+                if summary.excludes(lo, hi, within, horizon) {
+                    continue;
+                }
+                flight.expand(watched[slot].1, &mut work.gaps[slot]);
+            }
             if let Some((s, side)) = work.gaps[slot].first_exit_until(
                 lo,
                 hi,
