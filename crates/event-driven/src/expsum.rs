@@ -369,7 +369,9 @@ impl Summary {
     /// [`Self::add`] for a rate that does not grow (`Re μ ≤ 0`): the same sums, without the
     /// growth factors, which are then exactly 1.
     #[inline]
-    pub(crate) fn add_decaying(&mut self, c: C64, mu: C64) {
+    /// `CUT`: whether to form `f''(0)` and `sup|f'''|` on `[0, cutoff]` (only the tests of a
+    /// search cut short use them).
+    pub(crate) fn add_decaying<const CUT: bool>(&mut self, c: C64, mu: C64) {
         if mu.re == 0.0 && mu.im == 0.0 {
             self.start += c.re;
             self.slope0 += (c * mu).re;
@@ -379,14 +381,14 @@ impl Summary {
             self.centre += c.re;
         } else {
             let rate = l1(mu);
-            self.add_moving(c, mu, rate, rate * rate * rate);
+            self.add_moving::<CUT>(c, mu, rate, rate * rate * rate);
         }
     }
 
     /// [`Self::add_decaying`] for a rate `μ ≠ 0`, given `rate = |Re μ| + |Im μ|` and
     /// `cube = (rate · rate) · rate`.
     #[inline]
-    pub(crate) fn add_moving(&mut self, c: C64, mu: C64, rate: f64, cube: f64) {
+    pub(crate) fn add_moving<const CUT: bool>(&mut self, c: C64, mu: C64, rate: f64, cube: f64) {
         let slope = c * mu;
         self.start += c.re;
         self.slope0 += slope.re;
@@ -397,8 +399,10 @@ impl Summary {
         self.spread += size;
         self.speed += rate * size;
         self.bend += rate * (rate * size);
-        self.curve0 += slope.re * mu.re - slope.im * mu.im;
-        self.jerk_cut += jerk;
+        if CUT {
+            self.curve0 += slope.re * mu.re - slope.im * mu.im;
+            self.jerk_cut += jerk;
+        }
     }
 
     /// Where the quadratic Taylor model at `0` first leaves `(lo, hi)`, as
@@ -651,9 +655,25 @@ impl ExpSum {
                     .fold(0, |bits, c| bits | c.re.to_bits() | c.im.to_bits())
                     == 0
             });
+        let decaying = constant && self.terms.iter().all(|t| t.rate.re <= 0.0);
         let mut sum = Summary::default();
-        for t in self.terms.iter().filter(|_| constant) {
-            sum.add(t.poly[0], t.rate, cutoff, horizon);
+        match (constant, decaying, cut) {
+            (true, true, true) => {
+                for t in &self.terms {
+                    sum.add_decaying::<true>(t.poly[0], t.rate);
+                }
+            }
+            (true, true, false) => {
+                for t in &self.terms {
+                    sum.add_decaying::<false>(t.poly[0], t.rate);
+                }
+            }
+            (true, false, _) => {
+                for t in &self.terms {
+                    sum.add(t.poly[0], t.rate, cutoff, horizon);
+                }
+            }
+            _ => {}
         }
         for t in self.terms.iter().filter(|_| !constant) {
             sum.start += t.poly[0].re;

@@ -564,14 +564,14 @@ impl Flight<'_> {
         for (&(k, weight), &(rate, cube)) in f.kept.iter().zip(&f.kept_sizes) {
             let (c, mu) = (weights[k] * deviation[k] * weight, f.rates[k]);
             if rate == 0.0 {
-                sum.add_decaying(c, mu);
+                sum.add_decaying::<true>(c, mu);
             } else {
-                sum.add_moving(c, mu, rate, cube);
+                sum.add_moving::<true>(c, mu, rate, cube);
             }
         }
-        sum.add_decaying(functional.forced * phase, C64::new(0.0, f.omega));
+        sum.add_decaying::<true>(functional.forced * phase, C64::new(0.0, f.omega));
         if functional.constant != 0.0 {
-            sum.add_decaying(C64::new(functional.constant, 0.0), C64::default());
+            sum.add_decaying::<true>(C64::new(functional.constant, 0.0), C64::default());
         }
         Some(sum)
     }

@@ -1329,7 +1329,7 @@ impl<'m> Engine<'m> {
         tau: f64,
     ) -> Watch
     where
-        I: Iterator<Item = (usize, &'f Functional, f64)>,
+        I: Iterator<Item = (usize, &'f Functional, f64)> + Clone,
     {
         let mut contact: Option<Contact> = None;
         let mut step = f64::INFINITY;
@@ -1339,10 +1339,9 @@ impl<'m> Engine<'m> {
         // form, from the same products): a pair those tests exclude up to the earliest
         // contact found is decided without writing its terms out, as its search would decide
         // it.
-        let watched: Vec<(usize, &Functional, f64)> = watched.collect();
-        let several = watched.len() > 1;
+        let several = watched.size_hint().0 > 1;
         work.order.clear();
-        for (count, &(i, functional, shift)) in watched.iter().enumerate() {
+        for (count, (i, functional, shift)) in watched.clone().enumerate() {
             if work.gaps.len() <= count {
                 work.gaps.push(ExpSum::default());
                 work.summaries.push(None);
@@ -1374,7 +1373,9 @@ impl<'m> Engine<'m> {
                 if summary.excludes(lo, hi, within, horizon) {
                     continue;
                 }
-                flight.expand(watched[slot].1, &mut work.gaps[slot]);
+                if let Some((_, functional, _)) = watched.clone().nth(slot) {
+                    flight.expand(functional, &mut work.gaps[slot]);
+                }
             }
             if let Some((s, side)) = work.gaps[slot].first_exit_until(
                 lo,
