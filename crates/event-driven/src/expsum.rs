@@ -637,11 +637,10 @@ impl ExpSum {
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
         let cutoff = cutoff.min(horizon);
-        // Envelope test: constant part ± the largest each varying term can be on the horizon.
-        // When that band lies inside (lo, hi) no exit is possible, at no evaluation cost.
-        // Drift test: `|f(s) − f(0)| ≤ s sup|f'|`, `sup|f'| ≤ Σ (|p'| + |μ||p|) growth`; when
-        // `f(0)` is farther than `horizon × sup|f'|` from both edges no exit is possible (a
-        // short horizon, cut to an earlier contact of another pair, is mostly decided here).
+        // The evaluation-free tests first (envelope, drift, second and, for a search cut
+        // short, third order: `Summary::excludes`): most searches end here, at no evaluation
+        // cost. The general path bounds each term's polynomial and its derivatives
+        // (`sup|f'| ≤ Σ (|p'| + |μ||p|) growth`, ...).
         let cut = cutoff < horizon;
         // Every polynomial a constant (the steady-response flights; `+0` coefficients, which
         // is how flights write them; anything else takes the general path): the same sums

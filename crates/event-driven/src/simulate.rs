@@ -19,7 +19,9 @@
 //! **Many contact pairs** (chains of cells, [`Model::chain`]): every pair is watched at all
 //! times with the same first-contact guarantee. In free flight all pairs' gaps are searched
 //! (in the order of their quadratic estimates, each search cut at the earliest contact found
-//! so far). Any set of pairs may be held on their stops at once: the motion is then the
+//! so far; a gap is first only summarised from the flight's modal coordinates, and a pair
+//! whose evaluation-free bounds keep it inside its stops up to that contact is decided
+//! exactly as its search would decide it, without the search). Any set of pairs may be held on their stops at once: the motion is then the
 //! constrained flow with the held pairs' relative coordinates fixed (`Stuck`), each held pair
 //! is released when its own contact force would pull, and the other pairs are searched in
 //! the constrained flow. Contacts are resolved one at a time in time order, ties by pair
