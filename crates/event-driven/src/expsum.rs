@@ -26,14 +26,24 @@ const DRIFT_ROUNDING: f64 = 64.0 * f64::EPSILON;
 /// For one term on `[0, h]`: bounds on its polynomial and the polynomial's first three
 /// derivatives (absolute coefficients at `s = h`), `|μ|` (as `|re| + |im|`), and the growth
 /// factor `max(1, e^{Re μ h})`.
+///
+/// A constant polynomial (every steady-response flight's terms) takes a short path with the
+/// same values: the higher coefficients are exact zeros, and so are their contributions.
+#[inline]
 fn term_bounds(t: &Term, h: f64) -> ([f64; 4], f64, f64) {
-    let a = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
-    let p = [
-        a[0] + h * (a[1] + h * (a[2] + h * a[3])),
-        a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]),
-        2.0 * a[2] + 6.0 * h * a[3],
-        6.0 * a[3],
-    ];
+    let zero = C64::default();
+    let constant = t.poly[1] == zero && t.poly[2] == zero && t.poly[3] == zero;
+    let p = if constant && h.is_finite() {
+        [l1(t.poly[0]), 0.0, 0.0, 0.0]
+    } else {
+        let a = [l1(t.poly[0]), l1(t.poly[1]), l1(t.poly[2]), l1(t.poly[3])];
+        [
+            a[0] + h * (a[1] + h * (a[2] + h * a[3])),
+            a[1] + h * (2.0 * a[2] + 3.0 * h * a[3]),
+            2.0 * a[2] + 6.0 * h * a[3],
+            6.0 * a[3],
+        ]
+    };
     let growth = if t.rate.re > 0.0 {
         (t.rate.re * h).exp()
     } else {
@@ -291,6 +301,173 @@ pub struct ExpSum {
     pub terms: Vec<Term>,
 }
 
+/// The sums behind the first, evaluation-free tests of [`ExpSum::first_exit_until`] (see
+/// [`Summary::excludes`]): `f(0)`, `f'(0)`, `f''(0)`, the constant part, and bounds on the
+/// varying part's size and on `|f'|`, `|f''|`, `|f'''|` over `[0, cutoff]` (and `|f'''|`
+/// over the horizon, for the grid), from the terms' absolute coefficients and rates.
+///
+/// Terms with constant polynomials are added one by one ([`Summary::add`]); a flight can so
+/// summarise a functional without writing its terms out, with the very sums the search
+/// would form.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub(crate) struct Summary {
+    /// `f(0)`.
+    start: f64,
+    /// `f'(0)`.
+    slope0: f64,
+    /// `f''(0)`.
+    curve0: f64,
+    /// `Σ |c|` over every term: the rounding scale of `f(0)`.
+    size0: f64,
+    /// The constant terms' sum.
+    centre: f64,
+    /// A bound on the varying terms' size on `[0, cutoff]`.
+    spread: f64,
+    /// A bound on `|f'|` on `[0, cutoff]`.
+    speed: f64,
+    /// A bound on `|f''|` on `[0, cutoff]`.
+    bend: f64,
+    /// A bound on `|f'''|` on `[0, cutoff]`.
+    jerk_cut: f64,
+    /// A bound on `|f'''|` on `[0, horizon]`.
+    jerk_horizon: f64,
+}
+
+impl Summary {
+    /// Adds the term `c e^{μs}` (a constant polynomial), for a search cut at `cutoff` on the
+    /// grid of `horizon` (both finite; they matter only for a growing rate, `Re μ > 0`).
+    #[inline]
+    pub(crate) fn add(&mut self, c: C64, mu: C64, cutoff: f64, horizon: f64) {
+        let slope = c * mu;
+        self.start += c.re;
+        self.slope0 += slope.re;
+        let size = l1(c);
+        self.size0 += size;
+        let rate = l1(mu);
+        let growth_horizon = if mu.re > 0.0 {
+            (mu.re * horizon).exp()
+        } else {
+            1.0
+        };
+        self.jerk_horizon += rate * rate * rate * size * growth_horizon;
+        if mu == C64::default() {
+            self.centre += c.re;
+        } else {
+            let growth = if mu.re > 0.0 {
+                (mu.re * cutoff).exp()
+            } else {
+                1.0
+            };
+            self.spread += size * growth;
+            self.speed += (rate * size) * growth;
+            self.bend += (rate * (rate * size)) * growth;
+            self.curve0 += slope.re * mu.re - slope.im * mu.im;
+            self.jerk_cut += (rate * rate * rate * size) * growth;
+        }
+    }
+
+    /// [`Self::add`] for a rate that does not grow (`Re μ ≤ 0`): the same sums, without the
+    /// growth factors, which are then exactly 1.
+    #[inline]
+    /// `CUT`: whether to form `f''(0)` and `sup|f'''|` on `[0, cutoff]` (only the tests of a
+    /// search cut short use them).
+    pub(crate) fn add_decaying<const CUT: bool>(&mut self, c: C64, mu: C64) {
+        if mu.re == 0.0 && mu.im == 0.0 {
+            self.start += c.re;
+            self.slope0 += (c * mu).re;
+            let size = l1(c);
+            self.size0 += size;
+            self.jerk_horizon += 0.0 * size;
+            self.centre += c.re;
+        } else {
+            let rate = l1(mu);
+            self.add_moving::<CUT>(c, mu, rate, rate * rate * rate);
+        }
+    }
+
+    /// [`Self::add_decaying`] for a rate `μ ≠ 0`, given `rate = |Re μ| + |Im μ|` and
+    /// `cube = (rate · rate) · rate`.
+    #[inline]
+    pub(crate) fn add_moving<const CUT: bool>(&mut self, c: C64, mu: C64, rate: f64, cube: f64) {
+        let slope = c * mu;
+        self.start += c.re;
+        self.slope0 += slope.re;
+        let size = l1(c);
+        self.size0 += size;
+        let jerk = cube * size;
+        self.jerk_horizon += jerk;
+        self.spread += size;
+        self.speed += rate * size;
+        self.bend += rate * (rate * size);
+        if CUT {
+            self.curve0 += slope.re * mu.re - slope.im * mu.im;
+            self.jerk_cut += jerk;
+        }
+    }
+
+    /// Where the quadratic Taylor model at `0` first leaves `(lo, hi)`, as
+    /// [`ExpSum::estimated_exit`].
+    pub(crate) fn estimated_exit(&self, lo: f64, hi: f64) -> f64 {
+        quadratic_exit(self.start, self.slope0, self.curve0, lo, hi)
+    }
+
+    /// Whether `f` provably stays inside `(lo, hi)` on `[0, cutoff]` (a start on an edge
+    /// moving back inside counts as inside), by bounds alone:
+    ///
+    /// - envelope: the constant part ± the largest the varying terms can be;
+    /// - drift: `|f(s) − f(0)| ≤ s sup|f'|` (a short horizon, cut to an earlier contact of
+    ///   another pair, is mostly decided here);
+    /// - second order: `f(s) ∈ f(0) + [min(0, f'(0)s), max(0, f'(0)s)] ± ½ s² sup|f''|`;
+    /// - for a search cut short of its horizon (`cutoff < horizon`: the watch of several
+    ///   pairs, at an earlier contact of another pair), third order:
+    ///   `f(s) ∈ f(0) + f'(0)s + ½f''(0)s² ± ⅙ s³ sup|f'''|`, the quadratic's extremes on
+    ///   `[0, cutoff]` at its ends or its vertex; and for a start on an edge moving back
+    ///   inside (the pair that has just impacted), `f(s) − f(0) = s (f'(0) + ½f''(0)s ±
+    ///   ⅙ sup|f'''| s²)`, whose bracket is convex (concave) in `s` for the upper (lower)
+    ///   bound, so its extreme on `[0, cutoff]` is at an end.
+    ///
+    /// Each test carries the rounding of the sums (`DRIFT_ROUNDING` of the terms' sizes).
+    pub(crate) fn excludes(&self, lo: f64, hi: f64, cutoff: f64, horizon: f64) -> bool {
+        let (start, slope0, curve0) = (self.start, self.slope0, self.curve0);
+        let (size0, speed, bend) = (self.size0, self.speed, self.bend);
+        if self.centre + self.spread < hi && self.centre - self.spread > lo {
+            return true;
+        }
+        let drift = cutoff * speed + DRIFT_ROUNDING * size0;
+        if start + drift < hi && start - drift > lo {
+            return true;
+        }
+        let reach = 0.5 * cutoff * cutoff * bend + DRIFT_ROUNDING * (size0 + cutoff * speed);
+        let moved = slope0 * cutoff;
+        if start + moved.max(0.0) + reach < hi && start + moved.min(0.0) - reach > lo {
+            return true;
+        }
+        if cutoff >= horizon {
+            return false;
+        }
+        let quadratic = |s: f64| s * (slope0 + 0.5 * curve0 * s);
+        let end = quadratic(cutoff);
+        let (mut upper, mut lower) = (end.max(0.0), end.min(0.0));
+        if curve0 != 0.0 {
+            let vertex = -slope0 / curve0;
+            if vertex > 0.0 && vertex < cutoff {
+                upper = upper.max(quadratic(vertex));
+                lower = lower.min(quadratic(vertex));
+            }
+        }
+        let reach = cutoff * cutoff * cutoff * self.jerk_cut / 6.0
+            + DRIFT_ROUNDING * (size0 + cutoff * speed + 0.5 * cutoff * cutoff * bend);
+        let slope_slack = DRIFT_ROUNDING * (speed + 0.5 * cutoff * bend);
+        let slope_end = slope0 + 0.5 * curve0 * cutoff;
+        let third = self.jerk_cut * cutoff * cutoff / 6.0;
+        let below = start + upper + reach < hi
+            || (start <= hi && slope0.max(slope_end + third) + slope_slack < 0.0);
+        let above = start + lower - reach > lo
+            || (start >= lo && slope0.min(slope_end - third) - slope_slack > 0.0);
+        below && above
+    }
+}
+
 impl ExpSum {
     /// Value and first derivative at `s`.
     #[inline]
@@ -460,41 +637,73 @@ impl ExpSum {
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
         let cutoff = cutoff.min(horizon);
-        // Envelope test: constant part ± the largest each varying term can be on the horizon.
-        // When that band lies inside (lo, hi) no exit is possible, at no evaluation cost.
-        // Drift test: `|f(s) − f(0)| ≤ s sup|f'|`, `sup|f'| ≤ Σ (|p'| + |μ||p|) growth`; when
-        // `f(0)` is farther than `horizon × sup|f'|` from both edges no exit is possible (a
-        // short horizon, cut to an earlier contact of another pair, is mostly decided here).
-        let (mut centre, mut spread) = (0.0, 0.0);
-        // Second order: `f(s) ∈ f(0) + [min(0, f'(0)s), max(0, f'(0)s)] ± ½ s² sup|f''|`.
-        let (mut start, mut speed, mut size0) = (0.0, 0.0, 0.0);
-        let (mut slope0, mut bend) = (0.0, 0.0);
-        for t in &self.terms {
-            start += t.poly[0].re;
-            slope0 += (t.poly[1] + t.poly[0] * t.rate).re;
-            size0 += l1(t.poly[0]);
+        // The evaluation-free tests first (envelope, drift, second and, for a search cut
+        // short, third order: `Summary::excludes`): most searches end here, at no evaluation
+        // cost. The general path bounds each term's polynomial and its derivatives
+        // (`sup|f'| ≤ Σ (|p'| + |μ||p|) growth`, ...).
+        let cut = cutoff < horizon;
+        // Every polynomial a constant (the steady-response flights; `+0` coefficients, which
+        // is how flights write them; anything else takes the general path): the same sums
+        // without the higher coefficients, which are exact zeros and add nothing, and the
+        // grid's `sup|f'''|` ([`Self::jerk_bound`]) in the same pass.
+        let constant = cutoff.is_finite()
+            && horizon.is_finite()
+            && self.terms.iter().all(|t| {
+                t.poly[1..]
+                    .iter()
+                    .fold(0, |bits, c| bits | c.re.to_bits() | c.im.to_bits())
+                    == 0
+            });
+        let decaying = constant && self.terms.iter().all(|t| t.rate.re <= 0.0);
+        let mut sum = Summary::default();
+        match (constant, decaying, cut) {
+            (true, true, true) => {
+                for t in &self.terms {
+                    sum.add_decaying::<true>(t.poly[0], t.rate);
+                }
+            }
+            (true, true, false) => {
+                for t in &self.terms {
+                    sum.add_decaying::<false>(t.poly[0], t.rate);
+                }
+            }
+            (true, false, _) => {
+                for t in &self.terms {
+                    sum.add(t.poly[0], t.rate, cutoff, horizon);
+                }
+            }
+            _ => {}
+        }
+        for t in self.terms.iter().filter(|_| !constant) {
+            sum.start += t.poly[0].re;
+            sum.slope0 += (t.poly[1] + t.poly[0] * t.rate).re;
+            sum.size0 += l1(t.poly[0]);
             if t.rate == C64::default() && t.poly[1..].iter().all(|c| *c == C64::default()) {
-                centre += t.poly[0].re;
+                sum.centre += t.poly[0].re;
             } else {
-                let ([size, slope, curve, _], rate, growth) = term_bounds(t, cutoff);
-                spread += size * growth;
-                speed += (slope + rate * size) * growth;
-                bend += (curve + rate * (2.0 * slope + rate * size)) * growth;
+                let ([size, slope, curve, third], rate, growth) = term_bounds(t, cutoff);
+                sum.spread += size * growth;
+                sum.speed += (slope + rate * size) * growth;
+                sum.bend += (curve + rate * (2.0 * slope + rate * size)) * growth;
+                if cut {
+                    let (p, mu) = (t.poly, t.rate);
+                    sum.curve0 += (p[2] * 2.0 + (p[1] * 2.0 + p[0] * mu) * mu).re;
+                    sum.jerk_cut += (third
+                        + 3.0 * rate * curve
+                        + 3.0 * rate * rate * slope
+                        + rate * rate * rate * size)
+                        * growth;
+                }
             }
         }
-        if centre + spread < hi && centre - spread > lo {
+        if sum.excludes(lo, hi, cutoff, horizon) {
             return None;
         }
-        let drift = cutoff * speed + DRIFT_ROUNDING * size0;
-        if start + drift < hi && start - drift > lo {
-            return None;
-        }
-        let reach = 0.5 * cutoff * cutoff * bend + DRIFT_ROUNDING * (size0 + cutoff * speed);
-        let moved = slope0 * cutoff;
-        if start + moved.max(0.0) + reach < hi && start + moved.min(0.0) - reach > lo {
-            return None;
-        }
-        let jerk = self.jerk_bound(horizon);
+        let jerk = if constant {
+            sum.jerk_horizon
+        } else {
+            self.jerk_bound(horizon)
+        };
         let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
             / std::f64::consts::TAU)
             .ceil() as usize)
@@ -793,6 +1002,41 @@ impl ExpSum {
         derivatives.at3(self, s, point)
     }
 
+    /// Whether `|f| < floor` on `[0, horizon]` with room for the rounding of any evaluation
+    /// there (see [`Self::max_abs`]; `false` when that cannot be told from the Taylor bound at
+    /// `0`, or for terms with a polynomial or a growing rate).
+    fn bounded_by(&self, floor: f64, horizon: f64) -> bool {
+        let zero = C64::default();
+        let (mut value, mut slope, mut curve) = (0.0, 0.0, 0.0);
+        let (mut size, mut speed, mut bend, mut jerk) = (0.0, 0.0, 0.0, 0.0);
+        for t in &self.terms {
+            if t.rate.re > 0.0 || t.poly[1..].iter().any(|c| *c != zero) {
+                return false;
+            }
+            let (c, mu) = (t.poly[0], t.rate);
+            let cm = c * mu;
+            value += c.re;
+            slope += cm.re;
+            curve += (cm * mu).re;
+            let (a, m) = (l1(c), l1(mu));
+            size += a;
+            speed += a * m;
+            bend += a * m * m;
+            jerk += a * m * m * m;
+        }
+        let h = horizon;
+        let quadratic = |s: f64| value + s * (slope + 0.5 * curve * s);
+        let mut largest = quadratic(0.0).abs().max(quadratic(h).abs());
+        if curve != 0.0 {
+            let vertex = -slope / curve;
+            if vertex > 0.0 && vertex < h {
+                largest = largest.max(quadratic(vertex).abs());
+            }
+        }
+        let rounding = DRIFT_ROUNDING * (size + h * speed + 0.5 * h * h * bend);
+        largest + jerk * h * h * h / 6.0 + 2.0 * rounding < floor
+    }
+
     /// `f + c`.
     pub fn shifted(&self, c: f64) -> ExpSum {
         let mut out = self.clone();
@@ -823,7 +1067,16 @@ impl ExpSum {
     /// and bound with the curvature bound. Intervals where `|f|` cannot exceed the larger of
     /// `floor` and the best value so far by more than `tolerance` are not refined, so a running
     /// maximum passed as `floor` makes most calls cost one evaluation.
+    ///
+    /// A call whose floor already bounds `|f|` on the whole horizon returns it at once: for
+    /// terms with constant polynomials and no growing rate, `|f(s)| ≤ |f(0)| + |f'(0)| s +
+    /// ½f''(0) s² ± ⅙ s³ sup|f'''|` plus the rounding of every evaluation (`DRIFT_ROUNDING` of
+    /// the terms' sizes), and when that is below the floor no evaluation could exceed it
+    /// either.
     pub fn max_abs(&self, horizon: f64, floor: f64, tolerance: f64) -> f64 {
+        if self.bounded_by(floor, horizon) {
+            return floor;
+        }
         let curvature = self.curvature_bound(horizon);
         let mut best = floor
             .max(self.eval(0.0).0.abs())

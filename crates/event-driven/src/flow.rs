@@ -15,7 +15,7 @@
 //! folded into one (`Re Σ = 2 Re` of one of each pair), halving the exponentials again.
 //! The eigenvectors come from the quadratic pencil: `(λ²M + λC + K) φ = 0`, `v = (φ, λφ)`.
 
-use crate::expsum::{ExpSum, Term};
+use crate::expsum::{ExpSum, Summary, Term};
 use nalgebra::{Complex, DMatrix, DVector};
 use thiserror::Error;
 
@@ -69,6 +69,12 @@ pub struct LinearFlow {
     modes: DMatrix<C64>,
     /// `V⁻¹`.
     inverse: DMatrix<C64>,
+    /// `V⁻¹` row by row (row `k` at `k·2n..(k + 1)·2n`), real and imaginary parts apart: the
+    /// modal coordinates of a state as contiguous dot products.
+    inverse_rows: (Vec<f64>, Vec<f64>),
+    /// The eigenvectors column by column (column `k` at `k·2n..(k + 1)·2n`), real and
+    /// imaginary parts apart: a state from its modal coordinates as contiguous sums.
+    mode_columns: (Vec<f64>, Vec<f64>),
     /// Modal forcing on `e^{+iωt}`, `e^{−iωt}` and the constant.
     plus: DVector<C64>,
     minus: DVector<C64>,
@@ -76,6 +82,8 @@ pub struct LinearFlow {
     /// The modes that carry a real motion: one of each conjugate pair (weight 2) and every
     /// real mode (weight 1), so that `Re Σ_all = Σ_kept weight · Re`.
     kept: Vec<(usize, f64)>,
+    /// Per kept mode, `|Re λ| + |Im λ|` and its cube `(r · r) · r`, for [`Flight::summarize`].
+    kept_sizes: Vec<(f64, f64)>,
     /// The forced steady response, when no mode is resonant with the forcing.
     steady: Option<SteadyResponse>,
 }
@@ -283,7 +291,7 @@ impl LinearFlow {
             .iter()
             .enumerate()
             .all(|(k, r)| r.im == 0.0 || partner(k).is_some());
-        let kept = if pairs_exact {
+        let kept: Vec<(usize, f64)> = if pairs_exact {
             rates
                 .iter()
                 .enumerate()
@@ -293,6 +301,13 @@ impl LinearFlow {
         } else {
             (0..rates.len()).map(|k| (k, 1.0)).collect()
         };
+        let kept_sizes = kept
+            .iter()
+            .map(|&(k, _)| {
+                let rate = rates[k].re.abs() + rates[k].im.abs();
+                (rate, rate * rate * rate)
+            })
+            .collect();
         let w = C64::new(0.0, omega);
         let has_constant = constant.iter().any(|c| *c != C64::default());
         let steady = rates
@@ -318,6 +333,14 @@ impl LinearFlow {
                     .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
                     .collect(),
             });
+        let apart = |m: &DMatrix<C64>| {
+            (
+                m.as_slice().iter().map(|c| c.re).collect(),
+                m.as_slice().iter().map(|c| c.im).collect(),
+            )
+        };
+        let inverse_rows = apart(&inverse.transpose());
+        let mode_columns = apart(&modes);
         Ok(Self {
             dofs: n,
             omega,
@@ -325,12 +348,30 @@ impl LinearFlow {
             rates,
             modes,
             inverse,
+            inverse_rows,
+            mode_columns,
             plus,
             minus,
             constant,
             kept,
+            kept_sizes,
             steady,
         })
+    }
+
+    /// `y += Re(v_k z)`, `v_k` the `k`-th eigenvector: one mode's part of a state.
+    #[inline]
+    fn add_mode(&self, k: usize, z: C64, y: &mut [f64]) {
+        let m = 2 * self.dofs;
+        let (columns_re, columns_im) = &self.mode_columns;
+        let column = k * m..(k + 1) * m;
+        for ((yi, &vr), &vi) in y
+            .iter_mut()
+            .zip(&columns_re[column.clone()])
+            .zip(&columns_im[column])
+        {
+            *yi += vr * z.re - vi * z.im;
+        }
     }
 
     /// Degrees of freedom.
@@ -388,11 +429,16 @@ impl LinearFlow {
         let form = match &self.steady {
             Some(p) => {
                 let mut deviation = vec![C64::default(); m];
+                let y = y.as_slice();
+                let (rows_re, rows_im) = &self.inverse_rows;
                 for &(k, _) in &self.kept {
-                    let mut z = C64::default();
-                    for j in 0..m {
-                        z += self.inverse[(k, j)] * y[j];
+                    let row = k * m..(k + 1) * m;
+                    let (mut re, mut im) = (0.0, 0.0);
+                    for ((&vr, &vi), &yj) in rows_re[row.clone()].iter().zip(&rows_im[row]).zip(y) {
+                        re += vr * yj;
+                        im += vi * yj;
                     }
+                    let z = C64::new(re, im);
                     deviation[k] =
                         z - (p.plus[k] * phase + p.minus[k] * phase.conj() + p.constant[k]);
                 }
@@ -453,7 +499,6 @@ impl Flight<'_> {
 
     fn state_with(&self, s: f64, exponentials: Option<&[C64]>, y: &mut DVector<f64>) {
         let f = self.flow;
-        let m = 2 * f.dofs;
         y.fill(0.0);
         // `expand` lists the kept modes, then the forcing.
         let known = exponentials.filter(|e| e.len() > f.kept.len());
@@ -476,9 +521,7 @@ impl Flight<'_> {
                         + p.minus[k] * forced.conj()
                         + p.constant[k])
                         * weight;
-                    for (yi, v) in y.iter_mut().zip(&f.modes.as_slice()[k * m..(k + 1) * m]) {
-                        *yi += v.re * zk.re - v.im * zk.im;
-                    }
+                    f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
             Form::General { start, plus, minus } => {
@@ -496,12 +539,41 @@ impl Flight<'_> {
                             * phi_shared(l, el, zero, C64::new(1.0, 0.0), s, f.period);
                     }
                     let zk = zk * weight;
-                    for (yi, v) in y.iter_mut().zip(&f.modes.as_slice()[k * m..(k + 1) * m]) {
-                        *yi += v.re * zk.re - v.im * zk.im;
-                    }
+                    f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
         }
+    }
+
+    /// The [`Summary`] of the functional's terms, as [`Self::expand`] would write them (same
+    /// products, same order), without writing them: for the steady-response form when no
+    /// rate grows (then the summary holds for any cutoff); `None` otherwise.
+    pub(crate) fn summarize(&self, functional: &Functional, horizon: f64) -> Option<Summary> {
+        let f = self.flow;
+        let Form::Steady {
+            deviation, phase, ..
+        } = &self.form
+        else {
+            return None;
+        };
+        if !horizon.is_finite() || f.rates.iter().any(|r| r.re > 0.0) {
+            return None;
+        }
+        let weights = functional.weights.as_slice();
+        let mut sum = Summary::default();
+        for (&(k, weight), &(rate, cube)) in f.kept.iter().zip(&f.kept_sizes) {
+            let (c, mu) = (weights[k] * deviation[k] * weight, f.rates[k]);
+            if rate == 0.0 {
+                sum.add_decaying::<true>(c, mu);
+            } else {
+                sum.add_moving::<true>(c, mu, rate, cube);
+            }
+        }
+        sum.add_decaying::<true>(functional.forced * phase, C64::new(0.0, f.omega));
+        if functional.constant != 0.0 {
+            sum.add_decaying::<true>(C64::new(functional.constant, 0.0), C64::default());
+        }
+        Some(sum)
     }
 
     /// The linear functional `c · y(s)` as a sum of exponential terms in `s`.
@@ -523,12 +595,11 @@ impl Flight<'_> {
             Form::Steady {
                 deviation, phase, ..
             } => {
-                for &(k, weight) in &f.kept {
-                    out.terms.push(Term {
-                        poly: [weights[k] * deviation[k] * weight, zero, zero, zero],
-                        rate: f.rates[k],
-                    });
-                }
+                let weights = weights.as_slice();
+                out.terms.extend(f.kept.iter().map(|&(k, weight)| Term {
+                    poly: [weights[k] * deviation[k] * weight, zero, zero, zero],
+                    rate: f.rates[k],
+                }));
                 out.terms.push(Term {
                     poly: [functional.forced * phase, zero, zero, zero],
                     rate: w,

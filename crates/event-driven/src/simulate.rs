@@ -19,7 +19,9 @@
 //! **Many contact pairs** (chains of cells, [`Model::chain`]): every pair is watched at all
 //! times with the same first-contact guarantee. In free flight all pairs' gaps are searched
 //! (in the order of their quadratic estimates, each search cut at the earliest contact found
-//! so far). Any set of pairs may be held on their stops at once: the motion is then the
+//! so far; a gap is first only summarised from the flight's modal coordinates, and a pair
+//! whose evaluation-free bounds keep it inside its stops up to that contact is decided
+//! exactly as its search would decide it, without the search). Any set of pairs may be held on their stops at once: the motion is then the
 //! constrained flow with the held pairs' relative coordinates fixed (`Stuck`), each held pair
 //! is released when its own contact force would pull, and the other pairs are searched in
 //! the constrained flow. Contacts are resolved one at a time in time order, ties by pair
@@ -30,7 +32,7 @@
 //! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
 //! exact in any case); [`crate::newton`] refuses sticking runs anyway.
 
-use crate::expsum::{ExpSum, SearchStack};
+use crate::expsum::{ExpSum, SearchStack, Summary};
 use crate::flow::{Flight, FlowError, Functional, LinearFlow};
 use crate::model::{ContactPair, Model};
 use crate::newton::{periodic_orbit, PeriodicOrbit};
@@ -335,6 +337,20 @@ struct Pair {
     drag: DVector<f64>,
     /// `r` as a functional of the free flow's state.
     relative_displacement: Functional,
+    /// The nonzero rows of `r̈ = (M⁻¹d) · (f(τ) − K u − C u̇)`, for
+    /// [`Engine::free_relative_acceleration`]: per row `i` with `(M⁻¹d)_i ≠ 0`, that entry and
+    /// the nonzero `K_ij` (index `j` into the state) and `C_ij` (index `n + j`), in the order
+    /// of the dense sum.
+    acceleration_rows: Vec<AccelerationRow>,
+}
+
+/// One row `i` of [`Pair::acceleration_rows`]: `(M⁻¹d)_i (f_i(τ) − Σ_j (K_ij u_j + C_ij u̇_j))`
+/// with only its nonzero coefficients.
+struct AccelerationRow {
+    row: usize,
+    mobility: f64,
+    /// `(index into the state, coefficient)`, `K_ij` at `j` then `C_ij` at `n + j`, `j` rising.
+    coefficients: Vec<(usize, f64)>,
 }
 
 /// A set of contact pairs held on their stops at once: the constrained (reduced) flow, each
@@ -423,6 +439,9 @@ pub(crate) struct Engine<'m> {
 struct Scratch {
     /// Each watched pair's gap in the current flight.
     gaps: Vec<ExpSum>,
+    /// Each watched pair's gap summarised ([`Flight::summarize`]) when several pairs are
+    /// watched: its terms are then written out only for a search.
+    summaries: Vec<Option<Summary>>,
     /// The watch's search order: `(estimated exit, slot in gaps, pair, lo, hi)`.
     order: Vec<(f64, usize, usize, f64, f64)>,
     stack: SearchStack,
@@ -757,6 +776,21 @@ impl<'m> Engine<'m> {
                     Some(damping) => &minv * (damping * &mobility),
                     None => DVector::zeros(n),
                 };
+                let acceleration_rows = (0..n)
+                    .filter(|&i| mobility[i] != 0.0)
+                    .map(|i| AccelerationRow {
+                        row: i,
+                        mobility: mobility[i],
+                        coefficients: (0..n)
+                            .flat_map(|j| {
+                                let k = (j, model.stiffness[(i, j)]);
+                                let c = (n + j, model.damping.as_ref().map_or(0.0, |c| c[(i, j)]));
+                                [k, c]
+                            })
+                            .filter(|&(_, v)| v != 0.0)
+                            .collect(),
+                    })
+                    .collect();
                 Pair {
                     spec: *c,
                     direction: d,
@@ -764,6 +798,7 @@ impl<'m> Engine<'m> {
                     compliance,
                     drag,
                     relative_displacement,
+                    acceleration_rows,
                 }
             })
             .collect();
@@ -1145,21 +1180,22 @@ impl<'m> Engine<'m> {
     }
 
     /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`:
-    /// `(M⁻¹d) · (f(τ) − K u − C u̇)`.
+    /// `(M⁻¹d) · (f(τ) − K u − C u̇)`, summed row by row over the nonzero entries only
+    /// ([`Pair::acceleration_rows`]): the terms left out are exact zeros, so the value is the
+    /// dense sum's.
     fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
-        let n = self.n;
         let m = self.model;
         let (sin, cos) = (self.omega * tau).sin_cos();
-        (0..n)
-            .map(|i| {
+        let y = y.as_slice();
+        p.acceleration_rows
+            .iter()
+            .map(|r| {
+                let i = r.row;
                 let mut f = m.forcing_cos[i] * cos + m.forcing_sin[i] * sin;
-                for j in 0..n {
-                    f -= m.stiffness[(i, j)] * y[j];
-                    if let Some(c) = &m.damping {
-                        f -= c[(i, j)] * y[n + j];
-                    }
+                for &(j, v) in &r.coefficients {
+                    f -= v * y[j];
                 }
-                p.mobility[i] * f
+                r.mobility * f
             })
             .sum()
     }
@@ -1295,29 +1331,54 @@ impl<'m> Engine<'m> {
         tau: f64,
     ) -> Watch
     where
-        I: Iterator<Item = (usize, &'f Functional, f64)>,
+        I: Iterator<Item = (usize, &'f Functional, f64)> + Clone,
     {
         let mut contact: Option<Contact> = None;
         let mut step = f64::INFINITY;
         // Every pair's gap, then the searches in the order of their quadratic estimates: the
-        // likely first contact is found first and cuts the others' horizons short.
+        // likely first contact is found first and cuts the others' horizons short. With
+        // several pairs, each gap is first only summarised (the sums the search's first tests
+        // form, from the same products): a pair those tests exclude up to the earliest
+        // contact found is decided without writing its terms out, as its search would decide
+        // it.
+        let several = watched.size_hint().0 > 1;
         work.order.clear();
-        for (count, (i, functional, shift)) in watched.enumerate() {
+        for (count, (i, functional, shift)) in watched.clone().enumerate() {
             if work.gaps.len() <= count {
                 work.gaps.push(ExpSum::default());
+                work.summaries.push(None);
             }
-            let gap = &mut work.gaps[count];
-            flight.expand(functional, gap);
             let spec = &pairs[i].spec;
             let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
-            work.order
-                .push((gap.estimated_exit(lo, hi), count, i, lo, hi));
+            let summary = if several {
+                flight.summarize(functional, horizon)
+            } else {
+                None
+            };
+            work.summaries[count] = summary;
+            let estimate = match summary {
+                Some(summary) => summary.estimated_exit(lo, hi),
+                None => {
+                    let gap = &mut work.gaps[count];
+                    flight.expand(functional, gap);
+                    gap.estimated_exit(lo, hi)
+                }
+            };
+            work.order.push((estimate, count, i, lo, hi));
         }
         work.order
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         for &(_, slot, i, lo, hi) in &work.order {
             // Only a contact before the earliest found so far matters: search up to it.
             let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
+            if let Some(summary) = work.summaries[slot] {
+                if summary.excludes(lo, hi, within, horizon) {
+                    continue;
+                }
+                if let Some((_, functional, _)) = watched.clone().nth(slot) {
+                    flight.expand(functional, &mut work.gaps[slot]);
+                }
+            }
             if let Some((s, side)) = work.gaps[slot].first_exit_until(
                 lo,
                 hi,
