@@ -190,3 +190,46 @@ fn single_unit_commands_refuse_a_chain_naming_it() {
         );
     }
 }
+
+/// The 2-cell undamped chain of the paper's cell at ω = 3.3 rad/s has a viable (unstable)
+/// orbit with each pair `+-` in the order `0+ 1- 0- 1+` (found by the analytic crate's own
+/// tests, `crates/analytic/tests/sequence_orbits.rs`); the command lists it with its energy
+/// balance closed (≤ 1e-10, the issue's bound) and each pair's signature.
+#[test]
+fn orbit_on_a_chain_lists_the_orbits_of_a_sequence_of_its_pairs() {
+    let text = r#"{"name": "two", "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+        "base": {"amplitude": 1.0}, "stops": {"gap": 0.5, "restitution": 0.8}, "cells": 2}"#;
+    let path = scene_file("two.json", text);
+    let path = path.to_str().unwrap();
+    let doc = json(&[
+        "orbit",
+        path,
+        "--omega",
+        "3.3",
+        "--signature",
+        "1- 0- 1+ 0+",
+        "--json",
+    ]);
+    assert_eq!(doc["cells"], 2);
+    assert_eq!(doc["sequence"], "0+ 1- 0- 1+");
+    let orbits = doc["orbits"].as_array().expect("orbits");
+    let viable: Vec<&Value> = orbits.iter().filter(|o| o["viable"] == true).collect();
+    assert!(!viable.is_empty(), "{doc}");
+    for o in viable {
+        assert_eq!(o["pair_signatures"], serde_json::json!(["+-", "+-"]));
+        assert!(o["energy_residual"].as_f64().expect("a number") <= 1e-10);
+        let cells = numbers(&o["cell_outer_amplitudes"]);
+        assert_eq!(cells.len(), 2);
+        assert_eq!(o["outer_amplitude"].as_f64(), cells.last().copied());
+    }
+    for (signature, needle) in [
+        ("0+ 2-", "pair 2"),
+        ("0x", "--signature"),
+        ("", "--signature"),
+    ] {
+        let out = rattle(&["orbit", path, "--omega", "3.3", "--signature", signature]);
+        assert_eq!(out.status.code(), Some(2), "{signature:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(needle), "{signature:?}: {err}");
+    }
+}
