@@ -63,9 +63,8 @@ pub fn candidates(scene: &Scene, point: &AnalyticPoint) -> Vec<Candidate> {
         })
         .collect();
     let linear = &point.linear;
-    let clear = scene
-        .gap()
-        .is_none_or(|gap| linear.relative_amplitude <= gap);
+    // Of a chain: clear of every pair's stops.
+    let clear = !point.touches_stops.unwrap_or(false);
     if clear && !linear.unbounded {
         out.push(Candidate {
             motion: Motion::Linear,

@@ -233,3 +233,47 @@ fn orbit_on_a_chain_lists_the_orbits_of_a_sequence_of_its_pairs() {
         assert!(err.contains(needle), "{signature:?}: {err}");
     }
 }
+
+/// A map of a chain whose stops (every cell's, the map's gap) lie far beyond the motion: every
+/// point settles without impacts on the analytic crate's linear chain, to the map's match
+/// tolerance.
+#[test]
+fn a_map_of_a_chain_with_far_stops_matches_the_linear_chain() {
+    let text = r#"{"name": "damped graded", "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+        "base": {"amplitude": 1.0}, "stops": {"gap": 0.5, "restitution": 0.8},
+        "damping": {"outer": 0.3, "inner": 0.2},
+        "chain": [{}, {"stops": {"gap": 0.1, "restitution": 0.3}}, {}]}"#;
+    let path = scene_file("map.json", text);
+    let out = std::env::temp_dir().join(format!("rattle-chain-map-{}.csv", std::process::id()));
+    let o = rattle(&[
+        "map",
+        path.to_str().unwrap(),
+        "--restitutions",
+        "1",
+        "--gaps",
+        "1",
+        "--gap-min",
+        "100",
+        "--gap-max",
+        "100",
+        "--points",
+        "12",
+        "--max-periods",
+        "3000",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut reader = csv::Reader::from_path(&out).expect("the map's file");
+    let headers = reader.headers().expect("a header").clone();
+    let column = |name: &str| headers.iter().position(|h| h == name).expect(name);
+    let (regime, matched) = (column("simulated_regime"), column("analytic_match"));
+    let mut rows = 0;
+    for row in reader.records() {
+        let row = row.expect("a row");
+        assert_eq!(&row[regime], "no-impact", "{row:?}");
+        assert_eq!(&row[matched], "true", "{row:?}");
+        rows += 1;
+    }
+    assert_eq!(rows, 12);
+}

@@ -1,6 +1,6 @@
 //! `rattle map`: the map over restitution, gap and frequency, streamed to a file.
 
-use super::{load_unit, Accuracy, RattleError};
+use super::{load, Accuracy, RattleError};
 use crate::output::{writer, Format, OutputError, TableWriter};
 use crate::runs::axis::Axis;
 use crate::runs::map::{
@@ -111,7 +111,7 @@ pub fn run(args: MapArgs) -> Result<String, RattleError> {
         simulation,
         ..defaults
     };
-    let scene = load_unit(&args.scene, "rattle map")?;
+    let scene = load(&args.scene)?;
     if scene.stops.is_none() {
         return Err(RattleError::Argument(MapError::NoStops.to_string()));
     }

@@ -306,13 +306,19 @@ pub struct Map {
 }
 
 /// The scene with its stops replaced by gap `gap_over_base_amplitude · u_g` and restitution
-/// `restitution`.
+/// `restitution`: of every cell, for a chain.
 pub fn scene_at(scene: &Scene, restitution: f64, gap_over_base_amplitude: f64) -> Scene {
     let mut s = scene.clone();
     s.stops = Some(StopsSpec {
         gap: gap_over_base_amplitude * scene.base.amplitude,
         restitution,
     });
+    // Every cell of a graded chain takes the map's stops.
+    if let Some(chain) = &mut s.chain {
+        for cell in chain {
+            cell.stops = None;
+        }
+    }
     s
 }
 
