@@ -138,6 +138,32 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
                 "{t:.4} dB"
             ))
     );
+    if scene.is_chain() {
+        let _ = writeln!(
+            out,
+            "last cell's X_o above; every cell's X_o: {}",
+            sim.cell_outer_amplitudes()
+                .iter()
+                .map(|a| format!("{a:.6}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        let per_pair = sim.pair_impacts_per_period(scene.pair_count());
+        let signatures = sim.pair_signatures(scene.pair_count());
+        let _ = writeln!(
+            out,
+            "impacts per period by pair: {}",
+            per_pair
+                .iter()
+                .enumerate()
+                .map(|(j, n)| match signatures.as_ref().map(|s| &s[j]) {
+                    Some(Ok(Some(sig))) => format!("{n} ({sig})"),
+                    _ => format!("{n}"),
+                })
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     let _ = writeln!(
         out,
         "periods run: {}, impacts: {}",
