@@ -374,8 +374,8 @@ impl MapSizes {
         MapSizes {
             restitutions: 11,
             gaps: 16,
-            bandwidth_points: 160,
-            regime_points: 300,
+            bandwidth_points: 120,
+            regime_points: 240,
         }
     }
 
