@@ -669,7 +669,7 @@ pub fn signature_orbits_on_grid(
                 linear_scan(&problem, &steps, &tuple, grid, &h),
             );
         }
-        if !next_tuple(&mut tuple, grid) {
+        if !crate::sequence_search::next_tuple(&mut tuple, grid) {
             break;
         }
     }
@@ -686,7 +686,7 @@ pub fn signature_orbits_on_grid(
             if alpha_min
                 && v.is_finite()
                 && (every
-                    || neighbours(t).all(|m| {
+                    || crate::sequence_search::cube_neighbours(t).all(|m| {
                         scanned
                             .get(&m)
                             .is_none_or(|w| around.iter().all(|&k2| w[k2] >= v))
@@ -733,55 +733,6 @@ fn same_orbit(key: &[f64], alpha: f64, phases: &[f64]) -> bool {
             .iter()
             .zip(&phases[1..])
             .all(|(a, b)| (a - b).abs() < DEDUP_TOLERANCE)
-}
-
-/// The tuples that differ from `tuple` by at most one grid step in each impact index (the
-/// first index, always 0, excluded), `tuple` itself left out.
-fn neighbours(tuple: &[usize]) -> impl Iterator<Item = Vec<usize>> + '_ {
-    let free = tuple.len() - 1;
-    (0..3usize.pow(free as u32)).filter_map(move |code| {
-        let mut m = tuple.to_vec();
-        let mut c = code;
-        let mut moved = false;
-        for v in m.iter_mut().skip(1) {
-            match c % 3 {
-                1 => {
-                    *v += 1;
-                    moved = true;
-                }
-                2 => {
-                    *v = v.checked_sub(1)?;
-                    moved = true;
-                }
-                _ => {}
-            }
-            c /= 3;
-        }
-        moved.then_some(m)
-    })
-}
-
-/// Advances `tuple = (0, i₂, …, iₙ)`, `0 < i₂ < … < iₙ < grid`, in lexicographic order.
-fn next_tuple(tuple: &mut [usize], grid: usize) -> bool {
-    let n = tuple.len();
-    if n == 1 {
-        return false;
-    }
-    let mut i = n - 1;
-    loop {
-        // Largest value position i may take: grid − (n − i).
-        if tuple[i] < grid - (n - i) {
-            tuple[i] += 1;
-            for j in i + 1..n {
-                tuple[j] = tuple[j - 1] + 1;
-            }
-            return true;
-        }
-        if i == 1 {
-            return false;
-        }
-        i -= 1;
-    }
 }
 
 /// Sample `k` of the `α` scan: `−π + 2πk/`[`ALPHA_SCAN`].

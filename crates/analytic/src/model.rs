@@ -287,11 +287,12 @@ impl LinearModel {
     /// and `c_o` (the first to the base), inner mass `j` inside outer mass `j` by `k_i` and
     /// `c_i`, and one contact pair per cell with the stops of `stops`. Coordinates
     /// `u = (u_o,1, u_i,1, u_o,2, u_i,2, …)`; pair `j` is cell `j`'s `r_j = u_i,j − u_o,j`.
-    /// One cell is [`LinearModel::unit`].
+    /// One cell is [`LinearModel::unit`]; any number is [`LinearModel::graded_chain`] of equal
+    /// cells.
     ///
     /// # Errors
     /// [`ModelError::OutOfRange`] with the field of [`Unit::validate`] or [`Stops::validate`],
-    /// or `chain.cells` if `cells` is 0.
+    /// `chain.cells` if `cells` is 0, or `chain` if it is above [`crate::chain::MAX_CELLS`].
     pub fn chain(unit: &Unit, stops: &Stops, cells: usize) -> Result<Self, ModelError> {
         let from_unit = |e: crate::unit::UnitError| match e {
             crate::unit::UnitError::OutOfRange {
@@ -305,53 +306,8 @@ impl LinearModel {
         if cells == 0 {
             return Err(out_of_range("chain.cells".to_string(), 0.0, ">= 1"));
         }
-        let n = 2 * cells;
-        let (ko, ki) = (unit.outer_stiffness, unit.inner_stiffness);
-        let (co, ci) = unit.damping.map_or((0.0, 0.0), |d| (d.outer, d.inner));
-        let mut mass = DMatrix::zeros(n, n);
-        let mut damping = DMatrix::zeros(n, n);
-        let mut stiffness = DMatrix::zeros(n, n);
-        // A spring (dashpot) of rate `k` between coordinates `a` and `b`.
-        let link = |m: &mut DMatrix<f64>, a: usize, b: usize, k: f64| {
-            m[(a, a)] += k;
-            m[(b, b)] += k;
-            m[(a, b)] -= k;
-            m[(b, a)] -= k;
-        };
-        let mut pairs = Vec::with_capacity(cells);
-        for j in 0..cells {
-            let (o, i) = (2 * j, 2 * j + 1);
-            mass[(o, o)] = unit.outer_mass;
-            mass[(i, i)] = unit.inner_mass;
-            if j == 0 {
-                stiffness[(o, o)] += ko;
-                damping[(o, o)] += co;
-            } else {
-                link(&mut stiffness, o, o - 2, ko);
-                link(&mut damping, o, o - 2, co);
-            }
-            link(&mut stiffness, o, i, ki);
-            link(&mut damping, o, i, ci);
-            let mut direction = DVector::zeros(n);
-            direction[o] = -1.0;
-            direction[i] = 1.0;
-            pairs.push(ContactPair {
-                direction,
-                gap_side1: stops.gap,
-                gap_side2: stops.gap,
-                restitution: stops.restitution,
-            });
-        }
-        let mut cosine = DVector::zeros(n);
-        cosine[0] = ko * unit.base_amplitude;
-        let mut sine_per_omega = DVector::zeros(n);
-        sine_per_omega[0] = -co * unit.base_amplitude;
-        let forcing = HarmonicForcing {
-            cosine,
-            sine: DVector::zeros(n),
-            sine_per_omega,
-        };
-        Self::new(mass, damping, stiffness, forcing, pairs)
+        let cell = crate::chain::Cell::of_unit(unit);
+        Self::graded_chain(&vec![(cell, *stops); cells], unit.base_amplitude)
     }
 
     /// Number of degrees of freedom `n`.

@@ -161,7 +161,14 @@ fn neighbours(tuple: &[usize]) -> Box<dyn Iterator<Item = Vec<usize>> + '_> {
             })
         }));
     }
-    Box::new((0..3usize.pow(free as u32)).filter_map(move |code| {
+    Box::new(cube_neighbours(tuple))
+}
+
+/// The tuples that differ from `tuple` by at most one grid step in each impact index (the
+/// first, always 0, excluded), `tuple` itself left out: the full cube of `3^(m − 1) − 1`.
+pub(crate) fn cube_neighbours(tuple: &[usize]) -> impl Iterator<Item = Vec<usize>> + '_ {
+    let free = tuple.len() - 1;
+    (0..3usize.pow(free as u32)).filter_map(move |code| {
         let mut t = tuple.to_vec();
         let mut c = code;
         let mut moved = false;
@@ -180,11 +187,11 @@ fn neighbours(tuple: &[usize]) -> Box<dyn Iterator<Item = Vec<usize>> + '_> {
             c /= 3;
         }
         moved.then_some(t)
-    }))
+    })
 }
 
 /// Advances `tuple = (0, i₂, …, i_m)`, `0 < i₂ < … < i_m < grid`, in lexicographic order.
-fn next_tuple(tuple: &mut [usize], grid: usize) -> bool {
+pub(crate) fn next_tuple(tuple: &mut [usize], grid: usize) -> bool {
     let m = tuple.len();
     if m == 1 {
         return false;
