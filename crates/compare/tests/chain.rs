@@ -2,29 +2,12 @@
 //! to the unit, the simulator's chain against the analytic crate's linear chain, and the
 //! commands that take a single unit refusing a chain by name.
 
+mod common;
+use common::{json, rattle};
 use rattle_analytic::{chain_response, Cell};
 use rattle_compare::scene::Scene;
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn rattle(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rattle"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("rattle runs")
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = rattle(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON document")
-}
 
 /// Writes `text` to a scene file of this test process named `name`.
 fn scene_file(name: &str, text: &str) -> PathBuf {

@@ -1,25 +1,8 @@
 //! The `rattle` command as a user meets it: fields, exit codes, messages.
 
+mod common;
+use common::{json, rattle};
 use serde_json::Value;
-use std::process::{Command, Output};
-
-fn rattle(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rattle"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("rattle runs")
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = rattle(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON document")
-}
 
 #[test]
 fn orbit_json_has_the_documented_fields() {

@@ -1,17 +1,10 @@
 //! Lyapunov exponents through the `rattle` command: `simulate --lyapunov` on the scenes that
 //! stress the tangent flow, and the regime columns of sweeps and maps.
 
+mod common;
+use common::rattle;
 use serde_json::Value;
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn rattle(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rattle"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("rattle runs")
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rattle-lyapunov-{}-{name}", std::process::id()));
