@@ -11,6 +11,7 @@ pub mod impact_time_response;
 pub mod linear_time_response;
 pub mod lyapunov;
 pub mod plot;
+pub mod poincare;
 pub mod regime_map;
 pub mod transmittance;
 pub mod work_precision;
@@ -75,6 +76,17 @@ pub fn draw_basins(figure: &basins::BasinsFigure, dir: &Path) -> Result<Vec<Path
 /// The figure cannot be drawn or written, with its path.
 pub fn draw_lyapunov(
     figure: &lyapunov::LyapunovFigure,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    save(figure, dir)
+}
+
+/// Draws the Poincaré sections figure (`poincare`) into `dir`; returns the files written.
+///
+/// # Errors
+/// The figure cannot be drawn or written, with its path.
+pub fn draw_poincare(
+    figure: &poincare::PoincareFigure,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     save(figure, dir)
