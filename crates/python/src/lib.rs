@@ -42,8 +42,8 @@ use rattle_compare::scene::analytic::{
 use rattle_compare::scene::simulator::{model, run as simulate_scene};
 use rattle_compare::scene::{Scene, SceneError};
 use rattle_compare::verdict::{cross_check, CrossCheck};
-use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::lyapunov::BATCHES;
+use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::{SimulationOptions, Start};
 use serde::Serialize;
 use std::panic::{catch_unwind, AssertUnwindSafe};
