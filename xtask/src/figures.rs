@@ -11,7 +11,9 @@ use rattle_compare::runs::parallel::Progress;
 use rattle_compare::scene::simulator::run as simulate;
 use rattle_compare::scene::{Scene, StopsSpec};
 use rattle_compare::study::chain::{chain_section, chain_study};
-use rattle_compare::study::chaos::chaos_samples;
+use rattle_compare::study::chaos::{
+    chaos_samples, poincare_sections, POINCARE_OMEGA, POINCARE_POINTS,
+};
 use rattle_compare::study::paper::READING_B_GAP_FACTOR;
 use rattle_compare::study::report::{agreement, report};
 use rattle_compare::study::{maps, MapSizes, Study, StudySize};
@@ -214,13 +216,35 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
         figures::draw_lyapunov(
             &figures::lyapunov::LyapunovFigure {
                 scene_name: scene.name.clone(),
-                samples,
+                samples: samples.clone(),
             },
             &figures_dir,
         )
         .map_err(|e| e.to_string())?,
     );
     lap("lyapunov");
+
+    // The command's own options (`rattle simulate --omega 1.25 --lyapunov` prints the title's
+    // exponents).
+    let poincare = poincare_sections(
+        &scene,
+        POINCARE_OMEGA,
+        if args.quick { 500 } else { POINCARE_POINTS },
+        rattle_event_driven::DEFAULT_LYAPUNOV_PERIODS,
+        &SimulationOptions::default(),
+    )
+    .map_err(|e| e.to_string())?;
+    written.extend(
+        figures::draw_poincare(
+            &figures::poincare::PoincareFigure {
+                scene_name: scene.name.clone(),
+                sections: poincare,
+            },
+            &figures_dir,
+        )
+        .map_err(|e| e.to_string())?,
+    );
+    lap("poincare");
 
     let chains = chain_study(&scene, args.quick, false);
     written.extend(figures::draw_chains(&chains, &figures_dir).map_err(|e| e.to_string())?);
@@ -231,7 +255,7 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
     write(&validation.join("agreement.json"), &(doc + "\n"))?;
     write(
         &validation.join("report.md"),
-        &(report(&main, &other, &elastic_note) + &chain_section(&chains)),
+        &(report(&main, &other, &elastic_note, &samples) + &chain_section(&chains)),
     )?;
     for path in &written {
         eprintln!(

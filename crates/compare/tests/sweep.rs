@@ -192,6 +192,20 @@ fn the_figures_pipeline_runs_end_to_end() {
             );
         }
     }
+    // The Poincaré figure on a few sections of a periodic motion (3 rad/s, `+-`).
+    let sections =
+        rattle_compare::study::chaos::poincare_sections(&scene, 3.0, 50, 100, &options()).unwrap();
+    let poincare = rattle_compare::figures::draw_poincare(
+        &rattle_compare::figures::poincare::PoincareFigure {
+            scene_name: scene.name.clone(),
+            sections,
+        },
+        &dir,
+    )
+    .unwrap();
+    for path in &poincare {
+        assert!(std::fs::metadata(path).unwrap().len() > 1000, "{path:?}");
+    }
     let agreement = serde_json::to_value(agreement(&study)).unwrap();
     for key in [
         "scene",
@@ -202,8 +216,20 @@ fn the_figures_pipeline_runs_end_to_end() {
     ] {
         assert!(agreement.get(key).is_some(), "agreement.json lacks {key}");
     }
-    let report = report(&study, &study, "n/a");
+    // A chaotic motion (1.24 rad/s: λ₁ = 0.31/s) and a periodic one (3 rad/s, `+-`).
+    let chaos = rattle_compare::study::chaos::chaos_samples(
+        &scene,
+        &[1.24, 3.0],
+        &options(),
+        &Progress::new("chaos", 0, false),
+    );
+    let report = report(&study, &study, "n/a", &chaos);
     assert!(report.contains("Nigm–Shabana") && report.contains("1.25"));
+    assert!(
+        report.contains("1 of 2 frequencies settle from rest on a chaotic motion")
+            && report.contains("| 1.240 | 1.240 | 1 | 0.3"),
+        "{report}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -24,7 +24,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
-use rattle_compare::cli::{Accuracy, MAX_SAMPLES_PER_PERIOD};
+use rattle_compare::cli::simulate::{lyapunov_record, LyapunovArgs, WithLyapunov};
+use rattle_compare::cli::{Accuracy, RattleError, MAX_SAMPLES_PER_PERIOD};
 use rattle_compare::output::records::{
     At, CrossCheckRecord, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
     SignatureOrbitsRecord, SimulationRecord,
@@ -41,8 +42,9 @@ use rattle_compare::scene::analytic::{
 use rattle_compare::scene::simulator::{model, run as simulate_scene};
 use rattle_compare::scene::{Scene, SceneError};
 use rattle_compare::verdict::{cross_check, CrossCheck};
+use rattle_event_driven::lyapunov::BATCHES;
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
-use rattle_event_driven::{SimulationOptions, Start};
+use rattle_event_driven::SimulationOptions;
 use serde::Serialize;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
@@ -76,9 +78,10 @@ fn scene_error(error: SceneError) -> PyErr {
         } if origin == DICT_ORIGIN => {
             PyValueError::new_err(format!("{origin}: {path_in_scene}: {message}"))
         }
-        SceneError::Format { .. } | SceneError::Value { .. } => {
-            PyValueError::new_err(error.to_string())
-        }
+        SceneError::Format { .. }
+        | SceneError::Value { .. }
+        | SceneError::CellValue { .. }
+        | SceneError::Chain { .. } => PyValueError::new_err(error.to_string()),
     }
 }
 
@@ -115,14 +118,9 @@ impl NativeScene {
             set_number(&mut scene, path, *value)?;
         }
         scene
-            .validate()
-            .map_err(|source| {
-                scene_error(SceneError::Value {
-                    origin: DICT_ORIGIN.to_owned(),
-                    source,
-                })
-            })
-            .map(|()| NativeScene { scene })
+            .validated(DICT_ORIGIN)
+            .map(|scene| NativeScene { scene })
+            .map_err(scene_error)
     }
 
     /// The command's built-in paper scene.
@@ -212,6 +210,7 @@ fn compute<T: Send>(
 /// The command's options named as this module's parameters (`--steady-tol` is `steady_tol`).
 fn python_names(message: &str) -> String {
     message
+        .replace("--lyapunov-periods", "lyapunov_periods")
         .replace("--max-oscillations", "max_oscillations")
         .replace("--max-periods", "max_periods")
         .replace("--steady-tol", "steady_tol")
@@ -418,9 +417,11 @@ fn impact_columns<'py>(py: Python<'py>, rows: &[ImpactRow]) -> PyColumns<'py> {
 
 /// `rattle simulate --json`: the event-driven simulator from rest; with `samples_per_period`,
 /// also the tables `--trajectory` and `--impacts` write (the final cycle, or with `periods`
-/// the last period, sampled from the closed form).
+/// the last period, sampled from the closed form); with `lyapunov_periods`, the exponents of
+/// `--lyapunov --lyapunov-periods N` in the document (the command's own record builder,
+/// [`lyapunov_record`]).
 #[pyfunction]
-#[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations, samples_per_period=None))]
+#[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations, samples_per_period=None, lyapunov_periods=None))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -432,6 +433,7 @@ fn simulate<'py>(
     max_periods: i64,
     max_oscillations: f64,
     samples_per_period: Option<i64>,
+    lyapunov_periods: Option<i64>,
 ) -> PyResult<(String, Option<(PyColumns<'py>, PyColumns<'py>)>)> {
     let omega = check_omega("omega", omega)?;
     let mut options = options(tol, steady_tol, max_periods, max_oscillations)?;
@@ -439,10 +441,11 @@ fn simulate<'py>(
         options.fixed_periods = Some(positive("periods", n)?);
     }
     let samples = samples_per_period.map(check_samples).transpose()?;
+    let lyapunov = lyapunov_periods.map(lyapunov_args).transpose()?;
     let scene = &scene.scene;
-    let (record, tables) = compute(py, || {
+    let (record, tables, exponents) = compute(py, || {
         let sim =
-            simulate_scene(scene, omega, &Start::rest(2), &options).map_err(|e| e.to_string())?;
+            simulate_scene(scene, omega, &rattle_compare::scene::simulator::rest(scene), &options).map_err(|e| e.to_string())?;
         let tables: Option<Tables> = match samples {
             None => None,
             Some(samples_per_period) => {
@@ -462,11 +465,39 @@ fn simulate<'py>(
                 Some(simulated_rows(&trajectory))
             }
         };
-        Ok((SimulationRecord::new(scene, &sim), tables))
+        let exponents = match &lyapunov {
+            None => None,
+            Some(args) => lyapunov_record(args, scene, &sim, &options).map_err(|e| match e {
+                RattleError::Numerical(message) => message,
+                other => other.to_string(),
+            })?,
+        };
+        Ok((SimulationRecord::new(scene, &sim), tables, exponents))
     })?;
     let tables =
         tables.map(|(rows, impacts)| (trajectory_columns(py, &rows), impact_columns(py, &impacts)));
-    Ok((json(&record)?, tables))
+    let document = WithLyapunov {
+        record: &record,
+        lyapunov: exponents.as_ref(),
+    };
+    Ok((json(&document)?, tables))
+}
+
+/// The command's `--lyapunov --lyapunov-periods N` flags for `lyapunov_periods = N`, checked by
+/// the command's own range ([`LyapunovArgs::check`], named as the Python parameter).
+fn lyapunov_args(periods: i64) -> PyResult<LyapunovArgs> {
+    let out_of_range = || {
+        PyValueError::new_err(format!(
+            "lyapunov_periods = {periods} is out of range: must be at least {BATCHES}"
+        ))
+    };
+    let args = LyapunovArgs {
+        lyapunov: true,
+        lyapunov_periods: u64::try_from(periods).map_err(|_| out_of_range())?,
+    };
+    args.check()
+        .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
+    Ok(args)
 }
 
 /// `rattle orbit --signature SIG --period P --orbit K --trajectory F --impacts I --json`: the
@@ -942,6 +973,11 @@ fn _boundary_check(py: Python<'_>, kind: &str) -> PyResult<()> {
 #[pymodule]
 fn _rattle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    // The command's `--lyapunov-periods` default.
+    m.add(
+        "LYAPUNOV_PERIODS",
+        rattle_event_driven::DEFAULT_LYAPUNOV_PERIODS,
+    )?;
     m.add_class::<NativeScene>()?;
     m.add_class::<NativeSweep>()?;
     m.add_function(wrap_pyfunction!(defaults, m)?)?;

@@ -57,6 +57,59 @@ def test_simulate_with_options_is_the_commands(rattle_cli):
     assert ours.to_dict() == theirs
 
 
+#: The Lyapunov fields of `rattle simulate --lyapunov --json`.
+LYAPUNOV_FIELDS = [
+    "lyapunov_exponents",
+    "lyapunov_uncertainty",
+    "lyapunov_uncertainties",
+    "lyapunov_collapsed",
+    "lyapunov_periods",
+    "lyapunov_regime",
+]
+
+
+@pytest.mark.parametrize(
+    "omega, options, regime",
+    [
+        # The chaotic motion of figures/poincare, at the command's defaults (2000 periods).
+        (1.25, {}, "chaotic"),
+        # A periodic `+-` motion: no regime, exponents from the tangent flow all the same.
+        (2.0, {"lyapunov_periods": 300}, None),
+        # A fixed run of a few periods: the exponents from where it ended, whatever it is.
+        (2.9, {"lyapunov_periods": 10, "periods": 40}, "any"),
+    ],
+)
+def test_simulate_with_lyapunov_is_the_commands(rattle_cli, omega, options, regime):
+    ours = rattle.simulate(rattle.Scene.paper(), omega, lyapunov=True, **options)
+    args = ["simulate", "--omega", omega, "--lyapunov"]
+    if "lyapunov_periods" in options:
+        args += ["--lyapunov-periods", options["lyapunov_periods"]]
+    if "periods" in options:
+        args += ["--periods", options["periods"]]
+    theirs = rattle_cli.json(*args)
+    assert ours.to_dict() == theirs
+    assert list(ours.to_dict()) == list(theirs)  # same fields, same order
+    # Bit for bit: the same doubles, not merely equal-looking ones.
+    assert [x.hex() for x in ours.lyapunov_exponents] == [
+        x.hex() for x in theirs["lyapunov_exponents"]
+    ]
+    assert ours.lyapunov_uncertainty.hex() == theirs["lyapunov_uncertainty"].hex()
+    assert ours.lyapunov_periods == options.get("lyapunov_periods", rattle.LYAPUNOV_PERIODS)
+    assert len(ours.lyapunov_exponents) + ours.lyapunov_collapsed == 4
+    if regime != "any":
+        assert ours.lyapunov_regime == regime
+        assert (ours.status == "periodic") == (regime is None)
+
+
+def test_lyapunov_periods_alone_adds_nothing(rattle_cli):
+    """As the command's `--lyapunov-periods` without `--lyapunov`."""
+    ours = rattle.simulate(rattle.Scene.paper(), 2.0, lyapunov_periods=50)
+    assert not set(LYAPUNOV_FIELDS) & set(ours.to_dict())
+    assert ours.to_dict() == rattle_cli.json(
+        "simulate", "--omega", 2.0, "--lyapunov-periods", 50
+    )
+
+
 @pytest.mark.parametrize("omega", OMEGAS)
 def test_compare_is_the_commands(rattle_cli, omega):
     ours = rattle.compare(rattle.Scene.paper(), omega)

@@ -175,10 +175,17 @@ def test_bad_sweep_inputs():
         rattle.frequencies(1.0, 2.0, 0)
 
 
-def test_pending_features_say_so():
+def test_bad_lyapunov_periods_are_the_commands_message(rattle_cli):
     scene = rattle.Scene.paper()
-    with pytest.raises(NotImplementedError, match="pending"):
-        rattle.simulate(scene, 2.0, lyapunov=True)
+    theirs = rattle_cli.error(
+        "simulate", "--omega", 2.0, "--lyapunov", "--lyapunov-periods", 5
+    )
+    assert theirs == "--lyapunov-periods = 5 is out of range: must be at least 10"
+    with pytest.raises(ValueError) as raised:
+        rattle.simulate(scene, 2.0, lyapunov=True, lyapunov_periods=5)
+    assert str(raised.value) == theirs.replace("--lyapunov-periods", "lyapunov_periods")
+    with pytest.raises(ValueError, match=r"^lyapunov_periods = -3 is out of range"):
+        rattle.simulate(scene, 2.0, lyapunov=True, lyapunov_periods=-3)
 
 
 def test_failures_inside_rust_are_runtime_errors():

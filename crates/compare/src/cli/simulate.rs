@@ -100,6 +100,7 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         options.fixed_periods = Some(n);
     }
     args.trajectory.check()?;
+    args.lyapunov.check()?;
     let scene = load(&args.common.scene)?;
     let sim = simulate(
         &scene,
@@ -175,17 +176,41 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
     Ok(out)
 }
 
-/// A simulation record with the exponents, when asked for, flattened into one document.
+/// The document `rattle simulate --json` prints (also the Python package's): the simulation
+/// record with the exponents, when asked for, flattened into one.
 #[derive(serde::Serialize)]
-struct WithLyapunov<'a> {
+pub struct WithLyapunov<'a> {
+    /// The simulation.
     #[serde(flatten)]
-    record: &'a SimulationRecord,
+    pub record: &'a SimulationRecord,
+    /// The exponents, with `--lyapunov`.
     #[serde(flatten)]
-    lyapunov: Option<&'a LyapunovRecord>,
+    pub lyapunov: Option<&'a LyapunovRecord>,
 }
 
-/// The exponents of `sim` when `--lyapunov` asks for them.
-fn lyapunov_record(
+impl LyapunovArgs {
+    /// Checks the flags: with `--lyapunov`, at least [`BATCHES`] periods.
+    ///
+    /// # Errors
+    /// [`RattleError::Argument`] naming `--lyapunov-periods` and its range.
+    pub fn check(&self) -> Result<(), RattleError> {
+        if self.lyapunov && self.lyapunov_periods < BATCHES {
+            return Err(RattleError::Argument(format!(
+                "--lyapunov-periods = {} is out of range: must be at least {BATCHES}",
+                self.lyapunov_periods
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// The exponents of `sim` when `--lyapunov` asks for them (the command's record, also the
+/// Python package's).
+///
+/// # Errors
+/// [`RattleError::Argument`] as [`LyapunovArgs::check`]; [`RattleError::Numerical`] when the
+/// exponents' run fails.
+pub fn lyapunov_record(
     args: &LyapunovArgs,
     scene: &crate::scene::Scene,
     sim: &crate::scene::simulator::SimulatedPoint,
@@ -194,12 +219,7 @@ fn lyapunov_record(
     if !args.lyapunov {
         return Ok(None);
     }
-    if args.lyapunov_periods < BATCHES {
-        return Err(RattleError::Argument(format!(
-            "--lyapunov-periods = {} is out of range: must be at least {BATCHES}",
-            args.lyapunov_periods
-        )));
-    }
+    args.check()?;
     let spectrum = spectrum(scene, sim, args.lyapunov_periods, options)
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
     Ok(Some(LyapunovRecord::new(sim, &spectrum)))

@@ -12,6 +12,7 @@ pub mod impact_time_response;
 pub mod linear_time_response;
 pub mod lyapunov;
 pub mod plot;
+pub mod poincare;
 pub mod regime_map;
 pub mod transmittance;
 pub mod work_precision;
@@ -93,4 +94,15 @@ pub fn draw_chains(
     let mut written = save(&chain::ChainTransmission(study), dir)?;
     written.extend(save(&chain::ChainWave(study), dir)?);
     Ok(written)
+}
+
+/// Draws the Poincaré sections figure (`poincare`) into `dir`; returns the files written.
+///
+/// # Errors
+/// The figure cannot be drawn or written, with its path.
+pub fn draw_poincare(
+    figure: &poincare::PoincareFigure,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    save(figure, dir)
 }

@@ -216,7 +216,17 @@ impl Scene {
                 column: inner.column(),
             }
         })?;
-        let scene = scene.normalized(origin)?;
+        scene.validated(origin)
+    }
+
+    /// The scene with its chain in one form (see [`Scene::parse`]) and every value checked;
+    /// `origin` names it in error messages. For a scene built in code rather than parsed.
+    ///
+    /// # Errors
+    /// [`SceneError::Chain`] for the chain's length, [`SceneError::Value`] or
+    /// [`SceneError::CellValue`] for a value out of its range.
+    pub fn validated(self, origin: &str) -> Result<Scene, SceneError> {
+        let scene = self.normalized(origin)?;
         scene.validate_in(origin)?;
         Ok(scene)
     }

@@ -4,6 +4,7 @@
 use crate::output::finite;
 use crate::runs::bands::{bands, describe};
 use crate::scene::Scene;
+use crate::study::chaos::{chaotic_bands_text, ChaosSample};
 use crate::study::paper::{self, read_off};
 use crate::study::Study;
 use crate::verdict::{predicted_transmittance, Choice, Class, ComparedPoint};
@@ -174,8 +175,10 @@ fn verdict(ok: bool) -> &'static str {
 }
 
 /// `report.md`: the paper's claims checked on `main` (the scene as given) and `other` (the
-/// other reading of "sides 0.5 m apart").
-pub fn report(main: &Study, other: &Study, elastic_note: &str) -> String {
+/// other reading of "sides 0.5 m apart"), and the chaotic bands of `main`'s scene from
+/// `chaos` (the largest exponent of the motion from rest along a frequency axis,
+/// [`crate::study::chaos::chaos_samples`]; the section says so when it is empty).
+pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSample]) -> String {
     let unit = main.scene.unit_model();
     let m = modes(&unit);
     let (w1, w2) = (
@@ -374,7 +377,52 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str) -> String {
             b.analytic
         );
     }
+    let _ = writeln!(r, "\n## Chaotic bands (reading A)\n");
+    if chaos.is_empty() {
+        let _ = writeln!(r, "Not computed in this run.");
+    } else {
+        let _ = writeln!(
+            r,
+            "The largest Lyapunov exponent λ₁ of the motion the unit settles in from rest, at {} frequencies \
+             {:.3}–{:.3} rad/s (figures/lyapunov): from the simulator's Floquet multipliers for a periodic motion, \
+             from its exact tangent flow (Benettin) for one that does not repeat. {}\n",
+            chaos.len(),
+            chaos.first().map_or(f64::NAN, |s| s.omega),
+            chaos.last().map_or(f64::NAN, |s| s.omega),
+            regime_counts(chaos)
+        );
+        r += &chaotic_bands_text(chaos);
+        let _ = writeln!(
+            r,
+            "\nfigures/poincare shows the stroboscopic section and the impact map of the motion from rest at ω = {} rad/s, \
+             its exponents and regime in the title.",
+            crate::study::chaos::POINCARE_OMEGA
+        );
+    }
     r
+}
+
+/// How the frequencies of `chaos` divide by regime, in words.
+fn regime_counts(chaos: &[ChaosSample]) -> String {
+    use rattle_event_driven::lyapunov::Regime as L;
+    let count = |regime: Option<L>| {
+        chaos
+            .iter()
+            .filter(|s| s.chaos.largest_exponent.is_some() && s.chaos.regime == regime)
+            .count()
+    };
+    let without = chaos
+        .iter()
+        .filter(|s| s.chaos.largest_exponent.is_none())
+        .count();
+    format!(
+        "Periodic: {}; not periodic within the cap: chaotic {}, quasi-periodic {}, unsettled (converging) {}; \
+         without an exponent (no dissipation, a cycle Newton could not polish, or a failure): {without}.",
+        count(None),
+        count(Some(L::Chaotic)),
+        count(Some(L::QuasiPeriodic)),
+        count(Some(L::Unsettled)),
+    )
 }
 
 /// Consecutive compared frequencies over which the unit takes the same motion from rest.

@@ -18,8 +18,8 @@ the field's path and its allowed range); an unreadable scene file :class:`OSErro
 failure :class:`RuntimeError`. The computations release the GIL; a sweep runs on the Rust
 thread pool (``RAYON_NUM_THREADS`` sets its size).
 
-Pending (being built elsewhere): Lyapunov exponents (``lyapunov=``); asking for them raises
-:class:`NotImplementedError`.
+``simulate(..., lyapunov=True)`` adds the Lyapunov exponents of the motion, as
+``rattle simulate --lyapunov``.
 """
 
 import json as _json
@@ -50,6 +50,7 @@ __all__ = [
     "DEFAULTS",
     "CONTINUATION_DEFAULTS",
     "SAMPLES_PER_PERIOD",
+    "LYAPUNOV_PERIODS",
 ]
 
 __version__ = _rattle.__version__
@@ -72,6 +73,10 @@ CONTINUATION_DEFAULTS = dict(_rattle.continuation_defaults())
 #: Uniform samples per forcing period of a trajectory by default, as the command's
 #: ``--samples-per-period``.
 SAMPLES_PER_PERIOD = 200
+
+#: Forcing periods of the Lyapunov exponents' run by default, as the command's
+#: ``--lyapunov-periods``.
+LYAPUNOV_PERIODS = _rattle.LYAPUNOV_PERIODS
 
 
 def _plain(value):
@@ -284,7 +289,9 @@ class Simulation(Record):
     """``rattle simulate --json``: ``scene``, ``omega``, ``effects``, ``status``, ``regime``,
     ``period``, ``impacts_per_period``, ``outer_amplitude``, ``transmittance_db``,
     ``sticking``, ``stopped_by``, ``periods_run``, ``impacts``, ``signature``,
-    ``floquet_multipliers``, ``orbit_error``.
+    ``floquet_multipliers``, ``orbit_error``; with ``simulate(..., lyapunov=True)`` also
+    ``lyapunov_exponents``, ``lyapunov_uncertainty``, ``lyapunov_uncertainties``,
+    ``lyapunov_collapsed``, ``lyapunov_periods``, ``lyapunov_regime`` (see :func:`simulate`).
 
     With ``simulate(..., trajectory=True)`` also ``trajectory`` and ``impact_table``
     (:class:`Table`, see :func:`simulate`; ``impacts`` is already the command's count of
@@ -425,13 +432,6 @@ class Sweep:
         return f"Sweep(scene={self.scene.get('name')!r}, solver={self.solver!r}, points={self.points})"
 
 
-def _pending(feature):
-    raise NotImplementedError(
-        f"{feature} is pending: Lyapunov exponents are being "
-        "built in the library and are not exposed yet"
-    )
-
-
 def orbit(scene, omega, signature=None, period=1, symmetric_only=False):
     """The analytic solver at one frequency, as ``rattle orbit --json``.
 
@@ -461,6 +461,7 @@ def simulate(
     trajectory=False,
     samples_per_period=SAMPLES_PER_PERIOD,
     lyapunov=False,
+    lyapunov_periods=LYAPUNOV_PERIODS,
 ):
     """The event-driven simulator from rest, as ``rattle simulate --json``.
 
@@ -480,10 +481,15 @@ def simulate(
     of that stretch (``t, side, relative_velocity_before, u_o, u_i, v_o_before,
     v_i_before``).
 
-    ``lyapunov`` is pending and raises :class:`NotImplementedError`.
+    With ``lyapunov=True``, as ``rattle simulate --lyapunov --lyapunov-periods N``: after the
+    run, the Lyapunov exponents over ``lyapunov_periods`` more forcing periods (at least 10;
+    ignored without ``lyapunov``), from the simulator's exact tangent flow, in the result:
+    ``lyapunov_exponents`` (the finite ones, descending, 1/s), ``lyapunov_uncertainty`` (of
+    the largest, 1/s), ``lyapunov_uncertainties`` (of each), ``lyapunov_collapsed``
+    (directions contracted by sticking, exponents −∞, not listed), ``lyapunov_periods`` and
+    ``lyapunov_regime`` (``chaotic``, ``quasi-periodic`` or ``unsettled`` for a motion that
+    did not repeat, ``None`` for a periodic one). The same numbers as the command, bit for bit.
     """
-    if lyapunov:
-        _pending("simulate(lyapunov=True)")
     text, tables = _rattle.simulate(
         _native_scene(scene),
         float(omega),
@@ -493,6 +499,7 @@ def simulate(
         max_periods,
         float(max_oscillations),
         samples_per_period if trajectory else None,
+        lyapunov_periods if lyapunov else None,
     )
     if tables is None:
         return Simulation(_json.loads(text))
