@@ -175,6 +175,12 @@ fn set_number(scene: &mut Scene, path: &str, value: f64) -> PyResult<()> {
 }
 
 /// Compact JSON text of a record.
+/// Refuses a chain scene for a function that takes a single unit, with the command's message.
+fn unit_only(scene: &Scene, function: &str) -> PyResult<()> {
+    rattle_compare::cli::refuse_chain(scene, function)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
 fn json(record: &impl Serialize) -> PyResult<String> {
     serde_json::to_string(record).map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
@@ -294,6 +300,7 @@ fn orbit(
     symmetric_only: bool,
 ) -> PyResult<String> {
     let omega = check_omega("omega", omega)?;
+    unit_only(&scene.scene, "rattle.orbit")?;
     let scene = &scene.scene;
     let Some(text) = signature else {
         if period != 1 {
@@ -515,6 +522,7 @@ fn orbit_trajectory<'py>(
     samples_per_period: i64,
 ) -> PyResult<(String, PyColumns<'py>, PyColumns<'py>)> {
     let omega = check_omega("omega", omega)?;
+    unit_only(&scene.scene, "rattle.orbit_trajectory")?;
     let samples = check_samples(samples_per_period)?;
     let period = u32::try_from(period).unwrap_or(0);
     let signature = Signature::parse(signature, period)
@@ -585,6 +593,7 @@ fn continue_branch(
     max_branches: i64,
 ) -> PyResult<String> {
     let omega = check_omega("omega", omega)?;
+    unit_only(&scene.scene, "rattle.continue_branch")?;
     let period = u32::try_from(period).unwrap_or(0);
     let signature = Signature::parse(signature, period)
         .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
@@ -660,6 +669,7 @@ fn compare(
     max_oscillations: f64,
 ) -> PyResult<String> {
     let omega = check_omega("omega", omega)?;
+    unit_only(&scene.scene, "rattle.compare")?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
     let record = compute(py, || {
@@ -908,6 +918,9 @@ fn sweep(
     let solver = solver(solver_name)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
+    if solver == Solver::Both {
+        unit_only(scene, "rattle.sweep(solver=\"both\")")?;
+    }
     let rows = compute(py, || {
         // The command's own row builder (with the Lyapunov columns), rows kept in order.
         let mut rows = Vec::with_capacity(omegas.len());

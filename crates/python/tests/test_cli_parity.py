@@ -174,3 +174,23 @@ def test_frequencies_are_the_commands_axis(rattle_cli, tmp_path):
     assert code == 0, err
     theirs = [row["omega"] for row in json.loads(out.read_text())["results"]]
     assert rattle.frequencies(0.1, 4.0, 400).tolist() == theirs
+
+
+@pytest.mark.parametrize("omega", [1.0, 2.5])
+def test_simulate_on_a_chain_is_the_commands(rattle_cli, omega):
+    path = SCENES / "paper-chain-5.json"
+    ours = rattle.simulate(rattle.Scene.from_file(path), omega, max_periods=300)
+    theirs = rattle_cli.json("simulate", path, "--omega", omega, "--max-periods", 300)
+    assert ours.to_dict() == theirs
+    assert len(ours.to_dict()["cell_outer_amplitudes"]) == 5
+
+
+def test_single_unit_functions_refuse_a_chain_by_name():
+    chain = rattle.Scene.from_file(SCENES / "paper-graded-4.json")
+    for call in (
+        lambda: rattle.orbit(chain, 2.0),
+        lambda: rattle.compare(chain, 2.0),
+        lambda: rattle.sweep(chain, [1.0, 2.0], solver="both"),
+    ):
+        with pytest.raises(ValueError, match="chain of 4 cells"):
+            call()

@@ -278,7 +278,7 @@ fn load_unit(path: &Option<PathBuf>, command: &str) -> Result<Scene, RattleError
 ///
 /// # Errors
 /// [`RattleError::Argument`] naming `cells`/`chain` and the commands that take chains.
-fn refuse_chain(scene: &Scene, command: &str) -> Result<(), RattleError> {
+pub fn refuse_chain(scene: &Scene, command: &str) -> Result<(), RattleError> {
     if !scene.is_chain() {
         return Ok(());
     }

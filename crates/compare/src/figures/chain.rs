@@ -171,6 +171,8 @@ impl Figure for ChainWave<'_> {
                 .map_err(err)?;
             chart
                 .configure_mesh()
+                .x_labels(cells)
+                .x_label_formatter(&|x| format!("{x:.0}"))
                 .x_desc("cell j (from the base)")
                 .y_desc("outer amplitude X_o,j (m)")
                 .label_style(text(14))
@@ -206,29 +208,22 @@ impl Figure for ChainWave<'_> {
                 .map_err(err)?
                 .label("impacting chain max|u_o,j|")
                 .legend(move |(x, y)| Circle::new((x + 8, y), 4, impacting_colour.filled()));
-            if let Some(&first) = wave.linear.first() {
-                let decay: Vec<(f64, f64)> = (1..=cells)
-                    .map(|j| {
-                        (
-                            j as f64,
-                            first * (-wave.lattice_attenuation * (j as f64 - 1.0)).exp(),
-                        )
-                    })
-                    .filter(|p| p.1 > lo)
-                    .collect();
-                chart
-                    .draw_series(DashedLineSeries::new(
-                        decay,
-                        6,
-                        4,
-                        BLACK.mix(0.6).stroke_width(1),
-                    ))
-                    .map_err(err)?
-                    .label("lattice: e^(−|Im q|(j − 1)) from cell 1")
-                    .legend(|(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 16, y)], BLACK.mix(0.6).stroke_width(1))
-                    });
-            }
+            let decay: Vec<(f64, f64)> = at(&wave.lattice_decay)
+                .into_iter()
+                .filter(|p| p.1 > lo)
+                .collect();
+            chart
+                .draw_series(DashedLineSeries::new(
+                    decay,
+                    6,
+                    4,
+                    BLACK.mix(0.6).stroke_width(1),
+                ))
+                .map_err(err)?
+                .label("lattice: X_1 e^(−|Im q|(j − 1))")
+                .legend(|(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 16, y)], BLACK.mix(0.6).stroke_width(1))
+                });
             legend(&mut chart, SeriesLabelPosition::LowerLeft, 13)?;
         }
         Ok(())

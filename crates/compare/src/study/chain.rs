@@ -71,6 +71,8 @@ pub struct ChainWave {
     pub regime: Option<&'static str>,
     /// The infinite lattice's attenuation per cell `|Im q|` at this frequency (damped).
     pub lattice_attenuation: f64,
+    /// The lattice's decay from the linear chain's first cell: `X_1 e^(−|Im q|(j − 1))`, m.
+    pub lattice_decay: Vec<f64>,
 }
 
 /// Everything the chain figures draw.
@@ -167,16 +169,24 @@ pub fn chain_study(scene: &Scene, quick: bool, progress: bool) -> ChainStudy {
     let waves = WAVE_OMEGAS
         .iter()
         .zip(&simulated[CHAIN_LENGTHS.len() * impacting_points..])
-        .map(|(&omega, sim)| ChainWave {
-            omega,
-            linear: linear(WAVE_CELLS, omega)
+        .map(|(&omega, sim)| {
+            let linear = linear(WAVE_CELLS, omega)
                 .map(|r| r.cell_outer_amplitudes)
-                .unwrap_or_default(),
-            impacting: sim.cell_outer_amplitudes.clone(),
-            regime: sim.regime,
-            lattice_attenuation: bloch_wave(&unit_cell, omega)
+                .unwrap_or_default();
+            let attenuation = bloch_wave(&unit_cell, omega)
                 .map(|b| b.attenuation)
-                .unwrap_or(f64::NAN),
+                .unwrap_or(f64::NAN);
+            let first = linear.first().copied().unwrap_or(f64::NAN);
+            ChainWave {
+                omega,
+                lattice_decay: (0..WAVE_CELLS)
+                    .map(|j| first * (-attenuation * j as f64).exp())
+                    .collect(),
+                linear,
+                impacting: sim.cell_outer_amplitudes.clone(),
+                regime: sim.regime,
+                lattice_attenuation: attenuation,
+            }
         })
         .collect();
     ChainStudy {
