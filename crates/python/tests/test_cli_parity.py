@@ -137,8 +137,17 @@ def test_sweep_is_the_commands(rattle_cli, tmp_path, solver, points):
 @pytest.mark.parametrize("path", sorted(SCENES.glob("*.json")), ids=lambda p: p.name)
 def test_scene_files_give_the_commands_results(rattle_cli, path):
     scene = rattle.Scene.from_file(path)
-    assert scene.to_dict() == rattle.Scene.from_dict(json.loads(path.read_text())).to_dict()
-    assert rattle.orbit(scene, 2.0).to_dict() == rattle_cli.json("orbit", path, "--omega", 2.0)
+    document = json.loads(path.read_text())
+    assert scene.to_dict() == rattle.Scene.from_dict(document).to_dict()
+    if "cells" in document or "chain" in document:
+        # A chain: the two-impact orbits are a single unit's; both refuse, naming the chain.
+        assert "chain of" in rattle_cli.error("orbit", path, "--omega", 2.0)
+        with pytest.raises(ValueError, match="chain of"):
+            rattle.orbit(scene, 2.0)
+    else:
+        assert rattle.orbit(scene, 2.0).to_dict() == rattle_cli.json(
+            "orbit", path, "--omega", 2.0
+        )
     assert rattle.simulate(scene, 2.0).to_dict() == rattle_cli.json(
         "simulate", path, "--omega", 2.0
     )
