@@ -457,6 +457,52 @@ impl LinearFlow {
         Flight { flow: self, form }
     }
 
+    /// The flight at forcing phase time `t0` from a state whose deviation from the steady
+    /// response, `h = z(0) − z_p(t0)` per mode (kept modes only, length `2n`), is already
+    /// known, as [`Flight::deviation_at`] and [`Self::add_jump`] carry it across an event;
+    /// `None` (the deviation handed back) when the flow has no steady response.
+    ///
+    /// It is [`Self::flight`] of that state up to rounding: the deviation is not recomputed
+    /// from the state, so the last bits differ from a fresh start.
+    pub(crate) fn flight_with_deviation(
+        &self,
+        deviation: Vec<C64>,
+        t0: f64,
+    ) -> Result<Flight<'_>, Vec<C64>> {
+        let Some(p) = &self.steady else {
+            return Err(deviation);
+        };
+        if deviation.len() != 2 * self.dofs {
+            return Err(deviation);
+        }
+        let (sin, cos) = (self.omega * t0).sin_cos();
+        Ok(Flight {
+            flow: self,
+            form: Form::Steady {
+                response: p,
+                deviation,
+                phase: C64::new(cos, sin),
+            },
+        })
+    }
+
+    /// Adds to a modal deviation (of the kept modes) the jump of the state from `before` to
+    /// `after` (an impact's velocity change): `h += V⁻¹ (after − before)`, over the entries
+    /// that changed only.
+    pub(crate) fn add_jump(&self, deviation: &mut [C64], before: &[f64], after: &[f64]) {
+        let m = 2 * self.dofs;
+        let (rows_re, rows_im) = &self.inverse_rows;
+        for (j, (&b, &a)) in before.iter().zip(after).enumerate() {
+            if a == b {
+                continue;
+            }
+            let delta = a - b;
+            for &(k, _) in &self.kept {
+                deviation[k] += C64::new(rows_re[k * m + j], rows_im[k * m + j]) * delta;
+            }
+        }
+    }
+
     /// Modal weights `Vᵀ c` of the functional `c · y`, with the steady response's part.
     pub fn functional(&self, c: &DVector<f64>) -> Functional {
         let weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
@@ -543,6 +589,26 @@ impl Flight<'_> {
                 }
             }
         }
+    }
+
+    /// The deviation from the steady response at `s` into the flight, `h e^{λs}` per kept
+    /// mode, written into `out` (length `2n`), given `exponentials` as for
+    /// [`Self::state_at`]: the start of the next flight without recomputing it from the
+    /// state. `false` (nothing written) for the general form or without those exponentials.
+    pub(crate) fn deviation_at(&self, exponentials: &[C64], out: &mut Vec<C64>) -> bool {
+        let f = self.flow;
+        let Form::Steady { deviation, .. } = &self.form else {
+            return false;
+        };
+        if exponentials.len() <= f.kept.len() {
+            return false;
+        }
+        out.clear();
+        out.resize(deviation.len(), C64::default());
+        for (j, &(k, _)) in f.kept.iter().enumerate() {
+            out[k] = deviation[k] * exponentials[j];
+        }
+        true
     }
 
     /// The [`Summary`] of the functional's terms, as [`Self::expand`] would write them (same

@@ -448,6 +448,27 @@ struct Scratch {
     coordinate: ExpSum,
     /// The exponentials of the search at the contact it found, for the contact state.
     event_exponentials: Vec<nalgebra::Complex<f64>>,
+    /// With several pairs, the next free flight's start carried across the last contact:
+    /// its modal deviation ([`Flight::deviation_at`] plus the impact's jump), valid for the
+    /// state [`Self::carried_state`] at [`Self::carried_tau`] only (`carried` empty when
+    /// there is none).
+    carried: Vec<nalgebra::Complex<f64>>,
+    /// The state the carried deviation belongs to.
+    carried_state: Vec<f64>,
+    /// The time within the period it belongs to.
+    carried_tau: f64,
+    /// The state just before the contact the deviation is carried across.
+    before_contact: Vec<f64>,
+}
+
+impl Scratch {
+    /// The carried deviation, if it belongs to the state `y` at `tau` (bit for bit); the
+    /// carry is used up either way.
+    fn take_carried(&mut self, y: &DVector<f64>, tau: f64) -> Option<Vec<nalgebra::Complex<f64>>> {
+        let carried = std::mem::take(&mut self.carried);
+        (!carried.is_empty() && self.carried_tau == tau && self.carried_state == y.as_slice())
+            .then_some(carried)
+    }
 }
 
 /// The first contact of a flight: `s` after its start, pair `pair`, on `side`.
@@ -1423,7 +1444,16 @@ impl<'m> Engine<'m> {
         let n = self.n;
         let period = self.period;
         let horizon = period - state.tau;
-        let flight = self.free.flight(&state.y, state.tau);
+        // With several pairs, a flight that starts where the last contact left the state
+        // starts from the modal deviation carried across it (no product with `V⁻¹`).
+        let several = self.pairs.len() > 1;
+        let flight = match self.work.take_carried(&state.y, state.tau) {
+            Some(deviation) => match self.free.flight_with_deviation(deviation, state.tau) {
+                Ok(flight) => flight,
+                Err(_) => self.free.flight(&state.y, state.tau),
+            },
+            None => self.free.flight(&state.y, state.tau),
+        };
         // Positions are known to rounding relative to their size, not to the gap: an excursion
         // beyond a stop smaller than that is no contact.
         let depth = self.contact_depth + POSITION_ROUNDING * state.y.rows(0, n).amax();
@@ -1488,8 +1518,25 @@ impl<'m> Engine<'m> {
             Some(c) => {
                 // Just before the contact.
                 flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
+                let work = &mut self.work;
+                let carry =
+                    several && flight.deviation_at(&work.event_exponentials, &mut work.carried);
+                if carry {
+                    work.before_contact.clear();
+                    work.before_contact.extend_from_slice(state.y.as_slice());
+                }
                 state.tau += c.s;
                 self.contact(state, c)?;
+                if carry && matches!(state.mode, Mode::Free) {
+                    let work = &mut self.work;
+                    self.free
+                        .add_jump(&mut work.carried, &work.before_contact, state.y.as_slice());
+                    work.carried_state.clear();
+                    work.carried_state.extend_from_slice(state.y.as_slice());
+                    work.carried_tau = state.tau;
+                } else {
+                    self.work.carried.clear();
+                }
             }
         }
         Ok(())
