@@ -333,6 +333,67 @@ pub(crate) struct Summary {
     jerk_horizon: f64,
 }
 
+/// One mode of a flight as [`Flight::summarize_all`](crate::flow::Flight) adds it to every
+/// functional's [`Summary`]: the term `(w d)·weight e^{μs}` of a functional of modal weight
+/// `w`, with `rate = |Re μ| + |Im μ| > 0` and `cube = (rate · rate) · rate`.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ModeTerm {
+    pub(crate) deviation: C64,
+    pub(crate) weight: f64,
+    pub(crate) rate_complex: C64,
+    pub(crate) rate: f64,
+    pub(crate) cube: f64,
+}
+
+/// The sums of two functionals' [`Summary`]s over the `modes`, side by side (the two lanes
+/// independent, so the compiler may pack them): `weights[j] = [Re w₀, Re w₁, Im w₀, Im w₁]`
+/// for mode `j`. Each lane's sums are bit for bit those of [`Summary::add_moving`] with `CUT`
+/// over the modes in order, `c = (w d)·weight` formed as [`Complex`]'s products.
+pub(crate) fn summarize_two(weights: &[[f64; 4]], modes: &[ModeTerm]) -> [Summary; 2] {
+    let mut start = [0.0; 2];
+    let mut slope0 = [0.0; 2];
+    let mut curve0 = [0.0; 2];
+    let mut size0 = [0.0; 2];
+    let mut spread = [0.0; 2];
+    let mut speed = [0.0; 2];
+    let mut bend = [0.0; 2];
+    let mut jerk_cut = [0.0; 2];
+    let mut jerk_horizon = [0.0; 2];
+    for (w, m) in weights.iter().zip(modes) {
+        let (d, mu, weight, rate, cube) = (m.deviation, m.rate_complex, m.weight, m.rate, m.cube);
+        for l in 0..2 {
+            let (a, b) = (w[l], w[2 + l]);
+            let c_re = (a * d.re - b * d.im) * weight;
+            let c_im = (a * d.im + b * d.re) * weight;
+            let slope_re = c_re * mu.re - c_im * mu.im;
+            let slope_im = c_re * mu.im + c_im * mu.re;
+            start[l] += c_re;
+            slope0[l] += slope_re;
+            let size = c_re.abs() + c_im.abs();
+            size0[l] += size;
+            let jerk = cube * size;
+            jerk_horizon[l] += jerk;
+            spread[l] += size;
+            speed[l] += rate * size;
+            bend[l] += rate * (rate * size);
+            curve0[l] += slope_re * mu.re - slope_im * mu.im;
+            jerk_cut[l] += jerk;
+        }
+    }
+    [0, 1].map(|l| Summary {
+        start: start[l],
+        slope0: slope0[l],
+        curve0: curve0[l],
+        size0: size0[l],
+        centre: 0.0,
+        spread: spread[l],
+        speed: speed[l],
+        bend: bend[l],
+        jerk_cut: jerk_cut[l],
+        jerk_horizon: jerk_horizon[l],
+    })
+}
+
 impl Summary {
     /// Adds the term `c e^{μs}` (a constant polynomial), for a search cut at `cutoff` on the
     /// grid of `horizon` (both finite; they matter only for a growing rate, `Re μ > 0`).

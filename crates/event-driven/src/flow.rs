@@ -15,7 +15,7 @@
 //! folded into one (`Re Σ = 2 Re` of one of each pair), halving the exponentials again.
 //! The eigenvectors come from the quadratic pencil: `(λ²M + λC + K) φ = 0`, `v = (φ, λφ)`.
 
-use crate::expsum::{ExpSum, Summary, Term};
+use crate::expsum::{summarize_two, ExpSum, ModeTerm, Summary, Term};
 use nalgebra::{Complex, DMatrix, DVector};
 use thiserror::Error;
 
@@ -105,6 +105,17 @@ pub struct Functional {
     weights: DVector<C64>,
     forced: C64,
     constant: f64,
+}
+
+/// Several functionals prepared for [`Flight::summarize_all`]: in blocks of two functionals,
+/// per kept mode, the two modal weights `[Re w₀, Re w₁, Im w₀, Im w₁]` (a last odd functional
+/// paired with zero weights), and each functional's steady-response part.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct JointWeights {
+    count: usize,
+    blocks: Vec<[f64; 4]>,
+    forced: Vec<C64>,
+    constant: Vec<f64>,
 }
 
 /// A flight: the flow from a given state at a given forcing phase.
@@ -503,6 +514,27 @@ impl LinearFlow {
         }
     }
 
+    /// The functionals, in their order, prepared for [`Flight::summarize_all`].
+    pub(crate) fn joint_weights(&self, functionals: &[&Functional]) -> JointWeights {
+        let count = functionals.len();
+        let mut joint = JointWeights {
+            count,
+            ..JointWeights::default()
+        };
+        for pair in functionals.chunks(2) {
+            for &(k, _) in &self.kept {
+                let w0 = pair[0].weights[k];
+                let w1 = pair.get(1).map_or(C64::default(), |f| f.weights[k]);
+                joint.blocks.push([w0.re, w1.re, w0.im, w1.im]);
+            }
+        }
+        for f in functionals {
+            joint.forced.push(f.forced);
+            joint.constant.push(f.constant);
+        }
+        joint
+    }
+
     /// Modal weights `Vᵀ c` of the functional `c · y`, with the steady response's part.
     pub fn functional(&self, c: &DVector<f64>) -> Functional {
         let weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
@@ -642,6 +674,60 @@ impl Flight<'_> {
         Some(sum)
     }
 
+    /// [`Self::summarize`] of every functional of `joint`, in its order, into `out`, in one
+    /// pass over the modes (each mode's deviation and rate read once for all functionals);
+    /// each summary is bit for bit the one [`Self::summarize`] gives. `false` (nothing
+    /// written) where [`Self::summarize`] gives `None`, or a kept mode has rate zero.
+    pub(crate) fn summarize_all(
+        &self,
+        joint: &JointWeights,
+        horizon: f64,
+        modes: &mut Vec<ModeTerm>,
+        out: &mut Vec<Summary>,
+    ) -> bool {
+        let f = self.flow;
+        let Form::Steady {
+            deviation, phase, ..
+        } = &self.form
+        else {
+            return false;
+        };
+        if !horizon.is_finite()
+            || f.rates.iter().any(|r| r.re > 0.0)
+            || f.kept.is_empty()
+            || f.kept_sizes.iter().any(|&(rate, _)| rate == 0.0)
+            || joint.blocks.len() != joint.count.div_ceil(2) * f.kept.len()
+        {
+            return false;
+        }
+        let count = joint.count;
+        modes.clear();
+        modes.extend(
+            f.kept
+                .iter()
+                .zip(&f.kept_sizes)
+                .map(|(&(k, weight), &(rate, cube))| ModeTerm {
+                    deviation: deviation[k],
+                    weight,
+                    rate_complex: f.rates[k],
+                    rate,
+                    cube,
+                }),
+        );
+        out.clear();
+        for block in joint.blocks.chunks_exact(modes.len()) {
+            out.extend(summarize_two(block, modes));
+        }
+        out.truncate(count);
+        for (i, sum) in out.iter_mut().enumerate() {
+            sum.add_decaying::<true>(joint.forced[i] * phase, C64::new(0.0, f.omega));
+            if joint.constant[i] != 0.0 {
+                sum.add_decaying::<true>(C64::new(joint.constant[i], 0.0), C64::default());
+            }
+        }
+        true
+    }
+
     /// The linear functional `c · y(s)` as a sum of exponential terms in `s`.
     pub fn value_of(&self, c: &DVector<f64>) -> ExpSum {
         let mut out = ExpSum::default();
@@ -720,6 +806,94 @@ fn merge(terms: Vec<Term>) -> Vec<Term> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The free flow of a lightly damped chain of the paper's cell, its pairs' relative
+    /// displacements, and a start state away from rest.
+    fn chain_flow(cells: usize) -> (LinearFlow, Vec<Functional>, DVector<f64>) {
+        use crate::test_models::{paper_chain, LIGHT_DAMPING};
+        use crate::CellStops;
+        let omega = 2.0;
+        let model = paper_chain(
+            cells,
+            omega,
+            Some(LIGHT_DAMPING),
+            Some(CellStops::symmetric(0.5, 0.8)),
+        );
+        let n = 2 * cells;
+        let flow = LinearFlow::new(
+            &model.mass,
+            model.damping.as_ref(),
+            &model.stiffness,
+            &model.forcing_cos,
+            &model.forcing_sin,
+            &DVector::zeros(n),
+            omega,
+        )
+        .expect("flow");
+        let functionals = model
+            .contacts
+            .iter()
+            .map(|c| {
+                let mut position = DVector::zeros(2 * n);
+                position[c.plus_dof] = 1.0;
+                position[c.minus_dof] = -1.0;
+                flow.functional(&position)
+            })
+            .collect();
+        let y = DVector::from_fn(2 * n, |i, _| 0.3 * (1.7 * i as f64 + 0.4).sin());
+        (flow, functionals, y)
+    }
+
+    #[test]
+    fn joint_summaries_are_each_pairs_summary_bit_for_bit() {
+        // Regression guard for the watch of several pairs: its one-pass summaries must be the
+        // very sums the per-pair summary (and so the search) forms, for odd and even counts.
+        for cells in [2, 3, 8] {
+            let (flow, functionals, y) = chain_flow(cells);
+            let refs: Vec<&Functional> = functionals.iter().collect();
+            let joint = flow.joint_weights(&refs);
+            let flight = flow.flight(&y, 0.7);
+            let (mut modes, mut out) = (Vec::new(), Vec::new());
+            assert!(flight.summarize_all(&joint, 2.5, &mut modes, &mut out));
+            assert_eq!(out.len(), cells);
+            for (sum, functional) in out.iter().zip(&functionals) {
+                let single = flight.summarize(functional, 2.5).expect("summary");
+                assert_eq!(format!("{sum:?}"), format!("{single:?}"), "{cells} cells");
+            }
+        }
+    }
+
+    #[test]
+    fn a_carried_deviation_is_the_state_s_flight() {
+        // The start carried across an event (the deviation at `s`, plus a velocity jump)
+        // against the flight recomputed from the state there: the same motion to rounding.
+        let (flow, _, y) = chain_flow(3);
+        let n = 6;
+        let flight = flow.flight(&y, 0.7);
+        let s = 0.45;
+        let exps: Vec<C64> = flow
+            .kept
+            .iter()
+            .map(|&(k, _)| cexp(flow.rates[k], s))
+            .chain([cexp(C64::new(0.0, flow.omega), s)])
+            .collect();
+        let before = flight.state(s);
+        let mut after = before.clone();
+        after[n + 2] += 0.25;
+        after[n + 3] -= 0.125;
+        let mut deviation = Vec::new();
+        assert!(flight.deviation_at(&exps, &mut deviation));
+        flow.add_jump(&mut deviation, before.as_slice(), after.as_slice());
+        let carried = flow
+            .flight_with_deviation(deviation, 0.7 + s)
+            .expect("steady response");
+        let fresh = flow.flight(&after, 0.7 + s);
+        for t in [0.0, 0.3, 1.1] {
+            let (a, b) = (carried.state(t), fresh.state(t));
+            let error = (&a - &b).amax();
+            assert!(error <= 1e-13 * b.amax(), "t = {t}: {error:e}");
+        }
+    }
 
     #[test]
     fn eigenvalues_where_the_plain_schur_iteration_cycles() {

@@ -32,8 +32,8 @@
 //! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
 //! exact in any case); [`crate::newton`] refuses sticking runs anyway.
 
-use crate::expsum::{ExpSum, SearchStack, Summary};
-use crate::flow::{Flight, FlowError, Functional, LinearFlow};
+use crate::expsum::{ExpSum, ModeTerm, SearchStack, Summary};
+use crate::flow::{Flight, FlowError, Functional, JointWeights, LinearFlow};
 use crate::model::{ContactPair, Model};
 use crate::newton::{periodic_orbit, PeriodicOrbit};
 use nalgebra::{DMatrix, DVector};
@@ -416,6 +416,9 @@ pub(crate) struct Engine<'m> {
     /// `u_j` as functionals of the free flow's state, for the amplitudes.
     displacements: Vec<Functional>,
     pairs: Vec<Pair>,
+    /// With several pairs, their relative displacements prepared for the free flight's
+    /// summaries in one pass ([`Flight::summarize_all`]); `None` for one pair.
+    free_joint: Option<JointWeights>,
     /// `M⁻¹`.
     inverse_mass: DMatrix<f64>,
     /// Reduced flows of sets of pairs held on their stops, built on first use.
@@ -442,6 +445,10 @@ struct Scratch {
     /// Each watched pair's gap summarised ([`Flight::summarize`]) when several pairs are
     /// watched: its terms are then written out only for a search.
     summaries: Vec<Option<Summary>>,
+    /// The watched pairs' summaries formed in one pass ([`Flight::summarize_all`]).
+    joint: Vec<Summary>,
+    /// The flight's modes, as those summaries add them.
+    modes: Vec<ModeTerm>,
     /// The watch's search order: `(estimated exit, slot in gaps, pair, lo, hi)`.
     order: Vec<(f64, usize, usize, f64, f64)>,
     stack: SearchStack,
@@ -835,6 +842,11 @@ impl<'m> Engine<'m> {
             .map(|p| p.spec.gap_plus.max(p.spec.gap_minus))
             .fold(0.0, f64::max)
             .max(SCALE_FLOOR);
+        let free_joint = (pairs.len() > 1).then(|| {
+            let functionals: Vec<&Functional> =
+                pairs.iter().map(|p| &p.relative_displacement).collect();
+            free.joint_weights(&functionals)
+        });
         Ok(Self {
             model,
             omega,
@@ -843,6 +855,7 @@ impl<'m> Engine<'m> {
             free,
             displacements,
             pairs,
+            free_joint,
             inverse_mass: minv,
             stuck: Vec::new(),
             time_tolerance: options.root_tolerance * period,
@@ -1343,6 +1356,7 @@ impl<'m> Engine<'m> {
     fn watch<'f, I>(
         pairs: &[Pair],
         watched: I,
+        joint: Option<&JointWeights>,
         work: &mut Scratch,
         flight: &Flight<'_>,
         horizon: f64,
@@ -1363,6 +1377,12 @@ impl<'m> Engine<'m> {
         // contact found is decided without writing its terms out, as its search would decide
         // it.
         let several = watched.size_hint().0 > 1;
+        // `joint` lists the watched pairs' functionals in their order: then every summary is
+        // formed in one pass.
+        let joint = several
+            && joint.is_some_and(|joint| {
+                flight.summarize_all(joint, horizon, &mut work.modes, &mut work.joint)
+            });
         work.order.clear();
         for (count, (i, functional, shift)) in watched.clone().enumerate() {
             if work.gaps.len() <= count {
@@ -1371,7 +1391,9 @@ impl<'m> Engine<'m> {
             }
             let spec = &pairs[i].spec;
             let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
-            let summary = if several {
+            let summary = if joint {
+                Some(work.joint[count])
+            } else if several {
                 flight.summarize(functional, horizon)
             } else {
                 None
@@ -1463,6 +1485,7 @@ impl<'m> Engine<'m> {
                 .iter()
                 .enumerate()
                 .map(|(i, p)| (i, &p.relative_displacement, 0.0)),
+            self.free_joint.as_ref(),
             &mut self.work,
             &flight,
             horizon,
@@ -1847,6 +1870,7 @@ impl<'m> Engine<'m> {
             Self::watch(
                 &self.pairs,
                 st.watched.iter().map(|(q, f, shift)| (*q, f, *shift)),
+                None,
                 &mut self.work,
                 &flight,
                 watch_horizon,
