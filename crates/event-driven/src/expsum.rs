@@ -765,6 +765,57 @@ impl ExpSum {
         } else {
             self.jerk_bound(horizon)
         };
+        self.grid_search(
+            (lo, hi),
+            horizon,
+            cutoff,
+            jerk,
+            (time_tolerance, depth_tolerance),
+            stack,
+        )
+    }
+
+    /// [`Self::first_exit_until`] of a function whose [`Summary`] is known (as
+    /// [`Flight::summarize`](crate::flow::Flight) forms it from the terms the flight writes:
+    /// every polynomial a constant, no growing rate, `horizon` finite): the same search,
+    /// without forming the sums again.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn first_exit_summarized(
+        &self,
+        summary: &Summary,
+        lo: f64,
+        hi: f64,
+        horizon: f64,
+        cutoff: f64,
+        time_tolerance: f64,
+        depth_tolerance: f64,
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
+        let cutoff = cutoff.min(horizon);
+        if summary.excludes(lo, hi, cutoff, horizon) {
+            return None;
+        }
+        self.grid_search(
+            (lo, hi),
+            horizon,
+            cutoff,
+            summary.jerk_horizon,
+            (time_tolerance, depth_tolerance),
+            stack,
+        )
+    }
+
+    /// The search of [`Self::first_exit_until`] past its evaluation-free tests, with `jerk`
+    /// bounding `|f'''|` on `[0, horizon]`: head chunks, then the grid of chunks.
+    fn grid_search(
+        &self,
+        (lo, hi): (f64, f64),
+        horizon: f64,
+        cutoff: f64,
+        jerk: f64,
+        (time_tolerance, depth_tolerance): (f64, f64),
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
         let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
             / std::f64::consts::TAU)
             .ceil() as usize)

@@ -108,13 +108,12 @@ pub struct Functional {
 }
 
 /// Several functionals prepared for [`Flight::summarize_all`]: in blocks of two functionals,
-/// per kept mode, the two modal weights `[Re w₀, Re w₁, Im w₀, Im w₁]` (a last odd functional
-/// paired with zero weights), and each functional's steady-response part.
+/// per kept mode, the two modal weights `[Re w₀, Re w₁, Im w₀, Im w₁]`, then the two forced
+/// parts likewise (a last odd functional paired with zeros), and each functional's constant.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct JointWeights {
     count: usize,
     blocks: Vec<[f64; 4]>,
-    forced: Vec<C64>,
     constant: Vec<f64>,
 }
 
@@ -527,11 +526,13 @@ impl LinearFlow {
                 let w1 = pair.get(1).map_or(C64::default(), |f| f.weights[k]);
                 joint.blocks.push([w0.re, w1.re, w0.im, w1.im]);
             }
+            let f0 = pair[0].forced;
+            let f1 = pair.get(1).map_or(C64::default(), |f| f.forced);
+            joint.blocks.push([f0.re, f1.re, f0.im, f1.im]);
         }
-        for f in functionals {
-            joint.forced.push(f.forced);
-            joint.constant.push(f.constant);
-        }
+        joint
+            .constant
+            .extend(functionals.iter().map(|f| f.constant));
         joint
     }
 
@@ -696,7 +697,7 @@ impl Flight<'_> {
             || f.rates.iter().any(|r| r.re > 0.0)
             || f.kept.is_empty()
             || f.kept_sizes.iter().any(|&(rate, _)| rate == 0.0)
-            || joint.blocks.len() != joint.count.div_ceil(2) * f.kept.len()
+            || joint.blocks.len() != joint.count.div_ceil(2) * (f.kept.len() + 1)
         {
             return false;
         }
@@ -714,15 +715,25 @@ impl Flight<'_> {
                     cube,
                 }),
         );
+        // The forced part `forced · phase` at `iω`, as `add_decaying` adds it (weight 1 is
+        // exact).
+        let forcing = C64::new(0.0, f.omega);
+        let rate = forcing.re.abs() + forcing.im.abs();
+        modes.push(ModeTerm {
+            deviation: *phase,
+            weight: 1.0,
+            rate_complex: forcing,
+            rate,
+            cube: rate * rate * rate,
+        });
         out.clear();
         for block in joint.blocks.chunks_exact(modes.len()) {
             out.extend(summarize_two(block, modes));
         }
         out.truncate(count);
-        for (i, sum) in out.iter_mut().enumerate() {
-            sum.add_decaying::<true>(joint.forced[i] * phase, C64::new(0.0, f.omega));
-            if joint.constant[i] != 0.0 {
-                sum.add_decaying::<true>(C64::new(joint.constant[i], 0.0), C64::default());
+        for (sum, &constant) in out.iter_mut().zip(&joint.constant) {
+            if constant != 0.0 {
+                sum.add_decaying::<true>(C64::new(constant, 0.0), C64::default());
             }
         }
         true

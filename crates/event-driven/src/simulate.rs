@@ -1414,23 +1414,36 @@ impl<'m> Engine<'m> {
         for &(_, slot, i, lo, hi) in &work.order {
             // Only a contact before the earliest found so far matters: search up to it.
             let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
-            if let Some(summary) = work.summaries[slot] {
+            let found = if let Some(summary) = work.summaries[slot] {
                 if summary.excludes(lo, hi, within, horizon) {
                     continue;
                 }
                 if let Some((_, functional, _)) = watched.clone().nth(slot) {
                     flight.expand(functional, &mut work.gaps[slot]);
                 }
-            }
-            if let Some((s, side)) = work.gaps[slot].first_exit_until(
-                lo,
-                hi,
-                horizon,
-                within,
-                time_tolerance,
-                depth,
-                &mut work.stack,
-            ) {
+                // The search's own first tests are this summary's: not formed again.
+                work.gaps[slot].first_exit_summarized(
+                    &summary,
+                    lo,
+                    hi,
+                    horizon,
+                    within,
+                    time_tolerance,
+                    depth,
+                    &mut work.stack,
+                )
+            } else {
+                work.gaps[slot].first_exit_until(
+                    lo,
+                    hi,
+                    horizon,
+                    within,
+                    time_tolerance,
+                    depth,
+                    &mut work.stack,
+                )
+            };
+            if let Some((s, side)) = found {
                 if tau + s < grace[i] {
                     step = step.min(grace[i] - tau);
                 } else if contact.is_none_or(|c| s < c.s || (s == c.s && i < c.pair)) {
