@@ -806,7 +806,9 @@ impl ExpSum {
     }
 
     /// The search of [`Self::first_exit_until`] past its evaluation-free tests, with `jerk`
-    /// bounding `|f'''|` on `[0, horizon]`: head chunks, then the grid of chunks.
+    /// bounding `|f'''|` on `[0, horizon]`: head chunks, then the grid of chunks. Inlined
+    /// into both callers: a search costs what it cost as one function.
+    #[inline(always)]
     fn grid_search(
         &self,
         (lo, hi): (f64, f64),

@@ -1482,7 +1482,12 @@ impl<'m> Engine<'m> {
         // With several pairs, a flight that starts where the last contact left the state
         // starts from the modal deviation carried across it (no product with `V⁻¹`).
         let several = self.pairs.len() > 1;
-        let flight = match self.work.take_carried(&state.y, state.tau) {
+        let carried = if several {
+            self.work.take_carried(&state.y, state.tau)
+        } else {
+            None
+        };
+        let flight = match carried {
             Some(deviation) => match self.free.flight_with_deviation(deviation, state.tau) {
                 Ok(flight) => flight,
                 Err(_) => self.free.flight(&state.y, state.tau),
@@ -1554,28 +1559,45 @@ impl<'m> Engine<'m> {
             Some(c) => {
                 // Just before the contact.
                 flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
-                let work = &mut self.work;
-                let carry =
-                    several && flight.deviation_at(&work.event_exponentials, &mut work.carried);
-                if carry {
-                    work.before_contact.clear();
-                    work.before_contact.extend_from_slice(state.y.as_slice());
-                }
+                let carry = several && Self::carry_from(&mut self.work, &flight, &state.y);
                 state.tau += c.s;
                 self.contact(state, c)?;
-                if carry && matches!(state.mode, Mode::Free) {
-                    let work = &mut self.work;
-                    self.free
-                        .add_jump(&mut work.carried, &work.before_contact, state.y.as_slice());
-                    work.carried_state.clear();
-                    work.carried_state.extend_from_slice(state.y.as_slice());
-                    work.carried_tau = state.tau;
-                } else {
-                    self.work.carried.clear();
+                if carry {
+                    self.carry_across(state);
                 }
             }
         }
         Ok(())
+    }
+
+    /// With several pairs, before a contact at the end of `flight`: its modal deviation there
+    /// and the state `y` just before the contact, kept for [`Self::carry_across`]; `false`
+    /// when the flight cannot give it. Out of line: the one-pair path stays as it was.
+    #[inline(never)]
+    fn carry_from(work: &mut Scratch, flight: &Flight<'_>, y: &DVector<f64>) -> bool {
+        if !flight.deviation_at(&work.event_exponentials, &mut work.carried) {
+            work.carried.clear();
+            return false;
+        }
+        work.before_contact.clear();
+        work.before_contact.extend_from_slice(y.as_slice());
+        true
+    }
+
+    /// After the contact: the deviation plus the contact's jump of the state, valid for the
+    /// state after it while the pairs fly free (dropped otherwise).
+    #[inline(never)]
+    fn carry_across(&mut self, state: &RunState) {
+        let work = &mut self.work;
+        if !matches!(state.mode, Mode::Free) {
+            work.carried.clear();
+            return;
+        }
+        self.free
+            .add_jump(&mut work.carried, &work.before_contact, state.y.as_slice());
+        work.carried_state.clear();
+        work.carried_state.extend_from_slice(state.y.as_slice());
+        work.carried_tau = state.tau;
     }
 
     /// A contact found by the search, with the state just before it: an impact if the pair
