@@ -19,9 +19,15 @@
 //! **Many contact pairs** (chains of cells, [`Model::chain`]): every pair is watched at all
 //! times with the same first-contact guarantee. In free flight all pairs' gaps are searched
 //! (in the order of their quadratic estimates, each search cut at the earliest contact found
-//! so far; a gap is first only summarised from the flight's modal coordinates, and a pair
-//! whose evaluation-free bounds keep it inside its stops up to that contact is decided
-//! exactly as its search would decide it, without the search). Any set of pairs may be held on their stops at once: the motion is then the
+//! so far; a gap is first only summarised from the flight's modal coordinates, every pair's
+//! in one pass over the modes, and a pair whose evaluation-free bounds keep it inside its
+//! stops up to that contact is decided exactly as its search would decide it, without the
+//! search; a pair that is searched hands its summary to the search). A free flight that
+//! starts where a contact left the state starts from the modal deviation carried across the
+//! contact (the previous flight's, advanced by the search's exponentials, plus `V⁻¹` of the
+//! impact's jump) instead of recomputing it from the state: a chain's results differ from a
+//! fresh start in their last bits; one pair keeps the fresh start, bit for bit as before.
+//! Any set of pairs may be held on their stops at once: the motion is then the
 //! constrained flow with the held pairs' relative coordinates fixed (`Stuck`), each held pair
 //! is released when its own contact force would pull, and the other pairs are searched in
 //! the constrained flow. Contacts are resolved one at a time in time order, ties by pair
