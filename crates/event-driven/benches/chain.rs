@@ -4,6 +4,14 @@
 //! (`Δ = 0.5` and `Δ = 0.25`), whole process (`simulate` with a fixed number of periods from a
 //! settled state, model and flows built in each iteration). Issue 16's target is 300 000
 //! impacts/s.
+//!
+//! Measured (branch h-speed2, the previous build's bench and this one run back to back on a
+//! quiet moment of the shared 2-core machine, criterion's medians): gap 0.5, 113.7 ms
+//! (18 449 impacts, 162 000 impacts/s) before, 88.4 ms (18 454 impacts, 209 000 impacts/s)
+//! after, ×1.29; gap 0.25, 236.6 ms (44 584 impacts, 188 000 impacts/s) before, 193.6 ms
+//! (44 614 impacts, 230 000 impacts/s) after, ×1.22. The impact counts differ because a
+//! chain's flights now start from the modal deviation carried across each contact (last
+//! bits); see `examples/chain8.rs` for where the time goes.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};

@@ -11,13 +11,24 @@
 //! Measured (branch h-chainspeed, 2-core machine shared with other builds, so CPU time from
 //! `/usr/bin/time -f %U`, three runs each): 368 750 impacts in 2.0 s of one core, about
 //! 180 000 impacts/s, against 3.0 s (122 000 impacts/s) before that branch; the callgrind
-//! instruction count of the first 1000 periods fell from 1.86e9 to 1.20e9. Issue 16's
-//! 300 000 impacts/s is not reached yet. Where the time goes now (callgrind, first 1000
-//! periods): the first-contact searches that bounds alone do not decide (grid and Halley
-//! polish, 46 %, the polish 12 %), summarising every pair's gap at each flight (19 %), the
-//! flight's modal start and the state at the contact (16 %), the amplitudes of the observed
-//! final stretch (6.5 %, none in a longer run); `sin`, `cos` and `exp` (of the grid steps
-//! and the polish start) are some 15 % within these.
+//! instruction count of the first 1000 periods fell from 1.86e9 to 1.20e9.
+//!
+//! Measured again (branch h-speed2, the previous build and this one alternated, three runs each,
+//! medians): 2.00 s of one core for 368 750 impacts (184 000 impacts/s) before, 1.62 s for 368 790
+//! impacts (228 000 impacts/s) after, ×1.24; callgrind, first 1000 periods: 1.205e9 instructions
+//! (18 388 impacts, 65 500 per impact) before, 0.979e9 (18 411 impacts, 53 100 per impact) after.
+//! What changed: every pair's summary is formed in one pass over the modes, two pairs side by side,
+//! and handed to the pair's search (bit-identical sums); a flight after a contact starts from the
+//! modal deviation carried across it instead of `V⁻¹y` (a chain's last bits change; the impact
+//! count of this long run moves from 368 750 to 368 790). Issue 16's 300 000 impacts/s is still not
+//! reached. Where the time goes now (callgrind, first 1000 periods): the first-contact searches
+//! that the bounds do not decide, 50 % (bisection evaluations 16 %, Halley polish 15 %, each
+//! starting from 17 fresh complex exponentials), the summaries 12 %, the state at the contact 10 %,
+//! the amplitudes of the observed final stretch 7 % (none in a longer run); `sin`, `cos` and `exp`
+//! are some 18 % within these (the grid's steps, the polish start, the bisection points). What is
+//! left: seeding the polish and the bisection points from exponentials already known (it needs a
+//! complex exponential for steps up to about 0.4, likely no cheaper than the library's), and
+//! per-pair bounds updated across an impact (it changes two velocities) rather than formed again.
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};

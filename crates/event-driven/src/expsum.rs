@@ -333,6 +333,67 @@ pub(crate) struct Summary {
     jerk_horizon: f64,
 }
 
+/// One mode of a flight as [`Flight::summarize_all`](crate::flow::Flight) adds it to every
+/// functional's [`Summary`]: the term `(w d)·weight e^{μs}` of a functional of modal weight
+/// `w`, with `rate = |Re μ| + |Im μ| > 0` and `cube = (rate · rate) · rate`.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct ModeTerm {
+    pub(crate) deviation: C64,
+    pub(crate) weight: f64,
+    pub(crate) rate_complex: C64,
+    pub(crate) rate: f64,
+    pub(crate) cube: f64,
+}
+
+/// The sums of two functionals' [`Summary`]s over the `modes`, side by side (the two lanes
+/// independent, so the compiler may pack them): `weights[j] = [Re w₀, Re w₁, Im w₀, Im w₁]`
+/// for mode `j`. Each lane's sums are bit for bit those of [`Summary::add_moving`] with `CUT`
+/// over the modes in order, `c = (w d)·weight` formed as [`Complex`]'s products.
+pub(crate) fn summarize_two(weights: &[[f64; 4]], modes: &[ModeTerm]) -> [Summary; 2] {
+    let mut start = [0.0; 2];
+    let mut slope0 = [0.0; 2];
+    let mut curve0 = [0.0; 2];
+    let mut size0 = [0.0; 2];
+    let mut spread = [0.0; 2];
+    let mut speed = [0.0; 2];
+    let mut bend = [0.0; 2];
+    let mut jerk_cut = [0.0; 2];
+    let mut jerk_horizon = [0.0; 2];
+    for (w, m) in weights.iter().zip(modes) {
+        let (d, mu, weight, rate, cube) = (m.deviation, m.rate_complex, m.weight, m.rate, m.cube);
+        for l in 0..2 {
+            let (a, b) = (w[l], w[2 + l]);
+            let c_re = (a * d.re - b * d.im) * weight;
+            let c_im = (a * d.im + b * d.re) * weight;
+            let slope_re = c_re * mu.re - c_im * mu.im;
+            let slope_im = c_re * mu.im + c_im * mu.re;
+            start[l] += c_re;
+            slope0[l] += slope_re;
+            let size = c_re.abs() + c_im.abs();
+            size0[l] += size;
+            let jerk = cube * size;
+            jerk_horizon[l] += jerk;
+            spread[l] += size;
+            speed[l] += rate * size;
+            bend[l] += rate * (rate * size);
+            curve0[l] += slope_re * mu.re - slope_im * mu.im;
+            jerk_cut[l] += jerk;
+        }
+    }
+    [0, 1].map(|l| Summary {
+        start: start[l],
+        slope0: slope0[l],
+        curve0: curve0[l],
+        size0: size0[l],
+        centre: 0.0,
+        spread: spread[l],
+        speed: speed[l],
+        bend: bend[l],
+        jerk_cut: jerk_cut[l],
+        jerk_horizon: jerk_horizon[l],
+    })
+}
+
 impl Summary {
     /// Adds the term `c e^{μs}` (a constant polynomial), for a search cut at `cutoff` on the
     /// grid of `horizon` (both finite; they matter only for a growing rate, `Re μ > 0`).
@@ -704,6 +765,59 @@ impl ExpSum {
         } else {
             self.jerk_bound(horizon)
         };
+        self.grid_search(
+            (lo, hi),
+            horizon,
+            cutoff,
+            jerk,
+            (time_tolerance, depth_tolerance),
+            stack,
+        )
+    }
+
+    /// [`Self::first_exit_until`] of a function whose [`Summary`] is known (as
+    /// [`Flight::summarize`](crate::flow::Flight) forms it from the terms the flight writes:
+    /// every polynomial a constant, no growing rate, `horizon` finite): the same search,
+    /// without forming the sums again.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn first_exit_summarized(
+        &self,
+        summary: &Summary,
+        lo: f64,
+        hi: f64,
+        horizon: f64,
+        cutoff: f64,
+        time_tolerance: f64,
+        depth_tolerance: f64,
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
+        let cutoff = cutoff.min(horizon);
+        if summary.excludes(lo, hi, cutoff, horizon) {
+            return None;
+        }
+        self.grid_search(
+            (lo, hi),
+            horizon,
+            cutoff,
+            summary.jerk_horizon,
+            (time_tolerance, depth_tolerance),
+            stack,
+        )
+    }
+
+    /// The search of [`Self::first_exit_until`] past its evaluation-free tests, with `jerk`
+    /// bounding `|f'''|` on `[0, horizon]`: head chunks, then the grid of chunks. Inlined
+    /// into both callers: a search costs what it cost as one function.
+    #[inline(always)]
+    fn grid_search(
+        &self,
+        (lo, hi): (f64, f64),
+        horizon: f64,
+        cutoff: f64,
+        jerk: f64,
+        (time_tolerance, depth_tolerance): (f64, f64),
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
         let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
             / std::f64::consts::TAU)
             .ceil() as usize)

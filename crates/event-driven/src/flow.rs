@@ -15,7 +15,7 @@
 //! folded into one (`Re Σ = 2 Re` of one of each pair), halving the exponentials again.
 //! The eigenvectors come from the quadratic pencil: `(λ²M + λC + K) φ = 0`, `v = (φ, λφ)`.
 
-use crate::expsum::{ExpSum, Summary, Term};
+use crate::expsum::{summarize_two, ExpSum, ModeTerm, Summary, Term};
 use nalgebra::{Complex, DMatrix, DVector};
 use thiserror::Error;
 
@@ -105,6 +105,16 @@ pub struct Functional {
     weights: DVector<C64>,
     forced: C64,
     constant: f64,
+}
+
+/// Several functionals prepared for [`Flight::summarize_all`]: in blocks of two functionals,
+/// per kept mode, the two modal weights `[Re w₀, Re w₁, Im w₀, Im w₁]`, then the two forced
+/// parts likewise (a last odd functional paired with zeros), and each functional's constant.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct JointWeights {
+    count: usize,
+    blocks: Vec<[f64; 4]>,
+    constant: Vec<f64>,
 }
 
 /// A flight: the flow from a given state at a given forcing phase.
@@ -365,12 +375,12 @@ impl LinearFlow {
         let m = 2 * self.dofs;
         let (columns_re, columns_im) = &self.mode_columns;
         let column = k * m..(k + 1) * m;
-        for ((yi, &vr), &vi) in y
-            .iter_mut()
-            .zip(&columns_re[column.clone()])
-            .zip(&columns_im[column])
-        {
-            *yi += vr * z.re - vi * z.im;
+        // Equal-length slices and an index loop: each entry on its own (the compiler may pack
+        // them), the same operations as entry by entry.
+        let (re, im) = (&columns_re[column.clone()], &columns_im[column]);
+        let y = &mut y[..m];
+        for i in 0..m {
+            y[i] += re[i] * z.re - im[i] * z.im;
         }
     }
 
@@ -455,6 +465,75 @@ impl LinearFlow {
             },
         };
         Flight { flow: self, form }
+    }
+
+    /// The flight at forcing phase time `t0` from a state whose deviation from the steady
+    /// response, `h = z(0) − z_p(t0)` per mode (kept modes only, length `2n`), is already
+    /// known, as [`Flight::deviation_at`] and [`Self::add_jump`] carry it across an event;
+    /// `None` (the deviation handed back) when the flow has no steady response.
+    ///
+    /// It is [`Self::flight`] of that state up to rounding: the deviation is not recomputed
+    /// from the state, so the last bits differ from a fresh start.
+    pub(crate) fn flight_with_deviation(
+        &self,
+        deviation: Vec<C64>,
+        t0: f64,
+    ) -> Result<Flight<'_>, Vec<C64>> {
+        let Some(p) = &self.steady else {
+            return Err(deviation);
+        };
+        if deviation.len() != 2 * self.dofs {
+            return Err(deviation);
+        }
+        let (sin, cos) = (self.omega * t0).sin_cos();
+        Ok(Flight {
+            flow: self,
+            form: Form::Steady {
+                response: p,
+                deviation,
+                phase: C64::new(cos, sin),
+            },
+        })
+    }
+
+    /// Adds to a modal deviation (of the kept modes) the jump of the state from `before` to
+    /// `after` (an impact's velocity change): `h += V⁻¹ (after − before)`, over the entries
+    /// that changed only.
+    pub(crate) fn add_jump(&self, deviation: &mut [C64], before: &[f64], after: &[f64]) {
+        let m = 2 * self.dofs;
+        let (rows_re, rows_im) = &self.inverse_rows;
+        for (j, (&b, &a)) in before.iter().zip(after).enumerate() {
+            if a == b {
+                continue;
+            }
+            let delta = a - b;
+            for &(k, _) in &self.kept {
+                deviation[k] += C64::new(rows_re[k * m + j], rows_im[k * m + j]) * delta;
+            }
+        }
+    }
+
+    /// The functionals, in their order, prepared for [`Flight::summarize_all`].
+    pub(crate) fn joint_weights(&self, functionals: &[&Functional]) -> JointWeights {
+        let count = functionals.len();
+        let mut joint = JointWeights {
+            count,
+            ..JointWeights::default()
+        };
+        for pair in functionals.chunks(2) {
+            for &(k, _) in &self.kept {
+                let w0 = pair[0].weights[k];
+                let w1 = pair.get(1).map_or(C64::default(), |f| f.weights[k]);
+                joint.blocks.push([w0.re, w1.re, w0.im, w1.im]);
+            }
+            let f0 = pair[0].forced;
+            let f1 = pair.get(1).map_or(C64::default(), |f| f.forced);
+            joint.blocks.push([f0.re, f1.re, f0.im, f1.im]);
+        }
+        joint
+            .constant
+            .extend(functionals.iter().map(|f| f.constant));
+        joint
     }
 
     /// Modal weights `Vᵀ c` of the functional `c · y`, with the steady response's part.
@@ -545,6 +624,26 @@ impl Flight<'_> {
         }
     }
 
+    /// The deviation from the steady response at `s` into the flight, `h e^{λs}` per kept
+    /// mode, written into `out` (length `2n`), given `exponentials` as for
+    /// [`Self::state_at`]: the start of the next flight without recomputing it from the
+    /// state. `false` (nothing written) for the general form or without those exponentials.
+    pub(crate) fn deviation_at(&self, exponentials: &[C64], out: &mut Vec<C64>) -> bool {
+        let f = self.flow;
+        let Form::Steady { deviation, .. } = &self.form else {
+            return false;
+        };
+        if exponentials.len() <= f.kept.len() {
+            return false;
+        }
+        out.clear();
+        out.resize(deviation.len(), C64::default());
+        for (j, &(k, _)) in f.kept.iter().enumerate() {
+            out[k] = deviation[k] * exponentials[j];
+        }
+        true
+    }
+
     /// The [`Summary`] of the functional's terms, as [`Self::expand`] would write them (same
     /// products, same order), without writing them: for the steady-response form when no
     /// rate grows (then the summary holds for any cutoff); `None` otherwise.
@@ -574,6 +673,70 @@ impl Flight<'_> {
             sum.add_decaying::<true>(C64::new(functional.constant, 0.0), C64::default());
         }
         Some(sum)
+    }
+
+    /// [`Self::summarize`] of every functional of `joint`, in its order, into `out`, in one
+    /// pass over the modes (each mode's deviation and rate read once for all functionals);
+    /// each summary is bit for bit the one [`Self::summarize`] gives. `false` (nothing
+    /// written) where [`Self::summarize`] gives `None`, or a kept mode has rate zero.
+    pub(crate) fn summarize_all(
+        &self,
+        joint: &JointWeights,
+        horizon: f64,
+        modes: &mut Vec<ModeTerm>,
+        out: &mut Vec<Summary>,
+    ) -> bool {
+        let f = self.flow;
+        let Form::Steady {
+            deviation, phase, ..
+        } = &self.form
+        else {
+            return false;
+        };
+        if !horizon.is_finite()
+            || f.rates.iter().any(|r| r.re > 0.0)
+            || f.kept.is_empty()
+            || f.kept_sizes.iter().any(|&(rate, _)| rate == 0.0)
+            || joint.blocks.len() != joint.count.div_ceil(2) * (f.kept.len() + 1)
+        {
+            return false;
+        }
+        let count = joint.count;
+        modes.clear();
+        modes.extend(
+            f.kept
+                .iter()
+                .zip(&f.kept_sizes)
+                .map(|(&(k, weight), &(rate, cube))| ModeTerm {
+                    deviation: deviation[k],
+                    weight,
+                    rate_complex: f.rates[k],
+                    rate,
+                    cube,
+                }),
+        );
+        // The forced part `forced · phase` at `iω`, as `add_decaying` adds it (weight 1 is
+        // exact).
+        let forcing = C64::new(0.0, f.omega);
+        let rate = forcing.re.abs() + forcing.im.abs();
+        modes.push(ModeTerm {
+            deviation: *phase,
+            weight: 1.0,
+            rate_complex: forcing,
+            rate,
+            cube: rate * rate * rate,
+        });
+        out.clear();
+        for block in joint.blocks.chunks_exact(modes.len()) {
+            out.extend(summarize_two(block, modes));
+        }
+        out.truncate(count);
+        for (sum, &constant) in out.iter_mut().zip(&joint.constant) {
+            if constant != 0.0 {
+                sum.add_decaying::<true>(C64::new(constant, 0.0), C64::default());
+            }
+        }
+        true
     }
 
     /// The linear functional `c · y(s)` as a sum of exponential terms in `s`.
@@ -654,6 +817,94 @@ fn merge(terms: Vec<Term>) -> Vec<Term> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The free flow of a lightly damped chain of the paper's cell, its pairs' relative
+    /// displacements, and a start state away from rest.
+    fn chain_flow(cells: usize) -> (LinearFlow, Vec<Functional>, DVector<f64>) {
+        use crate::test_models::{paper_chain, LIGHT_DAMPING};
+        use crate::CellStops;
+        let omega = 2.0;
+        let model = paper_chain(
+            cells,
+            omega,
+            Some(LIGHT_DAMPING),
+            Some(CellStops::symmetric(0.5, 0.8)),
+        );
+        let n = 2 * cells;
+        let flow = LinearFlow::new(
+            &model.mass,
+            model.damping.as_ref(),
+            &model.stiffness,
+            &model.forcing_cos,
+            &model.forcing_sin,
+            &DVector::zeros(n),
+            omega,
+        )
+        .expect("flow");
+        let functionals = model
+            .contacts
+            .iter()
+            .map(|c| {
+                let mut position = DVector::zeros(2 * n);
+                position[c.plus_dof] = 1.0;
+                position[c.minus_dof] = -1.0;
+                flow.functional(&position)
+            })
+            .collect();
+        let y = DVector::from_fn(2 * n, |i, _| 0.3 * (1.7 * i as f64 + 0.4).sin());
+        (flow, functionals, y)
+    }
+
+    #[test]
+    fn joint_summaries_are_each_pairs_summary_bit_for_bit() {
+        // Regression guard for the watch of several pairs: its one-pass summaries must be the
+        // very sums the per-pair summary (and so the search) forms, for odd and even counts.
+        for cells in [2, 3, 8] {
+            let (flow, functionals, y) = chain_flow(cells);
+            let refs: Vec<&Functional> = functionals.iter().collect();
+            let joint = flow.joint_weights(&refs);
+            let flight = flow.flight(&y, 0.7);
+            let (mut modes, mut out) = (Vec::new(), Vec::new());
+            assert!(flight.summarize_all(&joint, 2.5, &mut modes, &mut out));
+            assert_eq!(out.len(), cells);
+            for (sum, functional) in out.iter().zip(&functionals) {
+                let single = flight.summarize(functional, 2.5).expect("summary");
+                assert_eq!(format!("{sum:?}"), format!("{single:?}"), "{cells} cells");
+            }
+        }
+    }
+
+    #[test]
+    fn a_carried_deviation_is_the_state_s_flight() {
+        // The start carried across an event (the deviation at `s`, plus a velocity jump)
+        // against the flight recomputed from the state there: the same motion to rounding.
+        let (flow, _, y) = chain_flow(3);
+        let n = 6;
+        let flight = flow.flight(&y, 0.7);
+        let s = 0.45;
+        let exps: Vec<C64> = flow
+            .kept
+            .iter()
+            .map(|&(k, _)| cexp(flow.rates[k], s))
+            .chain([cexp(C64::new(0.0, flow.omega), s)])
+            .collect();
+        let before = flight.state(s);
+        let mut after = before.clone();
+        after[n + 2] += 0.25;
+        after[n + 3] -= 0.125;
+        let mut deviation = Vec::new();
+        assert!(flight.deviation_at(&exps, &mut deviation));
+        flow.add_jump(&mut deviation, before.as_slice(), after.as_slice());
+        let carried = flow
+            .flight_with_deviation(deviation, 0.7 + s)
+            .expect("steady response");
+        let fresh = flow.flight(&after, 0.7 + s);
+        for t in [0.0, 0.3, 1.1] {
+            let (a, b) = (carried.state(t), fresh.state(t));
+            let error = (&a - &b).amax();
+            assert!(error <= 1e-13 * b.amax(), "t = {t}: {error:e}");
+        }
+    }
 
     #[test]
     fn eigenvalues_where_the_plain_schur_iteration_cycles() {

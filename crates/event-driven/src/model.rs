@@ -54,7 +54,7 @@ pub struct ContactPair {
 /// each set of held pairs met, `O((4N)³)`: some 10⁸ flops at 64 cells), and every flight
 /// expands each of the `N` pairs' gaps over all `4N` modes, `O(N²)` per flight with `O(N)`
 /// impacting pairs per period, so a period costs `O(N³)`: 512 times an 8-cell chain's at 64
-/// cells (the 8-cell chain takes about 5.5 µs of one core per impact, example `chain8`,
+/// cells (the 8-cell chain takes about 4.3 µs of one core per impact, example `chain8`,
 /// `benches/chain.rs`). Beyond that
 /// the crowding of a long chain's modal frequencies (spacing `∝ 1/N²` at the band edges) also
 /// erodes the conditioning of the eigenvectors the closed form rests on.

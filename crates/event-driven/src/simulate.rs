@@ -19,9 +19,15 @@
 //! **Many contact pairs** (chains of cells, [`Model::chain`]): every pair is watched at all
 //! times with the same first-contact guarantee. In free flight all pairs' gaps are searched
 //! (in the order of their quadratic estimates, each search cut at the earliest contact found
-//! so far; a gap is first only summarised from the flight's modal coordinates, and a pair
-//! whose evaluation-free bounds keep it inside its stops up to that contact is decided
-//! exactly as its search would decide it, without the search). Any set of pairs may be held on their stops at once: the motion is then the
+//! so far; a gap is first only summarised from the flight's modal coordinates, every pair's
+//! in one pass over the modes, and a pair whose evaluation-free bounds keep it inside its
+//! stops up to that contact is decided exactly as its search would decide it, without the
+//! search; a pair that is searched hands its summary to the search). A free flight that
+//! starts where a contact left the state starts from the modal deviation carried across the
+//! contact (the previous flight's, advanced by the search's exponentials, plus `V⁻¹` of the
+//! impact's jump) instead of recomputing it from the state: a chain's results differ from a
+//! fresh start in their last bits; one pair keeps the fresh start, bit for bit as before.
+//! Any set of pairs may be held on their stops at once: the motion is then the
 //! constrained flow with the held pairs' relative coordinates fixed (`Stuck`), each held pair
 //! is released when its own contact force would pull, and the other pairs are searched in
 //! the constrained flow. Contacts are resolved one at a time in time order, ties by pair
@@ -32,8 +38,8 @@
 //! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
 //! exact in any case); [`crate::newton`] refuses sticking runs anyway.
 
-use crate::expsum::{ExpSum, SearchStack, Summary};
-use crate::flow::{Flight, FlowError, Functional, LinearFlow};
+use crate::expsum::{ExpSum, ModeTerm, SearchStack, Summary};
+use crate::flow::{Flight, FlowError, Functional, JointWeights, LinearFlow};
 use crate::model::{ContactPair, Model};
 use crate::newton::{periodic_orbit, PeriodicOrbit};
 use nalgebra::{DMatrix, DVector};
@@ -416,6 +422,9 @@ pub(crate) struct Engine<'m> {
     /// `u_j` as functionals of the free flow's state, for the amplitudes.
     displacements: Vec<Functional>,
     pairs: Vec<Pair>,
+    /// With several pairs, their relative displacements prepared for the free flight's
+    /// summaries in one pass ([`Flight::summarize_all`]); `None` for one pair.
+    free_joint: Option<JointWeights>,
     /// `M⁻¹`.
     inverse_mass: DMatrix<f64>,
     /// Reduced flows of sets of pairs held on their stops, built on first use.
@@ -442,12 +451,37 @@ struct Scratch {
     /// Each watched pair's gap summarised ([`Flight::summarize`]) when several pairs are
     /// watched: its terms are then written out only for a search.
     summaries: Vec<Option<Summary>>,
+    /// The watched pairs' summaries formed in one pass ([`Flight::summarize_all`]).
+    joint: Vec<Summary>,
+    /// The flight's modes, as those summaries add them.
+    modes: Vec<ModeTerm>,
     /// The watch's search order: `(estimated exit, slot in gaps, pair, lo, hi)`.
     order: Vec<(f64, usize, usize, f64, f64)>,
     stack: SearchStack,
     coordinate: ExpSum,
     /// The exponentials of the search at the contact it found, for the contact state.
     event_exponentials: Vec<nalgebra::Complex<f64>>,
+    /// With several pairs, the next free flight's start carried across the last contact:
+    /// its modal deviation ([`Flight::deviation_at`] plus the impact's jump), valid for the
+    /// state [`Self::carried_state`] at [`Self::carried_tau`] only (`carried` empty when
+    /// there is none).
+    carried: Vec<nalgebra::Complex<f64>>,
+    /// The state the carried deviation belongs to.
+    carried_state: Vec<f64>,
+    /// The time within the period it belongs to.
+    carried_tau: f64,
+    /// The state just before the contact the deviation is carried across.
+    before_contact: Vec<f64>,
+}
+
+impl Scratch {
+    /// The carried deviation, if it belongs to the state `y` at `tau` (bit for bit); the
+    /// carry is used up either way.
+    fn take_carried(&mut self, y: &DVector<f64>, tau: f64) -> Option<Vec<nalgebra::Complex<f64>>> {
+        let carried = std::mem::take(&mut self.carried);
+        (!carried.is_empty() && self.carried_tau == tau && self.carried_state == y.as_slice())
+            .then_some(carried)
+    }
 }
 
 /// The first contact of a flight: `s` after its start, pair `pair`, on `side`.
@@ -814,6 +848,11 @@ impl<'m> Engine<'m> {
             .map(|p| p.spec.gap_plus.max(p.spec.gap_minus))
             .fold(0.0, f64::max)
             .max(SCALE_FLOOR);
+        let free_joint = (pairs.len() > 1).then(|| {
+            let functionals: Vec<&Functional> =
+                pairs.iter().map(|p| &p.relative_displacement).collect();
+            free.joint_weights(&functionals)
+        });
         Ok(Self {
             model,
             omega,
@@ -822,6 +861,7 @@ impl<'m> Engine<'m> {
             free,
             displacements,
             pairs,
+            free_joint,
             inverse_mass: minv,
             stuck: Vec::new(),
             time_tolerance: options.root_tolerance * period,
@@ -1322,6 +1362,7 @@ impl<'m> Engine<'m> {
     fn watch<'f, I>(
         pairs: &[Pair],
         watched: I,
+        joint: Option<&JointWeights>,
         work: &mut Scratch,
         flight: &Flight<'_>,
         horizon: f64,
@@ -1342,6 +1383,12 @@ impl<'m> Engine<'m> {
         // contact found is decided without writing its terms out, as its search would decide
         // it.
         let several = watched.size_hint().0 > 1;
+        // `joint` lists the watched pairs' functionals in their order: then every summary is
+        // formed in one pass.
+        let joint = several
+            && joint.is_some_and(|joint| {
+                flight.summarize_all(joint, horizon, &mut work.modes, &mut work.joint)
+            });
         work.order.clear();
         for (count, (i, functional, shift)) in watched.clone().enumerate() {
             if work.gaps.len() <= count {
@@ -1350,7 +1397,9 @@ impl<'m> Engine<'m> {
             }
             let spec = &pairs[i].spec;
             let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
-            let summary = if several {
+            let summary = if joint {
+                Some(work.joint[count])
+            } else if several {
                 flight.summarize(functional, horizon)
             } else {
                 None
@@ -1371,23 +1420,36 @@ impl<'m> Engine<'m> {
         for &(_, slot, i, lo, hi) in &work.order {
             // Only a contact before the earliest found so far matters: search up to it.
             let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
-            if let Some(summary) = work.summaries[slot] {
+            let found = if let Some(summary) = work.summaries[slot] {
                 if summary.excludes(lo, hi, within, horizon) {
                     continue;
                 }
                 if let Some((_, functional, _)) = watched.clone().nth(slot) {
                     flight.expand(functional, &mut work.gaps[slot]);
                 }
-            }
-            if let Some((s, side)) = work.gaps[slot].first_exit_until(
-                lo,
-                hi,
-                horizon,
-                within,
-                time_tolerance,
-                depth,
-                &mut work.stack,
-            ) {
+                // The search's own first tests are this summary's: not formed again.
+                work.gaps[slot].first_exit_summarized(
+                    &summary,
+                    lo,
+                    hi,
+                    horizon,
+                    within,
+                    time_tolerance,
+                    depth,
+                    &mut work.stack,
+                )
+            } else {
+                work.gaps[slot].first_exit_until(
+                    lo,
+                    hi,
+                    horizon,
+                    within,
+                    time_tolerance,
+                    depth,
+                    &mut work.stack,
+                )
+            };
+            if let Some((s, side)) = found {
                 if tau + s < grace[i] {
                     step = step.min(grace[i] - tau);
                 } else if contact.is_none_or(|c| s < c.s || (s == c.s && i < c.pair)) {
@@ -1423,7 +1485,21 @@ impl<'m> Engine<'m> {
         let n = self.n;
         let period = self.period;
         let horizon = period - state.tau;
-        let flight = self.free.flight(&state.y, state.tau);
+        // With several pairs, a flight that starts where the last contact left the state
+        // starts from the modal deviation carried across it (no product with `V⁻¹`).
+        let several = self.pairs.len() > 1;
+        let carried = if several {
+            self.work.take_carried(&state.y, state.tau)
+        } else {
+            None
+        };
+        let flight = match carried {
+            Some(deviation) => match self.free.flight_with_deviation(deviation, state.tau) {
+                Ok(flight) => flight,
+                Err(_) => self.free.flight(&state.y, state.tau),
+            },
+            None => self.free.flight(&state.y, state.tau),
+        };
         // Positions are known to rounding relative to their size, not to the gap: an excursion
         // beyond a stop smaller than that is no contact.
         let depth = self.contact_depth + POSITION_ROUNDING * state.y.rows(0, n).amax();
@@ -1433,6 +1509,7 @@ impl<'m> Engine<'m> {
                 .iter()
                 .enumerate()
                 .map(|(i, p)| (i, &p.relative_displacement, 0.0)),
+            self.free_joint.as_ref(),
             &mut self.work,
             &flight,
             horizon,
@@ -1488,11 +1565,45 @@ impl<'m> Engine<'m> {
             Some(c) => {
                 // Just before the contact.
                 flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
+                let carry = several && Self::carry_from(&mut self.work, &flight, &state.y);
                 state.tau += c.s;
                 self.contact(state, c)?;
+                if carry {
+                    self.carry_across(state);
+                }
             }
         }
         Ok(())
+    }
+
+    /// With several pairs, before a contact at the end of `flight`: its modal deviation there
+    /// and the state `y` just before the contact, kept for [`Self::carry_across`]; `false`
+    /// when the flight cannot give it. Out of line: the one-pair path stays as it was.
+    #[inline(never)]
+    fn carry_from(work: &mut Scratch, flight: &Flight<'_>, y: &DVector<f64>) -> bool {
+        if !flight.deviation_at(&work.event_exponentials, &mut work.carried) {
+            work.carried.clear();
+            return false;
+        }
+        work.before_contact.clear();
+        work.before_contact.extend_from_slice(y.as_slice());
+        true
+    }
+
+    /// After the contact: the deviation plus the contact's jump of the state, valid for the
+    /// state after it while the pairs fly free (dropped otherwise).
+    #[inline(never)]
+    fn carry_across(&mut self, state: &RunState) {
+        let work = &mut self.work;
+        if !matches!(state.mode, Mode::Free) {
+            work.carried.clear();
+            return;
+        }
+        self.free
+            .add_jump(&mut work.carried, &work.before_contact, state.y.as_slice());
+        work.carried_state.clear();
+        work.carried_state.extend_from_slice(state.y.as_slice());
+        work.carried_tau = state.tau;
     }
 
     /// A contact found by the search, with the state just before it: an impact if the pair
@@ -1800,6 +1911,7 @@ impl<'m> Engine<'m> {
             Self::watch(
                 &self.pairs,
                 st.watched.iter().map(|(q, f, shift)| (*q, f, *shift)),
+                None,
                 &mut self.work,
                 &flight,
                 watch_horizon,
