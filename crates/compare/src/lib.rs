@@ -11,6 +11,7 @@
 //! | [`study`] | everything the figures and the report show; the paper's claims ([`study::paper`]) |
 //! | [`peers`] | the Dormand–Prince baseline and the accuracy-versus-cost study |
 //! | [`runs`] | parallel ordered runs: sweeps, shards, maps |
+//! | [`verdict_chain`] | how the two solvers relate at one frequency on a chain of cells |
 //! | [`verdict`] | the analytic candidates and how the two solvers relate at one frequency |
 //! | [`output`] | typed rows and records, one writer per format |
 //! | [`scene`] | the scene format, its validation, and the adapters to each solver |
@@ -25,3 +26,4 @@ pub mod runs;
 pub mod scene;
 pub mod study;
 pub mod verdict;
+pub mod verdict_chain;

@@ -1,8 +1,6 @@
 //! `rattle orbit`: the analytic picture at one frequency.
 
-use super::{
-    check_omega, heading, load, load_unit, pretty, Common, RattleError, TrajectoryArgs,
-};
+use super::{check_omega, heading, load, load_unit, pretty, Common, RattleError, TrajectoryArgs};
 use crate::output::records::{
     At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
     ViolationRecord,
