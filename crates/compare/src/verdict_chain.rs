@@ -34,10 +34,10 @@ pub enum ChainReason {
     /// Beyond: the simulator's Newton could not polish the periodic cycle.
     NotPolished,
     /// Beyond: more impacts per cycle than an impact sequence holds
-    /// ([`rattle_analytic::MAX_SEQUENCE_IMPACTS`]).
+    /// ([`rattle_analytic::sequence::MAX_SEQUENCE_IMPACTS`]).
     TooManyImpacts,
     /// Beyond: a cycle longer than an impact sequence holds (`p` above
-    /// [`rattle_analytic::MAX_PERIOD`]).
+    /// [`rattle_analytic::signature::MAX_PERIOD`]).
     PeriodTooLong,
     /// Beyond: a cell without stops (the analytic chain needs a contact pair in every cell).
     CellWithoutStops,

@@ -15,7 +15,7 @@
 //! multipliers.
 
 use serde_json::Value;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn rattle(args: &[&str]) -> Output {
@@ -65,7 +65,7 @@ fn chain_scene(cells: usize) -> PathBuf {
 /// The simulator's Newton tolerance (1e-12) at its rounding floor (× 1e3), times ten.
 const AGREEMENT: f64 = 1e-8;
 
-fn compare(scene: &PathBuf, omega: f64) -> Value {
+fn compare(scene: &Path, omega: f64) -> Value {
     let omega = omega.to_string();
     json(&[
         "compare",

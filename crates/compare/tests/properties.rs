@@ -52,6 +52,8 @@ fn scenes() -> impl Strategy<Value = (Scene, f64)> {
                     restitution: e,
                 }),
                 damping: damping.map(|(outer, inner)| DampingSpec { outer, inner }),
+                cells: None,
+                chain: None,
             };
             (scene, omega)
         })
@@ -219,6 +221,8 @@ fn regression_release_grace_does_not_leak_into_the_next_period() {
             restitution: 0.48946877913933634,
         }),
         damping: None,
+        cells: None,
+        chain: None,
     };
     let options = SimulationOptions {
         fixed_periods: Some(20),
