@@ -1,6 +1,6 @@
 //! `rattle compare`: both solvers on the motion the unit settles on, whatever its signature.
 
-use super::{check_omega, heading, load, load_unit, pretty, Accuracy, Common, RattleError};
+use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError};
 use crate::output::finite;
 use crate::output::records::{
     multipliers, AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
@@ -84,7 +84,6 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
     if scene.is_chain() {
         return chain_run(&scene, omega, &options, args.common.json);
     }
-    let scene = load_unit(&args.common.scene, "rattle compare")?;
     let check =
         cross_check(&scene, omega, &options).map_err(|e| RattleError::Numerical(e.to_string()))?;
     let r = record(&scene, &check);
