@@ -4,7 +4,8 @@
 //!
 //! Where the numbers come from: the frequencies are those where `rattle simulate` from rest
 //! found a periodic, non-sticking motion in a scan of ω = 0.3 … 3.5 (2 cells: 1.1, 1.7, 1.9,
-//! 3.5; 3 cells: 1.2, 1.4, 2.0, 2.2, 2.8, 3.5); the non-periodic, sticking and long-period
+//! 3.5; 3 cells: 1.2, 1.4, 2.0, 2.2, 2.8, 3.5; the shipped paper-chain-5 at 1.0 and
+//! paper-graded-4 at 3.5, found the same way); the non-periodic, sticking and long-period
 //! frequencies come from the same scan. The tolerances are the simulator's Newton's: it stops
 //! when `|P(y) − y|` is within `NEWTON_TOLERANCE_FACTOR × root_tolerance = 1 × 1e-12` of the
 //! state's size (crates/event-driven/src/newton.rs, `NEWTON_TOLERANCE_FACTOR`, and the default
@@ -154,6 +155,21 @@ fn three_cells_agree_on_each_periodic_motion_from_rest() {
             assert_eq!(doc["analytic"]["period"], 2);
         }
     }
+}
+
+#[test]
+fn the_shipped_chains_agree_where_they_settle_on_a_cycle() {
+    // paper-chain-5 at ω = 1: cells 1, 2 and 5 `++--`, cells 3 and 4 clear of their stops
+    // (12 impacts per period); paper-graded-4 at ω = 3.5: only the first cell impacts, `+-`.
+    let doc = compare(Path::new("data/scenes/paper-chain-5.json"), 1.0);
+    let sequence = agrees(&doc, 5);
+    assert_eq!(sequence.split_whitespace().count(), 12);
+    assert_eq!(
+        doc["simulated"]["pair_signatures"],
+        serde_json::json!(["++--", "++--", "", "", "++--"])
+    );
+    let doc = compare(Path::new("data/scenes/paper-graded-4.json"), 3.5);
+    assert_eq!(agrees(&doc, 4), "0+ 0-");
 }
 
 #[test]
