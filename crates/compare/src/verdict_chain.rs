@@ -18,7 +18,8 @@ use rattle_analytic::{
     chain_response, solve_sequence, Cell, ImpactSequence, PairImpact, SequenceError, SequenceOrbit,
 };
 use rattle_event_driven::{
-    simulate, ImpactRecord, PeriodicOrbit, SimulationOptions, Start, Status, SteadyState,
+    periodic_orbit, simulate, ImpactRecord, PeriodicOrbit, SimulationOptions, Start, Status,
+    SteadyState,
 };
 
 /// Why a chain's point is `beyond` exact comparison or a `contradiction`; `None` for an
@@ -119,6 +120,30 @@ pub struct ChainCheck {
     /// paired with a distinct analytic one, closest pairs first): the largest distance of a
     /// pair.
     pub multiplier_difference: Option<f64>,
+    /// The viable analytic orbit confirmed the other way: the simulator's Newton started on
+    /// it (stable or not). `None` without a viable analytic orbit.
+    pub confirmation: Option<ChainConfirmation>,
+}
+
+/// The simulator's Newton started on an analytic orbit of a chain, mid-way through its first
+/// flight.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainConfirmation {
+    /// Whether Newton converged to a cycle with the orbit's impacts (pairs and sides, in time
+    /// order from the start) and a state within [`MATCH_TOLERANCE`] of the analytic one.
+    pub confirmed: bool,
+    /// `|x_Newton − x|` at the start over `|x|` (Euclidean norms): 0 when the analytic state
+    /// is already within Newton's tolerance (no step taken).
+    pub state_difference: Option<f64>,
+    /// Newton's final `|P(y) − y|` relative to `max(|y|, gap)` ([`PeriodicOrbit::residual`]):
+    /// at the analytic state itself when no step was taken.
+    pub map_residual: Option<f64>,
+    /// Newton steps taken from the analytic state.
+    pub newton_iterations: Option<u32>,
+    /// The two solvers' multipliers matched one to one ([`matched_distance`]).
+    pub multiplier_difference: Option<f64>,
+    /// Why Newton failed, if it did.
+    pub error: Option<String>,
 }
 
 impl ChainCheck {
@@ -135,6 +160,7 @@ impl ChainCheck {
             reason: None,
             relative_difference: None,
             multiplier_difference: None,
+            confirmation: None,
         }
     }
 
@@ -431,9 +457,77 @@ fn seeded_check(
             format!("the {sequence} orbits differ by {difference:.1e}"),
         );
     }
+    if analytic.viable {
+        check.confirmation = Some(confirm(
+            scene,
+            &analytic_model,
+            &analytic,
+            &cycle.orbit,
+            options,
+        )?);
+    }
     check.polished = Some(cycle);
     check.analytic = Some(analytic);
     Ok(())
+}
+
+/// The simulator's Newton on its own stroboscopic map, started on the analytic `orbit` of
+/// `model` mid-way through the orbit's first flight (`orbit.impact_phases[1] / 2` of the
+/// cycle after its first impact, base phase `α + ω t` there); its impacts compared with the
+/// `polished` cycle's, its state with the analytic one.
+///
+/// # Errors
+/// The simulator's model of the scene cannot be built.
+fn confirm(
+    scene: &Scene,
+    model_of_chain: &rattle_analytic::LinearModel,
+    orbit: &SequenceOrbit,
+    polished: &PeriodicOrbit,
+    options: &SimulationOptions,
+) -> Result<ChainConfirmation, SimulateError> {
+    let omega = orbit.omega;
+    let length = f64::from(orbit.period) * std::f64::consts::TAU / omega;
+    let t = 0.5 * orbit.impact_phases.get(1).copied().unwrap_or(1.0) * length;
+    let (sin, cos) = orbit.alpha.sin_cos();
+    let (x, _) = model_of_chain.transition(omega, t).apply(
+        &DVector::from_column_slice(&orbit.state_after_impact),
+        &DVector::from_column_slice(&[cos, sin]),
+    );
+    let start = Start {
+        state: x.clone(),
+        // Base phase ω t_sim = α + ω t.
+        time: t + orbit.alpha / omega,
+    };
+    let mut out = ChainConfirmation {
+        confirmed: false,
+        state_difference: None,
+        map_residual: None,
+        newton_iterations: None,
+        multiplier_difference: None,
+        error: None,
+    };
+    match periodic_orbit(&model(scene, omega)?, omega, &start, orbit.period, options) {
+        Ok(found) => {
+            let d = (&found.state - &x).norm() / x.norm().max(f64::MIN_POSITIVE);
+            // The same impacts: a rotation of the polished cycle's sides (Newton's start lies
+            // elsewhere in the cycle) of the same length.
+            let n = found.impact_sides.len();
+            let same = n == polished.impact_sides.len()
+                && (0..n.max(1)).any(|k| {
+                    (0..n).all(|j| found.impact_sides[(k + j) % n] == polished.impact_sides[j])
+                });
+            out.state_difference = Some(d);
+            out.map_residual = Some(found.residual);
+            out.newton_iterations = Some(found.iterations);
+            out.multiplier_difference = Some(matched_distance(
+                &found.floquet_multipliers,
+                &orbit.floquet_multipliers,
+            ));
+            out.confirmed = same && d < MATCH_TOLERANCE;
+        }
+        Err(e) => out.error = Some(e.to_string()),
+    }
+    Ok(out)
 }
 
 /// Two sets of multipliers matched one to one, closest pairs first: the largest distance of a

@@ -185,6 +185,7 @@ fn motions_outside_exact_comparison_are_beyond_with_their_reason() {
         assert_eq!(doc["reason"], reason, "ω = {w}");
         assert_eq!(doc["analytic"], Value::Null);
         assert_eq!(doc["relative_difference"], Value::Null);
+        assert_eq!(doc["confirmation"], Value::Null);
     }
 }
 

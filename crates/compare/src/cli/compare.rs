@@ -186,6 +186,30 @@ pub struct ChainCompareRecord {
     pub relative_difference: Option<f64>,
     /// The largest distance between the two solvers' Floquet multipliers, matched one to one.
     pub multiplier_difference: Option<f64>,
+    /// The viable analytic orbit confirmed by the simulator's Newton started on it, mid-way
+    /// through its first flight; `null` without a viable analytic orbit.
+    pub confirmation: Option<ChainConfirmationRecord>,
+}
+
+/// The simulator's Newton started on the analytic orbit of a chain.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainConfirmationRecord {
+    /// Whether Newton converged to a cycle with the same impacts and a state within 1e-6 of
+    /// the analytic one (relative).
+    pub confirmed: bool,
+    /// The difference of Newton's state from the analytic one at the start, relative (0 when
+    /// the analytic state is already within Newton's tolerance).
+    pub state_difference: Option<f64>,
+    /// Newton's final residual `|P(y) − y|` of the simulator's stroboscopic map, relative to
+    /// `max(|y|, gap)`: at the analytic state itself when Newton took no step.
+    pub map_residual: Option<f64>,
+    /// Newton steps taken from the analytic state.
+    pub newton_iterations: Option<u32>,
+    /// The largest distance between Newton's multipliers and the analytic ones, matched one
+    /// to one.
+    pub multiplier_difference: Option<f64>,
+    /// Why Newton failed, if it did.
+    pub error: Option<String>,
 }
 
 /// The simulated side of a chain's comparison.
@@ -280,6 +304,14 @@ pub fn chain_record(scene: &Scene, c: &ChainCheck) -> ChainCompareRecord {
         class_detail: c.class.detail().to_owned(),
         relative_difference: c.relative_difference.and_then(finite),
         multiplier_difference: c.multiplier_difference.and_then(finite),
+        confirmation: c.confirmation.as_ref().map(|k| ChainConfirmationRecord {
+            confirmed: k.confirmed,
+            state_difference: k.state_difference.and_then(finite),
+            map_residual: k.map_residual.and_then(finite),
+            newton_iterations: k.newton_iterations,
+            multiplier_difference: k.multiplier_difference.and_then(finite),
+            error: k.error.clone(),
+        }),
     }
 }
 
@@ -353,5 +385,24 @@ fn chain_run(
         r.multiplier_difference
             .map_or("-".to_owned(), |d| format!("{d:.1e}"))
     );
+    if let Some(k) = &r.confirmation {
+        let _ = writeln!(
+            out,
+            "the analytic orbit {} by the simulator's Newton started on it{}",
+            if k.confirmed {
+                "confirmed"
+            } else {
+                "not confirmed"
+            },
+            match (&k.error, k.state_difference, k.map_residual) {
+                (Some(e), _, _) => format!(" ({e})"),
+                (None, Some(d), Some(r)) => format!(
+                    " ({} Newton steps, map residual {r:.1e}, state difference {d:.1e})",
+                    k.newton_iterations.unwrap_or(0)
+                ),
+                _ => String::new(),
+            }
+        );
+    }
     Ok(out)
 }
