@@ -190,6 +190,26 @@ fn motions_outside_exact_comparison_are_beyond_with_their_reason() {
 }
 
 #[test]
+fn a_cell_without_stops_leaves_the_chain_beyond_the_analytic_chain() {
+    // The analytic chain has a contact pair in every cell; here only the second cell has
+    // stops, and at ω = 1.1 it settles on `++--` (as in the two-cell chain at that frequency).
+    let scene = scene_file(
+        "half-stopped.json",
+        r#"{"name": "half-stopped", "unit": {"outer_mass": 2.0, "inner_mass": 1.0,
+            "outer_stiffness": 6.0, "inner_stiffness": 3.0}, "base": {"amplitude": 1.0},
+            "damping": {"outer": 0.1, "inner": 0.05},
+            "chain": [{}, {"stops": {"gap": 0.5, "restitution": 0.8}}]}"#,
+    );
+    let doc = compare(&scene, 1.1);
+    assert_eq!(
+        doc["simulated"]["pair_signatures"],
+        serde_json::json!(["++--"])
+    );
+    assert_eq!(doc["class"], "beyond", "{doc:#}");
+    assert_eq!(doc["reason"], "cell-without-stops");
+}
+
+#[test]
 fn without_impacts_the_chain_agrees_with_the_linear_chain() {
     // ω = 0.5: the simulator from rest settles clear of every stop.
     let doc = compare(&chain_scene(2), 0.5);
