@@ -139,7 +139,6 @@ fn a_chain_with_huge_gaps_is_the_analytic_linear_chain() {
 fn single_unit_commands_refuse_a_chain_naming_it() {
     for args in [
         vec!["orbit", "data/scenes/paper-chain-5.json", "--omega", "2"],
-        vec!["compare", "data/scenes/paper-chain-5.json", "--omega", "2"],
         vec![
             "family",
             "data/scenes/paper-chain-5.json",

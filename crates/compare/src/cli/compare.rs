@@ -1,13 +1,16 @@
 //! `rattle compare`: both solvers on the motion the unit settles on, whatever its signature.
 
-use super::{check_omega, heading, load_unit, pretty, Accuracy, Common, RattleError};
+use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError};
 use crate::output::finite;
 use crate::output::records::{
     multipliers, AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
 };
 use crate::scene::Scene;
+use crate::verdict::chain::{chain_cross_check, ChainCheck};
 use crate::verdict::{cross_check, CrossCheck};
 use clap::Args;
+use rattle_event_driven::SimulationOptions;
+use serde::Serialize;
 use std::fmt::Write as _;
 
 /// Arguments of `rattle compare`.
@@ -77,7 +80,10 @@ pub fn record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
 pub fn run(args: CompareArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.common.omega)?;
     let options = args.accuracy.options()?;
-    let scene = load_unit(&args.common.scene, "rattle compare")?;
+    let scene = load(&args.common.scene)?;
+    if scene.is_chain() {
+        return chain_run(&scene, omega, &options, args.common.json);
+    }
     let check =
         cross_check(&scene, omega, &options).map_err(|e| RattleError::Numerical(e.to_string()))?;
     let r = record(&scene, &check);
@@ -142,6 +148,260 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
             k.error
                 .as_ref()
                 .map_or(String::new(), |e| format!(" ({e})"))
+        );
+    }
+    Ok(out)
+}
+
+/// What `rattle compare --json` prints for a chain scene.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainCompareRecord {
+    /// Scene name.
+    pub scene: String,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// Cells of the chain.
+    pub cells: usize,
+    /// The simulator from rest.
+    pub simulated: ChainSimulatedRecord,
+    /// The analytic orbit of the simulated impact sequence, seeded from the simulated impact
+    /// times; `null` when there is none to look for (no impacts, not periodic, …) or the
+    /// analytic solver finds none (`analytic_error`).
+    pub analytic: Option<ChainAnalyticRecord>,
+    /// Why the analytic solver found no orbit of the simulated sequence.
+    pub analytic_error: Option<String>,
+    /// `agreement`, `contradiction` or `beyond`, as for a single unit.
+    pub class: &'static str,
+    /// Why the class is not `agreement`, one word: `non-periodic`, `no-dissipation`,
+    /// `sticking`, `not-polished`, `too-many-impacts`, `period-too-long`,
+    /// `cell-without-stops` (beyond); `no-analytic-orbit`, `not-viable`, `unstable`, `differ`,
+    /// `not-linear` (contradiction); `null` for an agreement.
+    pub reason: Option<&'static str>,
+    /// The reason in words (empty for an agreement).
+    pub class_detail: String,
+    /// The largest relative difference of the two solvers' orbits: the state just before the
+    /// first impact of the sequence, every cell's outer amplitude, the impact phases and the
+    /// base phase at the first impact over π (without impacts: every cell's outer amplitude
+    /// against the linear chain's).
+    pub relative_difference: Option<f64>,
+    /// The largest distance between the two solvers' Floquet multipliers, matched one to one.
+    pub multiplier_difference: Option<f64>,
+    /// The viable analytic orbit confirmed by the simulator's Newton started on it, mid-way
+    /// through its first flight; `null` without a viable analytic orbit.
+    pub confirmation: Option<ChainConfirmationRecord>,
+}
+
+/// The simulator's Newton started on the analytic orbit of a chain.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainConfirmationRecord {
+    /// Whether Newton converged to a cycle with the same impacts and a state within 1e-6 of
+    /// the analytic one (relative).
+    pub confirmed: bool,
+    /// The difference of Newton's state from the analytic one at the start, relative (0 when
+    /// the analytic state is already within Newton's tolerance).
+    pub state_difference: Option<f64>,
+    /// Newton's final residual `|P(y) − y|` of the simulator's stroboscopic map, relative to
+    /// `max(|y|, gap)`: at the analytic state itself when Newton took no step.
+    pub map_residual: Option<f64>,
+    /// Newton steps taken from the analytic state.
+    pub newton_iterations: Option<u32>,
+    /// The largest distance between Newton's multipliers and the analytic ones, matched one
+    /// to one.
+    pub multiplier_difference: Option<f64>,
+    /// Why Newton failed, if it did.
+    pub error: Option<String>,
+}
+
+/// The simulated side of a chain's comparison.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainSimulatedRecord {
+    /// `periodic`, `non-periodic` or `no-dissipation`, with `, sticking` when the final cycle
+    /// sticks.
+    pub status: String,
+    /// Forcing periods per cycle, when periodic.
+    pub period: Option<u32>,
+    /// Each contact pair's canonical signature over the final cycle (`""` for a pair without
+    /// impacts, `null` for one beyond what a signature holds); `null` when not periodic or
+    /// sticking.
+    pub pair_signatures: Option<Vec<Option<String>>>,
+    /// Impacts of all pairs per forcing period over the final cycle.
+    pub impacts_per_period: Option<f64>,
+    /// Impacts per forcing period of each pair, from the base out.
+    pub pair_impacts_per_period: Vec<f64>,
+    /// `max|u_o,N|` of the last cell's outer mass over the final cycle, m.
+    pub outer_amplitude: Option<f64>,
+    /// `max|u_o,j|` of every cell, from the base out, m.
+    pub cell_outer_amplitudes: Vec<Option<f64>>,
+    /// The simulator's own Floquet multipliers of its Newton-polished cycle, `[re, im]`.
+    pub floquet_multipliers: Option<Vec<[Option<f64>; 2]>>,
+}
+
+/// The analytic side of a chain's comparison.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ChainAnalyticRecord {
+    /// The impact sequence, canonical (`0+ 1- 0- 1+`).
+    pub sequence: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// The last cell's outer amplitude, m.
+    pub outer_amplitude: Option<f64>,
+    /// Every cell's outer amplitude, from the base out, m.
+    pub cell_outer_amplitudes: Vec<Option<f64>>,
+    /// Whether every contact condition holds.
+    pub viable: bool,
+    /// Whether every Floquet multiplier lies inside the unit circle.
+    pub stable: bool,
+    /// The analytic Floquet multipliers (monodromy with saltation matrices), `[re, im]`.
+    pub floquet_multipliers: Vec<[Option<f64>; 2]>,
+    /// The energy balance's residual, relative.
+    pub energy_residual: Option<f64>,
+}
+
+/// The record `rattle compare --json` prints for `c` on the chain `scene`.
+pub fn chain_record(scene: &Scene, c: &ChainCheck) -> ChainCompareRecord {
+    let s = &c.simulated;
+    let pairs = scene.pair_count();
+    let pair_signatures = s.pair_signatures(pairs).map(|list| {
+        list.into_iter()
+            .map(|r| match r {
+                Ok(Some(sig)) => Some(sig.to_string()),
+                Ok(None) => Some(String::new()),
+                Err(_) => None,
+            })
+            .collect()
+    });
+    ChainCompareRecord {
+        scene: scene.name.clone(),
+        omega: finite(c.omega),
+        cells: c.cells,
+        simulated: ChainSimulatedRecord {
+            status: s.status_name(),
+            period: s.steady.period,
+            pair_signatures,
+            impacts_per_period: finite(s.steady.impacts_per_period),
+            pair_impacts_per_period: s.pair_impacts_per_period(pairs),
+            outer_amplitude: finite(s.outer_amplitude),
+            cell_outer_amplitudes: s.cell_outer_amplitudes().into_iter().map(finite).collect(),
+            floquet_multipliers: s
+                .steady
+                .orbit
+                .as_ref()
+                .map(|o| multipliers(&o.floquet_multipliers)),
+        },
+        analytic: c.analytic.as_ref().map(|o| ChainAnalyticRecord {
+            sequence: o.sequence.to_string(),
+            period: o.period,
+            outer_amplitude: finite(o.outer_amplitude),
+            cell_outer_amplitudes: o.cell_outer_amplitudes.iter().map(|&a| finite(a)).collect(),
+            viable: o.viable,
+            stable: o.stable,
+            floquet_multipliers: multipliers(&o.floquet_multipliers),
+            energy_residual: finite(o.energy_residual),
+        }),
+        analytic_error: c.analytic_error.clone(),
+        class: c.class.name(),
+        reason: c.reason.map(|r| r.name()),
+        class_detail: c.class.detail().to_owned(),
+        relative_difference: c.relative_difference.and_then(finite),
+        multiplier_difference: c.multiplier_difference.and_then(finite),
+        confirmation: c.confirmation.as_ref().map(|k| ChainConfirmationRecord {
+            confirmed: k.confirmed,
+            state_difference: k.state_difference.and_then(finite),
+            map_residual: k.map_residual.and_then(finite),
+            newton_iterations: k.newton_iterations,
+            multiplier_difference: k.multiplier_difference.and_then(finite),
+            error: k.error.clone(),
+        }),
+    }
+}
+
+/// `rattle compare` on a chain scene.
+fn chain_run(
+    scene: &Scene,
+    omega: f64,
+    options: &SimulationOptions,
+    json: bool,
+) -> Result<String, RattleError> {
+    let check = chain_cross_check(scene, omega, options)
+        .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let r = chain_record(scene, &check);
+    if json {
+        return pretty(&r);
+    }
+    let mut out = heading(scene, omega);
+    let num = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.9}"));
+    let signatures = r
+        .simulated
+        .pair_signatures
+        .as_ref()
+        .map_or("-".to_owned(), |l| {
+            l.iter()
+                .map(|s| match s.as_deref() {
+                    Some("") => "·".to_owned(),
+                    Some(s) => s.to_owned(),
+                    None => "?".to_owned(),
+                })
+                .collect::<Vec<_>>()
+                .join(" | ")
+        });
+    let _ = writeln!(
+        out,
+        "chain of {} cells simulated from rest: {}, period {}, pair signatures {signatures}, X_N = {}",
+        r.cells,
+        r.simulated.status,
+        r.simulated.period.map_or("-".to_owned(), |p| p.to_string()),
+        num(r.simulated.outer_amplitude)
+    );
+    match &r.analytic {
+        Some(a) => {
+            let _ = writeln!(
+                out,
+                "analytic orbit of {} from the simulated impact times: X_N = {}, viable {}, stable {}, energy residual {:.1e}",
+                a.sequence,
+                num(a.outer_amplitude),
+                a.viable,
+                a.stable,
+                a.energy_residual.unwrap_or(f64::NAN)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                out,
+                "analytic: {}",
+                r.analytic_error
+                    .as_deref()
+                    .unwrap_or("no impact sequence to solve")
+            );
+        }
+    }
+    let _ = writeln!(
+        out,
+        "class: {}{}; relative difference {}; multiplier difference {}",
+        r.class,
+        r.reason
+            .map_or(String::new(), |w| format!(" ({w}: {})", r.class_detail)),
+        r.relative_difference
+            .map_or("-".to_owned(), |d| format!("{d:.1e}")),
+        r.multiplier_difference
+            .map_or("-".to_owned(), |d| format!("{d:.1e}"))
+    );
+    if let Some(k) = &r.confirmation {
+        let _ = writeln!(
+            out,
+            "the analytic orbit {} by the simulator's Newton started on it{}",
+            if k.confirmed {
+                "confirmed"
+            } else {
+                "not confirmed"
+            },
+            match (&k.error, k.state_difference, k.map_residual) {
+                (Some(e), _, _) => format!(" ({e})"),
+                (None, Some(d), Some(r)) => format!(
+                    " ({} Newton steps, map residual {r:.1e}, state difference {d:.1e})",
+                    k.newton_iterations.unwrap_or(0)
+                ),
+                _ => String::new(),
+            }
         );
     }
     Ok(out)

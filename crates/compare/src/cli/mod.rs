@@ -261,7 +261,7 @@ fn load(path: &Option<PathBuf>) -> Result<Scene, RattleError> {
 
 /// The commands that take a chain of cells so far.
 pub const CHAIN_COMMANDS: &str =
-    "`rattle simulate`, `rattle sweep --solver event` or `--solver analytic` (the linear chain), `rattle map` and `rattle orbit --signature` (a sequence of the pairs' impacts)";
+    "`rattle simulate`, `rattle sweep --solver event` or `--solver analytic` (the linear chain), `rattle map`, `rattle orbit --signature` (a sequence of the pairs' impacts) and `rattle compare` (the simulated cycle beside the analytic orbit of its impact sequence)";
 
 /// The scene at `path` (or the built-in paper scene) for a command that works on a single
 /// unit only.

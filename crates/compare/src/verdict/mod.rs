@@ -4,6 +4,7 @@
 //!
 //! [`candidates`] is the one definition of "the analytic prediction": sweeps, maps and the
 //! report all call it, and each names the [`Choice`] it makes among the candidates.
+//! [`chain`] relates the two on a chain of cells.
 
 use crate::scene::analytic::{
     analyse, orbits_of_signature, signature_orbit_state, AnalyticPoint, OrbitSearch,
@@ -16,6 +17,8 @@ use nalgebra::{Complex, DVector, Vector4};
 use rattle_analytic::{solve_signature, Orbit, OrbitError, Signature, SignatureOrbit};
 use rattle_event_driven::{periodic_orbit, PeriodicOrbit, SimulationOptions, Start, Status};
 use thiserror::Error;
+
+pub mod chain;
 
 /// Two results agree when they differ by less than this, relatively: 1000 × the simulator's
 /// default periodicity tolerance (1e-9), because a motion that repeats to `ε` can still be

@@ -1,0 +1,576 @@
+//! How the two solvers relate at one frequency on a chain of cells: the simulated motion from
+//! rest, polished by the simulator's own Newton, beside the analytic orbit of its impact
+//! sequence (every pair's impacts in time order), solved by the analytic crate's own equations
+//! from the simulated impact times; the chain's counterpart of [`crate::verdict::cross_check`].
+//!
+//! The analytic orbit is the one of [`rattle_analytic::solve_sequence`] seeded from the
+//! polished cycle: `α` the base phase `ω t` at the simulated impact that starts the canonical
+//! sequence (both solvers move the base as `u_g cos ωt`; the analytic time counts from that
+//! impact), and the other impacts' times after it as fractions of the cycle. Coordinates are
+//! the same in both (`u = (u_o,1, u_i,1, u_o,2, …)`, pair `j` is cell `j`'s `r = u_i − u_o`).
+
+use crate::scene::analytic::chain_model;
+use crate::scene::simulator::{model, rest, run, SimulateError, SimulatedPoint};
+use crate::scene::{phase, Scene};
+use crate::verdict::{Class, MATCH_TOLERANCE};
+use nalgebra::{Complex, DVector};
+use rattle_analytic::{
+    chain_response, solve_sequence, Cell, ImpactSequence, PairImpact, SequenceError, SequenceOrbit,
+};
+use rattle_event_driven::{
+    periodic_orbit, simulate, ImpactRecord, PeriodicOrbit, SimulationOptions, Start, Status,
+    SteadyState,
+};
+
+/// Why a chain's point is `beyond` exact comparison or a `contradiction`; `None` for an
+/// agreement.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ChainReason {
+    /// Beyond: the run from rest did not repeat within its caps.
+    NonPeriodic,
+    /// Beyond: nothing dissipates, transients never decay.
+    NoDissipation,
+    /// Beyond: the final cycle sticks on a stop (no smooth stroboscopic map, no sequence).
+    Sticking,
+    /// Beyond: the simulator's Newton could not polish the periodic cycle.
+    NotPolished,
+    /// Beyond: more impacts per cycle than an impact sequence holds
+    /// ([`rattle_analytic::sequence::MAX_SEQUENCE_IMPACTS`]).
+    TooManyImpacts,
+    /// Beyond: a cycle longer than an impact sequence holds (`p` above
+    /// [`rattle_analytic::signature::MAX_PERIOD`]).
+    PeriodTooLong,
+    /// Beyond: a cell without stops (the analytic chain needs a contact pair in every cell).
+    CellWithoutStops,
+    /// Contradiction: the analytic solver finds no orbit of the sequence from the simulated
+    /// impact times.
+    NoAnalyticOrbit,
+    /// Contradiction: the analytic orbit violates a contact condition.
+    NotViable,
+    /// Contradiction: the analytic orbit is unstable, yet the simulator settles on it.
+    Unstable,
+    /// Contradiction: the orbits differ by [`MATCH_TOLERANCE`] or more.
+    Differ,
+    /// Contradiction: periodic without impacts, but not the linear chain's motion (or the
+    /// linear motion reaches the stops).
+    NotLinear,
+}
+
+impl ChainReason {
+    /// The reason's name in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            ChainReason::NonPeriodic => "non-periodic",
+            ChainReason::NoDissipation => "no-dissipation",
+            ChainReason::Sticking => "sticking",
+            ChainReason::NotPolished => "not-polished",
+            ChainReason::TooManyImpacts => "too-many-impacts",
+            ChainReason::PeriodTooLong => "period-too-long",
+            ChainReason::CellWithoutStops => "cell-without-stops",
+            ChainReason::NoAnalyticOrbit => "no-analytic-orbit",
+            ChainReason::NotViable => "not-viable",
+            ChainReason::Unstable => "unstable",
+            ChainReason::Differ => "differ",
+            ChainReason::NotLinear => "not-linear",
+        }
+    }
+}
+
+/// The simulator's polished cycle of a chain, read from the simulator alone.
+#[derive(Debug, Clone)]
+pub struct PolishedCycle {
+    /// The simulator's Newton-polished orbit (state at its section, multipliers).
+    pub orbit: PeriodicOrbit,
+    /// The impacts of one cycle run from the polished state at the section, in time order,
+    /// each with its pair, side, absolute time and state just before.
+    pub impacts: Vec<ImpactRecord>,
+    /// `max_t |u_k(t)|` of every coordinate over that cycle, from the simulator's closed-form
+    /// extrema.
+    pub amplitudes: Vec<f64>,
+}
+
+/// A chain's simulated periodic motion beside the analytic orbit of its impact sequence.
+#[derive(Debug, Clone)]
+pub struct ChainCheck {
+    /// Angular frequency, rad/s.
+    pub omega: f64,
+    /// Cells of the chain.
+    pub cells: usize,
+    /// The simulator from rest (with its own Newton-polished cycle when periodic).
+    pub simulated: SimulatedPoint,
+    /// The polished cycle run once more from its section, when there is one.
+    pub polished: Option<PolishedCycle>,
+    /// The polished cycle's impacts as a canonical impact sequence.
+    pub sequence: Option<ImpactSequence>,
+    /// The analytic orbit of that sequence, seeded from the simulated impact times.
+    pub analytic: Option<SequenceOrbit>,
+    /// Why there is no analytic orbit, when the simulated cycle has one to look for.
+    pub analytic_error: Option<String>,
+    /// The verdict (`agreement`, `contradiction` or `beyond`, as for the unit), with words.
+    pub class: Class,
+    /// The verdict's reason, `None` for an agreement.
+    pub reason: Option<ChainReason>,
+    /// The largest of: the state just before the first impact of the canonical sequence
+    /// (Euclidean norm of the difference over the analytic state's), every cell's outer
+    /// amplitude (relative, the last cell's included), the impact phases (fractions of the
+    /// cycle) and the base phase at the first impact over π. Without impacts: every cell's
+    /// outer amplitude against the linear chain's.
+    pub relative_difference: Option<f64>,
+    /// The Floquet multipliers of the two solvers matched as sets (each simulated multiplier
+    /// paired with a distinct analytic one, closest pairs first): the largest distance of a
+    /// pair.
+    pub multiplier_difference: Option<f64>,
+    /// The viable analytic orbit confirmed the other way: the simulator's Newton started on
+    /// it (stable or not). `None` without a viable analytic orbit.
+    pub confirmation: Option<ChainConfirmation>,
+}
+
+/// The simulator's Newton started on an analytic orbit of a chain, mid-way through its first
+/// flight.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ChainConfirmation {
+    /// Whether Newton converged to a cycle with the orbit's impacts (pairs and sides, in time
+    /// order from the start) and a state within [`MATCH_TOLERANCE`] of the analytic one.
+    pub confirmed: bool,
+    /// `|x_Newton − x|` at the start over `|x|` (Euclidean norms): 0 when the analytic state
+    /// is already within Newton's tolerance (no step taken).
+    pub state_difference: Option<f64>,
+    /// Newton's final `|P(y) − y|` relative to `max(|y|, gap)` ([`PeriodicOrbit::residual`]):
+    /// at the analytic state itself when no step was taken.
+    pub map_residual: Option<f64>,
+    /// Newton steps taken from the analytic state.
+    pub newton_iterations: Option<u32>,
+    /// The two solvers' multipliers matched one to one ([`matched_distance`]).
+    pub multiplier_difference: Option<f64>,
+    /// Why Newton failed, if it did.
+    pub error: Option<String>,
+}
+
+impl ChainCheck {
+    fn new(scene: &Scene, omega: f64, simulated: SimulatedPoint) -> Self {
+        Self {
+            omega,
+            cells: scene.cell_count(),
+            simulated,
+            polished: None,
+            sequence: None,
+            analytic: None,
+            analytic_error: None,
+            class: Class::Agreement,
+            reason: None,
+            relative_difference: None,
+            multiplier_difference: None,
+            confirmation: None,
+        }
+    }
+
+    /// Records the verdict `class` for `reason`.
+    fn decide(&mut self, reason: Option<ChainReason>, class: Class) {
+        self.reason = reason;
+        self.class = class;
+    }
+
+    fn beyond(&mut self, reason: ChainReason, words: String) {
+        self.decide(Some(reason), Class::Beyond(words));
+    }
+
+    fn contradiction(&mut self, reason: ChainReason, words: String) {
+        self.decide(Some(reason), Class::Contradiction(words));
+    }
+}
+
+/// Both solvers on the motion a chain scene settles on from rest at `omega`: the simulator
+/// runs from rest and polishes its cycle by Newton on its own stroboscopic map
+/// (`options.polish` is switched on); the cycle's impacts, in time order, are the impact
+/// sequence; the analytic crate solves that sequence seeded from the simulated impact times;
+/// the two are compared ([`ChainCheck::relative_difference`],
+/// [`ChainCheck::multiplier_difference`]).
+///
+/// Classes as for the unit ([`crate::verdict::cross_check`]): `agreement` (the analytic orbit
+/// is viable, stable and within [`MATCH_TOLERANCE`]; without impacts, the linear chain's
+/// motion clear of the stops), `beyond` exact comparison with a [`ChainReason`]
+/// (non-periodic, sticking, too many impacts, …), `contradiction` otherwise.
+///
+/// # Errors
+/// A failure of the simulator.
+pub fn chain_cross_check(
+    scene: &Scene,
+    omega: f64,
+    options: &SimulationOptions,
+) -> Result<ChainCheck, SimulateError> {
+    let options = SimulationOptions {
+        polish: true,
+        ..*options
+    };
+    let simulated = run(scene, omega, &rest(scene), &options)?;
+    let mut check = ChainCheck::new(scene, omega, simulated);
+    let steady = check.simulated.steady.clone();
+    match (steady.status, steady.sticking) {
+        (_, true) => check.beyond(
+            ChainReason::Sticking,
+            "sticking: outside exact comparison".into(),
+        ),
+        (Status::NonPeriodic, _) => check.beyond(
+            ChainReason::NonPeriodic,
+            "not periodic within the cap".into(),
+        ),
+        (Status::NoDissipation, _) => check.beyond(
+            ChainReason::NoDissipation,
+            "no dissipation: transients never decay".into(),
+        ),
+        (Status::Periodic, _) if steady.cycle_impacts.is_empty() => linear_check(scene, &mut check),
+        (Status::Periodic, _) => match steady.orbit.as_deref() {
+            None => check.beyond(
+                ChainReason::NotPolished,
+                format!(
+                    "the simulator could not polish its cycle: {}",
+                    steady.orbit_error.as_deref().unwrap_or("unknown")
+                ),
+            ),
+            Some(orbit) => {
+                let orbit = orbit.clone();
+                seeded_check(scene, omega, &orbit, &steady, &options, &mut check)?;
+            }
+        },
+    }
+    Ok(check)
+}
+
+/// A periodic motion without impacts beside the linear chain's steady state.
+fn linear_check(scene: &Scene, check: &mut ChainCheck) {
+    let cells: Vec<Cell> = scene
+        .cell_scenes()
+        .iter()
+        .map(|c| Cell::of_unit(&c.unit_model()))
+        .collect();
+    let linear = match chain_response(&cells, scene.base.amplitude, check.omega) {
+        Ok(r) if !r.unbounded => r,
+        _ => {
+            return check.contradiction(
+                ChainReason::NotLinear,
+                "periodic without impacts, but the linear chain has no bounded motion".into(),
+            )
+        }
+    };
+    let reaches = scene.cell_scenes().iter().enumerate().any(|(j, c)| {
+        c.gap()
+            .is_some_and(|gap| (linear.inner[j] - linear.outer[j]).norm() > gap)
+    });
+    let d = largest_relative(
+        &check.simulated.cell_outer_amplitudes(),
+        &linear.cell_outer_amplitudes,
+    );
+    check.relative_difference = Some(d);
+    if reaches {
+        check.contradiction(
+            ChainReason::NotLinear,
+            "periodic without impacts, but the linear chain's motion reaches the stops".into(),
+        );
+    } else if d < MATCH_TOLERANCE {
+        check.decide(None, Class::Agreement);
+    } else {
+        check.contradiction(
+            ChainReason::NotLinear,
+            format!("periodic without impacts, {d:.1e} from the linear chain's motion"),
+        );
+    }
+}
+
+/// `max_k |a_k − b_k| / |b_k|` (infinite when the lengths differ).
+fn largest_relative(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() != b.len() {
+        return f64::INFINITY;
+    }
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs() / y.abs().max(f64::MIN_POSITIVE))
+        .fold(0.0, f64::max)
+}
+
+/// One cycle of the simulator run from the polished orbit's section (`p` periods exactly,
+/// no polish): its impacts and amplitudes are those of the polished cycle.
+///
+/// # Errors
+/// A failure of the simulator.
+fn polished_cycle(
+    scene: &Scene,
+    omega: f64,
+    orbit: &PeriodicOrbit,
+    options: &SimulationOptions,
+) -> Result<PolishedCycle, SimulateError> {
+    let model = model(scene, omega)?;
+    let start = Start {
+        state: orbit.state.clone(),
+        time: orbit.time,
+    };
+    let once = SimulationOptions {
+        fixed_periods: Some(u64::from(orbit.periods)),
+        max_period_multiplicity: options.max_period_multiplicity.max(orbit.periods),
+        polish: false,
+        record_trajectory: false,
+        ..*options
+    };
+    let steady: SteadyState = simulate(&model, omega, &start, &once)?;
+    Ok(PolishedCycle {
+        orbit: orbit.clone(),
+        impacts: steady.cycle_impacts,
+        amplitudes: steady.amplitudes,
+    })
+}
+
+/// The analytic orbit of the polished cycle's sequence, its differences and the class.
+fn seeded_check(
+    scene: &Scene,
+    omega: f64,
+    orbit: &PeriodicOrbit,
+    steady: &SteadyState,
+    options: &SimulationOptions,
+    check: &mut ChainCheck,
+) -> Result<(), SimulateError> {
+    let Ok(analytic_model) = chain_model(scene) else {
+        check.beyond(
+            ChainReason::CellWithoutStops,
+            "a cell without stops: the analytic chain needs a contact pair in every cell".into(),
+        );
+        return Ok(());
+    };
+    let cycle = polished_cycle(scene, omega, orbit, options)?;
+    let impacts: Vec<PairImpact> = cycle
+        .impacts
+        .iter()
+        .map(|i| PairImpact {
+            pair: i.pair,
+            side: i.side,
+        })
+        .collect();
+    // The polished cycle must be the cycle the run settled on: same impacts per cycle.
+    if impacts.len() != orbit.impact_sides.len()
+        || impacts.len() != steady.cycle_impacts.len()
+        || impacts
+            .iter()
+            .zip(&orbit.impact_sides)
+            .any(|(a, &s)| a.side != s)
+    {
+        check.polished = Some(cycle);
+        check.beyond(
+            ChainReason::NotPolished,
+            "the cycle run from the polished state does not repeat the polished impacts".into(),
+        );
+        return Ok(());
+    }
+    let sequence = match ImpactSequence::new(&impacts, orbit.periods) {
+        Ok(s) => s,
+        Err(e) => {
+            let reason = match e {
+                SequenceError::TooManyImpacts { .. } => ChainReason::TooManyImpacts,
+                _ => ChainReason::PeriodTooLong,
+            };
+            check.polished = Some(cycle);
+            check.beyond(
+                reason,
+                format!("the simulated cycle has no impact sequence: {e}"),
+            );
+            return Ok(());
+        }
+    };
+    let n = impacts.len();
+    let length = f64::from(orbit.periods) * std::f64::consts::TAU / omega;
+    // The rotations of the simulated impacts that read as the canonical sequence.
+    let rotations: Vec<usize> = (0..n)
+        .filter(|&k| (0..n).all(|j| impacts[(k + j) % n] == sequence.impacts()[j]))
+        .collect();
+    let Some(&first) = rotations.first() else {
+        check.contradiction(
+            ChainReason::NoAnalyticOrbit,
+            "the simulated impacts do not read as their sequence".into(),
+        );
+        return Ok(());
+    };
+    let phases_from = |k: usize| -> Vec<f64> {
+        (0..n)
+            .map(|j| {
+                ((cycle.impacts[(k + j) % n].time - cycle.impacts[k].time) / length).rem_euclid(1.0)
+            })
+            .collect()
+    };
+    let alpha_at = |k: usize| phase::wrap(omega * cycle.impacts[k].time);
+    let mut guess = vec![alpha_at(first)];
+    guess.extend_from_slice(&phases_from(first)[1..]);
+    check.sequence = Some(sequence.clone());
+    let analytic = match solve_sequence(&analytic_model, omega, &sequence, &guess) {
+        Ok(o) => o,
+        Err(e) => {
+            check.analytic_error = Some(e.to_string());
+            check.polished = Some(cycle);
+            check.contradiction(
+                ChainReason::NoAnalyticOrbit,
+                format!("the analytic solver finds no orbit of {sequence} from the simulated times: {e}"),
+            );
+            return Ok(());
+        }
+    };
+    let cells = scene.cell_count();
+    let outer: Vec<f64> = (0..cells).map(|j| cycle.amplitudes[2 * j]).collect();
+    let amplitude = largest_relative(&outer, &analytic.cell_outer_amplitudes);
+    // The analytic orbit starts at one of the equivalent rotations: compare with the closest.
+    let before = DVector::from_column_slice(&analytic.states_before_impacts[0]);
+    let difference = rotations
+        .iter()
+        .map(|&k| {
+            let state = (&cycle.impacts[k].state_before - &before).norm()
+                / before.norm().max(f64::MIN_POSITIVE);
+            let phases = phases_from(k)
+                .iter()
+                .zip(&analytic.impact_phases)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max);
+            state
+                .max(phases)
+                .max(phase::distance(alpha_at(k), analytic.alpha) / std::f64::consts::PI)
+        })
+        .fold(f64::INFINITY, f64::min)
+        .max(amplitude);
+    check.relative_difference = Some(difference);
+    check.multiplier_difference = Some(matched_distance(
+        &orbit.floquet_multipliers,
+        &analytic.floquet_multipliers,
+    ));
+    if !analytic.viable {
+        check.contradiction(
+            ChainReason::NotViable,
+            format!(
+                "the simulator settles on a {sequence} cycle the analytic solver calls not viable"
+            ),
+        );
+    } else if !analytic.stable {
+        check.contradiction(
+            ChainReason::Unstable,
+            format!(
+                "the simulator settles on a {sequence} cycle the analytic solver calls unstable"
+            ),
+        );
+    } else if difference < MATCH_TOLERANCE {
+        check.decide(None, Class::Agreement);
+    } else {
+        check.contradiction(
+            ChainReason::Differ,
+            format!("the {sequence} orbits differ by {difference:.1e}"),
+        );
+    }
+    if analytic.viable {
+        check.confirmation = Some(confirm(
+            scene,
+            &analytic_model,
+            &analytic,
+            &cycle.orbit,
+            options,
+        )?);
+    }
+    check.polished = Some(cycle);
+    check.analytic = Some(analytic);
+    Ok(())
+}
+
+/// The simulator's Newton on its own stroboscopic map, started on the analytic `orbit` of
+/// `model` mid-way through the orbit's first flight (`orbit.impact_phases[1] / 2` of the
+/// cycle after its first impact, base phase `α + ω t` there); its impacts compared with the
+/// `polished` cycle's, its state with the analytic one.
+///
+/// # Errors
+/// The simulator's model of the scene cannot be built.
+fn confirm(
+    scene: &Scene,
+    model_of_chain: &rattle_analytic::LinearModel,
+    orbit: &SequenceOrbit,
+    polished: &PeriodicOrbit,
+    options: &SimulationOptions,
+) -> Result<ChainConfirmation, SimulateError> {
+    let omega = orbit.omega;
+    let length = f64::from(orbit.period) * std::f64::consts::TAU / omega;
+    let t = 0.5 * orbit.impact_phases.get(1).copied().unwrap_or(1.0) * length;
+    let (sin, cos) = orbit.alpha.sin_cos();
+    let (x, _) = model_of_chain.transition(omega, t).apply(
+        &DVector::from_column_slice(&orbit.state_after_impact),
+        &DVector::from_column_slice(&[cos, sin]),
+    );
+    let start = Start {
+        state: x.clone(),
+        // Base phase ω t_sim = α + ω t.
+        time: t + orbit.alpha / omega,
+    };
+    let mut out = ChainConfirmation {
+        confirmed: false,
+        state_difference: None,
+        map_residual: None,
+        newton_iterations: None,
+        multiplier_difference: None,
+        error: None,
+    };
+    match periodic_orbit(&model(scene, omega)?, omega, &start, orbit.period, options) {
+        Ok(found) => {
+            let d = (&found.state - &x).norm() / x.norm().max(f64::MIN_POSITIVE);
+            // The same impacts: a rotation of the polished cycle's sides (Newton's start lies
+            // elsewhere in the cycle) of the same length.
+            let n = found.impact_sides.len();
+            let same = n == polished.impact_sides.len()
+                && (0..n.max(1)).any(|k| {
+                    (0..n).all(|j| found.impact_sides[(k + j) % n] == polished.impact_sides[j])
+                });
+            out.state_difference = Some(d);
+            out.map_residual = Some(found.residual);
+            out.newton_iterations = Some(found.iterations);
+            out.multiplier_difference = Some(matched_distance(
+                &found.floquet_multipliers,
+                &orbit.floquet_multipliers,
+            ));
+            out.confirmed = same && d < MATCH_TOLERANCE;
+        }
+        Err(e) => out.error = Some(e.to_string()),
+    }
+    Ok(out)
+}
+
+/// Two sets of multipliers matched one to one, closest pairs first: the largest distance of a
+/// matched pair (infinite when the sets differ in size).
+pub fn matched_distance(a: &[Complex<f64>], b: &[Complex<f64>]) -> f64 {
+    if a.len() != b.len() {
+        return f64::INFINITY;
+    }
+    let mut pairs: Vec<(f64, usize, usize)> = a
+        .iter()
+        .enumerate()
+        .flat_map(|(i, x)| {
+            b.iter()
+                .enumerate()
+                .map(move |(j, y)| ((x - y).norm(), i, j))
+        })
+        .collect();
+    pairs.sort_by(|p, q| p.0.total_cmp(&q.0));
+    let (mut used_a, mut used_b) = (vec![false; a.len()], vec![false; b.len()]);
+    let mut largest: f64 = 0.0;
+    for (d, i, j) in pairs {
+        if !used_a[i] && !used_b[j] {
+            used_a[i] = true;
+            used_b[j] = true;
+            largest = largest.max(d);
+        }
+    }
+    largest
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn multipliers_are_matched_one_to_one() {
+        let c = |re, im| Complex::new(re, im);
+        // Nearest-neighbour distance would pair both of `a` with 0.5; one-to-one cannot.
+        let a = [c(0.5, 0.0), c(0.51, 0.0)];
+        let b = [c(0.5, 0.0), c(-0.5, 0.0)];
+        assert!((matched_distance(&a, &b) - 1.01).abs() < 1e-15);
+        let same = [c(0.1, 0.2), c(0.1, -0.2)];
+        assert_eq!(matched_distance(&same, &[same[1], same[0]]), 0.0);
+        assert_eq!(matched_distance(&a, &a[..1]), f64::INFINITY);
+    }
+}
