@@ -59,10 +59,10 @@ const ELASTIC_OMEGAS: [f64; 2] = [1.0, 2.0];
 const BASINS_OMEGA: f64 = 1.9;
 /// Half-width of the basins grid in both displacements, m: three gaps either side.
 const BASINS_EXTENT: f64 = 1.5;
-/// Starts per side of the basins grid: 10 000 starts, about 3 s on two threads (the issue's
-/// 200 × 200, 11 s, would take `cargo xtask figures` past its minute; `rattle basins --points
-/// 200` draws it).
-const BASINS_POINTS: usize = 200;
+/// Starts per side of the basins grid: 8 100 starts, about 8 s on two threads; the issue's
+/// 200 × 200 (`rattle basins --points 200`, 37 s at this frequency, where nearly every start
+/// converges slowly) would take `cargo xtask figures` far past its minute.
+const BASINS_POINTS: usize = 90;
 
 /// Frequencies of the Lyapunov figure over the paper's axis 0.1–4 rad/s (step 0.02 rad/s);
 /// each non-periodic point runs 2000 periods of exponents, periodic ones take theirs from

@@ -74,3 +74,48 @@ fn a_start_exactly_on_a_stable_orbit_is_coloured_by_that_orbit() {
     );
     assert!(!from_rest.same(&expected), "{from_rest:?}");
 }
+
+/// The start at rest at the origin on the paper's unit at ω = 1.9 rad/s converges slowly on the
+/// `++--` orbit (λ₁ = −0.008 /s): it repeats to the basins' periodicity tolerance only after
+/// the cap (400 periods), yet a run four times longer shows where it goes. The basins attribute
+/// it to that attractor by proximity to the reference grid's, well before the cap.
+#[test]
+fn a_slow_start_is_attributed_to_the_attractor_a_long_run_reaches() {
+    use rattle_compare::runs::axis::Axis;
+    use rattle_compare::runs::basins::{
+        basin_options, basins, destination, start_at_rest, Attractor, BasinGrid, BASIN_MAX_PERIODS,
+    };
+    use rattle_compare::runs::parallel::Progress;
+    use rattle_compare::scene::Scene;
+    let scene = Scene::paper();
+    let omega = 1.9;
+    let origin = start_at_rest(0.0, 0.0);
+    let (capped, _, periods) = destination(&scene, omega, &origin, &basin_options());
+    assert_eq!(capped, Attractor::NotPeriodic, "{periods} periods");
+    let long = rattle_event_driven::SimulationOptions {
+        max_periods: 4 * BASIN_MAX_PERIODS,
+        ..basin_options()
+    };
+    let (truth, _, _) = destination(&scene, omega, &origin, &long);
+    assert!(matches!(truth, Attractor::Periodic { .. }), "{truth:?}");
+    let grid = BasinGrid {
+        outer: Axis::new(-1.5, 1.5, 11),
+        inner: Axis::new(-1.5, 1.5, 11),
+    };
+    let b = basins(&scene, omega, grid, &basin_options(), &Progress::hidden());
+    let cell = b
+        .cells
+        .iter()
+        .find(|c| c.outer == 0.0 && c.inner == 0.0)
+        .expect("the origin is on the grid");
+    assert!(
+        b.attractors[cell.attractor].same(&truth),
+        "{:?}",
+        b.attractors[cell.attractor]
+    );
+    assert!(
+        cell.periods_run < BASIN_MAX_PERIODS,
+        "{} periods",
+        cell.periods_run
+    );
+}

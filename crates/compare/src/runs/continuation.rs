@@ -166,7 +166,7 @@ impl Branches {
         starts: &[SignatureOrbit],
         settings: &ContinuationSettings,
     ) -> Vec<Result<bool, ContinuationError>> {
-        let wave_size = rayon::current_num_threads().max(1);
+        let wave_size = 2 * rayon::current_num_threads().max(1);
         let mut outcome: Vec<Option<Result<bool, ContinuationError>>> =
             starts.iter().map(|_| None).collect();
         let mut next = 0;

@@ -57,7 +57,7 @@ impl StudySize {
             omega_max: 4.0,
             analytic_points: 1561,
             compared_points: 400,
-            bifurcation_points: 200,
+            bifurcation_points: 160,
             beta_points: 197,
             start_on_orbits: true,
             continuation: true,
@@ -366,16 +366,16 @@ pub struct MapSizes {
 }
 
 impl MapSizes {
-    /// The grids of `cargo xtask figures` (`rattle map` runs finer grids). The bandwidth map
-    /// takes most of the command's time: 43 s of 63 s at 21 × 20 × 200 (measured with
-    /// `rattle map`, 2 threads); at 21 × 16 × 160 (steps 0.05 in e, 0.063 in Δ/u_g, 0.025
-    /// rad/s) it takes about 28 s and the command stays within a minute.
+    /// The grids of `cargo xtask figures` (`rattle map` runs finer grids). The maps took 37.5
+    /// s of the command's 76 s at 21 × 16 × 160 and 16 × 300 (2 threads); with the basins,
+    /// Poincaré and chain figures added, they are 11 × 16 × 100 (steps 0.1 in e, the paper's
+    /// 0.8 included, 0.063 in Δ/u_g, 0.039 rad/s) and 16 × 200.
     pub fn full() -> MapSizes {
         MapSizes {
             restitutions: 11,
             gaps: 16,
-            bandwidth_points: 120,
-            regime_points: 240,
+            bandwidth_points: 100,
+            regime_points: 200,
         }
     }
 
