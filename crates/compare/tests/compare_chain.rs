@@ -15,27 +15,10 @@
 //! agree to well within 1e-8 (ten times the floor): states, amplitudes, phases and Floquet
 //! multipliers.
 
+mod common;
+use common::{json, rattle};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn rattle(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rattle"))
-        .args(args)
-        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .output()
-        .expect("rattle runs")
-}
-
-fn json(args: &[&str]) -> Value {
-    let out = rattle(args);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("one JSON document")
-}
 
 /// Writes `text` to a scene file of this test process named `name`.
 fn scene_file(name: &str, text: &str) -> PathBuf {
