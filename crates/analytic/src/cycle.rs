@@ -410,18 +410,12 @@ fn canonical_shift(problem: &Problem, signature: &Signature, x: &[f64]) -> (f64,
     let n = signature.impacts();
     let mut phases = vec![0.0; n];
     phases[1..n].copy_from_slice(&x[1..n]);
-    let omega_cycle = problem.flow.omega() * problem.cycle;
-    signature
-        .symmetries()
-        .into_iter()
-        .map(|k| {
-            let shifted: Vec<f64> = (0..n)
-                .map(|j| (phases[(j + k) % n] - phases[k]).rem_euclid(1.0))
-                .collect();
-            (wrap(x[0] + omega_cycle * phases[k]), shifted)
-        })
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .unwrap_or((wrap(x[0]), phases))
+    crate::sequence_search::smallest_rotation(
+        x[0],
+        phases,
+        signature.symmetries(),
+        problem.flow.omega() * problem.cycle,
+    )
 }
 
 /// Builds the orbit at converged unknowns and derives its verdicts.
@@ -676,33 +670,12 @@ pub fn signature_orbits_on_grid(
     // Pass 2: Newton from the nodes (tuple, α sample) that are local minima of the residual
     // in α, and (when there are more than FULL_START_TUPLES tuples) also over their
     // neighbours in the joint grid (±1 in any impact index and in α).
-    let every = scanned.len() <= FULL_START_TUPLES;
-    let mut starts: Vec<(&Vec<usize>, usize)> = Vec::new();
-    for (t, values) in &scanned {
-        for k in 0..ALPHA_SCAN {
-            let v = values[k];
-            let around = [(k + ALPHA_SCAN - 1) % ALPHA_SCAN, k, (k + 1) % ALPHA_SCAN];
-            let alpha_min = values[around[0]] >= v && values[around[2]] > v;
-            if alpha_min
-                && v.is_finite()
-                && (every
-                    || crate::sequence_search::cube_neighbours(t).all(|m| {
-                        scanned
-                            .get(&m)
-                            .is_none_or(|w| around.iter().all(|&k2| w[k2] >= v))
-                    }))
-            {
-                starts.push((t, k));
-            }
-        }
-    }
-    starts.sort();
+    let starts = crate::sequence_search::start_nodes(&scanned, |t| {
+        crate::sequence_search::cube_neighbours(t)
+    });
     let mut found: Vec<(Vec<f64>, SignatureOrbit)> = Vec::new();
     for (tuple, k) in starts {
-        let mut guess = vec![scan_angle(k); n];
-        for i in 1..n {
-            guess[i] = tuple[i] as f64 / grid as f64;
-        }
+        let guess = crate::sequence_search::start_guess(tuple, k, grid);
         {
             let Ok((x, iterations)) = problem.newton(&guess) else {
                 continue;
@@ -733,11 +706,6 @@ fn same_orbit(key: &[f64], alpha: f64, phases: &[f64]) -> bool {
             .iter()
             .zip(&phases[1..])
             .all(|(a, b)| (a - b).abs() < DEDUP_TOLERANCE)
-}
-
-/// Sample `k` of the `α` scan: `−π + 2πk/`[`ALPHA_SCAN`].
-fn scan_angle(k: usize) -> f64 {
-    -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / ALPHA_SCAN as f64
 }
 
 /// For impact times on grid points `tuple`, the squared contact residual on the `α` scan:
@@ -790,5 +758,7 @@ fn linear_scan(
             .map(|j| (coefficients[j].dot(&p) - problem.sides[j] as f64 * problem.gap).powi(2))
             .sum::<f64>()
     };
-    (0..ALPHA_SCAN).map(|k| cost(scan_angle(k))).collect()
+    (0..ALPHA_SCAN)
+        .map(|k| cost(crate::sequence_search::scan_angle(k)))
+        .collect()
 }

@@ -26,7 +26,6 @@ use crate::cycle::{
     STEP_ROUNDING,
 };
 use crate::model::LinearModel;
-use crate::orbit::wrap;
 use crate::sequence::{ImpactSequence, SequenceError};
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
@@ -341,19 +340,12 @@ impl<'a> SequenceProblem<'a> {
     /// Among the rotations of the cycle that keep the canonical sequence, the representation
     /// of the unknowns `x` with the smallest wrapped `α`: returns `(α, phases)`.
     pub fn canonical(&self, x: &[f64]) -> (f64, Vec<f64>) {
-        let m = self.impacts();
-        let phases = Self::phases(x);
-        let omega_cycle = self.omega * self.cycle;
-        self.symmetries()
-            .into_iter()
-            .map(|k| {
-                let shifted: Vec<f64> = (0..m)
-                    .map(|j| (phases[(j + k) % m] - phases[k]).rem_euclid(1.0))
-                    .collect();
-                (wrap(x[0] + omega_cycle * phases[k]), shifted)
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0))
-            .unwrap_or((wrap(x[0]), phases))
+        crate::sequence_search::smallest_rotation(
+            x[0],
+            Self::phases(x),
+            self.symmetries(),
+            self.omega * self.cycle,
+        )
     }
 }
 

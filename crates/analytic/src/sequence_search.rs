@@ -91,34 +91,11 @@ pub fn sequence_orbits_on_grid(
             break;
         }
     }
-    let every = scanned.len() <= FULL_START_TUPLES;
-    let mut starts: Vec<(&Vec<usize>, usize)> = Vec::new();
-    for (t, values) in &scanned {
-        for k in 0..ALPHA_SCAN {
-            let v = values[k];
-            let around = [(k + ALPHA_SCAN - 1) % ALPHA_SCAN, k, (k + 1) % ALPHA_SCAN];
-            let alpha_min = values[around[0]] >= v && values[around[2]] > v;
-            if alpha_min
-                && v.is_finite()
-                && (every
-                    || neighbours(t).all(|nb| {
-                        scanned
-                            .get(&nb)
-                            .is_none_or(|w| around.iter().all(|&k2| w[k2] >= v))
-                    }))
-            {
-                starts.push((t, k));
-            }
-        }
-    }
-    starts.sort();
+    let starts = start_nodes(&scanned, |t| neighbours(t));
     let solver = SequenceNewton::default();
     let mut found: Vec<SequenceOrbit> = Vec::new();
     for (tuple, k) in starts {
-        let mut guess = vec![scan_angle(k); m];
-        for i in 1..m {
-            guess[i] = tuple[i] as f64 / grid as f64;
-        }
+        let guess = start_guess(tuple, k, grid);
         let Ok(converged) = solver.solve(&problem, &guess) else {
             continue;
         };
@@ -213,8 +190,75 @@ pub(crate) fn next_tuple(tuple: &mut [usize], grid: usize) -> bool {
 }
 
 /// Sample `k` of the `α` scan: `−π + 2πk/`[`ALPHA_SCAN`].
-fn scan_angle(k: usize) -> f64 {
+pub(crate) fn scan_angle(k: usize) -> f64 {
     -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / ALPHA_SCAN as f64
+}
+
+/// The starts of a multi-start over `scanned` (impact-index tuple → residual on the `α`
+/// scan): each node `(tuple, k)` that is a finite local minimum in `α` and, when there are
+/// more than [`FULL_START_TUPLES`] tuples, also over the tuple's `neighbours` in the joint
+/// grid; in sorted order.
+pub(crate) fn start_nodes<'a, I>(
+    scanned: &'a HashMap<Vec<usize>, Vec<f64>>,
+    neighbours: impl Fn(&'a [usize]) -> I,
+) -> Vec<(&'a Vec<usize>, usize)>
+where
+    I: Iterator<Item = Vec<usize>>,
+{
+    let every = scanned.len() <= FULL_START_TUPLES;
+    let mut starts = Vec::new();
+    for (t, values) in scanned {
+        for k in 0..ALPHA_SCAN {
+            let v = values[k];
+            let around = [(k + ALPHA_SCAN - 1) % ALPHA_SCAN, k, (k + 1) % ALPHA_SCAN];
+            let alpha_min = values[around[0]] >= v && values[around[2]] > v;
+            if alpha_min
+                && v.is_finite()
+                && (every
+                    || neighbours(t).all(|nb| {
+                        scanned
+                            .get(&nb)
+                            .is_none_or(|w| around.iter().all(|&k2| w[k2] >= v))
+                    }))
+            {
+                starts.push((t, k));
+            }
+        }
+    }
+    starts.sort();
+    starts
+}
+
+/// The Newton guess of node `(tuple, k)`: `α` the `k`-th scan angle, the impact phases the
+/// tuple's grid points over `grid`.
+pub(crate) fn start_guess(tuple: &[usize], k: usize, grid: usize) -> Vec<f64> {
+    let mut guess = vec![scan_angle(k); tuple.len()];
+    for i in 1..tuple.len() {
+        guess[i] = tuple[i] as f64 / grid as f64;
+    }
+    guess
+}
+
+/// Among the rotations `symmetries` of a cycle (start at impact `k` instead of 0) that keep
+/// its canonical sequence, the representation of `(α, phases)` with the smallest wrapped `α`;
+/// `omega_cycle` is `ω` times the cycle's length.
+pub(crate) fn smallest_rotation(
+    alpha: f64,
+    phases: Vec<f64>,
+    symmetries: Vec<usize>,
+    omega_cycle: f64,
+) -> (f64, Vec<f64>) {
+    let m = phases.len();
+    symmetries
+        .into_iter()
+        .map(|k| {
+            let shifted: Vec<f64> = (0..m)
+                .map(|j| (phases[(j + k) % m] - phases[k]).rem_euclid(1.0))
+                .collect();
+            (wrap(alpha + omega_cycle * phases[k]), shifted)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap_or((wrap(alpha), phases))
 }
 
 /// For impact times on grid points `tuple`, the squared contact residual on the `α` scan
