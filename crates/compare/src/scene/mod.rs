@@ -297,10 +297,31 @@ impl Scene {
 
     /// Number of contact pairs: the cells with stops.
     pub fn pair_count(&self) -> usize {
-        self.cell_scenes()
-            .iter()
-            .filter(|c| c.stops.is_some())
+        self.cell_effect_blocks()
+            .filter(|(stops, _)| stops.is_some())
             .count()
+    }
+
+    /// Each cell's stops and dashpots (the blocks behind its effects), without building the
+    /// cell's scene: the effect queries run for every output record.
+    fn cell_effect_blocks(
+        &self,
+    ) -> impl Iterator<Item = (Option<StopsSpec>, Option<DampingSpec>)> + '_ {
+        let own = (self.stops, self.damping);
+        let listed = self
+            .chain
+            .iter()
+            .flatten()
+            .map(move |c| (c.stops.or(own.0), c.damping.or(own.1)));
+        let repeated = std::iter::repeat_n(
+            own,
+            if self.chain.is_some() {
+                0
+            } else {
+                self.cell_count()
+            },
+        );
+        listed.chain(repeated)
     }
 
     /// Whether the scene is a chain of more than one cell.
@@ -367,12 +388,11 @@ impl Scene {
 
     /// The effects this scene calls for, in a fixed order.
     pub fn effects(&self) -> Vec<Effect> {
-        let cells = self.cell_scenes();
         let mut effects = Vec::new();
-        if cells.iter().any(|c| c.stops.is_some()) {
+        if self.cell_effect_blocks().any(|(stops, _)| stops.is_some()) {
             effects.push(Effect::Stops);
         }
-        if cells.iter().any(|c| c.active_damping().is_some()) {
+        if self.is_damped() {
             effects.push(Effect::Damping);
         }
         effects
@@ -400,14 +420,13 @@ impl Scene {
 
     /// Whether the scene has a dashpot that is not zero (in any cell).
     pub fn is_damped(&self) -> bool {
-        self.cell_scenes()
-            .iter()
-            .any(|c| c.active_damping().is_some())
+        self.cell_effect_blocks()
+            .any(|(_, damping)| active(damping).is_some())
     }
 
     /// The dashpots, if the scene has any that is not zero.
     fn active_damping(&self) -> Option<DampingSpec> {
-        self.damping.filter(|d| d.outer != 0.0 || d.inner != 0.0)
+        active(self.damping)
     }
 
     /// The unit as the analytic solver's problem. A damping block whose dashpots are both zero
@@ -437,6 +456,11 @@ impl Scene {
             restitution: s.restitution,
         })
     }
+}
+
+/// The dashpots of `damping` if either is not zero.
+fn active(damping: Option<DampingSpec>) -> Option<DampingSpec> {
+    damping.filter(|d| d.outer != 0.0 || d.inner != 0.0)
 }
 
 /// serde_json appends " at line L column C"; the position is reported separately.
@@ -558,7 +582,7 @@ mod tests {
         .expect("a valid chain");
         let cells = s.cell_scenes();
         assert_eq!(cells.len(), 3);
-        assert_eq!(cells[0], s.cell_scenes()[0]);
+        assert_eq!(cells[0].unit, s.unit);
         assert_eq!(cells[0].stops, Scene::paper().stops);
         assert_eq!(cells[1].stops.map(|s| s.gap), Some(0.2));
         assert_eq!(cells[2].damping.map(|d| d.outer), Some(0.3));
