@@ -60,7 +60,7 @@ const BASINS_OMEGA: f64 = 1.9;
 /// Half-width of the basins grid in both displacements, m: three gaps either side.
 const BASINS_EXTENT: f64 = 1.5;
 /// Starts per side of the basins grid: 8 100 starts, about 8 s on two threads; the issue's
-/// 200 × 200 (`rattle basins --points 200`, 37 s at this frequency, where nearly every start
+/// 200 × 200 (`rattle basins --points 200`, 38.5 s at this frequency, where nearly every start
 /// converges slowly) would take `cargo xtask figures` far past its minute.
 const BASINS_POINTS: usize = 90;
 
