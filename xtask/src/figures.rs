@@ -62,7 +62,7 @@ const BASINS_EXTENT: f64 = 1.5;
 /// Starts per side of the basins grid: 8 100 starts, about 8 s on two threads; the issue's
 /// 200 × 200 (`rattle basins --points 200`, 38.5 s at this frequency, where nearly every start
 /// converges slowly) would take `cargo xtask figures` far past its minute.
-const BASINS_POINTS: usize = 90;
+const BASINS_POINTS: usize = 200;
 
 /// Frequencies of the Lyapunov figure over the paper's axis 0.1–4 rad/s (step 0.02 rad/s);
 /// each non-periodic point runs 2000 periods of exponents, periodic ones take theirs from

@@ -170,6 +170,10 @@ pub enum Stop {
     EventCap,
     /// The oscillation cap ([`SimulationOptions::max_oscillations`]) was reached first.
     OscillationCap,
+    /// The caller's section watch ended the run ([`simulate_watched`]) before anything was
+    /// decided: no final stretch was observed, so the amplitudes, the final cycle's impacts and
+    /// its stroboscopic states are empty, and the status is not [`Status::Periodic`].
+    Watched,
 }
 
 /// One impact.
@@ -716,9 +720,28 @@ pub fn simulate(
     start: &Start,
     options: &SimulationOptions,
 ) -> Result<SteadyState, SimulationError> {
+    simulate_watched(model, omega, start, options, &mut |_, _| false)
+}
+
+/// As [`simulate`], with a watch on the stroboscopic sections: at each section `t = kT` at
+/// which the run is still undecided (running until steady, not periodic yet, no cap reached),
+/// `watch(k, state)` is asked, after the stopping rules; `true` ends the run at once with
+/// [`Stop::Watched`] (nothing observed: no amplitudes, no final cycle). For callers that
+/// recognise a motion before it repeats to the tolerance, e.g. a start entering a known
+/// attractor's neighbourhood. A fixed run ([`SimulationOptions::fixed_periods`]) never asks.
+///
+/// # Errors
+/// As [`simulate`].
+pub fn simulate_watched(
+    model: &Model,
+    omega: f64,
+    start: &Start,
+    options: &SimulationOptions,
+    watch: &mut dyn FnMut(u64, &DVector<f64>) -> bool,
+) -> Result<SteadyState, SimulationError> {
     check_inputs(model, omega, start, options)?;
     let mut engine = Engine::new(model, omega, options)?;
-    let mut steady = engine.run(start, options)?;
+    let mut steady = engine.run(start, options, watch)?;
     if let (true, Status::Periodic, Some(p)) = (options.polish, steady.status, steady.period) {
         if steady.sticking {
             steady.orbit_error = Some("the final cycle sticks".into());
@@ -1245,12 +1268,13 @@ impl<'m> Engine<'m> {
         &mut self,
         start: &Start,
         options: &SimulationOptions,
+        watch: &mut dyn FnMut(u64, &DVector<f64>) -> bool,
     ) -> Result<SteadyState, SimulationError> {
         let plan = self.plan(options);
         let mut state = self.init(start, &plan);
         let stop = loop {
             if self.next_iter(&mut state, &plan)? {
-                if let Some(stop) = self.terminate(&mut state, &plan) {
+                if let Some(stop) = self.terminate(&mut state, &plan, watch) {
                     break stop;
                 }
             }
@@ -1991,8 +2015,16 @@ impl<'m> Engine<'m> {
     }
 
     /// At a section: applies the stopping rules' decision; `Some` when the run is over.
-    fn terminate(&self, state: &mut RunState, plan: &Plan) -> Option<Stop> {
+    fn terminate(
+        &self,
+        state: &mut RunState,
+        plan: &Plan,
+        watch: &mut dyn FnMut(u64, &DVector<f64>) -> bool,
+    ) -> Option<Stop> {
         match self.stopping_rule(state, plan) {
+            Decision::Continue if !plan.fixed && state.observing.is_none() => {
+                watch(state.k, &state.y).then_some(Stop::Watched)
+            }
             Decision::Continue => None,
             Decision::Observe(observation) => {
                 state.observing = Some(observation);
@@ -2064,7 +2096,10 @@ impl<'m> Engine<'m> {
         let period = self.period;
         let k = state.k;
         let ring = &state.ring;
-        let window = state.window.unwrap_or_default();
+        let window = match stopped {
+            Stop::Watched => Window::default(),
+            _ => state.window.unwrap_or_default(),
+        };
         // A period decided while running is confirmed at the end with CONFIRMATION times the
         // tolerance; a run stopped by a cap or a fixed run is judged from its tail alone.
         let period_found = match state.observing {

@@ -13,16 +13,17 @@
 //! A start converging slowly on a periodic attractor would run to the cap before it repeats
 //! to the periodicity tolerance; so the periodic attractors of a coarse reference grid
 //! ([`BASIN_REFERENCE_STRIDE`]) are found first, and a start is attributed to one of them as
-//! soon as its stroboscopic state comes within [`BASIN_PROXIMITY`] of that attractor's.
+//! soon as its stroboscopic state comes within [`BASIN_PROXIMITY`] of that attractor's, checked
+//! at every section `t = kT` by the simulator's section watch, which ends the run there.
 
 use crate::runs::axis::Axis;
 use crate::runs::map::MAP_PERIODICITY_TOLERANCE;
 use crate::runs::parallel::{parallel_map, Grain, Progress};
-use crate::scene::simulator::{run, SimulatedPoint};
+use crate::scene::simulator::{run_watched, SimulatedPoint};
 use crate::scene::Scene;
 use nalgebra::DVector;
 use rattle_analytic::Signature;
-use rattle_event_driven::{SimulationOptions, Start, Status};
+use rattle_event_driven::{SimulationOptions, Start, Status, Stop};
 
 /// Periods each start runs at most: a start that has not repeated by then is `not periodic`.
 /// From rest the paper's unit at the coexistence frequency ω = 1.86 settles within 150–212
@@ -180,26 +181,40 @@ pub fn start_at_rest(outer: f64, inner: f64) -> Start {
     }
 }
 
-/// Periods per stretch of a start's run: after each stretch that has not repeated, its
-/// stroboscopic state is compared with the reference attractors' ([`BASIN_PROXIMITY`]). Each
-/// stretch ends with the closed-form amplitudes of its last periods, so short stretches cost
-/// (paper's unit, ω = 1.9 rad/s, ±1.5 m, `rattle basins`, 2 threads): 200 × 200 starts took
-/// 52.9 s with stretches of 25 periods and 38.5 s with 50; 100 × 100 took 9.4 s with 50 and
-/// 7.8 s with 100 (which checks the proximity half as often).
-pub const BASIN_STRETCH: u64 = 50;
-
 /// A start belongs to a reference periodic attractor once its stroboscopic state (at `t = kT`)
 /// lies within this distance of one of the attractor's, relative to the larger of that state's
-/// norm and the gap: 1 % is far below the distance between coexisting attractors (tens of
-/// percent on the paper's unit) and inside the neighbourhood where a stable orbit's
-/// linearisation governs; on the undamped paper unit at ω = 1.9 rad/s starts reach it after
-/// about 180 periods, where repeating to [`MAP_PERIODICITY_TOLERANCE`] takes more than 400
-/// (λ₁ = −0.008 /s: 2.6 % per period).
-pub const BASIN_PROXIMITY: f64 = 1e-2;
+/// norm and the gap, unless the references lie closer together than that ([`proximity`]).
+///
+/// Measured on the undamped paper unit at ω = 1.9 rad/s (`rattle basins --omega 1.9`, ±1.5 m,
+/// 100 × 100 starts), where the stable `++--` orbit attracts slowly (λ₁ = −0.008 /s, 2.6 % per
+/// period) and a `+-` orbit coexists: at 1e-2, 31 starts stayed `not periodic` within the
+/// 400-period cap (177 periods per start on average); at 3e-2, 17 of them were attributed to
+/// `++--` (137 periods per start); at 1e-1, 26 (89 periods per start), and every one of the 26,
+/// run on alone for up to 20 000 periods, repeats on `++--` after 677–757 periods. No start
+/// changed between the two periodic attractors at any of the three values.
+pub const BASIN_PROXIMITY: f64 = 1e-1;
 
 /// The reference grid takes every this-many-th start on each axis (both ends included): 400
 /// of a 200 × 200 grid, run to the cap without references.
 pub const BASIN_REFERENCE_STRIDE: usize = 10;
+
+/// The attribution distance for `references`: [`BASIN_PROXIMITY`], or a third of the smallest
+/// relative distance between the stroboscopic states of two different references if that is
+/// smaller, so that no state lies within it of two attractors.
+fn proximity(references: &[Reference], gap: f64) -> f64 {
+    let mut closest = f64::INFINITY;
+    for (k, a) in references.iter().enumerate() {
+        for b in &references[k + 1..] {
+            for s in &a.states {
+                for t in &b.states {
+                    let scale = s.norm().max(t.norm()).max(gap);
+                    closest = closest.min((s - t).norm() / scale);
+                }
+            }
+        }
+    }
+    BASIN_PROXIMITY.min(closest / 3.0)
+}
 
 /// A periodic attractor reached from the reference grid, with its stroboscopic states.
 #[derive(Debug, Clone)]
@@ -210,51 +225,42 @@ struct Reference {
 }
 
 /// Where `start` goes on `scene` at `omega`: the attractor, `X_o`, periods run, and for a
-/// periodic motion its stroboscopic states. The run goes by stretches of [`BASIN_STRETCH`]
-/// periods, up to the options' cap; after a stretch that has not repeated, a start whose
-/// state lies within [`BASIN_PROXIMITY`] of a reference's belongs to that attractor.
+/// periodic motion its stroboscopic states. One run up to the options' cap, watched at every
+/// section `t = kT` before it is decided: a start whose state lies within `proximity` (relative,
+/// see [`BASIN_PROXIMITY`]) of a reference's belongs to that attractor, and the run ends there.
 fn reach(
     scene: &Scene,
     omega: f64,
     start: &Start,
     options: &SimulationOptions,
     references: &[Reference],
+    proximity: f64,
 ) -> (Attractor, f64, u64, Vec<DVector<f64>>) {
     let gap = scene.gap().unwrap_or(1.0);
-    let mut start = start.clone();
-    let mut periods = 0;
-    loop {
-        let stretch = SimulationOptions {
-            max_periods: BASIN_STRETCH.min(options.max_periods - periods),
-            ..options.clone()
-        };
-        let sim = match run(scene, omega, &start, &stretch) {
-            Ok(sim) => sim,
-            Err(_) => return (Attractor::Failed, f64::NAN, periods, Vec::new()),
-        };
-        periods += sim.steady.periods_run;
-        let attractor = Attractor::of(&sim);
-        if attractor != Attractor::NotPeriodic {
-            return (
-                attractor,
-                sim.outer_amplitude,
-                periods,
-                sim.steady.stroboscopic,
-            );
-        }
-        let x = &sim.steady.final_state.state;
-        let near = references.iter().find(|r| {
+    let mut near: Option<&Reference> = None;
+    let mut watch = |_: u64, x: &DVector<f64>| {
+        near = references.iter().find(|r| {
             r.states
                 .iter()
-                .any(|s| (x - s).norm() <= BASIN_PROXIMITY * s.norm().max(gap))
+                .any(|s| (x - s).norm() <= proximity * s.norm().max(gap))
         });
-        if let Some(r) = near {
-            return (r.attractor.clone(), r.outer_amplitude, periods, Vec::new());
+        near.is_some()
+    };
+    let sim = match run_watched(scene, omega, start, options, &mut watch) {
+        Ok(sim) => sim,
+        Err(_) => return (Attractor::Failed, f64::NAN, 0, Vec::new()),
+    };
+    let periods = sim.steady.periods_run;
+    match near {
+        Some(r) if sim.steady.stopped == Stop::Watched => {
+            (r.attractor.clone(), r.outer_amplitude, periods, Vec::new())
         }
-        if periods >= options.max_periods {
-            return (attractor, sim.outer_amplitude, periods, Vec::new());
-        }
-        start = sim.steady.final_state;
+        _ => (
+            Attractor::of(&sim),
+            sim.outer_amplitude,
+            periods,
+            sim.steady.stroboscopic,
+        ),
     }
 }
 
@@ -266,7 +272,7 @@ pub fn destination(
     start: &Start,
     options: &SimulationOptions,
 ) -> (Attractor, f64, u64) {
-    let (attractor, amplitude, periods, _) = reach(scene, omega, start, options, &[]);
+    let (attractor, amplitude, periods, _) = reach(scene, omega, start, options, &[], 0.0);
     (attractor, amplitude, periods)
 }
 
@@ -302,7 +308,7 @@ pub fn basins(
     let mut references: Vec<Reference> = Vec::new();
     for (attractor, outer_amplitude, _, states) in
         parallel_map(&coarse, Grain::Uneven, &Progress::hidden(), |&(o, i)| {
-            reach(scene, omega, &start_at_rest(o, i), options, &[])
+            reach(scene, omega, &start_at_rest(o, i), options, &[], 0.0)
         })
     {
         let periodic = matches!(attractor, Attractor::Periodic { .. });
@@ -314,9 +320,16 @@ pub fn basins(
             });
         }
     }
+    let within = proximity(&references, scene.gap().unwrap_or(1.0));
     let reached = parallel_map(&starts, Grain::Uneven, progress, |&(o, i)| {
-        let (attractor, amplitude, periods, _) =
-            reach(scene, omega, &start_at_rest(o, i), options, &references);
+        let (attractor, amplitude, periods, _) = reach(
+            scene,
+            omega,
+            &start_at_rest(o, i),
+            options,
+            &references,
+            within,
+        );
         (attractor, amplitude, periods)
     });
     let mut attractors: Vec<Attractor> = Vec::new();
@@ -351,5 +364,35 @@ pub fn basins(
         attractors,
         counts,
         cells,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reference(states: &[[f64; 4]]) -> Reference {
+        Reference {
+            attractor: Attractor::NotPeriodic,
+            outer_amplitude: 1.0,
+            states: states
+                .iter()
+                .map(|s| DVector::from_column_slice(s))
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_proximity_keeps_the_attractors_neighbourhoods_apart() {
+        let a = reference(&[[1.0, 0.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0]]);
+        // One state of `b` 0.06 from one of `a`'s (relative to norms about 1): a third of it.
+        let b = reference(&[[1.06, 0.0, 0.0, 0.0], [0.0, 3.0, 0.0, 0.0]]);
+        let guarded = proximity(&[a.clone(), b], 0.5);
+        assert!((guarded - 0.06 / 1.06 / 3.0).abs() < 1e-15, "{guarded}");
+        // Far apart, or alone: the constant.
+        let c = reference(&[[0.0, 0.0, 5.0, 0.0]]);
+        assert_eq!(proximity(&[a.clone(), c], 0.5), BASIN_PROXIMITY);
+        assert_eq!(proximity(&[a], 0.5), BASIN_PROXIMITY);
+        assert_eq!(proximity(&[], 0.5), BASIN_PROXIMITY);
     }
 }

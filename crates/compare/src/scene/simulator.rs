@@ -7,8 +7,8 @@ use nalgebra::{DVector, Vector4};
 use rattle_analytic::linear::transmittance_db;
 use rattle_analytic::{Orbit, Signature};
 use rattle_event_driven::{
-    simulate, CellParameters, CellStops, Model, ModelError, SimulationError, SimulationOptions,
-    Start, Status, SteadyState, Stop,
+    simulate_watched, CellParameters, CellStops, Model, ModelError, SimulationError,
+    SimulationOptions, Start, Status, SteadyState, Stop,
 };
 use thiserror::Error;
 
@@ -171,8 +171,24 @@ pub fn run(
     start: &Start,
     options: &SimulationOptions,
 ) -> Result<SimulatedPoint, SimulateError> {
+    run_watched(scene, omega, start, options, &mut |_, _| false)
+}
+
+/// As [`run`], with the simulator's section `watch` ([`simulate_watched`]): `watch(k, state)`
+/// at each undecided section `t = kT` may end the run (then nothing is observed and the
+/// amplitudes are NaN).
+///
+/// # Errors
+/// As [`run`].
+pub fn run_watched(
+    scene: &Scene,
+    omega: f64,
+    start: &Start,
+    options: &SimulationOptions,
+    watch: &mut dyn FnMut(u64, &DVector<f64>) -> bool,
+) -> Result<SimulatedPoint, SimulateError> {
     let model = model(scene, omega)?;
-    let steady = simulate(&model, omega, start, options)?;
+    let steady = simulate_watched(&model, omega, start, options, watch)?;
     let regime = if scene.is_chain() {
         chain_regime(&steady)
     } else {
@@ -290,7 +306,8 @@ impl SimulatedPoint {
     }
 
     /// Why the run ended, in words: `decided` (periodic, or no dissipation possible),
-    /// `fixed-periods`, `period-cap`, `event-cap` or `oscillation-cap`.
+    /// `fixed-periods`, `period-cap`, `event-cap`, `oscillation-cap` or `watched` (the
+    /// caller recognised the motion before it was decided, as `rattle basins` does).
     pub fn stopped_by(&self) -> &'static str {
         match self.steady.stopped {
             Stop::Decided => "decided",
@@ -298,6 +315,7 @@ impl SimulatedPoint {
             Stop::PeriodCap => "period-cap",
             Stop::EventCap => "event-cap",
             Stop::OscillationCap => "oscillation-cap",
+            Stop::Watched => "watched",
         }
     }
 
