@@ -558,7 +558,7 @@ fn simulated_and_analytic_cycles_overlay_through_their_trajectories() {
     let (gap, e) = (0.5, 0.8);
     for name in ["sim.csv", "orbit.csv"] {
         let (h, rows) = csv_rows(&dir.join(name));
-        assert_eq!(h.join(","), "t,kind,base,u_o,u_i,v_o,v_i,r");
+        assert_eq!(h.join(","), "t,kind,cell,base,u_o,u_i,v_o,v_i,r");
         let (r, kind) = (column(&h, "r"), column(&h, "kind"));
         let (v_o, v_i) = (column(&h, "v_o"), column(&h, "v_i"));
         let value = |row: &Vec<String>, c: usize| row[c].parse::<f64>().unwrap();
@@ -578,7 +578,12 @@ fn simulated_and_analytic_cycles_overlay_through_their_trajectories() {
         assert_eq!(jumps, 2, "{name}: two impacts per cycle");
     }
     let (h, sim) = csv_rows(&dir.join("sim-impacts.csv"));
-    let (_, orbit) = csv_rows(&dir.join("orbit-impacts.csv"));
+    let (h_orbit, orbit) = csv_rows(&dir.join("orbit-impacts.csv"));
+    assert_eq!(
+        h.join(","),
+        "t,pair,side,relative_velocity_before,u_o,u_i,v_o_before,v_i_before"
+    );
+    assert_eq!(h_orbit, h);
     let period = std::f64::consts::TAU / 2.0;
     let (t, side, u_o) = (column(&h, "t"), column(&h, "side"), column(&h, "u_o"));
     for a in &orbit {

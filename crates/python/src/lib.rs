@@ -386,15 +386,18 @@ fn float_column<'py, R>(
     .into_any()
 }
 
-/// The columns `t, kind, base, u_o, u_i, v_o, v_i, r` of the command's `--trajectory` file.
+/// The columns `t, kind, cell, base, u_o, u_i, v_o, v_i, r` of the command's `--trajectory`
+/// file; `cell` as `int64` (0 at the base; one row per cell at each time).
 fn trajectory_columns<'py>(py: Python<'py>, rows: &[TrajectoryRow]) -> PyColumns<'py> {
     let kinds: Vec<Py<PyAny>> = rows
         .iter()
         .map(|r| PyString::new(py, r.kind).into_any().unbind())
         .collect();
+    let cells: Vec<i64> = rows.iter().map(|r| r.cell as i64).collect();
     vec![
         ("t", float_column(py, rows, |r| r.t)),
         ("kind", PyArray1::from_vec(py, kinds).into_any()),
+        ("cell", PyArray1::from_vec(py, cells).into_any()),
         ("base", float_column(py, rows, |r| r.base)),
         ("u_o", float_column(py, rows, |r| r.u_o)),
         ("u_i", float_column(py, rows, |r| r.u_i)),
@@ -404,12 +407,14 @@ fn trajectory_columns<'py>(py: Python<'py>, rows: &[TrajectoryRow]) -> PyColumns
     ]
 }
 
-/// The columns `t, side, relative_velocity_before, u_o, u_i, v_o_before, v_i_before` of the
-/// command's `--impacts` file; `side` as `int64` (1 or 2).
+/// The columns `t, pair, side, relative_velocity_before, u_o, u_i, v_o_before, v_i_before`
+/// of the command's `--impacts` file; `pair` and `side` as `int64` (`side` 1 or 2).
 fn impact_columns<'py>(py: Python<'py>, rows: &[ImpactRow]) -> PyColumns<'py> {
     let sides: Vec<i64> = rows.iter().map(|r| i64::from(r.side)).collect();
+    let pairs: Vec<i64> = rows.iter().map(|r| r.pair as i64).collect();
     vec![
         ("t", float_column(py, rows, |r| r.t)),
+        ("pair", PyArray1::from_vec(py, pairs).into_any()),
         ("side", PyArray1::from_vec(py, sides).into_any()),
         (
             "relative_velocity_before",
@@ -469,7 +474,7 @@ fn simulate<'py>(
                     },
                 )
                 .map_err(|e| e.to_string())?;
-                Some(simulated_rows(&trajectory))
+                Some(simulated_rows(&trajectory, &scene.cell_pairs()))
             }
         };
         let exponents = match &lyapunov {
@@ -540,7 +545,7 @@ fn orbit_trajectory<'py>(
             .and_then(|k| orbits.get(k))
             .map(|o| {
                 let (samples, impacts) = sample_signature_orbit(scene, o, samples);
-                analytic_rows(&samples, &impacts, omega, scene.base.amplitude)
+                analytic_rows(&samples, &impacts, omega, scene.base.amplitude, &scene.cell_pairs())
             });
         let record = SignatureOrbitsRecord {
             at: At::new(scene, omega),

@@ -14,9 +14,9 @@ import rattle
 GAP = 0.5
 RESTITUTION = 0.8
 
-TRAJECTORY_COLUMNS = ["t", "kind", "base", "u_o", "u_i", "v_o", "v_i", "r"]
+TRAJECTORY_COLUMNS = ["t", "kind", "cell", "base", "u_o", "u_i", "v_o", "v_i", "r"]
 IMPACT_COLUMNS = [
-    "t", "side", "relative_velocity_before", "u_o", "u_i", "v_o_before", "v_i_before",
+    "t", "pair", "side", "relative_velocity_before", "u_o", "u_i", "v_o_before", "v_i_before",
 ]
 
 #: The options of the command named as this module's parameters, for its messages.
@@ -57,7 +57,7 @@ def assert_table_is_the_files(table, path, columns, words):
         if name in words:
             assert column.dtype == object
             assert list(column) == cells
-        elif name == "side":
+        elif name in ("side", "pair", "cell"):
             assert column.dtype == np.int64
             assert column.tolist() == [int(c) for c in cells]
         else:

@@ -13,7 +13,8 @@ pub mod orbit;
 pub mod simulate;
 pub mod sweep;
 
-use crate::output::OutputError;
+use crate::output::trajectory::{ImpactRow, TrajectoryRow};
+use crate::output::{write_table, Format, Header, OutputError};
 use crate::scene::{Scene, SceneError};
 use clap::{Args, Parser, Subcommand};
 use rattle_event_driven::SimulationOptions;
@@ -132,16 +133,17 @@ pub struct Common {
 pub struct TrajectoryArgs {
     /// Write the cycle (`simulate`: the final cycle, or with --periods the last period;
     /// `orbit`: the orbit chosen by --signature and --orbit) sampled from the closed form to
-    /// this `.csv`/`.json`/`.jsonl` file: columns `t, kind, base, u_o, u_i, v_o, v_i, r`
-    /// (SI units; `t` with the base at `u_g cos ωt`), every impact as two rows (before and
-    /// after).
+    /// this `.csv`/`.json`/`.jsonl` file: columns `t, kind, cell, base, u_o, u_i, v_o, v_i, r`
+    /// (SI units; `t` with the base at `u_g cos ωt`; a chain has one row per cell, numbered
+    /// from 0 at the base, at each time), every impact as two rows (before and after).
     #[arg(long)]
     pub trajectory: Option<PathBuf>,
     /// Uniform samples per forcing period of --trajectory, in [1, 100000].
     #[arg(long, default_value_t = rattle_event_driven::trajectory::DEFAULT_SAMPLES_PER_PERIOD, requires = "trajectory")]
     pub samples_per_period: u64,
-    /// Write every impact of the sampled stretch to this file: columns `t, side,
-    /// relative_velocity_before, u_o, u_i, v_o_before, v_i_before`.
+    /// Write every impact of the sampled stretch to this file: columns `t, pair, side,
+    /// relative_velocity_before, u_o, u_i, v_o_before, v_i_before` (the pair's cell's
+    /// displacements and velocities).
     #[arg(long, requires = "trajectory")]
     pub impacts: Option<PathBuf>,
 }
@@ -151,6 +153,34 @@ pub struct TrajectoryArgs {
 pub const MAX_SAMPLES_PER_PERIOD: u64 = 100_000;
 
 impl TrajectoryArgs {
+    /// Writes `rows` to --trajectory and `impacts` to --impacts, each if asked for.
+    ///
+    /// # Errors
+    /// An unknown file extension, or a file that cannot be written.
+    pub fn write(
+        &self,
+        rows: Vec<TrajectoryRow>,
+        impacts: Vec<ImpactRow>,
+    ) -> Result<(), RattleError> {
+        if let Some(path) = &self.trajectory {
+            write_table(
+                path,
+                Format::of(path, "--trajectory")?,
+                &Header::default(),
+                rows,
+            )?;
+        }
+        if let Some(path) = &self.impacts {
+            write_table(
+                path,
+                Format::of(path, "--impacts")?,
+                &Header::default(),
+                impacts,
+            )?;
+        }
+        Ok(())
+    }
+
     /// Checks the options before anything runs.
     ///
     /// # Errors

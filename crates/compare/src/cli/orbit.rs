@@ -6,9 +6,9 @@ use crate::output::records::{
     ViolationRecord,
 };
 use crate::output::trajectory::analytic_rows;
-use crate::output::{write_table, Format, Header};
 use crate::scene::analytic::{
-    analyse, chain_model, orbits_of_signature, sample_signature_orbit, OrbitSearch,
+    analyse, chain_model, orbits_of_signature, sample_sequence_orbit, sample_signature_orbit,
+    OrbitSearch,
 };
 use crate::scene::Scene;
 use clap::Args;
@@ -130,7 +130,7 @@ fn signature_run(
         ));
     }
     let orbits = orbits_of_signature(scene, omega, signature);
-    if let Some(path) = &args.trajectory.trajectory {
+    if args.trajectory.trajectory.is_some() {
         let orbit = orbits.get(args.orbit).ok_or_else(|| {
             RattleError::Argument(format!(
                 "--orbit = {} is out of range: {} orbit(s) of {signature} at ω = {omega}, numbered from 0",
@@ -140,21 +140,14 @@ fn signature_run(
         })?;
         let (samples, impacts) =
             sample_signature_orbit(scene, orbit, args.trajectory.samples_per_period);
-        let (rows, impacts) = analytic_rows(&samples, &impacts, omega, scene.base.amplitude);
-        write_table(
-            path,
-            Format::of(path, "--trajectory")?,
-            &Header::default(),
-            rows,
-        )?;
-        if let Some(path) = &args.trajectory.impacts {
-            write_table(
-                path,
-                Format::of(path, "--impacts")?,
-                &Header::default(),
-                impacts,
-            )?;
-        }
+        let (rows, impacts) = analytic_rows(
+            &samples,
+            &impacts,
+            omega,
+            scene.base.amplitude,
+            &scene.cell_pairs(),
+        );
+        args.trajectory.write(rows, impacts)?;
     }
     let record = SignatureOrbitsRecord {
         at: At::new(scene, omega),
@@ -264,13 +257,6 @@ fn chain_run(
 ) -> Result<String, RattleError> {
     let sequence = ImpactSequence::parse(text, args.period)
         .map_err(|e| RattleError::Argument(e.to_string()))?;
-    if args.trajectory.trajectory.is_some() {
-        return Err(RattleError::Argument(
-            "--trajectory: sampling a chain's orbit is not available yet (its orbit's states \
-             at every impact are in --json)"
-                .into(),
-        ));
-    }
     let model = chain_model(scene).map_err(|j| {
         RattleError::Argument(format!(
             "--signature: cell {j} of scene '{}' has no `stops`: a chain's orbits need stops \
@@ -283,6 +269,25 @@ fn chain_run(
         .map_err(|e| RattleError::Argument(e.to_string()))?;
     let orbits = sequence_orbits(&model, omega, &sequence)
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    if args.trajectory.trajectory.is_some() {
+        let orbit = orbits.get(args.orbit).ok_or_else(|| {
+            RattleError::Argument(format!(
+                "--orbit = {} is out of range: {} orbit(s) of {sequence} at ω = {omega}, numbered from 0",
+                args.orbit,
+                orbits.len()
+            ))
+        })?;
+        let (samples, impacts) =
+            sample_sequence_orbit(&model, orbit, args.trajectory.samples_per_period);
+        let (rows, impacts) = analytic_rows(
+            &samples,
+            &impacts,
+            omega,
+            scene.base.amplitude,
+            &scene.cell_pairs(),
+        );
+        args.trajectory.write(rows, impacts)?;
+    }
     let record = ChainOrbitsRecord {
         at: At::new(scene, omega),
         cells: scene.cell_count(),

@@ -3,7 +3,6 @@
 use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError, TrajectoryArgs};
 use crate::output::records::{LyapunovRecord, SimulationRecord};
 use crate::output::trajectory::simulated_rows;
-use crate::output::{write_table, Format, Header};
 use crate::scene::lyapunov::spectrum;
 use crate::scene::simulator::{model, run as simulate, SimulatedPoint};
 use crate::scene::Scene;
@@ -41,9 +40,9 @@ fn write_trajectory(
     sim: &SimulatedPoint,
     options: &SimulationOptions,
 ) -> Result<(), RattleError> {
-    let Some(path) = &args.trajectory else {
+    if args.trajectory.is_none() {
         return Ok(());
-    };
+    }
     let m = model(scene, sim.omega).map_err(|e| RattleError::Numerical(e.to_string()))?;
     let trajectory = final_cycle_trajectory(
         &m,
@@ -57,22 +56,8 @@ fn write_trajectory(
         },
     )
     .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let (rows, impacts) = simulated_rows(&trajectory);
-    write_table(
-        path,
-        Format::of(path, "--trajectory")?,
-        &Header::default(),
-        rows,
-    )?;
-    if let Some(path) = &args.impacts {
-        write_table(
-            path,
-            Format::of(path, "--impacts")?,
-            &Header::default(),
-            impacts,
-        )?;
-    }
-    Ok(())
+    let (rows, impacts) = simulated_rows(&trajectory, &scene.cell_pairs());
+    args.write(rows, impacts)
 }
 
 /// The `--lyapunov` flags of `rattle simulate`.

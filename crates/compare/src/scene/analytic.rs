@@ -2,11 +2,11 @@
 //! frequency, and the evaluation of either over time.
 
 use crate::scene::Scene;
-use nalgebra::{Complex, Vector2, Vector4};
+use nalgebra::{Complex, DVector, Vector2, Vector4};
 use rattle_analytic::flow::ForcedFlow;
 use rattle_analytic::{
     asymmetric_orbits, chain_response, linear_response, signature_orbits, symmetric_orbits, Cell,
-    LinearResponse, Orbit, OrbitError, Signature, SignatureOrbit,
+    LinearResponse, Orbit, OrbitError, SequenceOrbit, Signature, SignatureOrbit,
 };
 
 /// How many grid intervals on `β ∈ (0, 1)` bracket the asymmetric orbits: 400 resolves the
@@ -248,25 +248,43 @@ pub enum SampleKind {
 }
 
 /// A state of a sampled orbit at a time.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct OrbitSample {
     /// Time with the base at `u_g cos ωt`, s (the cycle lies in `[t₀, t₀ + pT)`, `t₀ < T`).
     pub time: f64,
     /// What the row is.
     pub kind: SampleKind,
-    /// `(u_o, u_i, u̇_o, u̇_i)`.
-    pub state: Vector4<f64>,
+    /// `(u, u̇)`: `(u_o, u_i, u̇_o, u̇_i)` for the unit; for a chain every cell's `u_o, u_i`
+    /// from the base out, then their velocities.
+    pub state: DVector<f64>,
 }
 
 /// An impact of a sampled orbit.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct OrbitImpact {
     /// Time with the base at `u_g cos ωt`, s.
     pub time: f64,
+    /// The contact pair (0 for the unit; a chain's pairs numbered from the base).
+    pub pair: usize,
     /// `+1` side 1 (`r = +Δ`), `−1` side 2.
     pub side: i8,
-    /// The state just before it.
-    pub before: Vector4<f64>,
+    /// The state just before it (as [`OrbitSample::state`]).
+    pub before: DVector<f64>,
+}
+
+/// Puts a cycle's rows in time order; at an impact's time: before, after, then a uniform
+/// sample there (the state after).
+fn in_time_order(rows: &mut [OrbitSample]) {
+    let rank = |k: SampleKind| match k {
+        SampleKind::BeforeImpact => 0,
+        SampleKind::AfterImpact => 1,
+        SampleKind::Sample => 2,
+    };
+    rows.sort_by(|a, b| {
+        a.time
+            .total_cmp(&b.time)
+            .then(rank(a.kind).cmp(&rank(b.kind)))
+    });
 }
 
 /// One cycle of `orbit` sampled from its closed form: `samples_per_period` uniform samples per
@@ -289,7 +307,7 @@ pub fn sample_signature_orbit(
             OrbitSample {
                 time: shift + t,
                 kind: SampleKind::Sample,
-                state: signature_orbit_state(scene, orbit, t),
+                state: dvector(signature_orbit_state(scene, orbit, t)),
             }
         })
         .collect();
@@ -304,8 +322,87 @@ pub fn sample_signature_orbit(
         let before = orbit.states_before_impacts[j];
         impacts.push(OrbitImpact {
             time: shift + t,
+            pair: 0,
             side,
-            before,
+            before: dvector(before),
+        });
+        rows.push(OrbitSample {
+            time: shift + t,
+            kind: SampleKind::BeforeImpact,
+            state: dvector(before),
+        });
+        rows.push(OrbitSample {
+            time: shift + t,
+            kind: SampleKind::AfterImpact,
+            state: dvector(signature_orbit_state(scene, orbit, t)),
+        });
+    }
+    in_time_order(&mut rows);
+    (rows, impacts)
+}
+
+/// A fixed-size state as a column.
+fn dvector(x: Vector4<f64>) -> DVector<f64> {
+    DVector::from_column_slice(x.as_slice())
+}
+
+/// One cycle of a chain's (or any [`rattle_analytic::LinearModel`]'s) `orbit` sampled from its
+/// closed form on `model`, as [`sample_signature_orbit`] samples the unit's: `samples_per_period`
+/// uniform samples per forcing period from its first canonical impact, every impact as two rows
+/// (before and after), in time order, times the forcing's own. Each flight is the exact forced
+/// flow `exp(Â t)` ([`rattle_analytic::LinearModel::transition`]) from the state after its
+/// impact.
+pub fn sample_sequence_orbit(
+    model: &rattle_analytic::LinearModel,
+    orbit: &SequenceOrbit,
+    samples_per_period: u64,
+) -> (Vec<OrbitSample>, Vec<OrbitImpact>) {
+    let omega = orbit.omega;
+    let period = std::f64::consts::TAU / omega;
+    let cycle = f64::from(orbit.period) * period;
+    let shift = (orbit.alpha / omega).rem_euclid(period);
+    let impacts_in_order = orbit.sequence.impacts();
+    // Each impact's time from the first, the state just after it and the forcing phase there.
+    let starts: Vec<(f64, DVector<f64>, DVector<f64>)> = impacts_in_order
+        .iter()
+        .enumerate()
+        .map(|(j, impact)| {
+            let t = orbit.impact_phases[j] * cycle;
+            let before = DVector::from_column_slice(&orbit.states_before_impacts[j]);
+            let theta = orbit.alpha + omega * t;
+            (
+                t,
+                model.impact_state(impact.pair, &before),
+                DVector::from_column_slice(&[theta.cos(), theta.sin()]),
+            )
+        })
+        .collect();
+    // The state at time `t` from the first impact, in the flight that holds it.
+    let state_at = |t: f64| {
+        let j = starts.iter().rposition(|(tj, _, _)| *tj <= t).unwrap_or(0);
+        let (tj, x, p) = &starts[j];
+        model.transition(omega, t - tj).apply(x, p).0
+    };
+    let n = samples_per_period.max(1) * u64::from(orbit.period);
+    let mut rows: Vec<OrbitSample> = (0..n)
+        .map(|k| {
+            let t = k as f64 * cycle / n as f64;
+            OrbitSample {
+                time: shift + t,
+                kind: SampleKind::Sample,
+                state: state_at(t),
+            }
+        })
+        .collect();
+    let mut impacts = Vec::new();
+    for (j, impact) in impacts_in_order.iter().enumerate() {
+        let (t, after, _) = &starts[j];
+        let before = DVector::from_column_slice(&orbit.states_before_impacts[j]);
+        impacts.push(OrbitImpact {
+            time: shift + t,
+            pair: impact.pair,
+            side: impact.side,
+            before: before.clone(),
         });
         rows.push(OrbitSample {
             time: shift + t,
@@ -315,20 +412,10 @@ pub fn sample_signature_orbit(
         rows.push(OrbitSample {
             time: shift + t,
             kind: SampleKind::AfterImpact,
-            state: signature_orbit_state(scene, orbit, t),
+            state: after.clone(),
         });
     }
-    // At an impact's time: before, after, then a uniform sample there (the state after).
-    let rank = |k: SampleKind| match k {
-        SampleKind::BeforeImpact => 0,
-        SampleKind::AfterImpact => 1,
-        SampleKind::Sample => 2,
-    };
-    rows.sort_by(|a, b| {
-        a.time
-            .total_cmp(&b.time)
-            .then(rank(a.kind).cmp(&rank(b.kind)))
-    });
+    in_time_order(&mut rows);
     (rows, impacts)
 }
 

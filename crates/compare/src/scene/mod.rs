@@ -302,6 +302,20 @@ impl Scene {
             .count()
     }
 
+    /// Each cell's contact pair (`None` for a cell without stops), from the base out: pairs are
+    /// numbered over the cells with stops, as the models number them.
+    pub fn cell_pairs(&self) -> Vec<Option<usize>> {
+        let mut next = 0;
+        self.cell_effect_blocks()
+            .map(|(stops, _)| {
+                stops.map(|_| {
+                    next += 1;
+                    next - 1
+                })
+            })
+            .collect()
+    }
+
     /// Each cell's stops and dashpots (the blocks behind its effects), without building the
     /// cell's scene: the effect queries run for every output record.
     fn cell_effect_blocks(

@@ -475,11 +475,13 @@ def simulate(
     ``trajectory``, the final cycle sampled from the closed form (its ``period`` forcing
     periods; for a motion that is not periodic, the run's observed final stretch), with
     ``samples_per_period`` uniform samples per forcing period (1 to 100000, both ends of the
-    stretch included) and each impact as two rows, before and after (columns ``t, kind, base, u_o, u_i, v_o, v_i,
-    r``; ``t`` in s with the base at ``u_g cos ωt``, ``kind`` one of ``sample``,
-    ``before_impact``, ``after_impact``, ``after_stick``), and ``impact_table``, every impact
-    of that stretch (``t, side, relative_velocity_before, u_o, u_i, v_o_before,
-    v_i_before``).
+    stretch included) and each impact as two rows, before and after (columns ``t, kind, cell,
+    base, u_o, u_i, v_o, v_i, r``; ``t`` in s with the base at ``u_g cos ωt``, ``kind`` one
+    of ``sample``, ``before_impact``, ``after_impact``, ``after_stick``; a chain has one row
+    per cell at each time, ``cell`` numbered from 0 at the base, 0 for the unit), and
+    ``impact_table``, every impact of that stretch (``t, pair, side,
+    relative_velocity_before, u_o, u_i, v_o_before, v_i_before``, displacements and
+    velocities of the pair's cell).
 
     With ``lyapunov=True``, as ``rattle simulate --lyapunov --lyapunov-periods N``: after the
     run, the Lyapunov exponents over ``lyapunov_periods`` more forcing periods (at least 10;
