@@ -8,7 +8,7 @@ use crate::output::records::{
 use crate::output::trajectory::analytic_rows;
 use crate::scene::analytic::{
     analyse, chain_model, orbits_of_signature, sample_sequence_orbit, sample_signature_orbit,
-    OrbitSearch,
+    OrbitImpact, OrbitSample, OrbitSearch,
 };
 use crate::scene::Scene;
 use clap::Args;
@@ -117,6 +117,39 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     Ok(out)
 }
 
+/// With --trajectory: writes the `--orbit`-th of the `count` orbits of `what` (a signature or
+/// an impact sequence), sampled by `sample(k)`.
+///
+/// # Errors
+/// An `--orbit` out of range; a file that cannot be written.
+fn write_orbit_trajectory(
+    scene: &Scene,
+    omega: f64,
+    args: &OrbitArgs,
+    what: &str,
+    count: usize,
+    sample: impl FnOnce(usize) -> (Vec<OrbitSample>, Vec<OrbitImpact>),
+) -> Result<(), RattleError> {
+    if args.trajectory.trajectory.is_none() {
+        return Ok(());
+    }
+    if args.orbit >= count {
+        return Err(RattleError::Argument(format!(
+            "--orbit = {} is out of range: {count} orbit(s) of {what} at ω = {omega}, numbered from 0",
+            args.orbit
+        )));
+    }
+    let (samples, impacts) = sample(args.orbit);
+    let (rows, impacts) = analytic_rows(
+        &samples,
+        &impacts,
+        omega,
+        scene.base.amplitude,
+        &scene.cell_pairs(),
+    );
+    args.trajectory.write(rows, impacts)
+}
+
 /// `rattle orbit --signature`: every orbit of one signature.
 fn signature_run(
     scene: &Scene,
@@ -130,25 +163,14 @@ fn signature_run(
         ));
     }
     let orbits = orbits_of_signature(scene, omega, signature);
-    if args.trajectory.trajectory.is_some() {
-        let orbit = orbits.get(args.orbit).ok_or_else(|| {
-            RattleError::Argument(format!(
-                "--orbit = {} is out of range: {} orbit(s) of {signature} at ω = {omega}, numbered from 0",
-                args.orbit,
-                orbits.len()
-            ))
-        })?;
-        let (samples, impacts) =
-            sample_signature_orbit(scene, orbit, args.trajectory.samples_per_period);
-        let (rows, impacts) = analytic_rows(
-            &samples,
-            &impacts,
-            omega,
-            scene.base.amplitude,
-            &scene.cell_pairs(),
-        );
-        args.trajectory.write(rows, impacts)?;
-    }
+    write_orbit_trajectory(
+        scene,
+        omega,
+        args,
+        &signature.to_string(),
+        orbits.len(),
+        |k| sample_signature_orbit(scene, &orbits[k], args.trajectory.samples_per_period),
+    )?;
     let record = SignatureOrbitsRecord {
         at: At::new(scene, omega),
         signature: signature.to_string(),
@@ -269,25 +291,14 @@ fn chain_run(
         .map_err(|e| RattleError::Argument(e.to_string()))?;
     let orbits = sequence_orbits(&model, omega, &sequence)
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    if args.trajectory.trajectory.is_some() {
-        let orbit = orbits.get(args.orbit).ok_or_else(|| {
-            RattleError::Argument(format!(
-                "--orbit = {} is out of range: {} orbit(s) of {sequence} at ω = {omega}, numbered from 0",
-                args.orbit,
-                orbits.len()
-            ))
-        })?;
-        let (samples, impacts) =
-            sample_sequence_orbit(&model, orbit, args.trajectory.samples_per_period);
-        let (rows, impacts) = analytic_rows(
-            &samples,
-            &impacts,
-            omega,
-            scene.base.amplitude,
-            &scene.cell_pairs(),
-        );
-        args.trajectory.write(rows, impacts)?;
-    }
+    write_orbit_trajectory(
+        scene,
+        omega,
+        args,
+        &sequence.to_string(),
+        orbits.len(),
+        |k| sample_sequence_orbit(&model, &orbits[k], args.trajectory.samples_per_period),
+    )?;
     let record = ChainOrbitsRecord {
         at: At::new(scene, omega),
         cells: scene.cell_count(),

@@ -272,6 +272,29 @@ pub struct OrbitImpact {
     pub before: DVector<f64>,
 }
 
+/// `samples_per_period` (at least 1) uniform samples per forcing period of a cycle of `period`
+/// forcing periods lasting `cycle`, from its first impact at forcing time `shift`; `state_at(t)`
+/// is the state at time `t` from that impact.
+fn uniform_samples(
+    samples_per_period: u64,
+    period: u32,
+    cycle: f64,
+    shift: f64,
+    state_at: impl Fn(f64) -> DVector<f64>,
+) -> Vec<OrbitSample> {
+    let n = samples_per_period.max(1) * u64::from(period);
+    (0..n)
+        .map(|k| {
+            let t = k as f64 * cycle / n as f64;
+            OrbitSample {
+                time: shift + t,
+                kind: SampleKind::Sample,
+                state: state_at(t),
+            }
+        })
+        .collect()
+}
+
 /// Puts a cycle's rows in time order; at an impact's time: before, after, then a uniform
 /// sample there (the state after).
 fn in_time_order(rows: &mut [OrbitSample]) {
@@ -300,17 +323,9 @@ pub fn sample_signature_orbit(
     let cycle = orbit.period as f64 * period;
     // The base phase α at the first impact: t = t' + α/ω, brought into [0, T).
     let shift = (orbit.alpha / orbit.omega).rem_euclid(period);
-    let n = samples_per_period.max(1) * u64::from(orbit.period);
-    let mut rows: Vec<OrbitSample> = (0..n)
-        .map(|k| {
-            let t = k as f64 * cycle / n as f64;
-            OrbitSample {
-                time: shift + t,
-                kind: SampleKind::Sample,
-                state: dvector(signature_orbit_state(scene, orbit, t)),
-            }
-        })
-        .collect();
+    let mut rows = uniform_samples(samples_per_period, orbit.period, cycle, shift, |t| {
+        dvector(signature_orbit_state(scene, orbit, t))
+    });
     let mut impacts = Vec::new();
     for (j, (&phase, &side)) in orbit
         .impact_phases
@@ -383,17 +398,7 @@ pub fn sample_sequence_orbit(
         let (tj, x, p) = &starts[j];
         model.transition(omega, t - tj).apply(x, p).0
     };
-    let n = samples_per_period.max(1) * u64::from(orbit.period);
-    let mut rows: Vec<OrbitSample> = (0..n)
-        .map(|k| {
-            let t = k as f64 * cycle / n as f64;
-            OrbitSample {
-                time: shift + t,
-                kind: SampleKind::Sample,
-                state: state_at(t),
-            }
-        })
-        .collect();
+    let mut rows = uniform_samples(samples_per_period, orbit.period, cycle, shift, state_at);
     let mut impacts = Vec::new();
     for (j, impact) in impacts_in_order.iter().enumerate() {
         let (t, after, _) = &starts[j];
