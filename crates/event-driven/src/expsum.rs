@@ -80,6 +80,93 @@ pub struct SearchStack {
     step_rates: Vec<C64>,
     /// `e^{2μ_j w}`: the first chunk's end.
     doubled: Vec<C64>,
+    /// The exponentials at the midpoint of the chunk being searched, on the fixed grid of a
+    /// summarised search (see [`Seeds`]).
+    mid: Vec<C64>,
+    /// The polish starts' exponential steps, kept with the grid's steps.
+    seeds: Seeds,
+}
+
+/// Points within a chunk of the fixed grid where a summarised search's polish may start,
+/// `m + k w/SEED_DIVISIONS` (`m` the chunk's midpoint, `|k| ≤ SEED_DIVISIONS`): their
+/// exponentials follow from those at `m` by one complex product each,
+/// `e^{μ(m + kh)} = e^{μm} e^{μkh}`, with `e^{μkh}` computed once per `k` and kept with the
+/// grid's steps (the grid's half-width `w` is then the same from one flight to the next). The
+/// polish so starts within `h/2` of the quadratic model's guess without evaluating an
+/// exponential afresh.
+#[derive(Debug, Clone, Default)]
+struct Seeds {
+    /// `e^{μ_j k h}` at `(k + SEED_DIVISIONS)·terms + j`, valid where `filled`.
+    values: Vec<C64>,
+    /// Per `k + SEED_DIVISIONS`, whether its exponentials are computed.
+    filled: Vec<bool>,
+}
+
+impl Seeds {
+    /// Forgets every step (the grid's rates or half-width changed).
+    fn reset(&mut self) {
+        self.values.clear();
+        self.filled.clear();
+        self.filled.resize(2 * SEED_DIVISIONS + 1, false);
+    }
+}
+
+/// Seed points per half-chunk on either side of a chunk's midpoint (see [`Seeds`]): a start
+/// within `w/32` of the guess, `|μ|w/32 ≤ π/256` for the fastest term, so the polish's steps
+/// stay within the Taylor series of [`exp_small`].
+const SEED_DIVISIONS: usize = 16;
+
+/// A chunk's midpoint and its exponentials, for [`Seeds`].
+struct Seed<'s> {
+    m: f64,
+    w: f64,
+    mid: &'s [C64],
+    seeds: &'s mut Seeds,
+}
+
+impl Seed<'_> {
+    /// The seed point nearest `guess` within `[a, b]`, with its exponentials written into
+    /// `exps`; `None` when no seed point lies in `[a, b]` (a bracket narrower than `h`).
+    fn start_near(
+        &mut self,
+        guess: f64,
+        (a, b): (f64, f64),
+        terms: &[Term],
+        exps: &mut Exponentials,
+    ) -> Option<f64> {
+        let divisions = SEED_DIVISIONS as f64;
+        let h = self.w / divisions;
+        let mut k = ((guess - self.m) / h).round();
+        if self.m + k * h < a {
+            k += 1.0;
+        } else if self.m + k * h > b {
+            k -= 1.0;
+        }
+        let start = self.m + k * h;
+        if !(start >= a && start <= b && k.abs() <= divisions) {
+            return None;
+        }
+        let index = (k + divisions) as usize;
+        let n = terms.len();
+        if self.seeds.values.len() != (2 * SEED_DIVISIONS + 1) * n {
+            self.seeds.values.clear();
+            self.seeds
+                .values
+                .resize((2 * SEED_DIVISIONS + 1) * n, C64::default());
+        }
+        let steps = &mut self.seeds.values[index * n..(index + 1) * n];
+        if !self.seeds.filled[index] {
+            for (e, t) in steps.iter_mut().zip(terms) {
+                *e = cexp(t.rate, k * h);
+            }
+            self.seeds.filled[index] = true;
+        }
+        exps.values.clear();
+        exps.values
+            .extend(self.mid.iter().zip(steps.iter()).map(|(x, y)| x * y));
+        exps.at = start;
+        Some(start)
+    }
 }
 
 /// The exponentials at the end of the first chunk, `first_end`: when it is a whole chunk
@@ -765,7 +852,7 @@ impl ExpSum {
         } else {
             self.jerk_bound(horizon)
         };
-        self.grid_search(
+        self.grid_search::<false>(
             (lo, hi),
             horizon,
             cutoff,
@@ -795,7 +882,7 @@ impl ExpSum {
         if summary.excludes(lo, hi, cutoff, horizon) {
             return None;
         }
-        self.grid_search(
+        self.grid_search::<true>(
             (lo, hi),
             horizon,
             cutoff,
@@ -808,8 +895,17 @@ impl ExpSum {
     /// The search of [`Self::first_exit_until`] past its evaluation-free tests, with `jerk`
     /// bounding `|f'''|` on `[0, horizon]`: head chunks, then the grid of chunks. Inlined
     /// into both callers: a search costs what it cost as one function.
+    ///
+    /// `FIXED` (the summarised searches: every polynomial a constant and no growing rate, so
+    /// that `jerk` and the fourth-derivative bound hold for every `s ≥ 0`): the grid's
+    /// half-width is `w = π/(8 max|μ|)`, the largest the horizon's chunk count allows, fixed
+    /// by the rates alone, so that its exponential steps and [`Seeds`] are kept from one
+    /// flight to the next; the last chunk `[a, horizon]`, shorter than `2w`, is excluded by
+    /// the test on `[a, a + 2w]` that contains it, or else searched on its own from fresh
+    /// exponentials. A chunk that is not excluded keeps its midpoint's exponentials, and its
+    /// polish starts from them ([`Seed`]). The one-pair searches keep the grid of the horizon.
     #[inline(always)]
-    fn grid_search(
+    fn grid_search<const FIXED: bool>(
         &self,
         (lo, hi): (f64, f64),
         horizon: f64,
@@ -818,11 +914,22 @@ impl ExpSum {
         (time_tolerance, depth_tolerance): (f64, f64),
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
-        let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
-            / std::f64::consts::TAU)
-            .ceil() as usize)
-            .clamp(1, 1 << 30);
-        let w = 0.5 * horizon / chunks as f64;
+        let fastest = if FIXED {
+            self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max)
+        } else {
+            0.0
+        };
+        let fixed = FIXED && fastest > 0.0 && fastest.is_finite();
+        let (chunks, w) = if fixed {
+            let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
+            (((0.5 * horizon / w).ceil() as usize).clamp(1, 1 << 30), w)
+        } else {
+            let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
+                / std::f64::consts::TAU)
+                .ceil() as usize)
+                .clamp(1, 1 << 30);
+            (chunks, 0.5 * horizon / chunks as f64)
+        };
         let SearchStack {
             intervals,
             exps,
@@ -833,6 +940,8 @@ impl ExpSum {
             step_key,
             step_rates,
             doubled,
+            mid,
+            seeds,
         } = stack;
         // A bound on |f''''| over the horizon, computed when a chunk first needs it.
         let mut fourth = f64::NAN;
@@ -849,6 +958,7 @@ impl ExpSum {
             steps.clear();
             steps.extend(self.terms.iter().map(|t| cexp(t.rate, w)));
             doubled.clear();
+            seeds.reset();
             step_rates.clear();
             step_rates.extend(self.terms.iter().map(|t| t.rate));
             *step_key = w;
@@ -919,6 +1029,7 @@ impl ExpSum {
                     derivatives,
                     scratch,
                     point,
+                    None,
                 );
                 if found.is_some() {
                     return found;
@@ -946,6 +1057,26 @@ impl ExpSum {
                 *e *= step;
             }
             let (fm, dm, ddm) = derivatives.at(self, m, exps);
+            if fixed && i + 1 == chunks {
+                // The last chunk, `[a, horizon]` within `[a, a + 2w]`.
+                if a + 2.0 * w >= horizon && inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
+                    return None;
+                }
+                let at_m = self.eval3(0.5 * (a + horizon), derivatives, point);
+                let fb = self.eval(horizon).0;
+                return self.exit_in_chunk(
+                    (a, horizon, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
+                    intervals,
+                    derivatives,
+                    scratch,
+                    point,
+                    None,
+                );
+            }
             // The test of `exit_in_chunk`, inline: most chunks are excluded at once.
             let excluded = inside((fm, dm, ddm), w, jerk_reach, (lo, hi));
             let d3m = if excluded {
@@ -953,6 +1084,10 @@ impl ExpSum {
             } else {
                 derivatives.third(exps)
             };
+            if fixed && !excluded {
+                mid.clear();
+                mid.extend_from_slice(exps);
+            }
             if (2 * i + 2) % REANCHOR == 0 {
                 for (e, t) in exps.iter_mut().zip(&self.terms) {
                     *e = cexp(t.rate, b);
@@ -968,6 +1103,12 @@ impl ExpSum {
                 continue;
             }
             let at_m = (fm, dm, ddm, d3m);
+            let seed = fixed.then_some(Seed {
+                m,
+                w,
+                mid,
+                seeds: &mut *seeds,
+            });
             let found = self.exit_in_chunk(
                 (a, b, fa, fb),
                 at_m,
@@ -978,6 +1119,7 @@ impl ExpSum {
                 derivatives,
                 scratch,
                 point,
+                seed,
             );
             if found.is_some() {
                 return found;
@@ -989,7 +1131,8 @@ impl ExpSum {
 
     /// The first exit from `(lo, hi)` within one chunk `[a, b]` (values `fa`, `fb` at its
     /// ends, value and derivatives `at_m` at its midpoint), by the bounds of
-    /// [`Self::first_exit`]; bisects left first.
+    /// [`Self::first_exit`]; bisects left first. With a `seed` (the chunk's midpoint
+    /// exponentials), the polish starts at the seed point nearest its guess.
     #[allow(clippy::too_many_arguments)]
     fn exit_in_chunk(
         &self,
@@ -1002,6 +1145,7 @@ impl ExpSum {
         derivatives: &Derivatives,
         scratch: &mut Exponentials,
         point: &mut Vec<C64>,
+        mut seed: Option<Seed<'_>>,
     ) -> Option<(f64, i8)> {
         intervals.clear();
         intervals.push(chunk);
@@ -1043,26 +1187,45 @@ impl ExpSum {
                     };
                     (m + step).clamp(a, b)
                 };
+                // The polish of `sign·(f − level)` from the guess: from the seed point
+                // nearest it when there is one in the bracket, else from fresh exponentials.
+                let mut polish_to = |sign: f64, level: f64| {
+                    let guess = guess(level);
+                    let seeded = seed
+                        .as_mut()
+                        .and_then(|seed| seed.start_near(guess, (a, b), &self.terms, scratch));
+                    match seeded {
+                        Some(start) => polish_from(
+                            self,
+                            derivatives,
+                            sign,
+                            level,
+                            (a, b),
+                            start,
+                            time_tolerance,
+                            jerk,
+                            scratch,
+                        ),
+                        None => polish(
+                            self,
+                            derivatives,
+                            sign,
+                            level,
+                            (a, b),
+                            guess,
+                            time_tolerance,
+                            jerk,
+                            scratch,
+                        ),
+                    }
+                };
                 if dm > 0.0 {
                     if fa >= hi {
                         return Some((a, 1)); // on the upper edge at the start, moving out
                     }
                     if fb >= hi {
                         // hi − f: positive, then ≤ 0.
-                        return Some((
-                            polish(
-                                self,
-                                derivatives,
-                                -1.0,
-                                hi,
-                                (a, b),
-                                guess(hi),
-                                time_tolerance,
-                                jerk,
-                                scratch,
-                            ),
-                            1,
-                        ));
+                        return Some((polish_to(-1.0, hi), 1));
                     }
                 } else {
                     if fa <= lo {
@@ -1070,20 +1233,7 @@ impl ExpSum {
                     }
                     if fb <= lo {
                         // f − lo: positive, then ≤ 0.
-                        return Some((
-                            polish(
-                                self,
-                                derivatives,
-                                1.0,
-                                lo,
-                                (a, b),
-                                guess(lo),
-                                time_tolerance,
-                                jerk,
-                                scratch,
-                            ),
-                            -1,
-                        ));
+                        return Some((polish_to(1.0, lo), -1));
                     }
                 }
                 continue;
@@ -1430,6 +1580,23 @@ fn polish(
     exps.values
         .extend(f.terms.iter().map(|t| cexp(t.rate, start)));
     exps.at = start;
+    polish_from(f, derivatives, sign, level, (a, b), start, tol, jerk, exps)
+}
+
+/// [`polish`] with `exps` already at `start`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn polish_from(
+    f: &ExpSum,
+    derivatives: &Derivatives,
+    sign: f64,
+    level: f64,
+    (a, b): (f64, f64),
+    start: f64,
+    tol: f64,
+    jerk: f64,
+    exps: &mut Exponentials,
+) -> f64 {
     let root = iterate(f, derivatives, sign, level, (a, b), start, tol, jerk, exps);
     exps.advance(&f.terms, root);
     root
