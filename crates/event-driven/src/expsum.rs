@@ -65,8 +65,12 @@ pub struct SearchStack {
     intervals: Vec<(f64, f64, f64, f64)>,
     /// `e^{μ_j s}` of every term at the current grid point.
     exps: Vec<C64>,
-    /// `e^{μ_j w}`: one grid step.
-    steps: Vec<C64>,
+    /// The steps of the last grid of a horizon (the one-pair searches).
+    grid: GridSteps,
+    /// The steps of the fixed grids of the summarised searches, most recently used first (at
+    /// most [`FIXED_GRIDS`]: the free flow's, and those of the sets of pairs held on their
+    /// stops that the run goes through).
+    fixed: Vec<GridSteps>,
     /// See [`Derivatives`].
     derivatives: Derivatives,
     /// The exponentials of the polishing iterate; after a search, at the exit it found (when
@@ -74,17 +78,47 @@ pub struct SearchStack {
     polish: Exponentials,
     /// The exponentials at one bisection point.
     point: Vec<C64>,
-    /// The grid step `w` of [`Self::steps`] (`NaN` before the first search).
-    step_key: f64,
-    /// The rates [`Self::steps`] were computed for.
-    step_rates: Vec<C64>,
-    /// `e^{2μ_j w}`: the first chunk's end.
-    doubled: Vec<C64>,
     /// The exponentials at the midpoint of the chunk being searched, on the fixed grid of a
     /// summarised search (see [`Seeds`]).
     mid: Vec<C64>,
-    /// The polish starts' exponential steps, kept with the grid's steps.
+}
+
+/// Fixed grids kept by a [`SearchStack`] (see [`SearchStack::fixed`]).
+const FIXED_GRIDS: usize = 4;
+
+/// A grid's exponential steps for one set of rates and one half-width `w`.
+#[derive(Debug, Clone, Default)]
+struct GridSteps {
+    /// The rates the steps were computed for.
+    rates: Vec<C64>,
+    /// The half-width `w` (`0` before the first search: no grid has it).
+    w: f64,
+    /// `e^{μ_j w}`: one grid step.
+    steps: Vec<C64>,
+    /// `e^{2μ_j w}`: the first chunk's end.
+    doubled: Vec<C64>,
+    /// The polish starts' exponential steps (fixed grids only).
     seeds: Seeds,
+}
+
+impl GridSteps {
+    /// Whether these are the steps of `terms`' rates and half-width `w`.
+    fn matches(&self, terms: &[Term], w: f64) -> bool {
+        self.w == w
+            && self.rates.len() == terms.len()
+            && self.rates.iter().zip(terms).all(|(r, t)| *r == t.rate)
+    }
+
+    /// The steps of `terms`' rates and half-width `w`, computed afresh.
+    fn refresh(&mut self, terms: &[Term], w: f64) {
+        self.steps.clear();
+        self.steps.extend(terms.iter().map(|t| cexp(t.rate, w)));
+        self.doubled.clear();
+        self.seeds.reset();
+        self.rates.clear();
+        self.rates.extend(terms.iter().map(|t| t.rate));
+        self.w = w;
+    }
 }
 
 /// Points within a chunk of the fixed grid where a summarised search's polish may start,
@@ -933,15 +967,12 @@ impl ExpSum {
         let SearchStack {
             intervals,
             exps,
-            steps,
+            grid,
+            fixed: fixed_grids,
             derivatives,
             polish: scratch,
             point,
-            step_key,
-            step_rates,
-            doubled,
             mid,
-            seeds,
         } = stack;
         // A bound on |f''''| over the horizon, computed when a chunk first needs it.
         let mut fourth = f64::NAN;
@@ -949,20 +980,30 @@ impl ExpSum {
         scratch.at = f64::NAN;
         exps.clear();
         exps.resize(self.terms.len(), C64::new(1.0, 0.0));
-        let same_rates = step_rates.len() == self.terms.len()
-            && step_rates
-                .iter()
-                .zip(&self.terms)
-                .all(|(r, t)| *r == t.rate);
-        if !(same_rates && *step_key == w) {
-            steps.clear();
-            steps.extend(self.terms.iter().map(|t| cexp(t.rate, w)));
-            doubled.clear();
-            seeds.reset();
-            step_rates.clear();
-            step_rates.extend(self.terms.iter().map(|t| t.rate));
-            *step_key = w;
-        }
+        let grid = if fixed {
+            match fixed_grids.iter().position(|g| g.matches(&self.terms, w)) {
+                Some(i) => fixed_grids[..=i].rotate_right(1),
+                None => {
+                    if fixed_grids.len() < FIXED_GRIDS {
+                        fixed_grids.push(GridSteps::default());
+                    }
+                    fixed_grids.rotate_right(1);
+                    fixed_grids[0].refresh(&self.terms, w);
+                }
+            }
+            &mut fixed_grids[0]
+        } else {
+            if !grid.matches(&self.terms, w) {
+                grid.refresh(&self.terms, w);
+            }
+            grid
+        };
+        let GridSteps {
+            steps,
+            doubled,
+            seeds,
+            ..
+        } = grid;
         let (f0, d0, dd0) = derivatives.at(self, 0.0, exps);
         let mut fa = f0;
         // Head: when the flight may leave the band long before the first chunk ends (a bounce
