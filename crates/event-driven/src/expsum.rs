@@ -898,8 +898,9 @@ impl ExpSum {
 
     /// [`Self::first_exit_until`] of a function whose [`Summary`] is known (as
     /// [`Flight::summarize`](crate::flow::Flight) forms it from the terms the flight writes:
-    /// every polynomial a constant, no growing rate, `horizon` finite): the same search,
-    /// without forming the sums again.
+    /// every polynomial a constant, no growing rate, `horizon` finite), whose evaluation-free
+    /// tests ([`Summary::excludes`] up to `cutoff`) the caller has already made and found
+    /// undecided: the same search, without forming the sums or making the tests again.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn first_exit_summarized(
         &self,
@@ -913,9 +914,7 @@ impl ExpSum {
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
         let cutoff = cutoff.min(horizon);
-        if summary.excludes(lo, hi, cutoff, horizon) {
-            return None;
-        }
+        debug_assert!(!summary.excludes(lo, hi, cutoff, horizon));
         self.grid_search::<true>(
             (lo, hi),
             horizon,

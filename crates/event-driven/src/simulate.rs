@@ -1427,7 +1427,7 @@ impl<'m> Engine<'m> {
                 if let Some((_, functional, _)) = watched.clone().nth(slot) {
                     flight.expand(functional, &mut work.gaps[slot]);
                 }
-                // The search's own first tests are this summary's: not formed again.
+                // The search's own first tests are this summary's, just made: not made again.
                 work.gaps[slot].first_exit_summarized(
                     &summary,
                     lo,
