@@ -146,9 +146,9 @@ impl Seeds {
 }
 
 /// Seed points per half-chunk on either side of a chunk's midpoint (see [`Seeds`]): a start
-/// within `w/32` of the guess, `|μ|w/32 ≤ π/256` for the fastest term, so the polish's steps
-/// stay within the Taylor series of [`exp_small`].
-const SEED_DIVISIONS: usize = 16;
+/// within `w/128` of the guess, `|μ|w/128 ≤ π/1024` for the fastest term, so the polish's
+/// first step needs a Taylor series of low degree.
+const SEED_DIVISIONS: usize = 64;
 
 /// A chunk's midpoint and its exponentials, for [`Seeds`].
 struct Seed<'s> {
@@ -240,6 +240,12 @@ impl SearchStack {
 struct Exponentials {
     at: f64,
     values: Vec<C64>,
+    /// Whether a small step takes every term's series to one degree, the least that the
+    /// largest `|μ_j δ|` needs, all terms side by side (the summarised searches); otherwise
+    /// each term's series has its own least degree.
+    together: bool,
+    /// Per term, `(μ_j δ, partial sum)` of a step taken together.
+    work: Vec<(C64, C64)>,
 }
 
 impl Exponentials {
@@ -247,7 +253,9 @@ impl Exponentials {
     #[inline]
     fn advance(&mut self, terms: &[Term], s: f64) {
         let delta = s - self.at;
-        if delta != 0.0 {
+        if delta != 0.0 && self.together {
+            self.advance_together(terms, s, delta);
+        } else if delta != 0.0 {
             for (e, t) in self.values.iter_mut().zip(terms) {
                 let z = t.rate * delta;
                 *e = if l1(z) <= SMALL_STEP {
@@ -258,6 +266,43 @@ impl Exponentials {
             }
             self.at = s;
         }
+    }
+
+    /// [`Self::advance`] by `delta = s − at ≠ 0` with every term's series to the least degree
+    /// whose relative remainder is below `1e-17` for the largest `|μ_j δ|` (see
+    /// [`series_start_fine`]), by Horner's rule one coefficient
+    /// at a time across all terms (independent products, where each term's own chain of
+    /// products would wait on the previous one); by term when a step is too large for the
+    /// series.
+    #[inline(never)]
+    fn advance_together(&mut self, terms: &[Term], s: f64, delta: f64) {
+        self.work.clear();
+        self.work
+            .extend(terms.iter().map(|t| (t.rate * delta, C64::default())));
+        let largest = self.work.iter().fold(0.0, |m: f64, (z, _)| m.max(l1(*z)));
+        if largest > SMALL_STEP {
+            for (e, (t, &(z, _))) in self.values.iter_mut().zip(terms.iter().zip(&self.work)) {
+                *e = if l1(z) <= SMALL_STEP {
+                    *e * exp_small(z)
+                } else {
+                    cexp(t.rate, s)
+                };
+            }
+        } else {
+            let from = series_start_fine(largest);
+            for (_, p) in self.work.iter_mut() {
+                *p = C64::new(INVERSE_FACTORIALS[from], 0.0);
+            }
+            for c in &INVERSE_FACTORIALS[from + 1..] {
+                for (z, p) in self.work.iter_mut() {
+                    *p = *p * *z + *c;
+                }
+            }
+            for (e, (z, p)) in self.values.iter_mut().zip(&self.work) {
+                *e *= *p * *z + 1.0;
+            }
+        }
+        self.at = s;
     }
 }
 
@@ -977,6 +1022,7 @@ impl ExpSum {
         let mut fourth = f64::NAN;
         derivatives.of(self);
         scratch.at = f64::NAN;
+        scratch.together = FIXED;
         exps.clear();
         exps.resize(self.terms.len(), C64::new(1.0, 0.0));
         let grid = if fixed {
@@ -1562,31 +1608,51 @@ fn quadratic_exit(f0: f64, d0: f64, dd0: f64, lo: f64, hi: f64) -> f64 {
 /// Largest `|μ δ|` (as `|re| + |im|`) for which `e^{μδ}` is taken from its Taylor series.
 const SMALL_STEP: f64 = 0.03;
 
+/// `1/k!` from `k = 9` down to `1`: the Taylor coefficients of [`exp_small`], highest first
+/// (the constant term `1` is added last).
+const INVERSE_FACTORIALS: [f64; 9] = [
+    1.0 / 362_880.0,
+    1.0 / 40_320.0,
+    1.0 / 5_040.0,
+    1.0 / 720.0,
+    1.0 / 120.0,
+    1.0 / 24.0,
+    1.0 / 6.0,
+    0.5,
+    1.0,
+];
+
+/// Where in [`INVERSE_FACTORIALS`] the series of `e^z` starts for `|z| ≤ size` with every
+/// degree from 3 to 8, each the least whose relative remainder `|z|^{d+1}/(d+1)!` is below
+/// `1e-17`: 3 up to `1e-4` (`4e-18`), 4 up to `1e-3` (`8e-18`), 5 up to `4e-3` (`6e-18`), 6 up
+/// to `1e-2` (`2e-18`), 7 up to `2.5e-2` (`4e-18`), else 8 (up to [`SMALL_STEP`]: `5e-20`).
+#[inline]
+fn series_start_fine(size: f64) -> usize {
+    const BOUNDS: [f64; 5] = [1e-4, 1e-3, 4e-3, 1e-2, 2.5e-2];
+    let degree = 3 + BOUNDS.iter().filter(|&&b| size > b).count();
+    INVERSE_FACTORIALS.len() - degree
+}
+
+/// Where in [`INVERSE_FACTORIALS`] the series of [`exp_small`] starts for `|z| ≤ size`: degree
+/// 3, 5 or 9.
+#[inline]
+fn series_start(size: f64) -> usize {
+    if size <= TAYLOR_DEGREE_3 {
+        6
+    } else if size <= TAYLOR_DEGREE_5 {
+        4
+    } else {
+        0
+    }
+}
+
 /// `e^z` for `|z| ≤` [`SMALL_STEP`] by its Taylor series, evaluated by Horner's rule with
 /// real coefficients, to the least degree whose relative remainder is below `1e-17`: degree 3
 /// for `|z| ≤ 1e-4` (`|z|⁴/4! ≤ 5e-18`), 5 for `|z| ≤ 2e-3` (`|z|⁶/6! ≤ 1e-19`), else 9
 /// (`|z|¹⁰/10! ≤ 2e-22`). `|z|` is taken as `|re| + |im|`, an upper bound.
 #[inline]
 fn exp_small(z: C64) -> C64 {
-    const INVERSE_FACTORIALS: [f64; 9] = [
-        1.0 / 362_880.0,
-        1.0 / 40_320.0,
-        1.0 / 5_040.0,
-        1.0 / 720.0,
-        1.0 / 120.0,
-        1.0 / 24.0,
-        1.0 / 6.0,
-        0.5,
-        1.0,
-    ];
-    let size = l1(z);
-    let from = if size <= TAYLOR_DEGREE_3 {
-        6
-    } else if size <= TAYLOR_DEGREE_5 {
-        4
-    } else {
-        0
-    };
+    let from = series_start(l1(z));
     let mut p = C64::new(INVERSE_FACTORIALS[from], 0.0);
     for c in &INVERSE_FACTORIALS[from + 1..] {
         p = p * z + *c;
