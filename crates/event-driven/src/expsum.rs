@@ -1602,7 +1602,20 @@ fn quadratic_exit(f0: f64, d0: f64, dd0: f64, lo: f64, hi: f64) -> f64 {
             .filter(|&t| t > 0.0 && outward * (d0 + dd0 * t) > 0.0)
             .fold(f64::INFINITY, f64::min)
     };
-    root(f0 - hi, 1.0).min(root(f0 - lo, -1.0))
+    // A side the model moves away from throughout (`f'` and `f''` both of the other sign, so
+    // `d0 + dd0·t` keeps that sign for every `t > 0`) has no candidate: `∞` without the root's
+    // division and square root.
+    let upper = if d0 <= 0.0 && dd0 <= 0.0 {
+        f64::INFINITY
+    } else {
+        root(f0 - hi, 1.0)
+    };
+    let lower = if d0 >= 0.0 && dd0 >= 0.0 {
+        f64::INFINITY
+    } else {
+        root(f0 - lo, -1.0)
+    };
+    upper.min(lower)
 }
 
 /// Largest `|μ δ|` (as `|re| + |im|`) for which `e^{μδ}` is taken from its Taylor series.
