@@ -99,6 +99,80 @@ struct GridSteps {
     doubled: Vec<C64>,
     /// The polish starts' exponential steps (fixed grids only).
     seeds: Seeds,
+    /// Per chunk `i < CACHED_CHUNKS` of a fixed grid, `CHUNK_ROWS` rows of one entry per term:
+    /// at the chunk's midpoint `m_i = 2wi + w`, `e^{μm}`, `μe^{μm}`, `μ²e^{μm}`, `μ³e^{μm}`, and
+    /// at its end `e^{2μw(i+1)}`, each exponential evaluated afresh; valid where
+    /// `chunk_filled`.
+    chunk_exps: Vec<C64>,
+    /// Per chunk, whether its rows in `chunk_exps` are computed.
+    chunk_filled: Vec<bool>,
+}
+
+/// Chunks of a fixed grid whose exponentials a [`GridSteps`] keeps (see
+/// [`ExpSum::fixed_search`]); a search over more uses the grid's recurrence.
+const CACHED_CHUNKS: usize = 256;
+
+/// Rows per chunk in [`GridSteps::chunk_exps`].
+const CHUNK_ROWS: usize = 5;
+
+/// The fixed grid of `terms`' rates and half-width `w` among `grids` (most recently used first,
+/// at most [`FIXED_GRIDS`]), moved to the front, or made there in place of the least recently
+/// used.
+fn fixed_grid<'g>(grids: &'g mut Vec<GridSteps>, terms: &[Term], w: f64) -> &'g mut GridSteps {
+    match grids.iter().position(|g| g.matches(terms, w)) {
+        Some(i) => grids[..=i].rotate_right(1),
+        None => {
+            if grids.len() < FIXED_GRIDS {
+                grids.push(GridSteps::default());
+            }
+            grids.rotate_right(1);
+            grids[0].refresh(terms, w);
+        }
+    }
+    &mut grids[0]
+}
+
+/// Chunk `i`'s rows of a fixed grid (see [`GridSteps::chunk_exps`]), computed on first use.
+fn chunk_rows<'c>(
+    exps: &'c mut Vec<C64>,
+    filled: &mut Vec<bool>,
+    i: usize,
+    w: f64,
+    terms: &[Term],
+) -> &'c [C64] {
+    let n = terms.len();
+    let rows = CHUNK_ROWS * n;
+    if filled.len() <= i {
+        filled.resize(i + 1, false);
+        exps.resize((i + 1) * rows, C64::default());
+    }
+    let slot = &mut exps[i * rows..(i + 1) * rows];
+    if !filled[i] {
+        let m = 2.0 * w * i as f64 + w;
+        let end = 2.0 * w * (i + 1) as f64;
+        for (j, t) in terms.iter().enumerate() {
+            let e = cexp(t.rate, m);
+            let e1 = e * t.rate;
+            let e2 = e1 * t.rate;
+            slot[j] = e;
+            slot[n + j] = e1;
+            slot[2 * n + j] = e2;
+            slot[3 * n + j] = e2 * t.rate;
+            slot[4 * n + j] = cexp(t.rate, end);
+        }
+        filled[i] = true;
+    }
+    slot
+}
+
+/// `Σ_j Re(c_j x_j)`, the terms' constant coefficients `c_j` against `x`.
+#[inline]
+fn real_dot(terms: &[Term], x: &[C64]) -> f64 {
+    terms
+        .iter()
+        .zip(x)
+        .map(|(t, x)| t.poly[0].re * x.re - t.poly[0].im * x.im)
+        .sum()
 }
 
 impl GridSteps {
@@ -118,6 +192,8 @@ impl GridSteps {
         self.rates.clear();
         self.rates.extend(terms.iter().map(|t| t.rate));
         self.w = w;
+        self.chunk_exps.clear();
+        self.chunk_filled.clear();
     }
 }
 
@@ -960,14 +1036,222 @@ impl ExpSum {
     ) -> Option<(f64, i8)> {
         let cutoff = cutoff.min(horizon);
         debug_assert!(!summary.excludes(lo, hi, cutoff, horizon));
-        self.grid_search::<true>(
+        self.fixed_search(
+            summary,
             (lo, hi),
             horizon,
             cutoff,
-            summary.jerk_horizon,
             (time_tolerance, depth_tolerance),
             stack,
         )
+    }
+
+    /// The search of [`Self::first_exit_summarized`]: [`Self::grid_search`] on its fixed grid
+    /// (half-width `w = π/(8 max|μ|)`), with each chunk's exponentials taken from the grid's
+    /// cache ([`GridSteps::chunk_exps`], evaluated afresh once per run) rather than carried
+    /// from chunk to chunk: a chunk's `f`, `f'`, `f''` at its midpoint and `f` at its end are
+    /// four sums of the terms' coefficients against cached rows, and the products `cμᵏ` of
+    /// [`Derivatives`] are formed only for a search that needs them (a head of short chunks,
+    /// a chunk not excluded at once). `f(0)`, `f'(0)`, `f''(0)` are the summary's. The tests,
+    /// the head, the last chunk and the seeded polish are those of [`Self::grid_search`];
+    /// a horizon of more than [`CACHED_CHUNKS`] chunks is left to it.
+    fn fixed_search(
+        &self,
+        summary: &Summary,
+        (lo, hi): (f64, f64),
+        horizon: f64,
+        cutoff: f64,
+        (time_tolerance, depth_tolerance): (f64, f64),
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
+        let jerk = summary.jerk_horizon;
+        let fastest = self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max);
+        let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
+        let chunks = if fastest > 0.0 && fastest.is_finite() {
+            ((0.5 * horizon / w).ceil() as usize).clamp(1, 1 << 30)
+        } else {
+            usize::MAX
+        };
+        if chunks > CACHED_CHUNKS {
+            return self.grid_search::<true>(
+                (lo, hi),
+                horizon,
+                cutoff,
+                jerk,
+                (time_tolerance, depth_tolerance),
+                stack,
+            );
+        }
+        let SearchStack {
+            intervals,
+            fixed: fixed_grids,
+            derivatives,
+            polish: scratch,
+            point,
+            ..
+        } = stack;
+        let GridSteps {
+            seeds,
+            chunk_exps,
+            chunk_filled,
+            ..
+        } = fixed_grid(fixed_grids, &self.terms, w);
+        let n = self.terms.len();
+        let mut fourth = f64::NAN;
+        // `Derivatives::of`, once, when first needed.
+        let mut derived = false;
+        let mut derive = |derivatives: &mut Derivatives| {
+            if !derived {
+                derivatives.of(self);
+                derived = true;
+            }
+        };
+        scratch.at = f64::NAN;
+        scratch.together = true;
+        let (f0, d0, dd0) = (summary.start, summary.slope0, summary.curve0);
+        let mut fa = f0;
+        // The head, as in `grid_search`.
+        let first_end = if chunks == 1 { horizon } else { 2.0 * w };
+        let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
+        let on_edge = (f0 - lo).min(hi - f0) <= ON_EDGE * (hi - lo)
+            && d0.abs() * first_end < SLOW_DEPARTURE * (hi - lo);
+        let cleared = if !on_edge {
+            0.0
+        } else {
+            derive(derivatives);
+            let d3: f64 = derivatives
+                .0
+                .iter()
+                .zip(&self.terms)
+                .map(|(c, t)| (c[2] * t.rate).re)
+                .sum();
+            taylor_clearance(
+                [f0, d0, dd0, d3],
+                self.fourth_derivative_bound(horizon),
+                (lo, hi),
+                depth_tolerance,
+                first_end,
+            )
+        };
+        let mut first = 0;
+        if cleared >= first_end {
+            first = 1;
+            if chunks > 1 {
+                let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
+                fa = real_dot(&self.terms, &rows[4 * n..]);
+            }
+        } else if (cleared > 0.0 && HEAD * cleared < first_end)
+            || HEAD_ESTIMATE * estimate < first_end
+        {
+            derive(derivatives);
+            let mut a = cleared;
+            if cleared > 0.0 {
+                fa = self.eval(cleared).0;
+            }
+            let mut length = if estimate.is_finite() && estimate > cleared {
+                2.0 * (estimate - cleared)
+            } else {
+                cleared
+            };
+            while a < first_end && a < cutoff {
+                let b = if a + 2.0 * length >= first_end {
+                    first_end
+                } else {
+                    a + length
+                };
+                let m = 0.5 * (a + b);
+                let at_m = self.eval3(m, derivatives, point);
+                let fb = self.eval(b).0;
+                let found = self.exit_in_chunk(
+                    (a, b, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
+                    intervals,
+                    derivatives,
+                    scratch,
+                    point,
+                    None,
+                );
+                if found.is_some() {
+                    return found;
+                }
+                fa = fb;
+                a = b;
+                length *= 2.0;
+            }
+            first = 1;
+        }
+        let jerk_reach = jerk * w * w * w / 6.0;
+        for i in first..chunks {
+            let a = 2.0 * w * i as f64;
+            if a >= cutoff {
+                break;
+            }
+            let m = a + w;
+            let rows = chunk_rows(chunk_exps, chunk_filled, i, w, &self.terms);
+            let (mut fm, mut dm, mut ddm) = (0.0, 0.0, 0.0);
+            for (j, t) in self.terms.iter().enumerate() {
+                let c = t.poly[0];
+                let re = |x: C64| c.re * x.re - c.im * x.im;
+                fm += re(rows[j]);
+                dm += re(rows[n + j]);
+                ddm += re(rows[2 * n + j]);
+            }
+            if i + 1 == chunks {
+                // The last chunk, `[a, horizon]` within `[a, a + 2w]`.
+                if a + 2.0 * w >= horizon && inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
+                    return None;
+                }
+                derive(derivatives);
+                let at_m = self.eval3(0.5 * (a + horizon), derivatives, point);
+                let fb = self.eval(horizon).0;
+                return self.exit_in_chunk(
+                    (a, horizon, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
+                    intervals,
+                    derivatives,
+                    scratch,
+                    point,
+                    None,
+                );
+            }
+            let b = 2.0 * w * (i + 1) as f64;
+            let fb = real_dot(&self.terms, &rows[4 * n..]);
+            if inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
+                fa = fb;
+                continue;
+            }
+            let d3m = real_dot(&self.terms, &rows[3 * n..4 * n]);
+            derive(derivatives);
+            let seed = Seed {
+                m,
+                w,
+                mid: &rows[..n],
+                seeds: &mut *seeds,
+            };
+            let found = self.exit_in_chunk(
+                (a, b, fa, fb),
+                (fm, dm, ddm, d3m),
+                (lo, hi),
+                (jerk, &mut fourth, horizon),
+                (time_tolerance, depth_tolerance),
+                intervals,
+                derivatives,
+                scratch,
+                point,
+                Some(seed),
+            );
+            if found.is_some() {
+                return found;
+            }
+            fa = fb;
+        }
+        None
     }
 
     /// The search of [`Self::first_exit_until`] past its evaluation-free tests, with `jerk`
@@ -1026,17 +1310,7 @@ impl ExpSum {
         exps.clear();
         exps.resize(self.terms.len(), C64::new(1.0, 0.0));
         let grid = if fixed {
-            match fixed_grids.iter().position(|g| g.matches(&self.terms, w)) {
-                Some(i) => fixed_grids[..=i].rotate_right(1),
-                None => {
-                    if fixed_grids.len() < FIXED_GRIDS {
-                        fixed_grids.push(GridSteps::default());
-                    }
-                    fixed_grids.rotate_right(1);
-                    fixed_grids[0].refresh(&self.terms, w);
-                }
-            }
-            &mut fixed_grids[0]
+            fixed_grid(fixed_grids, &self.terms, w)
         } else {
             if !grid.matches(&self.terms, w) {
                 grid.refresh(&self.terms, w);
