@@ -875,6 +875,70 @@ mod tests {
     }
 
     #[test]
+    fn summarised_searches_find_the_one_pair_searches_exits() {
+        // The summarised search (fixed grid, cached chunk exponentials, seeded polish) against
+        // the one-pair search (the horizon's grid) over many flights of an 8-cell chain, every
+        // pair, full and cut horizons, bands from wide to grazing: the same first exit, to the
+        // time tolerance, on the same side.
+        use crate::expsum::SearchStack;
+        let (flow, functionals, _) = chain_flow(8);
+        let (tol, depth) = (1e-12 * std::f64::consts::PI, 1e-12);
+        let (mut plain, mut summarised) = (SearchStack::default(), SearchStack::default());
+        let mut gap = ExpSum::default();
+        let (mut exits, mut searches) = (0, 0);
+        for case in 0..300 {
+            let y = DVector::from_fn(32, |i, _| {
+                0.4 * (1.3 * (i * 7 + case * 13) as f64 + 0.2 * case as f64).sin()
+            });
+            let t0 = 0.01 * case as f64 % std::f64::consts::PI;
+            let flight = flow.flight(&y, t0);
+            let horizon = std::f64::consts::PI - t0;
+            for functional in &functionals {
+                flight.expand(functional, &mut gap);
+                let summary = flight.summarize(functional, horizon).expect("summary");
+                let f0 = gap.eval(0.0).0;
+                for width in [0.05, 0.2, 0.5, 1.0] {
+                    let (lo, hi) = (f0 - width, f0 + 0.7 * width);
+                    for cutoff in [horizon, 0.5 * horizon, 0.1] {
+                        let expected =
+                            gap.first_exit_until(lo, hi, horizon, cutoff, tol, depth, &mut plain);
+                        let found = if summary.excludes(lo, hi, cutoff.min(horizon), horizon) {
+                            None
+                        } else {
+                            searches += 1;
+                            gap.first_exit_summarized(
+                                &summary,
+                                lo,
+                                hi,
+                                horizon,
+                                cutoff,
+                                tol,
+                                depth,
+                                &mut summarised,
+                            )
+                        };
+                        // Exits after the cutoff may or may not be reported.
+                        let keep = |e: Option<(f64, i8)>| e.filter(|&(s, _)| s <= cutoff);
+                        match (keep(expected), keep(found)) {
+                            (None, None) => {}
+                            (Some((a, sa)), Some((b, sb))) => {
+                                exits += 1;
+                                assert_eq!(sa, sb, "case {case}: side");
+                                assert!((a - b).abs() <= 4.0 * tol, "case {case}: {a} vs {b}");
+                            }
+                            (a, b) => panic!("case {case}: {a:?} vs {b:?}"),
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            exits > 1000 && searches > 2000,
+            "{exits} exits, {searches} searches"
+        );
+    }
+
+    #[test]
     fn a_carried_deviation_is_the_state_s_flight() {
         // The start carried across an event (the deviation at `s`, plus a velocity jump)
         // against the flight recomputed from the state there: the same motion to rounding.
