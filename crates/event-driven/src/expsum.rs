@@ -589,37 +589,33 @@ pub(crate) struct ModeTerm {
 
 /// The sums of two functionals' [`Summary`]s over the `modes`, side by side (the two lanes
 /// independent, so the compiler may pack them): `weights[j] = [Re w₀, Re w₁, Im w₀, Im w₁]`
-/// for mode `j`. Each lane's sums are bit for bit those of [`Summary::add_moving`] with `CUT`
-/// over the modes in order, `c = (w d)·weight` formed as [`Complex`]'s products.
+/// for mode `j`. Each lane's sums are bit for bit those of [`Summary::add_mode`] over the
+/// modes in order, `c = w (d·weight)` formed as [`Complex`]'s products.
 pub(crate) fn summarize_two(weights: &[[f64; 4]], modes: &[ModeTerm]) -> [Summary; 2] {
     let mut start = [0.0; 2];
     let mut slope0 = [0.0; 2];
     let mut curve0 = [0.0; 2];
     let mut size0 = [0.0; 2];
-    let mut spread = [0.0; 2];
     let mut speed = [0.0; 2];
     let mut bend = [0.0; 2];
-    let mut jerk_cut = [0.0; 2];
-    let mut jerk_horizon = [0.0; 2];
+    let mut jerk = [0.0; 2];
     for (w, m) in weights.iter().zip(modes) {
-        let (d, mu, weight, rate, cube) = (m.deviation, m.rate_complex, m.weight, m.rate, m.cube);
+        let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
+        let d = m.deviation * m.weight;
+        let mu2 = mu * mu;
+        let square = rate * rate;
         for l in 0..2 {
             let (a, b) = (w[l], w[2 + l]);
-            let c_re = (a * d.re - b * d.im) * weight;
-            let c_im = (a * d.im + b * d.re) * weight;
-            let slope_re = c_re * mu.re - c_im * mu.im;
-            let slope_im = c_re * mu.im + c_im * mu.re;
+            let c_re = a * d.re - b * d.im;
+            let c_im = a * d.im + b * d.re;
             start[l] += c_re;
-            slope0[l] += slope_re;
+            slope0[l] += c_re * mu.re - c_im * mu.im;
+            curve0[l] += c_re * mu2.re - c_im * mu2.im;
             let size = c_re.abs() + c_im.abs();
             size0[l] += size;
-            let jerk = cube * size;
-            jerk_horizon[l] += jerk;
-            spread[l] += size;
             speed[l] += rate * size;
-            bend[l] += rate * (rate * size);
-            curve0[l] += slope_re * mu.re - slope_im * mu.im;
-            jerk_cut[l] += jerk;
+            bend[l] += square * size;
+            jerk[l] += cube * size;
         }
     }
     [0, 1].map(|l| Summary {
@@ -628,11 +624,11 @@ pub(crate) fn summarize_two(weights: &[[f64; 4]], modes: &[ModeTerm]) -> [Summar
         curve0: curve0[l],
         size0: size0[l],
         centre: 0.0,
-        spread: spread[l],
+        spread: size0[l],
         speed: speed[l],
         bend: bend[l],
-        jerk_cut: jerk_cut[l],
-        jerk_horizon: jerk_horizon[l],
+        jerk_cut: jerk[l],
+        jerk_horizon: jerk[l],
     })
 }
 
@@ -706,6 +702,26 @@ impl Summary {
             self.curve0 += slope.re * mu.re - slope.im * mu.im;
             self.jerk_cut += jerk;
         }
+    }
+
+    /// Adds a flight's term `c e^{μs}` for a rate `μ ≠ 0` that does not grow, given
+    /// `rate = |Re μ| + |Im μ|` and `cube = (rate · rate) · rate`: the sums of
+    /// [`Self::add_moving`] with `CUT` (the same bounds), with `f''(0)` formed as
+    /// `Re(c · μ²)` and `sup|f''|` as `(rate · rate)·|c|`, so that [`summarize_two`] forms
+    /// them with fewer products.
+    #[inline]
+    pub(crate) fn add_mode(&mut self, c: C64, mu: C64, rate: f64, cube: f64) {
+        let mu2 = mu * mu;
+        self.start += c.re;
+        self.slope0 += c.re * mu.re - c.im * mu.im;
+        self.curve0 += c.re * mu2.re - c.im * mu2.im;
+        let size = c.re.abs() + c.im.abs();
+        self.size0 += size;
+        self.spread += size;
+        self.speed += rate * size;
+        self.bend += (rate * rate) * size;
+        self.jerk_cut += cube * size;
+        self.jerk_horizon += cube * size;
     }
 
     /// Where the quadratic Taylor model at `0` first leaves `(lo, hi)`, as

@@ -644,9 +644,11 @@ impl Flight<'_> {
         true
     }
 
-    /// The [`Summary`] of the functional's terms, as [`Self::expand`] would write them (same
-    /// products, same order), without writing them: for the steady-response form when no
-    /// rate grows (then the summary holds for any cutoff); `None` otherwise.
+    /// The [`Summary`] of the functional's terms, as [`Self::expand`] would write them (the
+    /// same coefficients — `w (d·weight)` there `(w d)·weight`, equal since a weight of 1 or 2
+    /// scales exactly — in the same order), without writing them, term by term as
+    /// [`Summary::add_mode`] adds them: for the steady-response form when no rate grows (then
+    /// the summary holds for any cutoff); `None` otherwise.
     pub(crate) fn summarize(&self, functional: &Functional, horizon: f64) -> Option<Summary> {
         let f = self.flow;
         let Form::Steady {
@@ -661,14 +663,16 @@ impl Flight<'_> {
         let weights = functional.weights.as_slice();
         let mut sum = Summary::default();
         for (&(k, weight), &(rate, cube)) in f.kept.iter().zip(&f.kept_sizes) {
-            let (c, mu) = (weights[k] * deviation[k] * weight, f.rates[k]);
+            let (c, mu) = (weights[k] * (deviation[k] * weight), f.rates[k]);
             if rate == 0.0 {
                 sum.add_decaying::<true>(c, mu);
             } else {
-                sum.add_moving::<true>(c, mu, rate, cube);
+                sum.add_mode(c, mu, rate, cube);
             }
         }
-        sum.add_decaying::<true>(functional.forced * phase, C64::new(0.0, f.omega));
+        let forcing = C64::new(0.0, f.omega);
+        let rate = forcing.re.abs() + forcing.im.abs();
+        sum.add_mode(functional.forced * phase, forcing, rate, rate * rate * rate);
         if functional.constant != 0.0 {
             sum.add_decaying::<true>(C64::new(functional.constant, 0.0), C64::default());
         }
