@@ -1926,13 +1926,15 @@ const INVERSE_FACTORIALS: [f64; 9] = [
 ];
 
 /// Where in [`INVERSE_FACTORIALS`] the series of `e^z` starts for `|z| ≤ size` with every
-/// degree from 3 to 8, each the least whose relative remainder `|z|^{d+1}/(d+1)!` is below
-/// `1e-17`: 3 up to `1e-4` (`4e-18`), 4 up to `1e-3` (`8e-18`), 5 up to `4e-3` (`6e-18`), 6 up
-/// to `1e-2` (`2e-18`), 7 up to `2.5e-2` (`4e-18`), else 8 (up to [`SMALL_STEP`]: `5e-20`).
+/// degree from 1 to 8, each the least whose relative remainder `|z|^{d+1}/(d+1)!` is below
+/// `1e-17`: 1 up to `4e-9` (`8e-18`), 2 up to `3e-6` (`5e-18`), 3 up to `1e-4` (`4e-18`), 4
+/// up to `1e-3` (`8e-18`), 5 up to `4e-3` (`6e-18`), 6 up to `1e-2` (`2e-18`), 7 up to
+/// `2.5e-2` (`4e-18`), else 8 (up to [`SMALL_STEP`]: `5e-20`). A polish's last steps are far
+/// below `1e-4`.
 #[inline]
 fn series_start_fine(size: f64) -> usize {
-    const BOUNDS: [f64; 5] = [1e-4, 1e-3, 4e-3, 1e-2, 2.5e-2];
-    let degree = 3 + BOUNDS.iter().filter(|&&b| size > b).count();
+    const BOUNDS: [f64; 7] = [4e-9, 3e-6, 1e-4, 1e-3, 4e-3, 1e-2, 2.5e-2];
+    let degree = 1 + BOUNDS.iter().filter(|&&b| size > b).count();
     INVERSE_FACTORIALS.len() - degree
 }
 
