@@ -256,6 +256,20 @@ impl Seed<'_> {
         if !(start >= a && start <= b && k.abs() <= divisions) {
             return None;
         }
+        self.exponentials_at(k as i64, terms, &mut exps.values);
+        exps.at = start;
+        Some(start)
+    }
+
+    /// The seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`).
+    fn point(&self, k: i64) -> f64 {
+        self.m + k as f64 * (self.w / SEED_DIVISIONS as f64)
+    }
+
+    /// The exponentials at the seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`) into `out`.
+    fn exponentials_at(&mut self, k: i64, terms: &[Term], out: &mut Vec<C64>) {
+        let divisions = SEED_DIVISIONS as i64;
+        debug_assert!(k.abs() <= divisions);
         let index = (k + divisions) as usize;
         let n = terms.len();
         if self.seeds.values.len() != (2 * SEED_DIVISIONS + 1) * n {
@@ -266,16 +280,14 @@ impl Seed<'_> {
         }
         let steps = &mut self.seeds.values[index * n..(index + 1) * n];
         if !self.seeds.filled[index] {
+            let h = self.w / SEED_DIVISIONS as f64;
             for (e, t) in steps.iter_mut().zip(terms) {
-                *e = cexp(t.rate, k * h);
+                *e = cexp(t.rate, k as f64 * h);
             }
             self.seeds.filled[index] = true;
         }
-        exps.values.clear();
-        exps.values
-            .extend(self.mid.iter().zip(steps.iter()).map(|(x, y)| x * y));
-        exps.at = start;
-        Some(start)
+        out.clear();
+        out.extend(self.mid.iter().zip(steps.iter()).map(|(x, y)| x * y));
     }
 }
 
@@ -1156,6 +1168,69 @@ impl ExpSum {
                 let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
                 fa = real_dot(&self.terms, &rows[4 * n..]);
             }
+        } else if cleared == 0.0
+            && chunks > 1
+            && HEAD_ESTIMATE * estimate < first_end
+            && estimate * SEED_DIVISIONS as f64 >= w
+        {
+            // The head's chunks on the seed points of the first chunk, `kh` from its midpoint
+            // `w` (`0` is `k = −SEED_DIVISIONS`, `2w` is `k = SEED_DIVISIONS`), each a whole
+            // even number of steps long so that its midpoint is one too: their exponentials
+            // follow from the cached ones at `w` by one product per term, and the polish
+            // starts from them. (A flight estimated shorter than a step, as in chatter, keeps
+            // the head of `grid_search`, whose chunks start that short.)
+            derive(derivatives);
+            let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
+            let mut seed = Seed {
+                m: w,
+                w,
+                mid: &rows[..n],
+                seeds: &mut *seeds,
+            };
+            let divisions = SEED_DIVISIONS as i64;
+            let h = w / SEED_DIVISIONS as f64;
+            let mut ka = -divisions;
+            let mut length = 2.0 * estimate;
+            while ka < divisions && seed.point(ka) < cutoff {
+                let a = seed.point(ka);
+                let target = if a + 2.0 * length >= first_end {
+                    first_end
+                } else {
+                    a + length
+                };
+                let mut kb = ((target - w) / h).ceil() as i64;
+                kb += (kb - ka).rem_euclid(2);
+                let kb = kb.clamp(ka + 2, divisions);
+                let (b, km) = (seed.point(kb), (ka + kb) / 2);
+                seed.exponentials_at(km, &self.terms, point);
+                let at_m = derivatives.at3(self, seed.point(km), point);
+                seed.exponentials_at(kb, &self.terms, point);
+                let fb = derivatives.value(self, b, point);
+                let found = self.exit_in_chunk(
+                    (a, b, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
+                    intervals,
+                    derivatives,
+                    scratch,
+                    point,
+                    Some(Seed {
+                        m: w,
+                        w,
+                        mid: &rows[..n],
+                        seeds: &mut *seed.seeds,
+                    }),
+                );
+                if found.is_some() {
+                    return found;
+                }
+                fa = fb;
+                ka = kb;
+                length *= 2.0;
+            }
+            first = 1;
         } else if (cleared > 0.0 && HEAD * cleared < first_end)
             || HEAD_ESTIMATE * estimate < first_end
         {
