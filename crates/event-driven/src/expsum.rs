@@ -561,8 +561,9 @@ pub struct ExpSum {
 /// over the horizon, for the grid), from the terms' absolute coefficients and rates.
 ///
 /// Terms with constant polynomials are added one by one ([`Summary::add`]); a flight can so
-/// summarise a functional without writing its terms out, with the very sums the search
-/// would form.
+/// summarise a functional without writing its terms out ([`Summary::add_mode`]: the same
+/// bounds, `f''(0)` and `sup|f''|` formed with fewer products), and the summarised search
+/// ([`ExpSum::first_exit_summarized`]) starts from that summary rather than forming its own.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct Summary {
     /// `f(0)`.

@@ -1378,10 +1378,11 @@ impl<'m> Engine<'m> {
         let mut step = f64::INFINITY;
         // Every pair's gap, then the searches in the order of their quadratic estimates: the
         // likely first contact is found first and cuts the others' horizons short. With
-        // several pairs, each gap is first only summarised (the sums the search's first tests
-        // form, from the same products): a pair those tests exclude up to the earliest
-        // contact found is decided without writing its terms out, as its search would decide
-        // it.
+        // several pairs, each gap is first only summarised (the sums of the summarised
+        // search's first tests): a pair those tests exclude up to the earliest contact found is
+        // decided without writing its terms out, as its search would decide it. (The order
+        // decides only how much is searched: each pair is searched up to the earliest contact
+        // found before it, so the contact found is the same in any order, ties aside.)
         let several = watched.size_hint().0 > 1;
         // `joint` lists the watched pairs' functionals in their order: then every summary is
         // formed in one pass.
