@@ -35,7 +35,8 @@
 //! wall for 368 790 impacts before (the example's own count 225 000 impacts/s), 1.19 s of one
 //! core and 1.19 s wall for 368 735 impacts after (310 000 impacts/s whole process; the example's
 //! own count 309 000), ×1.37: issue 16's 300 000 impacts/s is reached, with little margin (a busy
-//! machine moves these times by 10 % and more). Callgrind, first 1000 periods: 0.979e9
+//! machine moves these times by 10 % and more: a second alternation, the machine busier, gave
+//! 1.67 s before and 1.22 s after, the same ×1.37, 302 000 impacts/s by the example's count). Callgrind, first 1000 periods: 0.979e9
 //! instructions (18 411 impacts, 53 100 per impact) before, 0.774e9 (18 411 impacts, 42 000 per
 //! impact) after. What changed, all in the several-pair (summarised) searches; the one-pair
 //! searches are untouched and a single unit's results are bit for bit as before:
