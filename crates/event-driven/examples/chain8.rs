@@ -29,6 +29,43 @@
 //! left: seeding the polish and the bisection points from exponentials already known (it needs a
 //! complex exponential for steps up to about 0.4, likely no cheaper than the library's), and
 //! per-pair bounds updated across an impact (it changes two velocities) rather than formed again.
+//!
+//! Measured again (branch h-speed3, the previous build and this one alternated, three runs each,
+//! medians, `/usr/bin/time -f "%U %e"` around the whole process): 1.63 s of one core and 1.63 s
+//! wall for 368 790 impacts before (the example's own count 225 000 impacts/s), 1.19 s of one
+//! core and 1.19 s wall for 368 735 impacts after (310 000 impacts/s whole process; the example's
+//! own count 309 000), ×1.37: issue 16's 300 000 impacts/s is reached, with little margin (a busy
+//! machine moves these times by 10 % and more: a second alternation, the machine busier, gave
+//! 1.67 s before and 1.22 s after, the same ×1.37, 302 000 impacts/s by the example's count). Callgrind, first 1000 periods: 0.979e9
+//! instructions (18 411 impacts, 53 100 per impact) before, 0.774e9 (18 411 impacts, 42 000 per
+//! impact) after. What changed, all in the several-pair (summarised) searches; the one-pair
+//! searches are untouched and a single unit's results are bit for bit as before:
+//! - the grid's half-width is fixed by the rates (`π/(8 max|μ|)`) rather than by the horizon, so
+//!   its exponentials are kept from flight to flight: each chunk's `e^{μm}`, `μe^{μm}`, `μ²e^{μm}`,
+//!   `μ³e^{μm}` at its midpoint and `e^{μb}` at its end are evaluated afresh once per run, and a
+//!   chunk's test costs four sums of the terms' coefficients against them (no step recurrence,
+//!   no derivative products unless a chunk is not excluded); the last, shorter chunk is excluded
+//!   by the test on the whole chunk that contains it;
+//! - the polish starts at the seed point nearest its guess, `m + kw/64`, whose exponentials are
+//!   the cached ones at the chunk's midpoint times a kept step (no fresh exponentials), and its
+//!   steps take every term's series together, to the least degree (1 to 8) the largest step needs;
+//! - the head of short chunks (a short flight) lies on those seed points too;
+//! - a summarised search does not repeat the exclusion tests the watch has just made, the watch
+//!   reads the joint summaries in place, and the quadratic estimate skips the side the model moves
+//!   away from;
+//! - summaries form `f''(0)` as `Re(c·μ²)` and `sup|f''|` from `rate²` (no measurable gain).
+//!
+//! A chain's last bits change (the searches evaluate at other points, from other exponentials;
+//! contact times agree with the one-pair search's to the time tolerance, see the test
+//! `summarised_searches_find_the_one_pair_searches_exits`): the impact count of this long run
+//! moves from 368 790 to 368 735, that of the first 1000 periods stays 18 411. Where the time goes
+//! now (`perf`, the whole run): the grid searches some 16 %, the summaries 15 %, the polish 15 %
+//! (a fifth of the polishes are of contacts that a later search of the same flight finds earlier),
+//! the state at the contact 10 %, the quadratic estimates 5 %, the watch and run loop 5 %, the
+//! exclusion tests 3.5 %, `sin`/`cos` 3 %. What is left: polishing only the flight's winning
+//! contact (searches returning brackets), estimates only for pairs the summary does not exclude
+//! over the whole horizon (it cost more instructions than it saved when tried), and wider
+//! registers for the summaries and the contact state (both are packed two wide now).
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};

@@ -65,8 +65,12 @@ pub struct SearchStack {
     intervals: Vec<(f64, f64, f64, f64)>,
     /// `e^{μ_j s}` of every term at the current grid point.
     exps: Vec<C64>,
-    /// `e^{μ_j w}`: one grid step.
-    steps: Vec<C64>,
+    /// The steps of the last grid of a horizon (the one-pair searches).
+    grid: GridSteps,
+    /// The steps of the fixed grids of the summarised searches, most recently used first (at
+    /// most [`FIXED_GRIDS`]: the free flow's, and those of the sets of pairs held on their
+    /// stops that the run goes through).
+    fixed: Vec<GridSteps>,
     /// See [`Derivatives`].
     derivatives: Derivatives,
     /// The exponentials of the polishing iterate; after a search, at the exit it found (when
@@ -74,12 +78,217 @@ pub struct SearchStack {
     polish: Exponentials,
     /// The exponentials at one bisection point.
     point: Vec<C64>,
-    /// The grid step `w` of [`Self::steps`] (`NaN` before the first search).
-    step_key: f64,
-    /// The rates [`Self::steps`] were computed for.
-    step_rates: Vec<C64>,
+    /// The exponentials at the midpoint of the chunk being searched, on the fixed grid of a
+    /// summarised search (see [`Seeds`]).
+    mid: Vec<C64>,
+}
+
+/// Fixed grids kept by a [`SearchStack`] (see [`SearchStack::fixed`]).
+const FIXED_GRIDS: usize = 4;
+
+/// A grid's exponential steps for one set of rates and one half-width `w`.
+#[derive(Debug, Clone, Default)]
+struct GridSteps {
+    /// The rates the steps were computed for.
+    rates: Vec<C64>,
+    /// The half-width `w` (`0` before the first search: no grid has it).
+    w: f64,
+    /// `e^{μ_j w}`: one grid step.
+    steps: Vec<C64>,
     /// `e^{2μ_j w}`: the first chunk's end.
     doubled: Vec<C64>,
+    /// The polish starts' exponential steps (fixed grids only).
+    seeds: Seeds,
+    /// Per chunk `i < CACHED_CHUNKS` of a fixed grid, `CHUNK_ROWS` rows of one entry per term:
+    /// at the chunk's midpoint `m_i = 2wi + w`, `e^{μm}`, `μe^{μm}`, `μ²e^{μm}`, `μ³e^{μm}`, and
+    /// at its end `e^{2μw(i+1)}`, each exponential evaluated afresh; valid where
+    /// `chunk_filled`.
+    chunk_exps: Vec<C64>,
+    /// Per chunk, whether its rows in `chunk_exps` are computed.
+    chunk_filled: Vec<bool>,
+}
+
+/// Chunks of a fixed grid whose exponentials a [`GridSteps`] keeps (see
+/// [`ExpSum::fixed_search`]); a search over more uses the grid's recurrence.
+const CACHED_CHUNKS: usize = 256;
+
+/// Rows per chunk in [`GridSteps::chunk_exps`].
+const CHUNK_ROWS: usize = 5;
+
+/// The fixed grid of `terms`' rates and half-width `w` among `grids` (most recently used first,
+/// at most [`FIXED_GRIDS`]), moved to the front, or made there in place of the least recently
+/// used.
+fn fixed_grid<'g>(grids: &'g mut Vec<GridSteps>, terms: &[Term], w: f64) -> &'g mut GridSteps {
+    match grids.iter().position(|g| g.matches(terms, w)) {
+        Some(i) => grids[..=i].rotate_right(1),
+        None => {
+            if grids.len() < FIXED_GRIDS {
+                grids.push(GridSteps::default());
+            }
+            grids.rotate_right(1);
+            grids[0].refresh(terms, w);
+        }
+    }
+    &mut grids[0]
+}
+
+/// Chunk `i`'s rows of a fixed grid (see [`GridSteps::chunk_exps`]), computed on first use.
+fn chunk_rows<'c>(
+    exps: &'c mut Vec<C64>,
+    filled: &mut Vec<bool>,
+    i: usize,
+    w: f64,
+    terms: &[Term],
+) -> &'c [C64] {
+    let n = terms.len();
+    let rows = CHUNK_ROWS * n;
+    if filled.len() <= i {
+        filled.resize(i + 1, false);
+        exps.resize((i + 1) * rows, C64::default());
+    }
+    let slot = &mut exps[i * rows..(i + 1) * rows];
+    if !filled[i] {
+        let m = 2.0 * w * i as f64 + w;
+        let end = 2.0 * w * (i + 1) as f64;
+        for (j, t) in terms.iter().enumerate() {
+            let e = cexp(t.rate, m);
+            let e1 = e * t.rate;
+            let e2 = e1 * t.rate;
+            slot[j] = e;
+            slot[n + j] = e1;
+            slot[2 * n + j] = e2;
+            slot[3 * n + j] = e2 * t.rate;
+            slot[4 * n + j] = cexp(t.rate, end);
+        }
+        filled[i] = true;
+    }
+    slot
+}
+
+/// `Σ_j Re(c_j x_j)`, the terms' constant coefficients `c_j` against `x`.
+#[inline]
+fn real_dot(terms: &[Term], x: &[C64]) -> f64 {
+    terms
+        .iter()
+        .zip(x)
+        .map(|(t, x)| t.poly[0].re * x.re - t.poly[0].im * x.im)
+        .sum()
+}
+
+impl GridSteps {
+    /// Whether these are the steps of `terms`' rates and half-width `w`.
+    fn matches(&self, terms: &[Term], w: f64) -> bool {
+        self.w == w
+            && self.rates.len() == terms.len()
+            && self.rates.iter().zip(terms).all(|(r, t)| *r == t.rate)
+    }
+
+    /// The steps of `terms`' rates and half-width `w`, computed afresh.
+    fn refresh(&mut self, terms: &[Term], w: f64) {
+        self.steps.clear();
+        self.steps.extend(terms.iter().map(|t| cexp(t.rate, w)));
+        self.doubled.clear();
+        self.seeds.reset();
+        self.rates.clear();
+        self.rates.extend(terms.iter().map(|t| t.rate));
+        self.w = w;
+        self.chunk_exps.clear();
+        self.chunk_filled.clear();
+    }
+}
+
+/// Points within a chunk of the fixed grid where a summarised search's polish may start,
+/// `m + k w/SEED_DIVISIONS` (`m` the chunk's midpoint, `|k| ≤ SEED_DIVISIONS`): their
+/// exponentials follow from those at `m` by one complex product each,
+/// `e^{μ(m + kh)} = e^{μm} e^{μkh}`, with `e^{μkh}` computed once per `k` and kept with the
+/// grid's steps (the grid's half-width `w` is then the same from one flight to the next). The
+/// polish so starts within `h/2` of the quadratic model's guess without evaluating an
+/// exponential afresh.
+#[derive(Debug, Clone, Default)]
+struct Seeds {
+    /// `e^{μ_j k h}` at `(k + SEED_DIVISIONS)·terms + j`, valid where `filled`.
+    values: Vec<C64>,
+    /// Per `k + SEED_DIVISIONS`, whether its exponentials are computed.
+    filled: Vec<bool>,
+}
+
+impl Seeds {
+    /// Forgets every step (the grid's rates or half-width changed).
+    fn reset(&mut self) {
+        self.values.clear();
+        self.filled.clear();
+        self.filled.resize(2 * SEED_DIVISIONS + 1, false);
+    }
+}
+
+/// Seed points per half-chunk on either side of a chunk's midpoint (see [`Seeds`]): a start
+/// within `w/128` of the guess, `|μ|w/128 ≤ π/1024` for the fastest term, so the polish's
+/// first step needs a Taylor series of low degree.
+const SEED_DIVISIONS: usize = 64;
+
+/// A chunk's midpoint and its exponentials, for [`Seeds`].
+struct Seed<'s> {
+    m: f64,
+    w: f64,
+    mid: &'s [C64],
+    seeds: &'s mut Seeds,
+}
+
+impl Seed<'_> {
+    /// The seed point nearest `guess` within `[a, b]`, with its exponentials written into
+    /// `exps`; `None` when no seed point lies in `[a, b]` (a bracket narrower than `h`).
+    fn start_near(
+        &mut self,
+        guess: f64,
+        (a, b): (f64, f64),
+        terms: &[Term],
+        exps: &mut Exponentials,
+    ) -> Option<f64> {
+        let divisions = SEED_DIVISIONS as f64;
+        let h = self.w / divisions;
+        let mut k = ((guess - self.m) / h).round();
+        if self.m + k * h < a {
+            k += 1.0;
+        } else if self.m + k * h > b {
+            k -= 1.0;
+        }
+        let start = self.m + k * h;
+        if !(start >= a && start <= b && k.abs() <= divisions) {
+            return None;
+        }
+        self.exponentials_at(k as i64, terms, &mut exps.values);
+        exps.at = start;
+        Some(start)
+    }
+
+    /// The seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`).
+    fn point(&self, k: i64) -> f64 {
+        self.m + k as f64 * (self.w / SEED_DIVISIONS as f64)
+    }
+
+    /// The exponentials at the seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`) into `out`.
+    fn exponentials_at(&mut self, k: i64, terms: &[Term], out: &mut Vec<C64>) {
+        let divisions = SEED_DIVISIONS as i64;
+        debug_assert!(k.abs() <= divisions);
+        let index = (k + divisions) as usize;
+        let n = terms.len();
+        if self.seeds.values.len() != (2 * SEED_DIVISIONS + 1) * n {
+            self.seeds.values.clear();
+            self.seeds
+                .values
+                .resize((2 * SEED_DIVISIONS + 1) * n, C64::default());
+        }
+        let steps = &mut self.seeds.values[index * n..(index + 1) * n];
+        if !self.seeds.filled[index] {
+            let h = self.w / SEED_DIVISIONS as f64;
+            for (e, t) in steps.iter_mut().zip(terms) {
+                *e = cexp(t.rate, k as f64 * h);
+            }
+            self.seeds.filled[index] = true;
+        }
+        out.clear();
+        out.extend(self.mid.iter().zip(steps.iter()).map(|(x, y)| x * y));
+    }
 }
 
 /// The exponentials at the end of the first chunk, `first_end`: when it is a whole chunk
@@ -119,6 +328,12 @@ impl SearchStack {
 struct Exponentials {
     at: f64,
     values: Vec<C64>,
+    /// Whether a small step takes every term's series to one degree, the least that the
+    /// largest `|μ_j δ|` needs, all terms side by side (the summarised searches); otherwise
+    /// each term's series has its own least degree.
+    together: bool,
+    /// Per term, `(μ_j δ, partial sum)` of a step taken together.
+    work: Vec<(C64, C64)>,
 }
 
 impl Exponentials {
@@ -126,7 +341,9 @@ impl Exponentials {
     #[inline]
     fn advance(&mut self, terms: &[Term], s: f64) {
         let delta = s - self.at;
-        if delta != 0.0 {
+        if delta != 0.0 && self.together {
+            self.advance_together(terms, s, delta);
+        } else if delta != 0.0 {
             for (e, t) in self.values.iter_mut().zip(terms) {
                 let z = t.rate * delta;
                 *e = if l1(z) <= SMALL_STEP {
@@ -137,6 +354,43 @@ impl Exponentials {
             }
             self.at = s;
         }
+    }
+
+    /// [`Self::advance`] by `delta = s − at ≠ 0` with every term's series to the least degree
+    /// whose relative remainder is below `1e-17` for the largest `|μ_j δ|` (see
+    /// [`series_start_fine`]), by Horner's rule one coefficient
+    /// at a time across all terms (independent products, where each term's own chain of
+    /// products would wait on the previous one); by term when a step is too large for the
+    /// series.
+    #[inline(never)]
+    fn advance_together(&mut self, terms: &[Term], s: f64, delta: f64) {
+        self.work.clear();
+        self.work
+            .extend(terms.iter().map(|t| (t.rate * delta, C64::default())));
+        let largest = self.work.iter().fold(0.0, |m: f64, (z, _)| m.max(l1(*z)));
+        if largest > SMALL_STEP {
+            for (e, (t, &(z, _))) in self.values.iter_mut().zip(terms.iter().zip(&self.work)) {
+                *e = if l1(z) <= SMALL_STEP {
+                    *e * exp_small(z)
+                } else {
+                    cexp(t.rate, s)
+                };
+            }
+        } else {
+            let from = series_start_fine(largest);
+            for (_, p) in self.work.iter_mut() {
+                *p = C64::new(INVERSE_FACTORIALS[from], 0.0);
+            }
+            for c in &INVERSE_FACTORIALS[from + 1..] {
+                for (z, p) in self.work.iter_mut() {
+                    *p = *p * *z + *c;
+                }
+            }
+            for (e, (z, p)) in self.values.iter_mut().zip(&self.work) {
+                *e *= *p * *z + 1.0;
+            }
+        }
+        self.at = s;
     }
 }
 
@@ -307,8 +561,9 @@ pub struct ExpSum {
 /// over the horizon, for the grid), from the terms' absolute coefficients and rates.
 ///
 /// Terms with constant polynomials are added one by one ([`Summary::add`]); a flight can so
-/// summarise a functional without writing its terms out, with the very sums the search
-/// would form.
+/// summarise a functional without writing its terms out ([`Summary::add_mode`]: the same
+/// bounds, `f''(0)` and `sup|f''|` formed with fewer products), and the summarised search
+/// ([`ExpSum::first_exit_summarized`]) starts from that summary rather than forming its own.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub(crate) struct Summary {
     /// `f(0)`.
@@ -347,37 +602,33 @@ pub(crate) struct ModeTerm {
 
 /// The sums of two functionals' [`Summary`]s over the `modes`, side by side (the two lanes
 /// independent, so the compiler may pack them): `weights[j] = [Re w₀, Re w₁, Im w₀, Im w₁]`
-/// for mode `j`. Each lane's sums are bit for bit those of [`Summary::add_moving`] with `CUT`
-/// over the modes in order, `c = (w d)·weight` formed as [`Complex`]'s products.
+/// for mode `j`. Each lane's sums are bit for bit those of [`Summary::add_mode`] over the
+/// modes in order, `c = w (d·weight)` formed as [`Complex`]'s products.
 pub(crate) fn summarize_two(weights: &[[f64; 4]], modes: &[ModeTerm]) -> [Summary; 2] {
     let mut start = [0.0; 2];
     let mut slope0 = [0.0; 2];
     let mut curve0 = [0.0; 2];
     let mut size0 = [0.0; 2];
-    let mut spread = [0.0; 2];
     let mut speed = [0.0; 2];
     let mut bend = [0.0; 2];
-    let mut jerk_cut = [0.0; 2];
-    let mut jerk_horizon = [0.0; 2];
+    let mut jerk = [0.0; 2];
     for (w, m) in weights.iter().zip(modes) {
-        let (d, mu, weight, rate, cube) = (m.deviation, m.rate_complex, m.weight, m.rate, m.cube);
+        let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
+        let d = m.deviation * m.weight;
+        let mu2 = mu * mu;
+        let square = rate * rate;
         for l in 0..2 {
             let (a, b) = (w[l], w[2 + l]);
-            let c_re = (a * d.re - b * d.im) * weight;
-            let c_im = (a * d.im + b * d.re) * weight;
-            let slope_re = c_re * mu.re - c_im * mu.im;
-            let slope_im = c_re * mu.im + c_im * mu.re;
+            let c_re = a * d.re - b * d.im;
+            let c_im = a * d.im + b * d.re;
             start[l] += c_re;
-            slope0[l] += slope_re;
+            slope0[l] += c_re * mu.re - c_im * mu.im;
+            curve0[l] += c_re * mu2.re - c_im * mu2.im;
             let size = c_re.abs() + c_im.abs();
             size0[l] += size;
-            let jerk = cube * size;
-            jerk_horizon[l] += jerk;
-            spread[l] += size;
             speed[l] += rate * size;
-            bend[l] += rate * (rate * size);
-            curve0[l] += slope_re * mu.re - slope_im * mu.im;
-            jerk_cut[l] += jerk;
+            bend[l] += square * size;
+            jerk[l] += cube * size;
         }
     }
     [0, 1].map(|l| Summary {
@@ -386,11 +637,11 @@ pub(crate) fn summarize_two(weights: &[[f64; 4]], modes: &[ModeTerm]) -> [Summar
         curve0: curve0[l],
         size0: size0[l],
         centre: 0.0,
-        spread: spread[l],
+        spread: size0[l],
         speed: speed[l],
         bend: bend[l],
-        jerk_cut: jerk_cut[l],
-        jerk_horizon: jerk_horizon[l],
+        jerk_cut: jerk[l],
+        jerk_horizon: jerk[l],
     })
 }
 
@@ -464,6 +715,26 @@ impl Summary {
             self.curve0 += slope.re * mu.re - slope.im * mu.im;
             self.jerk_cut += jerk;
         }
+    }
+
+    /// Adds a flight's term `c e^{μs}` for a rate `μ ≠ 0` that does not grow, given
+    /// `rate = |Re μ| + |Im μ|` and `cube = (rate · rate) · rate`: the sums of
+    /// [`Self::add_moving`] with `CUT` (the same bounds), with `f''(0)` formed as
+    /// `Re(c · μ²)` and `sup|f''|` as `(rate · rate)·|c|`, so that [`summarize_two`] forms
+    /// them with fewer products.
+    #[inline]
+    pub(crate) fn add_mode(&mut self, c: C64, mu: C64, rate: f64, cube: f64) {
+        let mu2 = mu * mu;
+        self.start += c.re;
+        self.slope0 += c.re * mu.re - c.im * mu.im;
+        self.curve0 += c.re * mu2.re - c.im * mu2.im;
+        let size = c.re.abs() + c.im.abs();
+        self.size0 += size;
+        self.spread += size;
+        self.speed += rate * size;
+        self.bend += (rate * rate) * size;
+        self.jerk_cut += cube * size;
+        self.jerk_horizon += cube * size;
     }
 
     /// Where the quadratic Taylor model at `0` first leaves `(lo, hi)`, as
@@ -765,7 +1036,7 @@ impl ExpSum {
         } else {
             self.jerk_bound(horizon)
         };
-        self.grid_search(
+        self.grid_search::<false>(
             (lo, hi),
             horizon,
             cutoff,
@@ -777,8 +1048,9 @@ impl ExpSum {
 
     /// [`Self::first_exit_until`] of a function whose [`Summary`] is known (as
     /// [`Flight::summarize`](crate::flow::Flight) forms it from the terms the flight writes:
-    /// every polynomial a constant, no growing rate, `horizon` finite): the same search,
-    /// without forming the sums again.
+    /// every polynomial a constant, no growing rate, `horizon` finite), whose evaluation-free
+    /// tests ([`Summary::excludes`] up to `cutoff`) the caller has already made and found
+    /// undecided: the same search, without forming the sums or making the tests again.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn first_exit_summarized(
         &self,
@@ -792,24 +1064,302 @@ impl ExpSum {
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
         let cutoff = cutoff.min(horizon);
-        if summary.excludes(lo, hi, cutoff, horizon) {
-            return None;
-        }
-        self.grid_search(
+        debug_assert!(!summary.excludes(lo, hi, cutoff, horizon));
+        self.fixed_search(
+            summary,
             (lo, hi),
             horizon,
             cutoff,
-            summary.jerk_horizon,
             (time_tolerance, depth_tolerance),
             stack,
         )
     }
 
+    /// The search of [`Self::first_exit_summarized`]: [`Self::grid_search`] on its fixed grid
+    /// (half-width `w = π/(8 max|μ|)`), with each chunk's exponentials taken from the grid's
+    /// cache ([`GridSteps::chunk_exps`], evaluated afresh once per run) rather than carried
+    /// from chunk to chunk: a chunk's `f`, `f'`, `f''` at its midpoint and `f` at its end are
+    /// four sums of the terms' coefficients against cached rows, and the products `cμᵏ` of
+    /// [`Derivatives`] are formed only for a search that needs them (a head of short chunks,
+    /// a chunk not excluded at once). `f(0)`, `f'(0)`, `f''(0)` are the summary's. The tests,
+    /// the head, the last chunk and the seeded polish are those of [`Self::grid_search`];
+    /// a horizon of more than [`CACHED_CHUNKS`] chunks is left to it.
+    fn fixed_search(
+        &self,
+        summary: &Summary,
+        (lo, hi): (f64, f64),
+        horizon: f64,
+        cutoff: f64,
+        (time_tolerance, depth_tolerance): (f64, f64),
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
+        let jerk = summary.jerk_horizon;
+        let fastest = self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max);
+        let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
+        let chunks = if fastest > 0.0 && fastest.is_finite() {
+            ((0.5 * horizon / w).ceil() as usize).clamp(1, 1 << 30)
+        } else {
+            usize::MAX
+        };
+        if chunks > CACHED_CHUNKS {
+            return self.grid_search::<true>(
+                (lo, hi),
+                horizon,
+                cutoff,
+                jerk,
+                (time_tolerance, depth_tolerance),
+                stack,
+            );
+        }
+        let SearchStack {
+            intervals,
+            fixed: fixed_grids,
+            derivatives,
+            polish: scratch,
+            point,
+            ..
+        } = stack;
+        let GridSteps {
+            seeds,
+            chunk_exps,
+            chunk_filled,
+            ..
+        } = fixed_grid(fixed_grids, &self.terms, w);
+        let n = self.terms.len();
+        let mut fourth = f64::NAN;
+        // `Derivatives::of`, once, when first needed.
+        let mut derived = false;
+        let mut derive = |derivatives: &mut Derivatives| {
+            if !derived {
+                derivatives.of(self);
+                derived = true;
+            }
+        };
+        scratch.at = f64::NAN;
+        scratch.together = true;
+        let (f0, d0, dd0) = (summary.start, summary.slope0, summary.curve0);
+        let mut fa = f0;
+        // The head, as in `grid_search`.
+        let first_end = if chunks == 1 { horizon } else { 2.0 * w };
+        let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
+        let on_edge = (f0 - lo).min(hi - f0) <= ON_EDGE * (hi - lo)
+            && d0.abs() * first_end < SLOW_DEPARTURE * (hi - lo);
+        let cleared = if !on_edge {
+            0.0
+        } else {
+            derive(derivatives);
+            let d3: f64 = derivatives
+                .0
+                .iter()
+                .zip(&self.terms)
+                .map(|(c, t)| (c[2] * t.rate).re)
+                .sum();
+            taylor_clearance(
+                [f0, d0, dd0, d3],
+                self.fourth_derivative_bound(horizon),
+                (lo, hi),
+                depth_tolerance,
+                first_end,
+            )
+        };
+        let mut first = 0;
+        if cleared >= first_end {
+            first = 1;
+            if chunks > 1 {
+                let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
+                fa = real_dot(&self.terms, &rows[4 * n..]);
+            }
+        } else if cleared == 0.0
+            && chunks > 1
+            && HEAD_ESTIMATE * estimate < first_end
+            && estimate * SEED_DIVISIONS as f64 >= w
+        {
+            // The head's chunks on the seed points of the first chunk, `kh` from its midpoint
+            // `w` (`0` is `k = −SEED_DIVISIONS`, `2w` is `k = SEED_DIVISIONS`), each a whole
+            // even number of steps long so that its midpoint is one too: their exponentials
+            // follow from the cached ones at `w` by one product per term, and the polish
+            // starts from them. (A flight estimated shorter than a step, as in chatter, keeps
+            // the head of `grid_search`, whose chunks start that short.)
+            derive(derivatives);
+            let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
+            let mut seed = Seed {
+                m: w,
+                w,
+                mid: &rows[..n],
+                seeds: &mut *seeds,
+            };
+            let divisions = SEED_DIVISIONS as i64;
+            let h = w / SEED_DIVISIONS as f64;
+            let mut ka = -divisions;
+            let mut length = 2.0 * estimate;
+            while ka < divisions && seed.point(ka) < cutoff {
+                let a = seed.point(ka);
+                let target = if a + 2.0 * length >= first_end {
+                    first_end
+                } else {
+                    a + length
+                };
+                let mut kb = ((target - w) / h).ceil() as i64;
+                kb += (kb - ka).rem_euclid(2);
+                let kb = kb.clamp(ka + 2, divisions);
+                let (b, km) = (seed.point(kb), (ka + kb) / 2);
+                seed.exponentials_at(km, &self.terms, point);
+                let at_m = derivatives.at3(self, seed.point(km), point);
+                seed.exponentials_at(kb, &self.terms, point);
+                let fb = derivatives.value(self, b, point);
+                let found = self.exit_in_chunk(
+                    (a, b, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
+                    intervals,
+                    derivatives,
+                    scratch,
+                    point,
+                    Some(Seed {
+                        m: w,
+                        w,
+                        mid: &rows[..n],
+                        seeds: &mut *seed.seeds,
+                    }),
+                );
+                if found.is_some() {
+                    return found;
+                }
+                fa = fb;
+                ka = kb;
+                length *= 2.0;
+            }
+            first = 1;
+        } else if (cleared > 0.0 && HEAD * cleared < first_end)
+            || HEAD_ESTIMATE * estimate < first_end
+        {
+            derive(derivatives);
+            let mut a = cleared;
+            if cleared > 0.0 {
+                fa = self.eval(cleared).0;
+            }
+            let mut length = if estimate.is_finite() && estimate > cleared {
+                2.0 * (estimate - cleared)
+            } else {
+                cleared
+            };
+            while a < first_end && a < cutoff {
+                let b = if a + 2.0 * length >= first_end {
+                    first_end
+                } else {
+                    a + length
+                };
+                let m = 0.5 * (a + b);
+                let at_m = self.eval3(m, derivatives, point);
+                let fb = self.eval(b).0;
+                let found = self.exit_in_chunk(
+                    (a, b, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
+                    intervals,
+                    derivatives,
+                    scratch,
+                    point,
+                    None,
+                );
+                if found.is_some() {
+                    return found;
+                }
+                fa = fb;
+                a = b;
+                length *= 2.0;
+            }
+            first = 1;
+        }
+        let jerk_reach = jerk * w * w * w / 6.0;
+        for i in first..chunks {
+            let a = 2.0 * w * i as f64;
+            if a >= cutoff {
+                break;
+            }
+            let m = a + w;
+            let rows = chunk_rows(chunk_exps, chunk_filled, i, w, &self.terms);
+            let (mut fm, mut dm, mut ddm) = (0.0, 0.0, 0.0);
+            for (j, t) in self.terms.iter().enumerate() {
+                let c = t.poly[0];
+                let re = |x: C64| c.re * x.re - c.im * x.im;
+                fm += re(rows[j]);
+                dm += re(rows[n + j]);
+                ddm += re(rows[2 * n + j]);
+            }
+            if i + 1 == chunks {
+                // The last chunk, `[a, horizon]` within `[a, a + 2w]`.
+                if a + 2.0 * w >= horizon && inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
+                    return None;
+                }
+                derive(derivatives);
+                let at_m = self.eval3(0.5 * (a + horizon), derivatives, point);
+                let fb = self.eval(horizon).0;
+                return self.exit_in_chunk(
+                    (a, horizon, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
+                    intervals,
+                    derivatives,
+                    scratch,
+                    point,
+                    None,
+                );
+            }
+            let b = 2.0 * w * (i + 1) as f64;
+            let fb = real_dot(&self.terms, &rows[4 * n..]);
+            if inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
+                fa = fb;
+                continue;
+            }
+            let d3m = real_dot(&self.terms, &rows[3 * n..4 * n]);
+            derive(derivatives);
+            let seed = Seed {
+                m,
+                w,
+                mid: &rows[..n],
+                seeds: &mut *seeds,
+            };
+            let found = self.exit_in_chunk(
+                (a, b, fa, fb),
+                (fm, dm, ddm, d3m),
+                (lo, hi),
+                (jerk, &mut fourth, horizon),
+                (time_tolerance, depth_tolerance),
+                intervals,
+                derivatives,
+                scratch,
+                point,
+                Some(seed),
+            );
+            if found.is_some() {
+                return found;
+            }
+            fa = fb;
+        }
+        None
+    }
+
     /// The search of [`Self::first_exit_until`] past its evaluation-free tests, with `jerk`
     /// bounding `|f'''|` on `[0, horizon]`: head chunks, then the grid of chunks. Inlined
     /// into both callers: a search costs what it cost as one function.
+    ///
+    /// `FIXED` (the summarised searches: every polynomial a constant and no growing rate, so
+    /// that `jerk` and the fourth-derivative bound hold for every `s ≥ 0`): the grid's
+    /// half-width is `w = π/(8 max|μ|)`, the largest the horizon's chunk count allows, fixed
+    /// by the rates alone, so that its exponential steps and [`Seeds`] are kept from one
+    /// flight to the next; the last chunk `[a, horizon]`, shorter than `2w`, is excluded by
+    /// the test on `[a, a + 2w]` that contains it, or else searched on its own from fresh
+    /// exponentials. A chunk that is not excluded keeps its midpoint's exponentials, and its
+    /// polish starts from them ([`Seed`]). The one-pair searches keep the grid of the horizon.
     #[inline(always)]
-    fn grid_search(
+    fn grid_search<const FIXED: bool>(
         &self,
         (lo, hi): (f64, f64),
         horizon: f64,
@@ -818,41 +1368,53 @@ impl ExpSum {
         (time_tolerance, depth_tolerance): (f64, f64),
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
-        let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
-            / std::f64::consts::TAU)
-            .ceil() as usize)
-            .clamp(1, 1 << 30);
-        let w = 0.5 * horizon / chunks as f64;
+        let fastest = if FIXED {
+            self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max)
+        } else {
+            0.0
+        };
+        let fixed = FIXED && fastest > 0.0 && fastest.is_finite();
+        let (chunks, w) = if fixed {
+            let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
+            (((0.5 * horizon / w).ceil() as usize).clamp(1, 1 << 30), w)
+        } else {
+            let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
+                / std::f64::consts::TAU)
+                .ceil() as usize)
+                .clamp(1, 1 << 30);
+            (chunks, 0.5 * horizon / chunks as f64)
+        };
         let SearchStack {
             intervals,
             exps,
-            steps,
+            grid,
+            fixed: fixed_grids,
             derivatives,
             polish: scratch,
             point,
-            step_key,
-            step_rates,
-            doubled,
+            mid,
         } = stack;
         // A bound on |f''''| over the horizon, computed when a chunk first needs it.
         let mut fourth = f64::NAN;
         derivatives.of(self);
         scratch.at = f64::NAN;
+        scratch.together = FIXED;
         exps.clear();
         exps.resize(self.terms.len(), C64::new(1.0, 0.0));
-        let same_rates = step_rates.len() == self.terms.len()
-            && step_rates
-                .iter()
-                .zip(&self.terms)
-                .all(|(r, t)| *r == t.rate);
-        if !(same_rates && *step_key == w) {
-            steps.clear();
-            steps.extend(self.terms.iter().map(|t| cexp(t.rate, w)));
-            doubled.clear();
-            step_rates.clear();
-            step_rates.extend(self.terms.iter().map(|t| t.rate));
-            *step_key = w;
-        }
+        let grid = if fixed {
+            fixed_grid(fixed_grids, &self.terms, w)
+        } else {
+            if !grid.matches(&self.terms, w) {
+                grid.refresh(&self.terms, w);
+            }
+            grid
+        };
+        let GridSteps {
+            steps,
+            doubled,
+            seeds,
+            ..
+        } = grid;
         let (f0, d0, dd0) = derivatives.at(self, 0.0, exps);
         let mut fa = f0;
         // Head: when the flight may leave the band long before the first chunk ends (a bounce
@@ -919,6 +1481,7 @@ impl ExpSum {
                     derivatives,
                     scratch,
                     point,
+                    None,
                 );
                 if found.is_some() {
                     return found;
@@ -946,6 +1509,26 @@ impl ExpSum {
                 *e *= step;
             }
             let (fm, dm, ddm) = derivatives.at(self, m, exps);
+            if fixed && i + 1 == chunks {
+                // The last chunk, `[a, horizon]` within `[a, a + 2w]`.
+                if a + 2.0 * w >= horizon && inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
+                    return None;
+                }
+                let at_m = self.eval3(0.5 * (a + horizon), derivatives, point);
+                let fb = self.eval(horizon).0;
+                return self.exit_in_chunk(
+                    (a, horizon, fa, fb),
+                    at_m,
+                    (lo, hi),
+                    (jerk, &mut fourth, horizon),
+                    (time_tolerance, depth_tolerance),
+                    intervals,
+                    derivatives,
+                    scratch,
+                    point,
+                    None,
+                );
+            }
             // The test of `exit_in_chunk`, inline: most chunks are excluded at once.
             let excluded = inside((fm, dm, ddm), w, jerk_reach, (lo, hi));
             let d3m = if excluded {
@@ -953,6 +1536,10 @@ impl ExpSum {
             } else {
                 derivatives.third(exps)
             };
+            if fixed && !excluded {
+                mid.clear();
+                mid.extend_from_slice(exps);
+            }
             if (2 * i + 2) % REANCHOR == 0 {
                 for (e, t) in exps.iter_mut().zip(&self.terms) {
                     *e = cexp(t.rate, b);
@@ -968,6 +1555,12 @@ impl ExpSum {
                 continue;
             }
             let at_m = (fm, dm, ddm, d3m);
+            let seed = fixed.then_some(Seed {
+                m,
+                w,
+                mid,
+                seeds: &mut *seeds,
+            });
             let found = self.exit_in_chunk(
                 (a, b, fa, fb),
                 at_m,
@@ -978,6 +1571,7 @@ impl ExpSum {
                 derivatives,
                 scratch,
                 point,
+                seed,
             );
             if found.is_some() {
                 return found;
@@ -989,7 +1583,8 @@ impl ExpSum {
 
     /// The first exit from `(lo, hi)` within one chunk `[a, b]` (values `fa`, `fb` at its
     /// ends, value and derivatives `at_m` at its midpoint), by the bounds of
-    /// [`Self::first_exit`]; bisects left first.
+    /// [`Self::first_exit`]; bisects left first. With a `seed` (the chunk's midpoint
+    /// exponentials), the polish starts at the seed point nearest its guess.
     #[allow(clippy::too_many_arguments)]
     fn exit_in_chunk(
         &self,
@@ -1002,6 +1597,7 @@ impl ExpSum {
         derivatives: &Derivatives,
         scratch: &mut Exponentials,
         point: &mut Vec<C64>,
+        mut seed: Option<Seed<'_>>,
     ) -> Option<(f64, i8)> {
         intervals.clear();
         intervals.push(chunk);
@@ -1043,26 +1639,45 @@ impl ExpSum {
                     };
                     (m + step).clamp(a, b)
                 };
+                // The polish of `sign·(f − level)` from the guess: from the seed point
+                // nearest it when there is one in the bracket, else from fresh exponentials.
+                let mut polish_to = |sign: f64, level: f64| {
+                    let guess = guess(level);
+                    let seeded = seed
+                        .as_mut()
+                        .and_then(|seed| seed.start_near(guess, (a, b), &self.terms, scratch));
+                    match seeded {
+                        Some(start) => polish_from(
+                            self,
+                            derivatives,
+                            sign,
+                            level,
+                            (a, b),
+                            start,
+                            time_tolerance,
+                            jerk,
+                            scratch,
+                        ),
+                        None => polish(
+                            self,
+                            derivatives,
+                            sign,
+                            level,
+                            (a, b),
+                            guess,
+                            time_tolerance,
+                            jerk,
+                            scratch,
+                        ),
+                    }
+                };
                 if dm > 0.0 {
                     if fa >= hi {
                         return Some((a, 1)); // on the upper edge at the start, moving out
                     }
                     if fb >= hi {
                         // hi − f: positive, then ≤ 0.
-                        return Some((
-                            polish(
-                                self,
-                                derivatives,
-                                -1.0,
-                                hi,
-                                (a, b),
-                                guess(hi),
-                                time_tolerance,
-                                jerk,
-                                scratch,
-                            ),
-                            1,
-                        ));
+                        return Some((polish_to(-1.0, hi), 1));
                     }
                 } else {
                     if fa <= lo {
@@ -1070,20 +1685,7 @@ impl ExpSum {
                     }
                     if fb <= lo {
                         // f − lo: positive, then ≤ 0.
-                        return Some((
-                            polish(
-                                self,
-                                derivatives,
-                                1.0,
-                                lo,
-                                (a, b),
-                                guess(lo),
-                                time_tolerance,
-                                jerk,
-                                scratch,
-                            ),
-                            -1,
-                        ));
+                        return Some((polish_to(1.0, lo), -1));
                     }
                 }
                 continue;
@@ -1366,11 +1968,64 @@ fn quadratic_exit(f0: f64, d0: f64, dd0: f64, lo: f64, hi: f64) -> f64 {
             .filter(|&t| t > 0.0 && outward * (d0 + dd0 * t) > 0.0)
             .fold(f64::INFINITY, f64::min)
     };
-    root(f0 - hi, 1.0).min(root(f0 - lo, -1.0))
+    // A side the model moves away from throughout (`f'` and `f''` both of the other sign, so
+    // `d0 + dd0·t` keeps that sign for every `t > 0`) has no candidate: `∞` without the root's
+    // division and square root.
+    let upper = if d0 <= 0.0 && dd0 <= 0.0 {
+        f64::INFINITY
+    } else {
+        root(f0 - hi, 1.0)
+    };
+    let lower = if d0 >= 0.0 && dd0 >= 0.0 {
+        f64::INFINITY
+    } else {
+        root(f0 - lo, -1.0)
+    };
+    upper.min(lower)
 }
 
 /// Largest `|μ δ|` (as `|re| + |im|`) for which `e^{μδ}` is taken from its Taylor series.
 const SMALL_STEP: f64 = 0.03;
+
+/// `1/k!` from `k = 9` down to `1`: the Taylor coefficients of [`exp_small`], highest first
+/// (the constant term `1` is added last).
+const INVERSE_FACTORIALS: [f64; 9] = [
+    1.0 / 362_880.0,
+    1.0 / 40_320.0,
+    1.0 / 5_040.0,
+    1.0 / 720.0,
+    1.0 / 120.0,
+    1.0 / 24.0,
+    1.0 / 6.0,
+    0.5,
+    1.0,
+];
+
+/// Where in [`INVERSE_FACTORIALS`] the series of `e^z` starts for `|z| ≤ size` with every
+/// degree from 1 to 8, each the least whose relative remainder `|z|^{d+1}/(d+1)!` is below
+/// `1e-17`: 1 up to `4e-9` (`8e-18`), 2 up to `3e-6` (`5e-18`), 3 up to `1e-4` (`4e-18`), 4
+/// up to `1e-3` (`8e-18`), 5 up to `4e-3` (`6e-18`), 6 up to `1e-2` (`2e-18`), 7 up to
+/// `2.5e-2` (`4e-18`), else 8 (up to [`SMALL_STEP`]: `5e-20`). A polish's last steps are far
+/// below `1e-4`.
+#[inline]
+fn series_start_fine(size: f64) -> usize {
+    const BOUNDS: [f64; 7] = [4e-9, 3e-6, 1e-4, 1e-3, 4e-3, 1e-2, 2.5e-2];
+    let degree = 1 + BOUNDS.iter().filter(|&&b| size > b).count();
+    INVERSE_FACTORIALS.len() - degree
+}
+
+/// Where in [`INVERSE_FACTORIALS`] the series of [`exp_small`] starts for `|z| ≤ size`: degree
+/// 3, 5 or 9.
+#[inline]
+fn series_start(size: f64) -> usize {
+    if size <= TAYLOR_DEGREE_3 {
+        6
+    } else if size <= TAYLOR_DEGREE_5 {
+        4
+    } else {
+        0
+    }
+}
 
 /// `e^z` for `|z| ≤` [`SMALL_STEP`] by its Taylor series, evaluated by Horner's rule with
 /// real coefficients, to the least degree whose relative remainder is below `1e-17`: degree 3
@@ -1378,25 +2033,7 @@ const SMALL_STEP: f64 = 0.03;
 /// (`|z|¹⁰/10! ≤ 2e-22`). `|z|` is taken as `|re| + |im|`, an upper bound.
 #[inline]
 fn exp_small(z: C64) -> C64 {
-    const INVERSE_FACTORIALS: [f64; 9] = [
-        1.0 / 362_880.0,
-        1.0 / 40_320.0,
-        1.0 / 5_040.0,
-        1.0 / 720.0,
-        1.0 / 120.0,
-        1.0 / 24.0,
-        1.0 / 6.0,
-        0.5,
-        1.0,
-    ];
-    let size = l1(z);
-    let from = if size <= TAYLOR_DEGREE_3 {
-        6
-    } else if size <= TAYLOR_DEGREE_5 {
-        4
-    } else {
-        0
-    };
+    let from = series_start(l1(z));
     let mut p = C64::new(INVERSE_FACTORIALS[from], 0.0);
     for c in &INVERSE_FACTORIALS[from + 1..] {
         p = p * z + *c;
@@ -1430,6 +2067,23 @@ fn polish(
     exps.values
         .extend(f.terms.iter().map(|t| cexp(t.rate, start)));
     exps.at = start;
+    polish_from(f, derivatives, sign, level, (a, b), start, tol, jerk, exps)
+}
+
+/// [`polish`] with `exps` already at `start`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn polish_from(
+    f: &ExpSum,
+    derivatives: &Derivatives,
+    sign: f64,
+    level: f64,
+    (a, b): (f64, f64),
+    start: f64,
+    tol: f64,
+    jerk: f64,
+    exps: &mut Exponentials,
+) -> f64 {
     let root = iterate(f, derivatives, sign, level, (a, b), start, tol, jerk, exps);
     exps.advance(&f.terms, root);
     root

@@ -644,9 +644,11 @@ impl Flight<'_> {
         true
     }
 
-    /// The [`Summary`] of the functional's terms, as [`Self::expand`] would write them (same
-    /// products, same order), without writing them: for the steady-response form when no
-    /// rate grows (then the summary holds for any cutoff); `None` otherwise.
+    /// The [`Summary`] of the functional's terms, as [`Self::expand`] would write them (the
+    /// same coefficients — `w (d·weight)` there `(w d)·weight`, equal since a weight of 1 or 2
+    /// scales exactly — in the same order), without writing them, term by term as
+    /// [`Summary::add_mode`] adds them: for the steady-response form when no rate grows (then
+    /// the summary holds for any cutoff); `None` otherwise.
     pub(crate) fn summarize(&self, functional: &Functional, horizon: f64) -> Option<Summary> {
         let f = self.flow;
         let Form::Steady {
@@ -661,14 +663,16 @@ impl Flight<'_> {
         let weights = functional.weights.as_slice();
         let mut sum = Summary::default();
         for (&(k, weight), &(rate, cube)) in f.kept.iter().zip(&f.kept_sizes) {
-            let (c, mu) = (weights[k] * deviation[k] * weight, f.rates[k]);
+            let (c, mu) = (weights[k] * (deviation[k] * weight), f.rates[k]);
             if rate == 0.0 {
                 sum.add_decaying::<true>(c, mu);
             } else {
-                sum.add_moving::<true>(c, mu, rate, cube);
+                sum.add_mode(c, mu, rate, cube);
             }
         }
-        sum.add_decaying::<true>(functional.forced * phase, C64::new(0.0, f.omega));
+        let forcing = C64::new(0.0, f.omega);
+        let rate = forcing.re.abs() + forcing.im.abs();
+        sum.add_mode(functional.forced * phase, forcing, rate, rate * rate * rate);
         if functional.constant != 0.0 {
             sum.add_decaying::<true>(C64::new(functional.constant, 0.0), C64::default());
         }
@@ -872,6 +876,70 @@ mod tests {
                 assert_eq!(format!("{sum:?}"), format!("{single:?}"), "{cells} cells");
             }
         }
+    }
+
+    #[test]
+    fn summarised_searches_find_the_one_pair_searches_exits() {
+        // The summarised search (fixed grid, cached chunk exponentials, seeded polish) against
+        // the one-pair search (the horizon's grid) over many flights of an 8-cell chain, every
+        // pair, full and cut horizons, bands from wide to grazing: the same first exit, to the
+        // time tolerance, on the same side.
+        use crate::expsum::SearchStack;
+        let (flow, functionals, _) = chain_flow(8);
+        let (tol, depth) = (1e-12 * std::f64::consts::PI, 1e-12);
+        let (mut plain, mut summarised) = (SearchStack::default(), SearchStack::default());
+        let mut gap = ExpSum::default();
+        let (mut exits, mut searches) = (0, 0);
+        for case in 0..300 {
+            let y = DVector::from_fn(32, |i, _| {
+                0.4 * (1.3 * (i * 7 + case * 13) as f64 + 0.2 * case as f64).sin()
+            });
+            let t0 = 0.01 * case as f64 % std::f64::consts::PI;
+            let flight = flow.flight(&y, t0);
+            let horizon = std::f64::consts::PI - t0;
+            for functional in &functionals {
+                flight.expand(functional, &mut gap);
+                let summary = flight.summarize(functional, horizon).expect("summary");
+                let f0 = gap.eval(0.0).0;
+                for width in [0.05, 0.2, 0.5, 1.0] {
+                    let (lo, hi) = (f0 - width, f0 + 0.7 * width);
+                    for cutoff in [horizon, 0.5 * horizon, 0.1] {
+                        let expected =
+                            gap.first_exit_until(lo, hi, horizon, cutoff, tol, depth, &mut plain);
+                        let found = if summary.excludes(lo, hi, cutoff.min(horizon), horizon) {
+                            None
+                        } else {
+                            searches += 1;
+                            gap.first_exit_summarized(
+                                &summary,
+                                lo,
+                                hi,
+                                horizon,
+                                cutoff,
+                                tol,
+                                depth,
+                                &mut summarised,
+                            )
+                        };
+                        // Exits after the cutoff may or may not be reported.
+                        let keep = |e: Option<(f64, i8)>| e.filter(|&(s, _)| s <= cutoff);
+                        match (keep(expected), keep(found)) {
+                            (None, None) => {}
+                            (Some((a, sa)), Some((b, sb))) => {
+                                exits += 1;
+                                assert_eq!(sa, sb, "case {case}: side");
+                                assert!((a - b).abs() <= 4.0 * tol, "case {case}: {a} vs {b}");
+                            }
+                            (a, b) => panic!("case {case}: {a:?} vs {b:?}"),
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            exits > 1000 && searches > 2000,
+            "{exits} exits, {searches} searches"
+        );
     }
 
     #[test]

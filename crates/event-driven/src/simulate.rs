@@ -1402,10 +1402,11 @@ impl<'m> Engine<'m> {
         let mut step = f64::INFINITY;
         // Every pair's gap, then the searches in the order of their quadratic estimates: the
         // likely first contact is found first and cuts the others' horizons short. With
-        // several pairs, each gap is first only summarised (the sums the search's first tests
-        // form, from the same products): a pair those tests exclude up to the earliest
-        // contact found is decided without writing its terms out, as its search would decide
-        // it.
+        // several pairs, each gap is first only summarised (the sums of the summarised
+        // search's first tests): a pair those tests exclude up to the earliest contact found is
+        // decided without writing its terms out, as its search would decide it. (The order
+        // decides only how much is searched: each pair is searched up to the earliest contact
+        // found before it, so the contact found is the same in any order, ties aside.)
         let several = watched.size_hint().0 > 1;
         // `joint` lists the watched pairs' functionals in their order: then every summary is
         // formed in one pass.
@@ -1421,66 +1422,73 @@ impl<'m> Engine<'m> {
             }
             let spec = &pairs[i].spec;
             let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
-            let summary = if joint {
-                Some(work.joint[count])
-            } else if several {
-                flight.summarize(functional, horizon)
+            // The joint summaries are read where they were formed (not copied).
+            let estimate = if joint {
+                work.joint[count].estimated_exit(lo, hi)
             } else {
-                None
-            };
-            work.summaries[count] = summary;
-            let estimate = match summary {
-                Some(summary) => summary.estimated_exit(lo, hi),
-                None => {
-                    let gap = &mut work.gaps[count];
-                    flight.expand(functional, gap);
-                    gap.estimated_exit(lo, hi)
+                let summary = several
+                    .then(|| flight.summarize(functional, horizon))
+                    .flatten();
+                work.summaries[count] = summary;
+                match summary {
+                    Some(summary) => summary.estimated_exit(lo, hi),
+                    None => {
+                        let gap = &mut work.gaps[count];
+                        flight.expand(functional, gap);
+                        gap.estimated_exit(lo, hi)
+                    }
                 }
             };
             work.order.push((estimate, count, i, lo, hi));
         }
         work.order
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        for &(_, slot, i, lo, hi) in &work.order {
+        let Scratch {
+            gaps,
+            summaries,
+            joint: joint_summaries,
+            order,
+            stack,
+            event_exponentials,
+            ..
+        } = work;
+        for &(_, slot, i, lo, hi) in order.iter() {
             // Only a contact before the earliest found so far matters: search up to it.
             let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
-            let found = if let Some(summary) = work.summaries[slot] {
+            let summary = if joint {
+                joint_summaries.get(slot)
+            } else {
+                summaries[slot].as_ref()
+            };
+            let found = if let Some(summary) = summary {
                 if summary.excludes(lo, hi, within, horizon) {
                     continue;
                 }
                 if let Some((_, functional, _)) = watched.clone().nth(slot) {
-                    flight.expand(functional, &mut work.gaps[slot]);
+                    flight.expand(functional, &mut gaps[slot]);
                 }
-                // The search's own first tests are this summary's: not formed again.
-                work.gaps[slot].first_exit_summarized(
-                    &summary,
+                // The search's own first tests are this summary's, just made: not made again.
+                gaps[slot].first_exit_summarized(
+                    summary,
                     lo,
                     hi,
                     horizon,
                     within,
                     time_tolerance,
                     depth,
-                    &mut work.stack,
+                    stack,
                 )
             } else {
-                work.gaps[slot].first_exit_until(
-                    lo,
-                    hi,
-                    horizon,
-                    within,
-                    time_tolerance,
-                    depth,
-                    &mut work.stack,
-                )
+                gaps[slot].first_exit_until(lo, hi, horizon, within, time_tolerance, depth, stack)
             };
             if let Some((s, side)) = found {
                 if tau + s < grace[i] {
                     step = step.min(grace[i] - tau);
                 } else if contact.is_none_or(|c| s < c.s || (s == c.s && i < c.pair)) {
                     contact = Some(Contact { s, pair: i, side });
-                    work.event_exponentials.clear();
-                    if let Some(e) = work.stack.exponentials_at(s) {
-                        work.event_exponentials.extend_from_slice(e);
+                    event_exponentials.clear();
+                    if let Some(e) = stack.exponentials_at(s) {
+                        event_exponentials.extend_from_slice(e);
                     }
                 }
             }
