@@ -451,8 +451,13 @@ fn simulate<'py>(
     let lyapunov = lyapunov_periods.map(lyapunov_args).transpose()?;
     let scene = &scene.scene;
     let (record, tables, exponents) = compute(py, || {
-        let sim =
-            simulate_scene(scene, omega, &rattle_compare::scene::simulator::rest(scene), &options).map_err(|e| e.to_string())?;
+        let sim = simulate_scene(
+            scene,
+            omega,
+            &rattle_compare::scene::simulator::rest(scene),
+            &options,
+        )
+        .map_err(|e| e.to_string())?;
         let tables: Option<Tables> = match samples {
             None => None,
             Some(samples_per_period) => {
@@ -737,6 +742,10 @@ fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
             "linear_touches_stops",
             flag(rows, |r| r.linear_touches_stops),
         ),
+        (
+            "linear_cell_outer_amplitudes",
+            text(rows, |r| r.linear_cell_outer_amplitudes.clone()),
+        ),
         ("orbits", count(rows, |r| r.orbits.map(small))),
         (
             "stable_viable_orbits",
@@ -778,8 +787,16 @@ fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
             number(rows, |r| r.simulated_impacts_per_period),
         ),
         (
+            "simulated_pair_impacts_per_period",
+            text(rows, |r| r.simulated_pair_impacts_per_period.clone()),
+        ),
+        (
             "simulated_outer_amplitude",
             number(rows, |r| r.simulated_outer_amplitude),
+        ),
+        (
+            "simulated_cell_outer_amplitudes",
+            text(rows, |r| r.simulated_cell_outer_amplitudes.clone()),
         ),
         (
             "simulated_transmittance_db",
@@ -802,6 +819,10 @@ fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
         (
             "analytic_outer_amplitude",
             number(rows, |r| r.analytic_outer_amplitude),
+        ),
+        (
+            "analytic_cell_outer_amplitudes",
+            text(rows, |r| r.analytic_cell_outer_amplitudes.clone()),
         ),
         ("analytic_viable", flag(rows, |r| r.analytic_viable)),
         ("analytic_stable", flag(rows, |r| r.analytic_stable)),
@@ -918,9 +939,6 @@ fn sweep(
     let solver = solver(solver_name)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
-    if solver == Solver::Both {
-        unit_only(scene, "rattle.sweep(solver=\"both\")")?;
-    }
     let rows = compute(py, || {
         // The command's own row builder (with the Lyapunov columns), rows kept in order.
         let mut rows = Vec::with_capacity(omegas.len());

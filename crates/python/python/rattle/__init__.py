@@ -383,7 +383,13 @@ class Sweep:
       command writes ``null`` (a cell that does not apply, or a number that is not finite);
     - flags (``branch0_stable``…): ``bool``, ``False`` where the command writes ``null``
       (the matching number column is NaN there);
-    - words (``simulated_regime``, ``class``, ``error``…): ``object``, ``str`` or ``None``.
+    - words (``simulated_regime``, ``class``, ``error``…): ``object``, ``str`` or ``None``;
+    - lists of numbers (``linear_cell_outer_amplitudes``, ``simulated_cell_outer_amplitudes``,
+      ``analytic_cell_outer_amplitudes``: every cell's outer amplitude from the base out;
+      ``simulated_pair_impacts_per_period``: each contact pair's impacts per period): one
+      ``str`` per row as the command writes it, the numbers separated by ``;`` (an empty
+      element where one is not finite), or ``None``; one element for a single unit. Read one
+      with ``[float(x) if x else math.nan for x in cell.split(";")]``.
 
     :meth:`to_dict` is the command's JSON document (with ``null`` kept as ``None``),
     :meth:`to_pandas` a DataFrame of the columns when pandas is installed.
@@ -572,6 +578,11 @@ def sweep(
     (linear steady state and symmetric orbits), ``"event"`` (simulator from rest) or
     ``"both"`` (also the simulator started on every viable orbit, and a verdict). A frequency
     that fails gives a row with its ``error``, as in the command. Returns a :class:`Sweep`.
+
+    On a chain of cells: ``"analytic"`` is the linear chain, ``"event"`` the chain from rest,
+    ``"both"`` the linear chain and, at each frequency, the verdict of
+    ``rattle compare CHAIN``; ``outer_amplitude`` and ``transmittance_db`` columns are the
+    last cell's, the list columns hold every cell and pair.
     """
     omegas = _np.ascontiguousarray(omegas, dtype=_np.float64)
     if omegas.ndim != 1:
