@@ -24,6 +24,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
+use rattle_compare::cli::compare::chain_record;
+use rattle_compare::cli::orbit::chain_orbits;
 use rattle_compare::cli::simulate::{lyapunov_record, LyapunovArgs, WithLyapunov};
 use rattle_compare::cli::{Accuracy, RattleError, MAX_SAMPLES_PER_PERIOD};
 use rattle_compare::output::records::{
@@ -41,6 +43,7 @@ use rattle_compare::scene::analytic::{
 };
 use rattle_compare::scene::simulator::{model, run as simulate_scene};
 use rattle_compare::scene::{Scene, SceneError};
+use rattle_compare::verdict::chain::chain_cross_check;
 use rattle_compare::verdict::{cross_check, CrossCheck};
 use rattle_event_driven::lyapunov::BATCHES;
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
@@ -288,7 +291,8 @@ fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 }
 
 /// `rattle orbit --json`: the linear steady state and every two-impact orbit, or, with a
-/// signature, every orbit of that signature.
+/// signature, every orbit of that signature; on a chain (with a signature only, as the
+/// command), every orbit of that impact sequence of its pairs.
 #[pyfunction]
 #[pyo3(signature = (scene, omega, signature=None, period=1, symmetric_only=false))]
 fn orbit(
@@ -300,8 +304,10 @@ fn orbit(
     symmetric_only: bool,
 ) -> PyResult<String> {
     let omega = check_omega("omega", omega)?;
-    unit_only(&scene.scene, "rattle.orbit")?;
     let scene = &scene.scene;
+    if scene.is_chain() {
+        return chain_orbit(py, scene, omega, signature, period, symmetric_only);
+    }
     let Some(text) = signature else {
         if period != 1 {
             return Err(PyValueError::new_err(
@@ -352,6 +358,42 @@ fn orbit(
         })
     })?;
     json(&record)
+}
+
+/// [`orbit`] on a chain: `rattle orbit --signature SEQUENCE --period P --json`; without a
+/// signature, the command's refusal of a chain.
+fn chain_orbit(
+    py: Python<'_>,
+    scene: &Scene,
+    omega: f64,
+    signature: Option<&str>,
+    period: i64,
+    symmetric_only: bool,
+) -> PyResult<String> {
+    let Some(text) = signature else {
+        unit_only(scene, "rattle.orbit(signature=None)")?;
+        return Err(PyValueError::new_err(
+            "signature: a chain's orbits are those of an impact sequence of its pairs",
+        ));
+    };
+    if symmetric_only {
+        return Err(PyValueError::new_err(
+            "symmetric_only and signature exclude each other",
+        ));
+    }
+    let period = u32::try_from(period).unwrap_or(0);
+    let record = compute(py, || Ok(chain_orbits(scene, omega, text, period)))?
+        .map_err(|e| rattle_error(&e))?;
+    json(&record)
+}
+
+/// The command's error as the matching Python exception: bad input a `ValueError` (options
+/// named as the Python parameters), a numerical failure a `RuntimeError`.
+fn rattle_error(error: &RattleError) -> PyErr {
+    match error {
+        RattleError::Numerical(_) => PyRuntimeError::new_err(error.to_string()),
+        _ => PyValueError::new_err(python_names(&error.to_string())),
+    }
 }
 
 /// `samples_per_period` if in the command's range `[1, MAX_SAMPLES_PER_PERIOD]`; else the
@@ -661,7 +703,9 @@ fn cross_check_record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
     rattle_compare::cli::compare::record(scene, c)
 }
 
-/// `rattle compare --json`: both solvers on the motion the unit settles on.
+/// `rattle compare --json`: both solvers on the motion the unit settles on; on a chain, the
+/// simulated cycle beside the analytic orbit of its impact sequence (the command's chain
+/// record).
 #[pyfunction]
 #[pyo3(signature = (scene, omega, tol, steady_tol, max_periods, max_oscillations))]
 fn compare(
@@ -674,9 +718,16 @@ fn compare(
     max_oscillations: f64,
 ) -> PyResult<String> {
     let omega = check_omega("omega", omega)?;
-    unit_only(&scene.scene, "rattle.compare")?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
+    if scene.is_chain() {
+        let record = compute(py, || {
+            chain_cross_check(scene, omega, &options)
+                .map(|c| chain_record(scene, &c))
+                .map_err(|e| e.to_string())
+        })?;
+        return json(&record);
+    }
     let record = compute(py, || {
         cross_check(scene, omega, &options)
             .map(|c| cross_check_record(scene, &c))

@@ -262,15 +262,38 @@ fn chain_run(
     text: &str,
     args: &OrbitArgs,
 ) -> Result<String, RattleError> {
-    let sequence = ImpactSequence::parse(text, args.period)
-        .map_err(|e| RattleError::Argument(e.to_string()))?;
     if args.trajectory.trajectory.is_some() {
+        ImpactSequence::parse(text, args.period)
+            .map_err(|e| RattleError::Argument(e.to_string()))?;
         return Err(RattleError::Argument(
             "--trajectory: sampling a chain's orbit is not available yet (its orbit's states \
              at every impact are in --json)"
                 .into(),
         ));
     }
+    let record = chain_orbits(scene, omega, text, args.period)?;
+    if args.common.json {
+        return pretty(&record);
+    }
+    chain_table(scene, omega, &record)
+}
+
+/// What `rattle orbit --signature SEQUENCE --period P --json` prints for the chain `scene` at
+/// `omega`: every orbit of the impact sequence `text` (`<pair><side>` tokens, e.g.
+/// `0+ 1- 0- 1+`) over `period` forcing periods.
+///
+/// # Errors
+/// [`RattleError::Argument`] naming `--signature` or `--period` for a sequence that does not
+/// parse, or names a pair the chain does not have, or a cell without stops;
+/// [`RattleError::Numerical`] when the analytic solver fails.
+pub fn chain_orbits(
+    scene: &Scene,
+    omega: f64,
+    text: &str,
+    period: u32,
+) -> Result<ChainOrbitsRecord, RattleError> {
+    let sequence =
+        ImpactSequence::parse(text, period).map_err(|e| RattleError::Argument(e.to_string()))?;
     let model = chain_model(scene).map_err(|j| {
         RattleError::Argument(format!(
             "--signature: cell {j} of scene '{}' has no `stops`: a chain's orbits need stops \
@@ -283,16 +306,21 @@ fn chain_run(
         .map_err(|e| RattleError::Argument(e.to_string()))?;
     let orbits = sequence_orbits(&model, omega, &sequence)
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let record = ChainOrbitsRecord {
+    Ok(ChainOrbitsRecord {
         at: At::new(scene, omega),
         cells: scene.cell_count(),
         sequence: sequence.to_string(),
         period: sequence.period(),
         orbits,
-    };
-    if args.common.json {
-        return pretty(&record);
-    }
+    })
+}
+
+/// The table `rattle orbit --signature` prints for a chain's `record`.
+fn chain_table(
+    scene: &Scene,
+    omega: f64,
+    record: &ChainOrbitsRecord,
+) -> Result<String, RattleError> {
     let mut out = heading(scene, omega);
     let _ = writeln!(
         out,
