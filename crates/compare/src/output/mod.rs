@@ -32,11 +32,12 @@ pub fn finite(x: f64) -> Option<f64> {
 /// A list of numbers as one table cell (a cell holds one value in every format): the numbers
 /// separated by `;`, each written as the table writes a number (`0.25;1e-7`), an empty
 /// element where one is not finite (`0.25;;1.5`); `None` (an empty cell, `null`) for an empty
-/// list. One cell of a one-cell scene is a one-element list, `0.25`. It loads with
+/// list or one without a finite number, as a number column writes a number that is not
+/// finite. One cell of a one-cell scene is a one-element list, `0.25`. It loads with
 /// `[float(x) if x else float("nan") for x in cell.split(";")]` (Python) or
 /// `str2double(split(cell, ";"))` (MATLAB).
 pub fn number_list(values: &[f64]) -> Option<String> {
-    if values.is_empty() {
+    if !values.iter().any(|x| x.is_finite()) {
         return None;
     }
     Some(
@@ -268,6 +269,8 @@ mod tests {
     #[test]
     fn a_list_is_one_cell_of_numbers_as_the_tables_write_them() {
         assert_eq!(number_list(&[]), None);
+        assert_eq!(number_list(&[f64::NAN]), None);
+        assert_eq!(number_list(&[f64::INFINITY, f64::INFINITY]), None);
         assert_eq!(number_list(&[0.25]).as_deref(), Some("0.25"));
         assert_eq!(
             number_list(&[1.0, 1e-7, f64::NAN, f64::INFINITY, 1.5]).as_deref(),

@@ -419,7 +419,8 @@ class Sweep:
       ``analytic_cell_outer_amplitudes``: every cell's outer amplitude from the base out;
       ``simulated_pair_impacts_per_period``: each contact pair's impacts per period): one
       ``str`` per row as the command writes it, the numbers separated by ``;`` (an empty
-      element where one is not finite), or ``None``; one element for a single unit. Read one
+      element where one is not finite), or ``None`` (no finite number, or not applying); one
+      element for a single unit. Read one
       with ``[float(x) if x else math.nan for x in cell.split(";")]``.
 
     :meth:`to_dict` is the command's JSON document (with ``null`` kept as ``None``),
