@@ -15,14 +15,14 @@ use rattle_event_driven::SimulationOptions;
 /// Which solver a sweep runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Solver {
-    /// The closed-form solver: linear steady state and symmetric two-impact orbits.
+    /// The closed-form solver: linear steady state and symmetric two-impact orbits (on a
+    /// chain: the linear chain).
     Analytic,
     /// The event-driven simulator from rest.
     Event,
     /// Both: the simulator from rest beside the analytic orbit of its signature (any
     /// signature), the simulator also started on every viable symmetric orbit, and a verdict.
-    /// On a chain: the linear chain, and the verdict of `rattle compare` on the chain
-    /// ([`chain_cross_check`]).
+    /// On a chain: the linear chain, and the verdict of `rattle compare` on the chain.
     Both,
 }
 
