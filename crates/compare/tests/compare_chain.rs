@@ -264,3 +264,87 @@ fn bad_input_exits_2_naming_the_field() {
         assert!(err.contains(field), "{args:?}: {err}");
     }
 }
+
+/// `rattle sweep FILE --solver both … --out OUT` on `scene`, read back as JSON rows.
+fn sweep_both(scene: &Path, lo: f64, hi: f64, points: usize, out: &str) -> Vec<Value> {
+    let out = scene_file(out, "");
+    let (lo, hi, points) = (lo.to_string(), hi.to_string(), points.to_string());
+    let run = rattle(&[
+        "sweep",
+        scene.to_str().expect("a UTF-8 path"),
+        "--solver",
+        "both",
+        "--omega-min",
+        &lo,
+        "--omega-max",
+        &hi,
+        "--points",
+        &points,
+        "--out",
+        out.to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let text = std::fs::read_to_string(&out).expect("the sweep is written");
+    let doc: Value = serde_json::from_str(&text).expect("one JSON document");
+    assert_eq!(doc["solver"], "both");
+    doc["results"].as_array().expect("rows").clone()
+}
+
+#[test]
+fn a_chain_sweep_with_both_solvers_gives_each_frequency_the_verdict_of_compare() {
+    // ω = 0.5, 0.9, 1.3, 1.7 on the 2-cell chain: clear of the stops, sticking,
+    // non-periodic and `+-` in both cells (the frequencies of the tests above), so that the
+    // rows cover agreements and motions beyond exact comparison.
+    let scene = chain_scene(2);
+    let rows = sweep_both(&scene, 0.5, 1.7, 4, "sweep-both-2.json");
+    assert_eq!(rows.len(), 4);
+    let mut classes = Vec::new();
+    for row in &rows {
+        assert_eq!(row["error"], Value::Null, "{row:#}");
+        let omega = row["omega"].as_f64().expect("a frequency");
+        let doc = compare(&scene, omega);
+        let sim = &doc["simulated"];
+        // The same computation: the same numbers, bit for bit.
+        for (column, field) in [
+            (&row["class"], &doc["class"]),
+            (&row["class_detail"], &doc["class_detail"]),
+            (&row["relative_difference"], &doc["relative_difference"]),
+            (&row["multiplier_difference"], &doc["multiplier_difference"]),
+            (&row["simulated_status"], &sim["status"]),
+            (&row["simulated_period"], &sim["period"]),
+            (&row["simulated_outer_amplitude"], &sim["outer_amplitude"]),
+            (
+                &row["simulated_impacts_per_period"],
+                &sim["impacts_per_period"],
+            ),
+        ] {
+            assert_eq!(column, field, "ω = {omega}: {row:#}\n{doc:#}");
+        }
+        match doc["analytic"].as_object() {
+            Some(a) => {
+                assert_eq!(row["analytic_outer_amplitude"], a["outer_amplitude"]);
+                assert_eq!(row["analytic_viable"], a["viable"]);
+                assert_eq!(row["analytic_stable"], a["stable"]);
+                assert_eq!(row["analytic_energy_residual"], a["energy_residual"]);
+            }
+            None => assert_eq!(row["analytic_outer_amplitude"], Value::Null),
+        }
+        // The linear chain's last cell, as `rattle sweep --solver analytic` gives it.
+        assert!(row["linear_outer_amplitude"].is_f64(), "{row:#}");
+        assert_eq!(
+            row["orbits"],
+            Value::Null,
+            "a chain's orbits are not searched"
+        );
+        assert_eq!(row["matched"].is_string(), doc["class"] == "agreement");
+        classes.push(doc["class"].as_str().expect("a class").to_owned());
+    }
+    assert!(
+        classes.iter().any(|c| c != &classes[0]),
+        "the frequencies should give more than one class: {classes:?}"
+    );
+}

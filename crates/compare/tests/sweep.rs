@@ -258,3 +258,41 @@ fn merged_shards_are_byte_identical_to_the_unsharded_sweep() {
         Shard::parse("0/3").is_err() && Shard::parse("4/3").is_err() && Shard::parse("x").is_err()
     );
 }
+
+#[test]
+fn a_chain_of_one_cell_sweeps_as_the_unit() {
+    let unit = Scene::paper();
+    let omegas = Axis::new(0.5, 3.5, 5).values();
+    let rows = |scene: &Scene, solver: Solver| {
+        let mut rows = Vec::new();
+        sweep_rows(
+            scene,
+            &omegas,
+            solver,
+            &options(),
+            &Progress::hidden(),
+            |row| {
+                rows.push(row);
+                Ok::<(), std::convert::Infallible>(())
+            },
+        )
+        .unwrap();
+        rows
+    };
+    for (field, value) in [
+        ("cells", serde_json::json!(1)),
+        ("chain", serde_json::json!([{}])),
+    ] {
+        let mut doc = serde_json::to_value(&unit).unwrap();
+        doc[field] = value;
+        let scene = Scene::parse(&doc.to_string(), "one-cell").unwrap();
+        assert_eq!(scene.cell_count(), 1);
+        for solver in [Solver::Analytic, Solver::Event, Solver::Both] {
+            assert_eq!(
+                rows(&scene, solver),
+                rows(&unit, solver),
+                "{field}, {solver:?}"
+            );
+        }
+    }
+}

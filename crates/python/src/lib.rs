@@ -24,6 +24,8 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
+use rattle_compare::cli::compare::chain_record;
+use rattle_compare::cli::orbit::{chain_linear_model, chain_orbits};
 use rattle_compare::cli::simulate::{lyapunov_record, LyapunovArgs, WithLyapunov};
 use rattle_compare::cli::{Accuracy, RattleError, MAX_SAMPLES_PER_PERIOD};
 use rattle_compare::output::records::{
@@ -37,10 +39,11 @@ use rattle_compare::runs::continuation::{follow, FollowError};
 use rattle_compare::runs::parallel::Progress;
 use rattle_compare::runs::sweep::{header, sweep_rows, Solver, SweepRow};
 use rattle_compare::scene::analytic::{
-    analyse, orbits_of_signature, sample_signature_orbit, OrbitSearch,
+    analyse, orbits_of_signature, sample_sequence_orbit, sample_signature_orbit, OrbitSearch,
 };
 use rattle_compare::scene::simulator::{model, run as simulate_scene};
 use rattle_compare::scene::{Scene, SceneError};
+use rattle_compare::verdict::chain::chain_cross_check;
 use rattle_compare::verdict::{cross_check, CrossCheck};
 use rattle_event_driven::lyapunov::BATCHES;
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
@@ -288,7 +291,8 @@ fn defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 }
 
 /// `rattle orbit --json`: the linear steady state and every two-impact orbit, or, with a
-/// signature, every orbit of that signature.
+/// signature, every orbit of that signature; on a chain (with a signature only, as the
+/// command), every orbit of that impact sequence of its pairs.
 #[pyfunction]
 #[pyo3(signature = (scene, omega, signature=None, period=1, symmetric_only=false))]
 fn orbit(
@@ -300,8 +304,10 @@ fn orbit(
     symmetric_only: bool,
 ) -> PyResult<String> {
     let omega = check_omega("omega", omega)?;
-    unit_only(&scene.scene, "rattle.orbit")?;
     let scene = &scene.scene;
+    if scene.is_chain() {
+        return chain_orbit(py, scene, omega, signature, period, symmetric_only);
+    }
     let Some(text) = signature else {
         if period != 1 {
             return Err(PyValueError::new_err(
@@ -352,6 +358,42 @@ fn orbit(
         })
     })?;
     json(&record)
+}
+
+/// [`orbit`] on a chain: `rattle orbit --signature SEQUENCE --period P --json`; without a
+/// signature, the command's refusal of a chain.
+fn chain_orbit(
+    py: Python<'_>,
+    scene: &Scene,
+    omega: f64,
+    signature: Option<&str>,
+    period: i64,
+    symmetric_only: bool,
+) -> PyResult<String> {
+    let Some(text) = signature else {
+        unit_only(scene, "rattle.orbit(signature=None)")?;
+        return Err(PyValueError::new_err(
+            "signature: a chain's orbits are those of an impact sequence of its pairs",
+        ));
+    };
+    if symmetric_only {
+        return Err(PyValueError::new_err(
+            "symmetric_only and signature exclude each other",
+        ));
+    }
+    let period = u32::try_from(period).unwrap_or(0);
+    let record = compute(py, || Ok(chain_orbits(scene, omega, text, period)))?
+        .map_err(|e| rattle_error(&e))?;
+    json(&record)
+}
+
+/// The command's error as the matching Python exception: bad input a `ValueError` (options
+/// named as the Python parameters), a numerical failure a `RuntimeError`.
+fn rattle_error(error: &RattleError) -> PyErr {
+    match error {
+        RattleError::Numerical(_) => PyRuntimeError::new_err(error.to_string()),
+        _ => PyValueError::new_err(python_names(&error.to_string())),
+    }
 }
 
 /// `samples_per_period` if in the command's range `[1, MAX_SAMPLES_PER_PERIOD]`; else the
@@ -456,8 +498,13 @@ fn simulate<'py>(
     let lyapunov = lyapunov_periods.map(lyapunov_args).transpose()?;
     let scene = &scene.scene;
     let (record, tables, exponents) = compute(py, || {
-        let sim =
-            simulate_scene(scene, omega, &rattle_compare::scene::simulator::rest(scene), &options).map_err(|e| e.to_string())?;
+        let sim = simulate_scene(
+            scene,
+            omega,
+            &rattle_compare::scene::simulator::rest(scene),
+            &options,
+        )
+        .map_err(|e| e.to_string())?;
         let tables: Option<Tables> = match samples {
             None => None,
             Some(samples_per_period) => {
@@ -527,9 +574,11 @@ fn orbit_trajectory<'py>(
     samples_per_period: i64,
 ) -> PyResult<(String, PyColumns<'py>, PyColumns<'py>)> {
     let omega = check_omega("omega", omega)?;
-    unit_only(&scene.scene, "rattle.orbit_trajectory")?;
     let samples = check_samples(samples_per_period)?;
     let period = u32::try_from(period).unwrap_or(0);
+    if scene.scene.is_chain() {
+        return chain_orbit_trajectory(py, &scene.scene, omega, signature, period, orbit, samples);
+    }
     let signature = Signature::parse(signature, period)
         .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
     let scene = &scene.scene;
@@ -545,7 +594,13 @@ fn orbit_trajectory<'py>(
             .and_then(|k| orbits.get(k))
             .map(|o| {
                 let (samples, impacts) = sample_signature_orbit(scene, o, samples);
-                analytic_rows(&samples, &impacts, omega, scene.base.amplitude, &scene.cell_pairs())
+                analytic_rows(
+                    &samples,
+                    &impacts,
+                    omega,
+                    scene.base.amplitude,
+                    &scene.cell_pairs(),
+                )
             });
         let record = SignatureOrbitsRecord {
             at: At::new(scene, omega),
@@ -559,6 +614,54 @@ fn orbit_trajectory<'py>(
         return Err(PyValueError::new_err(format!(
             "orbit = {orbit} is out of range: {} orbit(s) of {signature} at ω = {omega}, numbered from 0",
             record.orbits.len()
+        )));
+    };
+    Ok((
+        json(&record)?,
+        trajectory_columns(py, &rows),
+        impact_columns(py, &impacts),
+    ))
+}
+
+/// [`orbit_trajectory`] on a chain: the orbits of the impact sequence `sequence`, as
+/// `rattle orbit CHAIN --signature SEQUENCE --orbit K --trajectory F --impacts I --json`.
+fn chain_orbit_trajectory<'py>(
+    py: Python<'py>,
+    scene: &Scene,
+    omega: f64,
+    sequence: &str,
+    period: u32,
+    orbit: i64,
+    samples_per_period: u64,
+) -> PyResult<(String, PyColumns<'py>, PyColumns<'py>)> {
+    let (record, tables) = compute(py, || {
+        Ok(
+            chain_orbits(scene, omega, sequence, period).and_then(|record| {
+                let model = chain_linear_model(scene)?;
+                let tables = usize::try_from(orbit)
+                    .ok()
+                    .and_then(|k| record.orbits.get(k))
+                    .map(|o| {
+                        let (samples, impacts) =
+                            sample_sequence_orbit(&model, o, samples_per_period);
+                        analytic_rows(
+                            &samples,
+                            &impacts,
+                            omega,
+                            scene.base.amplitude,
+                            &scene.cell_pairs(),
+                        )
+                    });
+                Ok((record, tables))
+            }),
+        )
+    })?
+    .map_err(|e| rattle_error(&e))?;
+    let Some((rows, impacts)) = tables else {
+        return Err(PyValueError::new_err(format!(
+            "orbit = {orbit} is out of range: {} orbit(s) of {} at ω = {omega}, numbered from 0",
+            record.orbits.len(),
+            record.sequence
         )));
     };
     Ok((
@@ -661,7 +764,9 @@ fn cross_check_record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
     rattle_compare::cli::compare::record(scene, c)
 }
 
-/// `rattle compare --json`: both solvers on the motion the unit settles on.
+/// `rattle compare --json`: both solvers on the motion the unit settles on; on a chain, the
+/// simulated cycle beside the analytic orbit of its impact sequence (the command's chain
+/// record).
 #[pyfunction]
 #[pyo3(signature = (scene, omega, tol, steady_tol, max_periods, max_oscillations))]
 fn compare(
@@ -674,9 +779,16 @@ fn compare(
     max_oscillations: f64,
 ) -> PyResult<String> {
     let omega = check_omega("omega", omega)?;
-    unit_only(&scene.scene, "rattle.compare")?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
+    if scene.is_chain() {
+        let record = compute(py, || {
+            chain_cross_check(scene, omega, &options)
+                .map(|c| chain_record(scene, &c))
+                .map_err(|e| e.to_string())
+        })?;
+        return json(&record);
+    }
     let record = compute(py, || {
         cross_check(scene, omega, &options)
             .map(|c| cross_check_record(scene, &c))
@@ -742,6 +854,10 @@ fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
             "linear_touches_stops",
             flag(rows, |r| r.linear_touches_stops),
         ),
+        (
+            "linear_cell_outer_amplitudes",
+            text(rows, |r| r.linear_cell_outer_amplitudes.clone()),
+        ),
         ("orbits", count(rows, |r| r.orbits.map(small))),
         (
             "stable_viable_orbits",
@@ -783,8 +899,16 @@ fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
             number(rows, |r| r.simulated_impacts_per_period),
         ),
         (
+            "simulated_pair_impacts_per_period",
+            text(rows, |r| r.simulated_pair_impacts_per_period.clone()),
+        ),
+        (
             "simulated_outer_amplitude",
             number(rows, |r| r.simulated_outer_amplitude),
+        ),
+        (
+            "simulated_cell_outer_amplitudes",
+            text(rows, |r| r.simulated_cell_outer_amplitudes.clone()),
         ),
         (
             "simulated_transmittance_db",
@@ -807,6 +931,10 @@ fn columns(rows: &[SweepRow]) -> Vec<(&'static str, Column)> {
         (
             "analytic_outer_amplitude",
             number(rows, |r| r.analytic_outer_amplitude),
+        ),
+        (
+            "analytic_cell_outer_amplitudes",
+            text(rows, |r| r.analytic_cell_outer_amplitudes.clone()),
         ),
         ("analytic_viable", flag(rows, |r| r.analytic_viable)),
         ("analytic_stable", flag(rows, |r| r.analytic_stable)),
@@ -923,9 +1051,6 @@ fn sweep(
     let solver = solver(solver_name)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
-    if solver == Solver::Both {
-        unit_only(scene, "rattle.sweep(solver=\"both\")")?;
-    }
     let rows = compute(py, || {
         // The command's own row builder (with the Lyapunov columns), rows kept in order.
         let mut rows = Vec::with_capacity(omegas.len());

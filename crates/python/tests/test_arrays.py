@@ -20,11 +20,21 @@ FLAG = {
     "linear_touches_stops", "branch0_viable", "branch0_stable", "branch1_viable",
     "branch1_stable", "simulated_sticking", "analytic_viable", "analytic_stable",
 }
+#: Lists of numbers, one cell each: `;`-separated text, as the command writes them.
+LIST = {
+    "linear_cell_outer_amplitudes", "simulated_pair_impacts_per_period",
+    "simulated_cell_outer_amplitudes", "analytic_cell_outer_amplitudes",
+}
 TEXT = {
     "simulated_regime", "simulated_status", "simulated_signature", "lyapunov_regime", "class",
     "class_detail",
     "matched", "error",
-}
+} | LIST
+
+
+def numbers(cell):
+    """A list column's cell as floats (NaN for an empty element)."""
+    return [float(x) if x else math.nan for x in cell.split(";")]
 
 
 @pytest.fixture(scope="module")
@@ -59,6 +69,42 @@ def test_columns_hold_the_rows_values(both):
                 assert value == bool(cell), name
             else:
                 assert value == cell, name
+
+
+def test_a_units_lists_hold_its_one_cell_and_pair(both):
+    # The paper scene is one cell with one contact pair: each list is its scalar column.
+    for lists, scalar in [
+        ("linear_cell_outer_amplitudes", "linear_outer_amplitude"),
+        ("simulated_cell_outer_amplitudes", "simulated_outer_amplitude"),
+        ("simulated_pair_impacts_per_period", "simulated_impacts_per_period"),
+        ("analytic_cell_outer_amplitudes", "analytic_outer_amplitude"),
+    ]:
+        for cell, value in zip(both.columns[lists], both.columns[scalar]):
+            if cell is None:
+                assert math.isnan(value), lists
+            else:
+                assert numbers(cell) == [value], lists
+
+
+def test_a_chains_lists_hold_every_cell_and_pair():
+    chain = rattle.Scene.from_dict({
+        "name": "two",
+        "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0,
+                 "inner_stiffness": 3.0},
+        "base": {"amplitude": 1.0},
+        "stops": {"gap": 0.5, "restitution": 0.8},
+        "damping": {"outer": 0.1, "inner": 0.05},
+        "cells": 2,
+    })
+    s = rattle.sweep(chain, [0.5, 1.7], solver="both")
+    for i in range(len(s)):
+        cells = numbers(s.simulated_cell_outer_amplitudes[i])
+        assert len(cells) == 2 and cells[-1] == s.simulated_outer_amplitude[i]
+        pairs = numbers(s.simulated_pair_impacts_per_period[i])
+        assert len(pairs) == 2
+        assert math.isclose(sum(pairs), s.simulated_impacts_per_period[i], rel_tol=1e-15)
+        linear = numbers(s.linear_cell_outer_amplitudes[i])
+        assert len(linear) == 2 and linear[-1] == s.linear_outer_amplitude[i]
 
 
 def test_columns_are_attributes(both):

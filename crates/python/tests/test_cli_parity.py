@@ -198,8 +198,66 @@ def test_single_unit_functions_refuse_a_chain_by_name():
     chain = rattle.Scene.from_file(SCENES / "paper-graded-4.json")
     for call in (
         lambda: rattle.orbit(chain, 2.0),
-        lambda: rattle.compare(chain, 2.0),
-        lambda: rattle.sweep(chain, [1.0, 2.0], solver="both"),
+        lambda: rattle.continue_branch(chain, "+-", 2.0, 1.5, 2.5),
     ):
         with pytest.raises(ValueError, match="chain of 4 cells"):
             call()
+
+
+#: Two of the paper's cells in series, lightly damped as `data/scenes/paper-chain-5.json`.
+TWO_CELLS = {
+    "name": "two",
+    "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0,
+             "inner_stiffness": 3.0},
+    "base": {"amplitude": 1.0},
+    "stops": {"gap": 0.5, "restitution": 0.8},
+    "damping": {"outer": 0.1, "inner": 0.05},
+    "cells": 2,
+}
+
+
+@pytest.fixture(scope="module")
+def two_cells(tmp_path_factory):
+    path = tmp_path_factory.mktemp("chain") / "two.json"
+    path.write_text(json.dumps(TWO_CELLS))
+    return path
+
+
+@pytest.mark.parametrize("sequence, period, omega", [("1- 0- 1+ 0+", 1, 3.3), ("0+ 0-", 1, 2.0)])
+def test_orbit_of_a_sequence_on_a_chain_is_the_commands(rattle_cli, two_cells, sequence, period, omega):
+    scene = rattle.Scene.from_file(two_cells)
+    ours = rattle.orbit(scene, omega, signature=sequence, period=period)
+    theirs = rattle_cli.json(
+        "orbit", two_cells, "--omega", omega, "--signature", sequence, "--period", period
+    )
+    assert ours.to_dict() == theirs
+    assert ours.cells == 2 and ours.sequence == theirs["sequence"]
+
+
+def test_a_bad_sequence_on_a_chain_is_the_commands_error(rattle_cli, two_cells):
+    scene = rattle.Scene.from_file(two_cells)
+    theirs = rattle_cli.error("orbit", two_cells, "--omega", 2.0, "--signature", "2+ 2-")
+    with pytest.raises(ValueError) as ours:
+        rattle.orbit(scene, 2.0, signature="2+ 2-")
+    assert str(ours.value) == theirs.replace("--signature", "signature")
+
+
+@pytest.mark.parametrize("omega", [0.5, 1.7])
+def test_compare_on_a_chain_is_the_commands(rattle_cli, two_cells, omega):
+    ours = rattle.compare(rattle.Scene.from_file(two_cells), omega)
+    theirs = rattle_cli.json("compare", two_cells, "--omega", omega)
+    assert ours.to_dict() == theirs
+    assert ours.cells == 2 and ours.class_ == theirs["class"]
+    assert len(ours.simulated.cell_outer_amplitudes) == 2
+
+
+def test_sweep_both_on_a_chain_is_the_commands(rattle_cli, two_cells, tmp_path):
+    out = tmp_path / "sweep.json"
+    code, _, err = rattle_cli.run(
+        "sweep", two_cells, "--omega-min", 0.5, "--omega-max", 1.7, "--points", 2,
+        "--solver", "both", "--out", out,
+    )
+    assert code == 0, err
+    theirs = json.loads(out.read_text())
+    ours = rattle.sweep(rattle.Scene.from_file(two_cells), rattle.frequencies(0.5, 1.7, 2))
+    assert ours.to_dict() == theirs

@@ -5,6 +5,7 @@ relative displacement stays within the stops, and each impact reverses the relat
 scaled by the restitution."""
 
 import csv
+import json
 
 import numpy as np
 import pytest
@@ -140,6 +141,42 @@ def test_orbit_trajectory_is_the_commands(rattle_cli, tmp_path, signature, perio
     assert ours.orbit.to_dict() == theirs["orbits"][k] and ours.index == k
     assert_table_is_the_files(ours.trajectory, f, TRAJECTORY_COLUMNS, {"kind"})
     assert_table_is_the_files(ours.impact_table, i, IMPACT_COLUMNS, set())
+
+
+#: Two of the paper's cells in series, undamped: the sequence `0+ 1- 0- 1+` has a viable orbit
+#: at ω = 3.3 (`rattle orbit CHAIN --omega 3.3 --signature "0+ 1- 0- 1+"`).
+TWO_CELLS = {
+    "name": "two",
+    "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0,
+             "inner_stiffness": 3.0},
+    "base": {"amplitude": 1.0},
+    "stops": {"gap": GAP, "restitution": RESTITUTION},
+    "cells": 2,
+}
+
+
+def test_a_chains_orbit_trajectory_is_the_commands(rattle_cli, tmp_path):
+    path = tmp_path / "two.json"
+    path.write_text(json.dumps(TWO_CELLS))
+    f, i = tmp_path / "f.csv", tmp_path / "i.csv"
+    theirs = rattle_cli.json(
+        "orbit", path, "--omega", 3.3, "--signature", "0+ 1- 0- 1+", "--orbit", 0,
+        "--trajectory", f, "--impacts", i, "--samples-per-period", 64,
+    )
+    ours = rattle.orbit_trajectory(
+        rattle.Scene.from_dict(TWO_CELLS), 3.3, "0+ 1- 0- 1+", orbit=0, samples_per_period=64
+    )
+    assert isinstance(ours.orbits, rattle.ChainOrbits)
+    assert ours.orbits.to_dict() == theirs
+    assert_table_is_the_files(ours.trajectory, f, TRAJECTORY_COLUMNS, {"kind"})
+    assert_table_is_the_files(ours.impact_table, i, IMPACT_COLUMNS, set())
+    t = ours.trajectory
+    assert sorted(set(t.cell.tolist())) == [0, 1]
+    assert sorted(set(ours.impact_table.pair.tolist())) == [0, 1]
+    # Within the stops (the closed form reaches the gap up to rounding) on every cell.
+    assert np.all(np.abs(t.r) <= GAP * (1 + 1e-9))
+    with pytest.raises(ValueError, match="orbit = 5 is out of range"):
+        rattle.orbit_trajectory(rattle.Scene.from_dict(TWO_CELLS), 3.3, "0+ 1- 0- 1+", orbit=5)
 
 
 def test_viable_orbit_obeys_stops_and_restitution():

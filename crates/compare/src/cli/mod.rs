@@ -48,14 +48,16 @@ pub enum Command {
     Simulate(simulate::SimulateArgs),
     /// Both solvers on the motion the unit settles on at one frequency, whatever its impact
     /// signature: the simulator from rest with its own Newton-polished cycle, the analytic
-    /// orbit of that signature solved from the simulated impact phases, and the verdict.
+    /// orbit of that signature solved from the simulated impact phases, and the verdict (on a
+    /// chain: the analytic orbit of the cycle's impact sequence of the pairs).
     Compare(compare::CompareArgs),
     /// Pseudo-arclength continuation in ω of every orbit of an impact signature found at one
     /// frequency, through folds, with its bifurcations (fold, branch point, period doubling,
     /// Neimark–Sacker, grazing, vanishing impact) and the branches they lead onto.
     Continue(continuation::ContinueArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
-    /// JSON Lines file as it runs.
+    /// JSON Lines file as it runs; on a chain, every solver (`both`: the verdict of `compare`
+    /// at every frequency).
     Sweep(sweep::SweepArgs),
     /// Joins the parts of a sharded sweep (`rattle sweep … --shard K/N`) into the file the
     /// unsharded sweep would write, byte for byte.
@@ -291,7 +293,7 @@ fn load(path: &Option<PathBuf>) -> Result<Scene, RattleError> {
 
 /// The commands that take a chain of cells so far.
 pub const CHAIN_COMMANDS: &str =
-    "`rattle simulate`, `rattle sweep --solver event` or `--solver analytic` (the linear chain), `rattle map`, `rattle orbit --signature` (a sequence of the pairs' impacts) and `rattle compare` (the simulated cycle beside the analytic orbit of its impact sequence)";
+    "`rattle simulate`, `rattle sweep` (`--solver analytic`: the linear chain; `event`; `both`: the verdict of `rattle compare` at every frequency), `rattle map`, `rattle orbit --signature` (a sequence of the pairs' impacts) and `rattle compare` (the simulated cycle beside the analytic orbit of its impact sequence)";
 
 /// The scene at `path` (or the built-in paper scene) for a command that works on a single
 /// unit only.

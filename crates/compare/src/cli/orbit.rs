@@ -5,7 +5,7 @@ use crate::output::records::{
     At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
     ViolationRecord,
 };
-use crate::output::trajectory::analytic_rows;
+use crate::output::trajectory::{analytic_rows, ImpactRow, TrajectoryRow};
 use crate::scene::analytic::{
     analyse, chain_model, orbits_of_signature, sample_sequence_orbit, sample_signature_orbit,
     OrbitImpact, OrbitSample, OrbitSearch,
@@ -117,6 +117,34 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     Ok(out)
 }
 
+/// The `--trajectory` and `--impacts` tables of the `orbit`-th of the `count` orbits of `what`
+/// (a signature or an impact sequence) of `scene` at `omega`, sampled by `sample(orbit)`.
+///
+/// # Errors
+/// [`RattleError::Argument`] naming `--orbit` when `orbit` is not below `count`.
+fn orbit_tables(
+    scene: &Scene,
+    omega: f64,
+    what: &str,
+    count: usize,
+    orbit: usize,
+    sample: impl FnOnce(usize) -> (Vec<OrbitSample>, Vec<OrbitImpact>),
+) -> Result<(Vec<TrajectoryRow>, Vec<ImpactRow>), RattleError> {
+    if orbit >= count {
+        return Err(RattleError::Argument(format!(
+            "--orbit = {orbit} is out of range: {count} orbit(s) of {what} at ω = {omega}, numbered from 0"
+        )));
+    }
+    let (samples, impacts) = sample(orbit);
+    Ok(analytic_rows(
+        &samples,
+        &impacts,
+        omega,
+        scene.base.amplitude,
+        &scene.cell_pairs(),
+    ))
+}
+
 /// With --trajectory: writes the `--orbit`-th of the `count` orbits of `what` (a signature or
 /// an impact sequence), sampled by `sample(k)`.
 ///
@@ -133,20 +161,7 @@ fn write_orbit_trajectory(
     if args.trajectory.trajectory.is_none() {
         return Ok(());
     }
-    if args.orbit >= count {
-        return Err(RattleError::Argument(format!(
-            "--orbit = {} is out of range: {count} orbit(s) of {what} at ω = {omega}, numbered from 0",
-            args.orbit
-        )));
-    }
-    let (samples, impacts) = sample(args.orbit);
-    let (rows, impacts) = analytic_rows(
-        &samples,
-        &impacts,
-        omega,
-        scene.base.amplitude,
-        &scene.cell_pairs(),
-    );
+    let (rows, impacts) = orbit_tables(scene, omega, what, count, args.orbit, sample)?;
     args.trajectory.write(rows, impacts)
 }
 
@@ -277,38 +292,81 @@ fn chain_run(
     text: &str,
     args: &OrbitArgs,
 ) -> Result<String, RattleError> {
-    let sequence = ImpactSequence::parse(text, args.period)
-        .map_err(|e| RattleError::Argument(e.to_string()))?;
-    let model = chain_model(scene).map_err(|j| {
+    let record = chain_orbits(scene, omega, text, args.period)?;
+    if args.trajectory.trajectory.is_some() {
+        let model = chain_linear_model(scene)?;
+        write_orbit_trajectory(
+            scene,
+            omega,
+            args,
+            &record.sequence,
+            record.orbits.len(),
+            |k| {
+                sample_sequence_orbit(
+                    &model,
+                    &record.orbits[k],
+                    args.trajectory.samples_per_period,
+                )
+            },
+        )?;
+    }
+    if args.common.json {
+        return pretty(&record);
+    }
+    chain_table(scene, omega, &record)
+}
+
+/// The analytic crate's model of the chain `scene`, on which [`chain_orbits`] solves.
+///
+/// # Errors
+/// [`RattleError::Argument`] naming `--signature` for a cell without stops.
+pub fn chain_linear_model(scene: &Scene) -> Result<rattle_analytic::LinearModel, RattleError> {
+    chain_model(scene).map_err(|j| {
         RattleError::Argument(format!(
             "--signature: cell {j} of scene '{}' has no `stops`: a chain's orbits need stops \
              in every cell",
             scene.name
         ))
-    })?;
+    })
+}
+
+/// What `rattle orbit --signature SEQUENCE --period P --json` prints for the chain `scene` at
+/// `omega`: every orbit of the impact sequence `text` (`<pair><side>` tokens, e.g.
+/// `0+ 1- 0- 1+`) over `period` forcing periods.
+///
+/// # Errors
+/// [`RattleError::Argument`] naming `--signature` or `--period` for a sequence that does not
+/// parse, or names a pair the chain does not have, or a cell without stops;
+/// [`RattleError::Numerical`] when the analytic solver fails.
+pub fn chain_orbits(
+    scene: &Scene,
+    omega: f64,
+    text: &str,
+    period: u32,
+) -> Result<ChainOrbitsRecord, RattleError> {
+    let sequence =
+        ImpactSequence::parse(text, period).map_err(|e| RattleError::Argument(e.to_string()))?;
+    let model = chain_linear_model(scene)?;
     sequence
         .check(&model)
         .map_err(|e| RattleError::Argument(e.to_string()))?;
     let orbits = sequence_orbits(&model, omega, &sequence)
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    write_orbit_trajectory(
-        scene,
-        omega,
-        args,
-        &sequence.to_string(),
-        orbits.len(),
-        |k| sample_sequence_orbit(&model, &orbits[k], args.trajectory.samples_per_period),
-    )?;
-    let record = ChainOrbitsRecord {
+    Ok(ChainOrbitsRecord {
         at: At::new(scene, omega),
         cells: scene.cell_count(),
         sequence: sequence.to_string(),
         period: sequence.period(),
         orbits,
-    };
-    if args.common.json {
-        return pretty(&record);
-    }
+    })
+}
+
+/// The table `rattle orbit --signature` prints for a chain's `record`.
+fn chain_table(
+    scene: &Scene,
+    omega: f64,
+    record: &ChainOrbitsRecord,
+) -> Result<String, RattleError> {
     let mut out = heading(scene, omega);
     let _ = writeln!(
         out,

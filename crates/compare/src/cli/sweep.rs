@@ -1,11 +1,11 @@
 //! `rattle sweep`: a frequency sweep, streamed to a file.
 
-use super::{check_omega, load, refuse_chain, Accuracy, RattleError};
+use super::{check_omega, load, Accuracy, RattleError};
 use crate::output::{writer, Format, OutputError};
 use crate::runs::axis::Axis;
 use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
-use crate::runs::sweep::{header, sweep_rows, Solver};
+use crate::runs::sweep::{header, sweep_rows, Solver, SweepRow};
 use clap::Args;
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -24,7 +24,8 @@ pub struct SweepArgs {
     /// Number of frequencies, evenly spaced, ends included (≥ 1).
     #[arg(long)]
     pub points: usize,
-    /// Which solver: analytic, event (simulator from rest) or both (with a verdict per point).
+    /// Which solver: analytic, event (simulator from rest) or both (with a verdict per point;
+    /// on a chain, the verdict of `rattle compare` on the chain).
     #[arg(long, value_enum, default_value_t = Solver::Both)]
     pub solver: Solver,
     /// Output file: `.csv`, `.json` or `.jsonl`, by extension; rows are written as they are
@@ -38,6 +39,16 @@ pub struct SweepArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub accuracy: Accuracy,
+}
+
+/// What an agreeing row agrees on, for the summary: the unit's signature, a chain's impact
+/// sequence over its periods, or `linear`.
+fn agreed_motion(row: &SweepRow) -> String {
+    match (&row.simulated_signature, &row.matched) {
+        (Some(signature), _) => signature.clone(),
+        (None, Some(matched)) if !matched.starts_with("linear") => matched.clone(),
+        _ => "linear".to_owned(),
+    }
 }
 
 /// Runs `rattle sweep`.
@@ -69,12 +80,6 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
     }
     let options = args.accuracy.options()?;
     let scene = load(&args.scene)?;
-    if args.solver == Solver::Both {
-        refuse_chain(
-            &scene,
-            &format!("rattle sweep --solver {}", args.solver.name()),
-        )?;
-    }
     let all = Axis::new(lo, hi, args.points).values();
     let omegas = match shard {
         Some(s) => &all[s.range(all.len())],
@@ -102,10 +107,7 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
         if let Some(class) = row.class {
             *by_class.entry(class).or_insert(0) += 1;
             if class == "agreement" {
-                let sig = row.simulated_signature.clone();
-                *by_signature
-                    .entry(sig.unwrap_or_else(|| "linear".to_owned()))
-                    .or_insert(0) += 1;
+                *by_signature.entry(agreed_motion(&row)).or_insert(0) += 1;
             }
         }
         table.row(&row)

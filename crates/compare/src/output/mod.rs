@@ -29,6 +29,26 @@ pub fn finite(x: f64) -> Option<f64> {
     x.is_finite().then_some(x)
 }
 
+/// A list of numbers as one table cell (a cell holds one value in every format): the numbers
+/// separated by `;`, each written as the table writes a number (`0.25;1e-7`), an empty
+/// element where one is not finite (`0.25;;1.5`); `None` (an empty cell, `null`) for an empty
+/// list or one without a finite number, as a number column writes a number that is not
+/// finite. One cell of a one-cell scene is a one-element list, `0.25`. It loads with
+/// `[float(x) if x else float("nan") for x in cell.split(";")]` (Python) or
+/// `str2double(split(cell, ";"))` (MATLAB).
+pub fn number_list(values: &[f64]) -> Option<String> {
+    if !values.iter().any(|x| x.is_finite()) {
+        return None;
+    }
+    Some(
+        values
+            .iter()
+            .map(|&x| serde_json::Number::from_f64(x).map_or_else(String::new, |n| n.to_string()))
+            .collect::<Vec<_>>()
+            .join(";"),
+    )
+}
+
 /// A row of a table: a `Serialize` struct whose field names, in order, are [`Row::COLUMNS`].
 /// Declare row types with `table_row!` so the two cannot drift.
 pub trait Row: Serialize {
@@ -244,6 +264,30 @@ mod tests {
         for (line, row) in lines.lines().zip(rows()) {
             assert_eq!(line, serde_json::to_string(&row).unwrap());
         }
+    }
+
+    #[test]
+    fn a_list_is_one_cell_of_numbers_as_the_tables_write_them() {
+        assert_eq!(number_list(&[]), None);
+        assert_eq!(number_list(&[f64::NAN]), None);
+        assert_eq!(number_list(&[f64::INFINITY, f64::INFINITY]), None);
+        assert_eq!(number_list(&[0.25]).as_deref(), Some("0.25"));
+        assert_eq!(
+            number_list(&[1.0, 1e-7, f64::NAN, f64::INFINITY, 1.5]).as_deref(),
+            Some("1.0;1e-7;;;1.5")
+        );
+        // Each element reads back as the number, as a number column's cell does.
+        let x = [0.1 + 0.2, std::f64::consts::PI, 6.02e23];
+        let text = number_list(&x).unwrap();
+        let back: Vec<f64> = text.split(';').map(|e| e.parse().unwrap()).collect();
+        assert_eq!(back, x);
+        let row = TestRow {
+            x: Some(x[0]),
+            word: None,
+            flag: false,
+        };
+        let csv = table_text(Format::Csv, &Header::default(), &[row]);
+        assert!(csv.contains(text.split(';').next().unwrap()), "{csv}");
     }
 
     #[test]

@@ -22,7 +22,7 @@
 //! candidates, so a predicted attenuation holds whichever the unit settles on; with no
 //! candidate there is no prediction.
 
-use crate::output::{finite, table_row, Header};
+use crate::output::{finite, number_list, table_row, Header};
 use crate::runs::axis::Axis;
 use crate::runs::bands::bands;
 use crate::runs::parallel::{for_each_ordered, Grain, Progress};
@@ -199,10 +199,17 @@ pub struct MapPoint {
     pub regime: Option<Regime>,
     /// Least period `p` of a periodic motion, in forcing periods.
     pub period: Option<u32>,
-    /// Impacts per forcing period over the final cycle.
+    /// Impacts per forcing period over the final cycle (of a chain: all pairs').
     pub impacts_per_period: f64,
-    /// Simulated `X_o = max|u_o|` over the final cycle (or final stretch).
+    /// Impacts per forcing period of each contact pair, from the base out (empty if the
+    /// simulation failed).
+    pub pair_impacts_per_period: Vec<f64>,
+    /// Simulated `X_o = max|u_o|` over the final cycle (or final stretch); of a chain, the
+    /// last cell's.
     pub outer_amplitude: f64,
+    /// Simulated `max|u_o,j|` of every cell, from the base out (empty if the simulation
+    /// failed).
+    pub cell_outer_amplitudes: Vec<f64>,
     /// Simulated `20 log10(X_o/u_g)`; `None` without dissipation or on failure.
     pub transmittance_db: Option<f64>,
     /// Why the simulation ended (`decided`, `period-cap`, `event-cap`).
@@ -345,7 +352,9 @@ pub fn line(
             regime: None,
             period: None,
             impacts_per_period: f64::NAN,
+            pair_impacts_per_period: Vec::new(),
             outer_amplitude: f64::NAN,
+            cell_outer_amplitudes: Vec::new(),
             transmittance_db: None,
             stopped_by: "",
             periods_run: 0,
@@ -362,7 +371,9 @@ pub fn line(
                 point.regime = Some(sim.regime);
                 point.period = sim.steady.period;
                 point.impacts_per_period = sim.steady.impacts_per_period;
+                point.pair_impacts_per_period = sim.pair_impacts_per_period(scene.pair_count());
                 point.outer_amplitude = sim.outer_amplitude;
+                point.cell_outer_amplitudes = sim.cell_outer_amplitudes();
                 point.transmittance_db = sim.transmittance_db;
                 point.stopped_by = sim.stopped_by();
                 point.periods_run = sim.steady.periods_run;
@@ -533,10 +544,16 @@ table_row! {
         pub simulated_regime: Option<&'static str>,
         /// Least period of a periodic motion, forcing periods.
         pub simulated_period: Option<u32>,
-        /// Impacts per forcing period over the final cycle.
+        /// Impacts per forcing period over the final cycle (of a chain: all pairs').
         pub simulated_impacts_per_period: Option<f64>,
-        /// Simulated `X_o`, m.
+        /// Impacts per forcing period of each contact pair, from the base out: a list,
+        /// `;`-separated ([`number_list`]).
+        pub simulated_pair_impacts_per_period: Option<String>,
+        /// Simulated `X_o`, m (of a chain: the last cell's).
         pub simulated_outer_amplitude: Option<f64>,
+        /// Simulated `max|u_o,j|` of every cell, from the base out, m: a list, `;`-separated
+        /// ([`number_list`]).
+        pub simulated_cell_outer_amplitudes: Option<String>,
         /// Simulated `T`, dB.
         pub simulated_transmittance_db: Option<f64>,
         /// Why the simulation ended.
@@ -573,7 +590,9 @@ impl MapPointRow {
                 simulated_regime: p.regime.map(Regime::name),
                 simulated_period: p.period,
                 simulated_impacts_per_period: finite(p.impacts_per_period),
+                simulated_pair_impacts_per_period: number_list(&p.pair_impacts_per_period),
                 simulated_outer_amplitude: finite(p.outer_amplitude),
+                simulated_cell_outer_amplitudes: number_list(&p.cell_outer_amplitudes),
                 simulated_transmittance_db: p.transmittance_db.and_then(finite),
                 stopped_by: (!p.stopped_by.is_empty()).then_some(p.stopped_by),
                 periods_run: p.periods_run,

@@ -1,25 +1,28 @@
 //! Frequency sweeps: one solver or both at every frequency, in parallel, in frequency order;
 //! each point one [`SweepRow`].
 
-use crate::output::{finite, table_row, Header};
+use crate::output::{finite, number_list, table_row, Header};
 use crate::runs::parallel::{for_each_ordered, parallel_map, Grain, Progress};
 use crate::runs::shard::Shard;
 use crate::scene::analytic::{analyse, AnalyticPoint, OrbitSearch};
 use crate::scene::lyapunov::{chaos, SWEEP_LYAPUNOV_PERIODS};
 use crate::scene::simulator::{run, SimulatedPoint};
 use crate::scene::Scene;
-use crate::verdict::{compare, ComparedPoint, Starts};
+use crate::verdict::chain::{chain_cross_check, ChainCheck};
+use crate::verdict::{compare, Class, ComparedPoint, Starts};
 use rattle_event_driven::SimulationOptions;
 
 /// Which solver a sweep runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 pub enum Solver {
-    /// The closed-form solver: linear steady state and symmetric two-impact orbits.
+    /// The closed-form solver: linear steady state and symmetric two-impact orbits (on a
+    /// chain: the linear chain).
     Analytic,
     /// The event-driven simulator from rest.
     Event,
     /// Both: the simulator from rest beside the analytic orbit of its signature (any
     /// signature), the simulator also started on every viable symmetric orbit, and a verdict.
+    /// On a chain: the linear chain, and the verdict of `rattle compare` on the chain.
     Both,
 }
 
@@ -50,6 +53,13 @@ pub enum SweepPoint {
     Event(SimulatedPoint),
     /// Both and the verdict.
     Both(Box<ComparedPoint>),
+    /// Both on a chain: the linear chain and the chain's verdict, as `rattle compare` gives it.
+    Chain {
+        /// The linear chain (no orbits: a chain's orbits are those of its simulated sequence).
+        analytic: AnalyticPoint,
+        /// The simulated cycle beside the analytic orbit of its impact sequence.
+        check: Box<ChainCheck>,
+    },
     /// This frequency failed; the message says why.
     Failed {
         /// The frequency.
@@ -69,9 +79,34 @@ pub fn point(scene: &Scene, omega: f64, solver: Solver, options: &SimulationOpti
         Solver::Event => run(scene, omega, &crate::scene::simulator::rest(scene), options)
             .map(SweepPoint::Event)
             .unwrap_or_else(|e| failed(e.to_string())),
+        Solver::Both if scene.is_chain() => chain_point(scene, omega, options),
         Solver::Both => compare(scene, omega, options, Starts::RestAndOrbits)
             .map(|c| SweepPoint::Both(Box::new(c)))
             .unwrap_or_else(|e| failed(e.to_string())),
+    }
+}
+
+/// Both solvers on the chain `scene` at `omega`: the linear chain beside the verdict of
+/// `rattle compare` ([`chain_cross_check`]).
+fn chain_point(scene: &Scene, omega: f64, options: &SimulationOptions) -> SweepPoint {
+    let analytic = match analyse(scene, omega, OrbitSearch::Symmetric) {
+        Ok(a) => a,
+        Err(e) => {
+            return SweepPoint::Failed {
+                omega,
+                message: format!("analytic: {e}"),
+            }
+        }
+    };
+    match chain_cross_check(scene, omega, options) {
+        Ok(check) => SweepPoint::Chain {
+            analytic,
+            check: Box::new(check),
+        },
+        Err(e) => SweepPoint::Failed {
+            omega,
+            message: e.to_string(),
+        },
     }
 }
 
@@ -107,7 +142,7 @@ pub fn sweep_rows<E>(
         progress,
         |&omega| {
             let p = point(scene, omega, solver, options);
-            let mut row = SweepRow::new(&p);
+            let mut row = SweepRow::new(scene, &p);
             row.set_chaos(scene, &p, options);
             row
         },
@@ -125,8 +160,11 @@ table_row! {
         pub linear_outer_amplitude: Option<f64>,
         /// Linear `T`, dB.
         pub linear_transmittance_db: Option<f64>,
-        /// Whether the linear motion reaches the stops.
+        /// Whether the linear motion reaches the stops (of a chain: any cell's).
         pub linear_touches_stops: Option<bool>,
+        /// Linear `max|u_o,j|` of every cell, from the base out, m: a list, `;`-separated
+        /// ([`number_list`]; one element for a single unit).
+        pub linear_cell_outer_amplitudes: Option<String>,
         /// Symmetric two-impact orbits found (0, 1 or 2).
         pub orbits: Option<usize>,
         /// Of which stable and viable.
@@ -157,10 +195,16 @@ table_row! {
         pub simulated_status: Option<String>,
         /// Least period, forcing periods.
         pub simulated_period: Option<u32>,
-        /// Impacts per forcing period over the final cycle.
+        /// Impacts per forcing period over the final cycle (of a chain: all pairs').
         pub simulated_impacts_per_period: Option<f64>,
-        /// Simulated `X_o`, m.
+        /// Impacts per forcing period of each contact pair, from the base out: a list,
+        /// `;`-separated ([`number_list`]; empty without stops).
+        pub simulated_pair_impacts_per_period: Option<String>,
+        /// Simulated `X_o`, m (of a chain: the last cell's).
         pub simulated_outer_amplitude: Option<f64>,
+        /// Simulated `max|u_o,j|` of every cell, from the base out, m: a list, `;`-separated
+        /// ([`number_list`]).
+        pub simulated_cell_outer_amplitudes: Option<String>,
         /// Simulated `T`, dB.
         pub simulated_transmittance_db: Option<f64>,
         /// Whether the final cycle sticks.
@@ -173,8 +217,12 @@ table_row! {
         pub largest_exponent_uncertainty: Option<f64>,
         /// A non-periodic motion's regime: `chaotic`, `quasi-periodic` or `unsettled`.
         pub lyapunov_regime: Option<&'static str>,
-        /// `X_o` of the analytic orbit of the simulated signature (`--solver both`), m.
+        /// `X_o` of the analytic orbit of the simulated signature (`--solver both`; of a chain,
+        /// of its impact sequence, the last cell's), m.
         pub analytic_outer_amplitude: Option<f64>,
+        /// That orbit's `max|u_o,j|` of every cell, from the base out, m: a list,
+        /// `;`-separated ([`number_list`]).
+        pub analytic_cell_outer_amplitudes: Option<String>,
         /// Whether that analytic orbit is viable.
         pub analytic_viable: Option<bool>,
         /// Whether that analytic orbit is stable.
@@ -212,6 +260,7 @@ impl SweepRow {
             linear_outer_amplitude: None,
             linear_transmittance_db: None,
             linear_touches_stops: None,
+            linear_cell_outer_amplitudes: None,
             orbits: None,
             stable_viable_orbits: None,
             branch0_alpha: None,
@@ -228,7 +277,9 @@ impl SweepRow {
             simulated_status: None,
             simulated_period: None,
             simulated_impacts_per_period: None,
+            simulated_pair_impacts_per_period: None,
             simulated_outer_amplitude: None,
+            simulated_cell_outer_amplitudes: None,
             simulated_transmittance_db: None,
             simulated_sticking: None,
             simulated_signature: None,
@@ -236,6 +287,7 @@ impl SweepRow {
             largest_exponent_uncertainty: None,
             lyapunov_regime: None,
             analytic_outer_amplitude: None,
+            analytic_cell_outer_amplitudes: None,
             analytic_viable: None,
             analytic_stable: None,
             analytic_energy_residual: None,
@@ -248,8 +300,9 @@ impl SweepRow {
         }
     }
 
-    /// The row of `point`.
-    pub fn new(point: &SweepPoint) -> SweepRow {
+    /// The row of `point` on `scene`.
+    pub fn new(scene: &Scene, point: &SweepPoint) -> SweepRow {
+        let pairs = scene.pair_count();
         match point {
             SweepPoint::Analytic(p) => {
                 let mut row = SweepRow::empty(p.omega);
@@ -258,13 +311,13 @@ impl SweepRow {
             }
             SweepPoint::Event(s) => {
                 let mut row = SweepRow::empty(s.omega);
-                row.set_simulated(s);
+                row.set_simulated(s, pairs);
                 row
             }
             SweepPoint::Both(c) => {
                 let mut row = SweepRow::empty(c.analytic.omega);
                 row.set_analytic(&c.analytic);
-                row.set_simulated(&c.from_rest);
+                row.set_simulated(&c.from_rest, pairs);
                 row.class = Some(c.class.name());
                 row.relative_difference = c.difference.and_then(finite);
                 row.multiplier_difference = c.cross.multiplier_difference.and_then(finite);
@@ -272,6 +325,28 @@ impl SweepRow {
                 row.matched = c.matched.clone();
                 if let Some(o) = &c.cross.analytic {
                     row.analytic_outer_amplitude = finite(o.outer_amplitude);
+                    row.analytic_cell_outer_amplitudes = number_list(&[o.outer_amplitude]);
+                    row.analytic_viable = Some(o.viable);
+                    row.analytic_stable = Some(o.stable);
+                    row.analytic_energy_residual = finite(o.energy_residual);
+                }
+                row
+            }
+            SweepPoint::Chain { analytic, check } => {
+                let mut row = SweepRow::empty(check.omega);
+                row.set_analytic(analytic);
+                row.set_simulated(&check.simulated, pairs);
+                row.class = Some(check.class.name());
+                row.relative_difference = check.relative_difference.and_then(finite);
+                row.multiplier_difference = check.multiplier_difference.and_then(finite);
+                row.class_detail = Some(check.class.detail().to_owned());
+                row.matched = (check.class == Class::Agreement).then(|| match &check.analytic {
+                    Some(o) => format!("{} orbit over {} period(s)", o.sequence, o.period),
+                    None => "linear chain clear of the stops".to_owned(),
+                });
+                if let Some(o) = &check.analytic {
+                    row.analytic_outer_amplitude = finite(o.outer_amplitude);
+                    row.analytic_cell_outer_amplitudes = number_list(&o.cell_outer_amplitudes);
                     row.analytic_viable = Some(o.viable);
                     row.analytic_stable = Some(o.stable);
                     row.analytic_energy_residual = finite(o.energy_residual);
@@ -290,6 +365,7 @@ impl SweepRow {
         self.linear_outer_amplitude = finite(p.linear.outer_amplitude);
         self.linear_transmittance_db = finite(p.linear.transmittance_db);
         self.linear_touches_stops = p.touches_stops;
+        self.linear_cell_outer_amplitudes = number_list(&p.linear_cell_outer_amplitudes);
         if p.cells > 1 {
             // A chain's orbits are not searched by the sweep.
             return;
@@ -331,6 +407,7 @@ impl SweepRow {
         let sim = match point {
             SweepPoint::Event(s) => s,
             SweepPoint::Both(c) => &c.from_rest,
+            SweepPoint::Chain { check, .. } => &check.simulated,
             SweepPoint::Analytic(_) | SweepPoint::Failed { .. } => return,
         };
         match chaos(scene, sim, SWEEP_LYAPUNOV_PERIODS, options) {
@@ -349,12 +426,15 @@ impl SweepRow {
         }
     }
 
-    fn set_simulated(&mut self, s: &SimulatedPoint) {
+    /// The simulated columns of `s` on a scene with `pairs` contact pairs.
+    fn set_simulated(&mut self, s: &SimulatedPoint, pairs: usize) {
         self.simulated_regime = Some(s.regime.name());
         self.simulated_status = Some(s.status_name());
         self.simulated_period = s.steady.period;
         self.simulated_impacts_per_period = finite(s.steady.impacts_per_period);
+        self.simulated_pair_impacts_per_period = number_list(&s.pair_impacts_per_period(pairs));
         self.simulated_outer_amplitude = finite(s.outer_amplitude);
+        self.simulated_cell_outer_amplitudes = number_list(&s.cell_outer_amplitudes());
         self.simulated_transmittance_db = s.transmittance_db.and_then(finite);
         self.simulated_sticking = Some(s.steady.sticking);
         self.simulated_signature = s.signature().map(|sig| sig.to_string());

@@ -22,6 +22,9 @@ pub struct AnalyticPoint {
     /// The linear steady state (stops ignored); of a chain, the last cell's (its
     /// `relative_amplitude` that cell's own).
     pub linear: LinearResponse,
+    /// The linear steady state's `max|u_o,j|` of every cell, from the base out (one for a
+    /// single unit, its `linear.outer_amplitude`; infinite where the response is unbounded).
+    pub linear_cell_outer_amplitudes: Vec<f64>,
     /// Whether the linear steady state reaches the stops of some contact pair (`None`
     /// without stops).
     pub touches_stops: Option<bool>,
@@ -74,6 +77,7 @@ pub fn analyse(
     }
     Ok(AnalyticPoint {
         omega,
+        linear_cell_outer_amplitudes: vec![linear.outer_amplitude],
         linear,
         touches_stops,
         cells: 1,
@@ -128,9 +132,14 @@ fn analyse_chain(scene: &Scene, omega: f64) -> AnalyticPoint {
                     _ => false,
                 })
         });
+    let linear_cell_outer_amplitudes = match &response {
+        Some(r) if !r.unbounded => r.cell_outer_amplitudes.clone(),
+        _ => vec![f64::INFINITY; cells.len()],
+    };
     AnalyticPoint {
         omega,
         linear,
+        linear_cell_outer_amplitudes,
         touches_stops,
         cells: cells.len(),
         orbits: Vec::new(),

@@ -287,7 +287,18 @@ impl SimulatedPoint {
         } else {
             0.0
         };
-        counts.iter().map(|c| c * scale).collect()
+        // A pair with every impact (a single unit's) carries the total itself, not a rounding
+        // of it.
+        counts
+            .iter()
+            .map(|&c| {
+                if c == total && total > 0.0 {
+                    self.steady.impacts_per_period
+                } else {
+                    c * scale
+                }
+            })
+            .collect()
     }
 
     /// The simulator's status as a word: `periodic`, `non-periodic` or `no-dissipation`, with

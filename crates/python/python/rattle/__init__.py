@@ -20,6 +20,14 @@ thread pool (``RAYON_NUM_THREADS`` sets its size).
 
 ``simulate(..., lyapunov=True)`` adds the Lyapunov exponents of the motion, as
 ``rattle simulate --lyapunov``.
+
+Chains of cells (a scene with ``"cells": N`` or ``"chain": [...]``) go through
+:func:`simulate`, :func:`sweep` (every solver), :func:`orbit` with a signature (an impact
+sequence of the chain's pairs, ``"0+ 1- 0- 1+"``: :class:`ChainOrbits`),
+:func:`orbit_trajectory` (one row per cell) and :func:`compare` (:class:`ChainComparison`),
+each as the command on the same chain; :func:`orbit` without a signature and
+:func:`continue_branch` take a single unit and refuse a chain with a :class:`ValueError`
+naming it.
 """
 
 import json as _json
@@ -34,8 +42,10 @@ __all__ = [
     "Record",
     "OrbitResult",
     "SignatureOrbits",
+    "ChainOrbits",
     "Simulation",
     "Comparison",
+    "ChainComparison",
     "Sweep",
     "Table",
     "OrbitCycle",
@@ -246,6 +256,15 @@ class SignatureOrbits(Record):
     ``energy_residual``)."""
 
 
+class ChainOrbits(Record):
+    """``rattle orbit CHAIN --signature SEQUENCE --json`` on a chain: ``scene``, ``omega``,
+    ``effects``, ``cells``, ``sequence`` (the impact sequence of the chain's pairs, canonical,
+    e.g. ``0+ 1- 0- 1+``), ``period`` and ``orbits``, every orbit of that sequence (each with
+    its impact phases, states at the impacts, ``outer_amplitude`` and ``transmittance_db`` of
+    the last cell, ``cell_outer_amplitudes`` of every cell, ``viable``, ``stable``,
+    ``floquet_multipliers``, ``energy_residual``, as the command's JSON)."""
+
+
 class Table:
     """A table the command writes as a file (``--trajectory``, ``--impacts``), as columns.
 
@@ -313,7 +332,7 @@ class OrbitCycle:
     :class:`Simulation` so that the two solvers' cycles overlay with the same code), ``orbit`` (the orbit's
     record, as listed in ``orbits.orbits[index]``), ``index``, and ``orbits``, the
     :class:`SignatureOrbits` of every orbit of the signature at that frequency (the command's
-    ``--json`` document).
+    ``--json`` document; :class:`ChainOrbits` on a chain).
     """
 
     def __init__(self, orbits, index, trajectory, impacts):
@@ -372,6 +391,19 @@ class Comparison(Record):
     ``confirmed_orbits``."""
 
 
+class ChainComparison(Record):
+    """``rattle compare CHAIN --json`` on a chain: ``scene``, ``omega``, ``cells``,
+    ``simulated`` (the cycle from rest: ``status``, ``period``, ``pair_signatures``,
+    ``impacts_per_period``, ``pair_impacts_per_period``, ``outer_amplitude`` of the last cell,
+    ``cell_outer_amplitudes``, ``floquet_multipliers``), ``analytic`` (the orbit of the
+    simulated impact sequence: ``sequence``, ``period``, ``outer_amplitude``,
+    ``cell_outer_amplitudes``, ``viable``, ``stable``, ``floquet_multipliers``,
+    ``energy_residual``; or ``None``), ``analytic_error``, ``class`` (also ``class_``),
+    ``reason`` (one word, ``None`` for an agreement), ``class_detail``,
+    ``relative_difference``, ``multiplier_difference`` and ``confirmation`` (the simulator's
+    Newton started on the analytic orbit)."""
+
+
 class Sweep:
     """``rattle sweep --out FILE.json``: one row per frequency, as columns.
 
@@ -383,7 +415,14 @@ class Sweep:
       command writes ``null`` (a cell that does not apply, or a number that is not finite);
     - flags (``branch0_stable``…): ``bool``, ``False`` where the command writes ``null``
       (the matching number column is NaN there);
-    - words (``simulated_regime``, ``class``, ``error``…): ``object``, ``str`` or ``None``.
+    - words (``simulated_regime``, ``class``, ``error``…): ``object``, ``str`` or ``None``;
+    - lists of numbers (``linear_cell_outer_amplitudes``, ``simulated_cell_outer_amplitudes``,
+      ``analytic_cell_outer_amplitudes``: every cell's outer amplitude from the base out;
+      ``simulated_pair_impacts_per_period``: each contact pair's impacts per period): one
+      ``str`` per row as the command writes it, the numbers separated by ``;`` (an empty
+      element where one is not finite), or ``None`` (no finite number, or not applying); one
+      element for a single unit. Read one
+      with ``[float(x) if x else math.nan for x in cell.split(";")]``.
 
     :meth:`to_dict` is the command's JSON document (with ``null`` kept as ``None``),
     :meth:`to_pandas` a DataFrame of the columns when pandas is installed.
@@ -443,10 +482,18 @@ def orbit(scene, omega, signature=None, period=1, symmetric_only=False):
     any rotation, e.g. ``"+-"``, ``"++--"``) and ``period`` (forcing periods per cycle, 1 to 8):
     every orbit of that signature; returns :class:`SignatureOrbits`.
 
+    On a chain of cells, ``signature`` is an impact sequence of the chain's pairs in time
+    order, ``<pair><side>`` tokens with pairs numbered from 0 at the base (``"0+ 1- 0- 1+"``;
+    a signature without numbers is pair 0's alone), as ``rattle orbit CHAIN --signature``;
+    returns :class:`ChainOrbits`. Without a signature a chain is refused (the two-impact
+    orbits are a single unit's).
+
     ``omega`` is the base's angular frequency in rad/s (finite, > 0).
     """
     text = _rattle.orbit(_native_scene(scene), float(omega), signature, period, symmetric_only)
     data = _json.loads(text)
+    if "sequence" in data:
+        return ChainOrbits(data)
     return SignatureOrbits(data) if signature is not None else OrbitResult(data)
 
 
@@ -523,14 +570,22 @@ def orbit_trajectory(
     an :class:`OrbitCycle`; an ``orbit`` out of range is a :class:`ValueError` naming
     ``orbit`` and how many orbits there are.
 
+    On a chain of cells ``signature`` is an impact sequence of its pairs (e.g. ``"0+ 1- 0- 1+"``),
+    as ``rattle orbit CHAIN --signature SEQUENCE --orbit K --trajectory F.csv``: ``orbits`` is
+    then the :class:`ChainOrbits` of that sequence, the trajectory has one row per cell at each
+    time (``cell`` numbered from 0 at the base) and each impact names its ``pair``.
+
     A function of its own rather than ``orbit(..., trajectory=True)``: it needs a signature
     and picks one orbit, where :func:`orbit` lists them all, with or without a signature; and
     its result has one type whatever the arguments.
     """
+    native = _native_scene(scene)
     text, rows, impacts = _rattle.orbit_trajectory(
-        _native_scene(scene), float(omega), signature, period, orbit, samples_per_period
+        native, float(omega), signature, period, orbit, samples_per_period
     )
-    return OrbitCycle(SignatureOrbits(_json.loads(text)), orbit, Table(rows), Table(impacts))
+    doc = _json.loads(text)
+    orbits = ChainOrbits(doc) if "sequence" in doc else SignatureOrbits(doc)
+    return OrbitCycle(orbits, orbit, Table(rows), Table(impacts))
 
 
 def compare(
@@ -546,6 +601,10 @@ def compare(
     The simulator runs from rest and polishes its cycle; the analytic orbit of that impact
     signature is solved from the simulated phases; the verdict says whether they agree.
     Accuracy knobs as :func:`simulate`. Returns a :class:`Comparison`.
+
+    On a chain of cells: the simulated cycle's impacts, pair by pair in time order, are the
+    impact sequence the analytic solver solves from the simulated impact times, as
+    ``rattle compare CHAIN``; returns a :class:`ChainComparison`.
     """
     text = _rattle.compare(
         _native_scene(scene),
@@ -555,7 +614,8 @@ def compare(
         max_periods,
         float(max_oscillations),
     )
-    return Comparison(_json.loads(text))
+    data = _json.loads(text)
+    return ChainComparison(data) if "cells" in data else Comparison(data)
 
 
 def sweep(
@@ -574,6 +634,11 @@ def sweep(
     (linear steady state and symmetric orbits), ``"event"`` (simulator from rest) or
     ``"both"`` (also the simulator started on every viable orbit, and a verdict). A frequency
     that fails gives a row with its ``error``, as in the command. Returns a :class:`Sweep`.
+
+    On a chain of cells: ``"analytic"`` is the linear chain, ``"event"`` the chain from rest,
+    ``"both"`` the linear chain and, at each frequency, the verdict of :func:`compare` on the
+    chain; ``outer_amplitude`` and ``transmittance_db`` columns are the last cell's, the list
+    columns hold every cell and pair.
     """
     omegas = _np.ascontiguousarray(omegas, dtype=_np.float64)
     if omegas.ndim != 1:
