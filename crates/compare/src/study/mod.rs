@@ -368,13 +368,14 @@ pub struct MapSizes {
 impl MapSizes {
     /// The grids of `cargo xtask figures` (`rattle map` runs finer grids). The maps took 37.5
     /// s of the command's 76 s at 21 × 16 × 160 and 16 × 300 (2 threads); with the basins,
-    /// Poincaré and chain figures added, they are 11 × 16 × 100 (steps 0.1 in e, the paper's
-    /// 0.8 included, 0.063 in Δ/u_g, 0.039 rad/s) and 16 × 200.
+    /// Poincaré and chain figures added, they are 11 × 16 × 80 (steps 0.1 in e, the paper's
+    /// 0.8 included, 0.063 in Δ/u_g, 0.049 rad/s; 100 frequencies until the basins figure
+    /// grew to 200 × 200 starts) and 16 × 200.
     pub fn full() -> MapSizes {
         MapSizes {
             restitutions: 11,
             gaps: 16,
-            bandwidth_points: 100,
+            bandwidth_points: 80,
             regime_points: 200,
         }
     }
