@@ -103,7 +103,11 @@ impl Figure for BasinsFigure {
                 .map_err(err)?;
             legend
                 .draw(&Text::new(
-                    format!("{} ({n} starts, {:.2}%)", a.words(), 100.0 * *n as f64 / total),
+                    format!(
+                        "{} ({n} starts, {:.2}%)",
+                        a.words(),
+                        100.0 * *n as f64 / total
+                    ),
                     (30, y + 3),
                     text(13),
                 ))
