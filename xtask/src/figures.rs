@@ -52,16 +52,17 @@ const STUDY_MAX_PERIODS: u64 = 4000;
 const ELASTIC_OMEGAS: [f64; 2] = [1.0, 2.0];
 
 /// Frequency of the basins figure, rad/s: on the paper's unit (Δ = 0.5, e = 0.8, undamped)
-/// the starts at rest split there between a four-impact motion `++--`, the symmetric
-/// two-impact orbit `+-` and motions that do not repeat within the cap (measured with
-/// `rattle basins --omega 1.9`, 30 × 30 starts over ±1.5 m; at the coexistence frequency 1.86
-/// of the hard cases nearly every start at rest reaches `++--`).
+/// the starts at rest split there between a four-impact motion `++--` (39 971 of 40 000), the
+/// symmetric two-impact orbit `+-` (16) and motions that do not repeat within the cap (13)
+/// (`rattle basins --omega 1.9 … --points 200`, ±1.5 m; at the coexistence frequency 1.86 of
+/// the hard cases nearly every start at rest reaches `++--`).
 const BASINS_OMEGA: f64 = 1.9;
 /// Half-width of the basins grid in both displacements, m: three gaps either side.
 const BASINS_EXTENT: f64 = 1.5;
-/// Starts per side of the basins grid: 8 100 starts, about 8 s on two threads; the issue's
-/// 200 × 200 (`rattle basins --points 200`, 38.5 s at this frequency, where nearly every start
-/// converges slowly) would take `cargo xtask figures` far past its minute.
+/// Starts per side of the basins grid: the 200 × 200, 10.7 s of `cargo xtask figures`
+/// (12.1–14.5 s for `rattle basins --points 200` on two threads, whole process, with the
+/// machine about a quarter slower than quiet; 90 × 90 took 7.7 s before every start was
+/// watched at every period).
 const BASINS_POINTS: usize = 200;
 
 /// Frequencies of the Lyapunov figure over the paper's axis 0.1–4 rad/s (step 0.02 rad/s);
