@@ -183,7 +183,8 @@ pub fn start_at_rest(outer: f64, inner: f64) -> Start {
 
 /// A start belongs to a reference periodic attractor once its stroboscopic state (at `t = kT`)
 /// lies within this distance of one of the attractor's, relative to the larger of that state's
-/// norm and the gap, unless the references lie closer together than that ([`proximity`]).
+/// norm and the gap, unless the references lie closer together than that (then a third of their
+/// smallest separation).
 ///
 /// Measured on the undamped paper unit at ω = 1.9 rad/s (`rattle basins --omega 1.9`, ±1.5 m,
 /// 100 × 100 starts), where the stable `++--` orbit attracts slowly (λ₁ = −0.008 /s, 2.6 % per
