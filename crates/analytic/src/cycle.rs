@@ -388,11 +388,7 @@ pub fn solve_signature(
         return Err(OrbitError::InvalidFrequency { omega });
     }
     let n = signature.impacts();
-    let ok = guess.len() == n
-        && guess.iter().all(|v| v.is_finite())
-        && (1..n).all(|i| guess[i] > if i == 1 { 0.0 } else { guess[i - 1] })
-        && (n == 1 || guess[n - 1] < 1.0);
-    if !ok {
+    if !is_ordered_guess(guess, n) {
         return Err(OrbitError::InvalidGuess {
             impacts: n,
             len: guess.len(),
@@ -406,6 +402,15 @@ pub fn solve_signature(
 
 /// Among the rotations of the cycle that keep the canonical signature, the representation with
 /// the smallest wrapped `α`.
+/// Whether `guess = (α, φ₂, …, φ_n)` is a usable start for `n` impacts: `n` finite entries
+/// with the impact phases ordered in `(0, 1)` (`α` is free).
+pub(crate) fn is_ordered_guess(guess: &[f64], n: usize) -> bool {
+    guess.len() == n
+        && guess.iter().all(|v| v.is_finite())
+        && (1..n).all(|i| guess[i] > if i == 1 { 0.0 } else { guess[i - 1] })
+        && (n == 1 || guess[n - 1] < 1.0)
+}
+
 fn canonical_shift(problem: &Problem, signature: &Signature, x: &[f64]) -> (f64, Vec<f64>) {
     let n = signature.impacts();
     let mut phases = vec![0.0; n];

@@ -68,6 +68,19 @@ pub struct Extrema {
     pub argmin: f64,
 }
 
+impl Extrema {
+    /// The extrema of a single value `v` at the flight's start: where a search over the
+    /// flight begins.
+    pub fn at_start(v: f64) -> Self {
+        Self {
+            max: v,
+            argmax: 0.0,
+            min: v,
+            argmin: 0.0,
+        }
+    }
+}
+
 /// Degree of the Taylor polynomial of the flow on one piece. Pieces start no longer than
 /// `1/rate`, so `‖Âh‖` is of order one and the last term is of order `1/24! ≈ 1.6e-24`: the
 /// tail test ([`TAIL_TOLERANCE`]) has six orders of margin for matrices whose norm exceeds
@@ -229,13 +242,7 @@ impl ForcedFlow {
                         argmin: f64::NAN,
                     }
                 } else {
-                    let v = c.dot(start);
-                    Extrema {
-                        max: v,
-                        argmax: 0.0,
-                        min: v,
-                        argmin: 0.0,
-                    }
+                    Extrema::at_start(c.dot(start))
                 }
             })
             .collect();

@@ -61,15 +61,7 @@ impl ModelFlight {
     ) -> Vec<Extrema> {
         let mut found: Vec<Extrema> = functionals
             .iter()
-            .map(|c| {
-                let v = c.dot(start);
-                Extrema {
-                    max: v,
-                    argmax: 0.0,
-                    min: v,
-                    argmin: 0.0,
-                }
-            })
+            .map(|c| Extrema::at_start(c.dot(start)))
             .collect();
         if duration <= 0.0 || functionals.is_empty() {
             return found;

@@ -22,8 +22,8 @@
 //! hands to the next. The verdicts on a converged cycle are in [`crate::sequence_verdicts`].
 
 use crate::cycle::{
-    LINE_SEARCH_HALVINGS, MIN_FLIGHT, NEWTON_ACCEPTANCE, NEWTON_ITERATIONS, NEWTON_TOLERANCE,
-    STEP_ROUNDING,
+    is_ordered_guess, LINE_SEARCH_HALVINGS, MIN_FLIGHT, NEWTON_ACCEPTANCE, NEWTON_ITERATIONS,
+    NEWTON_TOLERANCE, STEP_ROUNDING,
 };
 use crate::model::LinearModel;
 use crate::sequence::{ImpactSequence, SequenceError};
@@ -411,11 +411,7 @@ impl SequenceNewton {
         guess: &[f64],
     ) -> Result<NewtonState, SequenceOrbitError> {
         let m = problem.impacts();
-        let ok = guess.len() == m
-            && guess.iter().all(|v| v.is_finite())
-            && (1..m).all(|i| guess[i] > if i == 1 { 0.0 } else { guess[i - 1] })
-            && (m == 1 || guess[m - 1] < 1.0);
-        if !ok {
+        if !is_ordered_guess(guess, m) {
             return Err(SequenceOrbitError::InvalidGuess {
                 impacts: m,
                 len: guess.len(),

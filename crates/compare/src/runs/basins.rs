@@ -217,15 +217,6 @@ fn proximity(references: &[Reference], gap: f64) -> f64 {
     BASIN_PROXIMITY.min(closest / 3.0)
 }
 
-/// `|x − s|`, without forming the difference (the watch asks at every period of every start).
-fn distance(x: &DVector<f64>, s: &DVector<f64>) -> f64 {
-    x.iter()
-        .zip(s.iter())
-        .map(|(a, b)| (a - b) * (a - b))
-        .sum::<f64>()
-        .sqrt()
-}
-
 /// A periodic attractor reached from the reference grid, with its stroboscopic states.
 #[derive(Debug, Clone)]
 struct Reference {
@@ -252,7 +243,7 @@ fn reach(
         near = references.iter().find(|r| {
             r.states
                 .iter()
-                .any(|s| distance(x, s) <= proximity * s.norm().max(gap))
+                .any(|s| x.metric_distance(s) <= proximity * s.norm().max(gap))
         });
         near.is_some()
     };
