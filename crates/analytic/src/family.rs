@@ -46,6 +46,12 @@ const ROOT_RESIDUAL: f64 = 1e-13;
 /// of `½` (`ulp(½) ≈ 1.1e-16`), where further steps no longer move `β`.
 const ROOT_BRACKET: f64 = 1e-15;
 
+/// Cap on the implicit QR sweeps of the half-period system's SVD. An 8 × 8 decomposition of
+/// finite entries converges in a few dozen; nalgebra's uncapped `svd` never returns on entries
+/// that are not finite (a flow over `T = 2π/ω` with `ω = 1e-300` overflows), so the cap turns
+/// that into [`FamilyError::Singular`] instead of a hang (issue #22).
+const SVD_MAX_ITERATIONS: usize = 10_000;
+
 /// A root is an orbit of the given gap when `|Δ*(β) − Δ| < GAP_ACCEPTANCE · Δ`. `Δ*(β)` comes
 /// from an 8×8 solve that near `½` carries errors of order `10⁻¹²` (see [`NEAR_HALF`]).
 pub const GAP_ACCEPTANCE: f64 = 1e-12;
@@ -181,8 +187,14 @@ fn solve_half(flow: &ForcedFlow, g: &Matrix2<f64>) -> Result<Vector8, FamilyErro
     let df2r = -rate.forced * period * blocks.first.rotation + blocks.second.forced * dr1;
     let (n1, g1) = equations(&de1, &df1, &de2, &df2r, g, false);
 
-    let svd = n0.svd(true, true);
-    let (u_all, v_t) = (svd.u.expect("U requested"), svd.v_t.expect("V requested"));
+    let singular = || FamilyError::Singular {
+        beta: 0.5,
+        omega: flow.omega(),
+    };
+    let svd = n0
+        .try_svd(true, true, f64::EPSILON, SVD_MAX_ITERATIONS)
+        .ok_or_else(singular)?;
+    let (u_all, v_t) = (svd.u.ok_or_else(singular)?, svd.v_t.ok_or_else(singular)?);
     let k = svd
         .singular_values
         .iter()
@@ -347,4 +359,33 @@ pub fn asymmetric_orbits(unit: &Unit, stops: &Stops, omega: f64, samples: usize)
         }
     }
     orbits
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Issue #22: `rattle orbit --omega 1e-300` never returned, inside this SVD. The flow over
+    /// a period of `2π/1e-300` overflows; the family solve must end with an error instead.
+    #[test]
+    fn an_overflowing_flow_ends_in_an_error_not_a_hang() {
+        let unit = Unit {
+            outer_mass: 2.0,
+            inner_mass: 1.0,
+            outer_stiffness: 6.0,
+            inner_stiffness: 3.0,
+            base_amplitude: 1.0,
+            damping: None,
+        };
+        for omega in [1e-300, 1e-200] {
+            for beta in [0.3, 0.5] {
+                assert!(
+                    gap_for_beta(&unit, 0.8, omega, beta).is_err(),
+                    "{omega} {beta}"
+                );
+            }
+        }
+        // And a frequency in range still solves.
+        assert!(gap_for_beta(&unit, 0.8, 2.0, 0.3).is_ok());
+    }
 }

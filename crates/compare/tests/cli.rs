@@ -1,7 +1,7 @@
 //! The `rattle` command as a user meets it: fields, exit codes, messages.
 
 mod common;
-use common::{json, rattle};
+use common::{json, rattle, rattle_within};
 use serde_json::Value;
 
 #[test]
@@ -100,6 +100,143 @@ fn bad_input_exits_2_and_names_the_problem() {
     let out = rattle(&["family", "--omega", "1", "--beta", "1.5"]);
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("--beta"));
+}
+
+/// Issue #22: `rattle orbit --omega 1e-300`, `rattle simulate --omega 1e-6` and `rattle sweep
+/// --omega-min 1e-300 …` printed nothing for more than 20 s. Every command now refuses a
+/// frequency outside the scene's bounds (at most 1e3 free oscillations of the fastest mode per
+/// forcing period, at most 1e6 forcing periods per free oscillation of the slowest mode) with
+/// the field and the range, at once.
+#[test]
+fn frequencies_that_would_not_end_are_refused_at_once_with_the_range() {
+    let out = "target/never-written.csv";
+    let grid = [
+        "--outer-min",
+        "-1",
+        "--outer-max",
+        "1",
+        "--inner-min",
+        "-1",
+        "--inner-max",
+        "1",
+    ];
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["orbit", "--omega", "1e-300"], "--omega"),
+        (
+            vec!["orbit", "--omega", "1e-300", "--signature", "++--"],
+            "--omega",
+        ),
+        (
+            vec![
+                "orbit",
+                "data/scenes/paper-chain-5.json",
+                "--omega",
+                "1e-6",
+                "--signature",
+                "0+ 0-",
+            ],
+            "--omega",
+        ),
+        (vec!["simulate", "--omega", "1e-6"], "--omega"),
+        (vec!["simulate", "--omega", "1e300"], "--omega"),
+        (
+            vec![
+                "simulate",
+                "data/scenes/paper-chain-5.json",
+                "--omega",
+                "1e-6",
+            ],
+            "--omega",
+        ),
+        (vec!["compare", "--omega", "1e-6"], "--omega"),
+        (
+            vec!["family", "--omega", "1e-300", "--beta", "0.3"],
+            "--omega",
+        ),
+        (
+            vec![
+                "sweep",
+                "--omega-min",
+                "1e-300",
+                "--omega-max",
+                "1e-299",
+                "--points",
+                "3",
+                "--out",
+                out,
+            ],
+            "--omega-min",
+        ),
+        (
+            vec![
+                "sweep",
+                "--omega-min",
+                "1",
+                "--omega-max",
+                "1e200",
+                "--points",
+                "3",
+                "--out",
+                out,
+            ],
+            "--omega-max",
+        ),
+        (
+            vec![
+                "map",
+                "--omega-min",
+                "1e-6",
+                "--omega-max",
+                "2",
+                "--points",
+                "3",
+                "--out",
+                out,
+            ],
+            "--omega-min",
+        ),
+        (
+            vec![
+                "continue",
+                "--signature",
+                "+-",
+                "--omega",
+                "1",
+                "--omega-min",
+                "1e-300",
+                "--omega-max",
+                "2",
+            ],
+            "--omega-min",
+        ),
+        (
+            [
+                &["basins", "--omega", "1e-6", "--points", "2", "--out", out][..],
+                &grid[..],
+            ]
+            .concat(),
+            "--omega",
+        ),
+    ];
+    for (args, field) in cases {
+        let ran = rattle_within(&args, 20).unwrap_or_else(|| panic!("{args:?} ran past 20 s"));
+        let stderr = String::from_utf8_lossy(&ran.stderr);
+        assert_eq!(ran.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(&format!("{field} = ")),
+            "{args:?}: {stderr}"
+        );
+        assert!(
+            stderr.contains("out of range for this scene: must be in ["),
+            "{stderr}"
+        );
+    }
+    assert!(!std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../",
+        "target/never-written.csv"
+    ))
+    .exists());
 }
 
 #[test]

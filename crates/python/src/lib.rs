@@ -42,6 +42,7 @@ use rattle_compare::scene::analytic::{
     analyse, orbits_of_signature, sample_sequence_orbit, sample_signature_orbit, OrbitSearch,
 };
 use rattle_compare::scene::simulator::{model, run as simulate_scene};
+use rattle_compare::scene::frequency::FrequencyBounds;
 use rattle_compare::scene::{Scene, SceneError};
 use rattle_compare::verdict::chain::chain_cross_check;
 use rattle_compare::verdict::{cross_check, CrossCheck};
@@ -247,6 +248,14 @@ fn check_omega(name: &str, omega: f64) -> PyResult<f64> {
     }
 }
 
+/// `omega` if `scene` can be run at it in bounded time; else the command's message, naming
+/// `name` ([`FrequencyBounds`]).
+fn check_frequency(scene: &Scene, name: &str, omega: f64) -> PyResult<f64> {
+    FrequencyBounds::of(scene)
+        .check(name, omega)
+        .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
 /// A count that must be at least 1.
 fn positive(name: &str, value: i64) -> PyResult<u64> {
     u64::try_from(value)
@@ -303,7 +312,7 @@ fn orbit(
     period: i64,
     symmetric_only: bool,
 ) -> PyResult<String> {
-    let omega = check_omega("omega", omega)?;
+    let omega = check_frequency(&scene.scene, "omega", omega)?;
     let scene = &scene.scene;
     if scene.is_chain() {
         return chain_orbit(py, scene, omega, signature, period, symmetric_only);
@@ -489,7 +498,7 @@ fn simulate<'py>(
     samples_per_period: Option<i64>,
     lyapunov_periods: Option<i64>,
 ) -> PyResult<(String, Option<(PyColumns<'py>, PyColumns<'py>)>)> {
-    let omega = check_omega("omega", omega)?;
+    let omega = check_frequency(&scene.scene, "omega", omega)?;
     let mut options = options(tol, steady_tol, max_periods, max_oscillations)?;
     if let Some(n) = periods {
         options.fixed_periods = Some(positive("periods", n)?);
@@ -573,7 +582,7 @@ fn orbit_trajectory<'py>(
     orbit: i64,
     samples_per_period: i64,
 ) -> PyResult<(String, PyColumns<'py>, PyColumns<'py>)> {
-    let omega = check_omega("omega", omega)?;
+    let omega = check_frequency(&scene.scene, "omega", omega)?;
     let samples = check_samples(samples_per_period)?;
     let period = u32::try_from(period).unwrap_or(0);
     if scene.scene.is_chain() {
@@ -700,8 +709,10 @@ fn continue_branch(
     max_step: f64,
     max_branches: i64,
 ) -> PyResult<String> {
-    let omega = check_omega("omega", omega)?;
+    let omega = check_frequency(&scene.scene, "omega", omega)?;
     unit_only(&scene.scene, "rattle.continue_branch")?;
+    check_frequency(&scene.scene, "omega_min", omega_min)?;
+    check_frequency(&scene.scene, "omega_max", omega_max)?;
     let period = u32::try_from(period).unwrap_or(0);
     let signature = Signature::parse(signature, period)
         .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
@@ -778,7 +789,7 @@ fn compare(
     max_periods: i64,
     max_oscillations: f64,
 ) -> PyResult<String> {
-    let omega = check_omega("omega", omega)?;
+    let omega = check_frequency(&scene.scene, "omega", omega)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
     if scene.is_chain() {
@@ -1046,7 +1057,7 @@ fn sweep(
 ) -> PyResult<NativeSweep> {
     let omegas = omegas.as_array().to_vec();
     for (i, &omega) in omegas.iter().enumerate() {
-        check_omega(&format!("omegas[{i}]"), omega)?;
+        check_frequency(&scene.scene, &format!("omegas[{i}]"), omega)?;
     }
     let solver = solver(solver_name)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;

@@ -198,3 +198,23 @@ def test_failures_inside_rust_are_runtime_errors():
     with pytest.raises(RuntimeError, match="internal error .*a panic from the boundary check"):
         _rattle._boundary_check("panic")
     _rattle._boundary_check("none")
+
+
+@pytest.mark.parametrize("omega", [1e-300, 1e-6, 1e300])
+@pytest.mark.parametrize("function", [rattle.orbit, rattle.simulate, rattle.compare])
+def test_a_frequency_that_would_not_end_is_the_commands_message(rattle_cli, function, omega):
+    """Issue #22: far below or above the scene's modes a run does not end in bounded time; it
+    is refused at once with the scene's range, as the command refuses it."""
+    with pytest.raises(ValueError) as e:
+        function(rattle.Scene.paper(), omega)
+    theirs = rattle_cli.error(function.__name__, "--omega", omega)
+    assert "out of range for this scene: must be in [" in theirs
+    assert str(e.value) == theirs.replace("--omega", "omega")
+
+
+def test_sweeps_and_continuations_refuse_frequencies_that_would_not_end():
+    scene = rattle.Scene.paper()
+    with pytest.raises(ValueError, match=r"omegas\[1\] = 1e-6 is out of range for this scene"):
+        rattle.sweep(scene, [2.0, 1e-6])
+    with pytest.raises(ValueError, match="omega_min = 1e-300 is out of range for this scene"):
+        rattle.continue_branch(scene, "+-", 1.0, 1e-300, 2.0)

@@ -1,6 +1,6 @@
 //! `rattle basins`: a grid of starts at rest, each coloured by the attractor it reaches.
 
-use super::{check_omega, load_unit, RattleError};
+use super::{check_frequency, check_omega, load_unit, RattleError};
 use crate::output::{finite, table_row, write_table, Format, Header};
 use crate::runs::axis::Axis;
 use crate::runs::basins::{basin_options, basins, BasinGrid, Basins};
@@ -91,6 +91,7 @@ pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
         inner: axis("inner", args.inner_min, args.inner_max, args.points)?,
     };
     let scene = load_unit(&args.scene, "rattle basins")?;
+    check_frequency(&scene, "--omega", omega)?;
     let progress = Progress::new("basins", args.points * args.points, true);
     let b = basins(&scene, omega, grid, &basin_options(), &progress);
     let mut header = Header::default();

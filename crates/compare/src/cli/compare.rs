@@ -1,6 +1,6 @@
 //! `rattle compare`: both solvers on the motion the unit settles on, whatever its signature.
 
-use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError};
+use super::{check_frequency, check_omega, heading, load, pretty, Accuracy, Common, RattleError};
 use crate::output::finite;
 use crate::output::records::{
     multipliers, AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
@@ -81,6 +81,7 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.common.omega)?;
     let options = args.accuracy.options()?;
     let scene = load(&args.common.scene)?;
+    check_frequency(&scene, "--omega", omega)?;
     if scene.is_chain() {
         return chain_run(&scene, omega, &options, args.common.json);
     }

@@ -1,7 +1,7 @@
 //! `rattle continue`: the branches through every orbit of a signature at one frequency,
 //! followed in ω with their bifurcations.
 
-use super::{check_omega, load_unit, pretty, RattleError};
+use super::{check_frequency, check_omega, load_unit, pretty, RattleError};
 use crate::output::records::ContinuationPointRecord;
 use crate::output::{finite, table_row, writer, Format, Header, OutputError};
 use crate::runs::continuation::{follow, FollowError, Followed};
@@ -153,6 +153,8 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
         ));
     }
     let scene = load_unit(&args.scene, "rattle continue")?;
+    check_frequency(&scene, "--omega-min", args.omega_min)?;
+    check_frequency(&scene, "--omega-max", args.omega_max)?;
     let followed =
         follow(&scene, &signature, omega, args.orbit, &settings).map_err(|e| match e {
             FollowError::OrbitIndex { .. } | FollowError::NoStops => {

@@ -1,7 +1,7 @@
 //! `rattle family`: the member of the two-impact family at `β`.
 
 use super::orbit::orbit_table;
-use super::{check_omega, load_unit, pretty, Common, RattleError};
+use super::{check_frequency, check_omega, load_unit, pretty, Common, RattleError};
 use crate::output::finite;
 use crate::output::records::{At, FamilyRecord, OrbitRecord};
 use clap::Args;
@@ -31,6 +31,7 @@ pub fn run(args: FamilyArgs) -> Result<String, RattleError> {
         )));
     }
     let scene = load_unit(&args.common.scene, "rattle family")?;
+    check_frequency(&scene, "--omega", omega)?;
     let Some(stops) = scene.stops_model() else {
         return Err(RattleError::Argument(
             "the family needs stops: the scene has no `stops` (its restitution sets the impact law)".into(),

@@ -1,6 +1,6 @@
 //! `rattle map`: the map over restitution, gap and frequency, streamed to a file.
 
-use super::{load, Accuracy, RattleError};
+use super::{check_frequency, load, Accuracy, RattleError};
 use crate::output::{writer, Format, OutputError, TableWriter};
 use crate::runs::axis::Axis;
 use crate::runs::map::{
@@ -115,6 +115,8 @@ pub fn run(args: MapArgs) -> Result<String, RattleError> {
     if scene.stops.is_none() {
         return Err(RattleError::Argument(MapError::NoStops.to_string()));
     }
+    check_frequency(&scene, "--omega-min", args.omega_min)?;
+    check_frequency(&scene, "--omega-max", args.omega_max)?;
     let io = |path: &Path| {
         let path = path.to_owned();
         move |source| RattleError::Output(OutputError::Io { path, source })

@@ -15,6 +15,7 @@ pub mod sweep;
 
 use crate::output::trajectory::{ImpactRow, TrajectoryRow};
 use crate::output::{write_table, Format, Header, OutputError};
+use crate::scene::frequency::{FrequencyBounds, FrequencyError};
 use crate::scene::{Scene, SceneError};
 use clap::{Args, Parser, Subcommand};
 use rattle_event_driven::SimulationOptions;
@@ -84,6 +85,9 @@ pub enum RattleError {
     /// An output file cannot be written, or has no known format.
     #[error(transparent)]
     Output(#[from] OutputError),
+    /// A forcing frequency the scene cannot be run at in bounded time.
+    #[error(transparent)]
+    Frequency(#[from] FrequencyError),
     /// The computation failed; the message says why.
     #[error("numerical failure: {0}")]
     Numerical(String),
@@ -93,7 +97,10 @@ impl RattleError {
     /// 2 for bad input (and unwritable output), 1 for a numerical failure.
     pub fn exit_code(&self) -> i32 {
         match self {
-            RattleError::Scene(_) | RattleError::Argument(_) | RattleError::Output(_) => 2,
+            RattleError::Scene(_)
+            | RattleError::Argument(_)
+            | RattleError::Frequency(_)
+            | RattleError::Output(_) => 2,
             RattleError::Numerical(_) => 1,
         }
     }
@@ -281,6 +288,11 @@ fn check_omega(option: &str, omega: f64) -> Result<f64, RattleError> {
             "{option} = {omega} is out of range: must be finite and > 0 (rad/s)"
         )))
     }
+}
+
+/// `omega` if `scene` can be run at it in bounded time ([`FrequencyBounds`]).
+fn check_frequency(scene: &Scene, option: &str, omega: f64) -> Result<f64, RattleError> {
+    Ok(FrequencyBounds::of(scene).check(option, omega)?)
 }
 
 /// The scene at `path`, or the built-in paper scene.

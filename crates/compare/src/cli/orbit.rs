@@ -1,6 +1,9 @@
 //! `rattle orbit`: the analytic picture at one frequency.
 
-use super::{check_omega, heading, load, load_unit, pretty, Common, RattleError, TrajectoryArgs};
+use super::{
+    check_frequency, check_omega, heading, load, load_unit, pretty, Common, RattleError,
+    TrajectoryArgs,
+};
 use crate::output::records::{
     At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
     ViolationRecord,
@@ -53,6 +56,7 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     args.trajectory.check()?;
     if let Some(text) = &args.signature {
         let scene = load(&args.common.scene)?;
+        check_frequency(&scene, "--omega", omega)?;
         if scene.is_chain() {
             return chain_run(&scene, omega, text, &args);
         }
@@ -67,6 +71,7 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
         ));
     }
     let scene = load_unit(&args.common.scene, "rattle orbit")?;
+    check_frequency(&scene, "--omega", omega)?;
     let search = if args.symmetric_only {
         OrbitSearch::Symmetric
     } else {

@@ -1,6 +1,9 @@
 //! `rattle simulate`: the event-driven simulator from rest.
 
-use super::{check_omega, heading, load, pretty, Accuracy, Common, RattleError, TrajectoryArgs};
+use super::{
+    check_frequency, check_omega, heading, load, pretty, Accuracy, Common, RattleError,
+    TrajectoryArgs,
+};
 use crate::output::records::{LyapunovRecord, SimulationRecord};
 use crate::output::trajectory::simulated_rows;
 use crate::scene::lyapunov::spectrum;
@@ -87,6 +90,7 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
     args.trajectory.check()?;
     args.lyapunov.check()?;
     let scene = load(&args.common.scene)?;
+    check_frequency(&scene, "--omega", omega)?;
     let sim = simulate(
         &scene,
         omega,

@@ -1,6 +1,6 @@
 //! `rattle sweep`: a frequency sweep, streamed to a file.
 
-use super::{check_omega, load, Accuracy, RattleError};
+use super::{check_frequency, check_omega, load, Accuracy, RattleError};
 use crate::output::{writer, Format, OutputError};
 use crate::runs::axis::Axis;
 use crate::runs::parallel::Progress;
@@ -80,6 +80,8 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
     }
     let options = args.accuracy.options()?;
     let scene = load(&args.scene)?;
+    check_frequency(&scene, "--omega-min", lo)?;
+    check_frequency(&scene, "--omega-max", hi)?;
     let all = Axis::new(lo, hi, args.points).values();
     let omegas = match shard {
         Some(s) => &all[s.range(all.len())],

@@ -27,6 +27,7 @@ use crate::runs::axis::Axis;
 use crate::runs::bands::bands;
 use crate::runs::parallel::{for_each_ordered, Grain, Progress};
 use crate::scene::analytic::{analyse, OrbitSearch};
+use crate::scene::frequency::{FrequencyBounds, FrequencyError};
 use crate::scene::lyapunov::chaos;
 use crate::scene::simulator::{run, Regime};
 use crate::scene::{Scene, StopsSpec};
@@ -95,6 +96,9 @@ pub enum MapError {
     /// The scene has no stops: there is no gap or restitution to vary.
     #[error("the scene has no `stops`: a map varies their gap and restitution")]
     NoStops,
+    /// A frequency of the grid that the scene cannot be run at in bounded time.
+    #[error(transparent)]
+    Frequency(#[from] FrequencyError),
 }
 
 fn check_axis(
@@ -441,6 +445,9 @@ fn check(scene: &Scene, grid: &MapGrid) -> Result<(), MapError> {
     if scene.stops.is_none() {
         return Err(MapError::NoStops);
     }
+    let bounds = FrequencyBounds::of(scene);
+    bounds.check("--omega-min", grid.omega.min)?;
+    bounds.check("--omega-max", grid.omega.max)?;
     Ok(())
 }
 

@@ -14,9 +14,11 @@
 //!
 //! This module holds the format and its validation; [`analytic`] and [`simulator`] adapt a
 //! scene to each solver and name what the solver finds ([`analytic::AnalyticPoint`],
-//! [`simulator::SimulatedPoint`]); [`phase`] the conventions of the base phase.
+//! [`simulator::SimulatedPoint`]); [`phase`] the conventions of the base phase; [`frequency`]
+//! the forcing frequencies a scene can be run at in bounded time.
 
 pub mod analytic;
+pub mod frequency;
 pub mod lyapunov;
 pub mod phase;
 pub mod simulator;

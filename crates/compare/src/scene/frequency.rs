@@ -1,0 +1,207 @@
+//! The forcing frequencies a scene can be run at in bounded time.
+//!
+//! Both solvers do work in proportion to the free oscillations a forcing period holds: the
+//! simulator scans every flight for contacts, the analytic solver finds the extrema of every
+//! flight, and a run needs a number of forcing periods for its transients to decay. Forced far
+//! below its fastest mode, one period of the unit holds `ω_fastest/ω` free oscillations; forced
+//! far above its slowest mode, one free oscillation holds `ω/ω_slowest` forcing periods. Both
+//! ratios are bounded here, so that every command ends in bounded time on any finite input
+//! (issue #22), and a frequency outside the bounds is refused with the reason and the range.
+//!
+//! The natural frequencies are those of the scene's linear model without stops and without
+//! damping (the chain of cells in series for a chain), from the symmetric eigenproblem
+//! `M^{-1/2} K M^{-1/2}`.
+
+use super::Scene;
+use nalgebra::{DMatrix, SymmetricEigen};
+use thiserror::Error;
+
+/// Most free oscillations of the scene's fastest mode that one forcing period may hold.
+///
+/// Measured on the paper's unit (fastest mode 2.449 rad/s) at the bound, ω = 2.449e-3 rad/s,
+/// with the release build: `rattle orbit` 1.5 s, `rattle simulate` and `rattle compare` under
+/// 1 s (the simulator's oscillation cap stops the run after its minimum 64 periods). At 10×
+/// the bound `rattle orbit` took 15.6 s, and at ω = 1e-6 the simulator ran for minutes.
+pub const MAX_OSCILLATIONS_PER_PERIOD: f64 = 1e3;
+
+/// Most forcing periods that one free oscillation of the scene's slowest mode may hold.
+///
+/// Far above its modes the unit barely moves, and both solvers are quick up to about
+/// `ω/ω_slowest = 1e140` on the paper's unit; beyond, the simulator's phase arithmetic loses
+/// every digit and a run no longer ends (ω = 1e200 rad/s ran for more than 20 s). The bound is
+/// far inside that and far above any frequency a study of the unit asks for.
+pub const MAX_PERIODS_PER_OSCILLATION: f64 = 1e6;
+
+/// A forcing frequency that a scene cannot be run at.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum FrequencyError {
+    /// Not a finite number above zero.
+    #[error("{field} = {omega} is out of range: must be finite and > 0 (rad/s)")]
+    NotPositive {
+        /// The option or argument that gave it, e.g. `--omega`.
+        field: String,
+        /// The value given.
+        omega: f64,
+    },
+    /// Outside the scene's bounds ([`MAX_OSCILLATIONS_PER_PERIOD`],
+    /// [`MAX_PERIODS_PER_OSCILLATION`]).
+    #[error(
+        "{field} = {omega:e} is out of range for this scene: must be in [{min:.6e}, {max:.6e}] \
+         rad/s, so that one forcing period holds at most {MAX_OSCILLATIONS_PER_PERIOD:e} free \
+         oscillations of the fastest mode ({fastest:.6} rad/s) and one free oscillation of the \
+         slowest mode ({slowest:.6} rad/s) at most {MAX_PERIODS_PER_OSCILLATION:e} forcing \
+         periods; the run's work grows with these ratios"
+    )]
+    OutOfBounds {
+        /// The option or argument that gave it, e.g. `--omega`.
+        field: String,
+        /// The value given.
+        omega: f64,
+        /// Lowest allowed frequency, rad/s.
+        min: f64,
+        /// Highest allowed frequency, rad/s.
+        max: f64,
+        /// The scene's fastest undamped natural frequency, rad/s.
+        fastest: f64,
+        /// The scene's slowest undamped natural frequency, rad/s.
+        slowest: f64,
+    },
+}
+
+/// The forcing frequencies a scene can be run at: `[ω_fastest / 1e3, ω_slowest × 1e6]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrequencyBounds {
+    /// The scene's slowest undamped natural frequency, rad/s.
+    pub slowest: f64,
+    /// The scene's fastest undamped natural frequency, rad/s.
+    pub fastest: f64,
+}
+
+impl FrequencyBounds {
+    /// The bounds of `scene`, from its natural frequencies.
+    pub fn of(scene: &Scene) -> Self {
+        let rates = natural_frequencies(scene);
+        Self {
+            slowest: rates.iter().copied().fold(f64::INFINITY, f64::min),
+            fastest: rates.iter().copied().fold(0.0, f64::max),
+        }
+    }
+
+    /// Lowest allowed frequency, rad/s.
+    pub fn min(&self) -> f64 {
+        self.fastest / MAX_OSCILLATIONS_PER_PERIOD
+    }
+
+    /// Highest allowed frequency, rad/s.
+    pub fn max(&self) -> f64 {
+        self.slowest * MAX_PERIODS_PER_OSCILLATION
+    }
+
+    /// `omega`, if it is finite, positive and within the bounds.
+    ///
+    /// # Errors
+    /// [`FrequencyError`] naming `field`, with the allowed range and the reason.
+    pub fn check(&self, field: &str, omega: f64) -> Result<f64, FrequencyError> {
+        if !(omega.is_finite() && omega > 0.0) {
+            return Err(FrequencyError::NotPositive {
+                field: field.to_owned(),
+                omega,
+            });
+        }
+        if omega < self.min() || omega > self.max() {
+            return Err(FrequencyError::OutOfBounds {
+                field: field.to_owned(),
+                omega,
+                min: self.min(),
+                max: self.max(),
+                fastest: self.fastest,
+                slowest: self.slowest,
+            });
+        }
+        Ok(omega)
+    }
+}
+
+/// The undamped natural frequencies (rad/s) of the scene's cells in series without stops:
+/// outer mass `j` tied to outer mass `j − 1` by its `k_o` (the first to the base), inner mass
+/// `j` to outer mass `j` by its `k_i`.
+fn natural_frequencies(scene: &Scene) -> Vec<f64> {
+    let cells = scene.cell_scenes();
+    let n = 2 * cells.len();
+    let mut mass = vec![0.0; n];
+    let mut stiffness = DMatrix::<f64>::zeros(n, n);
+    let mut tie = |a: Option<usize>, b: usize, k: f64| {
+        stiffness[(b, b)] += k;
+        if let Some(a) = a {
+            stiffness[(a, a)] += k;
+            stiffness[(a, b)] -= k;
+            stiffness[(b, a)] -= k;
+        }
+    };
+    for (j, cell) in cells.iter().enumerate() {
+        let (outer, inner) = (2 * j, 2 * j + 1);
+        mass[outer] = cell.unit.outer_mass;
+        mass[inner] = cell.unit.inner_mass;
+        tie(
+            j.checked_sub(1).map(|p| 2 * p),
+            outer,
+            cell.unit.outer_stiffness,
+        );
+        tie(Some(outer), inner, cell.unit.inner_stiffness);
+    }
+    let scaled = DMatrix::from_fn(n, n, |r, c| stiffness[(r, c)] / (mass[r] * mass[c]).sqrt());
+    SymmetricEigen::new(scaled)
+        .eigenvalues
+        .iter()
+        .map(|&l| l.max(0.0).sqrt())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's unit: `ω² = 1.5, 6` exactly (physics notes, §2.2).
+    #[test]
+    fn the_paper_units_bounds_come_from_its_two_modes() {
+        let b = FrequencyBounds::of(&Scene::paper());
+        assert!((b.slowest - 1.5f64.sqrt()).abs() < 1e-13);
+        assert!((b.fastest - 6f64.sqrt()).abs() < 1e-13);
+        assert!((b.min() - 6f64.sqrt() / 1e3).abs() < 1e-16);
+        assert!((b.max() - 1.5f64.sqrt() * 1e6).abs() < 1e-8);
+    }
+
+    /// A chain of identical cells: the finite lattice's modes lie inside the infinite
+    /// lattice's pass bands, so the slowest is below the unit's and the fastest above.
+    #[test]
+    fn a_chains_bounds_come_from_the_chains_modes() {
+        let mut scene = Scene::paper();
+        scene.cells = Some(8);
+        let b = FrequencyBounds::of(&scene);
+        assert!(b.slowest < 1.5f64.sqrt() && b.slowest > 0.0);
+        assert!(b.fastest > 6f64.sqrt());
+        // One cell equals the unit.
+        scene.cells = Some(1);
+        let one = FrequencyBounds::of(&scene);
+        assert!((one.fastest - 6f64.sqrt()).abs() < 1e-13);
+    }
+
+    #[test]
+    fn frequencies_outside_the_bounds_are_refused_with_the_range() {
+        let b = FrequencyBounds::of(&Scene::paper());
+        assert_eq!(b.check("--omega", 2.0), Ok(2.0));
+        assert_eq!(b.check("--omega", b.min()), Ok(b.min()));
+        for bad in [1e-300, 1e-6, 2e-3, 1.3e6, 1e300] {
+            let message = b.check("--omega", bad).unwrap_err().to_string();
+            assert!(message.starts_with(&format!("--omega = {bad:e} is out of range")));
+            assert!(message.contains("must be in [2.449490e-3, 1.224745e6] rad/s"));
+        }
+        for bad in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            let message = b.check("omega", bad).unwrap_err().to_string();
+            assert!(
+                message.ends_with("must be finite and > 0 (rad/s)"),
+                "{message}"
+            );
+        }
+    }
+}
