@@ -12,7 +12,9 @@ use std::fmt;
 use thiserror::Error;
 
 use crate::model::LinearModel;
-use crate::signature::{Signature, SignatureError, MAX_PERIOD};
+use crate::signature::{
+    Signature, SignatureError, MAX_CYCLE_IMPACTS, MAX_CYCLE_PERIOD, MAX_PERIOD,
+};
 
 /// Largest number of impacts in a sequence: a chain of 16 cells with the `++--` signature in
 /// each (64 impacts) is the largest chain orbit this workbench is to study.
@@ -74,29 +76,49 @@ pub struct ImpactSequence {
 
 impl ImpactSequence {
     /// The sequence of time-ordered impacts over `period` forcing periods, rotated to
-    /// canonical form.
+    /// canonical form, with the caps of the multi-start search.
     ///
     /// # Errors
     /// [`SequenceError::Signature`] for an empty list, a side other than `±1` or a period
     /// outside `1..=MAX_PERIOD`; [`SequenceError::TooManyImpacts`] above
     /// [`MAX_SEQUENCE_IMPACTS`].
     pub fn new(impacts: &[PairImpact], period: u32) -> Result<Self, SequenceError> {
+        Self::with_caps(impacts, period, MAX_SEQUENCE_IMPACTS, MAX_PERIOD)
+    }
+
+    /// The sequence of the impacts of a simulated cycle over `period` forcing periods, to be
+    /// solved from the cycle's own impact phases: up to
+    /// [`MAX_CYCLE_IMPACTS`] impacts and [`MAX_CYCLE_PERIOD`] periods, as
+    /// [`Signature::from_cycle`].
+    ///
+    /// # Errors
+    /// As [`ImpactSequence::new`], with those caps.
+    pub fn from_cycle(impacts: &[PairImpact], period: u32) -> Result<Self, SequenceError> {
+        Self::with_caps(impacts, period, MAX_CYCLE_IMPACTS, MAX_CYCLE_PERIOD)
+    }
+
+    fn with_caps(
+        impacts: &[PairImpact],
+        period: u32,
+        max_impacts: usize,
+        max_period: u32,
+    ) -> Result<Self, SequenceError> {
         if impacts.is_empty() {
             return Err(SignatureError::Empty.into());
         }
         if let Some(bad) = impacts.iter().find(|i| i.side != 1 && i.side != -1) {
             return Err(SignatureError::BadSide { side: bad.side }.into());
         }
-        if impacts.len() > MAX_SEQUENCE_IMPACTS {
+        if impacts.len() > max_impacts {
             return Err(SequenceError::TooManyImpacts {
                 impacts: impacts.len(),
-                max: MAX_SEQUENCE_IMPACTS,
+                max: max_impacts,
             });
         }
-        if period == 0 || period > MAX_PERIOD {
+        if period == 0 || period > max_period {
             return Err(SignatureError::Period {
                 period,
-                max: MAX_PERIOD,
+                max: max_period,
             }
             .into());
         }
@@ -173,7 +195,7 @@ impl ImpactSequence {
     pub fn as_signature(&self) -> Option<Signature> {
         if self.impacts.iter().all(|i| i.pair == 0) {
             let sides: Vec<i8> = self.impacts.iter().map(|i| i.side).collect();
-            Signature::from_sides(&sides, self.period).ok()
+            Signature::from_cycle(&sides, self.period).ok()
         } else {
             None
         }
@@ -188,7 +210,7 @@ impl ImpactSequence {
             .filter(|i| i.pair == pair)
             .map(|i| i.side)
             .collect();
-        Signature::from_sides(&sides, self.period).ok()
+        Signature::from_cycle(&sides, self.period).ok()
     }
 
     /// Checks that every impact names a pair of `model`.

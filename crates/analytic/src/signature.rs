@@ -8,15 +8,31 @@
 use std::fmt;
 use thiserror::Error;
 
-/// Largest number of forcing periods in a cycle that [`Signature::parse`] accepts: the
-/// multi-start search of [`crate::signature_orbits`] grows with the cycle's length, and
-/// subharmonics beyond period 8 are beyond what this workbench studies.
+/// Largest number of forcing periods in a cycle that [`Signature::parse`] and
+/// [`Signature::from_sides`] accept: the multi-start search of [`crate::signature_orbits`]
+/// grows with the cycle's length, and subharmonics beyond period 8 are beyond what a search
+/// over impact phases can afford. A cycle read from a simulation has its own cap,
+/// [`MAX_CYCLE_PERIOD`].
 pub const MAX_PERIOD: u32 = 8;
 
-/// Largest number of impacts in a signature: the multi-start grid grows like the number of
-/// ordered impact-phase tuples, `C(N, n − 1)`; 16 impacts is already far beyond what a
-/// systematic search over impact phases can afford.
+/// Largest number of impacts in a signature that [`Signature::parse`] and
+/// [`Signature::from_sides`] accept: the multi-start grid grows like the number of ordered
+/// impact-phase tuples, `C(N, n − 1)`, and is coarsened to no fewer than 16 intervals, so 16
+/// impacts is the most a systematic search over impact phases can hold.
+/// A cycle read from a simulation has its own cap, [`MAX_CYCLE_IMPACTS`].
 pub const MAX_IMPACTS: usize = 16;
+
+/// Largest number of impacts in a signature read from a simulated cycle
+/// ([`Signature::from_cycle`]). Such a signature is solved by Newton from the cycle's own
+/// impact phases, with no search: its cost grows like `n` flights and one `n × n` solve per
+/// iteration, so the cap only bounds the work on absurd input. Issue #22 asks for at least 128.
+pub const MAX_CYCLE_IMPACTS: usize = 256;
+
+/// Largest number of forcing periods of a signature read from a simulated cycle
+/// ([`Signature::from_cycle`]): the simulator reports least periods up to its
+/// `max_period_multiplicity` (16 by default); a cycle is solved from its own phases, so
+/// its period costs nothing but the length of its flights.
+pub const MAX_CYCLE_PERIOD: u32 = 64;
 
 /// A signature that cannot be used, with the field it came from.
 #[derive(Debug, Clone, PartialEq, Eq, Error)]
@@ -34,12 +50,16 @@ pub enum SignatureError {
         /// The first character that is neither `+` nor `-`.
         found: char,
     },
-    /// The signature has more impacts than [`MAX_IMPACTS`].
-    #[error("--signature has {impacts} impacts: at most {max} are allowed")]
+    /// The signature has more impacts than [`MAX_IMPACTS`] (or, read from a simulated cycle,
+    /// than [`MAX_CYCLE_IMPACTS`]).
+    #[error(
+        "--signature has {impacts} impacts: at most {max} are allowed{}",
+        if *max == MAX_IMPACTS { SEARCH_REASON } else { "" }
+    )]
     TooManyImpacts {
         /// Number of impacts given.
         impacts: usize,
-        /// The cap, [`MAX_IMPACTS`].
+        /// The cap, [`MAX_IMPACTS`] or [`MAX_CYCLE_IMPACTS`].
         max: usize,
     },
     /// The period is zero or above [`MAX_PERIOD`].
@@ -57,6 +77,11 @@ pub enum SignatureError {
         side: i8,
     },
 }
+
+/// Why a signature given to search for is capped, as the error says it.
+const SEARCH_REASON: &str = ": the multi-start search tries every ordering of impact phases \
+     on a grid, C(N, n − 1) of them; a longer signature read from a simulated cycle is solved \
+     from the cycle's own phases (`rattle compare`, `rattle sweep --solver both`)";
 
 /// The sequence of stops hit over one cycle of `period` forcing periods, in canonical form.
 #[derive(Debug, Clone, PartialEq, Eq, Hash)]
@@ -91,28 +116,56 @@ impl Signature {
         Self::from_sides(&sides, period)
     }
 
-    /// The signature of a sequence of sides (`+1` side 1, `−1` side 2), e.g. the impacts of a
-    /// simulated motion over `period` forcing periods.
+    /// The signature of a sequence of sides (`+1` side 1, `−1` side 2) to search for, with the
+    /// caps of the multi-start search ([`MAX_IMPACTS`], [`MAX_PERIOD`]).
     ///
     /// # Errors
     /// As [`Signature::parse`], and [`SignatureError::BadSide`] for a side other than `±1`.
     pub fn from_sides(sides: &[i8], period: u32) -> Result<Self, SignatureError> {
+        Self::with_caps(sides, period, MAX_IMPACTS, MAX_PERIOD)
+    }
+
+    /// The signature of the impacts of a simulated cycle over `period` forcing periods, to
+    /// be solved from the cycle's own impact phases: up to [`MAX_CYCLE_IMPACTS`] impacts and
+    /// [`MAX_CYCLE_PERIOD`] periods. Such a signature may be longer than the multi-start
+    /// search takes ([`Signature::is_searchable`]).
+    ///
+    /// # Errors
+    /// [`SignatureError`] for an empty cycle, a side other than `±1`, or more impacts or
+    /// periods than those caps.
+    pub fn from_cycle(sides: &[i8], period: u32) -> Result<Self, SignatureError> {
+        Self::with_caps(sides, period, MAX_CYCLE_IMPACTS, MAX_CYCLE_PERIOD)
+    }
+
+    /// Whether the multi-start search takes this signature: at most [`MAX_IMPACTS`] impacts
+    /// and [`MAX_PERIOD`] periods (always so for one from [`Signature::parse`] or
+    /// [`Signature::from_sides`]).
+    pub fn is_searchable(&self) -> bool {
+        self.sides.len() <= MAX_IMPACTS && self.period <= MAX_PERIOD
+    }
+
+    fn with_caps(
+        sides: &[i8],
+        period: u32,
+        max_impacts: usize,
+        max_period: u32,
+    ) -> Result<Self, SignatureError> {
         if sides.is_empty() {
             return Err(SignatureError::Empty);
         }
         if let Some(&side) = sides.iter().find(|&&s| s != 1 && s != -1) {
             return Err(SignatureError::BadSide { side });
         }
-        if sides.len() > MAX_IMPACTS {
+        if sides.len() > max_impacts {
             return Err(SignatureError::TooManyImpacts {
                 impacts: sides.len(),
-                max: MAX_IMPACTS,
+                max: max_impacts,
             });
         }
-        if period == 0 || period > MAX_PERIOD {
+        if period == 0 || period > max_period {
             return Err(SignatureError::Period {
                 period,
-                max: MAX_PERIOD,
+                max: max_period,
             });
         }
         let shift = canonical_shift(sides);
@@ -203,5 +256,30 @@ mod tests {
         assert!(message(Signature::parse(&"+".repeat(17), 1)).contains("--signature"));
         assert!(message(Signature::from_sides(&[1, 0], 1)).contains("--signature"));
         assert!(message(Signature::from_sides(&[], 1)).contains("--signature"));
+    }
+
+    /// Issue #22: a simulated cycle of 17–40 impacts read as "at most 16 are allowed" and was
+    /// never compared. A cycle's signature is capped only by [`MAX_CYCLE_IMPACTS`] (≥ 128), a
+    /// searched one by the search's [`MAX_IMPACTS`], whose message says why.
+    #[test]
+    fn a_simulated_cycle_is_capped_apart_from_the_search() {
+        let message = |r: Result<Signature, SignatureError>| r.unwrap_err().to_string();
+        let long: Vec<i8> = (0..128).map(|k| if k % 4 < 2 { 1 } else { -1 }).collect();
+        let cycle = Signature::from_cycle(&long, 16).unwrap();
+        assert_eq!((cycle.impacts(), cycle.period()), (128, 16));
+        assert!(!cycle.is_searchable());
+        assert!(Signature::from_cycle(&long[..16], 8)
+            .unwrap()
+            .is_searchable());
+        let searched = message(Signature::from_sides(&long[..17], 1));
+        assert!(searched.starts_with(
+            "--signature has 17 impacts: at most 16 are allowed: the multi-start search"
+        ));
+        let too_long = message(Signature::from_cycle(&vec![1; MAX_CYCLE_IMPACTS + 1], 1));
+        assert_eq!(
+            too_long,
+            "--signature has 257 impacts: at most 256 are allowed"
+        );
+        assert!(message(Signature::from_cycle(&long, MAX_CYCLE_PERIOD + 1)).contains("--period"));
     }
 }

@@ -239,6 +239,31 @@ fn frequencies_that_would_not_end_are_refused_at_once_with_the_range() {
     .exists());
 }
 
+/// Issue #22: on the paper's unit from rest, `rattle sweep --solver both --omega-min 0.5
+/// --omega-max 4 --points 200` left these two periodic motions `beyond` ("--signature has 20
+/// impacts: at most 16 are allowed", and 34 impacts over 12 periods). A simulated cycle is now
+/// solved from its own phases whatever its length: both agree with the analytic orbit.
+#[test]
+fn long_simulated_cycles_are_compared_with_their_analytic_orbit() {
+    for (omega, impacts, period) in [
+        ("1.4673366834170856", 20, 1),
+        ("0.9045226130653266", 34, 12),
+    ] {
+        let doc = json(&["compare", "--omega", omega, "--json"]);
+        let signature = doc["simulated"]["signature"].as_str().unwrap();
+        assert_eq!(
+            (signature.len(), doc["simulated"]["period"].as_u64()),
+            (impacts, Some(period))
+        );
+        assert_eq!(
+            doc["class"], "agreement",
+            "{omega}: {}",
+            doc["class_detail"]
+        );
+        assert_eq!(doc["analytic"]["signature"], signature);
+    }
+}
+
 #[test]
 fn simulate_json_has_the_documented_fields() {
     let doc = json(&[

@@ -90,7 +90,7 @@ impl Attractor {
                 let period = sim.steady.period.unwrap_or(1);
                 let sides: Vec<i8> = sim.steady.cycle_impacts.iter().map(|i| i.side).collect();
                 Attractor::Periodic {
-                    signature: Signature::from_sides(&sides, period)
+                    signature: Signature::from_cycle(&sides, period)
                         .ok()
                         .map(|s| s.to_string()),
                     period,

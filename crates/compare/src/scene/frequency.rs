@@ -18,10 +18,11 @@ use thiserror::Error;
 
 /// Most free oscillations of the scene's fastest mode that one forcing period may hold.
 ///
-/// Measured on the paper's unit (fastest mode 2.449 rad/s) at the bound, ω = 2.449e-3 rad/s,
-/// with the release build: `rattle orbit` 1.5 s, `rattle simulate` and `rattle compare` under
-/// 1 s (the simulator's oscillation cap stops the run after its minimum 64 periods). At 10×
-/// the bound `rattle orbit` took 15.6 s, and at ω = 1e-6 the simulator ran for minutes.
+/// Measured on the paper's unit (fastest mode 2.449 rad/s) just inside the bound, ω = 2.4495e-3
+/// rad/s, release build, CPU time (the machine was loaded, wall times meaningless): `rattle
+/// orbit` 0.63 s, `rattle simulate` 0.86 s, `rattle compare` 0.90 s. Below it the work grows
+/// in proportion: `rattle orbit --omega 2.5e-4` took 6.0 s and `rattle simulate --omega 2.5e-5`
+/// 5.6 s of CPU, and at ω = 1e-6 the simulator did not end.
 pub const MAX_OSCILLATIONS_PER_PERIOD: f64 = 1e3;
 
 /// Most forcing periods that one free oscillation of the scene's slowest mode may hold.

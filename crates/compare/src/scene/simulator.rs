@@ -338,7 +338,7 @@ impl SimulatedPoint {
             return None;
         }
         let orbit = self.steady.orbit.as_ref()?;
-        Signature::from_sides(&orbit.impact_sides, orbit.periods).ok()
+        Signature::from_cycle(&orbit.impact_sides, orbit.periods).ok()
     }
 
     /// Each of the `pairs` contact pairs' canonical signature over the final cycle, from the
@@ -364,7 +364,7 @@ impl SimulatedPoint {
                     if sides.is_empty() {
                         Ok(None)
                     } else {
-                        Signature::from_sides(&sides, period).map(Some)
+                        Signature::from_cycle(&sides, period).map(Some)
                     }
                 })
                 .collect(),

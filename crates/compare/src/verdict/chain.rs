@@ -35,10 +35,10 @@ pub enum ChainReason {
     /// Beyond: the simulator's Newton could not polish the periodic cycle.
     NotPolished,
     /// Beyond: more impacts per cycle than an impact sequence holds
-    /// ([`rattle_analytic::sequence::MAX_SEQUENCE_IMPACTS`]).
+    /// ([`rattle_analytic::signature::MAX_CYCLE_IMPACTS`]).
     TooManyImpacts,
     /// Beyond: a cycle longer than an impact sequence holds (`p` above
-    /// [`rattle_analytic::signature::MAX_PERIOD`]).
+    /// [`rattle_analytic::signature::MAX_CYCLE_PERIOD`]).
     PeriodTooLong,
     /// Beyond: a cell without stops (the analytic chain needs a contact pair in every cell).
     CellWithoutStops,
@@ -358,7 +358,7 @@ fn seeded_check(
         );
         return Ok(());
     }
-    let sequence = match ImpactSequence::new(&impacts, orbit.periods) {
+    let sequence = match ImpactSequence::from_cycle(&impacts, orbit.periods) {
         Ok(s) => s,
         Err(e) => {
             let reason = match e {

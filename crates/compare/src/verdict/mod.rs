@@ -440,7 +440,7 @@ fn confirm_orbit(
         });
     match newton {
         Ok(found) => {
-            let same = Signature::from_sides(&found.impact_sides, found.periods)
+            let same = Signature::from_cycle(&found.impact_sides, found.periods)
                 .is_ok_and(|s| s == orbit.signature);
             let d = (0..4)
                 .map(|i| (found.state[i] - x[i]).abs())
@@ -577,7 +577,7 @@ fn seeded_check(
     let Some(stops) = scene.stops_model() else {
         return Class::Beyond("no stops".into());
     };
-    let signature = match Signature::from_sides(&cycle.impact_sides, cycle.periods) {
+    let signature = match Signature::from_cycle(&cycle.impact_sides, cycle.periods) {
         Ok(signature) => signature,
         // e.g. more impacts per cycle than a signature holds
         Err(e) => return Class::Beyond(format!("the simulated cycle has no signature: {e}")),
