@@ -15,8 +15,11 @@ command's ``--trajectory`` and ``--impacts`` tables. Each function does what the
 
 Errors: a bad scene or argument raises :class:`ValueError` (for a scene, the command's message:
 the field's path and its allowed range); an unreadable scene file :class:`OSError`; a numerical
-failure :class:`RuntimeError`. The computations release the GIL; a sweep runs on the Rust
-thread pool (``RAYON_NUM_THREADS`` sets its size).
+failure :class:`RuntimeError`. A frequency must be finite, > 0 and within the scene's bounds,
+``[ω_fastest / 1e3, ω_slowest × 1e6]`` of its undamped natural frequencies (the paper's unit:
+2.449e-3 to 1.225e6 rad/s), so that every call ends in bounded time; outside them the call
+raises the command's :class:`ValueError` with the range. The computations release the GIL; a
+sweep runs on the Rust thread pool (``RAYON_NUM_THREADS`` sets its size).
 
 ``simulate(..., lyapunov=True)`` adds the Lyapunov exponents of the motion, as
 ``rattle simulate --lyapunov``.
@@ -629,7 +632,8 @@ def sweep(
 ):
     """A frequency sweep with one solver or both, in parallel, as ``rattle sweep``.
 
-    ``omegas``: the frequencies, rad/s, any 1-D sequence (each finite and > 0); use
+    ``omegas``: the frequencies, rad/s, any 1-D sequence (each finite, > 0 and within the
+    scene's bounds, see the module's docstring); use
     :func:`frequencies` for the command's evenly spaced axis. ``solver``: ``"analytic"``
     (linear steady state and symmetric orbits), ``"event"`` (simulator from rest) or
     ``"both"`` (also the simulator started on every viable orbit, and a verdict). A frequency
