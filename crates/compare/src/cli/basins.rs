@@ -2,7 +2,6 @@
 
 use super::{check_omega, load_unit, RattleError};
 use crate::output::{Format, OutputError};
-use crate::runs::axis::Axis;
 use crate::runs::basins::{basin_options, write_basins, BasinGrid};
 use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
@@ -43,24 +42,12 @@ pub struct BasinsArgs {
     pub shard: Option<String>,
 }
 
-fn axis(name: &str, min: f64, max: f64, count: usize) -> Result<Axis, RattleError> {
-    if !(min.is_finite() && max.is_finite() && min <= max) {
-        return Err(RattleError::Argument(format!(
-            "--{name}-min = {min}, --{name}-max = {max}: must be finite with min ≤ max"
-        )));
-    }
-    Ok(Axis::new(min, max, count))
-}
-
 /// Runs `rattle basins`.
 ///
 /// # Errors
 /// Bad arguments, scene or output path.
 pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.omega)?;
-    if args.points == 0 {
-        return Err(RattleError::Argument("--points must be ≥ 1".into()));
-    }
     let format = Format::of(&args.out, "--out")?;
     let shard = args
         .shard
@@ -73,14 +60,14 @@ pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
             "--shard: parts must be .csv or .json (a .jsonl file has no header to say which part it is)".into(),
         ));
     }
-    let grid = BasinGrid {
-        outer: axis("outer", args.outer_min, args.outer_max, args.points)?,
-        inner: axis("inner", args.inner_min, args.inner_max, args.points)?,
-    };
+    let grid = BasinGrid::new(
+        (args.outer_min, args.outer_max),
+        (args.inner_min, args.inner_max),
+        args.points,
+    )
+    .map_err(|e| RattleError::Argument(e.to_string()))?;
     let scene = load_unit(&args.scene, "rattle basins")?;
-    let starts = shard.map_or(args.points * args.points, |s| {
-        s.range(args.points * args.points).len()
-    });
+    let starts = shard.map_or(grid.starts(), |s| s.range(grid.starts()).len());
     let progress = Progress::new("basins", starts, true);
     let io = |source| {
         RattleError::Output(OutputError::Io {

@@ -30,6 +30,7 @@ use rattle_analytic::Signature;
 use rattle_event_driven::{SimulationOptions, Start, Status, Stop};
 use serde::{Deserialize, Serialize};
 use std::io::Write;
+use thiserror::Error;
 
 /// Periods each start runs at most: a start that has not repeated by then is `not periodic`.
 /// From rest the paper's unit at the coexistence frequency ω = 1.86 settles within 150–212
@@ -61,6 +62,57 @@ pub struct BasinGrid {
     pub outer: Axis,
     /// Inner displacement `u_i` at the start, m.
     pub inner: Axis,
+}
+
+/// A basins grid out of range; the message names the command-line field and its range.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum BasinsError {
+    /// A side's ends are not finite or not in order.
+    #[error("--{side}-min = {min}, --{side}-max = {max}: must be finite with min ≤ max")]
+    Side {
+        /// `outer` or `inner`.
+        side: &'static str,
+        /// The smallest displacement given.
+        min: f64,
+        /// The largest displacement given.
+        max: f64,
+    },
+    /// No starts per side.
+    #[error("--points must be ≥ 1")]
+    NoPoints,
+}
+
+impl BasinGrid {
+    /// The grid of `points × points` starts with outer displacements over `outer` and inner
+    /// over `inner` (each `(min, max)`, m), as `rattle basins` takes them.
+    ///
+    /// # Errors
+    /// [`BasinsError`] for no points, or a side not finite or with `min > max`.
+    pub fn new(
+        outer: (f64, f64),
+        inner: (f64, f64),
+        points: usize,
+    ) -> Result<BasinGrid, BasinsError> {
+        if points == 0 {
+            return Err(BasinsError::NoPoints);
+        }
+        let axis = |side: &'static str, (min, max): (f64, f64)| {
+            if min.is_finite() && max.is_finite() && min <= max {
+                Ok(Axis::new(min, max, points))
+            } else {
+                Err(BasinsError::Side { side, min, max })
+            }
+        };
+        Ok(BasinGrid {
+            outer: axis("outer", outer)?,
+            inner: axis("inner", inner)?,
+        })
+    }
+
+    /// Number of starts.
+    pub fn starts(&self) -> usize {
+        self.outer.count * self.inner.count
+    }
 }
 
 /// The kind of motion a start ends on (as JSON in a part's header, [`write_basins`]).
@@ -435,7 +487,12 @@ pub fn basins_part(
 ) -> Basins {
     let all = starts(&grid);
     let range = shard.map_or(0..all.len(), |s| s.range(all.len()));
-    let references = references(scene, omega, &grid, options);
+    // A part without starts needs no references.
+    let references = if range.is_empty() {
+        (Vec::new(), BASIN_PROXIMITY)
+    } else {
+        references(scene, omega, &grid, options)
+    };
     let reached = reach_all(scene, omega, &all[range], &references, options, progress);
     let (attractors, counts, cells) = number(reached);
     Basins {
@@ -509,7 +566,7 @@ pub fn write_basins<W: Write>(
 ) -> std::io::Result<Basins> {
     let b = basins_part(scene, omega, grid, options, shard, progress);
     let mut h = header(scene, omega);
-    let total = grid.outer.count * grid.inner.count;
+    let total = grid.starts();
     let preamble = match shard {
         Some(s) => {
             h.push("starts", &total);
