@@ -26,11 +26,11 @@ use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
 use rattle_compare::cli::compare::chain_record;
 use rattle_compare::cli::orbit::{chain_linear_model, chain_orbits};
-use rattle_compare::cli::simulate::{lyapunov_record, LyapunovArgs, WithLyapunov};
+use rattle_compare::cli::simulate::{lyapunov_record, LyapunovArgs};
 use rattle_compare::cli::{Accuracy, RattleError, MAX_SAMPLES_PER_PERIOD};
 use rattle_compare::output::records::{
     At, CrossCheckRecord, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
-    SignatureOrbitsRecord, SimulationRecord,
+    SignatureOrbitsRecord, SimulationRecord, WithLyapunov,
 };
 use rattle_compare::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, TrajectoryRow};
 use rattle_compare::output::Row;
