@@ -229,3 +229,13 @@ def test_a_bad_study_on_a_cluster_fails_before_any_task(damped):
             rattle.map(damped, gap=(0.1, 0.8, 0), client=client)
         with pytest.raises(ValueError, match="points"):
             rattle.basins(rattle.Scene.paper(), 1.9, points=0, client=client)
+
+
+def test_the_parts_are_chosen_from_the_estimated_work():
+    from rattle._grids import parts_for
+
+    assert parts_for(100.0, 1000) == 20  # one per TASK_SECONDS = 5 s
+    assert parts_for(100.0, 10) == 10  # at most one per line or start
+    assert parts_for(4.3, 36, workers=2) == 2  # one per worker, each at least 1 s
+    assert parts_for(2.5, 36, workers=8) == 2
+    assert parts_for(0.5, 36, workers=4) == 1

@@ -17,14 +17,14 @@ import numpy as _np
 
 from . import _rattle
 
-#: Seconds of one core per map point, measured on this project's 2-core machine (the lightly
-#: damped paper unit over the default grid, continued lines; `rattle map` on 2 threads, 40 000
-#: points): used only to choose how many parts a study is cut into.
-MAP_SECONDS_PER_POINT = 0.0025
+#: Seconds of one core per map point, as measured on this project's 2-core machine (the
+#: repository README: 640 000 points of the lightly damped paper unit in 390 s on 2 threads):
+#: used only to choose how many parts a study is cut into.
+MAP_SECONDS_PER_POINT = 0.0012
 
-#: Seconds of one core per basins start (the paper's unit at ω = 1.9 rad/s over ±1.5 m,
-#: measured as above), for the same purpose.
-BASINS_SECONDS_PER_START = 0.0025
+#: Seconds of one core per basins start (the README: 200 × 200 starts of the paper's unit at
+#: ω = 1.9 rad/s in 10.7 s on 2 threads), for the same purpose.
+BASINS_SECONDS_PER_START = 0.0005
 
 #: The work a Dask task is given, in seconds of one core: long enough that the per-task
 #: overhead of Dask (scheduling, shipping the scene and the part's table) is a small part of
@@ -231,10 +231,26 @@ def _basins_part(scene_json, omega, outer, inner, points, part):
     return _rattle.basins_document(_native(scene_json), omega, outer, inner, points, part)
 
 
-def parts_for(seconds, most):
+#: The least work a task is given when a study is cut finer than :data:`TASK_SECONDS` to keep
+#: every worker busy, seconds of one core.
+MIN_TASK_SECONDS = 1.0
+
+
+def parts_for(seconds, most, workers=1):
     """How many parts a study of ``seconds`` of one core is cut into for Dask: one per
-    :data:`TASK_SECONDS`, at least one and at most ``most`` (a map's lines, basins' starts)."""
-    return max(1, min(int(most), _math.ceil(seconds / TASK_SECONDS)))
+    :data:`TASK_SECONDS`, or, for a study too small to give each of the ``workers`` one,
+    one per worker as long as each keeps :data:`MIN_TASK_SECONDS`; at least one, at most
+    ``most`` (a map's lines, basins' starts)."""
+    parts = max(_math.ceil(seconds / TASK_SECONDS), min(workers, int(seconds / MIN_TASK_SECONDS)))
+    return max(1, min(int(most), parts))
+
+
+def _workers(client):
+    """The client's workers now (0 when it cannot tell, e.g. jobs not yet started)."""
+    try:
+        return len(client.scheduler_info().get("workers", {}))
+    except Exception:  # noqa: BLE001 - any client; only a hint for the number of parts
+        return 0
 
 
 def _on_client(client, function, args, count, label, progress):
@@ -303,8 +319,9 @@ def map(
     cluster, a scheduler's address). The map is cut into ``parts`` tasks of whole lines,
     each run on a worker (the Rust pool there), gathered in order and merged: the result is
     the single-machine one bit for bit. ``parts=None`` chooses one part per
-    :data:`TASK_SECONDS` of estimated work (points × :data:`MAP_SECONDS_PER_POINT`), at
-    most one per line. ``progress`` shows a bar over the parts (tqdm, when installed); the
+    :data:`TASK_SECONDS` of estimated work (points × :data:`MAP_SECONDS_PER_POINT`), or
+    one per worker for a smaller study (each at least :data:`MIN_TASK_SECONDS`), at most
+    one per line (:func:`parts_for`). ``progress`` shows a bar over the parts (tqdm, when installed); the
     tasks show in the Dask dashboard as ``rattle-map-…``. A worker lost mid-run has its
     tasks rerun by Dask; an error in a task is raised here.
 
@@ -330,7 +347,7 @@ def map(
     _rattle.map_document(_native(scene_json), *axes, *accuracy, (1, 1 << 62))
     lines = axes[0][2] * axes[1][2]
     if parts is None:
-        parts = parts_for(lines * axes[2][2] * MAP_SECONDS_PER_POINT, lines)
+        parts = parts_for(lines * axes[2][2] * MAP_SECONDS_PER_POINT, lines, _workers(client))
     document = _on_client(
         client, _map_part, (scene_json, *axes, accuracy), int(parts), "map", progress
     )
@@ -359,9 +376,8 @@ def basins(
     :func:`merge`, which numbers the attractors over the whole grid.
 
     ``client``: a ``dask.distributed.Client``; the grid is cut into ``parts`` tasks, gathered
-    in order and merged, bit for bit the single-machine result. ``parts=None`` chooses one
-    part per :data:`TASK_SECONDS` of estimated work (starts ×
-    :data:`BASINS_SECONDS_PER_START`). Every part first runs the grid's coarse reference
+    in order and merged, bit for bit the single-machine result. ``parts=None`` chooses the
+    parts as :func:`map` does, from starts × :data:`BASINS_SECONDS_PER_START`. Every part first runs the grid's coarse reference
     starts (about one in a hundred, to the period cap), as the whole run does, so a part
     costs that much more than its own starts. Progress, faults and errors as :func:`map`.
 
@@ -377,5 +393,5 @@ def basins(
     _basins_part(*args, (1, 1 << 62))
     starts = int(points) ** 2
     if parts is None:
-        parts = parts_for(starts * BASINS_SECONDS_PER_START, starts)
+        parts = parts_for(starts * BASINS_SECONDS_PER_START, starts, _workers(client))
     return Basins(_on_client(client, _basins_part, args, int(parts), "basins", progress))
