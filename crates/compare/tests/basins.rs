@@ -119,3 +119,117 @@ fn a_slow_start_is_attributed_to_the_attractor_a_long_run_reaches() {
         cell.periods_run
     );
 }
+
+/// Basins cut into parts: merged, any number of parts (more than the starts too) in any order
+/// gives exactly the table of the whole grid, CSV and JSON, attractors numbered over the
+/// whole grid (at ω = 1.9 rad/s over ±4 m, 6 × 6 starts: `not periodic` first, then `++--`
+/// for 3 starts, so a part without the first start numbers them otherwise).
+#[test]
+fn merged_parts_are_the_whole_grid_byte_for_byte() {
+    use rattle_compare::output::Format;
+    use rattle_compare::runs::axis::Axis;
+    use rattle_compare::runs::basins::{basin_options, write_basins, BasinGrid};
+    use rattle_compare::runs::parallel::Progress;
+    use rattle_compare::runs::shard::{merge, Shard};
+    let grid = BasinGrid {
+        outer: Axis::new(-4.0, 4.0, 6),
+        inner: Axis::new(-4.0, 4.0, 6),
+    };
+    let table = |format: Format, shard: Option<Shard>| {
+        let mut out = Vec::new();
+        write_basins(
+            &Scene::paper(),
+            1.9,
+            grid,
+            &basin_options(),
+            shard,
+            (format, &mut out),
+            &Progress::hidden(),
+        )
+        .unwrap();
+        String::from_utf8(out).unwrap()
+    };
+    for (format, counts) in [
+        (Format::Csv, &[1, 2, 5, 40][..]),
+        (Format::Json, &[3, 7][..]),
+    ] {
+        let whole = table(format, None);
+        let attractors: std::collections::BTreeSet<&str> = whole
+            .lines()
+            .skip(1)
+            .filter_map(|l| l.split(',').nth(2))
+            .collect();
+        if format == Format::Csv {
+            assert!(attractors.len() >= 2, "{whole}");
+        }
+        for &count in counts {
+            let parts: Vec<String> = (1..=count)
+                .rev()
+                .map(|index| table(format, Some(Shard { index, count })))
+                .collect();
+            assert_eq!(merge(&parts).unwrap(), whole, "{count} parts, {format:?}");
+            // A part missing, or one repeated, is refused.
+            if count > 1 {
+                assert!(merge(&parts[1..]).is_err());
+                let mut twice = parts.clone();
+                twice[0] = parts[1].clone();
+                assert!(merge(&twice).is_err());
+            }
+        }
+    }
+}
+
+#[test]
+fn the_command_merges_its_basins_parts_into_the_whole_file() {
+    let dir = std::env::temp_dir().join(format!("rattle-basins-parts-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |shard: Option<&str>, out: &std::path::Path| {
+        let mut args = vec![
+            "basins",
+            "--omega",
+            "1.86",
+            "--outer-min",
+            "-1.5",
+            "--outer-max",
+            "1.5",
+            "--inner-min",
+            "-1.5",
+            "--inner-max",
+            "1.5",
+            "--points",
+            "5",
+        ];
+        if let Some(s) = shard {
+            args.extend(["--shard", s]);
+        }
+        let o = Command::new(env!("CARGO_BIN_EXE_rattle"))
+            .args(&args)
+            .args(["--out", out.to_str().unwrap()])
+            .output()
+            .expect("rattle runs");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let whole = dir.join("whole.json");
+    run(None, &whole);
+    let parts: Vec<_> = (1..=2)
+        .map(|k| dir.join(format!("part-{k}.json")))
+        .collect();
+    run(Some("1/2"), &parts[0]);
+    run(Some("2/2"), &parts[1]);
+    let merged = dir.join("merged.json");
+    let o = Command::new(env!("CARGO_BIN_EXE_rattle"))
+        .args([
+            "merge",
+            parts[1].to_str().unwrap(),
+            parts[0].to_str().unwrap(),
+        ])
+        .args(["--out", merged.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        std::fs::read(&merged).unwrap(),
+        std::fs::read(&whole).unwrap()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

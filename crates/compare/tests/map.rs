@@ -165,3 +165,114 @@ fn bad_map_arguments_exit_2_and_name_the_field() {
         assert!(message.contains(field), "{args:?}: {message}");
     }
 }
+
+/// A map cut into parts by whole lines: merged, any number of parts (more than the lines too)
+/// in any order gives exactly the tables of the whole map, points and bandwidths, CSV and JSON.
+#[test]
+fn merged_parts_are_the_whole_map_byte_for_byte() {
+    use rattle_compare::runs::map::write_map;
+    use rattle_compare::runs::shard::{merge, Shard};
+    let scene = damped();
+    let g = grid(2, (0.1, 0.8, 3), 8);
+    let settings = MapSettings::default();
+    let tables = |formats: (Format, Format), shard: Option<Shard>| {
+        let (mut points, mut bandwidth) = (Vec::new(), Vec::new());
+        write_map(
+            &scene,
+            &g,
+            &settings,
+            shard,
+            (formats.0, &mut points),
+            Some((formats.1, &mut bandwidth)),
+            &Progress::hidden(),
+        )
+        .unwrap();
+        (
+            String::from_utf8(points).unwrap(),
+            String::from_utf8(bandwidth).unwrap(),
+        )
+    };
+    for (formats, counts) in [
+        ((Format::Csv, Format::Json), &[1, 2, 4, 9][..]),
+        ((Format::Json, Format::Csv), &[3][..]),
+    ] {
+        let (points, bandwidth) = tables(formats, None);
+        assert_eq!(
+            points.lines().count(),
+            1 + 2 * 3 * 8 + usize::from(formats.0 == Format::Json)
+        );
+        for &count in counts {
+            let parts: Vec<(String, String)> = (1..=count)
+                .rev()
+                .map(|index| tables(formats, Some(Shard { index, count })))
+                .collect();
+            let (p, b): (Vec<String>, Vec<String>) = parts.into_iter().unzip();
+            assert_eq!(merge(&p).unwrap(), points, "{count} parts");
+            assert_eq!(merge(&b).unwrap(), bandwidth, "{count} parts");
+        }
+    }
+}
+
+#[test]
+fn the_command_merges_its_map_parts_into_the_whole_files() {
+    let dir = std::env::temp_dir().join(format!("rattle-map-parts-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |shard: Option<&str>, name: &str| {
+        let (points, bandwidth) = (
+            dir.join(format!("{name}.csv")),
+            dir.join(format!("{name}-b.json")),
+        );
+        let mut args = vec![
+            "map",
+            "--restitutions",
+            "2",
+            "--gaps",
+            "2",
+            "--points",
+            "5",
+            "--omega-min",
+            "1.5",
+            "--omega-max",
+            "2.5",
+        ];
+        if let Some(s) = shard {
+            args.extend(["--shard", s]);
+        }
+        let o = Command::new(env!("CARGO_BIN_EXE_rattle"))
+            .args(&args)
+            .args(["--out", points.to_str().unwrap()])
+            .args(["--bandwidth-out", bandwidth.to_str().unwrap()])
+            .output()
+            .expect("rattle runs");
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        (points, bandwidth)
+    };
+    let whole = run(None, "whole");
+    let parts: Vec<_> = ["1/3", "2/3", "3/3"]
+        .iter()
+        .enumerate()
+        .map(|(k, s)| run(Some(s), &format!("part-{k}")))
+        .collect();
+    for (merged, pick) in [("merged.csv", 0), ("merged-b.json", 1)] {
+        let merged = dir.join(merged);
+        let files: Vec<String> = parts
+            .iter()
+            .rev()
+            .map(|p| if pick == 0 { &p.0 } else { &p.1 })
+            .map(|p| p.to_str().unwrap().to_owned())
+            .collect();
+        let o = Command::new(env!("CARGO_BIN_EXE_rattle"))
+            .arg("merge")
+            .args(&files)
+            .args(["--out", merged.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let expected = if pick == 0 { &whole.0 } else { &whole.1 };
+        assert_eq!(
+            std::fs::read(&merged).unwrap(),
+            std::fs::read(expected).unwrap()
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -26,17 +26,21 @@ use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
 use rattle_compare::cli::compare::chain_record;
 use rattle_compare::cli::orbit::{chain_linear_model, chain_orbits};
-use rattle_compare::cli::simulate::{lyapunov_record, LyapunovArgs, WithLyapunov};
+use rattle_compare::cli::simulate::{lyapunov_record, LyapunovArgs};
 use rattle_compare::cli::{Accuracy, RattleError, MAX_SAMPLES_PER_PERIOD};
 use rattle_compare::output::records::{
     At, CrossCheckRecord, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
-    SignatureOrbitsRecord, SimulationRecord,
+    SignatureOrbitsRecord, SimulationRecord, WithLyapunov,
 };
 use rattle_compare::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, TrajectoryRow};
 use rattle_compare::output::Row;
+use rattle_compare::output::{table_text, Format, Header};
 use rattle_compare::runs::axis::Axis;
+use rattle_compare::runs::basins::{basin_options, write_basins, BasinGrid, BasinRow};
 use rattle_compare::runs::continuation::{follow, FollowError};
+use rattle_compare::runs::map::{write_map, MapError, MapGrid, MapPointRow, MapSettings};
 use rattle_compare::runs::parallel::Progress;
+use rattle_compare::runs::shard::{merge as merge_parts, Shard};
 use rattle_compare::runs::sweep::{header, sweep_rows, Solver, SweepRow};
 use rattle_compare::scene::analytic::{
     analyse, orbits_of_signature, sample_sequence_orbit, sample_signature_orbit, OrbitSearch,
@@ -811,8 +815,8 @@ fn compare(
 /// A sweep's result: the command's header and one [`SweepRow`] per frequency.
 #[pyclass(frozen, module = "rattle._rattle")]
 struct NativeSweep {
-    /// The header fields, each value as compact JSON text.
-    header: Vec<(String, String)>,
+    /// The command's JSON header.
+    header: Header,
     /// The rows, in frequency order.
     rows: Vec<SweepRow>,
 }
@@ -974,6 +978,7 @@ impl NativeSweep {
     fn header_json(&self) -> String {
         let fields: Vec<String> = self
             .header
+            .fields()
             .iter()
             .map(|(key, value)| {
                 let key = serde_json::to_string(key).unwrap_or_else(|_| "\"?\"".to_owned());
@@ -981,6 +986,11 @@ impl NativeSweep {
             })
             .collect();
         format!("{{{}}}", fields.join(","))
+    }
+
+    /// The command's `--out F.json` file as text (for a part, with its `shard`).
+    fn document(&self) -> PyResult<String> {
+        Ok(table_text(Format::Json, &self.header, &self.rows))
     }
 
     /// The rows as one JSON array, each row as the command writes it.
@@ -1043,7 +1053,7 @@ fn solver(name: &str) -> PyResult<Solver> {
 /// `rattle sweep --out FILE.json`: `solver` at every frequency of `omegas`, in parallel on
 /// rayon's pool, in order.
 #[pyfunction]
-#[pyo3(signature = (scene, omegas, solver_name, tol, steady_tol, max_periods, max_oscillations))]
+#[pyo3(signature = (scene, omegas, solver_name, tol, steady_tol, max_periods, max_oscillations, part=None))]
 #[allow(clippy::too_many_arguments)]
 fn sweep(
     py: Python<'_>,
@@ -1054,11 +1064,17 @@ fn sweep(
     steady_tol: f64,
     max_periods: i64,
     max_oscillations: f64,
+    part: Option<(i64, i64)>,
 ) -> PyResult<NativeSweep> {
-    let omegas = omegas.as_array().to_vec();
-    for (i, &omega) in omegas.iter().enumerate() {
+    let all = omegas.as_array().to_vec();
+    for (i, &omega) in all.iter().enumerate() {
         check_frequency(&scene.scene, &format!("omegas[{i}]"), omega)?;
     }
+    let part = shard(part)?;
+    let omegas = match part {
+        Some(s) => all[s.range(all.len())].to_vec(),
+        None => all.clone(),
+    };
     let solver = solver(solver_name)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
@@ -1082,7 +1098,7 @@ fn sweep(
         }
     })?;
     Ok(NativeSweep {
-        header: header(scene, solver, omegas.len(), None).fields().to_vec(),
+        header: header(scene, solver, all.len(), part),
         rows,
     })
 }
@@ -1108,6 +1124,177 @@ fn frequencies<'py>(
         .filter(|&n| n >= 1)
         .ok_or_else(|| PyValueError::new_err("points must be ≥ 1"))?;
     Ok(PyArray1::from_vec(py, Axis::new(lo, hi, points).values()))
+}
+
+/// `(K, N)` from Python as the command's `--shard K/N`; `None` for the whole run.
+fn shard(value: Option<(i64, i64)>) -> PyResult<Option<Shard>> {
+    value
+        .map(|(k, n)| {
+            Shard::parse(&format!("{k}/{n}")).map_err(|_| {
+                PyValueError::new_err(format!(
+                    "shard = ({k}, {n}): must be (K, N) with 1 ≤ K ≤ N, e.g. (3, 8)"
+                ))
+            })
+        })
+        .transpose()
+}
+
+/// A count from Python, refused with `message` when negative (the command takes `usize`;
+/// zero is refused by the grid's own checks, with the command's message).
+fn count_of(name: &str, n: i64) -> PyResult<usize> {
+    usize::try_from(n)
+        .map_err(|_| PyValueError::new_err(format!("{name} = {n} is out of range: must be ≥ 1")))
+}
+
+/// The command's map options named as this module's parameters: `--gap-min` is `gap[0]`,
+/// `--points` is `omega[2]`.
+fn map_names(message: &str) -> String {
+    let mut m = message.to_owned();
+    for (axis, [min, max, count]) in [
+        (
+            "restitution",
+            ["--restitution-min", "--restitution-max", "--restitutions"],
+        ),
+        ("gap", ["--gap-min", "--gap-max", "--gaps"]),
+        ("omega", ["--omega-min", "--omega-max", "--points"]),
+    ] {
+        m = m
+            .replace(min, &format!("{axis}[0]"))
+            .replace(max, &format!("{axis}[1]"))
+            .replace(count, &format!("{axis}[2]"));
+    }
+    python_names(&m)
+}
+
+/// `rattle map --out F.json [--shard K/N]`: the map's points table, the command's file as
+/// text (computed on rayon's pool, lines in parallel). Each axis is `(min, max, count)`.
+#[pyfunction]
+#[pyo3(signature = (scene, restitution, gap, omega, tol, steady_tol, max_periods, max_oscillations, part=None))]
+#[allow(clippy::too_many_arguments)]
+fn map_document(
+    py: Python<'_>,
+    scene: &NativeScene,
+    restitution: (f64, f64, i64),
+    gap: (f64, f64, i64),
+    omega: (f64, f64, i64),
+    tol: f64,
+    steady_tol: f64,
+    max_periods: i64,
+    max_oscillations: f64,
+    part: Option<(i64, i64)>,
+) -> PyResult<String> {
+    let axis = |name: &str, (min, max, n): (f64, f64, i64)| {
+        Ok::<_, PyErr>(Axis::new(min, max, count_of(&format!("{name}[2]"), n)?))
+    };
+    let grid = MapGrid {
+        restitution: axis("restitution", restitution)?,
+        gap_over_base_amplitude: axis("gap", gap)?,
+        omega: axis("omega", omega)?,
+    };
+    grid.validate()
+        .map_err(|e| PyValueError::new_err(map_names(&e.to_string())))?;
+    let settings =
+        MapSettings::with_simulation(options(tol, steady_tol, max_periods, max_oscillations)?);
+    let part = shard(part)?;
+    let scene = &scene.scene;
+    if scene.stops.is_none() {
+        return Err(PyValueError::new_err(MapError::NoStops.to_string()));
+    }
+    let text = compute(py, || {
+        let mut out = Vec::new();
+        let none: Option<(Format, Vec<u8>)> = None;
+        write_map(
+            scene,
+            &grid,
+            &settings,
+            part,
+            (Format::Json, &mut out),
+            none,
+            &Progress::hidden(),
+        )
+        .map_err(|e| e.to_string())?;
+        String::from_utf8(out).map_err(|e| e.to_string())
+    })?;
+    Ok(text)
+}
+
+/// `rattle basins --out F.json [--shard K/N]`: the basins table, the command's file as text.
+/// `outer` and `inner` are `(min, max)`, m.
+#[pyfunction]
+#[pyo3(signature = (scene, omega, outer, inner, points, part=None))]
+fn basins_document(
+    py: Python<'_>,
+    scene: &NativeScene,
+    omega: f64,
+    outer: (f64, f64),
+    inner: (f64, f64),
+    points: i64,
+    part: Option<(i64, i64)>,
+) -> PyResult<String> {
+    let omega = check_omega("omega", omega)?;
+    let points = count_of("points", points)?;
+    let grid = BasinGrid::new(outer, inner, points).map_err(|e| {
+        PyValueError::new_err(
+            e.to_string()
+                .replace("--outer-min", "outer[0]")
+                .replace("--outer-max", "outer[1]")
+                .replace("--inner-min", "inner[0]")
+                .replace("--inner-max", "inner[1]")
+                .replace("--points", "points"),
+        )
+    })?;
+    let part = shard(part)?;
+    unit_only(&scene.scene, "rattle basins")?;
+    let scene = &scene.scene;
+    compute(py, || {
+        let mut out = Vec::new();
+        write_basins(
+            scene,
+            omega,
+            grid,
+            &basin_options(),
+            part,
+            (Format::Json, &mut out),
+            &Progress::hidden(),
+        )
+        .map_err(|e| e.to_string())?;
+        String::from_utf8(out).map_err(|e| e.to_string())
+    })
+}
+
+/// `rattle merge`: the parts of a sharded sweep, map or basins (documents as text, all JSON
+/// or all CSV, any order) joined into exactly the document of the whole run.
+#[pyfunction]
+fn merge(py: Python<'_>, parts: Vec<String>) -> PyResult<String> {
+    py.detach(|| merge_parts(&parts))
+        .map_err(PyValueError::new_err)
+}
+
+/// The defaults of `rattle map`'s accuracy options: `tol`, `steady_tol` (the map's looser
+/// periodicity tolerance), `max_periods` (the map's cap), `max_oscillations`.
+#[pyfunction]
+fn map_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+    let d = MapSettings::default().simulation;
+    let out = PyDict::new(py);
+    out.set_item("tol", d.root_tolerance)?;
+    out.set_item("steady_tol", d.periodicity_tolerance)?;
+    out.set_item("max_periods", d.max_periods)?;
+    out.set_item(
+        "max_oscillations",
+        d.max_oscillations.unwrap_or(f64::INFINITY),
+    )?;
+    Ok(out)
+}
+
+/// The columns of the command's tables, in order: `"map"` (the points), `"basins"`, `"sweep"`.
+#[pyfunction]
+fn table_columns(table: &str) -> PyResult<Vec<&'static str>> {
+    match table {
+        "map" => Ok(MapPointRow::COLUMNS.to_vec()),
+        "basins" => Ok(BasinRow::COLUMNS.to_vec()),
+        "sweep" => Ok(SweepRow::COLUMNS.to_vec()),
+        _ => Err(PyValueError::new_err(format!("no table {table:?}"))),
+    }
 }
 
 /// Exercises the boundary's failure paths, for the tests (no input is known to make either
@@ -1143,6 +1330,11 @@ fn _rattle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(frequencies, m)?)?;
+    m.add_function(wrap_pyfunction!(map_document, m)?)?;
+    m.add_function(wrap_pyfunction!(basins_document, m)?)?;
+    m.add_function(wrap_pyfunction!(merge, m)?)?;
+    m.add_function(wrap_pyfunction!(map_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(table_columns, m)?)?;
     m.add_function(wrap_pyfunction!(_boundary_check, m)?)?;
     Ok(())
 }

@@ -1,10 +1,10 @@
 //! `rattle basins`: a grid of starts at rest, each coloured by the attractor it reaches.
 
 use super::{check_frequency, check_omega, load_unit, RattleError};
-use crate::output::{finite, table_row, write_table, Format, Header};
-use crate::runs::axis::Axis;
-use crate::runs::basins::{basin_options, basins, BasinGrid, Basins};
+use crate::output::{Format, OutputError};
+use crate::runs::basins::{basin_options, write_basins, BasinGrid};
 use crate::runs::parallel::Progress;
+use crate::runs::shard::Shard;
 use clap::Args;
 use std::fmt::Write as _;
 use std::path::PathBuf;
@@ -35,45 +35,11 @@ pub struct BasinsArgs {
     /// Where to write the grid: `.csv`, `.json` or `.jsonl`.
     #[arg(long)]
     pub out: PathBuf,
-}
-
-table_row! {
-    /// One start of a basins grid.
-    pub struct BasinRow {
-        /// Outer displacement at the start, m.
-        pub outer_start: Option<f64>,
-        /// Inner displacement at the start, m.
-        pub inner_start: Option<f64>,
-        /// The attractor's number (first appearance in grid order).
-        pub attractor: usize,
-        /// The attractor in words.
-        pub attractor_words: String,
-        /// `X_o` of the motion reached, m.
-        pub outer_amplitude: Option<f64>,
-        /// Forcing periods run.
-        pub periods_run: u64,
-    }
-}
-
-/// The rows of `basins`, in grid order.
-pub fn rows(basins: &Basins) -> impl Iterator<Item = BasinRow> + '_ {
-    basins.cells.iter().map(|c| BasinRow {
-        outer_start: finite(c.outer),
-        inner_start: finite(c.inner),
-        attractor: c.attractor,
-        attractor_words: basins.attractors[c.attractor].words(),
-        outer_amplitude: finite(c.outer_amplitude),
-        periods_run: c.periods_run,
-    })
-}
-
-fn axis(name: &str, min: f64, max: f64, count: usize) -> Result<Axis, RattleError> {
-    if !(min.is_finite() && max.is_finite() && min <= max) {
-        return Err(RattleError::Argument(format!(
-            "--{name}-min = {min}, --{name}-max = {max}: must be finite with min ≤ max"
-        )));
-    }
-    Ok(Axis::new(min, max, count))
+    /// Compute only part K of N (a contiguous block of the starts in grid order), e.g.
+    /// `--shard 3/8`; join the parts with `rattle merge` (CSV or JSON parts), which numbers
+    /// the attractors over the whole grid.
+    #[arg(long)]
+    pub shard: Option<String>,
 }
 
 /// Runs `rattle basins`.
@@ -82,24 +48,50 @@ fn axis(name: &str, min: f64, max: f64, count: usize) -> Result<Axis, RattleErro
 /// Bad arguments, scene or output path.
 pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.omega)?;
-    if args.points == 0 {
-        return Err(RattleError::Argument("--points must be ≥ 1".into()));
-    }
     let format = Format::of(&args.out, "--out")?;
-    let grid = BasinGrid {
-        outer: axis("outer", args.outer_min, args.outer_max, args.points)?,
-        inner: axis("inner", args.inner_min, args.inner_max, args.points)?,
-    };
+    let shard = args
+        .shard
+        .as_deref()
+        .map(Shard::parse)
+        .transpose()
+        .map_err(RattleError::Argument)?;
+    if shard.is_some() && format == Format::JsonLines {
+        return Err(RattleError::Argument(
+            "--shard: parts must be .csv or .json (a .jsonl file has no header to say which part it is)".into(),
+        ));
+    }
+    let grid = BasinGrid::new(
+        (args.outer_min, args.outer_max),
+        (args.inner_min, args.inner_max),
+        args.points,
+    )
+    .map_err(|e| RattleError::Argument(e.to_string()))?;
     let scene = load_unit(&args.scene, "rattle basins")?;
     check_frequency(&scene, "--omega", omega)?;
-    let progress = Progress::new("basins", args.points * args.points, true);
-    let b = basins(&scene, omega, grid, &basin_options(), &progress);
-    let mut header = Header::default();
-    header.push("scene", &scene);
-    header.push("omega", &omega);
-    write_table(&args.out, format, &header, rows(&b))?;
+    let starts = shard.map_or(grid.starts(), |s| s.range(grid.starts()).len());
+    let progress = Progress::new("basins", starts, true);
+    let io = |source| {
+        RattleError::Output(OutputError::Io {
+            path: args.out.clone(),
+            source,
+        })
+    };
+    let file = std::fs::File::create(&args.out).map_err(io)?;
+    let b = write_basins(
+        &scene,
+        omega,
+        grid,
+        &basin_options(),
+        shard,
+        (format, std::io::BufWriter::new(file)),
+        &progress,
+    )
+    .map_err(io)?;
+    let part = shard.map_or(String::new(), |s| {
+        format!(" (part {}/{})", s.index, s.count)
+    });
     let mut out = format!(
-        "scene {} at ω = {omega} rad/s: {} starts, {} attractors\n",
+        "scene {} at ω = {omega} rad/s{part}: {} starts, {} attractors\n",
         scene.name,
         b.cells.len(),
         b.attractors.len()

@@ -3,14 +3,15 @@
 use super::{check_frequency, check_omega, heading, load, pretty, Accuracy, Common, RattleError};
 use crate::output::finite;
 use crate::output::records::{
-    multipliers, AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
+    multipliers, AnalyticCycleRecord, ChainAnalyticRecord, ChainCompareRecord,
+    ChainConfirmationRecord, ChainSimulatedRecord, ConfirmationRecord, CrossCheckRecord,
+    SimulatedCycleRecord,
 };
 use crate::scene::Scene;
 use crate::verdict::chain::{chain_cross_check, ChainCheck};
 use crate::verdict::{cross_check, CrossCheck};
 use clap::Args;
 use rattle_event_driven::SimulationOptions;
-use serde::Serialize;
 use std::fmt::Write as _;
 
 /// Arguments of `rattle compare`.
@@ -152,110 +153,6 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
         );
     }
     Ok(out)
-}
-
-/// What `rattle compare --json` prints for a chain scene.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ChainCompareRecord {
-    /// Scene name.
-    pub scene: String,
-    /// Angular frequency, rad/s.
-    pub omega: Option<f64>,
-    /// Cells of the chain.
-    pub cells: usize,
-    /// The simulator from rest.
-    pub simulated: ChainSimulatedRecord,
-    /// The analytic orbit of the simulated impact sequence, seeded from the simulated impact
-    /// times; `null` when there is none to look for (no impacts, not periodic, …) or the
-    /// analytic solver finds none (`analytic_error`).
-    pub analytic: Option<ChainAnalyticRecord>,
-    /// Why the analytic solver found no orbit of the simulated sequence.
-    pub analytic_error: Option<String>,
-    /// `agreement`, `contradiction` or `beyond`, as for a single unit.
-    pub class: &'static str,
-    /// Why the class is not `agreement`, one word: `non-periodic`, `no-dissipation`,
-    /// `sticking`, `not-polished`, `too-many-impacts`, `period-too-long`,
-    /// `cell-without-stops` (beyond); `no-analytic-orbit`, `not-viable`, `unstable`, `differ`,
-    /// `not-linear` (contradiction); `null` for an agreement.
-    pub reason: Option<&'static str>,
-    /// The reason in words (empty for an agreement).
-    pub class_detail: String,
-    /// The largest relative difference of the two solvers' orbits: the state just before the
-    /// first impact of the sequence, every cell's outer amplitude, the impact phases and the
-    /// base phase at the first impact over π (without impacts: every cell's outer amplitude
-    /// against the linear chain's).
-    pub relative_difference: Option<f64>,
-    /// The largest distance between the two solvers' Floquet multipliers, matched one to one.
-    pub multiplier_difference: Option<f64>,
-    /// The viable analytic orbit confirmed by the simulator's Newton started on it, mid-way
-    /// through its first flight; `null` without a viable analytic orbit.
-    pub confirmation: Option<ChainConfirmationRecord>,
-}
-
-/// The simulator's Newton started on the analytic orbit of a chain.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ChainConfirmationRecord {
-    /// Whether Newton converged to a cycle with the same impacts and a state within 1e-6 of
-    /// the analytic one (relative).
-    pub confirmed: bool,
-    /// The difference of Newton's state from the analytic one at the start, relative (0 when
-    /// the analytic state is already within Newton's tolerance).
-    pub state_difference: Option<f64>,
-    /// Newton's final residual `|P(y) − y|` of the simulator's stroboscopic map, relative to
-    /// `max(|y|, gap)`: at the analytic state itself when Newton took no step.
-    pub map_residual: Option<f64>,
-    /// Newton steps taken from the analytic state.
-    pub newton_iterations: Option<u32>,
-    /// The largest distance between Newton's multipliers and the analytic ones, matched one
-    /// to one.
-    pub multiplier_difference: Option<f64>,
-    /// Why Newton failed, if it did.
-    pub error: Option<String>,
-}
-
-/// The simulated side of a chain's comparison.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ChainSimulatedRecord {
-    /// `periodic`, `non-periodic` or `no-dissipation`, with `, sticking` when the final cycle
-    /// sticks.
-    pub status: String,
-    /// Forcing periods per cycle, when periodic.
-    pub period: Option<u32>,
-    /// Each contact pair's canonical signature over the final cycle (`""` for a pair without
-    /// impacts, `null` for one beyond what a signature holds); `null` when not periodic or
-    /// sticking.
-    pub pair_signatures: Option<Vec<Option<String>>>,
-    /// Impacts of all pairs per forcing period over the final cycle.
-    pub impacts_per_period: Option<f64>,
-    /// Impacts per forcing period of each pair, from the base out.
-    pub pair_impacts_per_period: Vec<f64>,
-    /// `max|u_o,N|` of the last cell's outer mass over the final cycle, m.
-    pub outer_amplitude: Option<f64>,
-    /// `max|u_o,j|` of every cell, from the base out, m.
-    pub cell_outer_amplitudes: Vec<Option<f64>>,
-    /// The simulator's own Floquet multipliers of its Newton-polished cycle, `[re, im]`.
-    pub floquet_multipliers: Option<Vec<[Option<f64>; 2]>>,
-}
-
-/// The analytic side of a chain's comparison.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct ChainAnalyticRecord {
-    /// The impact sequence, canonical (`0+ 1- 0- 1+`).
-    pub sequence: String,
-    /// Forcing periods per cycle.
-    pub period: u32,
-    /// The last cell's outer amplitude, m.
-    pub outer_amplitude: Option<f64>,
-    /// Every cell's outer amplitude, from the base out, m.
-    pub cell_outer_amplitudes: Vec<Option<f64>>,
-    /// Whether every contact condition holds.
-    pub viable: bool,
-    /// Whether every Floquet multiplier lies inside the unit circle.
-    pub stable: bool,
-    /// The analytic Floquet multipliers (monodromy with saltation matrices), `[re, im]`.
-    pub floquet_multipliers: Vec<[Option<f64>; 2]>,
-    /// The energy balance's residual, relative.
-    pub energy_residual: Option<f64>,
 }
 
 /// The record `rattle compare --json` prints for `c` on the chain `scene`.

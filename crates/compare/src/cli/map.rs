@@ -1,12 +1,11 @@
 //! `rattle map`: the map over restitution, gap and frequency, streamed to a file.
 
 use super::{check_frequency, load, Accuracy, RattleError};
-use crate::output::{writer, Format, OutputError, TableWriter};
+use crate::output::{Format, OutputError};
 use crate::runs::axis::Axis;
-use crate::runs::map::{
-    header, stream, BandwidthRow, MapError, MapGrid, MapPointRow, MapSettings, StreamError,
-};
+use crate::runs::map::{write_map, MapError, MapGrid, MapSettings, WriteMapError};
 use crate::runs::parallel::Progress;
+use crate::runs::shard::Shard;
 use clap::Args;
 use rattle_event_driven::SimulationOptions;
 use std::io::BufWriter;
@@ -61,10 +60,12 @@ pub struct MapArgs {
     /// Cap on forcing periods per point (a point not periodic by then is `irregular`).
     #[arg(long, default_value_t = crate::runs::map::MAP_MAX_PERIODS)]
     pub max_periods: u64,
+    /// Compute only part K of N (a contiguous block of whole (restitution, gap) lines, in
+    /// the order of the output), e.g. `--shard 3/8`; join the parts of each table with
+    /// `rattle merge` (CSV or JSON parts).
+    #[arg(long)]
+    pub shard: Option<String>,
 }
-
-/// A table file being written.
-type Table = Box<dyn TableWriter<MapPointRow>>;
 
 fn create(path: &Path) -> Result<BufWriter<std::fs::File>, RattleError> {
     let file = std::fs::File::create(path).map_err(|source| OutputError::Io {
@@ -96,21 +97,27 @@ pub fn run(args: MapArgs) -> Result<String, RattleError> {
         .as_deref()
         .map(|p| Format::of(p, "--bandwidth-out"))
         .transpose()?;
-    let defaults = MapSettings::default();
-    let simulation = SimulationOptions {
-        polish: defaults.simulation.polish,
-        ..Accuracy {
+    let shard = args
+        .shard
+        .as_deref()
+        .map(Shard::parse)
+        .transpose()
+        .map_err(RattleError::Argument)?;
+    if shard.is_some() && [Some(points_format), bandwidth_format].contains(&Some(Format::JsonLines))
+    {
+        return Err(RattleError::Argument(
+            "--shard: parts must be .csv or .json (a .jsonl file has no header to say which part it is)".into(),
+        ));
+    }
+    let settings = MapSettings::with_simulation(
+        Accuracy {
             tol: args.tol,
             steady_tol: args.steady_tol,
             max_periods: args.max_periods,
             max_oscillations: super::default_max_oscillations(),
         }
-        .options()?
-    };
-    let settings = MapSettings {
-        simulation,
-        ..defaults
-    };
+        .options()?,
+    );
     let scene = load(&args.scene)?;
     if scene.stops.is_none() {
         return Err(RattleError::Argument(MapError::NoStops.to_string()));
@@ -121,51 +128,41 @@ pub fn run(args: MapArgs) -> Result<String, RattleError> {
         let path = path.to_owned();
         move |source| RattleError::Output(OutputError::Io { path, source })
     };
-    let lines = grid.restitution.count * grid.gap_over_base_amplitude.count;
-    let mut points: Table = writer(
-        points_format,
-        create(&args.out)?,
-        &header(&scene, &grid, &settings, "points", grid.points()),
-        None,
-    )
-    .map_err(io(&args.out))?;
-    let step = grid.omega.step();
-    let mut bandwidth_rows = Vec::new();
+    let lines = shard.map_or(grid.lines(), |s| s.range(grid.lines()).len());
+    let points = create(&args.out)?;
+    let bandwidth = match (&args.bandwidth_out, bandwidth_format) {
+        (Some(path), Some(format)) => Some((format, create(path)?)),
+        _ => None,
+    };
     let progress = Progress::new("map lines", lines, true);
-    stream(&scene, &grid, &settings, &progress, |line| {
-        for row in MapPointRow::of_line(&line) {
-            points.row(&row)?;
-        }
-        if bandwidth_format.is_some() {
-            bandwidth_rows.push(BandwidthRow::new(&line, step));
-        }
-        Ok(())
-    })
+    write_map(
+        &scene,
+        &grid,
+        &settings,
+        shard,
+        (points_format, points),
+        bandwidth,
+        &progress,
+    )
     .map_err(|e| match e {
-        StreamError::Map(e) => RattleError::Argument(e.to_string()),
-        StreamError::Sink(source) => io(&args.out)(source),
+        WriteMapError::Map(e) => RattleError::Argument(e.to_string()),
+        WriteMapError::Points(source) => io(&args.out)(source),
+        WriteMapError::Bandwidth(source) => {
+            io(args.bandwidth_out.as_deref().unwrap_or(Path::new("")))(source)
+        }
     })?;
-    points.finish().map_err(io(&args.out))?;
+    let part = shard.map_or(String::new(), |s| {
+        format!(", part {}/{}: {lines} lines", s.index, s.count)
+    });
     let mut out = format!(
-        "wrote {} ({} points: {} restitutions × {} gaps × {} frequencies)\n",
+        "wrote {} ({} points: {} restitutions × {} gaps × {} frequencies{part})\n",
         args.out.display(),
         grid.points(),
         args.restitutions,
         args.gaps,
         args.points
     );
-    if let (Some(path), Some(format)) = (&args.bandwidth_out, bandwidth_format) {
-        let mut table: Box<dyn TableWriter<BandwidthRow>> = writer(
-            format,
-            create(path)?,
-            &header(&scene, &grid, &settings, "lines", lines),
-            None,
-        )
-        .map_err(io(path))?;
-        for row in &bandwidth_rows {
-            table.row(row).map_err(io(path))?;
-        }
-        table.finish().map_err(io(path))?;
+    if let Some(path) = &args.bandwidth_out {
         out.push_str(&format!("wrote {} ({lines} lines)\n", path.display()));
     }
     Ok(out)

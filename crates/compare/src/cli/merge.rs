@@ -1,4 +1,4 @@
-//! `rattle merge`: joins the parts of a sharded sweep.
+//! `rattle merge`: joins the parts of a sharded sweep, map (either table) or basins.
 
 use super::RattleError;
 use crate::output::OutputError;

@@ -60,8 +60,8 @@ pub enum Command {
     /// JSON Lines file as it runs; on a chain, every solver (`both`: the verdict of `compare`
     /// at every frequency).
     Sweep(sweep::SweepArgs),
-    /// Joins the parts of a sharded sweep (`rattle sweep … --shard K/N`) into the file the
-    /// unsharded sweep would write, byte for byte.
+    /// Joins the parts of a sharded sweep, map or basins (`rattle sweep|map|basins …
+    /// --shard K/N`) into the file the unsharded run would write, byte for byte.
     Merge(merge::MergeArgs),
     /// A map over restitution, gap and frequency (each frequency continued from the previous
     /// one, up the frequencies): the simulated regime and transmittance at every point, the

@@ -5,8 +5,8 @@ use super::{
     TrajectoryArgs,
 };
 use crate::output::records::{
-    At, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
-    ViolationRecord,
+    At, ChainOrbitsRecord, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
+    SignatureOrbitsRecord, ViolationRecord,
 };
 use crate::output::trajectory::{analytic_rows, ImpactRow, TrajectoryRow};
 use crate::scene::analytic::{
@@ -15,8 +15,7 @@ use crate::scene::analytic::{
 };
 use crate::scene::Scene;
 use clap::Args;
-use rattle_analytic::{sequence_orbits, ImpactSequence, SequenceOrbit, Signature};
-use serde::Serialize;
+use rattle_analytic::{sequence_orbits, ImpactSequence, Signature};
 use std::fmt::Write as _;
 
 /// Arguments of `rattle orbit`.
@@ -272,22 +271,6 @@ pub(crate) fn orbit_table(orbits: &[OrbitRecord]) -> String {
         );
     }
     out
-}
-
-/// What `rattle orbit --signature --json` prints for a chain.
-#[derive(Debug, Clone, Serialize)]
-pub struct ChainOrbitsRecord {
-    /// The scene and the frequency.
-    #[serde(flatten)]
-    pub at: At,
-    /// Cells of the chain.
-    pub cells: usize,
-    /// The impact sequence asked for, canonical (`0+ 1- 0- 1+`).
-    pub sequence: String,
-    /// Forcing periods per cycle.
-    pub period: u32,
-    /// Every distinct orbit found by the analytic crate's multi-start.
-    pub orbits: Vec<SequenceOrbit>,
 }
 
 /// `rattle orbit --signature` on a chain: every orbit of one impact sequence of its pairs.

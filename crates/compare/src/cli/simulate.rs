@@ -4,7 +4,7 @@ use super::{
     check_frequency, check_omega, heading, load, pretty, Accuracy, Common, RattleError,
     TrajectoryArgs,
 };
-use crate::output::records::{LyapunovRecord, SimulationRecord};
+use crate::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
 use crate::output::trajectory::simulated_rows;
 use crate::scene::lyapunov::spectrum;
 use crate::scene::simulator::{model, run as simulate, SimulatedPoint};
@@ -163,18 +163,6 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         write_lyapunov(&mut out, l);
     }
     Ok(out)
-}
-
-/// The document `rattle simulate --json` prints (also the Python package's): the simulation
-/// record with the exponents, when asked for, flattened into one.
-#[derive(serde::Serialize)]
-pub struct WithLyapunov<'a> {
-    /// The simulation.
-    #[serde(flatten)]
-    pub record: &'a SimulationRecord,
-    /// The exponents, with `--lyapunov`.
-    #[serde(flatten)]
-    pub lyapunov: Option<&'a LyapunovRecord>,
 }
 
 impl LyapunovArgs {

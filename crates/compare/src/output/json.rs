@@ -54,6 +54,19 @@ impl<W: Write> JsonWriter<W> {
     }
 }
 
+impl<W: Write> JsonWriter<W> {
+    /// Starts the document on `out` with `opening`, the text of a document's start up to and
+    /// including `"results":[` as [`JsonWriter::new`] writes it (for joining the parts of a
+    /// sharded table).
+    ///
+    /// # Errors
+    /// The underlying writer's.
+    pub fn with_opening(mut out: W, opening: &str) -> std::io::Result<Self> {
+        out.write_all(opening.as_bytes())?;
+        Ok(Self { out, rows: 0 })
+    }
+}
+
 impl<R: Row, W: Write> TableWriter<R> for JsonWriter<W> {
     fn row(&mut self, row: &R) -> std::io::Result<()> {
         self.out

@@ -22,10 +22,11 @@
 //! candidates, so a predicted attenuation holds whichever the unit settles on; with no
 //! candidate there is no prediction.
 
-use crate::output::{finite, number_list, table_row, Header};
+use crate::output::{finite, number_list, table_row, writer, Format, Header, TableWriter};
 use crate::runs::axis::Axis;
 use crate::runs::bands::bands;
 use crate::runs::parallel::{for_each_ordered, Grain, Progress};
+use crate::runs::shard::Shard;
 use crate::scene::analytic::{analyse, OrbitSearch};
 use crate::scene::frequency::{FrequencyBounds, FrequencyError};
 use crate::scene::lyapunov::chaos;
@@ -35,6 +36,7 @@ use crate::verdict::{candidates, difference, predicted_transmittance, Choice, Mo
 use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
 use rattle_event_driven::SimulationOptions;
 use serde::Serialize;
+use std::io::Write;
 use thiserror::Error;
 
 /// The stroboscopic state of a map point must repeat to this tolerance, relative to the gap
@@ -155,6 +157,11 @@ impl MapGrid {
         )
     }
 
+    /// Number of `(e, Δ/u_g)` lines.
+    pub fn lines(&self) -> usize {
+        self.restitution.count * self.gap_over_base_amplitude.count
+    }
+
     /// Number of steady states the map computes.
     pub fn points(&self) -> usize {
         self.restitution.count * self.gap_over_base_amplitude.count * self.omega.count
@@ -190,6 +197,22 @@ impl Default for MapSettings {
             },
             match_tolerance: MAP_MATCH_TOLERANCE,
             lyapunov_periods: Some(MAP_LYAPUNOV_PERIODS),
+        }
+    }
+}
+
+impl MapSettings {
+    /// The map's settings with the simulator's `options` (from the command's accuracy
+    /// options: contact tolerance, periodicity tolerance, period cap), without the Newton
+    /// polish a map does not run; the others as [`MapSettings::default`].
+    pub fn with_simulation(options: SimulationOptions) -> MapSettings {
+        let defaults = MapSettings::default();
+        MapSettings {
+            simulation: SimulationOptions {
+                polish: defaults.simulation.polish,
+                ..options
+            },
+            ..defaults
         }
     }
 }
@@ -474,12 +497,33 @@ pub fn stream<E>(
     grid: &MapGrid,
     settings: &MapSettings,
     progress: &Progress,
+    sink: impl FnMut(MapLine) -> Result<(), E>,
+) -> Result<(), StreamError<E>> {
+    stream_lines(scene, grid, settings, None, progress, sink)
+}
+
+/// [`stream`] over the lines of one part of the map only (all of them for `None`): part `K`
+/// of `N` is block `K` of `N` nearly equal contiguous blocks of whole lines ([`Shard::range`]
+/// over [`MapGrid::lines`]), since each line continues every frequency from the previous one.
+/// A part beyond the number of lines has none. The lines are those of the whole map, bit for
+/// bit, whatever the number of parts.
+///
+/// # Errors
+/// As [`stream`].
+pub fn stream_lines<E>(
+    scene: &Scene,
+    grid: &MapGrid,
+    settings: &MapSettings,
+    shard: Option<Shard>,
+    progress: &Progress,
     mut sink: impl FnMut(MapLine) -> Result<(), E>,
 ) -> Result<(), StreamError<E>> {
     check(scene, grid).map_err(StreamError::Map)?;
     let omegas = grid.omega.values();
+    let keys = line_keys(grid);
+    let range = shard.map_or(0..keys.len(), |s| s.range(keys.len()));
     for_each_ordered(
-        &line_keys(grid),
+        &keys[range],
         Grain::Uneven,
         progress,
         |&(e, g)| line(scene, e, g, &omegas, settings),
@@ -730,14 +774,15 @@ struct SettingsRecord {
     match_tolerance: f64,
 }
 
-/// The header of a map's JSON tables: scene, effects, grid, settings, and `count` rows
-/// under the key `counted` (`points` or `lines`).
+/// The header of a map's JSON tables: scene, effects, grid, settings, `count` rows of the
+/// whole map under the key `counted` (`points` or `lines`) and, for a part, which shard it is.
 pub fn header(
     scene: &Scene,
     grid: &MapGrid,
     settings: &MapSettings,
     counted: &str,
     count: usize,
+    shard: Option<Shard>,
 ) -> Header {
     #[derive(Serialize)]
     struct GridRecord {
@@ -770,5 +815,82 @@ pub fn header(
         },
     );
     h.push(counted, &count);
+    if let Some(s) = shard {
+        h.push("shard", &s);
+    }
     h
+}
+
+/// A failure of [`write_map`]; each names the table it concerns.
+#[derive(Debug, Error)]
+pub enum WriteMapError {
+    /// The grid or the scene (nothing was computed).
+    #[error(transparent)]
+    Map(MapError),
+    /// The points table could not be written.
+    #[error("{0}")]
+    Points(std::io::Error),
+    /// The bandwidth table could not be written.
+    #[error("{0}")]
+    Bandwidth(std::io::Error),
+}
+
+/// Computes the map (or one part of it, [`stream_lines`]) and writes its points to `points`,
+/// one row per point as each block of lines is done, and, if given, each line's bandwidth to
+/// `bandwidth` at the end: the tables `rattle map --out … --bandwidth-out …` writes, with
+/// the part named in a JSON header's `shard` or a CSV part's first line, `# shard K/N of P
+/// points` (`L lines` for the bandwidth), so that [`crate::runs::shard::merge`] joins the
+/// parts into exactly the whole map's tables.
+///
+/// # Errors
+/// [`WriteMapError`]: the grid or scene (before anything is computed or written), or the
+/// first failure to write either table.
+pub fn write_map<P: Write, B: Write>(
+    scene: &Scene,
+    grid: &MapGrid,
+    settings: &MapSettings,
+    shard: Option<Shard>,
+    points: (Format, P),
+    bandwidth: Option<(Format, B)>,
+    progress: &Progress,
+) -> Result<(), WriteMapError> {
+    check(scene, grid).map_err(WriteMapError::Map)?;
+    let preamble = |total: usize, unit: &str| shard.map(|s| s.csv_preamble_of(total, unit));
+    let mut table: Box<dyn TableWriter<MapPointRow>> = writer(
+        points.0,
+        points.1,
+        &header(scene, grid, settings, "points", grid.points(), shard),
+        preamble(grid.points(), "points").as_deref(),
+    )
+    .map_err(WriteMapError::Points)?;
+    let step = grid.omega.step();
+    let mut bandwidth_rows = Vec::new();
+    stream_lines(scene, grid, settings, shard, progress, |line| {
+        for row in MapPointRow::of_line(&line) {
+            table.row(&row)?;
+        }
+        if bandwidth.is_some() {
+            bandwidth_rows.push(BandwidthRow::new(&line, step));
+        }
+        Ok(())
+    })
+    .map_err(|e| match e {
+        StreamError::Map(e) => WriteMapError::Map(e),
+        StreamError::Sink(e) => WriteMapError::Points(e),
+    })?;
+    table.finish().map_err(WriteMapError::Points)?;
+    if let Some((format, out)) = bandwidth {
+        let mut table: Box<dyn TableWriter<BandwidthRow>> = writer(
+            format,
+            out,
+            &header(scene, grid, settings, "lines", grid.lines(), shard),
+            preamble(grid.lines(), "lines").as_deref(),
+        )
+        .map_err(WriteMapError::Bandwidth)?;
+        for row in &bandwidth_rows {
+            table.row(row).map_err(WriteMapError::Bandwidth)?;
+        }
+        table.finish().map_err(WriteMapError::Bandwidth)?;
+    }
+    Ok(())
 }

@@ -1,10 +1,11 @@
-//! Sharded sweeps: part `K` of `N` computes a contiguous block of the frequencies, and
-//! [`merge`] joins the parts into exactly the file the unsharded sweep writes.
+//! Sharded runs: part `K` of `N` of a sweep computes a contiguous block of its frequencies, of
+//! a map a block of its whole `(e, Δ/u_g)` lines, of basins a block of its starts; [`merge`]
+//! joins the parts into exactly the file the unsharded run writes.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// One part `index` (1-based) of `count` of a sweep: a contiguous block of its frequencies.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Shard {
     /// Which part, `1 ≤ index ≤ count`.
     pub index: usize,
@@ -38,12 +39,18 @@ impl Shard {
 
     /// The comment line a CSV part starts with: `# shard K/N of P points`.
     pub fn csv_preamble(&self, total: usize) -> String {
-        format!("# shard {}/{} of {total} points", self.index, self.count)
+        self.csv_preamble_of(total, "points")
+    }
+
+    /// The comment line a CSV part of a table of `total` rows of `unit` (`points`, `lines`,
+    /// `starts`) starts with: `# shard K/N of P unit`.
+    pub fn csv_preamble_of(&self, total: usize, unit: &str) -> String {
+        format!("# shard {}/{} of {total} {unit}", self.index, self.count)
     }
 }
 
-/// Joins the parts of a sharded sweep (all JSON or all CSV, in any order) into exactly the
-/// text the unsharded sweep writes.
+/// Joins the parts of a sharded sweep, map (its points or its bandwidth table) or basins (all
+/// JSON or all CSV, in any order) into exactly the text the unsharded run writes.
 ///
 /// # Errors
 /// A message when a part is not a shard, when parts are missing, repeated or from different
@@ -51,6 +58,9 @@ impl Shard {
 pub fn merge(parts: &[String]) -> Result<String, String> {
     if parts.is_empty() {
         return Err("no parts to merge".into());
+    }
+    if crate::runs::basins::is_basins_part(&parts[0]) {
+        return crate::runs::basins::merge_parts(parts);
     }
     if parts[0].trim_start().starts_with('{') {
         merge_json(parts)
@@ -60,7 +70,7 @@ pub fn merge(parts: &[String]) -> Result<String, String> {
 }
 
 /// Checks that `shards` are each of `1..=N` once.
-fn check_cover(shards: &[Shard]) -> Result<(), String> {
+pub(crate) fn check_cover(shards: &[Shard]) -> Result<(), String> {
     let count = shards[0].count;
     if shards.iter().any(|s| s.count != count) {
         return Err("the parts come from sweeps cut into different numbers of shards".into());
@@ -102,8 +112,9 @@ fn json_part(i: usize, text: &str) -> Result<JsonPart<'_>, String> {
     };
     let field = serde_json::to_string(&shard).map_err(|e| bad(&e.to_string()))?;
     let header = first.replacen(&format!(",\"shard\":{field}"), "", 1);
-    let points = head["points"]
-        .as_u64()
+    let points = ["points", "lines", "starts"]
+        .iter()
+        .find_map(|key| head[key].as_u64())
         .ok_or_else(|| bad("no \"points\""))?;
     let mut rows: Vec<&str> = lines.collect();
     if rows.pop() != Some("]}") {
@@ -157,7 +168,10 @@ fn merge_csv(parts: &[String]) -> Result<String, String> {
         let (first, rest) = p.split_once('\n').ok_or(format!("part {}: empty", i + 1))?;
         let spec = first
             .strip_prefix("# shard ")
-            .and_then(|s| s.strip_suffix(" points"))
+            .and_then(|s| {
+                s.strip_suffix(" points")
+                    .or_else(|| s.strip_suffix(" lines"))
+            })
             .ok_or(format!(
                 "part {}: not a shard (no '# shard K/N of P points' line)",
                 i + 1

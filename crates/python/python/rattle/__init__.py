@@ -60,6 +60,11 @@ __all__ = [
     "sweep",
     "frequencies",
     "continue_branch",
+    "map",
+    "basins",
+    "merge",
+    "Map",
+    "Basins",
     "DEFAULTS",
     "CONTINUATION_DEFAULTS",
     "SAMPLES_PER_PERIOD",
@@ -454,6 +459,12 @@ class Sweep:
     def __len__(self):
         return len(self._native)
 
+    @property
+    def document(self):
+        """The command's ``--out F.json`` file as text, byte for byte (for a part, with its
+        ``shard``: :func:`merge` joins parts)."""
+        return self._native.document()
+
     def to_dict(self):
         """The command's JSON document: the header fields, then ``results``, one dict per
         frequency."""
@@ -629,6 +640,7 @@ def sweep(
     steady_tol=_STEADY_TOL,
     max_periods=_MAX_PERIODS,
     max_oscillations=_MAX_OSCILLATIONS,
+    shard=None,
 ):
     """A frequency sweep with one solver or both, in parallel, as ``rattle sweep``.
 
@@ -643,6 +655,10 @@ def sweep(
     ``"both"`` the linear chain and, at each frequency, the verdict of :func:`compare` on the
     chain; ``outer_amplitude`` and ``transmittance_db`` columns are the last cell's, the list
     columns hold every cell and pair.
+
+    ``shard=(K, N)``: part ``K`` of ``N`` only (a contiguous block of ``omegas``), as
+    ``rattle sweep --shard K/N``; :func:`merge` joins the parts' :meth:`Sweep.document`
+    into the whole sweep's document.
     """
     omegas = _np.ascontiguousarray(omegas, dtype=_np.float64)
     if omegas.ndim != 1:
@@ -655,6 +671,7 @@ def sweep(
         float(steady_tol),
         max_periods,
         float(max_oscillations),
+        None if shard is None else tuple(shard),
     )
     return Sweep(native)
 
@@ -706,3 +723,8 @@ def continue_branch(
         max_branches,
     )
     return Continuation(_json.loads(text))
+
+
+# Maps and basins, whole, in parts or on a Dask cluster (``_grids``); defined last, since
+# ``map`` is this module's name for the command, not the builtin.
+from ._grids import Basins, Map, basins, map, merge  # noqa: E402
