@@ -1200,6 +1200,8 @@ fn map_document(
     if scene.stops.is_none() {
         return Err(PyValueError::new_err(MapError::NoStops.to_string()));
     }
+    check_frequency(scene, "omega[0]", grid.omega.min)?;
+    check_frequency(scene, "omega[1]", grid.omega.max)?;
     let text = compute(py, || {
         let mut out = Vec::new();
         let none: Option<(Format, Vec<u8>)> = None;
@@ -1245,6 +1247,7 @@ fn basins_document(
     })?;
     let part = shard(part)?;
     unit_only(&scene.scene, "rattle basins")?;
+    check_frequency(&scene.scene, "omega", omega)?;
     let scene = &scene.scene;
     compute(py, || {
         let mut out = Vec::new();

@@ -218,3 +218,11 @@ def test_sweeps_and_continuations_refuse_frequencies_that_would_not_end():
         rattle.sweep(scene, [2.0, 1e-6])
     with pytest.raises(ValueError, match="omega_min = 1e-300 is out of range for this scene"):
         rattle.continue_branch(scene, "+-", 1.0, 1e-300, 2.0)
+
+
+def test_maps_and_basins_refuse_frequencies_that_would_not_end():
+    scene = rattle.Scene.paper()
+    with pytest.raises(ValueError, match=r"omega\[0\] = 1e-6 is out of range for this scene"):
+        rattle.map(scene, restitution=(0.8, 0.8, 1), gap=(0.5, 0.5, 1), omega=(1e-6, 2.0, 3))
+    with pytest.raises(ValueError, match="omega = 1e-6 is out of range for this scene"):
+        rattle.basins(scene, 1e-6, outer=(-1.0, 1.0), inner=(-1.0, 1.0), points=2)
