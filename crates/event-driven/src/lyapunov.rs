@@ -43,7 +43,7 @@
 
 use crate::model::Model;
 use crate::newton::shifted;
-use crate::simulate::{
+use crate::engine::{
     check_inputs, Engine, SimulationError, SimulationOptions, Start, SteadyState,
 };
 use nalgebra::DMatrix;

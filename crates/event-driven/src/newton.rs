@@ -16,7 +16,7 @@
 
 use crate::flow::{eigenvalues, FlowError};
 use crate::model::Model;
-use crate::simulate::{check_inputs, Engine, SimulationError, SimulationOptions, Start};
+use crate::engine::{check_inputs, Engine, SimulationError, SimulationOptions, Start};
 use nalgebra::{Complex, DMatrix, DVector};
 use thiserror::Error;
 

@@ -4,7 +4,7 @@
 //! tests need, a single undamped oscillator flying to a stop, and one impact.
 
 use crate::model::{CellParameters, CellStops, ContactPair, Model};
-use crate::simulate::Start;
+use crate::engine::Start;
 use nalgebra::{Complex, DMatrix, DVector, Matrix4};
 
 /// Outer mass of the paper's unit.

@@ -10,8 +10,8 @@
 
 use crate::model::Model;
 use crate::newton::shifted;
-pub use crate::simulate::RowKind;
-use crate::simulate::{
+pub use crate::engine::RowKind;
+use crate::engine::{
     check_inputs, Engine, SimulationError, SimulationOptions, Start, SteadyState,
 };
 use thiserror::Error;
