@@ -25,12 +25,13 @@
 //! matrix, no damping terms.
 #![deny(missing_docs)]
 
+mod engine;
 pub mod expsum;
 pub mod flow;
 pub mod lyapunov;
 pub mod model;
 pub mod newton;
-pub mod engine;
+pub mod simulate;
 pub mod test_models;
 pub mod trajectory;
 
@@ -43,7 +44,7 @@ pub use newton::{
     periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
     MAX_NEWTON_ITERATIONS, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
 };
-pub use engine::{
+pub use simulate::{
     simulate, simulate_watched, ImpactRecord, SimulationError, SimulationOptions, Start, Status,
     SteadyState, Stop, CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS, DEFAULT_MAX_OSCILLATIONS,
     DEFAULT_MAX_PERIODS, DEFAULT_MAX_PERIOD_MULTIPLICITY, DEFAULT_PERIODICITY_TOLERANCE,

@@ -3,8 +3,8 @@
 //! unit (`m_o = 2, m_i = 1, k_o = 6, k_i = 3, u_g = 1`, `ω_n² = 1.5, 6`) in the variants the
 //! tests need, a single undamped oscillator flying to a stop, and one impact.
 
-use crate::model::{CellParameters, CellStops, ContactPair, Model};
 use crate::engine::Start;
+use crate::model::{CellParameters, CellStops, ContactPair, Model};
 use nalgebra::{Complex, DMatrix, DVector, Matrix4};
 
 /// Outer mass of the paper's unit.
