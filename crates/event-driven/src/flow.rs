@@ -887,6 +887,7 @@ mod tests {
         use crate::expsum::SearchStack;
         let (flow, functionals, _) = chain_flow(8);
         let (tol, depth) = (1e-12 * std::f64::consts::PI, 1e-12);
+        let tolerances = crate::expsum::Tolerances { time: tol, depth };
         let (mut plain, mut summarised) = (SearchStack::default(), SearchStack::default());
         let mut gap = ExpSum::default();
         let (mut exits, mut searches) = (0, 0);
@@ -905,19 +906,17 @@ mod tests {
                     let (lo, hi) = (f0 - width, f0 + 0.7 * width);
                     for cutoff in [horizon, 0.5 * horizon, 0.1] {
                         let expected =
-                            gap.first_exit_until(lo, hi, horizon, cutoff, tol, depth, &mut plain);
+                            gap.first_exit_until(lo, hi, horizon, cutoff, tolerances, &mut plain);
                         let found = if summary.excludes(lo, hi, cutoff.min(horizon), horizon) {
                             None
                         } else {
                             searches += 1;
                             gap.first_exit_summarized(
                                 &summary,
-                                lo,
-                                hi,
+                                (lo, hi),
                                 horizon,
                                 cutoff,
-                                tol,
-                                depth,
+                                tolerances,
                                 &mut summarised,
                             )
                         };

@@ -58,6 +58,18 @@ impl Scratch {
     }
 }
 
+/// The pairs a flight watches for contact: `functionals` lists each watched pair's
+/// `(pair, r − shift as a functional of the flight's state, shift)`, `joint` the same
+/// functionals prepared for one summary pass (free flight with several pairs), `grace` each
+/// pair's grace time and `tau` the flight's start within the period.
+pub(super) struct WatchedPairs<'a, I> {
+    pub(super) pairs: &'a [Pair],
+    pub(super) functionals: I,
+    pub(super) joint: Option<&'a JointWeights>,
+    pub(super) grace: &'a [f64],
+    pub(super) tau: f64,
+}
+
 impl Engine<'_> {
     /// The first contact of `flight` within `horizon` among the `watched` pairs
     /// (`(pair, r − shift as a functional of the flight's state, shift)`): each pair's relative
@@ -67,22 +79,23 @@ impl Engine<'_> {
     /// end of its grace without an event. Ties go to the lower pair index (see
     /// [`Engine::free_flight`]). Leaves the search's exponentials at the contact in
     /// `work.event_exponentials`.
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn watch<'f, I>(
-        pairs: &[Pair],
-        watched: I,
-        joint: Option<&JointWeights>,
+        watched: WatchedPairs<'_, I>,
         work: &mut Scratch,
         flight: &Flight<'_>,
         horizon: f64,
-        time_tolerance: f64,
-        depth: f64,
-        grace: &[f64],
-        tau: f64,
+        tolerances: Tolerances,
     ) -> Watch
     where
         I: Iterator<Item = (usize, &'f Functional, f64)> + Clone,
     {
+        let WatchedPairs {
+            pairs,
+            functionals: watched,
+            joint,
+            grace,
+            tau,
+        } = watched;
         let mut contact: Option<Contact> = None;
         let mut step = f64::INFINITY;
         // Every pair's gap, then the searches in the order of their quadratic estimates: the
@@ -155,16 +168,14 @@ impl Engine<'_> {
                 // The search's own first tests are this summary's, just made: not made again.
                 gaps[slot].first_exit_summarized(
                     summary,
-                    lo,
-                    hi,
+                    (lo, hi),
                     horizon,
                     within,
-                    time_tolerance,
-                    depth,
+                    tolerances,
                     stack,
                 )
             } else {
-                gaps[slot].first_exit_until(lo, hi, horizon, within, time_tolerance, depth, stack)
+                gaps[slot].first_exit_until(lo, hi, horizon, within, tolerances, stack)
             };
             if let Some((s, side)) = found {
                 if tau + s < grace[i] {
@@ -224,21 +235,22 @@ impl Engine<'_> {
         // Positions are known to rounding relative to their size, not to the gap: an excursion
         // beyond a stop smaller than that is no contact.
         let depth = self.contact_depth + POSITION_ROUNDING * state.y.rows(0, n).amax();
-        let watch = Self::watch(
-            &self.pairs,
-            self.pairs
+        let watched = WatchedPairs {
+            pairs: &self.pairs,
+            functionals: self
+                .pairs
                 .iter()
                 .enumerate()
                 .map(|(i, p)| (i, &p.relative_displacement, 0.0)),
-            self.free_joint.as_ref(),
-            &mut self.work,
-            &flight,
-            horizon,
-            self.time_tolerance,
+            joint: self.free_joint.as_ref(),
+            grace: &state.grace,
+            tau: state.tau,
+        };
+        let tolerances = Tolerances {
+            time: self.time_tolerance,
             depth,
-            &state.grace,
-            state.tau,
-        );
+        };
+        let watch = Self::watch(watched, &mut self.work, &flight, horizon, tolerances);
         if let Watch::Step(step) = watch {
             // Just released (or grazed): step past the stop's edge without an event.
             if let Some(trace) = state.trace.as_mut() {

@@ -38,7 +38,7 @@
 //! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
 //! exact in any case); [`crate::newton`] refuses sticking runs anyway.
 
-use crate::expsum::{ExpSum, ModeTerm, SearchStack, Summary};
+use crate::expsum::{ExpSum, ModeTerm, SearchStack, Summary, Tolerances};
 use crate::flow::{Flight, FlowError, Functional, JointWeights, LinearFlow};
 use crate::model::{ContactPair, Model};
 use nalgebra::{DMatrix, DVector};
@@ -56,7 +56,7 @@ mod stuck;
 mod tangent;
 mod trace;
 
-use flight::{Scratch, Watch};
+use flight::{Scratch, Watch, WatchedPairs};
 use periodicity::{least_period, repeat_error, scale_floor, Sections};
 use state::{Contact, Decision, Mode, Observation, Plan, RunState, Window};
 use stuck::Stuck;

@@ -311,18 +311,18 @@ impl Engine<'_> {
         let watch = if st.watched.is_empty() || watch_horizon <= 0.0 {
             Watch::Clear
         } else {
-            Self::watch(
-                &self.pairs,
-                st.watched.iter().map(|(q, f, shift)| (*q, f, *shift)),
-                None,
-                &mut self.work,
-                &flight,
-                watch_horizon,
-                self.time_tolerance,
-                depth,
-                &state.grace,
+            let watched = WatchedPairs {
+                pairs: &self.pairs,
+                functionals: st.watched.iter().map(|(q, f, shift)| (*q, f, *shift)),
+                joint: None,
+                grace: &state.grace,
                 tau,
-            )
+            };
+            let tolerances = Tolerances {
+                time: self.time_tolerance,
+                depth,
+            };
+            Self::watch(watched, &mut self.work, &flight, watch_horizon, tolerances)
         };
         let span = match watch {
             Watch::Contact(c) => c.s,

@@ -181,25 +181,42 @@ pub(super) fn quadratic_exit(f0: f64, d0: f64, dd0: f64, lo: f64, hi: f64) -> f6
     upper.min(lower)
 }
 
+/// What one search's chunk tests share: the band `(lo, hi)`, the bounds `jerk ≥ sup|f'''|` and
+/// `fourth ≥ sup|f''''|` on `[0, horizon]` (`NaN` until a test first needs it), the
+/// `(time, depth)` tolerances, and the search's scratch: the bisection's intervals, the
+/// derivative coefficients, the polish's exponentials and those at one bisection point.
+pub(super) struct ChunkTest<'s> {
+    pub(super) band: (f64, f64),
+    pub(super) jerk: f64,
+    pub(super) fourth: f64,
+    pub(super) horizon: f64,
+    pub(super) tolerances: (f64, f64),
+    pub(super) intervals: &'s mut Vec<(f64, f64, f64, f64)>,
+    pub(super) derivatives: &'s mut Derivatives,
+    pub(super) polish: &'s mut Exponentials,
+    pub(super) point: &'s mut Vec<C64>,
+}
+
 impl ExpSum {
-    /// The first exit from `(lo, hi)` within one chunk `[a, b]` (values `fa`, `fb` at its
-    /// ends, value and derivatives `at_m` at its midpoint), by the bounds of
-    /// [`Self::first_exit`]; bisects left first. With a `seed` (the chunk's midpoint
-    /// exponentials), the polish starts at the seed point nearest its guess.
-    #[allow(clippy::too_many_arguments)]
+    /// The first exit from the band within one chunk `[a, b]` (values `fa`, `fb` at its ends,
+    /// value and derivatives `at_m` at its midpoint), by the bounds of [`Self::first_exit`];
+    /// bisects left first. With a `seed` (the chunk's midpoint exponentials), the polish starts
+    /// at the seed point nearest its guess.
     pub(super) fn exit_in_chunk(
         &self,
+        test: &mut ChunkTest<'_>,
         chunk: (f64, f64, f64, f64),
         at_m: (f64, f64, f64, f64),
-        (lo, hi): (f64, f64),
-        (jerk, fourth, horizon): (f64, &mut f64, f64),
-        (time_tolerance, depth_tolerance): (f64, f64),
-        intervals: &mut Vec<(f64, f64, f64, f64)>,
-        derivatives: &Derivatives,
-        scratch: &mut Exponentials,
-        point: &mut Vec<C64>,
         mut seed: Option<Seed<'_>>,
     ) -> Option<(f64, i8)> {
+        let (lo, hi) = test.band;
+        let (jerk, horizon) = (test.jerk, test.horizon);
+        let (time_tolerance, depth_tolerance) = test.tolerances;
+        let fourth = &mut test.fourth;
+        let intervals = &mut *test.intervals;
+        let derivatives: &Derivatives = test.derivatives;
+        let scratch = &mut *test.polish;
+        let point = &mut *test.point;
         intervals.clear();
         intervals.push(chunk);
         let mut known_m = Some(at_m);
@@ -247,29 +264,18 @@ impl ExpSum {
                     let seeded = seed
                         .as_mut()
                         .and_then(|seed| seed.start_near(guess, (a, b), &self.terms, scratch));
+                    let crossing = Crossing {
+                        f: self,
+                        derivatives,
+                        sign,
+                        level,
+                        jerk,
+                    };
                     match seeded {
-                        Some(start) => polish_from(
-                            self,
-                            derivatives,
-                            sign,
-                            level,
-                            (a, b),
-                            start,
-                            time_tolerance,
-                            jerk,
-                            scratch,
-                        ),
-                        None => polish(
-                            self,
-                            derivatives,
-                            sign,
-                            level,
-                            (a, b),
-                            guess,
-                            time_tolerance,
-                            jerk,
-                            scratch,
-                        ),
+                        Some(start) => {
+                            polish_from(&crossing, (a, b), start, time_tolerance, scratch)
+                        }
+                        None => polish(&crossing, (a, b), guess, time_tolerance, scratch),
                     }
                 };
                 if dm > 0.0 {

@@ -17,8 +17,9 @@ use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed,
     CACHED_CHUNKS, SEED_DIVISIONS,
 };
-use chunk::{inside, quadratic_exit, taylor_clearance};
-use polish::{polish, polish_from, Exponentials};
+use chunk::{inside, quadratic_exit, taylor_clearance, ChunkTest};
+use polish::{polish, polish_from, Crossing, Exponentials};
+pub use search::Tolerances;
 pub(crate) use summary::{summarize_two, ModeTerm, Summary};
 
 /// `e^{μ s}`, skipping the real exponential for purely oscillatory and constant terms.

@@ -79,67 +79,69 @@ pub(super) fn exp_small(z: C64) -> C64 {
     p * z + 1.0
 }
 
-/// The root of `g = sign·(f − level)` in `[a, b]` where `g(a) > 0 ≥ g(b)` and `g` is monotone:
-/// Halley's iteration from `start` (cubic convergence, from the value and the two derivatives
-/// that one evaluation gives), falling back to bisection when a step leaves the bracket.
-/// Stops after a Halley step no longer than `tol`, or once the step's error estimate
-/// `(f''²/(4f'²) + M₃/(6|f'|)) δ³` (`M₃ = jerk`, a bound on `|f'''|`) is below `10⁻³ tol`
-/// while `δ` is well inside the asymptotic regime. `exps` is scratch storage.
+/// The function whose root a polish finds, `g = sign·(f − level)`, with what its stopping rule
+/// needs: `f`'s derivative coefficients and `jerk`, a bound on `|f'''|`.
+pub(super) struct Crossing<'f> {
+    pub(super) f: &'f ExpSum,
+    pub(super) derivatives: &'f Derivatives,
+    pub(super) sign: f64,
+    pub(super) level: f64,
+    pub(super) jerk: f64,
+}
+
+/// The root of `g = sign·(f − level)` ([`Crossing`]) in `[a, b]` where `g(a) > 0 ≥ g(b)` and
+/// `g` is monotone: Halley's iteration from `start` (cubic convergence, from the value and the
+/// two derivatives that one evaluation gives), falling back to bisection when a step leaves
+/// the bracket. Stops after a Halley step no longer than `tol`, or once the step's error
+/// estimate `(f''²/(4f'²) + M₃/(6|f'|)) δ³` (`M₃ = jerk`, a bound on `|f'''|`) is below
+/// `10⁻³ tol` while `δ` is well inside the asymptotic regime. `exps` is scratch storage.
 ///
 /// The exponentials are carried from one iterate to the next, `e^{μ(s+δ)} = e^{μs} e^{μδ}`,
 /// with `e^{μδ}` from its Taylor series once the steps are small (converging steps are tiny),
 /// so the polish costs about one transcendental evaluation per term.
-#[allow(clippy::too_many_arguments)]
 pub(super) fn polish(
-    f: &ExpSum,
-    derivatives: &Derivatives,
-    sign: f64,
-    level: f64,
-    (a, b): (f64, f64),
+    g: &Crossing<'_>,
+    bracket: (f64, f64),
     start: f64,
     tol: f64,
-    jerk: f64,
     exps: &mut Exponentials,
 ) -> f64 {
     exps.values.clear();
     exps.values
-        .extend(f.terms.iter().map(|t| cexp(t.rate, start)));
+        .extend(g.f.terms.iter().map(|t| cexp(t.rate, start)));
     exps.at = start;
-    polish_from(f, derivatives, sign, level, (a, b), start, tol, jerk, exps)
+    polish_from(g, bracket, start, tol, exps)
 }
 
 /// [`polish`] with `exps` already at `start`.
-#[allow(clippy::too_many_arguments)]
 #[inline]
 pub(super) fn polish_from(
-    f: &ExpSum,
-    derivatives: &Derivatives,
-    sign: f64,
-    level: f64,
-    (a, b): (f64, f64),
+    g: &Crossing<'_>,
+    bracket: (f64, f64),
     start: f64,
     tol: f64,
-    jerk: f64,
     exps: &mut Exponentials,
 ) -> f64 {
-    let root = iterate(f, derivatives, sign, level, (a, b), start, tol, jerk, exps);
-    exps.advance(&f.terms, root);
+    let root = iterate(g, bracket, start, tol, exps);
+    exps.advance(&g.f.terms, root);
     root
 }
 
 /// The iteration of [`polish`].
-#[allow(clippy::too_many_arguments)]
 pub(super) fn iterate(
-    f: &ExpSum,
-    derivatives: &Derivatives,
-    sign: f64,
-    level: f64,
+    crossing: &Crossing<'_>,
     (mut a, mut b): (f64, f64),
     start: f64,
     tol: f64,
-    jerk: f64,
     exps: &mut Exponentials,
 ) -> f64 {
+    let Crossing {
+        f,
+        derivatives,
+        sign,
+        level,
+        jerk,
+    } = *crossing;
     let mut g = |s: f64| {
         exps.advance(&f.terms, s);
         let (v, d, dd) = derivatives.at(f, s, &exps.values);

@@ -29,6 +29,16 @@ pub(super) const ON_EDGE: f64 = 1e-6;
 /// chunk: a slow departure. A fast one (an impact) is found by the quadratic model or the grid.
 pub(super) const SLOW_DEPARTURE: f64 = 1e-3;
 
+/// The tolerances of a first-exit search ([`ExpSum::first_exit`]): exits are resolved to `time`,
+/// and a dip beyond an edge narrower than that counts when it is deeper than `depth`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    /// The time tolerance of the exit.
+    pub time: f64,
+    /// The depth beyond an edge from which a dip narrower than `time` counts.
+    pub depth: f64,
+}
+
 impl ExpSum {
     /// The first `s ∈ [0, horizon]` where `f` leaves the open band `(lo, hi)`: `(s, +1)` on
     /// reaching `hi`, `(s, −1)` on reaching `lo`. `f(0)` is inside the band or on an edge; a
@@ -63,33 +73,32 @@ impl ExpSum {
         depth_tolerance: f64,
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
-        self.first_exit_until(
-            lo,
-            hi,
-            horizon,
-            horizon,
-            time_tolerance,
-            depth_tolerance,
-            stack,
-        )
+        let tolerances = Tolerances {
+            time: time_tolerance,
+            depth: depth_tolerance,
+        };
+        self.first_exit_until(lo, hi, horizon, horizon, tolerances, stack)
     }
 
     /// [`Self::first_exit`] on the grid of `horizon`, but searched only until `cutoff ≤
     /// horizon`: every exit before `cutoff` is found as there (an exit after it may or may not
     /// be reported). Searches of several functionals of one flight with one `horizon` share
     /// the grid, and `stack` keeps the grid's exponential steps from one to the next when the
-    /// rates are the same (a flight's pairs all have the flow's rates).
-    #[allow(clippy::too_many_arguments)]
+    /// rates are the same (a flight's pairs all have the flow's rates). `tolerances` are
+    /// [`Self::first_exit`]'s `time_tolerance` and `depth_tolerance`.
     pub fn first_exit_until(
         &self,
         lo: f64,
         hi: f64,
         horizon: f64,
         cutoff: f64,
-        time_tolerance: f64,
-        depth_tolerance: f64,
+        tolerances: Tolerances,
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
+        let Tolerances {
+            time: time_tolerance,
+            depth: depth_tolerance,
+        } = tolerances;
         let cutoff = cutoff.min(horizon);
         // The evaluation-free tests first (envelope, drift, second and, for a search cut
         // short, third order: `Summary::excludes`): most searches end here, at no evaluation
@@ -173,18 +182,19 @@ impl ExpSum {
     /// every polynomial a constant, no growing rate, `horizon` finite), whose evaluation-free
     /// tests ([`Summary::excludes`] up to `cutoff`) the caller has already made and found
     /// undecided: the same search, without forming the sums or making the tests again.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn first_exit_summarized(
         &self,
         summary: &Summary,
-        lo: f64,
-        hi: f64,
+        (lo, hi): (f64, f64),
         horizon: f64,
         cutoff: f64,
-        time_tolerance: f64,
-        depth_tolerance: f64,
+        tolerances: Tolerances,
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
+        let Tolerances {
+            time: time_tolerance,
+            depth: depth_tolerance,
+        } = tolerances;
         let cutoff = cutoff.min(horizon);
         debug_assert!(!summary.excludes(lo, hi, cutoff, horizon));
         self.fixed_search(
@@ -248,7 +258,17 @@ impl ExpSum {
             ..
         } = fixed_grid(fixed_grids, &self.terms, w);
         let n = self.terms.len();
-        let mut fourth = f64::NAN;
+        let mut test = ChunkTest {
+            band: (lo, hi),
+            jerk,
+            fourth: f64::NAN,
+            horizon,
+            tolerances: (time_tolerance, depth_tolerance),
+            intervals,
+            derivatives,
+            polish: scratch,
+            point,
+        };
         // `Derivatives::of`, once, when first needed.
         let mut derived = false;
         let mut derive = |derivatives: &mut Derivatives| {
@@ -257,8 +277,8 @@ impl ExpSum {
                 derived = true;
             }
         };
-        scratch.at = f64::NAN;
-        scratch.together = true;
+        test.polish.at = f64::NAN;
+        test.polish.together = true;
         let (f0, d0, dd0) = (summary.start, summary.slope0, summary.curve0);
         let mut fa = f0;
         // The head, as in `grid_search`.
@@ -269,8 +289,9 @@ impl ExpSum {
         let cleared = if !on_edge {
             0.0
         } else {
-            derive(derivatives);
-            let d3: f64 = derivatives
+            derive(test.derivatives);
+            let d3: f64 = test
+                .derivatives
                 .0
                 .iter()
                 .zip(&self.terms)
@@ -302,7 +323,7 @@ impl ExpSum {
             // follow from the cached ones at `w` by one product per term, and the polish
             // starts from them. (A flight estimated shorter than a step, as in chatter, keeps
             // the head of `grid_search`, whose chunks start that short.)
-            derive(derivatives);
+            derive(test.derivatives);
             let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
             let mut seed = Seed {
                 m: w,
@@ -325,20 +346,14 @@ impl ExpSum {
                 kb += (kb - ka).rem_euclid(2);
                 let kb = kb.clamp(ka + 2, divisions);
                 let (b, km) = (seed.point(kb), (ka + kb) / 2);
-                seed.exponentials_at(km, &self.terms, point);
-                let at_m = derivatives.at3(self, seed.point(km), point);
-                seed.exponentials_at(kb, &self.terms, point);
-                let fb = derivatives.value(self, b, point);
+                seed.exponentials_at(km, &self.terms, test.point);
+                let at_m = test.derivatives.at3(self, seed.point(km), test.point);
+                seed.exponentials_at(kb, &self.terms, test.point);
+                let fb = test.derivatives.value(self, b, test.point);
                 let found = self.exit_in_chunk(
+                    &mut test,
                     (a, b, fa, fb),
                     at_m,
-                    (lo, hi),
-                    (jerk, &mut fourth, horizon),
-                    (time_tolerance, depth_tolerance),
-                    intervals,
-                    derivatives,
-                    scratch,
-                    point,
                     Some(Seed {
                         m: w,
                         w,
@@ -357,7 +372,7 @@ impl ExpSum {
         } else if (cleared > 0.0 && HEAD * cleared < first_end)
             || HEAD_ESTIMATE * estimate < first_end
         {
-            derive(derivatives);
+            derive(test.derivatives);
             let mut a = cleared;
             if cleared > 0.0 {
                 fa = self.eval(cleared).0;
@@ -374,20 +389,9 @@ impl ExpSum {
                     a + length
                 };
                 let m = 0.5 * (a + b);
-                let at_m = self.eval3(m, derivatives, point);
+                let at_m = self.eval3(m, test.derivatives, test.point);
                 let fb = self.eval(b).0;
-                let found = self.exit_in_chunk(
-                    (a, b, fa, fb),
-                    at_m,
-                    (lo, hi),
-                    (jerk, &mut fourth, horizon),
-                    (time_tolerance, depth_tolerance),
-                    intervals,
-                    derivatives,
-                    scratch,
-                    point,
-                    None,
-                );
+                let found = self.exit_in_chunk(&mut test, (a, b, fa, fb), at_m, None);
                 if found.is_some() {
                     return found;
                 }
@@ -418,21 +422,10 @@ impl ExpSum {
                 if a + 2.0 * w >= horizon && inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
                     return None;
                 }
-                derive(derivatives);
-                let at_m = self.eval3(0.5 * (a + horizon), derivatives, point);
+                derive(test.derivatives);
+                let at_m = self.eval3(0.5 * (a + horizon), test.derivatives, test.point);
                 let fb = self.eval(horizon).0;
-                return self.exit_in_chunk(
-                    (a, horizon, fa, fb),
-                    at_m,
-                    (lo, hi),
-                    (jerk, &mut fourth, horizon),
-                    (time_tolerance, depth_tolerance),
-                    intervals,
-                    derivatives,
-                    scratch,
-                    point,
-                    None,
-                );
+                return self.exit_in_chunk(&mut test, (a, horizon, fa, fb), at_m, None);
             }
             let b = 2.0 * w * (i + 1) as f64;
             let fb = real_dot(&self.terms, &rows[4 * n..]);
@@ -441,25 +434,15 @@ impl ExpSum {
                 continue;
             }
             let d3m = real_dot(&self.terms, &rows[3 * n..4 * n]);
-            derive(derivatives);
+            derive(test.derivatives);
             let seed = Seed {
                 m,
                 w,
                 mid: &rows[..n],
                 seeds: &mut *seeds,
             };
-            let found = self.exit_in_chunk(
-                (a, b, fa, fb),
-                (fm, dm, ddm, d3m),
-                (lo, hi),
-                (jerk, &mut fourth, horizon),
-                (time_tolerance, depth_tolerance),
-                intervals,
-                derivatives,
-                scratch,
-                point,
-                Some(seed),
-            );
+            let found =
+                self.exit_in_chunk(&mut test, (a, b, fa, fb), (fm, dm, ddm, d3m), Some(seed));
             if found.is_some() {
                 return found;
             }
@@ -517,10 +500,20 @@ impl ExpSum {
             mid,
         } = stack;
         // A bound on |f''''| over the horizon, computed when a chunk first needs it.
-        let mut fourth = f64::NAN;
-        derivatives.of(self);
-        scratch.at = f64::NAN;
-        scratch.together = FIXED;
+        let mut test = ChunkTest {
+            band: (lo, hi),
+            jerk,
+            fourth: f64::NAN,
+            horizon,
+            tolerances: (time_tolerance, depth_tolerance),
+            intervals,
+            derivatives,
+            polish: scratch,
+            point,
+        };
+        test.derivatives.of(self);
+        test.polish.at = f64::NAN;
+        test.polish.together = FIXED;
         exps.clear();
         exps.resize(self.terms.len(), C64::new(1.0, 0.0));
         let grid = if fixed {
@@ -537,7 +530,7 @@ impl ExpSum {
             seeds,
             ..
         } = grid;
-        let (f0, d0, dd0) = derivatives.at(self, 0.0, exps);
+        let (f0, d0, dd0) = test.derivatives.at(self, 0.0, exps);
         let mut fa = f0;
         // Head: when the flight may leave the band long before the first chunk ends (a bounce
         // within chatter, a departure from a stop after a release), the first chunk is
@@ -550,10 +543,11 @@ impl ExpSum {
         // (an impact) is found by the quadratic model or the grid.
         let on_edge = (f0 - lo).min(hi - f0) <= ON_EDGE * (hi - lo)
             && d0.abs() * first_end < SLOW_DEPARTURE * (hi - lo);
-        let cleared = if derivatives.0.is_empty() || !on_edge {
+        let cleared = if test.derivatives.0.is_empty() || !on_edge {
             0.0
         } else {
-            let d3: f64 = derivatives
+            let d3: f64 = test
+                .derivatives
                 .0
                 .iter()
                 .zip(&self.terms)
@@ -571,7 +565,7 @@ impl ExpSum {
         if cleared >= first_end {
             first = 1;
             set_exponentials(exps, &self.terms, first_end, chunks, doubled);
-            fa = derivatives.value(self, first_end, exps);
+            fa = test.derivatives.value(self, first_end, exps);
         } else if (cleared > 0.0 && HEAD * cleared < first_end)
             || HEAD_ESTIMATE * estimate < first_end
         {
@@ -591,20 +585,9 @@ impl ExpSum {
                     a + length
                 };
                 let m = 0.5 * (a + b);
-                let at_m = self.eval3(m, derivatives, point);
+                let at_m = self.eval3(m, test.derivatives, test.point);
                 let fb = self.eval(b).0;
-                let found = self.exit_in_chunk(
-                    (a, b, fa, fb),
-                    at_m,
-                    (lo, hi),
-                    (jerk, &mut fourth, horizon),
-                    (time_tolerance, depth_tolerance),
-                    intervals,
-                    derivatives,
-                    scratch,
-                    point,
-                    None,
-                );
+                let found = self.exit_in_chunk(&mut test, (a, b, fa, fb), at_m, None);
                 if found.is_some() {
                     return found;
                 }
@@ -630,33 +613,22 @@ impl ExpSum {
             for (e, step) in exps.iter_mut().zip(steps.iter()) {
                 *e *= step;
             }
-            let (fm, dm, ddm) = derivatives.at(self, m, exps);
+            let (fm, dm, ddm) = test.derivatives.at(self, m, exps);
             if fixed && i + 1 == chunks {
                 // The last chunk, `[a, horizon]` within `[a, a + 2w]`.
                 if a + 2.0 * w >= horizon && inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
                     return None;
                 }
-                let at_m = self.eval3(0.5 * (a + horizon), derivatives, point);
+                let at_m = self.eval3(0.5 * (a + horizon), test.derivatives, test.point);
                 let fb = self.eval(horizon).0;
-                return self.exit_in_chunk(
-                    (a, horizon, fa, fb),
-                    at_m,
-                    (lo, hi),
-                    (jerk, &mut fourth, horizon),
-                    (time_tolerance, depth_tolerance),
-                    intervals,
-                    derivatives,
-                    scratch,
-                    point,
-                    None,
-                );
+                return self.exit_in_chunk(&mut test, (a, horizon, fa, fb), at_m, None);
             }
             // The test of `exit_in_chunk`, inline: most chunks are excluded at once.
             let excluded = inside((fm, dm, ddm), w, jerk_reach, (lo, hi));
             let d3m = if excluded {
                 f64::NAN
             } else {
-                derivatives.third(exps)
+                test.derivatives.third(exps)
             };
             if fixed && !excluded {
                 mid.clear();
@@ -671,7 +643,7 @@ impl ExpSum {
                     *e *= step;
                 }
             }
-            let fb = derivatives.value(self, b, exps);
+            let fb = test.derivatives.value(self, b, exps);
             if excluded {
                 fa = fb;
                 continue;
@@ -683,18 +655,7 @@ impl ExpSum {
                 mid,
                 seeds: &mut *seeds,
             });
-            let found = self.exit_in_chunk(
-                (a, b, fa, fb),
-                at_m,
-                (lo, hi),
-                (jerk, &mut fourth, horizon),
-                (time_tolerance, depth_tolerance),
-                intervals,
-                derivatives,
-                scratch,
-                point,
-                seed,
-            );
+            let found = self.exit_in_chunk(&mut test, (a, b, fa, fb), at_m, seed);
             if found.is_some() {
                 return found;
             }
