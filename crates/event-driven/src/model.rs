@@ -277,45 +277,16 @@ impl Model {
         Model::new(mass, stiffness, damping, forcing_cos, forcing_sin, contacts)
     }
 
-    /// The mass-in-mass unit as [`Self::unit`], with `stops = Some((gap, restitution))` at
-    /// `±gap`.
-    ///
-    /// # Errors
-    /// As [`Self::unit`].
-    #[allow(clippy::too_many_arguments)]
-    pub fn two_dof_unit(
-        outer_mass: f64,
-        inner_mass: f64,
-        outer_stiffness: f64,
-        inner_stiffness: f64,
-        outer_damping: Option<f64>,
-        inner_damping: Option<f64>,
-        base_amplitude: f64,
-        omega: f64,
-        stops: Option<(f64, f64)>,
-    ) -> Result<Model, ModelError> {
-        let cell = CellParameters {
-            outer_mass,
-            inner_mass,
-            outer_stiffness,
-            inner_stiffness,
-            outer_damping,
-            inner_damping,
-            stops: stops.map(|(gap, restitution)| CellStops::symmetric(gap, restitution)),
-        };
-        Self::unit(&cell, base_amplitude, omega)
-    }
-
     /// A chain of `cells.len()` mass-in-mass cells in series (the impacting metamaterial):
     /// outer mass `j` is tied to outer mass `j − 1` by cell `j`'s `k_o` (and `c_o`), the first
-    /// to the base, which moves as `u_g cos ωt` and forces it as in [`Self::two_dof_unit`];
+    /// to the base, which moves as `u_g cos ωt` and forces it as in [`Self::unit`];
     /// inner mass `j` sits inside outer mass `j` on `k_i` (and `c_i`), with its own contact
     /// pair when the cell has stops.
     ///
     /// State ordering: `u = (u_o1, u_i1, u_o2, u_i2, …)` (DOF `2j` the outer mass of cell
     /// `j + 1`, DOF `2j + 1` its inner mass); the contact pairs are listed in cell order, one
     /// per cell with stops, each `r_j = u_ij − u_oj ∈ [−gap_minus, gap_plus]`. One cell builds
-    /// the very matrices of [`Self::two_dof_unit`] (same entries, same floating-point sums).
+    /// the very matrices of [`Self::unit`] (same entries, same floating-point sums).
     /// Damping terms are present when any cell has a dashpot.
     ///
     /// # Errors
