@@ -14,7 +14,7 @@ mod summary;
 
 pub use cache::SearchStack;
 use cache::{
-    chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed,
+    chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
     CACHED_CHUNKS, SEED_DIVISIONS,
 };
 use chunk::{inside, quadratic_exit, taylor_clearance, ChunkTest};

@@ -2,6 +2,7 @@
 //! of the grid of chunks.
 
 use super::*;
+use std::ops::ControlFlow;
 
 /// Grid steps between fresh exponentials in [`ExpSum::first_exit`]: the recurrence
 /// `e^{μ(s + w)} = e^{μs} e^{μw}` gains at most about this many roundings.
@@ -284,26 +285,15 @@ impl ExpSum {
         // The head, as in `grid_search`.
         let first_end = if chunks == 1 { horizon } else { 2.0 * w };
         let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
-        let on_edge = (f0 - lo).min(hi - f0) <= ON_EDGE * (hi - lo)
-            && d0.abs() * first_end < SLOW_DEPARTURE * (hi - lo);
-        let cleared = if !on_edge {
-            0.0
-        } else {
+        if slow_on_edge((f0, d0), (lo, hi), first_end) {
             derive(test.derivatives);
-            let d3: f64 = test
-                .derivatives
-                .0
-                .iter()
-                .zip(&self.terms)
-                .map(|(c, t)| (c[2] * t.rate).re)
-                .sum();
-            taylor_clearance(
-                [f0, d0, dd0, d3],
-                self.fourth_derivative_bound(horizon),
-                (lo, hi),
-                depth_tolerance,
-                first_end,
-            )
+        }
+        let cleared = self.start_clearance(&test, (f0, d0, dd0), first_end);
+        let head = Head {
+            cleared,
+            estimate,
+            first_end,
+            cutoff,
         };
         let mut first = 0;
         if cleared >= first_end {
@@ -325,79 +315,18 @@ impl ExpSum {
             // the head of `grid_search`, whose chunks start that short.)
             derive(test.derivatives);
             let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
-            let mut seed = Seed {
-                m: w,
-                w,
-                mid: &rows[..n],
-                seeds: &mut *seeds,
-            };
-            let divisions = SEED_DIVISIONS as i64;
-            let h = w / SEED_DIVISIONS as f64;
-            let mut ka = -divisions;
-            let mut length = 2.0 * estimate;
-            while ka < divisions && seed.point(ka) < cutoff {
-                let a = seed.point(ka);
-                let target = if a + 2.0 * length >= first_end {
-                    first_end
-                } else {
-                    a + length
-                };
-                let mut kb = ((target - w) / h).ceil() as i64;
-                kb += (kb - ka).rem_euclid(2);
-                let kb = kb.clamp(ka + 2, divisions);
-                let (b, km) = (seed.point(kb), (ka + kb) / 2);
-                seed.exponentials_at(km, &self.terms, test.point);
-                let at_m = test.derivatives.at3(self, seed.point(km), test.point);
-                seed.exponentials_at(kb, &self.terms, test.point);
-                let fb = test.derivatives.value(self, b, test.point);
-                let found = self.exit_in_chunk(
-                    &mut test,
-                    (a, b, fa, fb),
-                    at_m,
-                    Some(Seed {
-                        m: w,
-                        w,
-                        mid: &rows[..n],
-                        seeds: &mut *seed.seeds,
-                    }),
-                );
-                if found.is_some() {
-                    return found;
-                }
-                fa = fb;
-                ka = kb;
-                length *= 2.0;
+            match self.seeded_head(&mut test, (&rows[..n], &mut *seeds), w, head, fa) {
+                ControlFlow::Break(found) => return found,
+                ControlFlow::Continue(end) => fa = end,
             }
             first = 1;
         } else if (cleared > 0.0 && HEAD * cleared < first_end)
             || HEAD_ESTIMATE * estimate < first_end
         {
             derive(test.derivatives);
-            let mut a = cleared;
-            if cleared > 0.0 {
-                fa = self.eval(cleared).0;
-            }
-            let mut length = if estimate.is_finite() && estimate > cleared {
-                2.0 * (estimate - cleared)
-            } else {
-                cleared
-            };
-            while a < first_end && a < cutoff {
-                let b = if a + 2.0 * length >= first_end {
-                    first_end
-                } else {
-                    a + length
-                };
-                let m = 0.5 * (a + b);
-                let at_m = self.eval3(m, test.derivatives, test.point);
-                let fb = self.eval(b).0;
-                let found = self.exit_in_chunk(&mut test, (a, b, fa, fb), at_m, None);
-                if found.is_some() {
-                    return found;
-                }
-                fa = fb;
-                a = b;
-                length *= 2.0;
+            match self.doubling_head(&mut test, head, fa) {
+                ControlFlow::Break(found) => return found,
+                ControlFlow::Continue(end) => fa = end,
             }
             first = 1;
         }
@@ -409,23 +338,10 @@ impl ExpSum {
             }
             let m = a + w;
             let rows = chunk_rows(chunk_exps, chunk_filled, i, w, &self.terms);
-            let (mut fm, mut dm, mut ddm) = (0.0, 0.0, 0.0);
-            for (j, t) in self.terms.iter().enumerate() {
-                let c = t.poly[0];
-                let re = |x: C64| c.re * x.re - c.im * x.im;
-                fm += re(rows[j]);
-                dm += re(rows[n + j]);
-                ddm += re(rows[2 * n + j]);
-            }
+            let (fm, dm, ddm) = mid_values(&self.terms, rows);
             if i + 1 == chunks {
-                // The last chunk, `[a, horizon]` within `[a, a + 2w]`.
-                if a + 2.0 * w >= horizon && inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
-                    return None;
-                }
                 derive(test.derivatives);
-                let at_m = self.eval3(0.5 * (a + horizon), test.derivatives, test.point);
-                let fb = self.eval(horizon).0;
-                return self.exit_in_chunk(&mut test, (a, horizon, fa, fb), at_m, None);
+                return self.last_chunk(&mut test, (a, w), (fm, dm, ddm), fa);
             }
             let b = 2.0 * w * (i + 1) as f64;
             let fb = real_dot(&self.terms, &rows[4 * n..]);
@@ -473,22 +389,7 @@ impl ExpSum {
         (time_tolerance, depth_tolerance): (f64, f64),
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
-        let fastest = if FIXED {
-            self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max)
-        } else {
-            0.0
-        };
-        let fixed = FIXED && fastest > 0.0 && fastest.is_finite();
-        let (chunks, w) = if fixed {
-            let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
-            (((0.5 * horizon / w).ceil() as usize).clamp(1, 1 << 30), w)
-        } else {
-            let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
-                / std::f64::consts::TAU)
-                .ceil() as usize)
-                .clamp(1, 1 << 30);
-            (chunks, 0.5 * horizon / chunks as f64)
-        };
+        let (fixed, chunks, w) = self.grid::<FIXED>(horizon);
         let SearchStack {
             intervals,
             exps,
@@ -539,27 +440,12 @@ impl ExpSum {
         // chunk.
         let first_end = if chunks == 1 { horizon } else { 2.0 * w };
         let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
-        // Only a slow start on an edge (a release, a graze) is worth clearing: a fast one
-        // (an impact) is found by the quadratic model or the grid.
-        let on_edge = (f0 - lo).min(hi - f0) <= ON_EDGE * (hi - lo)
-            && d0.abs() * first_end < SLOW_DEPARTURE * (hi - lo);
-        let cleared = if test.derivatives.0.is_empty() || !on_edge {
-            0.0
-        } else {
-            let d3: f64 = test
-                .derivatives
-                .0
-                .iter()
-                .zip(&self.terms)
-                .map(|(c, t)| (c[2] * t.rate).re)
-                .sum();
-            taylor_clearance(
-                [f0, d0, dd0, d3],
-                self.fourth_derivative_bound(horizon),
-                (lo, hi),
-                depth_tolerance,
-                first_end,
-            )
+        let cleared = self.start_clearance(&test, (f0, d0, dd0), first_end);
+        let head = Head {
+            cleared,
+            estimate,
+            first_end,
+            cutoff,
         };
         let mut first = 0;
         if cleared >= first_end {
@@ -569,31 +455,9 @@ impl ExpSum {
         } else if (cleared > 0.0 && HEAD * cleared < first_end)
             || HEAD_ESTIMATE * estimate < first_end
         {
-            let mut a = cleared;
-            if cleared > 0.0 {
-                fa = self.eval(cleared).0;
-            }
-            let mut length = if estimate.is_finite() && estimate > cleared {
-                2.0 * (estimate - cleared)
-            } else {
-                cleared
-            };
-            while a < first_end && a < cutoff {
-                let b = if a + 2.0 * length >= first_end {
-                    first_end
-                } else {
-                    a + length
-                };
-                let m = 0.5 * (a + b);
-                let at_m = self.eval3(m, test.derivatives, test.point);
-                let fb = self.eval(b).0;
-                let found = self.exit_in_chunk(&mut test, (a, b, fa, fb), at_m, None);
-                if found.is_some() {
-                    return found;
-                }
-                fa = fb;
-                a = b;
-                length *= 2.0;
+            match self.doubling_head(&mut test, head, fa) {
+                ControlFlow::Break(found) => return found,
+                ControlFlow::Continue(end) => fa = end,
             }
             first = 1;
             set_exponentials(exps, &self.terms, first_end, chunks, doubled);
@@ -615,13 +479,7 @@ impl ExpSum {
             }
             let (fm, dm, ddm) = test.derivatives.at(self, m, exps);
             if fixed && i + 1 == chunks {
-                // The last chunk, `[a, horizon]` within `[a, a + 2w]`.
-                if a + 2.0 * w >= horizon && inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
-                    return None;
-                }
-                let at_m = self.eval3(0.5 * (a + horizon), test.derivatives, test.point);
-                let fb = self.eval(horizon).0;
-                return self.exit_in_chunk(&mut test, (a, horizon, fa, fb), at_m, None);
+                return self.last_chunk(&mut test, (a, w), (fm, dm, ddm), fa);
             }
             // The test of `exit_in_chunk`, inline: most chunks are excluded at once.
             let excluded = inside((fm, dm, ddm), w, jerk_reach, (lo, hi));
@@ -662,5 +520,229 @@ impl ExpSum {
             fa = fb;
         }
         None
+    }
+}
+
+/// The start of a search's head of short chunks: how far the start is cleared (`0` when it is
+/// not), the quadratic model's exit `estimate`, the end of the first chunk, and the search's
+/// cutoff.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Head {
+    pub(super) cleared: f64,
+    pub(super) estimate: f64,
+    pub(super) first_end: f64,
+    pub(super) cutoff: f64,
+}
+
+/// Whether a start `f0` moving at `d0` is a slow start on an edge of `(lo, hi)` (a release, a
+/// graze), worth a Taylor clearance: a fast one (an impact) is found by the quadratic model or
+/// the grid.
+fn slow_on_edge((f0, d0): (f64, f64), (lo, hi): (f64, f64), first_end: f64) -> bool {
+    (f0 - lo).min(hi - f0) <= ON_EDGE * (hi - lo)
+        && d0.abs() * first_end < SLOW_DEPARTURE * (hi - lo)
+}
+
+impl ExpSum {
+    /// How far a slow start on an edge is cleared by [`taylor_clearance`] from `f(0)`, `f'(0)`,
+    /// `f''(0)` and the derivative coefficients' `f'''(0)`, up to `first_end`: `0` for a start
+    /// that is not [`slow_on_edge`], or without derivative coefficients.
+    fn start_clearance(
+        &self,
+        test: &ChunkTest<'_>,
+        (f0, d0, dd0): (f64, f64, f64),
+        first_end: f64,
+    ) -> f64 {
+        let (lo, hi) = test.band;
+        if test.derivatives.0.is_empty() || !slow_on_edge((f0, d0), (lo, hi), first_end) {
+            return 0.0;
+        }
+        let d3: f64 = test
+            .derivatives
+            .0
+            .iter()
+            .zip(&self.terms)
+            .map(|(c, t)| (c[2] * t.rate).re)
+            .sum();
+        taylor_clearance(
+            [f0, d0, dd0, d3],
+            self.fourth_derivative_bound(test.horizon),
+            (lo, hi),
+            test.tolerances.1,
+            first_end,
+        )
+    }
+
+    /// The head of chunks that double from `head.cleared` (their first length from the
+    /// quadratic model's exit) to the first chunk's end or the cutoff, each chunk's points
+    /// evaluated afresh; `fa` is `f(0)`. `Break` with the exit found, or `Continue` with `f` at
+    /// the head's end.
+    fn doubling_head(
+        &self,
+        test: &mut ChunkTest<'_>,
+        head: Head,
+        mut fa: f64,
+    ) -> ControlFlow<Option<(f64, i8)>, f64> {
+        let Head {
+            cleared,
+            estimate,
+            first_end,
+            cutoff,
+        } = head;
+        let mut a = cleared;
+        if cleared > 0.0 {
+            fa = self.eval(cleared).0;
+        }
+        let mut length = if estimate.is_finite() && estimate > cleared {
+            2.0 * (estimate - cleared)
+        } else {
+            cleared
+        };
+        while a < first_end && a < cutoff {
+            let b = if a + 2.0 * length >= first_end {
+                first_end
+            } else {
+                a + length
+            };
+            let m = 0.5 * (a + b);
+            let at_m = self.eval3(m, test.derivatives, test.point);
+            let fb = self.eval(b).0;
+            let found = self.exit_in_chunk(test, (a, b, fa, fb), at_m, None);
+            if found.is_some() {
+                return ControlFlow::Break(found);
+            }
+            fa = fb;
+            a = b;
+            length *= 2.0;
+        }
+        ControlFlow::Continue(fa)
+    }
+
+    /// The head of a summarised search on the seed points of the first chunk (midpoint `w`,
+    /// exponentials `mid` there, the grid's `seeds`), `kh` from `w` (`0` is
+    /// `k = −SEED_DIVISIONS`, `2w` is `k = SEED_DIVISIONS`), each chunk a whole even number of
+    /// steps long so that its midpoint is one too: their exponentials follow from the cached
+    /// ones at `w` by one product per term, and the polish starts from them. `fa` is `f(0)`;
+    /// `Break` with the exit found, or `Continue` with `f` at the head's end.
+    fn seeded_head(
+        &self,
+        test: &mut ChunkTest<'_>,
+        (mid, seeds): (&[C64], &mut Seeds),
+        w: f64,
+        head: Head,
+        mut fa: f64,
+    ) -> ControlFlow<Option<(f64, i8)>, f64> {
+        let Head {
+            estimate,
+            first_end,
+            cutoff,
+            ..
+        } = head;
+        let mut seed = Seed {
+            m: w,
+            w,
+            mid,
+            seeds,
+        };
+        let divisions = SEED_DIVISIONS as i64;
+        let h = w / SEED_DIVISIONS as f64;
+        let mut ka = -divisions;
+        let mut length = 2.0 * estimate;
+        while ka < divisions && seed.point(ka) < cutoff {
+            let a = seed.point(ka);
+            let target = if a + 2.0 * length >= first_end {
+                first_end
+            } else {
+                a + length
+            };
+            let mut kb = ((target - w) / h).ceil() as i64;
+            kb += (kb - ka).rem_euclid(2);
+            let kb = kb.clamp(ka + 2, divisions);
+            let (b, km) = (seed.point(kb), (ka + kb) / 2);
+            seed.exponentials_at(km, &self.terms, test.point);
+            let at_m = test.derivatives.at3(self, seed.point(km), test.point);
+            seed.exponentials_at(kb, &self.terms, test.point);
+            let fb = test.derivatives.value(self, b, test.point);
+            let found = self.exit_in_chunk(
+                test,
+                (a, b, fa, fb),
+                at_m,
+                Some(Seed {
+                    m: w,
+                    w,
+                    mid,
+                    seeds: &mut *seed.seeds,
+                }),
+            );
+            if found.is_some() {
+                return ControlFlow::Break(found);
+            }
+            fa = fb;
+            ka = kb;
+            length *= 2.0;
+        }
+        ControlFlow::Continue(fa)
+    }
+}
+
+/// `(f, f', f'')` at a cached chunk's midpoint: the terms' constant coefficients against its
+/// rows `e^{μm}`, `μe^{μm}`, `μ²e^{μm}` ([`GridSteps::chunk_exps`]).
+#[inline]
+fn mid_values(terms: &[Term], rows: &[C64]) -> (f64, f64, f64) {
+    let n = terms.len();
+    let (mut fm, mut dm, mut ddm) = (0.0, 0.0, 0.0);
+    for (j, t) in terms.iter().enumerate() {
+        let c = t.poly[0];
+        let re = |x: C64| c.re * x.re - c.im * x.im;
+        fm += re(rows[j]);
+        dm += re(rows[n + j]);
+        ddm += re(rows[2 * n + j]);
+    }
+    (fm, dm, ddm)
+}
+
+impl ExpSum {
+    /// The grid of a search over `horizon`: `(fixed, chunks, w)`, on the fixed grid of the
+    /// rates (`w = π/(8 max|μ|)`, `FIXED` and a finite positive fastest rate) or else the
+    /// grid of the horizon (`chunks` an eighth of the fastest oscillation long, `w` half of
+    /// one).
+    #[inline(always)]
+    fn grid<const FIXED: bool>(&self, horizon: f64) -> (bool, usize, f64) {
+        let fastest = if FIXED {
+            self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max)
+        } else {
+            0.0
+        };
+        let fixed = FIXED && fastest > 0.0 && fastest.is_finite();
+        let (chunks, w) = if fixed {
+            let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
+            (((0.5 * horizon / w).ceil() as usize).clamp(1, 1 << 30), w)
+        } else {
+            let chunks = ((horizon * self.fastest(horizon) * CHUNKS_PER_OSCILLATION
+                / std::f64::consts::TAU)
+                .ceil() as usize)
+                .clamp(1, 1 << 30);
+            (chunks, 0.5 * horizon / chunks as f64)
+        };
+        (fixed, chunks, w)
+    }
+
+    /// The last chunk of a fixed grid, `[a, horizon]` within `[a, a + 2w]` (`(f, f', f'')` at
+    /// `a + w` given, `fa = f(a)`): excluded by the test on `[a, a + 2w]` when that contains
+    /// it, or else searched on its own from fresh exponentials.
+    fn last_chunk(
+        &self,
+        test: &mut ChunkTest<'_>,
+        (a, w): (f64, f64),
+        at_m: (f64, f64, f64),
+        fa: f64,
+    ) -> Option<(f64, i8)> {
+        let horizon = test.horizon;
+        let jerk_reach = test.jerk * w * w * w / 6.0;
+        if a + 2.0 * w >= horizon && inside(at_m, w, jerk_reach, test.band) {
+            return None;
+        }
+        let at_m = self.eval3(0.5 * (a + horizon), test.derivatives, test.point);
+        let fb = self.eval(horizon).0;
+        self.exit_in_chunk(test, (a, horizon, fa, fb), at_m, None)
     }
 }
