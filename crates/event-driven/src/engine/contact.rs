@@ -29,7 +29,7 @@ impl Engine<'_> {
     pub(super) fn free_acceleration(&self, y: &DVector<f64>, tau: f64) -> DVector<f64> {
         let n = self.n;
         let m = self.model;
-        let (sin, cos) = (self.omega * tau).sin_cos();
+        let (sin, cos) = self.forcing_at(tau);
         let mut f = &m.forcing_cos * cos + &m.forcing_sin * sin - &m.stiffness * y.rows(0, n);
         if let Some(c) = &m.damping {
             f -= c * y.rows(n, n);
@@ -70,7 +70,7 @@ impl Engine<'_> {
     /// dense sum's.
     pub(super) fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
         let m = self.model;
-        let (sin, cos) = (self.omega * tau).sin_cos();
+        let (sin, cos) = self.forcing_at(tau);
         let y = y.as_slice();
         p.acceleration_rows
             .iter()

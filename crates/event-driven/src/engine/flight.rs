@@ -225,12 +225,14 @@ impl Engine<'_> {
         } else {
             None
         };
+        let (sin, cos) = self.forcing_at(state.tau);
+        let phase = nalgebra::Complex::new(cos, sin);
         let flight = match carried {
-            Some(deviation) => match self.free.flight_with_deviation(deviation, state.tau) {
+            Some(deviation) => match self.free.flight_with_deviation(deviation, phase) {
                 Ok(flight) => flight,
-                Err(_) => self.free.flight(&state.y, state.tau),
+                Err(_) => self.free.flight_at_phase(&state.y, phase),
             },
-            None => self.free.flight(&state.y, state.tau),
+            None => self.free.flight_at_phase(&state.y, phase),
         };
         // Positions are known to rounding relative to their size, not to the gap: an excursion
         // beyond a stop smaller than that is no contact.

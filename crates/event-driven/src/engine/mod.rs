@@ -42,6 +42,7 @@ use crate::expsum::{ExpSum, ModeTerm, SearchStack, Summary, Tolerances};
 use crate::flow::{Flight, FlowError, Functional, JointWeights, LinearFlow};
 use crate::model::{ContactPair, Model};
 use nalgebra::{DMatrix, DVector};
+use std::cell::Cell;
 use std::collections::VecDeque;
 use thiserror::Error;
 
@@ -195,6 +196,8 @@ pub(crate) struct Engine<'m> {
     release_grace: f64,
     /// Storage reused by every flight.
     work: Scratch,
+    /// `(τ, sin ωτ, cos ωτ)` of the last forcing phase computed ([`Self::forcing_at`]).
+    forcing: Cell<(f64, f64, f64)>,
 }
 
 impl<'m> Engine<'m> {
@@ -299,6 +302,19 @@ impl<'m> Engine<'m> {
             resting_velocity: RESTING_VELOCITY * omega * scale,
             release_grace: RELEASE_GRACE * period,
             work: Scratch::default(),
+            forcing: Cell::new((f64::NAN, 0.0, 0.0)),
         })
+    }
+
+    /// `(sin ωτ, cos ωτ)`, kept for the last `τ` asked: a contact's accelerations and the flight
+    /// that follows it start at the same `τ`, and need the forcing phase there once.
+    fn forcing_at(&self, tau: f64) -> (f64, f64) {
+        let (at, sin, cos) = self.forcing.get();
+        if at == tau {
+            return (sin, cos);
+        }
+        let (sin, cos) = (self.omega * tau).sin_cos();
+        self.forcing.set((tau, sin, cos));
+        (sin, cos)
     }
 }
