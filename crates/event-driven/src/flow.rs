@@ -434,7 +434,13 @@ impl LinearFlow {
     /// evaluated at `t0 + s`).
     pub fn flight(&self, y: &DVector<f64>, t0: f64) -> Flight<'_> {
         let (sin, cos) = (self.omega * t0).sin_cos();
-        let phase = C64::new(cos, sin);
+        self.flight_at_phase(y, C64::new(cos, sin))
+    }
+
+    /// [`Self::flight`] given its forcing phase `e^{iωt0}` as `(ωt0).sin_cos()` gives it (the
+    /// event loop keeps the last one it computed: a contact's accelerations and the flight
+    /// that follows start at the same time).
+    pub(crate) fn flight_at_phase(&self, y: &DVector<f64>, phase: C64) -> Flight<'_> {
         let m = 2 * self.dofs;
         let form = match &self.steady {
             Some(p) => {
@@ -467,8 +473,8 @@ impl LinearFlow {
         Flight { flow: self, form }
     }
 
-    /// The flight at forcing phase time `t0` from a state whose deviation from the steady
-    /// response, `h = z(0) − z_p(t0)` per mode (kept modes only, length `2n`), is already
+    /// The flight at the forcing phase `e^{iωt0}` (as [`Self::flight_at_phase`] takes it) from
+    /// a state whose deviation from the steady response, `h = z(0) − z_p(t0)` per mode (kept modes only, length `2n`), is already
     /// known, as [`Flight::deviation_at`] and [`Self::add_jump`] carry it across an event;
     /// `None` (the deviation handed back) when the flow has no steady response.
     ///
@@ -477,7 +483,7 @@ impl LinearFlow {
     pub(crate) fn flight_with_deviation(
         &self,
         deviation: Vec<C64>,
-        t0: f64,
+        phase: C64,
     ) -> Result<Flight<'_>, Vec<C64>> {
         let Some(p) = &self.steady else {
             return Err(deviation);
@@ -485,13 +491,12 @@ impl LinearFlow {
         if deviation.len() != 2 * self.dofs {
             return Err(deviation);
         }
-        let (sin, cos) = (self.omega * t0).sin_cos();
         Ok(Flight {
             flow: self,
             form: Form::Steady {
                 response: p,
                 deviation,
-                phase: C64::new(cos, sin),
+                phase,
             },
         })
     }
@@ -887,6 +892,7 @@ mod tests {
         use crate::expsum::SearchStack;
         let (flow, functionals, _) = chain_flow(8);
         let (tol, depth) = (1e-12 * std::f64::consts::PI, 1e-12);
+        let tolerances = crate::expsum::Tolerances { time: tol, depth };
         let (mut plain, mut summarised) = (SearchStack::default(), SearchStack::default());
         let mut gap = ExpSum::default();
         let (mut exits, mut searches) = (0, 0);
@@ -905,19 +911,17 @@ mod tests {
                     let (lo, hi) = (f0 - width, f0 + 0.7 * width);
                     for cutoff in [horizon, 0.5 * horizon, 0.1] {
                         let expected =
-                            gap.first_exit_until(lo, hi, horizon, cutoff, tol, depth, &mut plain);
+                            gap.first_exit_until(lo, hi, horizon, cutoff, tolerances, &mut plain);
                         let found = if summary.excludes(lo, hi, cutoff.min(horizon), horizon) {
                             None
                         } else {
                             searches += 1;
                             gap.first_exit_summarized(
                                 &summary,
-                                lo,
-                                hi,
+                                (lo, hi),
                                 horizon,
                                 cutoff,
-                                tol,
-                                depth,
+                                tolerances,
                                 &mut summarised,
                             )
                         };
@@ -963,8 +967,9 @@ mod tests {
         let mut deviation = Vec::new();
         assert!(flight.deviation_at(&exps, &mut deviation));
         flow.add_jump(&mut deviation, before.as_slice(), after.as_slice());
+        let (sin, cos) = (flow.omega * (0.7 + s)).sin_cos();
         let carried = flow
-            .flight_with_deviation(deviation, 0.7 + s)
+            .flight_with_deviation(deviation, C64::new(cos, sin))
             .expect("steady response");
         let fresh = flow.flight(&after, 0.7 + s);
         for t in [0.0, 0.3, 1.1] {

@@ -25,6 +25,7 @@
 //! matrix, no damping terms.
 #![deny(missing_docs)]
 
+mod engine;
 pub mod expsum;
 pub mod flow;
 pub mod lyapunov;

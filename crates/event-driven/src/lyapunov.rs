@@ -41,11 +41,9 @@
 //!
 //! The uncertainty reported is the larger of the two, divided by the time where it is a range.
 
+use crate::engine::{check_inputs, Engine, SimulationError, SimulationOptions, Start, SteadyState};
 use crate::model::Model;
 use crate::newton::shifted;
-use crate::simulate::{
-    check_inputs, Engine, SimulationError, SimulationOptions, Start, SteadyState,
-};
 use nalgebra::DMatrix;
 use thiserror::Error;
 

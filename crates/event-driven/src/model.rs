@@ -208,22 +208,31 @@ impl Model {
         })
     }
 
-    /// The mass-in-mass unit: DOF 0 the outer mass `u_o`, DOF 1 the inner mass `u_i`, base
-    /// motion `u_g cos ωt` through `k_o` (and `c_o`): `f = (k_o u_g cos ωt − c_o u_g ω sin ωt, 0)`;
-    /// with `stops = Some((gap, restitution))` one contact pair `r = u_i − u_o ∈ [−gap, gap]`.
-    /// A dashpot given as `None` (or both `None`) adds no damping terms.
-    #[allow(clippy::too_many_arguments)]
-    pub fn two_dof_unit(
-        outer_mass: f64,
-        inner_mass: f64,
-        outer_stiffness: f64,
-        inner_stiffness: f64,
-        outer_damping: Option<f64>,
-        inner_damping: Option<f64>,
+    /// The mass-in-mass unit of one `cell`: DOF 0 the outer mass `u_o`, DOF 1 the inner mass
+    /// `u_i`, base motion `u_g cos ωt` (`u_g = base_amplitude`) through `k_o` (and `c_o`):
+    /// `f = (k_o u_g cos ωt − c_o u_g ω sin ωt, 0)`; with stops, one contact pair
+    /// `r = u_i − u_o ∈ [−gap_minus, gap_plus]`. A dashpot given as `None` (or both `None`)
+    /// adds no damping terms.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] naming the field (`unit.outer_mass`, `unit.inner_mass`,
+    /// `unit.outer_stiffness`, `unit.inner_stiffness`, `base.amplitude`, `omega`,
+    /// `damping.outer`, `damping.inner`, and the contact pair's gaps and restitution) for a
+    /// value out of range.
+    pub fn unit(
+        cell: &CellParameters,
         base_amplitude: f64,
         omega: f64,
-        stops: Option<(f64, f64)>,
     ) -> Result<Model, ModelError> {
+        let CellParameters {
+            outer_mass,
+            inner_mass,
+            outer_stiffness,
+            inner_stiffness,
+            outer_damping,
+            inner_damping,
+            stops,
+        } = *cell;
         check("unit.outer_mass", outer_mass, outer_mass > 0.0, "> 0")?;
         check("unit.inner_mass", inner_mass, inner_mass > 0.0, "> 0")?;
         check(
@@ -256,12 +265,12 @@ impl Model {
         let forcing_cos = DVector::from_vec(vec![ko * base_amplitude, 0.0]);
         let forcing_sin = DVector::from_vec(vec![-co * base_amplitude * omega, 0.0]);
         let contacts = match stops {
-            Some((gap, restitution)) => vec![ContactPair {
+            Some(stops) => vec![ContactPair {
                 plus_dof: 1,
                 minus_dof: 0,
-                gap_plus: gap,
-                gap_minus: gap,
-                restitution,
+                gap_plus: stops.gap_plus,
+                gap_minus: stops.gap_minus,
+                restitution: stops.restitution,
             }],
             None => Vec::new(),
         };
@@ -270,14 +279,14 @@ impl Model {
 
     /// A chain of `cells.len()` mass-in-mass cells in series (the impacting metamaterial):
     /// outer mass `j` is tied to outer mass `j − 1` by cell `j`'s `k_o` (and `c_o`), the first
-    /// to the base, which moves as `u_g cos ωt` and forces it as in [`Self::two_dof_unit`];
+    /// to the base, which moves as `u_g cos ωt` and forces it as in [`Self::unit`];
     /// inner mass `j` sits inside outer mass `j` on `k_i` (and `c_i`), with its own contact
     /// pair when the cell has stops.
     ///
     /// State ordering: `u = (u_o1, u_i1, u_o2, u_i2, …)` (DOF `2j` the outer mass of cell
     /// `j + 1`, DOF `2j + 1` its inner mass); the contact pairs are listed in cell order, one
     /// per cell with stops, each `r_j = u_ij − u_oj ∈ [−gap_minus, gap_plus]`. One cell builds
-    /// the very matrices of [`Self::two_dof_unit`] (same entries, same floating-point sums).
+    /// the very matrices of [`Self::unit`] (same entries, same floating-point sums).
     /// Damping terms are present when any cell has a dashpot.
     ///
     /// # Errors

@@ -14,10 +14,11 @@
 //! Newton `y ← y − (DP − I)⁻¹ (P(y) − y)` converges quadratically from a good guess to the
 //! orbit whatever its stability; the eigenvalues of `DP` there are the Floquet multipliers.
 
+pub use crate::engine::PeriodicOrbit;
+use crate::engine::{check_inputs, Engine, SimulationError, SimulationOptions, Start};
 use crate::flow::{eigenvalues, FlowError};
 use crate::model::Model;
-use crate::simulate::{check_inputs, Engine, SimulationError, SimulationOptions, Start};
-use nalgebra::{Complex, DMatrix, DVector};
+use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
 
 /// Newton's iterations are capped at this: from a guess within the basin of quadratic
@@ -49,32 +50,6 @@ pub struct StroboscopicMap {
     pub impact_pairs: Vec<usize>,
     /// The time of each impact after the section.
     pub impact_times: Vec<f64>,
-}
-
-/// A periodic orbit found by Newton on the simulator's stroboscopic map.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PeriodicOrbit {
-    /// The state `(u, u̇)` at the section, the fixed point of the `periods`-period map.
-    pub state: DVector<f64>,
-    /// The time of the section (the guess's time): the orbit passes through [`Self::state`]
-    /// at `time + k·periods·T`.
-    pub time: f64,
-    /// The section's time within the forcing period, in `[0, T)`.
-    pub phase: f64,
-    /// Forcing periods per cycle `p`.
-    pub periods: u32,
-    /// The impacts over one cycle in time order from the section: `+1` side 1, `−1` side 2.
-    pub impact_sides: Vec<i8>,
-    /// The impacts' times after the section as fractions of the cycle `pT`, in `[0, 1)`.
-    pub impact_phases: Vec<f64>,
-    /// The eigenvalues of `DP` at the fixed point: the simulator's own Floquet multipliers.
-    pub floquet_multipliers: Vec<Complex<f64>>,
-    /// Newton steps taken.
-    pub iterations: u32,
-    /// The final `|P(y) − y|`, relative to `max(|y|, gap)`: at most
-    /// [`NEWTON_TOLERANCE_FACTOR`] × [`SimulationOptions::root_tolerance`], or at most
-    /// [`NEWTON_FLOOR_FACTOR`] times that when the map's rounding floor was reached.
-    pub residual: f64,
 }
 
 /// Why Newton on the stroboscopic map found no orbit.

@@ -3,8 +3,8 @@
 //! unit (`m_o = 2, m_i = 1, k_o = 6, k_i = 3, u_g = 1`, `ω_n² = 1.5, 6`) in the variants the
 //! tests need, a single undamped oscillator flying to a stop, and one impact.
 
+use crate::engine::Start;
 use crate::model::{CellParameters, CellStops, ContactPair, Model};
-use crate::simulate::Start;
 use nalgebra::{Complex, DMatrix, DVector, Matrix4};
 
 /// Outer mass of the paper's unit.
@@ -25,20 +25,11 @@ pub const LIGHT_DAMPING: (f64, f64) = (0.1, 0.05);
 ///
 /// # Panics
 /// If `omega` is not finite and positive, or a damping, gap or restitution is out of range
-/// (see [`Model::two_dof_unit`]).
+/// (see [`Model::unit`]).
 pub fn paper_unit(omega: f64, damping: Option<(f64, f64)>, stops: Option<(f64, f64)>) -> Model {
-    Model::two_dof_unit(
-        OUTER_MASS,
-        INNER_MASS,
-        OUTER_STIFFNESS,
-        INNER_STIFFNESS,
-        damping.map(|d| d.0),
-        damping.map(|d| d.1),
-        BASE_AMPLITUDE,
-        omega,
-        stops,
-    )
-    .expect("the paper's unit is valid")
+    let stops = stops.map(|(gap, restitution)| CellStops::symmetric(gap, restitution));
+    Model::unit(&paper_cell(damping, stops), BASE_AMPLITUDE, omega)
+        .expect("the paper's unit is valid")
 }
 
 /// The paper's unit as one cell of a chain, with optional dashpots `(c_o, c_i)` and stops.

@@ -8,12 +8,10 @@
 //! and each contact pair's relative displacement `r = d·u`; the impacts are listed with their
 //! pair, side, approach velocity `ṙ⁻` and the state before.
 
+pub use crate::engine::RowKind;
+use crate::engine::{check_inputs, Engine, SimulationError, SimulationOptions, Start, SteadyState};
 use crate::model::Model;
 use crate::newton::shifted;
-pub use crate::simulate::RowKind;
-use crate::simulate::{
-    check_inputs, Engine, SimulationError, SimulationOptions, Start, SteadyState,
-};
 use thiserror::Error;
 
 /// Default [`TrajectoryOptions::samples_per_period`]: enough to draw a period's motion

@@ -4,8 +4,8 @@
 use nalgebra::{DMatrix, DVector};
 use rattle_event_driven::flow::LinearFlow;
 use rattle_event_driven::test_models::{
-    far_stops_unit, free_flight_to_a_stop, linear_damped_unit, paper_impact, paper_unit,
-    LinearSteadyState, LIGHT_DAMPING,
+    far_stops_unit, free_flight_to_a_stop, linear_damped_unit, paper_cell, paper_impact,
+    paper_unit, LinearSteadyState, LIGHT_DAMPING,
 };
 use rattle_event_driven::*;
 
@@ -304,10 +304,13 @@ fn chatter_ends_in_sticking_and_release() {
 
 #[test]
 fn bad_input_is_an_error_not_a_panic() {
-    assert!(Model::two_dof_unit(-1.0, 1.0, 6.0, 3.0, None, None, 1.0, 1.0, None).is_err());
-    assert!(
-        Model::two_dof_unit(2.0, 1.0, 6.0, 3.0, None, None, 1.0, 1.0, Some((0.5, 1.5))).is_err()
-    );
+    let negative_mass = CellParameters {
+        outer_mass: -1.0,
+        ..paper_cell(None, None)
+    };
+    assert!(Model::unit(&negative_mass, 1.0, 1.0).is_err());
+    let restitution_above_one = paper_cell(None, Some(CellStops::symmetric(0.5, 1.5)));
+    assert!(Model::unit(&restitution_above_one, 1.0, 1.0).is_err());
     let model = paper_unit(1.0, None, Some((0.5, 0.8)));
     assert!(simulate(
         &model,

@@ -116,17 +116,18 @@ pub fn model(scene: &Scene, omega: f64) -> Result<Model, ModelError> {
     }
     let unit = scene.unit_model();
     let damping = unit.damping;
-    Model::two_dof_unit(
-        unit.outer_mass,
-        unit.inner_mass,
-        unit.outer_stiffness,
-        unit.inner_stiffness,
-        damping.map(|d| d.outer),
-        damping.map(|d| d.inner),
-        unit.base_amplitude,
-        omega,
-        scene.stops.map(|s| (s.gap, s.restitution)),
-    )
+    let cell = CellParameters {
+        outer_mass: unit.outer_mass,
+        inner_mass: unit.inner_mass,
+        outer_stiffness: unit.outer_stiffness,
+        inner_stiffness: unit.inner_stiffness,
+        outer_damping: damping.map(|d| d.outer),
+        inner_damping: damping.map(|d| d.inner),
+        stops: scene
+            .stops
+            .map(|s| CellStops::symmetric(s.gap, s.restitution)),
+    };
+    Model::unit(&cell, unit.base_amplitude, omega)
 }
 
 /// The start at rest at `t = 0` for `scene`'s model (every cell).

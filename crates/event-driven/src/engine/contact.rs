@@ -1,0 +1,179 @@
+//! Contact events: impacts (restitution along the contact direction), and the accelerations
+//! that tell a hold from a bounce.
+
+use super::*;
+
+impl Engine<'_> {
+    /// Relative acceleration `r̈` of pair `pair` at state `y`, phase time `tau`, in `mode`:
+    /// the free one, or with the held pairs' contact forces (`a = a_free − R D a_free`).
+    pub(super) fn relative_acceleration(
+        &self,
+        pair: usize,
+        y: &DVector<f64>,
+        tau: f64,
+        mode: Mode,
+    ) -> f64 {
+        let p = &self.pairs[pair];
+        match mode {
+            Mode::Free => self.free_relative_acceleration(p, y, tau),
+            Mode::Stuck(i) => {
+                let st = &self.stuck[i];
+                let free = self.free_acceleration(y, tau);
+                let correction = &st.reaction * (&st.constraint * &free);
+                p.direction.dot(&(free - correction))
+            }
+        }
+    }
+
+    /// The free acceleration `M⁻¹(f(τ) − K u − C u̇)` at state `y`.
+    pub(super) fn free_acceleration(&self, y: &DVector<f64>, tau: f64) -> DVector<f64> {
+        let n = self.n;
+        let m = self.model;
+        let (sin, cos) = self.forcing_at(tau);
+        let mut f = &m.forcing_cos * cos + &m.forcing_sin * sin - &m.stiffness * y.rows(0, n);
+        if let Some(c) = &m.damping {
+            f -= c * y.rows(n, n);
+        }
+        &self.inverse_mass * f
+    }
+
+    /// Newton restitution of pair `pair` (restitution `e`, the pair's own if `None`) in
+    /// `mode`: free, or with the held pairs' constraints kept (`D u̇ = 0`), along the
+    /// constrained mobility `m_c = M⁻¹d − R D M⁻¹d`. When the impact does not reach the held
+    /// pairs (`D M⁻¹ d = 0`, e.g. pairs of different cells of a chain) both are the free
+    /// impact, applied as such.
+    pub(super) fn restitute(&self, pair: usize, y: &mut DVector<f64>, e: Option<f64>, mode: Mode) {
+        let st = match mode {
+            Mode::Free => None,
+            Mode::Stuck(i) => Some(&self.stuck[i]),
+        };
+        let p = &self.pairs[pair];
+        let coupling = st.map(|st| &st.constraint * &p.mobility);
+        match (st, coupling) {
+            (Some(st), Some(coupling)) if coupling.iter().any(|&c| c != 0.0) => {
+                let n = self.n;
+                let e = e.unwrap_or(p.spec.restitution);
+                let mc = &p.mobility - &st.reaction * coupling;
+                let rdot = p.direction.dot(&y.rows(n, n));
+                let scale = (1.0 + e) * rdot / p.direction.dot(&mc);
+                for i in 0..n {
+                    y[n + i] -= mc[i] * scale;
+                }
+            }
+            _ => self.model.apply_impact(pair, y, e),
+        }
+    }
+
+    /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`:
+    /// `(M⁻¹d) · (f(τ) − K u − C u̇)`, summed row by row over the nonzero entries only
+    /// ([`Pair::acceleration_rows`]): the terms left out are exact zeros, so the value is the
+    /// dense sum's.
+    pub(super) fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
+        let m = self.model;
+        let (sin, cos) = self.forcing_at(tau);
+        let y = y.as_slice();
+        p.acceleration_rows
+            .iter()
+            .map(|r| {
+                let i = r.row;
+                let mut f = m.forcing_cos[i] * cos + m.forcing_sin[i] * sin;
+                for &(j, v) in &r.coefficients {
+                    f -= v * y[j];
+                }
+                r.mobility * f
+            })
+            .sum()
+    }
+
+    /// A contact found by the search, with the state just before it: an impact if the pair
+    /// approaches the stop, then a stick if the stop holds it (or the chatter would accumulate
+    /// within [`CHATTER`] of a period); otherwise a graze, stepped past. In a stuck phase the
+    /// impact keeps the held pairs' constraints and the stop's push is the constrained
+    /// acceleration's; a stick adds the pair to the held set.
+    pub(super) fn contact(
+        &mut self,
+        state: &mut RunState,
+        c: Contact,
+    ) -> Result<(), SimulationError> {
+        let n = self.n;
+        state.count_event(self.period)?;
+        if let Some(t) = state.tangent.as_mut() {
+            t.before_impact = false;
+        }
+        let p = &self.pairs[c.pair];
+        let side = c.side as f64;
+        let rdot = p.direction.dot(&state.y.rows(n, n));
+        // Only an approach counts as an impact; a start on the stop moving out of it (rounding)
+        // is handled as sticking below. Velocities are known to rounding relative to their size:
+        // a slower approach is a graze, not an impact.
+        let velocity_round = VELOCITY_ROUNDING * state.y.rows(n, n).amax();
+        let approaching = rdot * side > velocity_round;
+        if approaching {
+            self.impact(state, c, rdot);
+        }
+        // Stick? Post-impact relative speed, and the relative acceleration pushing into the
+        // stop.
+        let p = &self.pairs[c.pair];
+        let e = p.spec.restitution;
+        let rdot_after = p.direction.dot(&state.y.rows(n, n));
+        let push = self.relative_acceleration(c.pair, &state.y, state.tau, state.mode) * side;
+        let accumulation = if push > 0.0 && e < 1.0 {
+            2.0 * rdot_after.abs() / (push * (1.0 - e))
+        } else {
+            f64::INFINITY
+        };
+        let stick = push > 0.0
+            && (rdot_after.abs() <= self.resting_velocity + velocity_round
+                || accumulation < CHATTER * self.period
+                || !approaching);
+        if stick {
+            self.stick(state, c)?;
+        } else if !approaching {
+            // A touch that is neither an impact nor a hold (rounding at a graze): step past it
+            // rather than find it again.
+            state.grace[c.pair] = state.tau + self.release_grace;
+        }
+        Ok(())
+    }
+
+    /// Event: impact of pair `c.pair` on side `c.side`, approaching at `rdot`. Newton
+    /// restitution along the contact direction, momentum kept.
+    pub(super) fn impact(&self, state: &mut RunState, c: Contact, rdot: f64) {
+        if let Some(w) = state.window.as_mut() {
+            w.impacts.push(ImpactRecord {
+                time: state.k as f64 * self.period + state.tau,
+                phase: state.tau,
+                pair: c.pair,
+                side: c.side,
+                state_before: state.y.clone(),
+                relative_velocity: rdot,
+            });
+        }
+        let time = state.k as f64 * self.period + state.tau;
+        if let Some(trace) = state.trace.as_mut() {
+            trace
+                .rows
+                .push((time, RowKind::BeforeImpact, state.y.clone()));
+            trace.impacts.push(TracedImpact {
+                time,
+                pair: c.pair,
+                side: c.side,
+                relative_velocity: rdot,
+                state_before: state.y.clone(),
+            });
+        }
+        if state.tangent.is_some() {
+            self.impact_with_tangent(state, c);
+        } else {
+            let mode = state.mode;
+            self.restitute(c.pair, &mut state.y, None, mode);
+        }
+        if let Some(trace) = state.trace.as_mut() {
+            trace
+                .rows
+                .push((time, RowKind::AfterImpact, state.y.clone()));
+        }
+        state.impacts += 1;
+        state.last_impact_period = Some(state.k);
+    }
+}

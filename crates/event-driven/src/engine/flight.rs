@@ -1,0 +1,343 @@
+//! Free flight: the watch of every pair for its first contact, and the flight to it.
+
+use super::*;
+
+/// What the watch of the pairs in flight found first.
+pub(super) enum Watch {
+    /// A contact to resolve.
+    Contact(Contact),
+    /// A pair in its grace time (just released or grazed) reaches its edge first: step this
+    /// long without an event.
+    Step(f64),
+    /// No contact within the horizon.
+    Clear,
+}
+
+/// Storage reused by every flight, so that no flight allocates.
+#[derive(Default)]
+pub(super) struct Scratch {
+    /// Each watched pair's gap in the current flight.
+    pub(super) gaps: Vec<ExpSum>,
+    /// Each watched pair's gap summarised ([`Flight::summarize`]) when several pairs are
+    /// watched: its terms are then written out only for a search.
+    pub(super) summaries: Vec<Option<Summary>>,
+    /// The watched pairs' summaries formed in one pass ([`Flight::summarize_all`]).
+    pub(super) joint: Vec<Summary>,
+    /// The flight's modes, as those summaries add them.
+    pub(super) modes: Vec<ModeTerm>,
+    /// The watch's search order: `(estimated exit, slot in gaps, pair, lo, hi)`.
+    pub(super) order: Vec<(f64, usize, usize, f64, f64)>,
+    pub(super) stack: SearchStack,
+    pub(super) coordinate: ExpSum,
+    /// The exponentials of the search at the contact it found, for the contact state.
+    pub(super) event_exponentials: Vec<nalgebra::Complex<f64>>,
+    /// With several pairs, the next free flight's start carried across the last contact:
+    /// its modal deviation ([`Flight::deviation_at`] plus the impact's jump), valid for the
+    /// state [`Self::carried_state`] at [`Self::carried_tau`] only (`carried` empty when
+    /// there is none).
+    pub(super) carried: Vec<nalgebra::Complex<f64>>,
+    /// The state the carried deviation belongs to.
+    pub(super) carried_state: Vec<f64>,
+    /// The time within the period it belongs to.
+    pub(super) carried_tau: f64,
+    /// The state just before the contact the deviation is carried across.
+    pub(super) before_contact: Vec<f64>,
+}
+
+impl Scratch {
+    /// The carried deviation, if it belongs to the state `y` at `tau` (bit for bit); the
+    /// carry is used up either way.
+    pub(super) fn take_carried(
+        &mut self,
+        y: &DVector<f64>,
+        tau: f64,
+    ) -> Option<Vec<nalgebra::Complex<f64>>> {
+        let carried = std::mem::take(&mut self.carried);
+        (!carried.is_empty() && self.carried_tau == tau && self.carried_state == y.as_slice())
+            .then_some(carried)
+    }
+}
+
+/// The pairs a flight watches for contact: `functionals` lists each watched pair's
+/// `(pair, r − shift as a functional of the flight's state, shift)`, `joint` the same
+/// functionals prepared for one summary pass (free flight with several pairs), `grace` each
+/// pair's grace time and `tau` the flight's start within the period.
+pub(super) struct WatchedPairs<'a, I> {
+    pub(super) pairs: &'a [Pair],
+    pub(super) functionals: I,
+    pub(super) joint: Option<&'a JointWeights>,
+    pub(super) grace: &'a [f64],
+    pub(super) tau: f64,
+}
+
+impl Engine<'_> {
+    /// The first contact of `flight` within `horizon` among the `watched` pairs
+    /// (`(pair, r − shift as a functional of the flight's state, shift)`): each pair's relative
+    /// displacement searched for its first exit from `[−gap_minus, gap_plus]`, every pair with
+    /// the search's guarantee. A pair in its grace time (`tau + s < grace[pair]`) counts no
+    /// contact; if it reaches its edge before any other pair's contact, the flight steps to the
+    /// end of its grace without an event. Ties go to the lower pair index (see
+    /// [`Engine::free_flight`]). Leaves the search's exponentials at the contact in
+    /// `work.event_exponentials`.
+    pub(super) fn watch<'f, I>(
+        watched: WatchedPairs<'_, I>,
+        work: &mut Scratch,
+        flight: &Flight<'_>,
+        horizon: f64,
+        tolerances: Tolerances,
+    ) -> Watch
+    where
+        I: Iterator<Item = (usize, &'f Functional, f64)> + Clone,
+    {
+        let WatchedPairs {
+            pairs,
+            functionals: watched,
+            joint,
+            grace,
+            tau,
+        } = watched;
+        let mut contact: Option<Contact> = None;
+        let mut step = f64::INFINITY;
+        // Every pair's gap, then the searches in the order of their quadratic estimates: the
+        // likely first contact is found first and cuts the others' horizons short. With
+        // several pairs, each gap is first only summarised (the sums of the summarised
+        // search's first tests): a pair those tests exclude up to the earliest contact found is
+        // decided without writing its terms out, as its search would decide it. (The order
+        // decides only how much is searched: each pair is searched up to the earliest contact
+        // found before it, so the contact found is the same in any order, ties aside.)
+        let several = watched.size_hint().0 > 1;
+        // `joint` lists the watched pairs' functionals in their order: then every summary is
+        // formed in one pass.
+        let joint = several
+            && joint.is_some_and(|joint| {
+                flight.summarize_all(joint, horizon, &mut work.modes, &mut work.joint)
+            });
+        work.order.clear();
+        for (count, (i, functional, shift)) in watched.clone().enumerate() {
+            if work.gaps.len() <= count {
+                work.gaps.push(ExpSum::default());
+                work.summaries.push(None);
+            }
+            let spec = &pairs[i].spec;
+            let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
+            // The joint summaries are read where they were formed (not copied).
+            let estimate = if joint {
+                work.joint[count].estimated_exit(lo, hi)
+            } else {
+                let summary = several
+                    .then(|| flight.summarize(functional, horizon))
+                    .flatten();
+                work.summaries[count] = summary;
+                match summary {
+                    Some(summary) => summary.estimated_exit(lo, hi),
+                    None => {
+                        let gap = &mut work.gaps[count];
+                        flight.expand(functional, gap);
+                        gap.estimated_exit(lo, hi)
+                    }
+                }
+            };
+            work.order.push((estimate, count, i, lo, hi));
+        }
+        work.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let Scratch {
+            gaps,
+            summaries,
+            joint: joint_summaries,
+            order,
+            stack,
+            event_exponentials,
+            ..
+        } = work;
+        for &(_, slot, i, lo, hi) in order.iter() {
+            // Only a contact before the earliest found so far matters: search up to it.
+            let within = contact.map_or(horizon, |c| c.s).min(step).min(horizon);
+            let summary = if joint {
+                joint_summaries.get(slot)
+            } else {
+                summaries[slot].as_ref()
+            };
+            let found = if let Some(summary) = summary {
+                if summary.excludes(lo, hi, within, horizon) {
+                    continue;
+                }
+                if let Some((_, functional, _)) = watched.clone().nth(slot) {
+                    flight.expand(functional, &mut gaps[slot]);
+                }
+                // The search's own first tests are this summary's, just made: not made again.
+                gaps[slot].first_exit_summarized(
+                    summary,
+                    (lo, hi),
+                    horizon,
+                    within,
+                    tolerances,
+                    stack,
+                )
+            } else {
+                gaps[slot].first_exit_until(lo, hi, horizon, within, tolerances, stack)
+            };
+            if let Some((s, side)) = found {
+                if tau + s < grace[i] {
+                    step = step.min(grace[i] - tau);
+                } else if contact.is_none_or(|c| s < c.s || (s == c.s && i < c.pair)) {
+                    contact = Some(Contact { s, pair: i, side });
+                    event_exponentials.clear();
+                    if let Some(e) = stack.exponentials_at(s) {
+                        event_exponentials.extend_from_slice(e);
+                    }
+                }
+            }
+        }
+        match contact {
+            Some(c) if c.s <= step => Watch::Contact(c),
+            _ if step < horizon => Watch::Step(step),
+            Some(c) => Watch::Contact(c),
+            None => Watch::Clear,
+        }
+    }
+
+    /// Free flight: the closed-form flow from the current state to its first contact (then the
+    /// contact event) or to the next section.
+    ///
+    /// Contacts of different pairs are resolved one at a time, in time order: the flight ends
+    /// at the earliest, which is resolved; the next flight starts there and finds the others
+    /// (a pair whose contact is at the same instant, `s = 0`, at once). Ties go to the lower
+    /// pair index. This is exact when the impacts commute: an impact of one pair changes the
+    /// velocities along `M⁻¹d` only, so it leaves another pair's relative velocity unchanged
+    /// when `dᵀM⁻¹d' = 0` (pairs sharing no degree of freedom under a diagonal mass matrix,
+    /// such as the cells of a chain, coupled to one another only through springs and
+    /// dashpots). Pairs that share a degree of freedom and impact at the same instant are
+    /// resolved in index order (a sequential-impact model).
+    pub(super) fn free_flight(
+        &mut self,
+        state: &mut RunState,
+        plan: &Plan,
+    ) -> Result<(), SimulationError> {
+        let n = self.n;
+        let period = self.period;
+        let horizon = period - state.tau;
+        // With several pairs, a flight that starts where the last contact left the state
+        // starts from the modal deviation carried across it (no product with `V⁻¹`).
+        let several = self.pairs.len() > 1;
+        let carried = if several {
+            self.work.take_carried(&state.y, state.tau)
+        } else {
+            None
+        };
+        let (sin, cos) = self.forcing_at(state.tau);
+        let phase = nalgebra::Complex::new(cos, sin);
+        let flight = match carried {
+            Some(deviation) => match self.free.flight_with_deviation(deviation, phase) {
+                Ok(flight) => flight,
+                Err(_) => self.free.flight_at_phase(&state.y, phase),
+            },
+            None => self.free.flight_at_phase(&state.y, phase),
+        };
+        // Positions are known to rounding relative to their size, not to the gap: an excursion
+        // beyond a stop smaller than that is no contact.
+        let depth = self.contact_depth + POSITION_ROUNDING * state.y.rows(0, n).amax();
+        let watched = WatchedPairs {
+            pairs: &self.pairs,
+            functionals: self
+                .pairs
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (i, &p.relative_displacement, 0.0)),
+            joint: self.free_joint.as_ref(),
+            grace: &state.grace,
+            tau: state.tau,
+        };
+        let tolerances = Tolerances {
+            time: self.time_tolerance,
+            depth,
+        };
+        let watch = Self::watch(watched, &mut self.work, &flight, horizon, tolerances);
+        if let Watch::Step(step) = watch {
+            // Just released (or grazed): step past the stop's edge without an event.
+            if let Some(trace) = state.trace.as_mut() {
+                trace.segment(state.k, period, state.tau, step, |s| flight.state(s));
+            }
+            state.y = flight.state(step);
+            if let Some(t) = state.tangent.as_mut() {
+                self.propagate_tangent(t, step);
+            }
+            state.tau += step;
+            return Ok(());
+        }
+        let contact = match watch {
+            Watch::Contact(c) => Some(c),
+            _ => None,
+        };
+        let span = contact.map_or(horizon, |c| c.s);
+        let tau = state.tau;
+        let k = state.k;
+        if let Some(t) = state.tangent.as_mut() {
+            self.propagate_tangent(t, span);
+        }
+        if let Some(trace) = state.trace.as_mut() {
+            trace.segment(k, period, tau, span, |s| flight.state(s));
+        }
+        if let Some(w) = state.window.as_mut() {
+            for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
+                flight.expand(u, &mut self.work.coordinate);
+                *amp = self
+                    .work
+                    .coordinate
+                    .max_abs(span, *amp, AMPLITUDE_TOLERANCE * (1.0 + *amp));
+            }
+            if plan.record_trajectory {
+                sample(&mut w.trajectory, span, period, |s| {
+                    (k as f64 * period + (tau + s), flight.state(s))
+                });
+            }
+        }
+        match contact {
+            None => {
+                flight.state_into(horizon, &mut state.y);
+                state.tau = period;
+            }
+            Some(c) => {
+                // Just before the contact.
+                flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
+                let carry = several && Self::carry_from(&mut self.work, &flight, &state.y);
+                state.tau += c.s;
+                self.contact(state, c)?;
+                if carry {
+                    self.carry_across(state);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// With several pairs, before a contact at the end of `flight`: its modal deviation there
+    /// and the state `y` just before the contact, kept for [`Self::carry_across`]; `false`
+    /// when the flight cannot give it. Out of line: the one-pair path stays as it was.
+    #[inline(never)]
+    pub(super) fn carry_from(work: &mut Scratch, flight: &Flight<'_>, y: &DVector<f64>) -> bool {
+        if !flight.deviation_at(&work.event_exponentials, &mut work.carried) {
+            work.carried.clear();
+            return false;
+        }
+        work.before_contact.clear();
+        work.before_contact.extend_from_slice(y.as_slice());
+        true
+    }
+
+    /// After the contact: the deviation plus the contact's jump of the state, valid for the
+    /// state after it while the pairs fly free (dropped otherwise).
+    #[inline(never)]
+    pub(super) fn carry_across(&mut self, state: &RunState) {
+        let work = &mut self.work;
+        if !matches!(state.mode, Mode::Free) {
+            work.carried.clear();
+            return;
+        }
+        self.free
+            .add_jump(&mut work.carried, &work.before_contact, state.y.as_slice());
+        work.carried_state.clear();
+        work.carried_state.extend_from_slice(state.y.as_slice());
+        work.carried_tau = state.tau;
+    }
+}

@@ -1,0 +1,320 @@
+//! The event loop: exact flights, first contacts, restitution, chatter and sticking, and the
+//! steady state seen through the stroboscopic map at `t = kT`.
+//!
+//! The run is split the way iterative solvers are: the *problem* (a [`Model`], `ω` and the
+//! [`SimulationOptions`]), the *solver* (`Engine`: the free flow, the contact geometry and the
+//! stuck flows, prepared once) and the *state* (`RunState`: everything that changes during a
+//! run). The loop is `init`, then `next_iter` (one free flight or one stuck phase, ending at an
+//! event or at the section `t = kT`) and, at each section, `terminate` (the stopping rules, all
+//! in `stopping_rule`). The events are named points: `impact`, `stick` and `release`, and each
+//! flight is one closed-form segment. A run asked for its tangent flow (`Engine::tangent_run`,
+//! used by [`crate::newton`]) multiplies the Jacobian by each flight's propagator and each
+//! impact's saltation matrix, at a stick by the plastic saltation onto the held pair's
+//! constrained tangent space and while held by the reduced propagator (a run that sticks has
+//! no invertible Jacobian, which [`crate::newton`] refuses; [`crate::lyapunov`] counts the
+//! collapsed directions); ordinary runs carry no tangent and only test for its absence. A
+//! traced run (`Engine::trace_run`, used by [`crate::trajectory`]) samples each segment's
+//! closed form and each event's states.
+//!
+//! **Many contact pairs** (chains of cells, [`Model::chain`]): every pair is watched at all
+//! times with the same first-contact guarantee. In free flight all pairs' gaps are searched
+//! (in the order of their quadratic estimates, each search cut at the earliest contact found
+//! so far; a gap is first only summarised from the flight's modal coordinates, every pair's
+//! in one pass over the modes, and a pair whose evaluation-free bounds keep it inside its
+//! stops up to that contact is decided exactly as its search would decide it, without the
+//! search; a pair that is searched hands its summary to the search). A free flight that
+//! starts where a contact left the state starts from the modal deviation carried across the
+//! contact (the previous flight's, advanced by the search's exponentials, plus `V⁻¹` of the
+//! impact's jump) instead of recomputing it from the state: a chain's results differ from a
+//! fresh start in their last bits; one pair keeps the fresh start, bit for bit as before.
+//! Any set of pairs may be held on their stops at once: the motion is then the
+//! constrained flow with the held pairs' relative coordinates fixed (`Stuck`), each held pair
+//! is released when its own contact force would pull, and the other pairs are searched in
+//! the constrained flow. Contacts are resolved one at a time in time order, ties by pair
+//! index (see `Engine::free_flight` for what that assumes).
+//!
+//! The tangent flow through a stick or an impact made while other pairs are held uses the
+//! free saltation matrices (exact when the event's pair shares no degree of freedom with the
+//! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
+//! exact in any case); [`crate::newton`] refuses sticking runs anyway.
+
+use crate::expsum::{ExpSum, ModeTerm, SearchStack, Summary, Tolerances};
+use crate::flow::{Flight, FlowError, Functional, JointWeights, LinearFlow};
+use crate::model::{ContactPair, Model};
+use nalgebra::{DMatrix, DVector};
+use std::cell::Cell;
+use std::collections::VecDeque;
+use thiserror::Error;
+
+mod contact;
+mod flight;
+mod options;
+mod outcome;
+mod periodicity;
+mod run;
+mod state;
+mod stuck;
+mod tangent;
+mod trace;
+
+use flight::{Scratch, Watch, WatchedPairs};
+use periodicity::{least_period, repeat_error, scale_floor, Sections};
+use state::{Contact, Decision, Mode, Observation, Plan, RunState, Window};
+use stuck::Stuck;
+use trace::sample;
+
+pub(crate) use options::check_inputs;
+pub use options::{
+    SimulationError, SimulationOptions, Start, CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS,
+    DEFAULT_MAX_OSCILLATIONS, DEFAULT_MAX_PERIODS, DEFAULT_MAX_PERIOD_MULTIPLICITY,
+    DEFAULT_PERIODICITY_TOLERANCE, DEFAULT_ROOT_TOLERANCE, EVENT_STORM, MIN_OSCILLATION_PERIODS,
+    SAMPLES_PER_PERIOD,
+};
+pub use outcome::{ImpactRecord, PeriodicOrbit, Status, SteadyState, Stop};
+pub(crate) use tangent::Tangent;
+pub use trace::RowKind;
+pub(crate) use trace::{Trace, TracedImpact};
+
+/// A contact is an excursion beyond a stop deeper than this fraction of the gap scale (plus the
+/// rounding of the positions, [`POSITION_ROUNDING`]): a motion that touches a stop to rounding
+/// does not impact (no event storms at a graze).
+const CONTACT_DEPTH: f64 = 1e-12;
+
+/// Positions are known to this relative rounding of their size (`~100 ε`): an excursion beyond
+/// a stop smaller than that, relative to the largest position, is no contact (introduced for
+/// the base-amplitude-1e6 scene, whose positions dwarf the gap).
+const POSITION_ROUNDING: f64 = 1e-14;
+
+/// Velocities are known to this relative rounding of their size (`~1000 ε`, as they come out of
+/// sums of exponentials of size comparable to the largest velocity): a slower approach is a
+/// graze, not an impact.
+const VELOCITY_ROUNDING: f64 = 1e-13;
+
+/// A relative velocity below this fraction of `ω × gap` after an impact, with the stop pushing,
+/// is a pair at rest on the stop: it sticks.
+const RESTING_VELOCITY: f64 = 1e-10;
+
+/// After a release the pair leaves the stop with zero relative velocity and acceleration;
+/// rounding must not read that as a new contact, so contacts are ignored for this fraction of a
+/// period (a hundred times the default root tolerance).
+const RELEASE_GRACE: f64 = 1e-10;
+
+/// Chatter is cut short when the remaining bounces would all fit in this fraction of a period:
+/// the pair then sticks at once (the state error is of order the remaining relative velocity
+/// times that time). Raised from `1e-6` in commit 0846a1f (the study's 200-frequency sweep),
+/// having been `1e-9` before commit 87b7ae6.
+const CHATTER: f64 = 1e-5;
+
+/// Undamped motion with no impact for this many periods is reported as `NoDissipation`: nothing
+/// will ever dissipate its transients (unless a later beat reaches a stop; the status says so).
+const QUIET: u64 = 500;
+
+/// A period found while running is confirmed at the end with this many times the periodicity
+/// tolerance: a transient through complex multipliers does not decay monotonically, so the
+/// last two sections may repeat slightly less well than the two that triggered detection.
+const CONFIRMATION: f64 = 10.0;
+
+/// Differences within this factor of the tolerance at a smaller multiplicity make a period
+/// ambiguous: a transient decaying through a negative or complex Floquet multiplier can repeat
+/// at `2T` long before it repeats at `T`.
+const AMBIGUITY: f64 = 1e3;
+
+/// Relative accuracy of the closed-form extrema in the amplitudes (`|u_j|` maxima), relative
+/// to `1 + amplitude`: a few hundred rounding units, well below any reported digit.
+const AMPLITUDE_TOLERANCE: f64 = 1e-13;
+
+/// Records (impacts, trajectory samples) within this fraction of a period before the final
+/// cycle's start are kept in it: an impact at the section itself carries an absolute time that
+/// rounds to either side of `kT`.
+const CYCLE_START_SLACK: f64 = 1e-9;
+
+/// In the Gram–Schmidt of a stuck pair's basis of `d⊥`, a projected unit vector shorter than
+/// this is dependent on the ones kept and is dropped: the vectors are of length 1 or 0 up to
+/// rounding (`d` has entries ±1), so any threshold far from both works.
+const BASIS_DROP: f64 = 1e-8;
+
+/// Smallest scale divided by: keeps a relative measure finite when the scale is zero (a run at
+/// rest, a unit with no stops).
+const SCALE_FLOOR: f64 = 1e-300;
+
+/// Geometry of one contact pair.
+struct Pair {
+    spec: ContactPair,
+    /// `d` with `r = d·u`.
+    direction: DVector<f64>,
+    /// `M⁻¹ d`.
+    mobility: DVector<f64>,
+    /// `dᵀ M⁻¹ d`.
+    compliance: f64,
+    /// `M⁻¹ C M⁻¹ d` (zero without damping): how the impulse along `d` changes the damping
+    /// force's acceleration, for the saltation matrices.
+    drag: DVector<f64>,
+    /// `r` as a functional of the free flow's state.
+    relative_displacement: Functional,
+    /// The nonzero rows of `r̈ = (M⁻¹d) · (f(τ) − K u − C u̇)`, for
+    /// [`Engine::free_relative_acceleration`]: per row `i` with `(M⁻¹d)_i ≠ 0`, that entry and
+    /// the nonzero `K_ij` (index `j` into the state) and `C_ij` (index `n + j`), in the order
+    /// of the dense sum.
+    acceleration_rows: Vec<AccelerationRow>,
+}
+
+/// One row `i` of [`Pair::acceleration_rows`]: `(M⁻¹d)_i (f_i(τ) − Σ_j (K_ij u_j + C_ij u̇_j))`
+/// with only its nonzero coefficients.
+struct AccelerationRow {
+    row: usize,
+    mobility: f64,
+    /// `(index into the state, coefficient)`, `K_ij` at `j` then `C_ij` at `n + j`, `j` rising.
+    coefficients: Vec<(usize, f64)>,
+}
+
+/// The solver: everything prepared once from the problem and fixed during the run.
+pub(crate) struct Engine<'m> {
+    model: &'m Model,
+    omega: f64,
+    period: f64,
+    n: usize,
+    free: LinearFlow,
+    /// `u_j` as functionals of the free flow's state, for the amplitudes.
+    displacements: Vec<Functional>,
+    pairs: Vec<Pair>,
+    /// With several pairs, their relative displacements prepared for the free flight's
+    /// summaries in one pass ([`Flight::summarize_all`]); `None` for one pair.
+    free_joint: Option<JointWeights>,
+    /// `M⁻¹`.
+    inverse_mass: DMatrix<f64>,
+    /// Reduced flows of sets of pairs held on their stops, built on first use.
+    stuck: Vec<Stuck>,
+    /// Contact times are resolved to this (`root_tolerance × T`).
+    time_tolerance: f64,
+    /// The largest gap: the scale of the periodicity test and of the contact thresholds.
+    pub(crate) scale: f64,
+    /// [`CONTACT_DEPTH`] × scale.
+    contact_depth: f64,
+    /// [`RESTING_VELOCITY`] × ω × scale.
+    resting_velocity: f64,
+    /// [`RELEASE_GRACE`] × T.
+    release_grace: f64,
+    /// Storage reused by every flight.
+    work: Scratch,
+    /// `(τ, sin ωτ, cos ωτ)` of the last forcing phase computed ([`Self::forcing_at`]).
+    forcing: Cell<(f64, f64, f64)>,
+}
+
+impl<'m> Engine<'m> {
+    /// The solver for `model` at `omega`.
+    ///
+    /// # Errors
+    /// [`SimulationError::Flow`] when the modal flow does not exist.
+    pub(crate) fn new(
+        model: &'m Model,
+        omega: f64,
+        options: &SimulationOptions,
+    ) -> Result<Self, SimulationError> {
+        let n = model.dofs();
+        let period = std::f64::consts::TAU / omega;
+        let free = LinearFlow::new(
+            &model.mass,
+            model.damping.as_ref(),
+            &model.stiffness,
+            &model.forcing_cos,
+            &model.forcing_sin,
+            &DVector::zeros(n),
+            omega,
+        )?;
+        let minv = model
+            .mass
+            .clone()
+            .try_inverse()
+            .ok_or(FlowError::SingularMass)?;
+        let pairs: Vec<Pair> = model
+            .contacts
+            .iter()
+            .map(|c| {
+                let mut d = DVector::zeros(n);
+                d[c.plus_dof] = 1.0;
+                d[c.minus_dof] = -1.0;
+                let mut position = DVector::zeros(2 * n);
+                position.rows_mut(0, n).copy_from(&d);
+                let mobility = &minv * &d;
+                let compliance = d.dot(&mobility);
+                let relative_displacement = free.functional(&position);
+                let drag = match &model.damping {
+                    Some(damping) => &minv * (damping * &mobility),
+                    None => DVector::zeros(n),
+                };
+                let acceleration_rows = (0..n)
+                    .filter(|&i| mobility[i] != 0.0)
+                    .map(|i| AccelerationRow {
+                        row: i,
+                        mobility: mobility[i],
+                        coefficients: (0..n)
+                            .flat_map(|j| {
+                                let k = (j, model.stiffness[(i, j)]);
+                                let c = (n + j, model.damping.as_ref().map_or(0.0, |c| c[(i, j)]));
+                                [k, c]
+                            })
+                            .filter(|&(_, v)| v != 0.0)
+                            .collect(),
+                    })
+                    .collect();
+                Pair {
+                    spec: *c,
+                    direction: d,
+                    mobility,
+                    compliance,
+                    drag,
+                    relative_displacement,
+                    acceleration_rows,
+                }
+            })
+            .collect();
+        let displacements = (0..n)
+            .map(|j| {
+                let mut c = DVector::zeros(2 * n);
+                c[j] = 1.0;
+                free.functional(&c)
+            })
+            .collect();
+        let scale = pairs
+            .iter()
+            .map(|p| p.spec.gap_plus.max(p.spec.gap_minus))
+            .fold(0.0, f64::max)
+            .max(SCALE_FLOOR);
+        let free_joint = (pairs.len() > 1).then(|| {
+            let functionals: Vec<&Functional> =
+                pairs.iter().map(|p| &p.relative_displacement).collect();
+            free.joint_weights(&functionals)
+        });
+        Ok(Self {
+            model,
+            omega,
+            period,
+            n,
+            free,
+            displacements,
+            pairs,
+            free_joint,
+            inverse_mass: minv,
+            stuck: Vec::new(),
+            time_tolerance: options.root_tolerance * period,
+            scale,
+            contact_depth: CONTACT_DEPTH * scale,
+            resting_velocity: RESTING_VELOCITY * omega * scale,
+            release_grace: RELEASE_GRACE * period,
+            work: Scratch::default(),
+            forcing: Cell::new((f64::NAN, 0.0, 0.0)),
+        })
+    }
+
+    /// `(sin ωτ, cos ωτ)`, kept for the last `τ` asked: a contact's accelerations and the flight
+    /// that follows it start at the same `τ`, and need the forcing phase there once.
+    fn forcing_at(&self, tau: f64) -> (f64, f64) {
+        let (at, sin, cos) = self.forcing.get();
+        if at == tau {
+            return (sin, cos);
+        }
+        let (sin, cos) = (self.omega * tau).sin_cos();
+        self.forcing.set((tau, sin, cos));
+        (sin, cos)
+    }
+}

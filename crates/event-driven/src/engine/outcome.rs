@@ -1,0 +1,116 @@
+//! What a run reports: its status, why it stopped, the impacts it observed, the steady state
+//! (with the periodic orbit the Newton polished it to).
+
+use super::*;
+use nalgebra::Complex;
+
+/// What the motion did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// The stroboscopic state repeats with some least period `p`.
+    Periodic,
+    /// No repetition within the cap (or the tail of a fixed run).
+    NonPeriodic,
+    /// Nothing dissipates the transients (no damping and elastic or no impacts): no steady
+    /// state can be reached from this start.
+    NoDissipation,
+}
+
+/// Why a run ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stop {
+    /// The motion was decided: it repeated, or nothing can dissipate its transients (printed
+    /// `decided`).
+    Decided,
+    /// The requested number of periods was run.
+    FixedPeriods,
+    /// The period cap was reached.
+    PeriodCap,
+    /// The event cap was reached.
+    EventCap,
+    /// The oscillation cap ([`SimulationOptions::max_oscillations`]) was reached first.
+    OscillationCap,
+    /// The caller's section watch ended the run ([`simulate_watched`](crate::simulate_watched)) before anything was
+    /// decided: no final stretch was observed, so the amplitudes, the final cycle's impacts and
+    /// its stroboscopic states are empty, and the status is not [`Status::Periodic`].
+    Watched,
+}
+
+/// One impact.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImpactRecord {
+    /// Absolute time.
+    pub time: f64,
+    /// Time within the forcing period, in `[0, T)`.
+    pub phase: f64,
+    /// Contact pair index.
+    pub pair: usize,
+    /// `+1` for side 1 (`r = +gap_plus`), `−1` for side 2.
+    pub side: i8,
+    /// State just before the impact.
+    pub state_before: DVector<f64>,
+    /// Relative velocity `ṙ⁻` just before.
+    pub relative_velocity: f64,
+}
+
+/// The steady state (or the tail of the run) and what it took.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SteadyState {
+    /// Periodic, non-periodic or no dissipation.
+    pub status: Status,
+    /// Least `p` with `x(t + pT) = x(t)`, when periodic.
+    pub period: Option<u32>,
+    /// Impacts in the final cycle divided by its length in periods.
+    pub impacts_per_period: f64,
+    /// `max |u_k|` over the final cycle, per degree of freedom, from closed-form extrema.
+    pub amplitudes: Vec<f64>,
+    /// Whether the final cycle contains sticking.
+    pub sticking: bool,
+    /// Why the run ended.
+    pub stopped: Stop,
+    /// Forcing periods simulated.
+    pub periods_run: u64,
+    /// Impacts over the whole run.
+    pub impacts: u64,
+    /// Impacts of the final cycle.
+    pub cycle_impacts: Vec<ImpactRecord>,
+    /// States at `t = kT` over the final cycle.
+    pub stroboscopic: Vec<DVector<f64>>,
+    /// Where the run ended: continue from here.
+    pub final_state: Start,
+    /// Dense samples `(t, state)` of the final cycle, if asked for.
+    pub trajectory: Option<Vec<(f64, DVector<f64>)>>,
+    /// The final cycle polished by Newton on the stroboscopic map (from the final state, over
+    /// [`Self::period`] periods), with its Floquet multipliers: `None` when the motion is not
+    /// periodic, the cycle sticks, [`SimulationOptions::polish`] is off, or Newton failed.
+    /// Boxed: it is rare in sweeps and keeps the steady state small.
+    pub orbit: Option<Box<PeriodicOrbit>>,
+    /// Why a periodic final cycle has no [`Self::orbit`] (sticking, or Newton's error).
+    pub orbit_error: Option<String>,
+}
+
+/// A periodic orbit found by Newton on the simulator's stroboscopic map.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PeriodicOrbit {
+    /// The state `(u, u̇)` at the section, the fixed point of the `periods`-period map.
+    pub state: DVector<f64>,
+    /// The time of the section (the guess's time): the orbit passes through [`Self::state`]
+    /// at `time + k·periods·T`.
+    pub time: f64,
+    /// The section's time within the forcing period, in `[0, T)`.
+    pub phase: f64,
+    /// Forcing periods per cycle `p`.
+    pub periods: u32,
+    /// The impacts over one cycle in time order from the section: `+1` side 1, `−1` side 2.
+    pub impact_sides: Vec<i8>,
+    /// The impacts' times after the section as fractions of the cycle `pT`, in `[0, 1)`.
+    pub impact_phases: Vec<f64>,
+    /// The eigenvalues of `DP` at the fixed point: the simulator's own Floquet multipliers.
+    pub floquet_multipliers: Vec<Complex<f64>>,
+    /// Newton steps taken.
+    pub iterations: u32,
+    /// The final `|P(y) − y|`, relative to `max(|y|, gap)`: at most
+    /// [`NEWTON_TOLERANCE_FACTOR`](crate::newton::NEWTON_TOLERANCE_FACTOR) × [`SimulationOptions::root_tolerance`], or at most
+    /// [`NEWTON_FLOOR_FACTOR`](crate::newton::NEWTON_FLOOR_FACTOR) times that when the map's rounding floor was reached.
+    pub residual: f64,
+}

@@ -1,0 +1,294 @@
+//! The loop: `init`, `next_iter` (a free flight or a stuck phase) and, at each section,
+//! `terminate`, then the report.
+
+use super::*;
+
+impl Engine<'_> {
+    /// The run: `init`, then `next_iter` until `terminate` says why it ends, then the report.
+    pub(crate) fn run(
+        &mut self,
+        start: &Start,
+        options: &SimulationOptions,
+        watch: &mut dyn FnMut(u64, &DVector<f64>) -> bool,
+    ) -> Result<SteadyState, SimulationError> {
+        let plan = self.plan(options);
+        let mut state = self.init(start, &plan);
+        let stop = loop {
+            if self.next_iter(&mut state, &plan)? {
+                if let Some(stop) = self.terminate(&mut state, &plan, watch) {
+                    break stop;
+                }
+            }
+        };
+        Ok(self.report(state, stop, &plan))
+    }
+
+    /// The caps of this run.
+    pub(super) fn plan(&self, options: &SimulationOptions) -> Plan {
+        let p_max = options.max_period_multiplicity as usize;
+        let conservative = self.model.conservative();
+        // Periods allowed by the oscillation cap.
+        let oscillation_periods = options.max_oscillations.map_or(u64::MAX, |cap| {
+            let per_period = self.free.fastest_rate() / self.omega;
+            ((cap / per_period.max(SCALE_FLOOR)).floor() as u64).max(MIN_OSCILLATION_PERIODS)
+        });
+        let period_cap = if conservative {
+            options.max_periods.min(CONSERVATIVE_MAX_PERIODS)
+        } else {
+            options.max_periods
+        };
+        let (limit, at_limit) = match options.fixed_periods {
+            Some(n) => (n, Stop::FixedPeriods),
+            None if oscillation_periods < period_cap => (oscillation_periods, Stop::OscillationCap),
+            None => (period_cap, Stop::PeriodCap),
+        };
+        Plan {
+            p_max,
+            limit,
+            at_limit,
+            window_len: (p_max as u64).min(limit),
+            fixed: options.fixed_periods.is_some(),
+            max_events: options.max_events,
+            periodicity_tolerance: options.periodicity_tolerance,
+            record_trajectory: options.record_trajectory,
+        }
+    }
+
+    /// The state at the start: free, at `start`, its time carried modulo the period.
+    pub(super) fn init(&self, start: &Start, plan: &Plan) -> RunState {
+        let mut state = RunState {
+            k: 0,
+            tau: start.time.rem_euclid(self.period),
+            y: start.state.clone(),
+            mode: Mode::Free,
+            impacts: 0,
+            events_this_period: 0,
+            events_total: 0,
+            last_impact_period: None,
+            grace: vec![f64::NEG_INFINITY; self.pairs.len()],
+            ring: Sections::new(plan.p_max + 2),
+            window: None,
+            observing: None,
+            tangent: None,
+            trace: None,
+        };
+        if state.tau == 0.0 {
+            state.ring.push(&state.y); // the start is itself a section
+        }
+        state
+    }
+
+    /// One step: a free flight or a stuck phase, up to its first event or to the next section
+    /// `t = (k + 1)T`; at the section, the section check. Returns whether a section was reached.
+    ///
+    /// # Errors
+    /// [`SimulationError::EventStorm`], and [`SimulationError::Flow`] when a stuck flow does not
+    /// exist.
+    pub(super) fn next_iter(
+        &mut self,
+        state: &mut RunState,
+        plan: &Plan,
+    ) -> Result<bool, SimulationError> {
+        self.open_window(state, plan);
+        match state.mode {
+            Mode::Free => self.free_flight(state, plan)?,
+            Mode::Stuck(index) => self.stuck_phase(state, index, plan)?,
+        }
+        if state.tau < self.period {
+            return Ok(false);
+        }
+        self.section(state);
+        Ok(true)
+    }
+
+    /// Starts recording the final stretch when its first period begins.
+    pub(super) fn open_window(&self, state: &mut RunState, plan: &Plan) {
+        let window_start = match state.observing {
+            Some(o) => o.until - o.cycle as u64,
+            None => plan.limit.saturating_sub(plan.window_len),
+        };
+        if state.window.is_none() && state.k >= window_start {
+            let mut w = Window {
+                amplitudes: vec![0.0; self.n],
+                ..Window::default()
+            };
+            if state.tau == 0.0 {
+                w.stroboscopic.push(state.y.clone());
+            }
+            state.window = Some(w);
+        }
+    }
+
+    /// The section check at `t = (k + 1)T`: the period is counted, the stroboscopic state
+    /// recorded.
+    pub(super) fn section(&self, state: &mut RunState) {
+        state.k += 1;
+        if let Some(trace) = state.trace.as_mut() {
+            trace.next = 0;
+        }
+        state.tau = 0.0;
+        state.events_total += state.events_this_period;
+        state.events_this_period = 0;
+        // `grace` is a time within the period just ended.
+        state.grace.fill(f64::NEG_INFINITY);
+        if let Some(w) = state.window.as_mut() {
+            w.stroboscopic.push(state.y.clone());
+        }
+        state.ring.push(&state.y);
+    }
+
+    /// At a section: applies the stopping rules' decision; `Some` when the run is over.
+    pub(super) fn terminate(
+        &self,
+        state: &mut RunState,
+        plan: &Plan,
+        watch: &mut dyn FnMut(u64, &DVector<f64>) -> bool,
+    ) -> Option<Stop> {
+        match self.stopping_rule(state, plan) {
+            Decision::Continue if !plan.fixed && state.observing.is_none() => {
+                watch(state.k, &state.y).then_some(Stop::Watched)
+            }
+            Decision::Continue => None,
+            Decision::Observe(observation) => {
+                state.observing = Some(observation);
+                state.window = None;
+                None
+            }
+            Decision::Stop(stop) => Some(stop),
+        }
+    }
+
+    /// The stopping rules, all of them, checked at each section in this order:
+    ///
+    /// 1. **Event cap** ([`SimulationOptions::max_events`]): a motion with very many events per
+    ///    period would take unbounded time; observe one more stretch for the amplitudes, then
+    ///    stop ([`Stop::EventCap`]).
+    /// 2. **Quiet**: undamped and no impact for [`QUIET`] periods, nothing will ever dissipate
+    ///    the transients; observe one more stretch, then stop ([`Stop::Decided`]).
+    /// 3. **End of the run**: after an observed stretch, for its reason; otherwise at the plan's
+    ///    limit: the fixed number of periods ([`Stop::FixedPeriods`]), the period cap
+    ///    ([`Stop::PeriodCap`], [`CONSERVATIVE_MAX_PERIODS`] for units that cannot settle) or
+    ///    the oscillation cap ([`Stop::OscillationCap`]), whichever is smaller, so every run
+    ///    ends.
+    /// 4. **Periodic**: the stroboscopic state repeats with least multiplicity `p`
+    ///    ([`least_period`]); observe the `p`-period cycle for its amplitudes and impacts, then
+    ///    stop ([`Stop::Decided`]).
+    ///
+    /// Rules 1, 2 and 4 only apply while running until steady and nothing is decided yet.
+    pub(super) fn stopping_rule(&self, state: &RunState, plan: &Plan) -> Decision {
+        let deciding = !plan.fixed && state.observing.is_none();
+        let observe = |cycle: u64, then: Stop| {
+            Decision::Observe(Observation {
+                until: state.k + cycle,
+                cycle: cycle as u32,
+                then,
+            })
+        };
+        if deciding && plan.max_events.is_some_and(|cap| state.events_total > cap) {
+            return observe(plan.window_len, Stop::EventCap);
+        }
+        let quiet = deciding
+            && !self.model.has_damping()
+            && state.k >= QUIET
+            && state
+                .last_impact_period
+                .is_none_or(|last| state.k - last > QUIET);
+        if quiet && state.window.is_none() {
+            return observe(plan.window_len, Stop::Decided);
+        }
+        match state.observing {
+            Some(o) if state.k >= o.until => return Decision::Stop(o.then),
+            None if state.k >= plan.limit => return Decision::Stop(plan.at_limit),
+            _ => {}
+        }
+        if deciding {
+            if let Some(p) = least_period(
+                &state.ring,
+                plan.p_max,
+                plan.periodicity_tolerance,
+                self.scale,
+            ) {
+                return observe(p as u64, Stop::Decided);
+            }
+        }
+        Decision::Continue
+    }
+
+    /// The steady state (or the tail of the run) from the final state.
+    pub(super) fn report(&self, state: RunState, stopped: Stop, plan: &Plan) -> SteadyState {
+        let period = self.period;
+        let k = state.k;
+        let ring = &state.ring;
+        let window = match stopped {
+            Stop::Watched => Window::default(),
+            _ => state.window.unwrap_or_default(),
+        };
+        // A period decided while running is confirmed at the end with CONFIRMATION times the
+        // tolerance; a run stopped by a cap or a fixed run is judged from its tail alone.
+        let period_found = match state.observing {
+            Some(o) if o.then == Stop::Decided => {
+                (repeat_error(ring, o.cycle as usize, scale_floor(ring, self.scale))
+                    <= CONFIRMATION * plan.periodicity_tolerance)
+                    .then_some(o.cycle)
+            }
+            _ => least_period(ring, plan.p_max, plan.periodicity_tolerance, self.scale),
+        };
+        let no_recent_impacts = state
+            .last_impact_period
+            .is_none_or(|last| k.saturating_sub(last) > plan.window_len);
+        let status = match period_found {
+            Some(_) => Status::Periodic,
+            None if self.model.conservative()
+                || (!self.model.has_damping() && no_recent_impacts) =>
+            {
+                Status::NoDissipation
+            }
+            None => Status::NonPeriodic,
+        };
+        // The final cycle: the last p periods of the window (or the whole window).
+        let cycle = match period_found {
+            Some(p) => p as u64,
+            None => (window.stroboscopic.len().saturating_sub(1) as u64).max(1),
+        };
+        let cycle_start = (k - cycle.min(k)) as f64 * period;
+        let slack = CYCLE_START_SLACK * period;
+        let cycle_impacts: Vec<ImpactRecord> = window
+            .impacts
+            .iter()
+            .filter(|i| i.time >= cycle_start - slack)
+            .cloned()
+            .collect();
+        let stroboscopic: Vec<DVector<f64>> = window
+            .stroboscopic
+            .iter()
+            .skip(window.stroboscopic.len().saturating_sub(cycle as usize + 1))
+            .cloned()
+            .collect();
+        let trajectory = plan.record_trajectory.then(|| {
+            window
+                .trajectory
+                .into_iter()
+                .filter(|(t, _)| *t >= cycle_start - slack)
+                .collect()
+        });
+        SteadyState {
+            status,
+            period: period_found,
+            impacts_per_period: cycle_impacts.len() as f64 / cycle as f64,
+            amplitudes: window.amplitudes,
+            sticking: window.sticking,
+            stopped,
+            periods_run: k,
+            impacts: state.impacts,
+            cycle_impacts,
+            stroboscopic,
+            final_state: Start {
+                state: state.y,
+                time: 0.0,
+            },
+            trajectory,
+            orbit: None,
+            orbit_error: None,
+        }
+    }
+}

@@ -1,0 +1,365 @@
+//! The exponentials a search keeps: the scratch stack, the grids' steps and cached chunks, the
+//! polish's seed points, the exponentials of one iterate, and the derivative coefficients.
+
+use super::*;
+
+/// Reusable storage for the interval stack of [`ExpSum::first_exit`]: passing the same one to
+/// every search of a run avoids an allocation per search.
+#[derive(Debug, Clone, Default)]
+pub struct SearchStack {
+    pub(super) intervals: Vec<(f64, f64, f64, f64)>,
+    /// `e^{μ_j s}` of every term at the current grid point.
+    pub(super) exps: Vec<C64>,
+    /// The steps of the last grid of a horizon (the one-pair searches).
+    pub(super) grid: GridSteps,
+    /// The steps of the fixed grids of the summarised searches, most recently used first (at
+    /// most [`FIXED_GRIDS`]: the free flow's, and those of the sets of pairs held on their
+    /// stops that the run goes through).
+    pub(super) fixed: Vec<GridSteps>,
+    /// See [`Derivatives`].
+    pub(super) derivatives: Derivatives,
+    /// The exponentials of the polishing iterate; after a search, at the exit it found (when
+    /// polished).
+    pub(super) polish: Exponentials,
+    /// The exponentials at one bisection point.
+    pub(super) point: Vec<C64>,
+    /// The exponentials at the midpoint of the chunk being searched, on the fixed grid of a
+    /// summarised search (see [`Seeds`]).
+    pub(super) mid: Vec<C64>,
+}
+
+/// Fixed grids kept by a [`SearchStack`] (see [`SearchStack::fixed`]).
+pub(super) const FIXED_GRIDS: usize = 4;
+
+/// A grid's exponential steps for one set of rates and one half-width `w`.
+#[derive(Debug, Clone, Default)]
+pub(super) struct GridSteps {
+    /// The rates the steps were computed for.
+    pub(super) rates: Vec<C64>,
+    /// The half-width `w` (`0` before the first search: no grid has it).
+    pub(super) w: f64,
+    /// `e^{μ_j w}`: one grid step.
+    pub(super) steps: Vec<C64>,
+    /// `e^{2μ_j w}`: the first chunk's end.
+    pub(super) doubled: Vec<C64>,
+    /// The polish starts' exponential steps (fixed grids only).
+    pub(super) seeds: Seeds,
+    /// Per chunk `i < CACHED_CHUNKS` of a fixed grid, `CHUNK_ROWS` rows of one entry per term:
+    /// at the chunk's midpoint `m_i = 2wi + w`, `e^{μm}`, `μe^{μm}`, `μ²e^{μm}`, `μ³e^{μm}`, and
+    /// at its end `e^{2μw(i+1)}`, each exponential evaluated afresh; valid where
+    /// `chunk_filled`.
+    pub(super) chunk_exps: Vec<C64>,
+    /// Per chunk, whether its rows in `chunk_exps` are computed.
+    pub(super) chunk_filled: Vec<bool>,
+}
+
+/// Chunks of a fixed grid whose exponentials a [`GridSteps`] keeps (see
+/// [`ExpSum::fixed_search`]); a search over more uses the grid's recurrence.
+pub(super) const CACHED_CHUNKS: usize = 256;
+
+/// Rows per chunk in [`GridSteps::chunk_exps`].
+pub(super) const CHUNK_ROWS: usize = 5;
+
+/// The fixed grid of `terms`' rates and half-width `w` among `grids` (most recently used first,
+/// at most [`FIXED_GRIDS`]), moved to the front, or made there in place of the least recently
+/// used.
+pub(super) fn fixed_grid<'g>(
+    grids: &'g mut Vec<GridSteps>,
+    terms: &[Term],
+    w: f64,
+) -> &'g mut GridSteps {
+    match grids.iter().position(|g| g.matches(terms, w)) {
+        Some(i) => grids[..=i].rotate_right(1),
+        None => {
+            if grids.len() < FIXED_GRIDS {
+                grids.push(GridSteps::default());
+            }
+            grids.rotate_right(1);
+            grids[0].refresh(terms, w);
+        }
+    }
+    &mut grids[0]
+}
+
+/// Chunk `i`'s rows of a fixed grid (see [`GridSteps::chunk_exps`]), computed on first use.
+pub(super) fn chunk_rows<'c>(
+    exps: &'c mut Vec<C64>,
+    filled: &mut Vec<bool>,
+    i: usize,
+    w: f64,
+    terms: &[Term],
+) -> &'c [C64] {
+    let n = terms.len();
+    let rows = CHUNK_ROWS * n;
+    if filled.len() <= i {
+        filled.resize(i + 1, false);
+        exps.resize((i + 1) * rows, C64::default());
+    }
+    let slot = &mut exps[i * rows..(i + 1) * rows];
+    if !filled[i] {
+        let m = 2.0 * w * i as f64 + w;
+        let end = 2.0 * w * (i + 1) as f64;
+        for (j, t) in terms.iter().enumerate() {
+            let e = cexp(t.rate, m);
+            let e1 = e * t.rate;
+            let e2 = e1 * t.rate;
+            slot[j] = e;
+            slot[n + j] = e1;
+            slot[2 * n + j] = e2;
+            slot[3 * n + j] = e2 * t.rate;
+            slot[4 * n + j] = cexp(t.rate, end);
+        }
+        filled[i] = true;
+    }
+    slot
+}
+
+/// `Σ_j Re(c_j x_j)`, the terms' constant coefficients `c_j` against `x`.
+#[inline]
+pub(super) fn real_dot(terms: &[Term], x: &[C64]) -> f64 {
+    terms
+        .iter()
+        .zip(x)
+        .map(|(t, x)| t.poly[0].re * x.re - t.poly[0].im * x.im)
+        .sum()
+}
+
+impl GridSteps {
+    /// Whether these are the steps of `terms`' rates and half-width `w`.
+    pub(super) fn matches(&self, terms: &[Term], w: f64) -> bool {
+        self.w == w
+            && self.rates.len() == terms.len()
+            && self.rates.iter().zip(terms).all(|(r, t)| *r == t.rate)
+    }
+
+    /// The steps of `terms`' rates and half-width `w`, computed afresh.
+    pub(super) fn refresh(&mut self, terms: &[Term], w: f64) {
+        self.steps.clear();
+        self.steps.extend(terms.iter().map(|t| cexp(t.rate, w)));
+        self.doubled.clear();
+        self.seeds.reset();
+        self.rates.clear();
+        self.rates.extend(terms.iter().map(|t| t.rate));
+        self.w = w;
+        self.chunk_exps.clear();
+        self.chunk_filled.clear();
+    }
+}
+
+/// Points within a chunk of the fixed grid where a summarised search's polish may start,
+/// `m + k w/SEED_DIVISIONS` (`m` the chunk's midpoint, `|k| ≤ SEED_DIVISIONS`): their
+/// exponentials follow from those at `m` by one complex product each,
+/// `e^{μ(m + kh)} = e^{μm} e^{μkh}`, with `e^{μkh}` computed once per `k` and kept with the
+/// grid's steps (the grid's half-width `w` is then the same from one flight to the next). The
+/// polish so starts within `h/2` of the quadratic model's guess without evaluating an
+/// exponential afresh.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Seeds {
+    /// `e^{μ_j k h}` at `(k + SEED_DIVISIONS)·terms + j`, valid where `filled`.
+    pub(super) values: Vec<C64>,
+    /// Per `k + SEED_DIVISIONS`, whether its exponentials are computed.
+    pub(super) filled: Vec<bool>,
+}
+
+impl Seeds {
+    /// Forgets every step (the grid's rates or half-width changed).
+    pub(super) fn reset(&mut self) {
+        self.values.clear();
+        self.filled.clear();
+        self.filled.resize(2 * SEED_DIVISIONS + 1, false);
+    }
+}
+
+/// Seed points per half-chunk on either side of a chunk's midpoint (see [`Seeds`]): a start
+/// within `w/128` of the guess, `|μ|w/128 ≤ π/1024` for the fastest term, so the polish's
+/// first step needs a Taylor series of low degree.
+pub(super) const SEED_DIVISIONS: usize = 64;
+
+/// A chunk's midpoint and its exponentials, for [`Seeds`].
+pub(super) struct Seed<'s> {
+    pub(super) m: f64,
+    pub(super) w: f64,
+    pub(super) mid: &'s [C64],
+    pub(super) seeds: &'s mut Seeds,
+}
+
+impl Seed<'_> {
+    /// The seed point nearest `guess` within `[a, b]`, with its exponentials written into
+    /// `exps`; `None` when no seed point lies in `[a, b]` (a bracket narrower than `h`).
+    pub(super) fn start_near(
+        &mut self,
+        guess: f64,
+        (a, b): (f64, f64),
+        terms: &[Term],
+        exps: &mut Exponentials,
+    ) -> Option<f64> {
+        let divisions = SEED_DIVISIONS as f64;
+        let h = self.w / divisions;
+        let mut k = ((guess - self.m) / h).round();
+        if self.m + k * h < a {
+            k += 1.0;
+        } else if self.m + k * h > b {
+            k -= 1.0;
+        }
+        let start = self.m + k * h;
+        if !(start >= a && start <= b && k.abs() <= divisions) {
+            return None;
+        }
+        self.exponentials_at(k as i64, terms, &mut exps.values);
+        exps.at = start;
+        Some(start)
+    }
+
+    /// The seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`).
+    pub(super) fn point(&self, k: i64) -> f64 {
+        self.m + k as f64 * (self.w / SEED_DIVISIONS as f64)
+    }
+
+    /// The exponentials at the seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`) into `out`.
+    pub(super) fn exponentials_at(&mut self, k: i64, terms: &[Term], out: &mut Vec<C64>) {
+        let divisions = SEED_DIVISIONS as i64;
+        debug_assert!(k.abs() <= divisions);
+        let index = (k + divisions) as usize;
+        let n = terms.len();
+        if self.seeds.values.len() != (2 * SEED_DIVISIONS + 1) * n {
+            self.seeds.values.clear();
+            self.seeds
+                .values
+                .resize((2 * SEED_DIVISIONS + 1) * n, C64::default());
+        }
+        let steps = &mut self.seeds.values[index * n..(index + 1) * n];
+        if !self.seeds.filled[index] {
+            let h = self.w / SEED_DIVISIONS as f64;
+            for (e, t) in steps.iter_mut().zip(terms) {
+                *e = cexp(t.rate, k as f64 * h);
+            }
+            self.seeds.filled[index] = true;
+        }
+        out.clear();
+        out.extend(self.mid.iter().zip(steps.iter()).map(|(x, y)| x * y));
+    }
+}
+
+/// The exponentials at the end of the first chunk, `first_end`: when it is a whole chunk
+/// (`chunks > 1`: `first_end = 2w`), from the cache kept with the grid's steps, filled on
+/// first use.
+pub(super) fn set_exponentials(
+    exps: &mut [C64],
+    terms: &[Term],
+    first_end: f64,
+    chunks: usize,
+    doubled: &mut Vec<C64>,
+) {
+    if chunks > 1 && doubled.len() == terms.len() {
+        exps.copy_from_slice(doubled);
+        return;
+    }
+    for (e, t) in exps.iter_mut().zip(terms) {
+        *e = cexp(t.rate, first_end);
+    }
+    if chunks > 1 {
+        doubled.clear();
+        doubled.extend_from_slice(exps);
+    }
+}
+
+impl SearchStack {
+    /// `e^{μ_j s}` of every term of the function last searched, when `s` is the exit that
+    /// search returned and was polished (`None` otherwise): what the flow needs for the state
+    /// at the exit, without evaluating the exponentials again.
+    pub fn exponentials_at(&self, s: f64) -> Option<&[C64]> {
+        (self.polish.at == s).then_some(&self.polish.values[..])
+    }
+}
+
+/// `(c, cμ, cμ²)` of every term when every polynomial is a constant `c` (the steady-response
+/// flights), so that `f, f', f''` at a point where the exponentials are known cost three
+/// real parts of products per term; empty otherwise.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Derivatives(pub(super) Vec<[C64; 4]>);
+
+impl Derivatives {
+    pub(super) fn of(&mut self, f: &ExpSum) {
+        self.0.clear();
+        if f.terms
+            .iter()
+            .all(|t| t.poly[1..].iter().all(|c| *c == C64::default()))
+        {
+            self.0.extend(f.terms.iter().map(|t| {
+                let c = t.poly[0];
+                let c2 = c * t.rate * t.rate;
+                [c, c * t.rate, c2, c2 * t.rate]
+            }));
+        }
+    }
+
+    /// `f` at `s`, given `exps[j] = e^{μ_j s}`.
+    #[inline]
+    pub(super) fn value(&self, f: &ExpSum, s: f64, exps: &[C64]) -> f64 {
+        if self.0.is_empty() {
+            return f
+                .terms
+                .iter()
+                .zip(exps)
+                .map(|(t, &e)| {
+                    let p = t.poly;
+                    ((p[0] + (p[1] + (p[2] + p[3] * s) * s) * s) * e).re
+                })
+                .sum();
+        }
+        self.0
+            .iter()
+            .zip(exps)
+            .map(|(c, e)| c[0].re * e.re - c[0].im * e.im)
+            .sum()
+    }
+
+    /// `(f, f', f'', f''')` at `s`, given `exps[j] = e^{μ_j s}`, for steady-response flights
+    /// (every polynomial a constant); `f''' = NaN` otherwise.
+    #[inline]
+    pub(super) fn at3(&self, f: &ExpSum, s: f64, exps: &[C64]) -> (f64, f64, f64, f64) {
+        if self.0.is_empty() {
+            let (v, d, dd) = f.eval2_with(s, exps);
+            return (v, d, dd, f64::NAN);
+        }
+        let re = |a: C64, b: C64| a.re * b.re - a.im * b.im;
+        let (mut v, mut d, mut dd, mut d3) = (0.0, 0.0, 0.0, 0.0);
+        for (c, &e) in self.0.iter().zip(exps) {
+            v += re(c[0], e);
+            d += re(c[1], e);
+            dd += re(c[2], e);
+            d3 += re(c[3], e);
+        }
+        (v, d, dd, d3)
+    }
+
+    /// `f'''` at the point where `exps[j] = e^{μ_j s}`, for steady-response flights; `NaN`
+    /// otherwise.
+    #[inline]
+    pub(super) fn third(&self, exps: &[C64]) -> f64 {
+        if self.0.is_empty() {
+            return f64::NAN;
+        }
+        self.0
+            .iter()
+            .zip(exps)
+            .map(|(c, e)| c[3].re * e.re - c[3].im * e.im)
+            .sum()
+    }
+
+    /// `(f, f', f'')` at `s`, given `exps[j] = e^{μ_j s}`.
+    #[inline]
+    pub(super) fn at(&self, f: &ExpSum, s: f64, exps: &[C64]) -> (f64, f64, f64) {
+        if self.0.is_empty() {
+            return f.eval2_with(s, exps);
+        }
+        let re = |a: C64, b: C64| a.re * b.re - a.im * b.im;
+        let (mut v, mut d, mut dd) = (0.0, 0.0, 0.0);
+        for (c, &e) in self.0.iter().zip(exps) {
+            v += re(c[0], e);
+            d += re(c[1], e);
+            dd += re(c[2], e);
+        }
+        (v, d, dd)
+    }
+}
