@@ -43,6 +43,7 @@
 pub mod chain;
 pub mod continuation;
 pub mod cycle;
+pub mod cycle_equations;
 pub mod family;
 pub mod flow;
 pub mod lattice;
@@ -67,6 +68,7 @@ pub use continuation::{
 pub use cycle::{
     signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
 };
+pub use cycle_equations::{CycleEquations, CycleEvaluation, ImpactCondition};
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use lattice::{
     band_edges, bloch_wave, effective_mass, stop_bands, BandEdges, BlochWave, StopBand,
@@ -74,14 +76,12 @@ pub use lattice::{
 };
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
-    ContactPair, CycleEvaluation, HarmonicForcing, HarmonicState, LinearModel, ModelError,
-    ModelTransition,
+    ContactPair, HarmonicForcing, HarmonicState, LinearModel, ModelError, ModelTransition,
 };
 pub use orbit::{Orbit, Side, Violation};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};
 pub use sequence_orbit::{
-    NewtonState, SequenceEvaluation, SequenceNewton, SequenceOrbitError, SequenceProblem,
-    Termination,
+    NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,
 };
 pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
 pub use sequence_verdicts::{
