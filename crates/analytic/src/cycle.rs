@@ -281,9 +281,11 @@ fn assemble(
                 });
             }
         }
-        energy.base_work += quadratic_integral(flow, &work_q, &start, duration);
-        energy.dashpot_dissipation += quadratic_integral(flow, &dissipation_q, &start, duration);
-        energy.exchange_bound += quadratic_integral(flow, &exchange_q, &start, duration);
+        let moment = second_moment(flow, &start, duration);
+        let integral = |q: &Matrix6<f64>| q.component_mul(&moment).sum();
+        energy.base_work += integral(&work_q);
+        energy.dashpot_dissipation += integral(&dissipation_q);
+        energy.exchange_bound += integral(&exchange_q);
     }
     let e2 = stops.restitution * stops.restitution;
     energy.impact_losses = rdot
@@ -365,18 +367,19 @@ fn energy_forms(unit: &Unit, omega: f64) -> (Matrix6<f64>, Matrix6<f64>, Matrix6
     (work, dissipation, exchange)
 }
 
-/// `∫₀^τ z(t)ᵀ Q z(t) dt` along the exact flow from `start`, in closed form by Van Loan's
-/// block exponential: `exp([[−Âᵀ, Q], [0, Â]] τ) = [[·, G], [0, e^{Âτ}]]` and
-/// `∫₀^τ e^{Âᵀs} Q e^{Âs} ds = e^{Âτ}ᵀ G`.
-fn quadratic_integral(flow: &ForcedFlow, q: &Matrix6<f64>, start: &Augmented, tau: f64) -> f64 {
+/// `W = ∫₀^τ z(t) z(t)ᵀ dt` along the exact flow from `start`, in closed form by Van Loan's
+/// block exponential: `exp([[−Â, z₀z₀ᵀ], [0, Âᵀ]] τ) = [[·, G], [0, e^{Âᵀτ}]]` and
+/// `∫₀^τ e^{Âs} z₀z₀ᵀ e^{Âᵀs} ds = e^{Âτ} G`. Any quadratic rate `zᵀQz` (`Q` symmetric)
+/// integrates to `Σ Q_ij W_ij`: one exponential serves every energy term of the flight.
+fn second_moment(flow: &ForcedFlow, start: &Augmented, tau: f64) -> Matrix6<f64> {
     let a = flow.augmented_matrix();
     let mut c = Matrix12::zeros();
-    c.fixed_view_mut::<6, 6>(0, 0).copy_from(&(-a.transpose()));
-    c.fixed_view_mut::<6, 6>(0, 6).copy_from(q);
-    c.fixed_view_mut::<6, 6>(6, 6).copy_from(a);
+    c.fixed_view_mut::<6, 6>(0, 0).copy_from(&(-a));
+    c.fixed_view_mut::<6, 6>(0, 6)
+        .copy_from(&(start * start.transpose()));
+    c.fixed_view_mut::<6, 6>(6, 6).copy_from(&a.transpose());
     let ex = (c * tau).exp();
-    let gram = ex.fixed_view::<6, 6>(6, 6).transpose() * ex.fixed_view::<6, 6>(0, 6);
-    start.dot(&(gram * start))
+    ex.fixed_view::<6, 6>(6, 6).transpose() * ex.fixed_view::<6, 6>(0, 6)
 }
 
 /// Every orbit of `signature` found by a systematic multi-start over impact phases,

@@ -305,9 +305,11 @@ pub fn assemble(
                 }
             }
         }
-        energy.forcing_work += flight.quadratic_integral(&work_q, &start, duration);
-        energy.exchange_bound += flight.quadratic_integral(&exchange_q, &start, duration);
-        energy.dashpot_dissipation += flight.quadratic_integral(&dissipation_q, &start, duration);
+        let moment = flight.second_moment(&start, duration);
+        let integral = |q: &DMatrix<f64>| q.component_mul(&moment).sum();
+        energy.forcing_work += integral(&work_q);
+        energy.exchange_bound += integral(&exchange_q);
+        energy.dashpot_dissipation += integral(&dissipation_q);
     }
     let mass_cholesky = model.mass().clone().cholesky();
     energy.impact_losses = (0..m)
