@@ -295,6 +295,61 @@ where
         Some(evaluation)
     }
 
+    /// The cycle at `x = (α, φ₂ … φ_m)` with the exact Jacobian in `(x, ω)`, `m × (m + 1)`:
+    /// the last column is `∂ residual / ∂ω` at fixed `x` (impact phases as fractions of the
+    /// cycle), `augmented_rate` being `dÂ/dω`. In the forcing angle `σ = ωt` a flight over the
+    /// phase fraction `Δφ` is `Φ = exp(B σ)`, `σ = 2πp Δφ`, `B = Â/ω`, so `ω` enters only through
+    /// `B`: `∂Φ/∂ω` is the Fréchet derivative of the exponential in the direction `B'σ`,
+    /// `B' = Â'/ω − Â/ω²`, the top-right block of `exp([[Bσ, B'σ], [0, Bσ]])`. `None` when the
+    /// periodicity solve is singular.
+    ///
+    /// # Panics
+    /// If `x` does not have one entry per impact or `augmented_rate` is not the size of `Â`.
+    pub fn evaluate_in_omega(
+        &self,
+        x: &[f64],
+        augmented_rate: &OMatrix<f64, D, D>,
+    ) -> Option<CycleEvaluation<D>> {
+        let mut e = self.evaluate_with(x, false)?;
+        let lu = self.periodicity(&e.pre)?;
+        let in_x = self.jacobian(&e, &lu, x[0])?;
+        let m = self.impacts();
+        let size = self.augmented.nrows();
+        let d = D::from_usize(size);
+        let omega = self.omega;
+        let b = &self.augmented / omega;
+        let b_rate = augmented_rate / omega - &self.augmented / (omega * omega);
+        let angle = self.cycle * omega;
+        let phases = Self::phases(x);
+        let rates: Vec<OMatrix<f64, D, D>> = (0..m)
+            .map(|f| {
+                let end = if f + 1 < m { phases[f + 1] } else { 1.0 };
+                let sigma = (end - phases[f]) * angle;
+                let big = DMatrix::from_fn(2 * size, 2 * size, |i, j| match (i < size, j < size) {
+                    (true, true) => b[(i, j)] * sigma,
+                    (false, false) => b[(i - size, j - size)] * sigma,
+                    (true, false) => b_rate[(i, j - size)] * sigma,
+                    (false, true) => 0.0,
+                });
+                let ex = dynamic_exp(&big);
+                OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| ex[(i, size + j)])
+            })
+            .collect();
+        let own = |f: usize| {
+            Some(if f == 0 {
+                rates[0].clone()
+            } else {
+                &rates[f] * (&self.g_hats[f] * &e.pre[f - 1])
+            })
+        };
+        let in_omega = self.column(&e, &lu, own, [0.0, 0.0])?;
+        let mut jacobian = DMatrix::zeros(m, m + 1);
+        jacobian.view_mut((0, 0), (m, m)).copy_from(&in_x);
+        jacobian.set_column(m, &in_omega);
+        e.jacobian = jacobian;
+        Some(e)
+    }
+
     /// `∂ residual / ∂ (α, φ₂ … φ_m)` at an evaluation.
     fn jacobian(
         &self,
@@ -358,6 +413,11 @@ where
             self.contacts[j].dot(&total)
         }))
     }
+}
+
+/// `exp(m)` of a heap matrix (outside the generic impl, whose bounds hide the method).
+fn dynamic_exp(m: &DMatrix<f64>) -> DMatrix<f64> {
+    m.exp()
 }
 
 /// Among the rotations `symmetries` of a cycle (start at impact `k` instead of 0) that keep

@@ -370,6 +370,18 @@ impl LinearModel {
         m
     }
 
+    /// `dÂ/dω` of [`LinearModel::augmented_matrix`]: `M⁻¹f_ω` in the sine column of the
+    /// velocity rows and the phase rotation's `[[0, −1], [1, 0]]`; exact for continuation.
+    pub fn augmented_rate(&self) -> DMatrix<f64> {
+        let n = self.dofs();
+        let mut m = DMatrix::zeros(2 * n + 2, 2 * n + 2);
+        m.view_mut((n, 2 * n + 1), (n, 1))
+            .copy_from(&(&self.mass_inverse * &self.forcing.sine_per_omega));
+        m[(2 * n, 2 * n + 1)] = -1.0;
+        m[(2 * n + 1, 2 * n)] = 1.0;
+        m
+    }
+
     /// Velocity map `v⁺ = G v⁻` of an impact of pair `pair`: Newton restitution along `w`
     /// conserving momentum, `G = I − (1 + e) M⁻¹w wᵀ / (wᵀM⁻¹w)`. It maps `wᵀv⁺ = −e wᵀv⁻`,
     /// and the momentum change `M(v⁺ − v⁻)` is parallel to `w` (the contact impulse).

@@ -511,4 +511,45 @@ mod tests {
             }
         }
     }
+
+    /// The exact `ω` column of the Jacobian against a central difference of the residuals in
+    /// `ω` (phases fixed as fractions of the cycle): step `1e-6`, truncation `O(1e-12)` and
+    /// rounding `O(1e-10)` of the residuals' size, as above.
+    #[test]
+    fn omega_column_is_the_derivative_of_the_residuals() {
+        let model = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let sequence = ImpactSequence::parse("0+ 1- 0- 1+", 1).unwrap_or_else(|e| panic!("{e}"));
+        let omega = 2.3;
+        let x = [0.7, 0.21, 0.48, 0.83];
+        let problem =
+            SequenceProblem::new(&model, omega, &sequence).unwrap_or_else(|e| panic!("{e}"));
+        let exact = problem
+            .equations()
+            .evaluate_in_omega(&x, &model.augmented_rate())
+            .unwrap_or_else(|| panic!("singular"))
+            .jacobian;
+        assert_eq!(exact.shape(), (4, 5));
+        let in_x = evaluate(problem.equations(), &x)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .jacobian;
+        assert!((exact.columns(0, 4) - &in_x).amax() <= 1e-12 * in_x.amax());
+        let step = 1e-6;
+        let at = |w: f64| {
+            let p = SequenceProblem::new(&model, w, &sequence).unwrap_or_else(|e| panic!("{e}"));
+            evaluate(p.equations(), &x)
+                .unwrap_or_else(|e| panic!("{e}"))
+                .residual
+        };
+        let quotient = (at(omega + step) - at(omega - step)) / (2.0 * step);
+        let scale = exact.amax();
+        for j in 0..4 {
+            assert!(
+                (quotient[j] - exact[(j, 4)]).abs() <= 1e-7 * scale,
+                "∂r{j}/∂ω: {} vs {}",
+                quotient[j],
+                exact[(j, 4)]
+            );
+        }
+    }
 }
