@@ -7,12 +7,14 @@
 //! (`τ_j = t_{j+1} − t_j`, `t_{n+1} = pT`) and the augmented impact map `Ĝ = diag(I₂, G, I₂)`,
 //! the cycle map `Ψ = Ĝ Φₙ Ĝ Φₙ₋₁ ⋯ Ĝ Φ₁` carries `(y₁, p₀)`, the state just after the first
 //! impact and the forcing phase `p₀ = (cos α, sin α)`, round the cycle. Periodicity
-//! `(I − Ψ_xx) y₁ = Ψ_xp p₀` fixes `y₁` (a 4×4 solve), and the `n` contact conditions
+//! `(I − Ψ_xx) y₁ = Ψ_xp p₀` fixes `y₁`, and the `n` contact conditions
 //! `r(t_j⁻) = s_j Δ` are the residuals: `n` equations in `n` unknowns.
 //!
-//! Newton uses exact derivatives from the same closed form: `∂Φ_j/∂τ_j = Â Φ_j`,
-//! `∂p₀/∂α = (−sin α, cos α)`, and the periodicity solve is differentiated implicitly,
-//! `dy₁ = (I − Ψ_xx)⁻¹ (dΨ_xx y₁ + dΨ_xp p₀ + Ψ_xp dp₀)`.
+//! These are the unit's fixed-size instance (6×6 stack matrices) of the cycle equations every
+//! model shares, [`crate::cycle_equations::CycleEquations`]: residuals and exact derivatives
+//! (`∂Φ_j/∂τ_j = Â Φ_j`, `∂p₀/∂α = (−sin α, cos α)`, the periodicity solve differentiated
+//! implicitly), solved by the one Newton ([`crate::SequenceNewton`]) and found by the one
+//! multi-start of [`crate::sequence_search`]; the verdicts here use the unit's own flow.
 
 use crate::cycle_equations::{CycleEquations, ImpactCondition};
 use crate::flow::{join, Augmented, ForcedFlow};

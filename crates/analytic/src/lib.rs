@@ -24,6 +24,10 @@
 //!   ([`band_edges`], [`stop_bands`]);
 //! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
 //!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
+//! - [`cycle_equations`]: the cycle equations of an impact sequence (residuals, exact Jacobian
+//!   in the unknowns and in `ω`), written once and generic over the augmented dimension: the
+//!   unit's signature solver runs them on stack matrices, a model's on heap matrices, with one
+//!   Newton ([`SequenceNewton`]) and one multi-start;
 //! - [`sequence_orbit`], [`sequence_verdicts`] and [`sequence_search`]: orbits of any impact
 //!   sequence on any [`LinearModel`] (the signature solver generalised: problem, Newton solver
 //!   and state; amplitudes, viability per pair, Floquet multipliers and energy balance; the
