@@ -36,8 +36,8 @@
 
 use nalgebra::{Complex, DMatrix, DVector};
 
-use crate::model::{ContactPair, HarmonicForcing, ModelError};
-use crate::unit::{Damping, Stops, Unit};
+use crate::model::{out_of_range, ContactPair, HarmonicForcing, LinearModel, ModelError};
+use crate::unit::{Damping, Stops, Unit, UnitError};
 
 /// The most cells a chain may have. Enough for the attenuation of a stop band to reach the
 /// floor of double precision many times over (a stop band of the paper's cell attenuates by
@@ -448,4 +448,60 @@ fn rounding_scale(steps: &[Step], tails: &[(Complex<f64>, Complex<f64>, f64)]) -
         l_log += r.ln();
     }
     total
+}
+
+/// The chain constructors of [`LinearModel`] (here, so that the model does not depend on
+/// the chain: the chain builds models).
+impl LinearModel {
+    /// The unit as a model: `u = (u_o, u_i)`, the matrices of [`Unit`], the forcing
+    /// `f_c = (k_o u_g, 0)`, `f_ω = (−c_o u_g, 0)`, and one pair `w = (−1, 1)` (`r = u_i − u_o`)
+    /// with both gaps `Δ`.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] with the field of [`Unit::validate`] or [`Stops::validate`].
+    pub fn unit(unit: &Unit, stops: &Stops) -> Result<Self, ModelError> {
+        Self::chain(unit, stops, 1)
+    }
+
+    /// `cells` copies of the unit in series: outer mass `j` tied to outer mass `j − 1` by `k_o`
+    /// and `c_o` (the first to the base), inner mass `j` inside outer mass `j` by `k_i` and
+    /// `c_i`, and one contact pair per cell with the stops of `stops`. Coordinates
+    /// `u = (u_o,1, u_i,1, u_o,2, u_i,2, …)`; pair `j` is cell `j`'s `r_j = u_i,j − u_o,j`.
+    /// One cell is [`LinearModel::unit`]; any number is [`LinearModel::graded_chain`] of equal
+    /// cells.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] with the field of [`Unit::validate`] or [`Stops::validate`],
+    /// `chain.cells` if `cells` is 0, or `chain` if it is above [`MAX_CELLS`].
+    pub fn chain(unit: &Unit, stops: &Stops, cells: usize) -> Result<Self, ModelError> {
+        let from_unit = |e: UnitError| match e {
+            UnitError::OutOfRange {
+                field,
+                value,
+                allowed,
+            } => out_of_range(field.to_string(), value, allowed),
+        };
+        unit.validate().map_err(from_unit)?;
+        stops.validate().map_err(from_unit)?;
+        if cells == 0 {
+            return Err(out_of_range("chain.cells".to_string(), 0.0, ">= 1"));
+        }
+        let cell = Cell::of_unit(unit);
+        Self::graded_chain(&vec![(cell, *stops); cells], unit.base_amplitude)
+    }
+
+    /// A graded chain: cell `j` with its own masses, springs, dashpots and stops, in series as
+    /// in [`LinearModel::chain`] (cell `j`'s `k_o`, `c_o` tie its outer mass to cell `j − 1`'s,
+    /// the first cell's to the base, which moves as `base_amplitude · cos ωt`). Identical cells
+    /// give [`LinearModel::chain`] and one cell [`LinearModel::unit`], bit for bit.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] naming `chain` if there are no cells or more than
+    /// [`MAX_CELLS`], else the first bad field as `chain[j].outer_mass`, …,
+    /// `chain[j].damping.inner` (see [`crate::Cell::validate`]), then `base.amplitude`, then
+    /// `chain[j].stops.gap` (`> 0`) or `chain[j].stops.restitution` (in `[0, 1]`).
+    pub fn graded_chain(cells: &[(Cell, Stops)], base_amplitude: f64) -> Result<Self, ModelError> {
+        let m = assemble(cells, base_amplitude)?;
+        Self::new(m.mass, m.damping, m.stiffness, m.forcing, m.pairs)
+    }
 }

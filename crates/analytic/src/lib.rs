@@ -24,6 +24,10 @@
 //!   ([`band_edges`], [`stop_bands`]);
 //! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
 //!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
+//! - [`cycle_equations`]: the cycle equations of an impact sequence (residuals, exact Jacobian
+//!   in the unknowns and in `ω`), written once and generic over the augmented dimension: the
+//!   unit's signature solver runs them on stack matrices, a model's on heap matrices, with one
+//!   Newton ([`SequenceNewton`]) and one multi-start;
 //! - [`sequence_orbit`], [`sequence_verdicts`] and [`sequence_search`]: orbits of any impact
 //!   sequence on any [`LinearModel`] (the signature solver generalised: problem, Newton solver
 //!   and state; amplitudes, viability per pair, Floquet multipliers and energy balance; the
@@ -43,6 +47,7 @@
 pub mod chain;
 pub mod continuation;
 pub mod cycle;
+pub mod cycle_equations;
 pub mod family;
 pub mod flow;
 pub mod lattice;
@@ -67,6 +72,7 @@ pub use continuation::{
 pub use cycle::{
     signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
 };
+pub use cycle_equations::{CycleEquations, CycleEvaluation, ImpactCondition};
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use lattice::{
     band_edges, bloch_wave, effective_mass, stop_bands, BandEdges, BlochWave, StopBand,
@@ -74,14 +80,12 @@ pub use lattice::{
 };
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
-    ContactPair, CycleEvaluation, HarmonicForcing, HarmonicState, LinearModel, ModelError,
-    ModelTransition,
+    ContactPair, HarmonicForcing, HarmonicState, LinearModel, ModelError, ModelTransition,
 };
 pub use orbit::{Orbit, Side, Violation};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};
 pub use sequence_orbit::{
-    NewtonState, SequenceEvaluation, SequenceNewton, SequenceOrbitError, SequenceProblem,
-    Termination,
+    NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,
 };
 pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
 pub use sequence_verdicts::{

@@ -15,8 +15,6 @@
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
 
-use crate::unit::{Stops, Unit};
-
 /// A model that is not a physical linear model with contact pairs.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ModelError {
@@ -129,7 +127,7 @@ pub struct LinearModel {
     mass_inverse: DMatrix<f64>,
 }
 
-fn out_of_range(field: String, value: f64, allowed: &'static str) -> ModelError {
+pub(crate) fn out_of_range(field: String, value: f64, allowed: &'static str) -> ModelError {
     ModelError::OutOfRange {
         field,
         value,
@@ -273,43 +271,6 @@ impl LinearModel {
         })
     }
 
-    /// The unit as a model: `u = (u_o, u_i)`, the matrices of [`Unit`], the forcing
-    /// `f_c = (k_o u_g, 0)`, `f_ω = (−c_o u_g, 0)`, and one pair `w = (−1, 1)` (`r = u_i − u_o`)
-    /// with both gaps `Δ`.
-    ///
-    /// # Errors
-    /// [`ModelError::OutOfRange`] with the field of [`Unit::validate`] or [`Stops::validate`].
-    pub fn unit(unit: &Unit, stops: &Stops) -> Result<Self, ModelError> {
-        Self::chain(unit, stops, 1)
-    }
-
-    /// `cells` copies of the unit in series: outer mass `j` tied to outer mass `j − 1` by `k_o`
-    /// and `c_o` (the first to the base), inner mass `j` inside outer mass `j` by `k_i` and
-    /// `c_i`, and one contact pair per cell with the stops of `stops`. Coordinates
-    /// `u = (u_o,1, u_i,1, u_o,2, u_i,2, …)`; pair `j` is cell `j`'s `r_j = u_i,j − u_o,j`.
-    /// One cell is [`LinearModel::unit`]; any number is [`LinearModel::graded_chain`] of equal
-    /// cells.
-    ///
-    /// # Errors
-    /// [`ModelError::OutOfRange`] with the field of [`Unit::validate`] or [`Stops::validate`],
-    /// `chain.cells` if `cells` is 0, or `chain` if it is above [`crate::chain::MAX_CELLS`].
-    pub fn chain(unit: &Unit, stops: &Stops, cells: usize) -> Result<Self, ModelError> {
-        let from_unit = |e: crate::unit::UnitError| match e {
-            crate::unit::UnitError::OutOfRange {
-                field,
-                value,
-                allowed,
-            } => out_of_range(field.to_string(), value, allowed),
-        };
-        unit.validate().map_err(from_unit)?;
-        stops.validate().map_err(from_unit)?;
-        if cells == 0 {
-            return Err(out_of_range("chain.cells".to_string(), 0.0, ">= 1"));
-        }
-        let cell = crate::chain::Cell::of_unit(unit);
-        Self::graded_chain(&vec![(cell, *stops); cells], unit.base_amplitude)
-    }
-
     /// Number of degrees of freedom `n`.
     pub fn dofs(&self) -> usize {
         self.mass.nrows()
@@ -370,6 +331,18 @@ impl LinearModel {
         m
     }
 
+    /// `dÂ/dω` of [`LinearModel::augmented_matrix`]: `M⁻¹f_ω` in the sine column of the
+    /// velocity rows and the phase rotation's `[[0, −1], [1, 0]]`; exact for continuation.
+    pub fn augmented_rate(&self) -> DMatrix<f64> {
+        let n = self.dofs();
+        let mut m = DMatrix::zeros(2 * n + 2, 2 * n + 2);
+        m.view_mut((n, 2 * n + 1), (n, 1))
+            .copy_from(&(&self.mass_inverse * &self.forcing.sine_per_omega));
+        m[(2 * n, 2 * n + 1)] = -1.0;
+        m[(2 * n + 1, 2 * n)] = 1.0;
+        m
+    }
+
     /// Velocity map `v⁺ = G v⁻` of an impact of pair `pair`: Newton restitution along `w`
     /// conserving momentum, `G = I − (1 + e) M⁻¹w wᵀ / (wᵀM⁻¹w)`. It maps `wᵀv⁺ = −e wᵀv⁻`,
     /// and the momentum change `M(v⁺ − v⁻)` is parallel to `w` (the contact impulse).
@@ -416,24 +389,6 @@ impl LinearModel {
             cosine: solution.rows(0, n).into_owned(),
             sine: solution.rows(n, n).into_owned(),
         })
-    }
-
-    /// A graded chain: cell `j` with its own masses, springs, dashpots and stops, in series as
-    /// in [`LinearModel::chain`] (cell `j`'s `k_o`, `c_o` tie its outer mass to cell `j − 1`'s,
-    /// the first cell's to the base, which moves as `base_amplitude · cos ωt`). Identical cells
-    /// give [`LinearModel::chain`] and one cell [`LinearModel::unit`], bit for bit.
-    ///
-    /// # Errors
-    /// [`ModelError::OutOfRange`] naming `chain` if there are no cells or more than
-    /// [`crate::chain::MAX_CELLS`], else the first bad field as `chain[j].outer_mass`, …,
-    /// `chain[j].damping.inner` (see [`crate::Cell::validate`]), then `base.amplitude`, then
-    /// `chain[j].stops.gap` (`> 0`) or `chain[j].stops.restitution` (in `[0, 1]`).
-    pub fn graded_chain(
-        cells: &[(crate::chain::Cell, Stops)],
-        base_amplitude: f64,
-    ) -> Result<Self, ModelError> {
-        let m = crate::chain::assemble(cells, base_amplitude)?;
-        Self::new(m.mass, m.damping, m.stiffness, m.forcing, m.pairs)
     }
 }
 
@@ -522,118 +477,6 @@ impl LinearModel {
         let jump = &f_plus - &g_hat * &f_minus;
         let rate = hx.dot(&f_minus);
         g_hat + jump * hx.transpose() / rate
-    }
-}
-
-/// A cycle of a [`LinearModel`] at fixed impact times: the periodic state and the contact
-/// residuals, the quantities the signature solver's Newton drives to zero.
-#[derive(Debug, Clone, PartialEq)]
-pub struct CycleEvaluation {
-    /// State `(u, u̇)` just after the first impact of the sequence, from the periodicity solve.
-    pub state_after_first_impact: DVector<f64>,
-    /// State just before each impact, in the sequence's order.
-    pub states_before_impacts: Vec<DVector<f64>>,
-    /// `w_jᵀ u(t_j⁻) − s_j gap_j` of each impact, in the sequence's order.
-    pub contact_residuals: DVector<f64>,
-    /// The monodromy matrix (`2n × 2n`) over the cycle from just after the first impact:
-    /// flight propagators and the saltation matrix of every impact.
-    pub monodromy: DMatrix<f64>,
-}
-
-impl CycleEvaluation {
-    /// Floquet multipliers: the eigenvalues of [`CycleEvaluation::monodromy`].
-    pub fn floquet_multipliers(&self) -> Vec<nalgebra::Complex<f64>> {
-        self.monodromy
-            .complex_eigenvalues()
-            .iter()
-            .copied()
-            .collect()
-    }
-}
-
-impl LinearModel {
-    /// The cycle of `sequence` at `omega` with base phase `alpha` at the first impact and
-    /// impact times `phases` (fractions of the cycle `pT`, the first 0): the state after the
-    /// first impact from the linear periodicity solve `(I − Φ) y = Ψ p₀` (flights and impact
-    /// maps in turn, `p₀ = (cos α, sin α)`), the states before every impact and the contact
-    /// residuals. The inputs are not checked beyond what the solve needs.
-    ///
-    /// # Errors
-    /// [`ModelError::Unbounded`] when `I − Φ` is singular (no unique periodic state for these
-    /// impact times).
-    ///
-    /// # Panics
-    /// If `phases` does not have one entry per impact or the sequence names a pair the model
-    /// lacks (see [`crate::ImpactSequence::check`]).
-    pub fn evaluate_cycle(
-        &self,
-        omega: f64,
-        sequence: &crate::sequence::ImpactSequence,
-        alpha: f64,
-        phases: &[f64],
-    ) -> Result<CycleEvaluation, ModelError> {
-        let impacts = sequence.impacts();
-        let m = impacts.len();
-        assert_eq!(phases.len(), m, "one phase per impact");
-        let n2 = 2 * self.dofs();
-        let cycle = f64::from(sequence.period()) * std::f64::consts::TAU / omega;
-        let p0 = DVector::from_vec(vec![alpha.cos(), alpha.sin()]);
-        // x = A y + B p₀ along the cycle; the phase at the current time is R p₀.
-        let mut a = DMatrix::<f64>::identity(n2, n2);
-        let mut b = DMatrix::<f64>::zeros(n2, 2);
-        let mut r = DMatrix::<f64>::identity(2, 2);
-        let mut before = Vec::with_capacity(m);
-        let mut flights = Vec::with_capacity(m);
-        let mut g_hats = Vec::with_capacity(m);
-        for impact in impacts {
-            let mut g_hat = DMatrix::identity(n2, n2);
-            g_hat
-                .view_mut((n2 / 2, n2 / 2), (n2 / 2, n2 / 2))
-                .copy_from(&self.impact_map(impact.pair));
-            g_hats.push(g_hat);
-        }
-        for j in 0..m {
-            let end = if j + 1 < m { phases[j + 1] } else { 1.0 };
-            let flight = self.transition(omega, (end - phases[j]) * cycle);
-            a = &flight.homogeneous * a;
-            b = &flight.homogeneous * b + &flight.forced * &r;
-            r = &flight.rotation * r;
-            before.push((a.clone(), b.clone(), r.clone()));
-            flights.push(flight.homogeneous);
-            let g_hat = &g_hats[(j + 1) % m];
-            a = g_hat * a;
-            b = g_hat * b;
-        }
-        let lhs = DMatrix::<f64>::identity(n2, n2) - a;
-        let y = lhs
-            .lu()
-            .solve(&(b * &p0))
-            .ok_or(ModelError::Unbounded { omega })?;
-        // `before[j]` is the state before impact `j + 1` (mod m): rotate to sequence order.
-        let mut states = vec![DVector::zeros(n2); m];
-        let mut residuals = DVector::zeros(m);
-        let mut monodromy = DMatrix::<f64>::identity(n2, n2);
-        for (j, (aj, bj, rj)) in before.iter().enumerate() {
-            let k = (j + 1) % m;
-            let x = aj * &y + bj * &p0;
-            let impact = impacts[k];
-            let pair = &self.pairs[impact.pair];
-            let stop = if impact.side == 1 {
-                pair.gap_side1
-            } else {
-                -pair.gap_side2
-            };
-            residuals[k] = pair.relative(&x.rows(0, n2 / 2).into_owned()) - stop;
-            let saltation = self.saltation(omega, impact.pair, &x, &(rj * &p0));
-            monodromy = saltation * (&flights[j] * monodromy);
-            states[k] = x;
-        }
-        Ok(CycleEvaluation {
-            state_after_first_impact: y,
-            states_before_impacts: states,
-            contact_residuals: residuals,
-            monodromy,
-        })
     }
 }
 

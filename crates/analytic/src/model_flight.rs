@@ -107,22 +107,23 @@ impl ModelFlight {
         found
     }
 
-    /// `∫₀^τ z(t)ᵀ Q z(t) dt` along the exact flow from `start`, in closed form by Van Loan's
-    /// block exponential: `exp([[−Âᵀ, Q], [0, Â]] τ) = [[·, G], [0, e^{Âτ}]]` and
-    /// `∫₀^τ e^{Âᵀs} Q e^{Âs} ds = e^{Âτ}ᵀ G`.
+    /// `W = ∫₀^τ z(t) z(t)ᵀ dt` along the exact flow from `start`, in closed form by Van
+    /// Loan's block exponential: `exp([[−Â, z₀z₀ᵀ], [0, Âᵀ]] τ) = [[·, G], [0, e^{Âᵀτ}]]` and
+    /// `∫₀^τ e^{Âs} z₀z₀ᵀ e^{Âᵀs} ds = e^{Âτ} G`. Any quadratic rate `zᵀQz` (`Q` symmetric)
+    /// integrates to `Σ Q_ij W_ij`: one exponential serves every energy term of a flight.
     ///
     /// # Panics
-    /// If `q` is not `(2n + 2) × (2n + 2)` or `start` does not have `2n + 2` entries.
-    pub fn quadratic_integral(&self, q: &DMatrix<f64>, start: &DVector<f64>, tau: f64) -> f64 {
+    /// If `start` does not have `2n + 2` entries.
+    pub fn second_moment(&self, start: &DVector<f64>, tau: f64) -> DMatrix<f64> {
         let m = self.augmented.nrows();
         let mut c = DMatrix::zeros(2 * m, 2 * m);
-        c.view_mut((0, 0), (m, m))
-            .copy_from(&(-self.augmented.transpose()));
-        c.view_mut((0, m), (m, m)).copy_from(q);
-        c.view_mut((m, m), (m, m)).copy_from(&self.augmented);
+        c.view_mut((0, 0), (m, m)).copy_from(&(-&self.augmented));
+        c.view_mut((0, m), (m, m))
+            .copy_from(&(start * start.transpose()));
+        c.view_mut((m, m), (m, m))
+            .copy_from(&self.augmented.transpose());
         let ex = (c * tau).exp();
-        let gram = ex.view((m, m), (m, m)).transpose() * ex.view((0, m), (m, m));
-        start.dot(&(gram * start))
+        ex.view((m, m), (m, m)).transpose() * ex.view((0, m), (m, m))
     }
 }
 
@@ -191,18 +192,21 @@ mod tests {
         assert!((e1.argmax - e2.argmax).abs() < 1e-6 && (e1.argmin - e2.argmin).abs() < 1e-6);
     }
 
-    /// `∫₀^τ p₀² dt` with `p₀ = cos(ωt)`: `τ/2 + sin(2ωτ)/(4ω)`, by hand.
+    /// `∫₀^τ p₀² dt` with `p₀ = cos(ωt)`: `τ/2 + sin(2ωτ)/(4ω)`, and `∫₀^τ p₀ p₁ dt` with
+    /// `p₁ = sin(ωt)`: `sin²(ωτ)/(2ω)`, by hand, from the flight's second moment.
     #[test]
-    fn quadratic_integral_of_the_forcing_phase_is_exact() {
+    fn second_moment_of_the_forcing_phase_is_exact() {
         let model = LinearModel::unit(&damped_paper_unit(), &paper_stops())
             .unwrap_or_else(|e| panic!("{e}"));
         let omega = 1.7;
         let flight = ModelFlight::new(&model, omega);
-        let mut q = DMatrix::zeros(6, 6);
-        q[(4, 4)] = 1.0;
         let start = DVector::from_vec(vec![0.3, 0.1, -0.2, 0.4, 1.0, 0.0]);
         let tau = 2.3;
+        let moment = flight.second_moment(&start, tau);
         let exact = tau / 2.0 + (2.0 * omega * tau).sin() / (4.0 * omega);
-        assert!((flight.quadratic_integral(&q, &start, tau) - exact).abs() < 1e-13);
+        assert!((moment[(4, 4)] - exact).abs() < 1e-13);
+        let cross = (omega * tau).sin().powi(2) / (2.0 * omega);
+        assert!((moment[(4, 5)] - cross).abs() < 1e-13);
+        assert!((moment[(5, 4)] - cross).abs() < 1e-13);
     }
 }

@@ -16,19 +16,53 @@
 //! at the flight's end), `∂p₀/∂α = (−sin α, cos α)`, and the periodicity solve differentiated
 //! implicitly, `dy₁ = (I − Ψ_xx)⁻¹ (dΨ_xx y₁ + dΨ_xp p₀ + Ψ_xp dp₀)`. No finite differences.
 //!
-//! Layout: [`SequenceProblem`] evaluates residuals and Jacobian; [`SequenceNewton`] (the
-//! solver) goes [`SequenceNewton::init`], [`SequenceNewton::next_iter`] until
-//! [`SequenceNewton::terminate`] says why it stops; [`NewtonState`] is what one iteration
-//! hands to the next. The verdicts on a converged cycle are in [`crate::sequence_verdicts`].
+//! Layout: [`crate::cycle_equations::CycleEquations`] evaluates residuals and Jacobian for any
+//! model, on stack matrices for the unit and heap matrices for a chain; [`SequenceProblem`] is
+//! a model's instance; [`SequenceNewton`] (the one solver of both) goes
+//! [`SequenceNewton::init`], [`SequenceNewton::next_iter`] until [`SequenceNewton::terminate`]
+//! says why it stops; [`NewtonState`] is what one iteration hands to the next. The verdicts on a
+//! converged cycle are in [`crate::sequence_verdicts`].
 
-use crate::cycle::{
-    is_ordered_guess, LINE_SEARCH_HALVINGS, MIN_FLIGHT, NEWTON_ACCEPTANCE, NEWTON_ITERATIONS,
-    NEWTON_TOLERANCE, STEP_ROUNDING,
-};
+use crate::cycle_equations::{CycleEquations, CycleEvaluation, ImpactCondition};
 use crate::model::LinearModel;
 use crate::sequence::{ImpactSequence, SequenceError};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::allocator::Allocator;
+use nalgebra::{DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn};
 use thiserror::Error;
+
+/// Cap on Newton iterations. From a start inside the basin Newton converges quadratically in
+/// well under ten steps; the cap bounds starts that wander (most multi-start points do not
+/// lie near an orbit) and is the only bound on the work of one solve.
+pub const NEWTON_ITERATIONS: usize = 40;
+
+/// Newton has converged when the largest contact residual is below this fraction of the
+/// motion's size (the largest stop and displacement just after the first impact): about 450
+/// `ε`, the rounding left by a chain of a few exponentials and a periodicity solve.
+pub const NEWTON_TOLERANCE: f64 = 1e-13;
+
+/// Fallback acceptance: when the Newton step has shrunk to rounding ([`STEP_ROUNDING`]) the
+/// residual cannot be reduced further; it is then accepted if below this fraction of the
+/// motion's size (two orders looser than [`NEWTON_TOLERANCE`], for ill-conditioned cycles).
+pub const NEWTON_ACCEPTANCE: f64 = 1e-11;
+
+/// A Newton step below this (in radians of `α` and in fractions of the cycle) no longer moves
+/// the unknowns beyond a few ulps of numbers of order one.
+pub const STEP_ROUNDING: f64 = 1e-15;
+
+/// Halvings of the Newton step when it would reorder the impacts or raise the residual's
+/// 2-norm: `2⁻¹⁰ ≈ 1e-3` of a step; beyond that the direction is useless and the start is
+/// abandoned. (30 halvings cost the multi-start 2–3 times more and found the same viable
+/// orbits on the paper unit; see [`crate::signature_orbits`].)
+pub const LINE_SEARCH_HALVINGS: usize = 10;
+
+/// Whether `guess = (α, φ₂, …, φ_n)` is a usable start for `n` impacts: `n` finite entries
+/// with the impact phases ordered in `(0, 1)` (`α` is free).
+pub(crate) fn is_ordered_guess(guess: &[f64], n: usize) -> bool {
+    guess.len() == n
+        && guess.iter().all(|v| v.is_finite())
+        && (1..n).all(|i| guess[i] > if i == 1 { 0.0 } else { guess[i - 1] })
+        && (n == 1 || guess[n - 1] < 1.0)
+}
 
 /// Why an orbit of an impact sequence could not be computed.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -74,38 +108,13 @@ pub enum SequenceOrbitError {
     },
 }
 
-/// The cycle equations of one sequence on one model at one frequency.
+/// The cycle equations of one sequence on one model at one frequency: the model's instance of
+/// [`CycleEquations`] (heap matrices of the model's augmented dimension).
 #[derive(Debug, Clone)]
 pub struct SequenceProblem<'a> {
     model: &'a LinearModel,
     sequence: &'a ImpactSequence,
-    omega: f64,
-    augmented: DMatrix<f64>,
-    /// `Ĝ_j` of each impact, in sequence order.
-    g_hats: Vec<DMatrix<f64>>,
-    /// `h_j = (w_{k_j}, 0, 0)`: the augmented gradient of impact `j`'s pair coordinate.
-    contacts: Vec<DVector<f64>>,
-    /// `s_j gap` of each impact: where its pair coordinate must be.
-    stops: Vec<f64>,
-    cycle: f64,
-}
-
-/// The cycle evaluated at one `x = (α, φ₂ … φ_m)`.
-#[derive(Debug, Clone)]
-pub struct SequenceEvaluation {
-    /// `Φ_j` of each flight.
-    pub flights: Vec<DMatrix<f64>>,
-    /// `Pre_j`: from `(y₁, p₀)` to the augmented state just before impact `j + 1` (impact `m`
-    /// being the first impact of the next cycle).
-    pub pre: Vec<DMatrix<f64>>,
-    /// State `(u, u̇)` just after the first impact.
-    pub y1: DVector<f64>,
-    /// `p₀ = (cos α, sin α)`.
-    pub p0: DVector<f64>,
-    /// Contact residuals `w_{k_j}ᵀ u(t_j⁻) − s_j gap`, in sequence order.
-    pub residual: DVector<f64>,
-    /// `∂ residual / ∂ (α, φ₂ … φ_m)`, `φ` the impact times as fractions of the cycle.
-    pub jacobian: DMatrix<f64>,
+    equations: CycleEquations<Dyn>,
 }
 
 impl<'a> SequenceProblem<'a> {
@@ -125,34 +134,40 @@ impl<'a> SequenceProblem<'a> {
         sequence.check(model)?;
         let n = model.dofs();
         let size = 2 * n + 2;
-        let mut g_hats = Vec::new();
-        let mut contacts = Vec::new();
-        let mut stops = Vec::new();
-        for impact in sequence.impacts() {
-            let mut g_hat = DMatrix::identity(size, size);
-            g_hat
-                .view_mut((n, n), (n, n))
-                .copy_from(&model.impact_map(impact.pair));
-            g_hats.push(g_hat);
-            let pair = &model.pairs()[impact.pair];
-            let mut h = DVector::zeros(size);
-            h.rows_mut(0, n).copy_from(&pair.direction);
-            contacts.push(h);
-            stops.push(if impact.side == 1 {
-                pair.gap_side1
-            } else {
-                -pair.gap_side2
-            });
-        }
+        let impacts = sequence
+            .impacts()
+            .iter()
+            .map(|impact| {
+                let mut g_hat = DMatrix::identity(size, size);
+                g_hat
+                    .view_mut((n, n), (n, n))
+                    .copy_from(&model.impact_map(impact.pair));
+                let pair = &model.pairs()[impact.pair];
+                let mut h = DVector::zeros(size);
+                h.rows_mut(0, n).copy_from(&pair.direction);
+                let stop = if impact.side == 1 {
+                    pair.gap_side1
+                } else {
+                    -pair.gap_side2
+                };
+                ImpactCondition {
+                    impact_map: g_hat,
+                    contact: h,
+                    stop,
+                }
+            })
+            .collect();
+        let equations = CycleEquations::new(
+            omega,
+            model.augmented_matrix(omega),
+            impacts,
+            sequence_symmetries(sequence),
+            f64::from(sequence.period()) * std::f64::consts::TAU / omega,
+        );
         Ok(Self {
             model,
             sequence,
-            omega,
-            augmented: model.augmented_matrix(omega),
-            g_hats,
-            contacts,
-            stops,
-            cycle: f64::from(sequence.period()) * std::f64::consts::TAU / omega,
+            equations,
         })
     }
 
@@ -168,194 +183,40 @@ impl<'a> SequenceProblem<'a> {
 
     /// The forcing frequency.
     pub fn omega(&self) -> f64 {
-        self.omega
+        self.equations.omega()
     }
 
     /// Length of the cycle, `pT`.
     pub fn cycle(&self) -> f64 {
-        self.cycle
+        self.equations.cycle()
     }
 
-    /// `Ĝ_j = diag(I_n, G_{k_j}, I₂)` of each impact, in sequence order.
-    pub fn impact_matrices(&self) -> &[DMatrix<f64>] {
-        &self.g_hats
+    /// The cycle equations.
+    pub fn equations(&self) -> &CycleEquations<Dyn> {
+        &self.equations
     }
+}
 
-    /// `h_j = (w_{k_j}, 0, 0)` of each impact: its pair coordinate as a functional of the
-    /// augmented state.
-    pub fn contact_functionals(&self) -> &[DVector<f64>] {
-        &self.contacts
-    }
-
-    /// `s_j gap` of each impact: where its pair coordinate must be.
-    pub fn contact_positions(&self) -> &[f64] {
-        &self.stops
-    }
-
-    /// Number of impacts `m`, also the number of unknowns.
-    pub fn impacts(&self) -> usize {
-        self.stops.len()
-    }
-
-    /// The impact phases `(0, φ₂ … φ_m)` of the unknowns `x = (α, φ₂ … φ_m)`.
-    pub fn phases(x: &[f64]) -> Vec<f64> {
-        let mut p = x.to_vec();
-        if let Some(first) = p.first_mut() {
-            *first = 0.0;
-        }
-        p
-    }
-
-    /// Whether the unknowns keep every flight longer than [`MIN_FLIGHT`] of the cycle.
-    pub fn ordered(&self, x: &[f64]) -> bool {
-        let m = self.impacts();
-        (1..m).all(|i| {
-            let prev = if i == 1 { 0.0 } else { x[i - 1] };
-            x[i] - prev > MIN_FLIGHT
-        }) && (m == 1 || 1.0 - x[m - 1] > MIN_FLIGHT)
-    }
-
-    /// Size of the motion against which residuals are measured: the largest gap the sequence
-    /// hits and the largest displacement just after the first impact.
-    pub fn scale(&self, y1: &DVector<f64>) -> f64 {
-        let n = self.model.dofs();
-        let gaps = self.stops.iter().fold(0.0, |a: f64, s| a.max(s.abs()));
-        y1.rows(0, n).iter().fold(gaps, |a, v| a.max(v.abs()))
-    }
-
-    /// Residuals and their exact Jacobian at `x = (α, φ₂ … φ_m)`.
-    ///
-    /// # Errors
-    /// [`SequenceOrbitError::SingularCycle`] when `I − Ψ_xx` is singular.
-    ///
-    /// # Panics
-    /// If `x` does not have one entry per impact.
-    pub fn evaluate(&self, x: &[f64]) -> Result<SequenceEvaluation, SequenceOrbitError> {
-        let m = self.impacts();
-        assert_eq!(x.len(), m, "one unknown per impact");
-        let n2 = 2 * self.model.dofs();
-        let a = &self.augmented;
-        let phases = Self::phases(x);
-        let alpha = x[0];
-        let singular = SequenceOrbitError::SingularCycle { omega: self.omega };
-        let flights: Vec<DMatrix<f64>> = (0..m)
-            .map(|f| {
-                let end = if f + 1 < m { phases[f + 1] } else { 1.0 };
-                (a * ((end - phases[f]) * self.cycle)).exp()
-            })
-            .collect();
-        let mut pre: Vec<DMatrix<f64>> = Vec::with_capacity(m);
-        pre.push(flights[0].clone());
-        for f in 1..m {
-            let next = &flights[f] * (&self.g_hats[f] * &pre[f - 1]);
-            pre.push(next);
-        }
-        let psi = &self.g_hats[0] * &pre[m - 1];
-        let k = DMatrix::<f64>::identity(n2, n2) - psi.view((0, 0), (n2, n2));
-        let lu = k.lu();
-        if !lu.is_invertible() {
-            return Err(singular);
-        }
-        let solve = |b: DVector<f64>| lu.solve(&b).ok_or(singular.clone());
-        let psi_xp = psi.view((0, n2), (n2, 2)).into_owned();
-        let p0 = DVector::from_vec(vec![alpha.cos(), alpha.sin()]);
-        let y1 = solve(&psi_xp * &p0)?;
-        let join = |x: &DVector<f64>, p: &DVector<f64>| {
-            let mut z = DVector::zeros(n2 + 2);
-            z.rows_mut(0, n2).copy_from(x);
-            z.rows_mut(n2, 2).copy_from(p);
-            z
-        };
-        let z1 = join(&y1, &p0);
-        let h = &self.contacts;
-        let mut residual = DVector::zeros(m);
-        residual[0] = h[0].dot(&z1) - self.stops[0];
-        for f in 0..m - 1 {
-            residual[f + 1] = h[f + 1].dot(&(&pre[f] * &z1)) - self.stops[f + 1];
-        }
-
-        let mut jacobian = DMatrix::zeros(m, m);
-        // α: only p₀ moves.
-        let dp0 = DVector::from_vec(vec![-alpha.sin(), alpha.cos()]);
-        let dz1 = join(&solve(&psi_xp * &dp0)?, &dp0);
-        jacobian[(0, 0)] = h[0].dot(&dz1);
-        for f in 0..m - 1 {
-            jacobian[(f + 1, 0)] = h[f + 1].dot(&(&pre[f] * &dz1));
-        }
-        // t_i (impact i ≥ 1): flight i − 1 grows, flight i shrinks, so
-        // ∂Pre_f = Φ_f Ĝ_f ∂Pre_{f−1} + c_f Â Pre_f with c_{i−1} = 1, c_i = −1, and
-        // ∂Pre_f = 0 for f < i − 1.
-        for i in 1..m {
-            let c = |f: usize| (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
-            let mut dpre: Vec<Option<DMatrix<f64>>> = Vec::with_capacity(m);
-            for f in 0..m {
-                let carried = f
-                    .checked_sub(1)
-                    .and_then(|g| dpre[g].as_ref())
-                    .map(|previous| &flights[f] * (&self.g_hats[f] * previous));
-                let cf = c(f);
-                let own = (cf != 0.0).then(|| a * &pre[f] * cf);
-                dpre.push(match (carried, own) {
-                    (Some(d), Some(o)) => Some(d + o),
-                    (d, o) => d.or(o),
-                });
-            }
-            let Some(last) = dpre[m - 1].as_ref() else {
-                return Err(singular);
-            };
-            let dpsi = &self.g_hats[0] * last;
-            let rhs = dpsi.view((0, 0), (n2, n2)) * &y1 + dpsi.view((0, n2), (n2, 2)) * &p0;
-            let dy1 = solve(rhs)?;
-            let dz1 = join(&dy1, &DVector::zeros(2));
-            jacobian[(0, i)] = h[0].dot(&dz1) * self.cycle;
-            for f in 0..m - 1 {
-                let moved = &pre[f] * &dz1;
-                let total = match dpre[f].as_ref() {
-                    Some(d) => d * &z1 + moved,
-                    None => moved,
-                };
-                jacobian[(f + 1, i)] = h[f + 1].dot(&total) * self.cycle;
-            }
-        }
-        Ok(SequenceEvaluation {
-            flights,
-            pre,
-            y1,
-            p0,
-            residual,
-            jacobian,
-        })
-    }
-
-    /// The rotations `k` of the cycle that map the sequence onto itself (starting the cycle at
-    /// impact `k` gives the same sequence). Always contains 0.
-    pub fn symmetries(&self) -> Vec<usize> {
-        let impacts = self.sequence.impacts();
-        let m = impacts.len();
-        (0..m)
-            .filter(|&k| (0..m).all(|j| impacts[(j + k) % m] == impacts[j]))
-            .collect()
-    }
-
-    /// Among the rotations of the cycle that keep the canonical sequence, the representation
-    /// of the unknowns `x` with the smallest wrapped `α`: returns `(α, phases)`.
-    pub fn canonical(&self, x: &[f64]) -> (f64, Vec<f64>) {
-        crate::sequence_search::smallest_rotation(
-            x[0],
-            Self::phases(x),
-            self.symmetries(),
-            self.omega * self.cycle,
-        )
-    }
+/// The rotations `k` of the cycle that map the sequence onto itself (starting the cycle at
+/// impact `k` gives the same sequence). Always contains 0.
+fn sequence_symmetries(sequence: &ImpactSequence) -> Vec<usize> {
+    let impacts = sequence.impacts();
+    let m = impacts.len();
+    (0..m)
+        .filter(|&k| (0..m).all(|j| impacts[(j + k) % m] == impacts[j]))
+        .collect()
 }
 
 /// What one Newton iteration hands to the next.
 #[derive(Debug, Clone)]
-pub struct NewtonState {
+pub struct NewtonState<D: Dim>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
     /// The unknowns `x = (α, φ₂ … φ_m)`.
     pub unknowns: Vec<f64>,
     /// The cycle at `unknowns`.
-    pub evaluation: SequenceEvaluation,
+    pub evaluation: CycleEvaluation<D>,
     /// Largest contact residual.
     pub residual: f64,
     /// 2-norm of the residuals (the line search's merit).
@@ -375,7 +236,8 @@ pub enum Termination {
     Failed,
 }
 
-/// Newton with a backtracking line search on the contact residuals: the settings.
+/// Newton with a backtracking line search on the contact residuals of [`CycleEquations`] (the
+/// unit's and every model's): the settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SequenceNewton {
     /// Cap on iterations.
@@ -387,8 +249,7 @@ pub struct SequenceNewton {
 }
 
 impl Default for SequenceNewton {
-    /// The settings of the unit's signature solver: [`NEWTON_ITERATIONS`],
-    /// [`NEWTON_TOLERANCE`], [`NEWTON_ACCEPTANCE`].
+    /// [`NEWTON_ITERATIONS`], [`NEWTON_TOLERANCE`], [`NEWTON_ACCEPTANCE`].
     fn default() -> Self {
         Self {
             max_iterations: NEWTON_ITERATIONS,
@@ -398,6 +259,25 @@ impl Default for SequenceNewton {
     }
 }
 
+fn singular(equations_omega: f64) -> SequenceOrbitError {
+    SequenceOrbitError::SingularCycle {
+        omega: equations_omega,
+    }
+}
+
+/// The cycle at `x` with its Jacobian, or [`SequenceOrbitError::SingularCycle`].
+fn evaluate<D: DimMin<D, Output = D>>(
+    equations: &CycleEquations<D>,
+    x: &[f64],
+) -> Result<CycleEvaluation<D>, SequenceOrbitError>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    equations
+        .evaluate_with(x, true)
+        .ok_or_else(|| singular(equations.omega()))
+}
+
 impl SequenceNewton {
     /// The state at the guess `x = (α, φ₂ … φ_m)`.
     ///
@@ -405,34 +285,40 @@ impl SequenceNewton {
     /// [`SequenceOrbitError::InvalidGuess`] unless the guess has one finite entry per impact
     /// with ordered phases in `(0, 1)`; [`SequenceOrbitError::SingularCycle`] from the
     /// evaluation.
-    pub fn init(
+    pub fn init<D: DimMin<D, Output = D>>(
         &self,
-        problem: &SequenceProblem,
+        equations: &CycleEquations<D>,
         guess: &[f64],
-    ) -> Result<NewtonState, SequenceOrbitError> {
-        let m = problem.impacts();
+    ) -> Result<NewtonState<D>, SequenceOrbitError>
+    where
+        DefaultAllocator: Allocator<D, D> + Allocator<D>,
+    {
+        let m = equations.impacts();
         if !is_ordered_guess(guess, m) {
             return Err(SequenceOrbitError::InvalidGuess {
                 impacts: m,
                 len: guess.len(),
             });
         }
-        let evaluation = problem.evaluate(guess)?;
+        let evaluation = evaluate(equations, guess)?;
         Ok(state(guess.to_vec(), evaluation, 0, false))
     }
 
-    /// One damped Newton step: the full step, halved up to `LINE_SEARCH_HALVINGS` times
+    /// One damped Newton step: the full step, halved up to [`LINE_SEARCH_HALVINGS`] times
     /// until it keeps the impacts ordered and lowers the merit; `stalled` when none does or
     /// the step is below [`STEP_ROUNDING`].
     ///
     /// # Errors
     /// [`SequenceOrbitError::SingularCycle`] when the Jacobian is singular.
-    pub fn next_iter(
+    pub fn next_iter<D: DimMin<D, Output = D>>(
         &self,
-        problem: &SequenceProblem,
-        current: NewtonState,
-    ) -> Result<NewtonState, SequenceOrbitError> {
-        let step = newton_step(problem, &current)?;
+        equations: &CycleEquations<D>,
+        current: NewtonState<D>,
+    ) -> Result<NewtonState<D>, SequenceOrbitError>
+    where
+        DefaultAllocator: Allocator<D, D> + Allocator<D>,
+    {
+        let step = newton_step(equations, &current)?;
         let iteration = current.iteration + 1;
         if step.amax() <= STEP_ROUNDING {
             return Ok(NewtonState {
@@ -449,8 +335,8 @@ impl SequenceNewton {
                 .zip(step.iter())
                 .map(|(a, d)| a + lambda * d)
                 .collect();
-            if problem.ordered(&trial) {
-                if let Ok(e) = problem.evaluate(&trial) {
+            if equations.ordered(&trial) {
+                if let Ok(e) = evaluate(equations, &trial) {
                     if e.residual.norm() < current.merit {
                         return Ok(state(trial, e, iteration, false));
                     }
@@ -466,8 +352,15 @@ impl SequenceNewton {
     }
 
     /// Whether to stop, and why; `None` to go on.
-    pub fn terminate(&self, problem: &SequenceProblem, s: &NewtonState) -> Option<Termination> {
-        let scale = problem.scale(&s.evaluation.y1);
+    pub fn terminate<D: DimMin<D, Output = D>>(
+        &self,
+        equations: &CycleEquations<D>,
+        s: &NewtonState<D>,
+    ) -> Option<Termination>
+    where
+        DefaultAllocator: Allocator<D, D> + Allocator<D>,
+    {
+        let scale = equations.scale(&s.evaluation.z1);
         if !s.residual.is_finite() {
             Some(Termination::Failed)
         } else if s.residual <= self.tolerance * scale {
@@ -491,34 +384,40 @@ impl SequenceNewton {
     /// # Errors
     /// As [`SequenceNewton::init`] and [`SequenceNewton::next_iter`];
     /// [`SequenceOrbitError::NoConvergence`] when it stops without converging.
-    pub fn solve(
+    pub fn solve<D: DimMin<D, Output = D>>(
         &self,
-        problem: &SequenceProblem,
+        equations: &CycleEquations<D>,
         guess: &[f64],
-    ) -> Result<NewtonState, SequenceOrbitError> {
-        let mut s = self.init(problem, guess)?;
+    ) -> Result<NewtonState<D>, SequenceOrbitError>
+    where
+        DefaultAllocator: Allocator<D, D> + Allocator<D>,
+    {
+        let mut s = self.init(equations, guess)?;
         loop {
-            match self.terminate(problem, &s) {
-                Some(Termination::Converged) => return Ok(polish(problem, s)),
+            match self.terminate(equations, &s) {
+                Some(Termination::Converged) => return Ok(polish(equations, s)),
                 Some(Termination::Failed) => {
                     return Err(SequenceOrbitError::NoConvergence {
-                        omega: problem.omega(),
+                        omega: equations.omega(),
                         residual: s.residual,
                         iterations: s.iteration,
                     })
                 }
-                None => s = self.next_iter(problem, s)?,
+                None => s = self.next_iter(equations, s)?,
             }
         }
     }
 }
 
-fn state(
+fn state<D: Dim>(
     unknowns: Vec<f64>,
-    evaluation: SequenceEvaluation,
+    evaluation: CycleEvaluation<D>,
     iteration: usize,
     stalled: bool,
-) -> NewtonState {
+) -> NewtonState<D>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
     NewtonState {
         unknowns,
         residual: evaluation.residual.amax(),
@@ -529,23 +428,30 @@ fn state(
     }
 }
 
-fn newton_step(
-    problem: &SequenceProblem,
-    s: &NewtonState,
-) -> Result<DVector<f64>, SequenceOrbitError> {
+fn newton_step<D: DimMin<D, Output = D>>(
+    equations: &CycleEquations<D>,
+    s: &NewtonState<D>,
+) -> Result<DVector<f64>, SequenceOrbitError>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
     s.evaluation
         .jacobian
         .clone()
         .lu()
         .solve(&(-&s.evaluation.residual))
-        .ok_or(SequenceOrbitError::SingularCycle {
-            omega: problem.omega(),
-        })
+        .ok_or_else(|| singular(equations.omega()))
 }
 
 /// One more full Newton step from a converged state, kept if it lowers the merit.
-fn polish(problem: &SequenceProblem, s: NewtonState) -> NewtonState {
-    let Ok(step) = newton_step(problem, &s) else {
+fn polish<D: DimMin<D, Output = D>>(
+    equations: &CycleEquations<D>,
+    s: NewtonState<D>,
+) -> NewtonState<D>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    let Ok(step) = newton_step(equations, &s) else {
         return s;
     };
     let trial: Vec<f64> = s
@@ -554,8 +460,8 @@ fn polish(problem: &SequenceProblem, s: NewtonState) -> NewtonState {
         .zip(step.iter())
         .map(|(a, d)| a + d)
         .collect();
-    if problem.ordered(&trial) {
-        if let Ok(e) = problem.evaluate(&trial) {
+    if equations.ordered(&trial) {
+        if let Ok(e) = evaluate(equations, &trial) {
             if e.residual.norm() < s.merit {
                 return state(trial, e, s.iteration + 1, false);
             }
@@ -580,8 +486,8 @@ mod tests {
         let problem =
             SequenceProblem::new(&model, 2.3, &sequence).unwrap_or_else(|e| panic!("{e}"));
         let x = [0.7, 0.21, 0.48, 0.83];
-        let exact = problem
-            .evaluate(&x)
+        let equations = problem.equations();
+        let exact = evaluate(equations, &x)
             .unwrap_or_else(|e| panic!("{e}"))
             .jacobian;
         let step = 1e-6;
@@ -590,8 +496,7 @@ mod tests {
             let shifted = |d: f64| {
                 let mut y = x;
                 y[i] += d;
-                problem
-                    .evaluate(&y)
+                evaluate(equations, &y)
                     .unwrap_or_else(|e| panic!("{e}"))
                     .residual
             };
@@ -604,6 +509,47 @@ mod tests {
                     exact[(j, i)]
                 );
             }
+        }
+    }
+
+    /// The exact `ω` column of the Jacobian against a central difference of the residuals in
+    /// `ω` (phases fixed as fractions of the cycle): step `1e-6`, truncation `O(1e-12)` and
+    /// rounding `O(1e-10)` of the residuals' size, as above.
+    #[test]
+    fn omega_column_is_the_derivative_of_the_residuals() {
+        let model = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let sequence = ImpactSequence::parse("0+ 1- 0- 1+", 1).unwrap_or_else(|e| panic!("{e}"));
+        let omega = 2.3;
+        let x = [0.7, 0.21, 0.48, 0.83];
+        let problem =
+            SequenceProblem::new(&model, omega, &sequence).unwrap_or_else(|e| panic!("{e}"));
+        let exact = problem
+            .equations()
+            .evaluate_in_omega(&x, &model.augmented_rate())
+            .unwrap_or_else(|| panic!("singular"))
+            .jacobian;
+        assert_eq!(exact.shape(), (4, 5));
+        let in_x = evaluate(problem.equations(), &x)
+            .unwrap_or_else(|e| panic!("{e}"))
+            .jacobian;
+        assert!((exact.columns(0, 4) - &in_x).amax() <= 1e-12 * in_x.amax());
+        let step = 1e-6;
+        let at = |w: f64| {
+            let p = SequenceProblem::new(&model, w, &sequence).unwrap_or_else(|e| panic!("{e}"));
+            evaluate(p.equations(), &x)
+                .unwrap_or_else(|e| panic!("{e}"))
+                .residual
+        };
+        let quotient = (at(omega + step) - at(omega - step)) / (2.0 * step);
+        let scale = exact.amax();
+        for j in 0..4 {
+            assert!(
+                (quotient[j] - exact[(j, 4)]).abs() <= 1e-7 * scale,
+                "∂r{j}/∂ω: {} vs {}",
+                quotient[j],
+                exact[(j, 4)]
+            );
         }
     }
 }

@@ -10,17 +10,66 @@
 //! solutions are brought to the canonical first impact and deduplicated by `(α, phases)`
 //! within [`DEDUP_TOLERANCE`]. The grid and the start rules are those of the unit's search.
 
-use crate::cycle::{
-    ALPHA_SCAN, DEDUP_TOLERANCE, FULL_START_TUPLES, GRID_PER_OSCILLATION, MAX_TUPLES, MIN_GRID,
-};
+use crate::cycle_equations::CycleEquations;
 use crate::model::LinearModel;
 use crate::model_flight::eigenvalues;
 use crate::orbit::wrap;
 use crate::sequence::ImpactSequence;
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
 use crate::sequence_verdicts::{assemble, SequenceOrbit};
-use nalgebra::DMatrix;
+use nalgebra::allocator::Allocator;
+use nalgebra::{DefaultAllocator, DimMin, OMatrix};
 use std::collections::HashMap;
+
+/// Grid points per period of the fastest oscillation of the flow (`max(ω, ω_n)`) in the
+/// multi-start over impact phases: each impact time of any orbit lies within `1/32` of that
+/// period of a grid point. Four points per period (an eighth) missed non-viable two-impact
+/// orbits of the paper unit at `ω = 0.8` whose Newton basins are narrow; sixteen found
+/// every viable orbit that grids up to four times finer found (see
+/// [`crate::signature_orbits`]).
+pub const GRID_PER_OSCILLATION: f64 = 16.0;
+
+/// Fewest grid intervals over the cycle, whatever the frequencies: with `n ≤ 4` impacts
+/// there are then at least `C(15, 3) = 455` ordered phase tuples.
+pub const MIN_GRID: usize = 16;
+
+/// Up to this many impact-phase tuples, Newton starts from every minimum in `α` of every
+/// tuple's linear residual; above it, only from the minima over the joint grid of impact
+/// phases and `α`. A Newton start costs about 0.2 ms on the unit, so this bounds the full
+/// search to about two seconds (`n = 4`, `p = 1`, `ω ≥ 1.2` on the paper unit stay below it).
+pub const FULL_START_TUPLES: usize = 5000;
+
+/// Cap on the impact-phase tuples of a multi-start: at low `ω` or long cycles the grid of
+/// [`GRID_PER_OSCILLATION`] is coarsened until `C(N − 1, n − 1)` tuples fit, which bounds the
+/// scan's memory (64 residuals per tuple, about 30 MB) and its time (about a second on the
+/// unit). Not binding on the paper unit for `n ≤ 4` impacts above `ω ≈ 1.08` with `p = 2`,
+/// above `ω ≈ 0.54` with `p = 1`.
+pub const MAX_TUPLES: usize = 60_000;
+
+/// Samples of `α` on which the linear contact residual is scanned for each phase tuple; its
+/// square is a trigonometric polynomial of degree 2 in `α` (at most two local minima), so 64
+/// samples (`π/32` apart) land within `π/64` of each minimum, and separate the two unless
+/// they nearly merge (then one start serves both).
+pub const ALPHA_SCAN: usize = 64;
+
+/// Two converged solutions are the same orbit when their base phases (after bringing both
+/// to the canonical first impact) and impact phases differ by less than this: Newton pins
+/// them to about `1e-13`, and distinct orbits lie many orders further apart.
+pub const DEDUP_TOLERANCE: f64 = 1e-8;
+
+/// The grid intervals of a multi-start over a cycle of `period` forcing periods with `m`
+/// impacts, `fastest` the fastest frequency of the motion (`max(ω, ω_n)`): `max(`[`MIN_GRID`]`,
+/// m, ⌈`[`GRID_PER_OSCILLATION`]` · p · fastest/ω⌉)`, coarsened until the number of tuples
+/// `C(N − 1, m − 1)` is at most [`MAX_TUPLES`] (never below `max(`[`MIN_GRID`]`, m)`).
+pub(crate) fn grid_intervals(fastest: f64, omega: f64, period: u32, m: usize) -> usize {
+    let wanted = (GRID_PER_OSCILLATION * f64::from(period) * fastest / omega).ceil();
+    let fewest = MIN_GRID.max(m);
+    let mut grid = (wanted.min(MAX_TUPLES as f64) as usize).max(fewest);
+    while grid > fewest && tuples(grid, m) > MAX_TUPLES as f64 {
+        grid -= 1;
+    }
+    grid
+}
 
 /// Every orbit of `sequence` on `model` at `omega` found by the multi-start, deduplicated,
 /// viable or not, sorted by `α`.
@@ -43,14 +92,8 @@ pub fn sequence_orbits(
     let natural = eigenvalues(&model.system_matrix())
         .map(|l| l.iter().fold(0.0, |a: f64, z| a.max(z.norm())))
         .unwrap_or(0.0);
-    let fastest = omega.max(natural);
-    let wanted = (GRID_PER_OSCILLATION * f64::from(sequence.period()) * fastest / omega).ceil();
     let m = sequence.impacts().len();
-    let fewest = MIN_GRID.max(m);
-    let mut grid = (wanted.min(MAX_TUPLES as f64) as usize).max(fewest);
-    while grid > fewest && tuples(grid, m) > MAX_TUPLES as f64 {
-        grid -= 1;
-    }
+    let grid = grid_intervals(omega.max(natural), omega, sequence.period(), m);
     sequence_orbits_on_grid(model, omega, sequence, grid)
 }
 
@@ -73,19 +116,39 @@ pub fn sequence_orbits_on_grid(
     grid: usize,
 ) -> Result<Vec<SequenceOrbit>, SequenceOrbitError> {
     let problem = SequenceProblem::new(model, omega, sequence)?;
-    let m = problem.impacts();
+    let found = multi_start(problem.equations(), grid, |alpha, phases, iterations| {
+        assemble(&problem, alpha, phases, iterations).ok()
+    });
+    Ok(found)
+}
+
+/// The multi-start over a grid of `grid` intervals of the cycle on any cycle equations: every
+/// ordered impact-phase tuple scanned in `α` ([`linear_scan`]), Newton ([`SequenceNewton`])
+/// from the start nodes ([`start_nodes`]), each converged solution brought to its canonical
+/// representation, deduplicated within [`DEDUP_TOLERANCE`] and made into an orbit by
+/// `assemble(α, phases, iterations)` (`None`: dropped). The orbits sorted by `α`; an empty list
+/// when `grid` is below the number of impacts.
+pub(crate) fn multi_start<D, O>(
+    equations: &CycleEquations<D>,
+    grid: usize,
+    mut assemble: impl FnMut(f64, &[f64], usize) -> Option<O>,
+) -> Vec<O>
+where
+    D: DimMin<D, Output = D>,
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    let m = equations.impacts();
     if grid < m {
-        return Ok(Vec::new());
+        return Vec::new();
     }
-    let a = model.augmented_matrix(omega);
-    let steps: Vec<DMatrix<f64>> = (0..=grid)
-        .map(|k| (&a * (k as f64 * problem.cycle() / grid as f64)).exp())
+    let steps: Vec<OMatrix<f64, D, D>> = (0..=grid)
+        .map(|k| equations.flow(k as f64 * equations.cycle() / grid as f64))
         .collect();
     let mut scanned: HashMap<Vec<usize>, Vec<f64>> = HashMap::new();
     let mut tuple: Vec<usize> = (0..m).collect();
     loop {
         if m == 1 || tuple[m - 1] < grid {
-            scanned.insert(tuple.clone(), linear_scan(&problem, &steps, &tuple, grid));
+            scanned.insert(tuple.clone(), linear_scan(equations, &steps, &tuple, grid));
         }
         if !next_tuple(&mut tuple, grid) {
             break;
@@ -93,28 +156,31 @@ pub fn sequence_orbits_on_grid(
     }
     let starts = start_nodes(&scanned, |t| neighbours(t));
     let solver = SequenceNewton::default();
-    let mut found: Vec<SequenceOrbit> = Vec::new();
+    let mut found: Vec<(Vec<f64>, O)> = Vec::new();
     for (tuple, k) in starts {
         let guess = start_guess(tuple, k, grid);
-        let Ok(converged) = solver.solve(&problem, &guess) else {
+        let Ok(converged) = solver.solve(equations, &guess) else {
             continue;
         };
-        let (alpha, phases) = problem.canonical(&converged.unknowns);
-        if found.iter().any(|o| same_orbit(o, alpha, &phases)) {
+        let (alpha, phases) = equations.canonical(&converged.unknowns);
+        if found.iter().any(|(key, _)| same_orbit(key, alpha, &phases)) {
             continue;
         }
-        if let Ok(orbit) = assemble(&problem, alpha, &phases, converged.iteration) {
-            found.push(orbit);
+        if let Some(orbit) = assemble(alpha, &phases, converged.iteration) {
+            let mut key = phases;
+            key[0] = alpha;
+            found.push((key, orbit));
         }
     }
-    found.sort_by(|a, b| a.alpha.total_cmp(&b.alpha));
-    Ok(found)
+    found.sort_by(|a, b| a.0[0].total_cmp(&b.0[0]));
+    found.into_iter().map(|(_, o)| o).collect()
 }
 
-/// Whether `orbit` has `(alpha, phases)` within [`DEDUP_TOLERANCE`] (angles modulo 2π).
-fn same_orbit(orbit: &SequenceOrbit, alpha: f64, phases: &[f64]) -> bool {
-    wrap(orbit.alpha - alpha).abs() < DEDUP_TOLERANCE
-        && orbit.impact_phases[1..]
+/// Whether a found orbit's key `(α, φ₂ …)` matches `(alpha, phases)` within
+/// [`DEDUP_TOLERANCE`] (angles compared modulo 2π).
+fn same_orbit(key: &[f64], alpha: f64, phases: &[f64]) -> bool {
+    wrap(key[0] - alpha).abs() < DEDUP_TOLERANCE
+        && key[1..]
             .iter()
             .zip(&phases[1..])
             .all(|(a, b)| (a - b).abs() < DEDUP_TOLERANCE)
@@ -239,74 +305,41 @@ pub(crate) fn start_guess(tuple: &[usize], k: usize, grid: usize) -> Vec<f64> {
     guess
 }
 
-/// Among the rotations `symmetries` of a cycle (start at impact `k` instead of 0) that keep
-/// its canonical sequence, the representation of `(α, phases)` with the smallest wrapped `α`;
-/// `omega_cycle` is `ω` times the cycle's length.
-pub(crate) fn smallest_rotation(
-    alpha: f64,
-    phases: Vec<f64>,
-    symmetries: Vec<usize>,
-    omega_cycle: f64,
-) -> (f64, Vec<f64>) {
-    let m = phases.len();
-    symmetries
-        .into_iter()
-        .map(|k| {
-            let shifted: Vec<f64> = (0..m)
-                .map(|j| (phases[(j + k) % m] - phases[k]).rem_euclid(1.0))
-                .collect();
-            (wrap(alpha + omega_cycle * phases[k]), shifted)
-        })
-        .min_by(|a, b| a.0.total_cmp(&b.0))
-        .unwrap_or((wrap(alpha), phases))
-}
-
 /// For impact times on grid points `tuple`, the squared contact residual on the `α` scan
 /// (linear in `(cos α, sin α)` for fixed times: one cycle's cost). Infinite where the
 /// periodicity solve is singular.
-fn linear_scan(
-    problem: &SequenceProblem,
-    steps: &[DMatrix<f64>],
+fn linear_scan<D>(
+    equations: &CycleEquations<D>,
+    steps: &[OMatrix<f64, D, D>],
     tuple: &[usize],
     grid: usize,
-) -> Vec<f64> {
+) -> Vec<f64>
+where
+    D: DimMin<D, Output = D>,
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
     let m = tuple.len();
-    let n2 = 2 * problem.model().dofs();
-    let g_hat = problem.impact_matrices();
-    let h = problem.contact_functionals();
-    let stops = problem.contact_positions();
-    let flight = |f: usize| {
-        let end = if f + 1 < m { tuple[f + 1] } else { grid };
-        &steps[end - tuple[f]]
-    };
-    let mut pre: Vec<DMatrix<f64>> = Vec::with_capacity(m);
-    pre.push(flight(0).clone());
-    for f in 1..m {
-        let next = flight(f) * (&g_hat[f] * &pre[f - 1]);
-        pre.push(next);
-    }
-    let psi = &g_hat[0] * &pre[m - 1];
-    let Some(k) = (DMatrix::<f64>::identity(n2, n2) - psi.view((0, 0), (n2, n2))).try_inverse()
-    else {
-        return vec![f64::INFINITY; ALPHA_SCAN];
-    };
-    // The augmented states after the first impact for p₀ = (1, 0) and (0, 1).
-    let mut z = DMatrix::<f64>::zeros(n2 + 2, 2);
-    z.view_mut((0, 0), (n2, 2))
-        .copy_from(&(k * psi.view((0, n2), (n2, 2))));
-    z[(n2, 0)] = 1.0;
-    z[(n2 + 1, 1)] = 1.0;
-    // Residual j = c_j · p − stop_j.
-    let coefficients: Vec<[f64; 2]> = (0..m)
-        .map(|j| {
-            let row = if j == 0 {
-                h[0].transpose() * &z
-            } else {
-                (h[j].transpose() * &pre[j - 1]) * &z
-            };
-            [row[0], row[1]]
+    let flights: Vec<&OMatrix<f64, D, D>> = (0..m)
+        .map(|f| {
+            let end = if f + 1 < m { tuple[f + 1] } else { grid };
+            &steps[end - tuple[f]]
         })
         .collect();
+    let pre = equations.pre_maps(&flights);
+    let Some(lu) = equations.periodicity(&pre) else {
+        return vec![f64::INFINITY; ALPHA_SCAN];
+    };
+    // The contact values for p₀ = (1, 0) and (0, 1): residual j = c_j · p − stop_j.
+    let mut coefficients = vec![[0.0; 2]; m];
+    for (c, p) in [[1.0, 0.0], [0.0, 1.0]].into_iter().enumerate() {
+        let Some(z) = lu.solve(&equations.augmented_vector(None, p)) else {
+            return vec![f64::INFINITY; ALPHA_SCAN];
+        };
+        for (j, v) in equations.contact_values(&pre, &z).into_iter().enumerate() {
+            coefficients[j][c] = v;
+        }
+    }
+    let stops = equations.stops();
     (0..ALPHA_SCAN)
         .map(|k| {
             let (c, s) = (scan_angle(k).cos(), scan_angle(k).sin());

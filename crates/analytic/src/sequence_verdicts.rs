@@ -4,7 +4,6 @@
 //! [`solve_sequence`] is the entry point from a guess; [`crate::sequence_search`] finds every
 //! orbit of a sequence by a multi-start.
 
-use crate::cycle::ENERGY_FLOOR;
 use crate::linear::transmittance_db;
 use crate::model::LinearModel;
 use crate::model_flight::{eigenvalues, ModelFlight};
@@ -168,8 +167,8 @@ pub fn solve_sequence(
 ) -> Result<SequenceOrbit, SequenceOrbitError> {
     let problem = SequenceProblem::new(model, omega, sequence)?;
     let solver = SequenceNewton::default();
-    let converged = solver.solve(&problem, guess)?;
-    let (alpha, phases) = problem.canonical(&converged.unknowns);
+    let converged = solver.solve(problem.equations(), guess)?;
+    let (alpha, phases) = problem.equations().canonical(&converged.unknowns);
     assemble(&problem, alpha, &phases, converged.iteration)
 }
 
@@ -193,19 +192,17 @@ pub fn assemble(
     let n2 = 2 * n;
     let mut x = phases.to_vec();
     x[0] = alpha;
-    let e = problem.evaluate(&x)?;
-    let mut z1 = DVector::zeros(n2 + 2);
-    z1.rows_mut(0, n2).copy_from(&e.y1);
-    z1.rows_mut(n2, 2).copy_from(&e.p0);
+    let e = problem
+        .equations()
+        .evaluate_with(&x, false)
+        .ok_or(SequenceOrbitError::SingularCycle { omega })?;
     // Augmented state just before impact j (impact 0 closes the cycle).
-    let before: Vec<DVector<f64>> = (0..m)
-        .map(|j| &e.pre[if j == 0 { m - 1 } else { j - 1 }] * &z1)
-        .collect();
+    let before = e.before_impacts();
     let x_before: Vec<DVector<f64>> = before.iter().map(|z| z.rows(0, n2).into_owned()).collect();
     let p_at: Vec<DVector<f64>> = (0..m)
         .map(|j| {
             if j == 0 {
-                e.p0.clone()
+                e.z1.rows(n2, 2).into_owned()
             } else {
                 before[j].rows(n2, 2).into_owned()
             }
@@ -308,9 +305,11 @@ pub fn assemble(
                 }
             }
         }
-        energy.forcing_work += flight.quadratic_integral(&work_q, &start, duration);
-        energy.exchange_bound += flight.quadratic_integral(&exchange_q, &start, duration);
-        energy.dashpot_dissipation += flight.quadratic_integral(&dissipation_q, &start, duration);
+        let moment = flight.second_moment(&start, duration);
+        let integral = |q: &DMatrix<f64>| q.component_mul(&moment).sum();
+        energy.forcing_work += integral(&work_q);
+        energy.exchange_bound += integral(&exchange_q);
+        energy.dashpot_dissipation += integral(&dissipation_q);
     }
     let mass_cholesky = model.mass().clone().cholesky();
     energy.impact_losses = (0..m)
@@ -329,17 +328,12 @@ pub fn assemble(
         .solve(&model.forcing().cosine)
         .unwrap_or_else(|| DVector::from_element(n, f64::NAN));
     let static_energy = model.forcing().cosine.dot(&statics).abs();
-    let floor = if static_energy.is_finite() {
-        ENERGY_FLOOR * static_energy
-    } else {
-        0.0
-    };
-    let reference = energy
-        .forcing_work
-        .abs()
-        .max(energy.dashpot_dissipation.abs() + energy.impact_losses)
-        .max(ENERGY_EXCHANGE_FRACTION * energy.exchange_bound)
-        .max(floor);
+    let reference = energy_reference(
+        energy.forcing_work,
+        energy.dashpot_dissipation.abs() + energy.impact_losses,
+        energy.exchange_bound,
+        static_energy,
+    );
     let energy_residual =
         (energy.forcing_work - energy.dashpot_dissipation - energy.impact_losses).abs() / reference;
 
@@ -399,6 +393,32 @@ pub fn assemble(
         energy_residual,
         newton_iterations,
     })
+}
+
+/// Energy scale floor of the energy residual's reference, as a fraction of the static energy
+/// `f_cᵀK⁻¹f_c` (`k_o u_g²` on the unit): a conservative orbit that exchanges next to no
+/// energy is measured against this rather than against rounding.
+pub const ENERGY_FLOOR: f64 = 1e-6;
+
+/// The reference of the energy residual on every path (the unit's and every model's): the
+/// largest of `|work|`, the losses (dashpots and impacts), [`ENERGY_EXCHANGE_FRACTION`] of the
+/// bound on the gross energy exchanged, and [`ENERGY_FLOOR`] of the static energy (ignored
+/// when not finite).
+pub(crate) fn energy_reference(
+    work: f64,
+    losses: f64,
+    exchange_bound: f64,
+    static_energy: f64,
+) -> f64 {
+    let floor = if static_energy.is_finite() {
+        ENERGY_FLOOR * static_energy
+    } else {
+        0.0
+    };
+    work.abs()
+        .max(losses)
+        .max(ENERGY_EXCHANGE_FRACTION * exchange_bound)
+        .max(floor)
 }
 
 /// Fraction of [`ModelEnergy::exchange_bound`] below which the energy residual's reference

@@ -390,9 +390,10 @@ fn impact_sequences_are_canonical_rotations_and_name_their_pairs() {
     ));
 }
 
-/// The general model's cycle, evaluated at the impact times and phase of the unit's own
-/// signature orbits (`+-` and `++--` of the existing fixed-size solver), reproduces their
-/// periodic state and closes every contact: both are the same equations.
+/// The general model's cycle equations (heap matrices), evaluated at the impact times and
+/// phase of the unit's own signature orbits (`+-` and `++--`, the same equations on the unit's
+/// fixed-size matrices and its own flow), reproduce their periodic state and close every
+/// contact; the general solver started there gives the same Floquet multipliers.
 #[test]
 fn general_cycle_at_the_units_orbits_reproduces_them() {
     /// Agreement of two exact computations of the same cycle (different products of
@@ -409,29 +410,28 @@ fn general_cycle_at_the_units_orbits_reproduces_them() {
         for (text, omega) in [("+-", 1.2), ("+-", 2.6), ("++--", 1.5), ("++--", 2.0)] {
             let signature = Signature::parse(text, 1).unwrap();
             let sequence = ImpactSequence::from_signature(&signature);
+            let problem = SequenceProblem::new(&model, omega, &sequence).unwrap();
             for o in signature_orbits(&unit, &stops, omega, &signature) {
-                let cycle = model
-                    .evaluate_cycle(omega, &sequence, o.alpha, &o.impact_phases)
-                    .unwrap();
+                let mut x = o.impact_phases.clone();
+                x[0] = o.alpha;
+                let cycle = problem.equations().evaluate_with(&x, false).unwrap();
+                let before = cycle.before_impacts();
                 let scale = o.state_after_impact.amax().max(1.0);
                 for k in 0..4 {
-                    let d = (cycle.state_after_first_impact[k] - o.state_after_impact[k]).abs();
+                    let d = (cycle.z1[k] - o.state_after_impact[k]).abs();
                     assert!(
                         d <= AGREEMENT * scale,
                         "{text} at {omega}: state {k} off by {d:e}"
                     );
-                    for (x, y) in cycle
-                        .states_before_impacts
-                        .iter()
-                        .zip(&o.states_before_impacts)
-                    {
-                        assert!((x[k] - y[k]).abs() <= AGREEMENT * scale);
+                    for (z, y) in before.iter().zip(&o.states_before_impacts) {
+                        assert!((z[k] - y[k]).abs() <= AGREEMENT * scale);
                     }
                 }
-                assert!(cycle.contact_residuals.amax() <= AGREEMENT * scale);
+                assert!(cycle.residual.amax() <= AGREEMENT * scale);
                 // Floquet multipliers: each of the fixed solver's has a general one within
                 // the tolerance (matched one to one).
-                let mut general = cycle.floquet_multipliers();
+                let general = solve_sequence(&model, omega, &sequence, &x).unwrap();
+                let mut general = general.floquet_multipliers;
                 assert_eq!(general.len(), o.floquet_multipliers.len());
                 for mu in &o.floquet_multipliers {
                     let (best, d) = general

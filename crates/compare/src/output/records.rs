@@ -452,7 +452,7 @@ pub struct CrossCheckRecord {
     pub class_detail: String,
     /// See `verdict::CrossCheck::relative_difference`.
     pub relative_difference: Option<f64>,
-    /// Largest distance between a simulated multiplier and its nearest analytic one.
+    /// The two solvers' multipliers matched one to one: the largest distance of a matched pair.
     pub multiplier_difference: Option<f64>,
     /// Every viable analytic orbit of the simulated signature, confirmed or not by the
     /// simulator's own Newton started on it.
@@ -474,7 +474,7 @@ pub struct ConfirmationRecord {
     pub confirmed: bool,
     /// State difference, relative.
     pub state_difference: Option<f64>,
-    /// Largest distance between a simulated multiplier and its nearest analytic one.
+    /// The two solvers' multipliers matched one to one: the largest distance of a matched pair.
     pub multiplier_difference: Option<f64>,
     /// Why Newton failed, if it did.
     pub error: Option<String>,

@@ -13,7 +13,7 @@ use crate::scene::simulator::{
     model, run, start_on_orbit, Regime, SimulateError, SimulatedPoint, START_PERTURBATION,
 };
 use crate::scene::{phase, Scene};
-use nalgebra::{Complex, DVector, Vector4};
+use nalgebra::{DVector, Vector4};
 use rattle_analytic::{solve_signature, Orbit, OrbitError, Signature, SignatureOrbit};
 use rattle_event_driven::{periodic_orbit, PeriodicOrbit, SimulationOptions, Start, Status};
 use thiserror::Error;
@@ -377,8 +377,9 @@ pub struct CrossCheck {
     /// the state's size, of the impact phases (fractions of the cycle), and of the base phase
     /// at the first impact over π.
     pub relative_difference: Option<f64>,
-    /// The largest distance between a simulated Floquet multiplier and its nearest analytic
-    /// one.
+    /// The two solvers' Floquet multipliers matched one to one, closest pairs first
+    /// ([`chain::matched_distance`]): the largest distance of a matched pair (a nearest match
+    /// could pair two simulated multipliers with one analytic one and hide a missing one).
     pub multiplier_difference: Option<f64>,
     /// Every viable analytic orbit of the simulated signature (within the multi-start's scope,
     /// [`MULTI_START_IMPACTS`] and [`MULTI_START_PERIODS`]; beyond it the seeded orbit alone),
@@ -404,7 +405,7 @@ pub struct Confirmation {
     pub confirmed: bool,
     /// The state difference at the start time, relative to the state's size.
     pub state_difference: Option<f64>,
-    /// The largest distance between a simulated multiplier and its nearest analytic one.
+    /// The two solvers' multipliers matched one to one ([`chain::matched_distance`]).
     pub multiplier_difference: Option<f64>,
     /// Why Newton failed, if it did.
     pub error: Option<String>,
@@ -447,7 +448,7 @@ fn confirm_orbit(
                 .fold(0.0, f64::max)
                 / x.norm().max(f64::MIN_POSITIVE);
             out.state_difference = Some(d);
-            out.multiplier_difference = Some(nearest_distance(
+            out.multiplier_difference = Some(chain::matched_distance(
                 &found.floquet_multipliers,
                 &orbit.floquet_multipliers,
             ));
@@ -456,17 +457,6 @@ fn confirm_orbit(
         Err(e) => out.error = Some(e),
     }
     out
-}
-
-/// The largest distance from a multiplier of `a` to its nearest one in `b`.
-fn nearest_distance(a: &[Complex<f64>], b: &[Complex<f64>]) -> f64 {
-    a.iter()
-        .map(|m| {
-            b.iter()
-                .map(|n| (m - n).norm())
-                .fold(f64::INFINITY, f64::min)
-        })
-        .fold(0.0, f64::max)
 }
 
 /// Both solvers on any periodic motion at `omega`: the simulator from rest settles, polishes
@@ -628,7 +618,8 @@ fn seeded_check(
                 .max(phase::distance(alpha, analytic.alpha) / std::f64::consts::PI)
         })
         .fold(f64::INFINITY, f64::min);
-    let multipliers = nearest_distance(&cycle.floquet_multipliers, &analytic.floquet_multipliers);
+    let multipliers =
+        chain::matched_distance(&cycle.floquet_multipliers, &analytic.floquet_multipliers);
     let within_search = confirm == Confirm::Every
         && signature.impacts() <= MULTI_START_IMPACTS
         && signature.period() <= MULTI_START_PERIODS;

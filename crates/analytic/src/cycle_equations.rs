@@ -1,0 +1,443 @@
+//! The cycle equations of an impact sequence, one implementation for every model: generic over
+//! the dimension `D` of the augmented state `z = (u, u̇, p)`, so that the unit runs them on
+//! stack matrices (`D = 6`) and a chain on heap matrices (`D` dynamic).
+//!
+//! A cycle of `p` forcing periods (`pT`) has `m` impacts at `0 = t₁ < t₂ < … < t_m < pT`,
+//! impact `j` with the augmented impact map `Ĝ_j` and the contact functional `h_j` (its pair's
+//! coordinate), which must equal `c_j` (the stop, `s_j gap`). For fixed `x = (α, t₂ … t_m)`
+//! everything else is linear: with the augmented flow `Φ_j = exp(Â τ_j)` of flight `j` the maps
+//! `Pre_j = Φ_j Ĝ_j Pre_{j−1}` (`Pre_0 = Φ_0`) carry `z₁ = (y₁, p₀)`, the state just after the
+//! first impact and `p₀ = (cos α, sin α)`, to the state just before impact `j + 1`.
+//! Periodicity `(I − Ψ_xx) y₁ = Ψ_xp p₀`, `Ψ = Ĝ_0 Pre_{m−1}`, fixes `y₁`; it is solved in the
+//! augmented dimension as `P z₁ = (0, p₀)`, `P` being `I − Ψ` with its last two rows replaced
+//! by `(0, I₂)` (partial pivoting then eliminates exactly as on `I − Ψ_xx`). The `m` contact
+//! conditions `h_jᵀ z(t_j⁻) = c_j` are the residuals.
+//!
+//! Derivatives are exact: `∂Φ_j/∂τ_j = Â Φ_j`, `∂p₀/∂α = (−sin α, cos α)`, and the periodicity
+//! solve differentiated implicitly, `P dz₁ = (dΨ z₁ restricted to the state rows, dp₀)`.
+
+use crate::orbit::wrap;
+use nalgebra::allocator::Allocator;
+use nalgebra::{Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, OMatrix, OVector, LU};
+
+/// A flight shorter than this fraction of the cycle is two impacts merging: a grazing limit,
+/// not an orbit of the sequence. Far below any grid spacing, far above rounding of the times.
+pub const MIN_FLIGHT: f64 = 1e-9;
+
+/// What one impact of the sequence contributes to the cycle equations.
+#[derive(Debug, Clone)]
+pub struct ImpactCondition<D: Dim>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    /// `Ĝ_j = diag(I_n, G, I₂)`: the augmented impact map of its pair.
+    pub impact_map: OMatrix<f64, D, D>,
+    /// `h_j = (w, 0, 0)`: its pair's coordinate as a functional of the augmented state.
+    pub contact: OVector<f64, D>,
+    /// `c_j = s_j gap`: where that coordinate must be at the impact.
+    pub stop: f64,
+}
+
+/// The cycle equations of one impact sequence at one frequency, in augmented dimension `D`.
+#[derive(Debug, Clone)]
+pub struct CycleEquations<D: Dim>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    omega: f64,
+    augmented: OMatrix<f64, D, D>,
+    /// `Ĝ_j` of each impact, in sequence order.
+    g_hats: Vec<OMatrix<f64, D, D>>,
+    /// `h_j`: the augmented gradient of impact `j`'s pair coordinate.
+    contacts: Vec<OVector<f64, D>>,
+    /// `c_j = s_j gap` of each impact: where its pair coordinate must be.
+    stops: Vec<f64>,
+    /// The rotations of the cycle that map the sequence onto itself.
+    symmetries: Vec<usize>,
+    cycle: f64,
+}
+
+/// The cycle evaluated at one `x = (α, φ₂ … φ_m)`.
+#[derive(Debug, Clone)]
+pub struct CycleEvaluation<D: Dim>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    /// `Φ_j` of each flight.
+    pub flights: Vec<OMatrix<f64, D, D>>,
+    /// `Pre_j`: from `z₁` to the augmented state just before impact `j + 1` (impact `m`
+    /// being the first impact of the next cycle).
+    pub pre: Vec<OMatrix<f64, D, D>>,
+    /// `z₁ = (y₁, p₀)`: the state just after the first impact and the forcing phase there.
+    pub z1: OVector<f64, D>,
+    /// Contact residuals `h_jᵀ z(t_j⁻) − c_j`, in sequence order.
+    pub residual: DVector<f64>,
+    /// `∂ residual / ∂ (α, φ₂ … φ_m)`, `φ` the impact times as fractions of the cycle; empty
+    /// when evaluated without derivatives.
+    pub jacobian: DMatrix<f64>,
+}
+
+impl<D: Dim> CycleEvaluation<D>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    /// The augmented state just before each impact, in sequence order (impact 0's closes the
+    /// cycle).
+    pub fn before_impacts(&self) -> Vec<OVector<f64, D>> {
+        let m = self.pre.len();
+        (0..m)
+            .map(|j| &self.pre[if j == 0 { m - 1 } else { j - 1 }] * &self.z1)
+            .collect()
+    }
+}
+
+impl<D: DimMin<D, Output = D>> CycleEquations<D>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    /// The equations from their parts: the augmented system matrix `Â` at `omega`, and per
+    /// impact (in sequence order) its augmented impact map `Ĝ_j`, contact functional `h_j` and
+    /// stop `c_j`; `symmetries` the rotations of the cycle that keep the sequence, `cycle` its
+    /// length `pT`.
+    ///
+    /// # Panics
+    /// If the per-impact lists are empty or differ in length.
+    pub fn new(
+        omega: f64,
+        augmented: OMatrix<f64, D, D>,
+        impacts: Vec<ImpactCondition<D>>,
+        symmetries: Vec<usize>,
+        cycle: f64,
+    ) -> Self {
+        assert!(!impacts.is_empty(), "a cycle has at least one impact");
+        let mut g_hats = Vec::with_capacity(impacts.len());
+        let mut contacts = Vec::with_capacity(impacts.len());
+        let mut stops = Vec::with_capacity(impacts.len());
+        for impact in impacts {
+            g_hats.push(impact.impact_map);
+            contacts.push(impact.contact);
+            stops.push(impact.stop);
+        }
+        Self {
+            omega,
+            augmented,
+            g_hats,
+            contacts,
+            stops,
+            symmetries,
+            cycle,
+        }
+    }
+
+    /// The forcing frequency.
+    pub fn omega(&self) -> f64 {
+        self.omega
+    }
+
+    /// Length of the cycle, `pT`.
+    pub fn cycle(&self) -> f64 {
+        self.cycle
+    }
+
+    /// The augmented system matrix `Â`.
+    pub fn augmented_matrix(&self) -> &OMatrix<f64, D, D> {
+        &self.augmented
+    }
+
+    /// Number of impacts `m`, also the number of unknowns.
+    pub fn impacts(&self) -> usize {
+        self.stops.len()
+    }
+
+    /// Dimension of the mechanical state `(u, u̇)`: the augmented dimension less two.
+    pub fn states(&self) -> usize {
+        self.augmented.nrows() - 2
+    }
+
+    /// `c_j` of each impact.
+    pub fn stops(&self) -> &[f64] {
+        &self.stops
+    }
+
+    /// The impact phases `(0, φ₂ … φ_m)` of the unknowns `x = (α, φ₂ … φ_m)`.
+    pub fn phases(x: &[f64]) -> Vec<f64> {
+        let mut p = x.to_vec();
+        if let Some(first) = p.first_mut() {
+            *first = 0.0;
+        }
+        p
+    }
+
+    /// Whether the unknowns keep every flight longer than [`MIN_FLIGHT`] of the cycle.
+    pub fn ordered(&self, x: &[f64]) -> bool {
+        let m = self.impacts();
+        (1..m).all(|i| {
+            let prev = if i == 1 { 0.0 } else { x[i - 1] };
+            x[i] - prev > MIN_FLIGHT
+        }) && (m == 1 || 1.0 - x[m - 1] > MIN_FLIGHT)
+    }
+
+    /// Size of the motion against which residuals are measured: the largest stop the sequence
+    /// hits and the largest displacement just after the first impact.
+    pub fn scale(&self, z1: &OVector<f64, D>) -> f64 {
+        let dofs = self.states() / 2;
+        let gaps = self.stops.iter().fold(0.0, |a: f64, s| a.max(s.abs()));
+        z1.rows(0, dofs).iter().fold(gaps, |a, v| a.max(v.abs()))
+    }
+
+    /// Among the rotations of the cycle that keep the sequence, the representation of the
+    /// unknowns `x` with the smallest wrapped `α`: returns `(α, phases)`.
+    pub fn canonical(&self, x: &[f64]) -> (f64, Vec<f64>) {
+        smallest_rotation(
+            x[0],
+            Self::phases(x),
+            &self.symmetries,
+            self.omega * self.cycle,
+        )
+    }
+
+    /// `exp(Â τ)`.
+    pub fn flow(&self, tau: f64) -> OMatrix<f64, D, D> {
+        (&self.augmented * tau).exp()
+    }
+
+    /// `Pre_j` of the flights `flights`, in order.
+    pub fn pre_maps(&self, flights: &[&OMatrix<f64, D, D>]) -> Vec<OMatrix<f64, D, D>> {
+        let mut pre: Vec<OMatrix<f64, D, D>> = Vec::with_capacity(flights.len());
+        pre.push(flights[0].clone());
+        for f in 1..flights.len() {
+            let next = flights[f] * (&self.g_hats[f] * &pre[f - 1]);
+            pre.push(next);
+        }
+        pre
+    }
+
+    /// The LU factors of the periodicity matrix `P` (`I − Ψ` with its last two rows
+    /// `(0, I₂)`), `pre` the maps of one cycle; `None` when it is singular.
+    pub fn periodicity(&self, pre: &[OMatrix<f64, D, D>]) -> Option<LU<f64, D, D>> {
+        let last = pre.last()?;
+        let psi = &self.g_hats[0] * last;
+        let size = psi.nrows();
+        let d = D::from_usize(size);
+        let mut p = OMatrix::<f64, D, D>::identity_generic(d, d) - psi;
+        p.rows_mut(size - 2, 2).fill(0.0);
+        p[(size - 2, size - 2)] = 1.0;
+        p[(size - 1, size - 1)] = 1.0;
+        let lu = p.lu();
+        lu.is_invertible().then_some(lu)
+    }
+
+    /// The augmented vector with the state rows `state` (zero when `None`) and phase `p`.
+    pub(crate) fn augmented_vector(
+        &self,
+        state: Option<&OVector<f64, D>>,
+        p: [f64; 2],
+    ) -> OVector<f64, D> {
+        let size = self.augmented.nrows();
+        let mut v = match state {
+            Some(s) => s.clone(),
+            None => OVector::<f64, D>::zeros_generic(D::from_usize(size), Const::<1>),
+        };
+        v[size - 2] = p[0];
+        v[size - 1] = p[1];
+        v
+    }
+
+    /// `h_jᵀ z(t_j⁻)` of each impact, the cycle starting from `z1` through the maps `pre`.
+    pub fn contact_values(&self, pre: &[OMatrix<f64, D, D>], z1: &OVector<f64, D>) -> Vec<f64> {
+        (0..self.impacts())
+            .map(|j| {
+                if j == 0 {
+                    self.contacts[0].dot(z1)
+                } else {
+                    self.contacts[j].dot(&(&pre[j - 1] * z1))
+                }
+            })
+            .collect()
+    }
+
+    /// The contact residuals `h_jᵀ z(t_j⁻) − c_j` of the cycle from `z1` through `pre`.
+    pub fn residuals(&self, pre: &[OMatrix<f64, D, D>], z1: &OVector<f64, D>) -> DVector<f64> {
+        let values = self.contact_values(pre, z1);
+        DVector::from_fn(values.len(), |j, _| values[j] - self.stops[j])
+    }
+
+    /// The cycle at `x = (α, φ₂ … φ_m)`, with the exact Jacobian when `with_jacobian`.
+    /// `None` when the periodicity solve is singular.
+    ///
+    /// # Panics
+    /// If `x` does not have one entry per impact.
+    pub fn evaluate_with(&self, x: &[f64], with_jacobian: bool) -> Option<CycleEvaluation<D>> {
+        let m = self.impacts();
+        assert_eq!(x.len(), m, "one unknown per impact");
+        let phases = Self::phases(x);
+        let flights: Vec<OMatrix<f64, D, D>> = (0..m)
+            .map(|f| {
+                let end = if f + 1 < m { phases[f + 1] } else { 1.0 };
+                self.flow((end - phases[f]) * self.cycle)
+            })
+            .collect();
+        let pre = self.pre_maps(&flights.iter().collect::<Vec<_>>());
+        let lu = self.periodicity(&pre)?;
+        let alpha = x[0];
+        let z1 = lu.solve(&self.augmented_vector(None, [alpha.cos(), alpha.sin()]))?;
+        let residual = self.residuals(&pre, &z1);
+        let mut evaluation = CycleEvaluation {
+            flights,
+            pre,
+            z1,
+            residual,
+            jacobian: DMatrix::zeros(0, 0),
+        };
+        if with_jacobian {
+            evaluation.jacobian = self.jacobian(&evaluation, &lu, alpha)?;
+        }
+        Some(evaluation)
+    }
+
+    /// The cycle at `x = (α, φ₂ … φ_m)` with the exact Jacobian in `(x, ω)`, `m × (m + 1)`:
+    /// the last column is `∂ residual / ∂ω` at fixed `x` (impact phases as fractions of the
+    /// cycle), `augmented_rate` being `dÂ/dω`. In the forcing angle `σ = ωt` a flight over the
+    /// phase fraction `Δφ` is `Φ = exp(B σ)`, `σ = 2πp Δφ`, `B = Â/ω`, so `ω` enters only through
+    /// `B`: `∂Φ/∂ω` is the Fréchet derivative of the exponential in the direction `B'σ`,
+    /// `B' = Â'/ω − Â/ω²`, the top-right block of `exp([[Bσ, B'σ], [0, Bσ]])`. `None` when the
+    /// periodicity solve is singular.
+    ///
+    /// # Panics
+    /// If `x` does not have one entry per impact or `augmented_rate` is not the size of `Â`.
+    pub fn evaluate_in_omega(
+        &self,
+        x: &[f64],
+        augmented_rate: &OMatrix<f64, D, D>,
+    ) -> Option<CycleEvaluation<D>> {
+        let mut e = self.evaluate_with(x, false)?;
+        let lu = self.periodicity(&e.pre)?;
+        let in_x = self.jacobian(&e, &lu, x[0])?;
+        let m = self.impacts();
+        let size = self.augmented.nrows();
+        let d = D::from_usize(size);
+        let omega = self.omega;
+        let b = &self.augmented / omega;
+        let b_rate = augmented_rate / omega - &self.augmented / (omega * omega);
+        let angle = self.cycle * omega;
+        let phases = Self::phases(x);
+        let rates: Vec<OMatrix<f64, D, D>> = (0..m)
+            .map(|f| {
+                let end = if f + 1 < m { phases[f + 1] } else { 1.0 };
+                let sigma = (end - phases[f]) * angle;
+                let big = DMatrix::from_fn(2 * size, 2 * size, |i, j| match (i < size, j < size) {
+                    (true, true) => b[(i, j)] * sigma,
+                    (false, false) => b[(i - size, j - size)] * sigma,
+                    (true, false) => b_rate[(i, j - size)] * sigma,
+                    (false, true) => 0.0,
+                });
+                let ex = dynamic_exp(&big);
+                OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| ex[(i, size + j)])
+            })
+            .collect();
+        let own = |f: usize| {
+            Some(if f == 0 {
+                rates[0].clone()
+            } else {
+                &rates[f] * (&self.g_hats[f] * &e.pre[f - 1])
+            })
+        };
+        let in_omega = self.column(&e, &lu, own, [0.0, 0.0])?;
+        let mut jacobian = DMatrix::zeros(m, m + 1);
+        jacobian.view_mut((0, 0), (m, m)).copy_from(&in_x);
+        jacobian.set_column(m, &in_omega);
+        e.jacobian = jacobian;
+        Some(e)
+    }
+
+    /// `∂ residual / ∂ (α, φ₂ … φ_m)` at an evaluation.
+    fn jacobian(
+        &self,
+        e: &CycleEvaluation<D>,
+        lu: &LU<f64, D, D>,
+        alpha: f64,
+    ) -> Option<DMatrix<f64>> {
+        let m = self.impacts();
+        let mut jacobian = DMatrix::zeros(m, m);
+        // α: only p₀ moves.
+        let alpha_column = self.column(e, lu, |_| None, [-alpha.sin(), alpha.cos()])?;
+        jacobian.set_column(0, &alpha_column);
+        // t_i (impact i ≥ 1): flight i − 1 grows, flight i shrinks, so the own term of
+        // ∂Pre_f is c_f Â Pre_f with c_{i−1} = 1, c_i = −1.
+        for i in 1..m {
+            let own = |f: usize| {
+                let c = (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
+                (c != 0.0).then(|| &self.augmented * &e.pre[f] * (c * self.cycle))
+            };
+            jacobian.set_column(i, &self.column(e, lu, own, [0.0, 0.0])?);
+        }
+        Some(jacobian)
+    }
+
+    /// The derivative of the residuals along one direction in which flight `f` contributes
+    /// `own(f) = ∂Φ_f Ĝ_f Pre_{f−1}` (`∂Φ_0` for the first; `None`: the flight is unchanged)
+    /// and `p₀` moves by `dp0`: `∂Pre_f = Φ_f Ĝ_f ∂Pre_{f−1} + own(f)`, and the periodicity
+    /// solve differentiated.
+    pub fn column(
+        &self,
+        e: &CycleEvaluation<D>,
+        lu: &LU<f64, D, D>,
+        own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
+        dp0: [f64; 2],
+    ) -> Option<DVector<f64>> {
+        let m = self.impacts();
+        let mut dpre: Vec<Option<OMatrix<f64, D, D>>> = Vec::with_capacity(m);
+        for f in 0..m {
+            let carried = f
+                .checked_sub(1)
+                .and_then(|g| dpre[g].as_ref())
+                .map(|previous| &e.flights[f] * (&self.g_hats[f] * previous));
+            dpre.push(match (carried, own(f)) {
+                (Some(d), Some(o)) => Some(d + o),
+                (d, o) => d.or(o),
+            });
+        }
+        let moved_psi = dpre[m - 1]
+            .as_ref()
+            .map(|last| &self.g_hats[0] * (last * &e.z1));
+        let dz1 = lu.solve(&self.augmented_vector(moved_psi.as_ref(), dp0))?;
+        Some(DVector::from_fn(m, |j, _| {
+            if j == 0 {
+                return self.contacts[0].dot(&dz1);
+            }
+            let moved = &e.pre[j - 1] * &dz1;
+            let total = match dpre[j - 1].as_ref() {
+                Some(d) => d * &e.z1 + moved,
+                None => moved,
+            };
+            self.contacts[j].dot(&total)
+        }))
+    }
+}
+
+/// `exp(m)` of a heap matrix (outside the generic impl, whose bounds hide the method).
+fn dynamic_exp(m: &DMatrix<f64>) -> DMatrix<f64> {
+    m.exp()
+}
+
+/// Among the rotations `symmetries` of a cycle (start at impact `k` instead of 0) that keep
+/// its canonical sequence, the representation of `(α, phases)` with the smallest wrapped `α`;
+/// `omega_cycle` is `ω` times the cycle's length.
+pub(crate) fn smallest_rotation(
+    alpha: f64,
+    phases: Vec<f64>,
+    symmetries: &[usize],
+    omega_cycle: f64,
+) -> (f64, Vec<f64>) {
+    let m = phases.len();
+    symmetries
+        .iter()
+        .map(|&k| {
+            let shifted: Vec<f64> = (0..m)
+                .map(|j| (phases[(j + k) % m] - phases[k]).rem_euclid(1.0))
+                .collect();
+            (wrap(alpha + omega_cycle * phases[k]), shifted)
+        })
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap_or((wrap(alpha), phases))
+}
