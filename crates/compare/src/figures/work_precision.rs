@@ -68,7 +68,7 @@ fn draw_siconos<DB: DrawingBackend>(
             ))
             .map_err(err)?
             .label(format!(
-                "{label} {:.0e} … {:.0e}{unit} (error of X_o only)",
+                "{label} {:.0e} … {:.0e}{unit} (error of X_o only; CPU time of its loop)",
                 runs.first().map_or(f64::NAN, |r| r.knob),
                 runs.last().map_or(f64::NAN, |r| r.knob)
             ))

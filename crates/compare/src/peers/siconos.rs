@@ -42,8 +42,8 @@ pub struct SiconosRun {
     /// The knob: Lsodar's relative (and absolute) tolerance for the event-driven scheme, the
     /// time step (s) for Moreau–Jean.
     pub knob: f64,
-    /// Wall time of the simulation loop (model built, Python driving it step by step), seconds;
-    /// the minimum of the repeats.
+    /// CPU time (user + system) of the simulation loop (model built, Python driving it event
+    /// by event or step by step), seconds; the minimum of the repeats.
     pub seconds: Option<f64>,
     /// Impacts over the run (Moreau–Jean: steps that open a contact with a positive impulse).
     pub impacts: Option<u64>,
@@ -105,8 +105,8 @@ pub struct RattleRun {
     pub fixed_periods_outer_amplitude: Option<f64>,
     /// Impacts over the fixed number of periods.
     pub impacts: u64,
-    /// Wall time of the whole process over the fixed number of periods, seconds (minimum of
-    /// the repeats).
+    /// CPU time (user + system) of the whole process over the fixed number of periods,
+    /// seconds (minimum of the repeats).
     pub seconds: f64,
 }
 

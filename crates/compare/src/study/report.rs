@@ -739,8 +739,9 @@ pub fn siconos_section(peer: Option<&SiconosPeer>, precision: &WorkPrecision) ->
          impact and smooth-acceleration LCPs, `setToleranceED({:e})` (at its default it stops with \"output of level 0 \
          must be positive\"), {} output points per period; X_o from the exact free flight through Siconos's state at each \
          event. Moreau–Jean: `TimeStepping` with `MoreauJeanOSI(θ = {})` and an LCP; X_o the largest |u_o| at its steps. \
-         Times: rattle whole process (`rattle simulate --periods N`), Siconos its simulation loop alone, driven from \
-         Python step by step (import and model building excluded); minimum of repeats, on a shared 2-core machine.\n",
+         Times are CPU time (user + system, minimum of repeats; the machine is shared): rattle's whole process \
+         (`rattle simulate --periods N`), Siconos's simulation loop alone, driven from Python event by event or step \
+         by step (import and model building excluded).\n",
         peer.siconos, peer.python, peer.machine, s.tolerance_ed, s.ed_outputs_per_period, s.theta
     );
     let _ = writeln!(
@@ -757,7 +758,7 @@ pub fn siconos_section(peer: Option<&SiconosPeer>, precision: &WorkPrecision) ->
                 r,
                 "\n### Accuracy against cost (figures/work-precision), ω = {} rad/s, {} periods from rest\n\n\
                  Errors of the outer amplitude against the analytic orbit (X_o = {:.10}); rattle's times are \
-                 in-process minima of one solve.\n",
+                 in-process wall-time minima of one solve (the figure's), Siconos's CPU time.\n",
                 wp.omega, wp.periods, precision.orbit.outer_amplitude
             );
             siconos_precision_table(&mut r, precision, wp);
