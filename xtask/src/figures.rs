@@ -4,6 +4,7 @@ use crate::root;
 use clap::Args;
 use rattle_compare::figures;
 use rattle_compare::output::{write_table, Format, Header};
+use rattle_compare::peers::siconos::{SiconosPeer, SICONOS_DATA};
 use rattle_compare::peers::work_precision;
 use rattle_compare::runs::axis::Axis;
 use rattle_compare::runs::basins::{basin_options, BasinGrid};
@@ -15,7 +16,7 @@ use rattle_compare::study::chaos::{
     chaos_samples, poincare_sections, POINCARE_OMEGA, POINCARE_POINTS,
 };
 use rattle_compare::study::paper::READING_B_GAP_FACTOR;
-use rattle_compare::study::report::{agreement, report};
+use rattle_compare::study::report::{agreement, report, siconos_section};
 use rattle_compare::study::{maps, MapSizes, Study, StudySize};
 use rattle_event_driven::SimulationOptions;
 use std::path::{Path, PathBuf};
@@ -169,7 +170,7 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
 
     let damped = Scene::load(&root().join(WORK_PRECISION_SCENE)).map_err(|e| e.to_string())?;
     eprintln!("work-precision study on '{}'", damped.name);
-    let precision = work_precision::study(
+    let mut precision = work_precision::study(
         &damped,
         WORK_PRECISION_OMEGA,
         WORK_PRECISION_PERIODS,
@@ -177,6 +178,18 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
         &options,
     )
     .map_err(|e| e.to_string())?;
+    // Siconos's points, as `cargo xtask peers` measured them (absent: the figure goes without).
+    let siconos = SiconosPeer::load(&root().join(SICONOS_DATA)).map_err(|e| e.to_string())?;
+    precision.siconos = siconos
+        .as_ref()
+        .and_then(|p| {
+            p.work_precision_for(
+                WORK_PRECISION_SCENE,
+                WORK_PRECISION_OMEGA,
+                WORK_PRECISION_PERIODS,
+            )
+        })
+        .cloned();
     written
         .extend(figures::draw_work_precision(&precision, &figures_dir).map_err(|e| e.to_string())?);
     lap("work-precision");
@@ -256,7 +269,9 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
     write(&validation.join("agreement.json"), &(doc + "\n"))?;
     write(
         &validation.join("report.md"),
-        &(report(&main, &other, &elastic_note, &samples) + &chain_section(&chains)),
+        &(report(&main, &other, &elastic_note, &samples)
+            + &chain_section(&chains)
+            + &siconos_section(siconos.as_ref(), &precision)),
     )?;
     for path in &written {
         eprintln!(

@@ -1,11 +1,14 @@
 //! Accuracy against cost: error against the analytic orbit versus time per solve for the
 //! event-driven simulator (over its root tolerance) and the Runge–Kutta baseline (over its
-//! `rtol`), with the analytic solve as one point (`work-precision`); and the cost of reaching a
+//! `rtol`), with the analytic solve as one point, and Siconos's event-driven and Moreau–Jean
+//! schemes when their results are attached (`work-precision`); and the cost of reaching a
 //! steady state and of sweeps (`steady-state-cost`).
 
 use crate::figures::plot::{err, legend, text, Figure};
+use crate::peers::siconos::{SiconosRun, SiconosWorkPrecision};
 use crate::peers::work_precision::{PrecisionPoint, WorkPrecision, FAILURE_ERROR};
 use crate::runs::sweep::Solver;
+use plotters::coord::combinators::LogCoord;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -16,6 +19,87 @@ const FAILED: f64 = 0.5;
 
 const EVENT: RGBColor = RGBColor(30, 90, 220);
 const BASELINE: RGBColor = RGBColor(220, 60, 30);
+const SICONOS_EVENT: RGBColor = RGBColor(20, 150, 70);
+const SICONOS_MOREAU_JEAN: RGBColor = RGBColor(150, 60, 170);
+
+/// The work-precision chart's coordinates: log time against log error.
+type LogLog = Cartesian2d<LogCoord<f64>, LogCoord<f64>>;
+
+/// A Siconos run's point: (seconds, error of the outer amplitude), failures at [`FAILED`].
+fn siconos_plotted(run: &SiconosRun, reference: f64) -> Option<(f64, f64)> {
+    let seconds = run.seconds.filter(|t| t.is_finite() && *t > 0.0)?;
+    Some(match run.relative_error(reference) {
+        Some(e) if e <= FAILURE_ERROR => (seconds, e.max(FLOOR)),
+        _ => (seconds, FAILED),
+    })
+}
+
+/// Siconos's two schemes: each a line over its knob (squares), labelled with the knob,
+/// failures as crosses at the top. Their error is the outer amplitude's alone.
+fn draw_siconos<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, LogLog>,
+    siconos: &SiconosWorkPrecision,
+    reference: f64,
+) -> Result<(), String> {
+    let schemes = [
+        (
+            &siconos.event_driven,
+            SICONOS_EVENT,
+            "Siconos 4.4 event-driven (Lsodar, LCP), tolerance",
+            "",
+        ),
+        (
+            &siconos.moreau_jean,
+            SICONOS_MOREAU_JEAN,
+            "Siconos 4.4 Moreau–Jean (θ = 0.5, LCP), time step",
+            " s",
+        ),
+    ];
+    for (runs, colour, label, unit) in schemes {
+        let ok: Vec<(f64, f64, f64)> = runs
+            .iter()
+            .filter_map(|r| siconos_plotted(r, reference).map(|(t, e)| (t, e, r.knob)))
+            .filter(|p| p.1 < FAILED)
+            .collect();
+        chart
+            .draw_series(LineSeries::new(
+                ok.iter().map(|&(t, e, _)| (t, e)),
+                colour.stroke_width(2),
+            ))
+            .map_err(err)?
+            .label(format!(
+                "{label} {:.0e} … {:.0e}{unit} (error of X_o only; CPU time of its loop)",
+                runs.first().map_or(f64::NAN, |r| r.knob),
+                runs.last().map_or(f64::NAN, |r| r.knob)
+            ))
+            .legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+            });
+        chart
+            .draw_series(ok.iter().map(|&(t, e, _)| {
+                Rectangle::new([(t / 1.08, e / 1.6), (t * 1.08, e * 1.6)], colour.filled())
+            }))
+            .map_err(err)?;
+        chart
+            .draw_series(ok.iter().map(|&(t, e, knob)| {
+                Text::new(
+                    format!("{knob:.0e}"),
+                    (t * 1.1, e / 3.0),
+                    text(13).color(&colour),
+                )
+            }))
+            .map_err(err)?;
+        chart
+            .draw_series(
+                runs.iter()
+                    .filter_map(|r| siconos_plotted(r, reference))
+                    .filter(|p| p.1 >= FAILED)
+                    .map(|p| Cross::new(p, 7, colour.stroke_width(3))),
+            )
+            .map_err(err)?;
+    }
+    Ok(())
+}
 
 /// The work-precision figure.
 pub struct WorkPrecisionFigure {
@@ -71,12 +155,19 @@ impl Figure for WorkPrecisionFigure {
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
         let s = &self.study;
+        let siconos_seconds = s.siconos.iter().flat_map(|wp| {
+            wp.event_driven
+                .iter()
+                .chain(&wp.moreau_jean)
+                .filter_map(|r| r.seconds)
+        });
         let (tmin, tmax) = time_range(
             s.event_driven
                 .iter()
                 .chain(&s.baseline)
                 .map(|p| p.seconds)
-                .chain([s.analytic_seconds]),
+                .chain([s.analytic_seconds])
+                .chain(siconos_seconds),
         );
         let (title, body) = root.split_vertically(112);
         title
@@ -218,6 +309,9 @@ impl Figure for WorkPrecisionFigure {
                 )
                 .map_err(err)?;
         }
+        if let Some(siconos) = &s.siconos {
+            draw_siconos(&mut chart, siconos, s.orbit.outer_amplitude)?;
+        }
         // The analytic solve: one point, drawn at its difference from the most accurate
         // simulation (a bound on both).
         let floor = s
@@ -247,7 +341,8 @@ impl Figure for WorkPrecisionFigure {
             .map_err(err)?
             .label("failed solve (no two-impact motion in the last period, or error > 0.1)")
             .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(2)));
-        legend(&mut chart, SeriesLabelPosition::UpperRight, 15)?;
+        // Lower right (slow and accurate) is empty; Siconos's points sit top right.
+        legend(&mut chart, SeriesLabelPosition::LowerRight, 15)?;
         Ok(())
     }
 }

@@ -9,6 +9,7 @@
 //! least noisy statistic).
 
 use crate::peers::baseline::{self, BaselineError, Tolerances};
+use crate::peers::siconos::SiconosWorkPrecision;
 use crate::runs::axis::Axis;
 use crate::runs::parallel::Progress;
 use crate::runs::sweep::{sweep, Solver};
@@ -131,6 +132,10 @@ pub struct WorkPrecision {
     pub sweeps: Vec<SweepCost>,
     /// Frequency range of the sweeps.
     pub sweep_range: (f64, f64),
+    /// Siconos's two schemes on the same case, as measured by its script (not run by
+    /// [`study`], which leaves this `None`: the caller attaches the committed results,
+    /// [`crate::peers::siconos::SiconosPeer::work_precision_for`]).
+    pub siconos: Option<SiconosWorkPrecision>,
 }
 
 /// Minimum time of `work` over repeats: at least `min_repeats`, then until `budget` is spent
@@ -359,5 +364,6 @@ pub fn study(
         steady,
         sweeps,
         sweep_range,
+        siconos: None,
     })
 }

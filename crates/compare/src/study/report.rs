@@ -2,6 +2,8 @@
 //! (each claim of the paper beside the workbench's number and a verdict).
 
 use crate::output::finite;
+use crate::peers::siconos::{SiconosPeer, SiconosRun, SiconosWorkPrecision};
+use crate::peers::work_precision::WorkPrecision;
 use crate::runs::bands::{bands, describe};
 use crate::scene::Scene;
 use crate::study::chaos::{chaotic_bands_text, ChaosSample};
@@ -558,4 +560,218 @@ pub fn motion_bands(study: &Study) -> Vec<MotionBand> {
             }
         })
         .collect()
+}
+
+/// A number with 4 significant digits, `—` when absent.
+fn sig4(x: Option<f64>) -> String {
+    x.filter(|v| v.is_finite())
+        .map_or("—".to_owned(), |v| format!("{v:.4}"))
+}
+
+/// A relative difference or time in `e` notation, `—` when absent.
+fn sci(x: Option<f64>) -> String {
+    x.filter(|v| v.is_finite())
+        .map_or("—".to_owned(), |v| format!("{v:.1e}"))
+}
+
+/// A Siconos run in a table cell: its outer amplitude and difference from `reference`, or its
+/// failure.
+fn siconos_cell(run: &SiconosRun, reference: Option<f64>) -> (String, String) {
+    match &run.failure {
+        Some(f) => (format!("failed: {f}"), "—".to_owned()),
+        None => (
+            sig4(run.outer_amplitude),
+            sci(reference.and_then(|x| run.relative_error(x))),
+        ),
+    }
+}
+
+/// Seconds and microseconds per impact, `t s (µ µs/impact)`.
+fn cost(seconds: Option<f64>, per_impact: Option<f64>) -> String {
+    format!(
+        "{} s ({} µs)",
+        seconds.map_or("—".to_owned(), |s| format!("{s:.3}")),
+        per_impact.map_or("—".to_owned(), |s| format!("{:.1}", s * 1e6))
+    )
+}
+
+/// The steady-state table of the Siconos section.
+fn siconos_steady_table(r: &mut String, peer: &SiconosPeer) {
+    let s = &peer.settings;
+    let _ = writeln!(
+        r,
+        "| ω (rad/s) | periods from rest | rattle: motion, X_o (m) | Siconos event-driven X_o | difference | \
+         Siconos Moreau–Jean X_o (h = {} s) | difference | time (per impact): rattle | Siconos event-driven | \
+         Siconos Moreau–Jean |\n| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        s.steady_time_step
+    );
+    for row in &peer.steady_states {
+        let x = row.rattle.outer_amplitude;
+        let (ed, ed_diff) = siconos_cell(&row.event_driven, x);
+        let (mj, mj_diff) = siconos_cell(&row.moreau_jean, x);
+        let motion = row
+            .rattle
+            .signature
+            .as_ref()
+            .map_or(row.rattle.status.clone(), |sig| format!("`{sig}`"));
+        let _ = writeln!(
+            r,
+            "| {} | {} | {motion}, {} | {ed} | {ed_diff} | {mj} | {mj_diff} | {} | {} | {} |",
+            row.omega,
+            row.periods,
+            sig4(x),
+            cost(Some(row.rattle.seconds), row.rattle.seconds_per_impact()),
+            cost(
+                row.event_driven.seconds,
+                row.event_driven.seconds_per_impact()
+            ),
+            cost(
+                row.moreau_jean.seconds,
+                row.moreau_jean.seconds_per_impact()
+            ),
+        );
+    }
+}
+
+/// The work-precision table of the Siconos section: Siconos's runs beside rattle's simulator
+/// on the same case, errors of the outer amplitude against the analytic orbit.
+fn siconos_precision_table(r: &mut String, precision: &WorkPrecision, wp: &SiconosWorkPrecision) {
+    let reference = precision.orbit.outer_amplitude;
+    let _ = writeln!(
+        r,
+        "| solver | knob | X_o error | time (s) | impacts | µs per impact |\n| --- | --- | --- | --- | --- | --- |"
+    );
+    for p in &precision.event_driven {
+        let error = p
+            .difference
+            .map(|d| (d.outer_amplitude).abs())
+            .filter(|_| p.failure.is_none());
+        let _ = writeln!(
+            r,
+            "| rattle event-driven (in-process) | root tolerance {:.0e} | {} | {:.2e} | {} | {:.2} |",
+            p.tolerance,
+            sci(error),
+            p.seconds,
+            p.impacts,
+            p.seconds / p.impacts.max(1) as f64 * 1e6
+        );
+    }
+    for (name, runs, unit) in [
+        ("Siconos event-driven", &wp.event_driven, ""),
+        ("Siconos Moreau–Jean", &wp.moreau_jean, " s"),
+    ] {
+        for run in runs {
+            let error = match &run.failure {
+                Some(f) => format!("failed: {f}"),
+                None => sci(run.relative_error(reference)),
+            };
+            let _ = writeln!(
+                r,
+                "| {name} | {:.0e}{unit} | {error} | {} | {} | {} |",
+                run.knob,
+                sci(run.seconds),
+                run.impacts.map_or("—".to_owned(), |n| n.to_string()),
+                run.seconds_per_impact()
+                    .map_or("—".to_owned(), |s| format!("{:.1}", s * 1e6))
+            );
+        }
+    }
+}
+
+/// The grazing and sticking table of the Siconos section.
+fn siconos_hard_table(r: &mut String, peer: &SiconosPeer) {
+    let _ = writeln!(
+        r,
+        "| case | scene, ω (rad/s), periods | rattle | Siconos event-driven | Siconos Moreau–Jean |\n| --- | --- | --- | --- | --- |"
+    );
+    for row in &peer.hard_cases {
+        let ed = match &row.event_driven.failure {
+            Some(f) => format!("stops: {f}"),
+            None => format!(
+                "runs: X_o = {}, {} impacts",
+                sig4(row.event_driven.outer_amplitude),
+                row.event_driven.impacts.unwrap_or(0)
+            ),
+        };
+        let mj = match &row.moreau_jean.failure {
+            Some(f) => format!("stops: {f}"),
+            None => format!(
+                "runs: X_o = {}, {} impacts, deepest penetration {} m",
+                sig4(row.moreau_jean.outer_amplitude),
+                row.moreau_jean.impacts.unwrap_or(0),
+                sci(row.moreau_jean.penetration)
+            ),
+        };
+        let _ = writeln!(
+            r,
+            "| {} | `{}`, {}, {} | {}: X_o = {}, {} impacts | {ed} | {mj} |",
+            row.case,
+            row.scene,
+            row.omega,
+            row.periods,
+            row.rattle.status,
+            sig4(row.rattle.outer_amplitude),
+            row.rattle.impacts
+        );
+    }
+}
+
+/// The report's section on Siconos as a peer, from the committed results of
+/// `crates/compare/peers/siconos_unit.py` (`peer`; `None`: the section says how to make them)
+/// and rattle's own work-precision study (`precision`, for its simulator's points and the
+/// analytic reference).
+pub fn siconos_section(peer: Option<&SiconosPeer>, precision: &WorkPrecision) -> String {
+    let mut r = String::from("\n## Siconos as a peer\n\n");
+    let Some(peer) = peer else {
+        r += "No Siconos results (`data/peers/siconos.json`): `cargo xtask peers` runs \
+              `crates/compare/peers/siconos_unit.py` when Siconos is installed \
+              (`apt-get install python3-siconos`).\n";
+        return r;
+    };
+    let s = &peer.settings;
+    let _ = writeln!(
+        r,
+        "Siconos {} (Debian's `python3-siconos`, Python {}, {}) on the same unit, by \
+         `crates/compare/peers/siconos_unit.py`: a `LagrangianLinearTIDS` of the two masses and the base as a third, \
+         kinematic coordinate (`ü_b + ω² u_b = 0` from `u_g`, driving the outer mass through `k_o` and `c_o`: no \
+         time-dependent force, which would need a C plug-in to be fast), two `LagrangianLinearTIR` unilateral \
+         constraints `Δ ∓ r ≥ 0` with `NewtonImpactNSL(e)`. Event-driven: `EventDriven` with `LsodarOSI` and the \
+         impact and smooth-acceleration LCPs, `setToleranceED({:e})` (at its default it stops with \"output of level 0 \
+         must be positive\"), {} output points per period; X_o from the exact free flight through Siconos's state at each \
+         event. Moreau–Jean: `TimeStepping` with `MoreauJeanOSI(θ = {})` and an LCP; X_o the largest |u_o| at its steps. \
+         Times are CPU time (user + system, minimum of repeats; the machine is shared): rattle's whole process \
+         (`rattle simulate --periods N`), Siconos's simulation loop alone, driven from Python event by event or step \
+         by step (import and model building excluded).\n",
+        peer.siconos, peer.python, peer.machine, s.tolerance_ed, s.ed_outputs_per_period, s.theta
+    );
+    let _ = writeln!(
+        r,
+        "### Steady states, scene `{}`, from rest\n\nDifferences are relative to rattle's steady state; \
+         every solver runs the same periods from rest (rattle's own run to periodicity, at least 300). \
+         Siconos event-driven at tolerance {:e}.\n",
+        peer.work_precision.scene, s.steady_tolerance
+    );
+    siconos_steady_table(&mut r, peer);
+    match precision.siconos.as_ref() {
+        Some(wp) => {
+            let _ = writeln!(
+                r,
+                "\n### Accuracy against cost (figures/work-precision), ω = {} rad/s, {} periods from rest\n\n\
+                 Errors of the outer amplitude against the analytic orbit (X_o = {:.10}); rattle's times are \
+                 in-process wall-time minima of one solve (the figure's), Siconos's CPU time.\n",
+                wp.omega, wp.periods, precision.orbit.outer_amplitude
+            );
+            siconos_precision_table(&mut r, precision, wp);
+        }
+        None => {
+            let _ = writeln!(
+                r,
+                "\nThe Siconos work-precision runs are not of this study's case (ω = {}, {} periods).",
+                precision.omega, precision.periods
+            );
+        }
+    }
+    let _ = writeln!(r, "\n### Grazing and sticking\n");
+    siconos_hard_table(&mut r, peer);
+    r
 }
