@@ -489,10 +489,7 @@ fn bad_continuation_arguments_exit_2_and_name_the_field() {
             vec!["--signature", "+-", "--max-branches", "0"],
             "--max-branches",
         ),
-        (
-            vec!["--signature", "+-", "--max-depth", "-1"],
-            "--max-depth",
-        ),
+        (vec!["--signature", "+-", "--max-depth", "x"], "--max-depth"),
     ] {
         let mut all: Vec<&str> = base.to_vec();
         all.extend(extra.iter().copied());

@@ -304,7 +304,7 @@ mod tests {
     }
 
     #[test]
-    fn parallel_waves_give_the_serial_result_on_any_thread_count() {
+    fn extend_all_gives_the_serial_result_on_any_thread_count() {
         let scene = Scene::paper();
         let (unit, stops) = (scene.unit_model(), scene.stops_model().expect("stops"));
         let starts = seeds(&scene);
