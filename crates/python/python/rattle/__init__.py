@@ -357,8 +357,10 @@ class Continuation(Record):
     ``branches`` (each branch: its index, signature, period, the event it left from…),
     ``points`` (every point of every branch, branch by branch: ``branch``, ``omega``,
     ``alpha``, ``impact_phases``, ``outer_amplitude``, ``transmittance_db``, ``stable``,
-    ``viable``, ``floquet_multipliers``), ``events`` (bifurcations, grazings…) and ``ends``
-    (how each branch ends). :meth:`points_columns` gives the points as numpy arrays."""
+    ``viable``, ``floquet_multipliers``), ``events`` (bifurcations, grazings…, each listed
+    once) and ``ends`` (how each branch ends: ``branch``, ``omega``, ``reason``, and for
+    ``reason == "joins"`` the branch it runs onto in ``joins``). :meth:`points_columns` gives
+    the points as numpy arrays."""
 
     def points_columns(self):
         """The points as a dict of numpy arrays, for plotting: ``branch`` (``int64``),
