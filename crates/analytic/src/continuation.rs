@@ -17,20 +17,31 @@
 //! `exp([[Bσ, B'σ], [0, Bσ]])` (whose diagonal blocks are `Φ` itself).
 //!
 //! Along the branch each point carries its Floquet multipliers, amplitude and viability, and
-//! test functions whose sign changes between consecutive points are events, located by the
-//! Illinois variant of regula falsi on the chord between the two points (each trial point
-//! corrected onto the branch) until the chord fraction is bracketed to [`LOCATION_FRACTION`]:
+//! test functions whose sign changes between consecutive points are events: every test that
+//! changed sign over a step is located on its own, by the Illinois variant of regula falsi on
+//! the chord between the two points (each trial point corrected onto the branch) until the
+//! chord fraction is bracketed to [`LOCATION_FRACTION`], and the events of a step are listed
+//! in their order along it (events closer than the step are all found):
 //!
 //! | event | test function |
 //! |---|---|
 //! | fold | `dω/ds`, the tangent's `ω` component |
-//! | branch point | `det(M − I)`, while `dω/ds` keeps its sign |
+//! | branch point | `det(M − I) / (dω/ds)` (both factors change sign at a fold, the ratio only at a branch point) |
 //! | period doubling | `det(M + I)` |
 //! | Neimark–Sacker | `Π_{i<j} (μ_i μ_j − 1)`, kept when a complex pair sits on the unit circle |
 //! | grazing | per flight, `Δ − max |r|` over the interior critical points of `r` |
 //! | vanishing impact | per impact, `s_j ṙ⁻_j` |
 //!
 //! `M` is the monodromy matrix with saltation at each impact, `μ_i` its eigenvalues.
+//!
+//! Each branch is followed once. The unit is symmetric (stops at `±Δ`, forcing odd over half
+//! a period): with `u(t)` a motion, `−u(t + T/2)` is one too, with the sides mirrored; and a
+//! motion timed from another impact is the same motion. A branch whose seed, or whose next
+//! point, lies on a branch already followed in any of these representations (a branch and
+//! its mirror image, the asymmetric pair leaving a symmetric orbit, a period-doubled orbit
+//! one period later) ends there with [`EndReason::Joins`], and an event listed already in
+//! another representation is not listed again. Switching is bounded by
+//! [`ContinuationSettings::max_depth`].
 
 use crate::cycle::{SignatureOrbit, MIN_FLIGHT, NEWTON_TOLERANCE, STEP_ROUNDING};
 use crate::flow::{join, Augmented, ForcedFlow};
@@ -42,7 +53,7 @@ use crate::orbit::{
 use crate::signature::Signature;
 use crate::unit::{Stops, Unit, UnitError};
 use nalgebra::{Complex, DMatrix, DVector, Matrix2, Matrix4, Matrix6, SMatrix, Vector2, Vector4};
-use std::collections::VecDeque;
+use std::collections::{HashMap, VecDeque};
 use thiserror::Error;
 
 type Matrix12 = SMatrix<f64, 12, 12>;
@@ -151,6 +162,25 @@ const LOCATION_ITERATIONS: usize = 100;
 /// away from the stops, a multiplier test through a pole as `ṙ⁻ → 0`) is not.
 pub const EVENT_ACCEPTANCE: f64 = 1e-3;
 
+/// A located zero of the branch-point test is a branch point when the smallest singular value
+/// of `R_X` there is below this fraction of its largest (it vanishes at a branch point, where
+/// `R_X` loses rank; at a regular point it is of the order of the largest). Measured on the
+/// paper unit: 1.7e-10 at the pitchfork at 2.1925686 rad/s located on the asymmetric pair,
+/// 0.026 at a sign change of the test through its pole at a vanishing impact (2.19307 rad/s).
+pub const BRANCH_RANK_DEFICIENCY: f64 = 1e-5;
+
+/// `σ_min / σ_max` of `R_X` (`n × (n + 1)`); 1 when it cannot be formed.
+fn rank_deficiency(jacobian: &DMatrix<f64>) -> f64 {
+    let sv = jacobian.singular_values();
+    let max = sv.iter().copied().fold(0.0, f64::max);
+    let min = sv.iter().copied().fold(f64::INFINITY, f64::min);
+    if max > 0.0 && min.is_finite() {
+        min / max
+    } else {
+        1.0
+    }
+}
+
 /// A complex pair of multipliers is on the unit circle at a Neimark–Sacker event when its
 /// modulus is within this of 1; a located zero of the pair-product test without such a pair
 /// is a neutral saddle (real `μ, 1/μ`), not an event. The multipliers come from a 4×4 Schur
@@ -203,6 +233,14 @@ pub const GRAZE_INTERIOR: f64 = 1e-6;
 /// impacts merging rather than as a step below the minimum.
 const MERGE_WARNING: f64 = 1e-6;
 
+/// Default switching depth ([`ContinuationSettings::max_depth`]). Measured on the issue #22
+/// run (`+-` from ω = 2.1725686 over 1.8925686–2.4925686 rad/s, paper scene, one thread):
+/// depth 2 follows 15 branches, 7 183 points, 85 events in 1.4 s of CPU; depth 3 (the depth
+/// the former cap of 16 branches per start reached there) 27 branches, 27 524 points, 323
+/// events in 24 s, the third level being period-8 orbits of the doubling cascade (20 341 of
+/// the points, 16 impacts per cycle each).
+pub const DEFAULT_MAX_DEPTH: usize = 2;
+
 /// Settings of a continuation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContinuationSettings {
@@ -223,12 +261,16 @@ pub struct ContinuationSettings {
     /// Whether to follow the branches that leave at branch points, period doublings and
     /// grazings.
     pub follow_switches: bool,
+    /// Switching depth: the start's branch has depth 0, a branch switched onto from one of
+    /// depth `d` has depth `d + 1`; branches deeper than this are not followed (the cut is
+    /// recorded as a branch without points ending [`EndReason::MaxDepth`]).
+    pub max_depth: usize,
 }
 
 impl Default for ContinuationSettings {
     /// `ω ∈ [0.1, 4]` (the band the workbench studies on the paper unit), steps from `10⁻⁹`
     /// to `0.05` starting at `0.01` (a few hundred points over a branch spanning the band),
-    /// 20 000 points per branch, 16 branches, switching on.
+    /// 20 000 points per branch, 16 branches, switching on to depth [`DEFAULT_MAX_DEPTH`].
     fn default() -> Self {
         Self {
             omega_min: 0.1,
@@ -239,6 +281,7 @@ impl Default for ContinuationSettings {
             max_points_per_branch: 20_000,
             max_branches: 16,
             follow_switches: true,
+            max_depth: DEFAULT_MAX_DEPTH,
         }
     }
 }
@@ -478,11 +521,19 @@ pub enum EndReason {
     NewtonFailed,
     /// The branch came back to its seed: a closed loop (isola), followed once.
     ClosedLoop,
+    /// The branch runs onto one already followed, or onto its image under the unit's
+    /// symmetry (half a forcing period later with the stops mirrored), or onto another
+    /// representation of the same orbits: [`BranchEnd::joins`] names that branch. A branch
+    /// whose seed lies on one already followed ends so in both directions at its seed.
+    Joins,
+    /// A branch that leaves an event of a branch at [`ContinuationSettings::max_depth`]:
+    /// recorded without points, not followed.
+    MaxDepth,
 }
 
 impl EndReason {
     /// `omega-min`, `omega-max`, `step-below-minimum`, `point-cap`, `flight-merged`,
-    /// `vanishing-impact`, `newton-failed` or `closed-loop`.
+    /// `vanishing-impact`, `newton-failed`, `closed-loop`, `joins` or `max-depth`.
     pub fn name(self) -> &'static str {
         match self {
             EndReason::OmegaMin => "omega-min",
@@ -493,6 +544,8 @@ impl EndReason {
             EndReason::VanishingImpact => "vanishing-impact",
             EndReason::NewtonFailed => "newton-failed",
             EndReason::ClosedLoop => "closed-loop",
+            EndReason::Joins => "joins",
+            EndReason::MaxDepth => "max-depth",
         }
     }
 }
@@ -506,6 +559,10 @@ pub struct BranchEnd {
     pub omega: f64,
     /// Why it stops.
     pub reason: EndReason,
+    /// For [`EndReason::Joins`], the branch it runs onto (possibly itself: a branch that is
+    /// its own mirror image, as the asymmetric pair leaving the symmetric orbit is, ends
+    /// where it starts to retrace itself mirrored).
+    pub joins: Option<usize>,
 }
 
 /// Everything a continuation found: every branch followed (the start's and those switched
@@ -1205,6 +1262,22 @@ impl<'a> System<'a> {
         (x, eval)
     }
 
+    /// The point of the branch at chord fraction `theta` between its points `a` and `b`
+    /// (corrected within the hyperplane normal to the chord), described as a point of the
+    /// branch of `a` with its tangent oriented as `a`'s.
+    fn node_at(&self, a: &Node, b: &Node, theta: f64) -> Option<Node> {
+        let n = self.n();
+        let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
+        let through: Vec<f64> = (0..=n).map(|k| a.x[k] + theta * chord[k]).collect();
+        let plane = Constraint::Plane {
+            normal: &chord,
+            through: &through,
+        };
+        let (x, eval, _) = self.converge(&through, &plane, &a.jacobian)?;
+        let tangent = self.tangent(&eval.jacobian, &a.tangent)?;
+        Some(self.describe(&x, &eval, &tangent, a.point.branch))
+    }
+
     /// The Newton step of the bordered system at `x`.
     fn newton_step(&self, x: &[f64], eval: &Eval, constraint: &Constraint) -> Option<DVector<f64>> {
         let n = self.n();
@@ -1240,6 +1313,8 @@ struct Seed {
     /// Born at a grazing: impact `j` of the new signature is the graze; a direction on which
     /// it is approached from outside is dropped.
     grazing_impact: Option<usize>,
+    /// Switching depth: 0 for the start, one more than its parent's for a switch.
+    depth: usize,
 }
 
 /// A switch already taken: signature, `X`.
@@ -1248,7 +1323,10 @@ type SwitchKey = (Signature, Vec<f64>);
 /// Follows the branch through `start` in both directions of `ω` within
 /// `[omega_min, omega_max]`, locating events on it, and (with `follow_switches`) the
 /// branches that leave it at branch points, period doublings and grazings, up to
-/// `max_branches` in all. Each branch ends in each direction with an [`EndReason`].
+/// `max_branches` in all and `max_depth` switches deep. Each branch ends in each direction
+/// with an [`EndReason`]; each branch is followed once: one that runs onto a branch already
+/// followed, or onto its mirror image, ends there ([`EndReason::Joins`]), and each event is
+/// listed once, in its order along its branch.
 ///
 /// Continuation goes on through non-viable stretches: each point carries its `viable` flag,
 /// and grazing and vanishing-impact events say where viability is lost.
@@ -1265,6 +1343,26 @@ pub fn continue_orbit(
     start: &SignatureOrbit,
     settings: &ContinuationSettings,
 ) -> Result<Continuation, ContinuationError> {
+    let mut out = Continuation::default();
+    continue_orbit_after(unit, stops, start, settings, &mut out)?;
+    Ok(out)
+}
+
+/// [`continue_orbit`] after the branches already in `out` (of the same unit and stops):
+/// unless `start` lies on one of them or on its mirror image (then `Ok(false)` and `out` is
+/// unchanged), the branches from `start` are appended to `out`, numbered after those there,
+/// each ending [`EndReason::Joins`] where it runs onto any branch of `out`, and events
+/// already in `out` are not listed again. `max_branches` counts the branches from `start`.
+///
+/// # Errors
+/// As [`continue_orbit`].
+pub fn continue_orbit_after(
+    unit: &Unit,
+    stops: &Stops,
+    start: &SignatureOrbit,
+    settings: &ContinuationSettings,
+    out: &mut Continuation,
+) -> Result<bool, ContinuationError> {
     settings.validate()?;
     unit.validate()?;
     stops.validate()?;
@@ -1275,99 +1373,469 @@ pub fn continue_orbit(
             max: settings.omega_max,
         });
     }
-    let n = start.signature.impacts();
-    let mut x = Vec::with_capacity(n + 1);
-    x.push(start.alpha);
-    x.extend_from_slice(&start.impact_phases[1..n.min(start.impact_phases.len())]);
-    x.push(start.omega);
     let not_converged = || ContinuationError::StartNotConverged {
         signature: start.signature.to_string(),
         period: start.signature.period(),
         omega: start.omega,
     };
+    let n = start.signature.impacts();
+    let mut x = Vec::with_capacity(n + 1);
+    x.push(start.alpha);
+    x.extend_from_slice(&start.impact_phases[1..n.min(start.impact_phases.len())]);
+    x.push(start.omega);
     if x.len() != n + 1 {
         return Err(not_converged());
     }
     let system = System::new(unit, stops, start.signature.clone());
-    let (x, _, _) = system
+    let (x, eval, _) = system
         .correct(&x, &Constraint::Omega(start.omega))
         .ok_or_else(not_converged)?;
-
-    let mut out = Continuation::default();
-    let mut queue: VecDeque<Seed> = VecDeque::new();
-    let mut switched: Vec<SwitchKey> = Vec::new();
-    queue.push_back(Seed {
+    let seed = Seed {
         signature: start.signature.clone(),
         x,
         tangent: None,
         from_event: None,
         grazing_impact: None,
-    });
-    while let Some(seed) = queue.pop_front() {
-        if out.branches.len() >= settings.max_branches {
+        depth: 0,
+    };
+    let atlas = Atlas::of(&out.branches);
+    if let Some(t) = seed_tangent(&system, &seed, &eval) {
+        if atlas.joins(&seed.signature, &seed.x, &t, None).is_some() {
+            return Ok(false);
+        }
+    }
+    let mut run = Run {
+        unit,
+        stops,
+        settings,
+        out,
+        atlas,
+        switched: Vec::new(),
+        queue: VecDeque::from([seed]),
+        followed: 0,
+    };
+    while let Some(seed) = run.queue.pop_front() {
+        if run.followed >= settings.max_branches {
             break;
         }
-        let index = out.branches.len();
-        let system = System::new(unit, stops, seed.signature.clone());
-        let Some(followed) = follow_branch(&system, &seed, settings, index) else {
+        run.follow(seed);
+    }
+    Ok(true)
+}
+
+/// The state of a continuation from one start: the result so far, the branches followed
+/// (an [`Atlas`]), the switch points taken and the seeds still to follow.
+struct Run<'a> {
+    unit: &'a Unit,
+    stops: &'a Stops,
+    settings: &'a ContinuationSettings,
+    out: &'a mut Continuation,
+    atlas: Atlas,
+    switched: Vec<SwitchKey>,
+    queue: VecDeque<Seed>,
+    /// Branches followed from this start.
+    followed: usize,
+}
+
+impl Run<'_> {
+    /// Follows the branch of `seed`, records it, its ends and events, and queues its switches.
+    fn follow(&mut self, seed: Seed) {
+        self.followed += 1;
+        let index = self.out.branches.len();
+        let system = System::new(self.unit, self.stops, seed.signature.clone());
+        let follow = Follow {
+            system: &system,
+            settings: self.settings,
+            origin: &seed,
+            branch: index,
+            atlas: &self.atlas,
+        };
+        let Some(followed) = follow.branch() else {
             // The seed itself could not be evaluated: record the attempt as a branch without
             // points ending where it started.
-            out.branches.push(Branch {
-                index,
-                signature: seed.signature.clone(),
-                period: seed.signature.period(),
-                points: Vec::new(),
-                from_event: seed.from_event,
-            });
             let omega = seed.x[seed.x.len() - 1];
-            for _ in 0..2 {
-                out.ends.push(BranchEnd {
-                    branch: index,
-                    omega,
-                    reason: EndReason::NewtonFailed,
-                });
-            }
-            continue;
+            self.unfollowed(
+                &seed.signature,
+                seed.from_event,
+                omega,
+                EndReason::NewtonFailed,
+            );
+            return;
         };
-        out.branches.push(Branch {
+        self.out.branches.push(Branch {
             index,
             signature: seed.signature.clone(),
             period: seed.signature.period(),
             points: followed.nodes.iter().map(|n| n.point.clone()).collect(),
             from_event: seed.from_event,
         });
-        out.ends.extend(followed.ends);
+        self.out.ends.extend(followed.ends);
+        self.atlas.curves.push(followed.curve);
         for found in followed.events {
-            let event_index = out.events.len();
-            let mut event = found.event;
-            if settings.follow_switches {
-                let step = (SWITCH_STEP * settings.initial_step).max(settings.min_step);
-                if let Some(next) = switch_seed(&system, &found.node, &event, event_index, step) {
-                    let key = (next.signature.clone(), next.x.clone());
-                    if !switched.iter().any(|k| same_switch(k, &key)) {
-                        switched.push(key);
-                        queue.push_back(next);
-                    }
-                }
-            }
-            event.branch = index;
-            out.events.push(event);
+            self.event(&system, &seed, index, found);
         }
         // The seed of this branch is a switch point too (so the way back is not taken).
-        switched.push((seed.signature.clone(), seed.x.clone()));
+        self.switched.push((seed.signature.clone(), seed.x.clone()));
     }
-    Ok(out)
+
+    /// Records a branch that is not followed: no points, both ends `reason` at `omega`.
+    fn unfollowed(
+        &mut self,
+        signature: &Signature,
+        from_event: Option<usize>,
+        omega: f64,
+        reason: EndReason,
+    ) {
+        let index = self.out.branches.len();
+        self.out.branches.push(Branch {
+            index,
+            signature: signature.clone(),
+            period: signature.period(),
+            points: Vec::new(),
+            from_event,
+        });
+        for _ in 0..2 {
+            self.out.ends.push(BranchEnd {
+                branch: index,
+                omega,
+                reason,
+                joins: None,
+            });
+        }
+    }
+
+    /// Lists an event found on branch `index` (unless it is listed already: a branch point
+    /// seen from both branches through it, or the image of one listed) and queues the branch
+    /// that leaves there, or records the depth cut.
+    fn event(&mut self, system: &System, seed: &Seed, index: usize, found: Found) {
+        let mut event = found.event;
+        event.branch = index;
+        event.point.branch = index;
+        if listed(self.out, &system.signature, event.kind, &found.node.x) {
+            return;
+        }
+        let event_index = self.out.events.len();
+        let switches = matches!(
+            event.kind,
+            EventKind::BranchPoint | EventKind::PeriodDoubling | EventKind::Grazing
+        ) && event.signature_after.is_some();
+        if self.settings.follow_switches && switches {
+            if seed.depth >= self.settings.max_depth {
+                if let Some(signature) = event.signature_after.clone() {
+                    let omega = event.omega;
+                    self.out.events.push(event);
+                    self.unfollowed(&signature, Some(event_index), omega, EndReason::MaxDepth);
+                    return;
+                }
+            }
+            let step = (SWITCH_STEP * self.settings.initial_step).max(self.settings.min_step);
+            if let Some(mut next) = switch_seed(system, &found.node, &event, event_index, step) {
+                let key = (next.signature.clone(), next.x.clone());
+                if !self.switched.iter().any(|k| same_switch(k, &key)) {
+                    next.depth = seed.depth + 1;
+                    self.switched.push(key);
+                    self.queue.push_back(next);
+                }
+            }
+        }
+        self.out.events.push(event);
+    }
+}
+
+/// Whether an event of `kind` at `x` on a branch of `signature` is in `out` already, as
+/// itself or as one of its other representations ([`representations`]).
+fn listed(out: &Continuation, signature: &Signature, kind: EventKind, x: &[f64]) -> bool {
+    let tangent = vec![0.0; x.len()];
+    let reps = representations(signature, x, &tangent);
+    out.events.iter().filter(|e| e.kind == kind).any(|e| {
+        let Some(branch) = out.branches.get(e.branch) else {
+            return false;
+        };
+        let y = point_unknowns(&e.point);
+        reps.iter()
+            .any(|r| r.signature == branch.signature && same_point(&r.x, &y))
+    })
+}
+
+/// `X = (α, φ₂ … φₙ, ω)` of a point.
+fn point_unknowns(p: &ContinuationPoint) -> Vec<f64> {
+    let mut x = vec![p.alpha];
+    x.extend_from_slice(p.impact_phases.get(1..).unwrap_or(&[]));
+    x.push(p.omega);
+    x
+}
+
+/// Whether two `X` agree to [`SWITCH_DEDUP`] (`α` modulo 2π).
+fn same_point(a: &[f64], b: &[f64]) -> bool {
+    a.len() == b.len()
+        && wrap(a[0] - b[0]).abs() < SWITCH_DEDUP
+        && a[1..]
+            .iter()
+            .zip(&b[1..])
+            .all(|(p, q)| (p - q).abs() < SWITCH_DEDUP)
 }
 
 /// Whether two switch keys are the same point of the same signature ([`SWITCH_DEDUP`]).
 fn same_switch(a: &SwitchKey, b: &SwitchKey) -> bool {
-    a.0 == b.0
-        && a.1.len() == b.1.len()
-        && wrap(a.1[0] - b.1[0]).abs() < SWITCH_DEDUP
-        && a.1[1..]
-            .iter()
-            .zip(&b.1[1..])
-            .all(|(p, q)| (p - q).abs() < SWITCH_DEDUP)
+    a.0 == b.0 && same_point(&a.1, &b.1)
+}
+
+/// One representation of an orbit: its signature, `X` and tangent.
+struct Representation {
+    signature: Signature,
+    x: Vec<f64>,
+    tangent: Vec<f64>,
+    /// The orbit as given (no rotation, no mirror).
+    identity: bool,
+}
+
+/// Every representation of the orbit `x` of `signature` (tangent `tangent`) in canonical
+/// form. The same motion timed from another impact whose rotation of the sides is canonical
+/// (`k`: `α + 2πp φ_k`, phases `φ_{j+k} − φ_k`), and its image under the unit's symmetry:
+/// with symmetric stops and the base's forcing odd over half a period, `−u(t + T/2)` is a
+/// motion too, with the sides mirrored (`s → −s`) and, timed from impact `k`,
+/// `α + 2πp φ_k − π`.
+fn representations(signature: &Signature, x: &[f64], tangent: &[f64]) -> Vec<Representation> {
+    let sides = signature.sides();
+    let n = sides.len();
+    let period = signature.period();
+    let angle = std::f64::consts::TAU * period as f64;
+    let phase = |v: &[f64], k: usize| if k == 0 { 0.0 } else { v[k] };
+    let mut out = Vec::new();
+    for mirror in [false, true] {
+        let sign = if mirror { -1 } else { 1 };
+        for k in 0..n {
+            let rotated: Vec<i8> = (0..n).map(|j| sign * sides[(j + k) % n]).collect();
+            let Ok(canonical) = Signature::from_sides(&rotated, period) else {
+                continue;
+            };
+            if canonical.sides() != rotated.as_slice() {
+                continue;
+            }
+            let shift = if mirror { std::f64::consts::PI } else { 0.0 };
+            let mut xr = vec![wrap(x[0] + angle * phase(x, k) - shift)];
+            let mut tr = vec![tangent[0] + angle * phase(tangent, k)];
+            for j in 1..n {
+                let i = (j + k) % n;
+                xr.push((phase(x, i) - phase(x, k)).rem_euclid(1.0));
+                tr.push(phase(tangent, i) - phase(tangent, k));
+            }
+            xr.push(x[n]);
+            tr.push(tangent[n]);
+            out.push(Representation {
+                signature: canonical,
+                x: xr,
+                tangent: tr,
+                identity: !mirror && k == 0,
+            });
+        }
+    }
+    out
+}
+
+/// Width in `ω` (rad/s) of the buckets in which a [`Curve`] files its segments.
+const CURVE_BUCKET: f64 = 0.01;
+
+/// A branch as a polyline in `X`, with the unit tangent at each vertex, its segments filed
+/// by `ω` for the test of whether a point lies on it.
+struct Curve {
+    branch: usize,
+    signature: Signature,
+    x: Vec<Vec<f64>>,
+    tangent: Vec<Vec<f64>>,
+    segments: Vec<(usize, usize)>,
+    buckets: HashMap<i64, Vec<usize>>,
+}
+
+impl Curve {
+    fn new(branch: usize, signature: Signature) -> Self {
+        Self {
+            branch,
+            signature,
+            x: Vec::new(),
+            tangent: Vec::new(),
+            segments: Vec::new(),
+            buckets: HashMap::new(),
+        }
+    }
+
+    /// A branch recorded in a [`Continuation`]: its points in order, the tangent at each
+    /// from the chord between its neighbours.
+    fn of(branch: &Branch) -> Self {
+        let mut curve = Self::new(branch.index, branch.signature.clone());
+        let xs: Vec<Vec<f64>> = branch.points.iter().map(point_unknowns).collect();
+        for i in 0..xs.len() {
+            let (a, b) = (&xs[i.saturating_sub(1)], &xs[(i + 1).min(xs.len() - 1)]);
+            let mut t: Vec<f64> = (0..a.len())
+                .map(|k| {
+                    if k == 0 {
+                        wrap(b[0] - a[0])
+                    } else {
+                        b[k] - a[k]
+                    }
+                })
+                .collect();
+            let norm = t.iter().map(|v| v * v).sum::<f64>().sqrt();
+            t.iter_mut().for_each(|v| *v /= norm);
+            let k = curve.push(&xs[i], &t);
+            if k > 0 {
+                curve.link(k - 1, k);
+            }
+        }
+        curve
+    }
+
+    /// Adds a vertex; its index.
+    fn push(&mut self, x: &[f64], tangent: &[f64]) -> usize {
+        self.x.push(x.to_vec());
+        self.tangent.push(tangent.to_vec());
+        self.x.len() - 1
+    }
+
+    /// Adds the segment between vertices `i` and `j`, filed in every bucket that a point
+    /// projecting onto it within [`LOOP_CLOSURE`] of its length can fall in.
+    fn link(&mut self, i: usize, j: usize) {
+        let (a, b) = (&self.x[i], &self.x[j]);
+        let n = a.len() - 1;
+        let length = distance(a, b);
+        let margin = 2.0 * LOOP_CLOSURE * length;
+        let lo = ((a[n].min(b[n]) - margin) / CURVE_BUCKET).floor();
+        let hi = ((a[n].max(b[n]) + margin) / CURVE_BUCKET).floor();
+        if !(lo.is_finite() && hi.is_finite()) {
+            return;
+        }
+        let s = self.segments.len();
+        self.segments.push((i, j));
+        for bucket in lo as i64..=hi as i64 {
+            self.buckets.entry(bucket).or_default().push(s);
+        }
+    }
+
+    /// Whether the point `x` with unit tangent `tangent` lies on the curve: a segment passes
+    /// within [`LOOP_CLOSURE`] of its length of `x` (the chord of a step departs from the
+    /// branch by far less) and the tangent interpolated there is parallel to `tangent` to
+    /// [`LOOP_TANGENT_COSINE`] (a branch crossing this one at a branch point is not on it).
+    fn holds(&self, x: &[f64], tangent: &[f64]) -> bool {
+        let n = x.len() - 1;
+        let bucket = (x[n] / CURVE_BUCKET).floor();
+        if !bucket.is_finite() {
+            return false;
+        }
+        let Some(segments) = self.buckets.get(&(bucket as i64)) else {
+            return false;
+        };
+        segments.iter().any(|&s| {
+            let (i, j) = self.segments[s];
+            let (a, b) = (&self.x[i], &self.x[j]);
+            let Some((theta, gap)) = projection(a, b, x) else {
+                return false;
+            };
+            if gap >= LOOP_CLOSURE * distance(a, b) {
+                return false;
+            }
+            let w = theta.clamp(0.0, 1.0);
+            let t: Vec<f64> = (0..=n)
+                .map(|k| (1.0 - w) * self.tangent[i][k] + w * self.tangent[j][k])
+                .collect();
+            cosine(&t, tangent).abs() > LOOP_TANGENT_COSINE
+        })
+    }
+}
+
+/// The branches followed, as curves.
+struct Atlas {
+    curves: Vec<Curve>,
+}
+
+impl Atlas {
+    /// The branches of a [`Continuation`].
+    fn of(branches: &[Branch]) -> Self {
+        Self {
+            curves: branches.iter().map(Curve::of).collect(),
+        }
+    }
+
+    /// The branch that the orbit `x` of `signature` (tangent `tangent`), or another of its
+    /// representations, lies on; with `live` (the branch being followed, its last step
+    /// `step` long) also that one, against the representations other than `x` itself that
+    /// lie more than a step from `x` (near a point that is its own image, such as a branch
+    /// point of the asymmetric pair on a symmetric orbit, the image of a point is the point
+    /// a little further on: the branch ends only once it has passed there).
+    fn joins(
+        &self,
+        signature: &Signature,
+        x: &[f64],
+        tangent: &[f64],
+        live: Option<(&Curve, f64)>,
+    ) -> Option<usize> {
+        let reps = representations(signature, x, tangent);
+        for rep in &reps {
+            if let Some(c) = self
+                .curves
+                .iter()
+                .find(|c| c.signature == rep.signature && c.holds(&rep.x, &rep.tangent))
+            {
+                return Some(c.branch);
+            }
+            if let Some((live, step)) = live {
+                if !rep.identity
+                    && live.signature == rep.signature
+                    && distance(&rep.x, x) > step
+                    && live.holds(&rep.x, &rep.tangent)
+                {
+                    return Some(live.branch);
+                }
+            }
+        }
+        None
+    }
+}
+
+/// Euclidean distance between two `X` (`α` modulo 2π).
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    (0..a.len())
+        .map(|k| {
+            let d = if k == 0 {
+                wrap(b[0] - a[0])
+            } else {
+                b[k] - a[k]
+            };
+            d * d
+        })
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// Cosine of the angle between two vectors.
+fn cosine(a: &[f64], b: &[f64]) -> f64 {
+    let dot: f64 = a.iter().zip(b).map(|(u, v)| u * v).sum();
+    let na = a.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let nb = b.iter().map(|v| v * v).sum::<f64>().sqrt();
+    dot / (na * nb)
+}
+
+/// The tangent at the seed of a branch: the seed's own, or the null vector of `R_X` oriented
+/// towards increasing `ω`.
+fn seed_tangent(system: &System, seed: &Seed, eval: &Eval) -> Option<Vec<f64>> {
+    if let Some(t) = &seed.tangent {
+        return Some(t.clone());
+    }
+    let n = system.n();
+    let mut m = DMatrix::zeros(n + 1, n + 1);
+    m.view_mut((0, 0), (n, n + 1)).copy_from(&eval.jacobian);
+    let svd = m.svd(false, true);
+    let v_t = svd.v_t?;
+    let k = svd
+        .singular_values
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, _)| i)?;
+    let mut t: Vec<f64> = v_t.row(k).iter().copied().collect();
+    if t[n] < 0.0 {
+        t.iter_mut().for_each(|v| *v = -*v);
+    }
+    Some(t)
 }
 
 /// A located event with the branch point it sits at.
@@ -1379,228 +1847,249 @@ struct Found {
 /// The result of following one branch both ways.
 struct Followed {
     nodes: Vec<Node>,
+    /// In their order along the branch.
     events: Vec<Found>,
     ends: Vec<BranchEnd>,
+    /// The branch as followed.
+    curve: Curve,
 }
 
-/// Follows the branch of `seed` both ways.
-fn follow_branch(
-    system: &System,
-    seed: &Seed,
-    settings: &ContinuationSettings,
+/// Following one branch: the problem (its equations, the settings, its seed, the branches
+/// already followed).
+struct Follow<'a, 's> {
+    system: &'a System<'s>,
+    settings: &'a ContinuationSettings,
+    origin: &'a Seed,
     branch: usize,
-) -> Option<Followed> {
-    let eval = system.evaluate(&seed.x)?;
-    let tangent = match &seed.tangent {
-        Some(t) => t.clone(),
-        None => {
-            // The null vector of R_X, oriented towards increasing ω.
-            let n = system.n();
-            let mut m = DMatrix::zeros(n + 1, n + 1);
-            m.view_mut((0, 0), (n, n + 1)).copy_from(&eval.jacobian);
-            let svd = m.svd(false, true);
-            let v_t = svd.v_t?;
-            let k = svd
-                .singular_values
-                .iter()
-                .enumerate()
-                .min_by(|a, b| a.1.total_cmp(b.1))
-                .map(|(i, _)| i)?;
-            let mut t: Vec<f64> = v_t.row(k).iter().copied().collect();
-            if t[n] < 0.0 {
-                t.iter_mut().for_each(|v| *v = -*v);
+    atlas: &'a Atlas,
+}
+
+impl Follow<'_, '_> {
+    fn end(&self, reason: EndReason, omega: f64) -> BranchEnd {
+        BranchEnd {
+            branch: self.branch,
+            omega,
+            reason,
+            joins: None,
+        }
+    }
+
+    /// Follows the branch of the seed both ways; a switched seed that lies on a branch
+    /// already followed is not followed (both ends [`EndReason::Joins`]).
+    fn branch(&self) -> Option<Followed> {
+        let (system, seed, branch) = (self.system, self.origin, self.branch);
+        let eval = system.evaluate(&seed.x)?;
+        let tangent = seed_tangent(system, seed, &eval)?;
+        let mut seed_node = system.describe(&seed.x, &eval, &tangent, branch);
+        let mut curve = Curve::new(branch, system.signature.clone());
+        curve.push(&seed.x, &tangent);
+        if seed.from_event.is_some() {
+            if let Some(other) = self.atlas.joins(&system.signature, &seed.x, &tangent, None) {
+                let end = BranchEnd {
+                    joins: Some(other),
+                    ..self.end(EndReason::Joins, seed.x[system.n()])
+                };
+                return Some(Followed {
+                    nodes: vec![seed_node],
+                    events: Vec::new(),
+                    ends: vec![end, end],
+                    curve,
+                });
             }
-            t
-        }
-    };
-    let mut seed_node = system.describe(&seed.x, &eval, &tangent, branch);
-    let switched = seed.from_event.is_some();
-    if switched {
-        // At a switch point the test functions sit at zero by construction (a multiplier at
-        // ±1, a zero-velocity impact): no sign change is read from the seed.
-        seed_node.tests = Tests {
-            fold: f64::NAN,
-            branch: f64::NAN,
-            doubling: f64::NAN,
-            torus: f64::NAN,
-            clearance: vec![f64::NAN; system.n()],
-            graze: seed_node.tests.graze.clone(),
-            approach: vec![f64::NAN; system.n()],
-        };
-    }
-    let cap = settings.max_points_per_branch;
-    let first_cap = cap / 2;
-    let (forward, mut events, end_forward) =
-        follow_direction(system, &seed_node, 1.0, settings, first_cap, seed, branch);
-    let second_cap = cap.saturating_sub(1 + forward.len());
-    let (backward, end_backward) = if end_forward.reason == EndReason::ClosedLoop {
-        // The whole loop is followed already.
-        (Vec::new(), end_forward)
-    } else {
-        let (backward, events_back, end_backward) =
-            follow_direction(system, &seed_node, -1.0, settings, second_cap, seed, branch);
-        events.extend(events_back);
-        (backward, end_backward)
-    };
-    // The backward points were found along −t: orient their tangents along the branch's
-    // order (backward reversed, seed, forward).
-    let mut nodes: Vec<Node> = backward
-        .into_iter()
-        .rev()
-        .map(|mut node| {
-            node.tangent.iter_mut().for_each(|v| *v = -*v);
-            node.point.domega_ds = -node.point.domega_ds;
-            node
-        })
-        .collect();
-    nodes.push(seed_node);
-    nodes.extend(forward);
-    Some(Followed {
-        nodes,
-        events,
-        ends: vec![end_forward, end_backward],
-    })
-}
-
-/// Follows one direction from `seed` (its tangent times `direction`).
-fn follow_direction(
-    system: &System,
-    seed: &Node,
-    direction: f64,
-    settings: &ContinuationSettings,
-    cap: usize,
-    origin: &Seed,
-    branch: usize,
-) -> (Vec<Node>, Vec<Found>, BranchEnd) {
-    let n = system.n();
-    let mut prev = seed.clone();
-    prev.tangent.iter_mut().for_each(|v| *v *= direction);
-    prev.point.domega_ds = prev.tangent[n];
-    if prev.tests.fold.is_finite() {
-        prev.tests.fold = prev.tangent[n];
-    }
-    let mut h = if origin.from_event.is_some() {
-        (SWITCH_STEP * settings.initial_step).max(settings.min_step)
-    } else {
-        settings.initial_step
-    };
-    let mut nodes: Vec<Node> = Vec::new();
-    let mut events = Vec::new();
-    let end = |reason: EndReason, omega: f64| BranchEnd {
-        branch,
-        omega,
-        reason,
-    };
-    loop {
-        if nodes.len() >= cap {
-            return (nodes, events, end(EndReason::PointCap, prev.x[n]));
-        }
-        if h < settings.min_step {
-            let reason = if system.shortest_flight(&prev.x) < MERGE_WARNING {
-                EndReason::FlightMerged
-            } else {
-                EndReason::StepBelowMinimum
+            // At a switch point the test functions sit at zero by construction (a
+            // multiplier at ±1, a zero-velocity impact): no sign change is read from the
+            // seed.
+            seed_node.tests = Tests {
+                fold: f64::NAN,
+                branch: f64::NAN,
+                doubling: f64::NAN,
+                torus: f64::NAN,
+                clearance: vec![f64::NAN; system.n()],
+                graze: seed_node.tests.graze.clone(),
+                approach: vec![f64::NAN; system.n()],
             };
-            return (nodes, events, end(reason, prev.x[n]));
         }
-        let pred: Vec<f64> = (0..=n).map(|k| prev.x[k] + h * prev.tangent[k]).collect();
-        let corrected = system.converge(
-            &pred,
-            &Constraint::Plane {
+        let cap = self.settings.max_points_per_branch;
+        let (forward, events_forward, end_forward) =
+            self.direction(&seed_node, 1.0, cap / 2, &mut curve);
+        let second_cap = cap.saturating_sub(1 + forward.len());
+        let (backward, mut events, end_backward) = if end_forward.reason == EndReason::ClosedLoop {
+            // The whole loop is followed already.
+            (Vec::new(), Vec::new(), end_forward)
+        } else {
+            self.direction(&seed_node, -1.0, second_cap, &mut curve)
+        };
+        // In the branch's order: backward reversed, seed, forward.
+        events.reverse();
+        events.extend(events_forward);
+        // The backward points were found along −t: orient their tangents along that order.
+        let mut nodes: Vec<Node> = backward
+            .into_iter()
+            .rev()
+            .map(|mut node| {
+                node.tangent.iter_mut().for_each(|v| *v = -*v);
+                node.point.domega_ds = -node.point.domega_ds;
+                node
+            })
+            .collect();
+        nodes.push(seed_node);
+        nodes.extend(forward);
+        Some(Followed {
+            nodes,
+            events,
+            ends: vec![end_forward, end_backward],
+            curve,
+        })
+    }
+
+    /// The point on the band's edge `edge` between `prev` and `x` (just beyond it).
+    fn edge_node(&self, prev: &Node, x: &[f64], edge: f64) -> Option<Node> {
+        let system = self.system;
+        let n = system.n();
+        let w = (edge - prev.x[n]) / (x[n] - prev.x[n]);
+        let guess: Vec<f64> = (0..=n)
+            .map(|k| prev.x[k] + w * (x[k] - prev.x[k]))
+            .collect();
+        let (xe, ee, _) = system.correct(&guess, &Constraint::Omega(edge))?;
+        let te = system.tangent(&ee.jacobian, &prev.tangent)?;
+        Some(system.describe(&xe, &ee, &te, self.branch))
+    }
+
+    /// Follows one direction from `seed` (its tangent times `direction`), adding the points
+    /// to `curve` (whose vertex 0 is the seed).
+    fn direction(
+        &self,
+        seed: &Node,
+        direction: f64,
+        cap: usize,
+        curve: &mut Curve,
+    ) -> (Vec<Node>, Vec<Found>, BranchEnd) {
+        let (system, settings) = (self.system, self.settings);
+        let n = system.n();
+        let mut prev = seed.clone();
+        prev.tangent.iter_mut().for_each(|v| *v *= direction);
+        prev.point.domega_ds = prev.tangent[n];
+        if prev.tests.fold.is_finite() {
+            prev.tests.fold = prev.tangent[n];
+        }
+        let switched = self.origin.from_event.is_some();
+        let mut h = if switched {
+            (SWITCH_STEP * settings.initial_step).max(settings.min_step)
+        } else {
+            settings.initial_step
+        };
+        let mut nodes: Vec<Node> = Vec::new();
+        let mut events = Vec::new();
+        let mut vertex = 0;
+        let mut before: Option<Node> = None;
+        loop {
+            if nodes.len() >= cap {
+                return (nodes, events, self.end(EndReason::PointCap, prev.x[n]));
+            }
+            if h < settings.min_step {
+                let reason = if system.shortest_flight(&prev.x) < MERGE_WARNING {
+                    EndReason::FlightMerged
+                } else {
+                    EndReason::StepBelowMinimum
+                };
+                return (nodes, events, self.end(reason, prev.x[n]));
+            }
+            let pred: Vec<f64> = (0..=n).map(|k| prev.x[k] + h * prev.tangent[k]).collect();
+            let plane = Constraint::Plane {
                 normal: &prev.tangent,
                 through: &pred,
-            },
-            &prev.jacobian,
-        );
-        let Some((x, eval, iterations)) = corrected else {
-            if origin.from_event.is_some() && nodes.is_empty() && h <= settings.min_step * 2.0 {
-                return (nodes, events, end(EndReason::NewtonFailed, prev.x[n]));
-            }
-            h *= 0.5;
-            continue;
-        };
-        let Some(tangent) = system.tangent(&eval.jacobian, &prev.tangent) else {
-            h *= 0.5;
-            continue;
-        };
-        let turn: f64 = tangent.iter().zip(&prev.tangent).map(|(a, b)| a * b).sum();
-        if turn < MIN_TANGENT_COSINE {
-            h *= 0.5;
-            continue;
-        }
-        let mut node = system.describe(&x, &eval, &tangent, branch);
-        // Leaving the band: the last point lies on its edge.
-        let omega = x[n];
-        let bound = if omega > settings.omega_max {
-            Some((settings.omega_max, EndReason::OmegaMax))
-        } else if omega < settings.omega_min {
-            Some((settings.omega_min, EndReason::OmegaMin))
-        } else {
-            None
-        };
-        if let Some((edge, reason)) = bound {
-            let w = (edge - prev.x[n]) / (omega - prev.x[n]);
-            let guess: Vec<f64> = (0..=n)
-                .map(|k| prev.x[k] + w * (x[k] - prev.x[k]))
-                .collect();
-            let edge_node =
-                system
-                    .correct(&guess, &Constraint::Omega(edge))
-                    .and_then(|(xe, ee, _)| {
-                        let te = system.tangent(&ee.jacobian, &prev.tangent)?;
-                        Some(system.describe(&xe, &ee, &te, branch))
-                    });
-            match edge_node {
-                Some(edge_node) => {
-                    events.extend(detect(system, &prev, &edge_node, origin));
-                    nodes.push(edge_node);
-                    return (nodes, events, end(reason, edge));
+            };
+            let Some((x, eval, iterations)) = system.converge(&pred, &plane, &prev.jacobian) else {
+                if switched && nodes.is_empty() && h <= settings.min_step * 2.0 {
+                    return (nodes, events, self.end(EndReason::NewtonFailed, prev.x[n]));
                 }
-                None => {
+                h *= 0.5;
+                continue;
+            };
+            let Some(tangent) = system.tangent(&eval.jacobian, &prev.tangent) else {
+                h *= 0.5;
+                continue;
+            };
+            let turn: f64 = tangent.iter().zip(&prev.tangent).map(|(a, b)| a * b).sum();
+            if turn < MIN_TANGENT_COSINE {
+                h *= 0.5;
+                continue;
+            }
+            let mut node = system.describe(&x, &eval, &tangent, self.branch);
+            // Leaving the band: the last point lies on its edge.
+            let bound = if x[n] > settings.omega_max {
+                Some((settings.omega_max, EndReason::OmegaMax))
+            } else if x[n] < settings.omega_min {
+                Some((settings.omega_min, EndReason::OmegaMin))
+            } else {
+                None
+            };
+            if let Some((edge, reason)) = bound {
+                let Some(edge_node) = self.edge_node(&prev, &x, edge) else {
                     h *= 0.5;
                     continue;
+                };
+                events.extend(detect(system, &prev, &edge_node, before.as_ref()));
+                let k = curve.push(&edge_node.x, &edge_node.tangent);
+                curve.link(vertex, k);
+                nodes.push(edge_node);
+                return (nodes, events, self.end(reason, edge));
+            }
+            // A branch born at a grazing that leaves on the side where the new impact is
+            // approached from outside is not a motion.
+            if let Some(j) = self.origin.grazing_impact {
+                if nodes.is_empty() && node.tests.approach[j] <= 0.0 {
+                    return (
+                        nodes,
+                        events,
+                        self.end(EndReason::VanishingImpact, prev.x[n]),
+                    );
                 }
             }
-        }
-        // A branch born at a grazing that leaves on the side where the new impact is
-        // approached from outside is not a motion.
-        if let Some(j) = origin.grazing_impact {
-            if nodes.is_empty() && node.tests.approach[j] <= 0.0 {
-                return (nodes, events, end(EndReason::VanishingImpact, prev.x[n]));
+            events.extend(detect(system, &prev, &node, before.as_ref()));
+            node.point.domega_ds = node.tangent[n];
+            let k = curve.push(&node.x, &node.tangent);
+            curve.link(vertex, k);
+            vertex = k;
+            if let Some(other) = self.atlas.joins(
+                &system.signature,
+                &node.x,
+                &node.tangent,
+                Some((curve, distance(&prev.x, &node.x))),
+            ) {
+                nodes.push(node);
+                let end = BranchEnd {
+                    joins: Some(other),
+                    ..self.end(EndReason::Joins, x[n])
+                };
+                return (nodes, events, end);
             }
+            // Closed loop: the step from `prev` to `node` passes the seed.
+            let along = cosine(&node.tangent, &seed.tangent) * direction;
+            if nodes.len() >= LOOP_MIN_POINTS
+                && along > LOOP_TANGENT_COSINE
+                && passes(&prev.x, &node.x, &seed.x, h)
+            {
+                nodes.push(node);
+                return (nodes, events, self.end(EndReason::ClosedLoop, x[n]));
+            }
+            nodes.push(node.clone());
+            before = Some(std::mem::replace(&mut prev, node));
+            h = if iterations <= EASY_ITERATIONS {
+                h * STEP_GROWTH
+            } else if iterations > HARD_ITERATIONS {
+                h * STEP_SHRINK
+            } else {
+                h
+            }
+            .min(settings.max_step);
         }
-        events.extend(detect(system, &prev, &node, origin));
-        node.point.domega_ds = node.tangent[n];
-        // Closed loop: the step from `prev` to `node` passes the seed.
-        let along: f64 = node
-            .tangent
-            .iter()
-            .zip(&seed.tangent)
-            .map(|(a, b)| a * b * direction)
-            .sum();
-        if nodes.len() >= LOOP_MIN_POINTS
-            && along > LOOP_TANGENT_COSINE
-            && passes(&prev.x, &node.x, &seed.x, h)
-        {
-            nodes.push(node);
-            return (nodes, events, end(EndReason::ClosedLoop, x[n]));
-        }
-        nodes.push(node.clone());
-        prev = node;
-        h = if iterations <= EASY_ITERATIONS {
-            h * STEP_GROWTH
-        } else if iterations > HARD_ITERATIONS {
-            h * STEP_SHRINK
-        } else {
-            h
-        }
-        .min(settings.max_step);
     }
 }
 
-/// Whether the segment from `a` to `b` passes within [`LOOP_CLOSURE`]` · h` of `p` (angles
-/// `α` compared modulo 2π), `p` projecting inside the segment.
-fn passes(a: &[f64], b: &[f64], p: &[f64], h: f64) -> bool {
+/// The parameter `θ` of the projection of `p` on the line through `a` and `b` (`a + θ (b −
+/// a)`) and the distance of `p` from that projection (`α` modulo 2π); `None` for `a = b`.
+fn projection(a: &[f64], b: &[f64], p: &[f64]) -> Option<(f64, f64)> {
     let d = |u: &[f64], v: &[f64], k: usize| {
         if k == 0 {
             wrap(u[0] - v[0])
@@ -1613,14 +2102,20 @@ fn passes(a: &[f64], b: &[f64], p: &[f64], h: f64) -> bool {
     let ap: Vec<f64> = (0..m).map(|k| d(p, a, k)).collect();
     let len2: f64 = ab.iter().map(|v| v * v).sum();
     if len2 == 0.0 {
-        return false;
+        return None;
     }
     let t = ab.iter().zip(&ap).map(|(u, v)| u * v).sum::<f64>() / len2;
     if !(-LOOP_CLOSURE..=1.0 + LOOP_CLOSURE).contains(&t) {
-        return false;
+        return None;
     }
     let dist2: f64 = (0..m).map(|k| (ap[k] - t * ab[k]).powi(2)).sum();
-    dist2.sqrt() < LOOP_CLOSURE * h
+    Some((t, dist2.sqrt()))
+}
+
+/// Whether the segment from `a` to `b` passes within [`LOOP_CLOSURE`]` · h` of `p` (angles
+/// `α` compared modulo 2π), `p` projecting inside the segment.
+fn passes(a: &[f64], b: &[f64], p: &[f64], h: f64) -> bool {
+    projection(a, b, p).is_some_and(|(_, gap)| gap < LOOP_CLOSURE * h)
 }
 
 /// The Neimark–Sacker test `Π_{i<j} (μ_i μ_j − 1)`: real (conjugates pair up); a conjugate
@@ -1647,10 +2142,14 @@ enum Test {
 }
 
 impl Test {
+    /// The test function's value at a point. The branch-point test is `det(M − I)` over
+    /// `dω/ds`: both change sign at a fold (a multiplier through 1 where the branch turns),
+    /// their ratio does not (it is `det([R_X; tᵀ])` up to a factor that does not vanish), so
+    /// a fold and a branch point within one step are both seen.
     fn value(self, t: &Tests) -> f64 {
         match self {
             Test::Fold => t.fold,
-            Test::Branch => t.branch,
+            Test::Branch => t.branch / t.fold,
             Test::Doubling => t.doubling,
             Test::Torus => t.torus,
             Test::Clearance(f) => t.clearance[f],
@@ -1670,105 +2169,165 @@ impl Test {
     }
 }
 
-/// The events between two consecutive points `a`, `b`.
-fn detect(system: &System, a: &Node, b: &Node, origin: &Seed) -> Vec<Found> {
-    let n = system.n();
-    let changes = |t: Test| {
-        let (va, vb) = (t.value(&a.tests), t.value(&b.tests));
-        va * vb < 0.0
-    };
-    let mut tests = Vec::new();
-    let fold = changes(Test::Fold);
-    if fold {
-        tests.push(Test::Fold);
-    }
-    if changes(Test::Branch) && !fold {
-        tests.push(Test::Branch);
-    }
-    for t in [Test::Doubling, Test::Torus] {
-        if changes(t) {
-            tests.push(t);
-        }
-    }
+/// Every test function of a branch of `n` impacts.
+fn all_tests(n: usize) -> Vec<Test> {
+    let mut tests = vec![Test::Fold, Test::Branch, Test::Doubling, Test::Torus];
     for f in 0..n {
-        if changes(Test::Clearance(f)) {
-            tests.push(Test::Clearance(f));
-        }
-        if changes(Test::Approach(f)) {
-            tests.push(Test::Approach(f));
-        }
+        tests.push(Test::Clearance(f));
+        tests.push(Test::Approach(f));
     }
-    let mut found = Vec::new();
-    for test in tests {
-        let Some(mut node) = locate(system, a, b, test) else {
-            continue;
-        };
-        if let Test::Branch = test {
-            // At a branch point R_X has a two-dimensional null space and the bordered tangent
-            // solve picks an arbitrary member of it: the branch's own direction there is the
-            // chord between the two regular points around it.
-            let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
-            let norm = chord.iter().map(|v| v * v).sum::<f64>().sqrt();
-            node.tangent = chord.iter().map(|v| v / norm).collect();
-            node.point.domega_ds = node.tangent[n];
+    tests
+}
+
+/// Every test whose function changes sign between `a` and `b`.
+fn sign_changes(a: &Tests, b: &Tests, n: usize) -> Vec<Test> {
+    let mut tests = all_tests(n);
+    tests.retain(|t| t.value(a) * t.value(b) < 0.0);
+    tests
+}
+
+/// A pair of zeros of one test function within the step from `a` to `b`, which the signs at
+/// `a` and `b` do not show: the quadratic in arclength through the function's values at
+/// `before`, `a` and `b` has its extremum inside the step, of the other sign. Returns the
+/// chord fraction of that extremum (for the first test where it happens).
+fn hidden_pair(before: &Node, a: &Node, b: &Node, n: usize) -> Option<f64> {
+    let s0 = -distance(&before.x, &a.x);
+    let s2 = distance(&a.x, &b.x);
+    if !(s0 < 0.0 && s2 > 0.0) {
+        return None;
+    }
+    all_tests(n).into_iter().find_map(|test| {
+        let v0 = test.value(&before.tests);
+        let v1 = test.value(&a.tests);
+        let v2 = test.value(&b.tests);
+        if !(v0.is_finite() && v1.is_finite() && v2.is_finite()) || v1 * v2 <= 0.0 {
+            return None;
         }
-        let va = test.value(&a.tests).abs();
-        let vb = test.value(&b.tests).abs();
-        let located = test.value(&node.tests).abs();
-        if located.is_nan() || located > EVENT_ACCEPTANCE * va.max(vb) {
-            continue;
+        // Newton's form: q(s) = v0 + d01 (s − s0) + c2 (s − s0) s.
+        let d01 = (v1 - v0) / -s0;
+        let d12 = (v2 - v1) / s2;
+        let c2 = (d12 - d01) / (s2 - s0);
+        if c2 == 0.0 || !c2.is_finite() {
+            return None;
         }
-        let mut phase = None;
-        let mut signature_after = None;
-        match test {
-            Test::Torus => {
-                let on_circle = node.point.floquet_multipliers.iter().any(|m| {
+        let vertex = 0.5 * (s0 - d01 / c2);
+        let q = v0 + d01 * (vertex - s0) + c2 * (vertex - s0) * vertex;
+        (vertex > 0.0 && vertex < s2 && q * v1 < 0.0).then_some(vertex / s2)
+    })
+}
+
+/// The events between two consecutive points `a`, `b` (`before`: the point before `a`): the
+/// zero of every test function that changed sign over the step, each located on its own, in
+/// their order along the step. Where a test function may have two zeros within the step
+/// ([`hidden_pair`]), the step is split at the point between them and each half searched.
+fn detect(system: &System, a: &Node, b: &Node, before: Option<&Node>) -> Vec<Found> {
+    let split = before
+        .and_then(|p| hidden_pair(p, a, b, system.n()))
+        .and_then(|theta| system.node_at(a, b, theta));
+    match split {
+        Some(middle) => {
+            let mut found = detect_step(system, a, &middle);
+            found.extend(detect_step(system, &middle, b));
+            found
+        }
+        None => detect_step(system, a, b),
+    }
+}
+
+/// [`detect`] over one step, without splitting it.
+fn detect_step(system: &System, a: &Node, b: &Node) -> Vec<Found> {
+    let mut found: Vec<(f64, Found)> = sign_changes(&a.tests, &b.tests, system.n())
+        .into_iter()
+        .filter_map(|test| {
+            let (theta, node) = locate(system, a, b, test)?;
+            Some((theta, event_at(system, a, b, test, node)?))
+        })
+        .collect();
+    found.sort_by(|p, q| p.0.total_cmp(&q.0));
+    found.into_iter().map(|(_, f)| f).collect()
+}
+
+/// The event of `test` at its located zero `node` between `a` and `b`, unless the zero is
+/// not an event (a jump of the test function, a neutral saddle, a graze at a flight's end).
+fn event_at(system: &System, a: &Node, b: &Node, test: Test, mut node: Node) -> Option<Found> {
+    let n = system.n();
+    if let Test::Branch = test {
+        // At a branch point R_X has a two-dimensional null space and the bordered tangent
+        // solve picks an arbitrary member of it: the branch's own direction there is the
+        // chord between the two regular points around it.
+        let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
+        let norm = chord.iter().map(|v| v * v).sum::<f64>().sqrt();
+        node.tangent = chord.iter().map(|v| v / norm).collect();
+        node.point.domega_ds = node.tangent[n];
+    }
+    // The branch test is accepted on its determinant `det(M − I)`, zero at a branch point
+    // (the tangent there, hence `dω/ds`, is arbitrary: on the asymmetric pair through a
+    // pitchfork `dω/ds` vanishes too).
+    let value = |t: &Tests| match test {
+        Test::Branch => t.branch.abs(),
+        _ => test.value(t).abs(),
+    };
+    let (va, vb, located) = (value(&a.tests), value(&b.tests), value(&node.tests));
+    let accepted = match test {
+        // Near a branch point its location is pinned only to about `√ε` (Newton converges
+        // linearly there), and steps past it may be that short: the test is that `R_X` has
+        // lost rank there, to that accuracy, which a jump of the test (a pole as an impact's
+        // velocity vanishes) does not show.
+        Test::Branch => rank_deficiency(&node.jacobian) < BRANCH_RANK_DEFICIENCY,
+        _ => located <= EVENT_ACCEPTANCE * va.max(vb),
+    };
+    if located.is_nan() || !accepted {
+        return None;
+    }
+    let mut phase = None;
+    let mut signature_after = None;
+    match test {
+        Test::Torus => {
+            let on_circle =
+                node.point.floquet_multipliers.iter().any(|m| {
                     m.im.abs() > REAL_MULTIPLIER && (m.norm() - 1.0).abs() < TORUS_TOLERANCE
                 });
-                if !on_circle {
-                    continue;
-                }
+            if !on_circle {
+                return None;
             }
-            Test::Branch => signature_after = Some(system.signature.clone()),
-            Test::Doubling => signature_after = doubled(&system.signature),
-            Test::Clearance(f) => {
-                let (time, side) = node.tests.graze[f];
-                let (s, e) = system.flight_span(&node.x, f);
-                // A critical point of r at a flight's end is the shadow of a vanishing impact
-                // there (r̈ turns r back at the stop), not a graze between impacts.
-                if !(time > GRAZE_INTERIOR && e - s - time > GRAZE_INTERIOR) {
-                    continue;
-                }
-                phase = Some(s + time);
-                signature_after = grazed(&system.signature, f, side).map(|(sig, _)| sig);
-            }
-            Test::Approach(j) => {
-                phase = Some(if j == 0 { 0.0 } else { node.x[j] });
-            }
-            Test::Fold => {}
         }
-        let _ = origin;
-        let period_after = signature_after.as_ref().map(|s| s.period());
-        found.push(Found {
-            event: Event {
-                branch: node.point.branch,
-                kind: test.kind(),
-                omega: node.x[n],
-                signature_after,
-                period_after,
-                phase,
-                point: node.point.clone(),
-            },
-            node,
-        });
+        Test::Branch => signature_after = Some(system.signature.clone()),
+        Test::Doubling => signature_after = doubled(&system.signature),
+        Test::Clearance(f) => {
+            let (time, side) = node.tests.graze[f];
+            let (s, e) = system.flight_span(&node.x, f);
+            // A critical point of r at a flight's end is the shadow of a vanishing impact
+            // there (r̈ turns r back at the stop), not a graze between impacts.
+            if !(time > GRAZE_INTERIOR && e - s - time > GRAZE_INTERIOR) {
+                return None;
+            }
+            phase = Some(s + time);
+            signature_after = grazed(&system.signature, f, side).map(|(sig, _)| sig);
+        }
+        Test::Approach(j) => {
+            phase = Some(if j == 0 { 0.0 } else { node.x[j] });
+        }
+        Test::Fold => {}
     }
-    found
+    let period_after = signature_after.as_ref().map(|s| s.period());
+    Some(Found {
+        event: Event {
+            branch: node.point.branch,
+            kind: test.kind(),
+            omega: node.x[n],
+            signature_after,
+            period_after,
+            phase,
+            point: node.point.clone(),
+        },
+        node,
+    })
 }
 
 /// The zero of `test` between `a` and `b`, by Illinois on the chord fraction `θ`: each trial
 /// point `a + θ (b − a)` is corrected onto the branch within the hyperplane normal to the
-/// chord.
-fn locate(system: &System, a: &Node, b: &Node, test: Test) -> Option<Node> {
+/// chord. Returns `θ` at the zero and the point there.
+fn locate(system: &System, a: &Node, b: &Node, test: Test) -> Option<(f64, Node)> {
     let n = system.n();
     let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
     // A trial point on the branch at chord fraction θ, and the test function there: only
@@ -1793,7 +2352,10 @@ fn locate(system: &System, a: &Node, b: &Node, test: Test) -> Option<Node> {
                 (x, eval)
             }
         };
-        let value = system.test_value(test, &x, &eval, &a.tangent)?;
+        let mut value = system.test_value(test, &x, &eval, &a.tangent)?;
+        if let Test::Branch = test {
+            value /= system.tangent(&eval.jacobian, &a.tangent)?[n];
+        }
         Some((x, value))
     };
     let finish = |x: &[f64]| -> Option<Node> {
@@ -1807,7 +2369,7 @@ fn locate(system: &System, a: &Node, b: &Node, test: Test) -> Option<Node> {
     if f_lo.is_nan() || f_hi.is_nan() || f_lo * f_hi >= 0.0 {
         return None;
     }
-    let mut best: Option<Vec<f64>> = None;
+    let mut best: Option<(f64, Vec<f64>)> = None;
     let mut side = 0i8;
     for _ in 0..LOCATION_ITERATIONS {
         if hi - lo <= LOCATION_FRACTION {
@@ -1837,12 +2399,13 @@ fn locate(system: &System, a: &Node, b: &Node, test: Test) -> Option<Node> {
             }
             side = 1;
         }
-        best = Some(x);
+        best = Some((theta, x));
         if done {
             break;
         }
     }
-    finish(&best?)
+    let (theta, x) = best?;
+    Some((theta, finish(&x)?))
 }
 
 /// The signature repeated over twice the periods, if within the limits of [`Signature`].
@@ -1890,6 +2453,7 @@ fn switch_seed(
                 tangent: Some(t),
                 from_event: Some(event_index),
                 grazing_impact: None,
+                depth: 0,
             })
         }
         EventKind::PeriodDoubling => {
@@ -1920,6 +2484,7 @@ fn switch_seed(
                 tangent: Some(t),
                 from_event: Some(event_index),
                 grazing_impact: None,
+                depth: 0,
             })
         }
         EventKind::Grazing => {
@@ -1944,6 +2509,7 @@ fn switch_seed(
                 tangent: None,
                 from_event: Some(event_index),
                 grazing_impact: Some((m - k + f + 1) % m),
+                depth: 0,
             })
         }
         _ => None,

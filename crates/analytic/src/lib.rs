@@ -35,7 +35,8 @@
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
 //!   ([`continue_orbit`]) through folds, with exact derivatives in `ω`, the bifurcation events
 //!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
-//!   impact) located to `1e-8` in `ω`, and the branches that leave at them;
+//!   impact) located to `1e-8` in `ω`, and the branches that leave at them, each followed
+//!   once (a branch onto one followed, or onto its mirror image, ends there);
 //! - for every orbit ([`orbit::Orbit`]): the outer amplitude from rigorous extrema, viability
 //!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
 //!   from the monodromy matrix with saltation matrices.
@@ -66,8 +67,8 @@ pub mod unit;
 
 pub use chain::{chain_response, validate_chain, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
-    continue_orbit, Branch, BranchEnd, Continuation, ContinuationError, ContinuationPoint,
-    ContinuationSettings, EndReason, Event, EventKind,
+    continue_orbit, continue_orbit_after, Branch, BranchEnd, Continuation, ContinuationError,
+    ContinuationPoint, ContinuationSettings, EndReason, Event, EventKind,
 };
 pub use cycle::{
     signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,

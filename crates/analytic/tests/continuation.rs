@@ -533,3 +533,177 @@ fn vanishing_impact_has_zero_relative_velocity() {
     };
     assert!(approach(event.omega - 0.05) * approach(event.omega + 0.05) < 0.0);
 }
+
+/// `ω` where the symmetric orbit's half-period gap is the gap (`Δ*(½)(ω) = Δ`), by bisection
+/// within `[a, b]`: where the asymmetric pair leaves the symmetric orbit.
+fn symmetric_branch_point(a: f64, b: f64) -> f64 {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let f = |w: f64| gap_for_beta(&unit, stops.restitution, w, 0.5).unwrap().gap - stops.gap;
+    let (mut a, mut b) = (a, b);
+    assert!(f(a) * f(b) < 0.0, "bracket");
+    while b - a > 1e-14 {
+        let m = 0.5 * (a + b);
+        if f(m) * f(a) > 0.0 {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// Issue #22: started 0.02 below the symmetric orbit's branch point at 2.1925686 rad/s (the
+/// paper scene, README), the continuation reported grazings, a Neimark–Sacker, a vanishing
+/// impact, a period doubling and a fold within 1e-3 of it, but not the branch point (a fold
+/// in the same step masked it). From either side it is found, to 1e-8 of `Δ*(½) = Δ`.
+#[test]
+fn branch_point_among_crowded_events_is_found_from_either_side() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let reference = symmetric_branch_point(2.19, 2.195);
+    let signature = Signature::parse("+-", 1).unwrap();
+    // Below, the asymmetric orbit that reaches the symmetric one there (β ≈ 0.666, the
+    // `rattle continue` start of the issue); above, the symmetric orbit it reaches (α ≈ 3.12).
+    let below = signature_orbits(&unit, &stops, reference - 0.02, &signature)
+        .into_iter()
+        .find(|o| (o.impact_phases[1] - 0.666).abs() < 0.01)
+        .expect("the asymmetric orbit at β ≈ 0.666");
+    let above = signature_orbits(&unit, &stops, reference + 0.02, &signature)
+        .into_iter()
+        .find(|o| (o.impact_phases[1] - 0.5).abs() < 1e-9 && o.alpha.abs() > 3.0)
+        .expect("the symmetric orbit at α ≈ 3.12");
+    for start in [below, above] {
+        let start_omega = start.omega;
+        let settings = ContinuationSettings {
+            follow_switches: false,
+            ..ContinuationSettings::new(2.15, 2.24)
+        };
+        let c = continue_orbit(&unit, &stops, &start, &settings).unwrap();
+        let nearest = c
+            .events
+            .iter()
+            .filter(|e| e.kind == EventKind::BranchPoint)
+            .map(|e| (e.omega - reference).abs())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest < 1e-8,
+            "from ω = {start_omega}: nearest branch point {nearest:e} from {reference}; events {:?}",
+            c.events
+                .iter()
+                .map(|e| (e.kind, e.omega))
+                .collect::<Vec<_>>()
+        );
+    }
+}
+
+/// The switching depth of each branch: 0 for the start's, one more than the branch its
+/// event lies on for a switched one.
+fn depths(c: &Continuation) -> Vec<usize> {
+    let mut depth = vec![0; c.branches.len()];
+    for b in &c.branches {
+        if let Some(e) = b.from_event {
+            depth[b.index] = depth[c.events[e].branch] + 1;
+        }
+    }
+    depth
+}
+
+/// Issue #22: each branch followed once (a branch and its half-period mirror image were
+/// followed as two, the period-doubled branches went round twice), each event listed once.
+/// An event and its image have the same kind, frequency and amplitude: no two events may.
+#[test]
+fn each_event_is_listed_once_and_images_are_not_followed() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = asymmetric_start();
+    let c = continue_orbit(&unit, &stops, &start, &ContinuationSettings::new(2.8, 3.0)).unwrap();
+    for (i, a) in c.events.iter().enumerate() {
+        for b in &c.events[i + 1..] {
+            // (A branch of another signature may meet the same orbit: the period-4 branch
+            // born at a grazing of the doubled period-2 orbit grazes where that orbit does.)
+            let (sa, sb) = (
+                &c.branches[a.branch].signature,
+                &c.branches[b.branch].signature,
+            );
+            let same = a.kind == b.kind
+                && (sa.impacts(), sa.period()) == (sb.impacts(), sb.period())
+                && (a.omega - b.omega).abs() < 1e-9
+                && (a.point.outer_amplitude - b.point.outer_amplitude).abs() < 1e-9;
+            assert!(
+                !same,
+                "{:?} at ω = {} on branches {} and {}; {:?}",
+                a.kind,
+                a.omega,
+                a.branch,
+                b.branch,
+                c.branches
+                    .iter()
+                    .map(|b| (
+                        b.index,
+                        b.signature.to_string(),
+                        b.from_event,
+                        b.points.len()
+                    ))
+                    .collect::<Vec<_>>()
+            );
+        }
+    }
+    // The doubled branch is its own image one forcing period later: it ends where it starts
+    // to retrace itself, not after going round twice.
+    let doubled = c
+        .branches
+        .iter()
+        .find(|b| {
+            b.from_event
+                .is_some_and(|e| c.events[e].kind == EventKind::PeriodDoubling)
+        })
+        .expect("a doubled branch");
+    let joins = c
+        .ends
+        .iter()
+        .filter(|e| e.branch == doubled.index && e.reason == EndReason::Joins)
+        .count();
+    assert!(joins >= 1, "{:?}", c.ends);
+    // Every depth-cut or joined end names what it should.
+    for e in &c.ends {
+        assert_eq!(e.joins.is_some(), e.reason == EndReason::Joins, "{e:?}");
+    }
+}
+
+#[test]
+fn switching_stops_at_the_depth_and_says_where() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = asymmetric_start();
+    let settings = ContinuationSettings {
+        max_depth: 1,
+        ..ContinuationSettings::new(2.8, 3.0)
+    };
+    let c = continue_orbit(&unit, &stops, &start, &settings).unwrap();
+    let depth = depths(&c);
+    let mut cut = 0;
+    for b in &c.branches {
+        let reasons: Vec<EndReason> = c
+            .ends
+            .iter()
+            .filter(|e| e.branch == b.index)
+            .map(|e| e.reason)
+            .collect();
+        assert_eq!(reasons.len(), 2, "branch {}", b.index);
+        if reasons.contains(&EndReason::MaxDepth) {
+            cut += 1;
+            assert!(
+                b.points.is_empty() && depth[b.index] == 2,
+                "branch {}",
+                b.index
+            );
+            let event = &c.events[b.from_event.unwrap()];
+            assert_eq!(Some(&b.signature), event.signature_after.as_ref());
+        } else {
+            assert!(
+                depth[b.index] <= 1,
+                "branch {} at depth {}",
+                b.index,
+                depth[b.index]
+            );
+        }
+    }
+    assert!(cut > 0, "the depth cut something");
+}

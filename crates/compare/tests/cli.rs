@@ -575,6 +575,63 @@ fn continue_json_follows_the_branches_and_locates_the_branch_point() {
 }
 
 #[test]
+fn continue_lists_each_event_once_and_says_where_branches_join_or_the_depth_cuts() {
+    // Issue #22: a branch and its mirror image were followed as two and events listed twice.
+    let doc = json(&[
+        "continue",
+        "--signature",
+        "+-",
+        "--omega",
+        "3",
+        "--omega-min",
+        "2.7",
+        "--omega-max",
+        "3.1",
+        "--max-depth",
+        "1",
+        "--json",
+    ]);
+    let branches = doc["branches"].as_array().unwrap();
+    let ends = doc["ends"].as_array().unwrap();
+    assert_eq!(ends.len(), 2 * branches.len());
+    let mut joins = 0;
+    let mut cut = 0;
+    for e in ends {
+        let b = &branches[e["branch"].as_u64().unwrap() as usize];
+        match e["reason"].as_str().unwrap() {
+            "joins" => {
+                joins += 1;
+                assert!(e["joins"].as_u64().unwrap() < branches.len() as u64, "{e}");
+            }
+            "max-depth" => {
+                cut += 1;
+                assert!(e["joins"].is_null() && b["points"] == 0, "{e} {b}");
+            }
+            _ => assert!(e["joins"].is_null(), "{e}"),
+        }
+    }
+    assert!(joins > 0 && cut > 0, "{joins} joins, {cut} cut");
+    let events = doc["events"].as_array().unwrap();
+    let key = |e: &serde_json::Value| {
+        let b = &branches[e["branch"].as_u64().unwrap() as usize];
+        (
+            e["kind"].as_str().unwrap().to_owned(),
+            b["signature"].as_str().unwrap().len(),
+            b["period"].as_u64().unwrap(),
+        )
+    };
+    for (i, a) in events.iter().enumerate() {
+        for b in &events[i + 1..] {
+            let close = |k: &str| (a[k].as_f64().unwrap() - b[k].as_f64().unwrap()).abs() < 1e-9;
+            assert!(
+                !(key(a) == key(b) && close("omega") && close("outer_amplitude")),
+                "{a} and {b}"
+            );
+        }
+    }
+}
+
+#[test]
 fn bad_continuation_arguments_exit_2_and_name_the_field() {
     let base = [
         "continue",
@@ -594,6 +651,7 @@ fn bad_continuation_arguments_exit_2_and_name_the_field() {
             vec!["--signature", "+-", "--max-branches", "0"],
             "--max-branches",
         ),
+        (vec!["--signature", "+-", "--max-depth", "x"], "--max-depth"),
     ] {
         let mut all: Vec<&str> = base.to_vec();
         all.extend(extra.iter().copied());

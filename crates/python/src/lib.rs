@@ -684,13 +684,14 @@ fn chain_orbit_trajectory<'py>(
     ))
 }
 
-/// The continuation's default `max_step` and `max_branches`, as the command's.
+/// The continuation's default `max_step`, `max_branches` and `max_depth`, as the command's.
 #[pyfunction]
 fn continuation_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let d = ContinuationSettings::default();
     let out = PyDict::new(py);
     out.set_item("max_step", d.max_step)?;
     out.set_item("max_branches", d.max_branches)?;
+    out.set_item("max_depth", d.max_depth)?;
     Ok(out)
 }
 
@@ -698,7 +699,7 @@ fn continuation_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 /// followed in ω over `[omega_min, omega_max]`, with the command's settings, checks and
 /// messages (options named as the Python parameters).
 #[pyfunction]
-#[pyo3(signature = (scene, signature, omega, omega_min, omega_max, period, orbit, switch, max_step, max_branches))]
+#[pyo3(signature = (scene, signature, omega, omega_min, omega_max, period, orbit, switch, max_step, max_branches, max_depth))]
 #[allow(clippy::too_many_arguments)]
 fn continue_branch(
     py: Python<'_>,
@@ -712,6 +713,7 @@ fn continue_branch(
     switch: bool,
     max_step: f64,
     max_branches: i64,
+    max_depth: i64,
 ) -> PyResult<String> {
     let omega = check_frequency(&scene.scene, "omega", omega)?;
     unit_only(&scene.scene, "rattle.continue_branch")?;
@@ -721,9 +723,15 @@ fn continue_branch(
     let signature = Signature::parse(signature, period)
         .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
     let max_branches = usize::try_from(max_branches).unwrap_or(0);
+    let max_depth = usize::try_from(max_depth).map_err(|_| {
+        PyValueError::new_err(format!(
+            "max_depth = {max_depth} is out of range: must be ≥ 0"
+        ))
+    })?;
     let mut settings = ContinuationSettings {
         max_step,
         max_branches,
+        max_depth,
         follow_switches: switch,
         ..ContinuationSettings::new(omega_min, omega_max)
     };

@@ -41,6 +41,12 @@ def test_one_orbit_without_switching_is_the_commands(rattle_cli):
     assert ours.followed_starts == [1]
 
 
+def test_switching_depth_is_the_commands(rattle_cli):
+    ours = rattle.continue_branch(rattle.Scene.paper(), **ARGS, max_depth=1)
+    theirs = rattle_cli.json("continue", *CLI_ARGS, "--max-depth", 1)
+    assert ours.to_dict() == theirs
+
+
 def test_points_columns(followed):
     columns = followed.points_columns()
     points = followed.to_dict()["points"]
@@ -91,6 +97,8 @@ def test_other_bad_arguments():
         rattle.continue_branch(scene, **ARGS, orbit=-1)
     with pytest.raises(ValueError, match="max_branches = 0 is out of range"):
         rattle.continue_branch(scene, **ARGS, max_branches=-2)
+    with pytest.raises(ValueError, match="max_depth = -1 is out of range"):
+        rattle.continue_branch(scene, **ARGS, max_depth=-1)
     with pytest.raises(ValueError, match="signature"):
         rattle.continue_branch(scene, **{**ARGS, "signature": "+x"})
     free = rattle.Scene.from_dict(

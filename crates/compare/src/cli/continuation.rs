@@ -46,6 +46,11 @@ pub struct ContinueArgs {
     /// Cap on the branches followed per start orbit, ≥ 1.
     #[arg(long, default_value_t = ContinuationSettings::default().max_branches)]
     pub max_branches: usize,
+    /// Switching depth: a start orbit's branch has depth 0, a branch switched onto from one
+    /// of depth d has depth d + 1; the branches leaving a branch of depth D are not followed
+    /// but listed without points, ending `max-depth` (0: no switching, the cuts listed).
+    #[arg(long, default_value_t = ContinuationSettings::default().max_depth)]
+    pub max_depth: usize,
     /// Print one JSON document (points, events, ends) instead of a summary.
     #[arg(long, conflicts_with = "out")]
     pub json: bool,
@@ -115,6 +120,7 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
     let mut settings = ContinuationSettings {
         max_step: args.max_step,
         max_branches: args.max_branches,
+        max_depth: args.max_depth,
         follow_switches: !args.no_switch,
         ..ContinuationSettings::new(args.omega_min, args.omega_max)
     };
@@ -240,10 +246,11 @@ fn summary(scene: &str, f: &Followed, points: &[ContinuationPointRecord]) -> Str
     for e in &f.branches.ends {
         let _ = writeln!(
             out,
-            "end of branch {} at ω = {:.10}: {}",
+            "end of branch {} at ω = {:.10}: {}{}",
             e.branch,
             e.omega,
-            e.reason.name()
+            e.reason.name(),
+            e.joins.map_or(String::new(), |b| format!(" branch {b}"))
         );
     }
     let _ = writeln!(out, "{} points in all", points.len());

@@ -561,8 +561,12 @@ pub struct EndRecord {
     /// Angular frequency of its last point, rad/s.
     pub omega: Option<f64>,
     /// Why it ends (`omega-min`, `omega-max`, `step-below-minimum`, `point-cap`,
-    /// `flight-merged`, `vanishing-impact`, `newton-failed`, `closed-loop`).
+    /// `flight-merged`, `vanishing-impact`, `newton-failed`, `closed-loop`, `joins`,
+    /// `max-depth`).
     pub reason: &'static str,
+    /// For `joins`: the branch it runs onto (itself for a branch that is its own mirror
+    /// image); else `null`.
+    pub joins: Option<usize>,
 }
 
 /// `rattle continue --json`.

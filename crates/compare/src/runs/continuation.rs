@@ -8,10 +8,10 @@ use crate::output::records::{
 use crate::scene::analytic::orbits_of_signature;
 use crate::scene::Scene;
 use rattle_analytic::continuation::{
-    continue_orbit, Branch, BranchEnd, ContinuationError, ContinuationSettings, Event,
+    continue_orbit_after, Branch, BranchEnd, Continuation, ContinuationError, ContinuationSettings,
+    Event,
 };
 use rattle_analytic::{Signature, SignatureOrbit};
-use rayon::prelude::*;
 use std::f64::consts::PI;
 use thiserror::Error;
 
@@ -134,8 +134,10 @@ pub struct Branches {
 }
 
 impl Branches {
-    /// Follows `start` unless a branch already followed passes through it; returns whether it
-    /// was followed.
+    /// Follows `start` unless it lies on a branch already followed here (or on its mirror
+    /// image); returns whether it was followed. Its branches end where they run onto one
+    /// followed here ([`rattle_analytic::continuation::EndReason::Joins`]) and its events
+    /// are listed unless listed here already.
     ///
     /// # Errors
     /// The continuation's refusal of its settings or start.
@@ -149,16 +151,21 @@ impl Branches {
         if self.followed(start) {
             return Ok(false);
         }
-        self.append(continue_orbit(unit, stops, start, settings)?);
-        Ok(true)
+        let mut all = Continuation {
+            branches: std::mem::take(&mut self.branches),
+            events: std::mem::take(&mut self.events),
+            ends: std::mem::take(&mut self.ends),
+        };
+        let outcome = continue_orbit_after(unit, stops, start, settings, &mut all);
+        (self.branches, self.events, self.ends) = (all.branches, all.events, all.ends);
+        outcome
     }
 
-    /// [`Branches::extend`] for each of `starts` in turn, with the same result (branches,
-    /// numbering, skipped starts), the continuations run in parallel: a wave of as many
-    /// starts not yet followed as there are threads runs at once, and is merged in order,
-    /// a start skipped when a branch merged before it passes through it (its continuation is
-    /// then wasted work, never a change of the result). Returns, per start, whether it was
+    /// [`Branches::extend`] for each of `starts` in turn. Returns, per start, whether it was
     /// followed (`Ok(true)`), lies on a branch already followed (`Ok(false)`) or was refused.
+    /// The starts are followed one after the other, each against the branches of those
+    /// before (so that no branch is followed twice): the result does not depend on the
+    /// thread count.
     pub fn extend_all(
         &mut self,
         unit: &rattle_analytic::Unit,
@@ -166,63 +173,15 @@ impl Branches {
         starts: &[SignatureOrbit],
         settings: &ContinuationSettings,
     ) -> Vec<Result<bool, ContinuationError>> {
-        let wave_size = 2 * rayon::current_num_threads().max(1);
-        let mut outcome: Vec<Option<Result<bool, ContinuationError>>> =
-            starts.iter().map(|_| None).collect();
-        let mut next = 0;
-        while next < starts.len() {
-            let mut wave = Vec::with_capacity(wave_size);
-            while next < starts.len() && wave.len() < wave_size {
-                if self.followed(&starts[next]) {
-                    outcome[next] = Some(Ok(false));
-                } else {
-                    wave.push(next);
-                }
-                next += 1;
-            }
-            let runs: Vec<_> = wave
-                .par_iter()
-                .map(|&k| continue_orbit(unit, stops, &starts[k], settings))
-                .collect();
-            for (k, run) in wave.into_iter().zip(runs) {
-                outcome[k] = Some(match run {
-                    Ok(_) if self.followed(&starts[k]) => Ok(false),
-                    Ok(c) => {
-                        self.append(c);
-                        Ok(true)
-                    }
-                    Err(e) => Err(e),
-                });
-            }
-        }
-        outcome.into_iter().flatten().collect()
+        starts
+            .iter()
+            .map(|start| self.extend(unit, stops, start, settings))
+            .collect()
     }
 
     /// Whether a branch already followed passes through `start`.
     fn followed(&self, start: &SignatureOrbit) -> bool {
         self.branches.iter().any(|b| passes_through(b, start))
-    }
-
-    /// Appends one continuation's branches, events and ends, renumbered after those here.
-    fn append(&mut self, c: rattle_analytic::continuation::Continuation) {
-        let (branch_offset, event_offset) = (self.branches.len(), self.events.len());
-        self.branches.extend(c.branches.into_iter().map(|mut b| {
-            b.index += branch_offset;
-            b.from_event = b.from_event.map(|e| e + event_offset);
-            for p in &mut b.points {
-                p.branch += branch_offset;
-            }
-            b
-        }));
-        self.events.extend(c.events.into_iter().map(|mut e| {
-            e.branch += branch_offset;
-            e.point.branch += branch_offset;
-            e
-        }));
-        self.ends.extend(c.ends.into_iter().map(|mut e| {
-            e.branch += branch_offset;
-            e
-        }));
     }
 }
 
@@ -306,6 +265,7 @@ impl Followed {
                     branch: e.branch,
                     omega: finite(e.omega),
                     reason: e.reason.name(),
+                    joins: e.joins,
                 })
                 .collect(),
         }
@@ -344,7 +304,7 @@ mod tests {
     }
 
     #[test]
-    fn parallel_waves_give_the_serial_result_on_any_thread_count() {
+    fn extend_all_gives_the_serial_result_on_any_thread_count() {
         let scene = Scene::paper();
         let (unit, stops) = (scene.unit_model(), scene.stops_model().expect("stops"));
         let starts = seeds(&scene);

@@ -84,8 +84,8 @@ _MAX_PERIODS = DEFAULTS["max_periods"]
 _MAX_OSCILLATIONS = DEFAULTS["max_oscillations"]
 
 #: The continuation's default settings, as the command's: ``max_step`` (largest step along a
-#: branch, in α, impact phases and ω together) and ``max_branches`` (cap on the branches
-#: followed per start orbit).
+#: branch, in α, impact phases and ω together), ``max_branches`` (cap on the branches
+#: followed per start orbit) and ``max_depth`` (switching depth).
 CONTINUATION_DEFAULTS = dict(_rattle.continuation_defaults())
 
 #: Uniform samples per forcing period of a trajectory by default, as the command's
@@ -365,8 +365,10 @@ class Continuation(Record):
     ``branches`` (each branch: its index, signature, period, the event it left from…),
     ``points`` (every point of every branch, branch by branch: ``branch``, ``omega``,
     ``alpha``, ``impact_phases``, ``outer_amplitude``, ``transmittance_db``, ``stable``,
-    ``viable``, ``floquet_multipliers``), ``events`` (bifurcations, grazings…) and ``ends``
-    (how each branch ends). :meth:`points_columns` gives the points as numpy arrays."""
+    ``viable``, ``floquet_multipliers``), ``events`` (bifurcations, grazings…, each listed
+    once) and ``ends`` (how each branch ends: ``branch``, ``omega``, ``reason``, and for
+    ``reason == "joins"`` the branch it runs onto in ``joins``). :meth:`points_columns` gives
+    the points as numpy arrays."""
 
     def points_columns(self):
         """The points as a dict of numpy arrays, for plotting: ``branch`` (``int64``),
@@ -694,6 +696,7 @@ def continue_branch(
     switch=True,
     max_step=CONTINUATION_DEFAULTS["max_step"],
     max_branches=CONTINUATION_DEFAULTS["max_branches"],
+    max_depth=CONTINUATION_DEFAULTS["max_depth"],
 ):
     """The branches through the orbits of a signature, followed in frequency, as
     ``rattle continue --json``.
@@ -705,7 +708,11 @@ def continue_branch(
     located; with ``switch`` (the command without ``--no-switch``) the branches leaving at
     them are followed too. ``max_step`` is the largest step along a branch (in α, impact
     phases and ω together, ≥ 1e-9), ``max_branches`` the cap on the branches per start
-    orbit (≥ 1). Returns a :class:`Continuation`.
+    orbit (≥ 1), ``max_depth`` the switching depth (≥ 0; a start's branch has depth 0, one
+    switched onto from a branch of depth d has d + 1; where the depth cuts, a branch without
+    points ends ``max-depth``). Each branch is followed once: one that runs onto a branch
+    already followed, or onto its mirror image, ends ``joins`` with that branch. Returns a
+    :class:`Continuation`.
 
     A bad argument is a :class:`ValueError` naming it (``omega_min``, ``max_step``,
     ``orbit``…); no orbit of the signature at ``omega`` a :class:`RuntimeError`.
@@ -721,6 +728,7 @@ def continue_branch(
         bool(switch),
         float(max_step),
         max_branches,
+        max_depth,
     )
     return Continuation(_json.loads(text))
 
