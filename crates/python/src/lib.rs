@@ -269,8 +269,8 @@ fn positive(name: &str, value: i64) -> PyResult<u64> {
         .ok_or_else(|| PyValueError::new_err(format!("{name} must be > 0")))
 }
 
-/// The simulator's options from the accuracy knobs, checked by the command's own ranges
-/// ([`Accuracy::options`]).
+/// The simulator's options from the accuracy knobs, checked by the library's ranges, the
+/// command's too ([`Accuracy::options`]; messages named as the Python parameters).
 fn options(
     tol: f64,
     steady_tol: f64,
@@ -560,8 +560,8 @@ fn simulate<'py>(
     Ok((json(&document)?, tables))
 }
 
-/// `lyapunov_periods = N` checked by the command's own range ([`check_periods`], named as the
-/// Python parameter).
+/// `lyapunov_periods = N` checked by the library's range, the command's too ([`check_periods`],
+/// named as the Python parameter).
 fn checked_lyapunov_periods(periods: i64) -> PyResult<u64> {
     let out_of_range = || {
         PyValueError::new_err(format!(
