@@ -715,10 +715,9 @@ fn continue_branch(
     max_branches: i64,
     max_depth: i64,
 ) -> PyResult<String> {
-    let omega = check_frequency(&scene.scene, "omega", omega)?;
-    unit_only(&scene.scene, "rattle.continue_branch")?;
-    check_frequency(&scene.scene, "omega_min", omega_min)?;
-    check_frequency(&scene.scene, "omega_max", omega_max)?;
+    // The command's checks in the command's order, so that the first bad argument gets the
+    // command's message: the settings and the range of `omega`, then the scene and its bounds.
+    let omega = check_omega("omega", omega)?;
     let period = u32::try_from(period).unwrap_or(0);
     let signature = Signature::parse(signature, period)
         .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
@@ -757,6 +756,9 @@ fn continue_branch(
             "omega = {omega} is out of range: must be in [omega_min, omega_max] = [{omega_min}, {omega_max}]"
         )));
     }
+    unit_only(&scene.scene, "rattle.continue_branch")?;
+    check_frequency(&scene.scene, "omega_min", omega_min)?;
+    check_frequency(&scene.scene, "omega_max", omega_max)?;
     let orbit = orbit
         .map(|k| {
             usize::try_from(k).map_err(|_| {
