@@ -202,6 +202,86 @@ fn no_module_of_compare_uses_one_above_it() {
     );
 }
 
+/// Whether Rust source `text` names the command's module `rattle_compare::cli`, as a path
+/// (`rattle_compare::cli::…`) or in a group (`use rattle_compare::{cli, …}`), whatever the
+/// spacing and line breaks.
+fn uses_the_command(text: &str) -> bool {
+    let code: String = text.chars().filter(|c| !c.is_whitespace()).collect();
+    if code.contains("rattle_compare::cli") {
+        return true;
+    }
+    code.match_indices("rattle_compare::{").any(|(i, m)| {
+        // The group's top-level items, up to its closing brace.
+        let mut depth = 0usize;
+        let mut item = String::new();
+        for c in code[i + m.len()..].chars() {
+            match c {
+                '{' => depth += 1,
+                '}' if depth == 0 => break,
+                '}' => depth -= 1,
+                ',' if depth == 0 => {
+                    if item == "cli" || item.starts_with("cli::") {
+                        return true;
+                    }
+                    item.clear();
+                    continue;
+                }
+                _ => {}
+            }
+            item.push(c);
+        }
+        item == "cli" || item.starts_with("cli::")
+    })
+}
+
+/// The package and the command are both thin layers over the library (issue #25): the package
+/// calls the library's functions, never the command's.
+#[test]
+fn the_python_package_does_not_use_the_command() {
+    let src = root().join("crates/python/src");
+    let files = rust_files(&src);
+    assert!(
+        !files.is_empty(),
+        "no sources in {}: has the crate moved?",
+        src.display()
+    );
+    let broken: Vec<String> = files
+        .iter()
+        .filter(|file| {
+            uses_the_command(&std::fs::read_to_string(file).expect("source files are readable"))
+        })
+        .map(|file| file.display().to_string())
+        .collect();
+    assert!(
+        broken.is_empty(),
+        "the Python package uses the command's module `rattle_compare::cli` (call the library \
+         instead): {}",
+        broken.join(", ")
+    );
+}
+
+#[test]
+fn a_use_of_the_command_is_found() {
+    assert!(uses_the_command(
+        "use rattle_compare::cli::{Accuracy, RattleError};"
+    ));
+    assert!(uses_the_command(
+        "    rattle_compare::cli::refuse_chain(scene, f)"
+    ));
+    assert!(uses_the_command(
+        "use rattle_compare::{\n    cli,\n    scene::Scene,\n};"
+    ));
+    assert!(uses_the_command(
+        "use rattle_compare::{output::{Row, Format}, cli::simulate::LyapunovArgs};"
+    ));
+    assert!(!uses_the_command(
+        "use rattle_compare::scene::simulator::Accuracy;"
+    ));
+    assert!(!uses_the_command(
+        "use rattle_compare::{output::{cli_like, Row}, scene::Scene};"
+    ));
+}
+
 #[test]
 fn only_figures_draw_and_figures_only_draw() {
     let src = root().join("crates/compare/src");

@@ -24,15 +24,13 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
-use rattle_compare::cli::compare::chain_record;
-use rattle_compare::cli::orbit::{chain_linear_model, chain_orbits};
-use rattle_compare::cli::simulate::{lyapunov_record, LyapunovArgs};
-use rattle_compare::cli::{Accuracy, RattleError, MAX_SAMPLES_PER_PERIOD};
 use rattle_compare::output::records::{
-    At, CrossCheckRecord, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
+    At, LinearRecord, LyapunovRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
     SignatureOrbitsRecord, SimulationRecord, WithLyapunov,
 };
-use rattle_compare::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, TrajectoryRow};
+use rattle_compare::output::trajectory::{
+    analytic_rows, simulated_rows, ImpactRow, TrajectoryRow, MAX_SAMPLES_PER_PERIOD,
+};
 use rattle_compare::output::Row;
 use rattle_compare::output::{table_text, Format, Header};
 use rattle_compare::runs::axis::Axis;
@@ -43,13 +41,15 @@ use rattle_compare::runs::parallel::Progress;
 use rattle_compare::runs::shard::{merge as merge_parts, Shard};
 use rattle_compare::runs::sweep::{header, sweep_rows, Solver, SweepRow};
 use rattle_compare::scene::analytic::{
-    analyse, orbits_of_signature, sample_sequence_orbit, sample_signature_orbit, OrbitSearch,
+    analyse, chain_linear_model, orbits_of_signature, sample_sequence_orbit,
+    sample_signature_orbit, OrbitSearch,
 };
-use rattle_compare::scene::simulator::{model, run as simulate_scene};
 use rattle_compare::scene::frequency::FrequencyBounds;
+use rattle_compare::scene::lyapunov::{check_periods, spectrum};
+use rattle_compare::scene::simulator::{model, run as simulate_scene, Accuracy};
 use rattle_compare::scene::{Scene, SceneError};
-use rattle_compare::verdict::chain::chain_cross_check;
-use rattle_compare::verdict::{cross_check, CrossCheck};
+use rattle_compare::verdict::chain::{chain_cross_check, chain_orbits, ChainOrbitsError};
+use rattle_compare::verdict::cross_check;
 use rattle_event_driven::lyapunov::BATCHES;
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::SimulationOptions;
@@ -185,7 +185,8 @@ fn set_number(scene: &mut Scene, path: &str, value: f64) -> PyResult<()> {
 /// Compact JSON text of a record.
 /// Refuses a chain scene for a function that takes a single unit, with the command's message.
 fn unit_only(scene: &Scene, function: &str) -> PyResult<()> {
-    rattle_compare::cli::refuse_chain(scene, function)
+    scene
+        .refuse_chain(function)
         .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
@@ -268,8 +269,8 @@ fn positive(name: &str, value: i64) -> PyResult<u64> {
         .ok_or_else(|| PyValueError::new_err(format!("{name} must be > 0")))
 }
 
-/// The simulator's options from the accuracy knobs, checked by the command's own ranges
-/// ([`Accuracy::options`]).
+/// The simulator's options from the accuracy knobs, checked by the library's ranges, the
+/// command's too ([`Accuracy::options`]; messages named as the Python parameters).
 fn options(
     tol: f64,
     steady_tol: f64,
@@ -396,15 +397,18 @@ fn chain_orbit(
     }
     let period = u32::try_from(period).unwrap_or(0);
     let record = compute(py, || Ok(chain_orbits(scene, omega, text, period)))?
-        .map_err(|e| rattle_error(&e))?;
+        .map_err(|e| chain_orbits_error(&e))?;
     json(&record)
 }
 
-/// The command's error as the matching Python exception: bad input a `ValueError` (options
-/// named as the Python parameters), a numerical failure a `RuntimeError`.
-fn rattle_error(error: &RattleError) -> PyErr {
+/// A chain's orbits' error as the matching Python exception, worded as the command words it:
+/// bad input a `ValueError` (options named as the Python parameters), a numerical failure a
+/// `RuntimeError`.
+fn chain_orbits_error(error: &ChainOrbitsError) -> PyErr {
     match error {
-        RattleError::Numerical(_) => PyRuntimeError::new_err(error.to_string()),
+        ChainOrbitsError::Numerical(_) => {
+            PyRuntimeError::new_err(format!("numerical failure: {error}"))
+        }
         _ => PyValueError::new_err(python_names(&error.to_string())),
     }
 }
@@ -485,8 +489,8 @@ fn impact_columns<'py>(py: Python<'py>, rows: &[ImpactRow]) -> PyColumns<'py> {
 /// `rattle simulate --json`: the event-driven simulator from rest; with `samples_per_period`,
 /// also the tables `--trajectory` and `--impacts` write (the final cycle, or with `periods`
 /// the last period, sampled from the closed form); with `lyapunov_periods`, the exponents of
-/// `--lyapunov --lyapunov-periods N` in the document (the command's own record builder,
-/// [`lyapunov_record`]).
+/// `--lyapunov --lyapunov-periods N` in the document (the library's [`spectrum`] and
+/// [`LyapunovRecord::new`], as the command's).
 #[pyfunction]
 #[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations, samples_per_period=None, lyapunov_periods=None))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -508,7 +512,7 @@ fn simulate<'py>(
         options.fixed_periods = Some(positive("periods", n)?);
     }
     let samples = samples_per_period.map(check_samples).transpose()?;
-    let lyapunov = lyapunov_periods.map(lyapunov_args).transpose()?;
+    let lyapunov = lyapunov_periods.map(checked_lyapunov_periods).transpose()?;
     let scene = &scene.scene;
     let (record, tables, exponents) = compute(py, || {
         let sim = simulate_scene(
@@ -539,10 +543,11 @@ fn simulate<'py>(
         };
         let exponents = match &lyapunov {
             None => None,
-            Some(args) => lyapunov_record(args, scene, &sim, &options).map_err(|e| match e {
-                RattleError::Numerical(message) => message,
-                other => other.to_string(),
-            })?,
+            Some(periods) => Some(
+                spectrum(scene, &sim, *periods, &options)
+                    .map(|s| LyapunovRecord::new(&sim, &s))
+                    .map_err(|e| e.to_string())?,
+            ),
         };
         Ok((SimulationRecord::new(scene, &sim), tables, exponents))
     })?;
@@ -555,21 +560,16 @@ fn simulate<'py>(
     Ok((json(&document)?, tables))
 }
 
-/// The command's `--lyapunov --lyapunov-periods N` flags for `lyapunov_periods = N`, checked by
-/// the command's own range ([`LyapunovArgs::check`], named as the Python parameter).
-fn lyapunov_args(periods: i64) -> PyResult<LyapunovArgs> {
+/// `lyapunov_periods = N` checked by the library's range, the command's too ([`check_periods`],
+/// named as the Python parameter).
+fn checked_lyapunov_periods(periods: i64) -> PyResult<u64> {
     let out_of_range = || {
         PyValueError::new_err(format!(
             "lyapunov_periods = {periods} is out of range: must be at least {BATCHES}"
         ))
     };
-    let args = LyapunovArgs {
-        lyapunov: true,
-        lyapunov_periods: u64::try_from(periods).map_err(|_| out_of_range())?,
-    };
-    args.check()
-        .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
-    Ok(args)
+    let periods = u64::try_from(periods).map_err(|_| out_of_range())?;
+    check_periods(periods).map_err(|e| PyValueError::new_err(python_names(&e.to_string())))
 }
 
 /// `rattle orbit --signature SIG --period P --orbit K --trajectory F --impacts I --json`: the
@@ -669,7 +669,7 @@ fn chain_orbit_trajectory<'py>(
             }),
         )
     })?
-    .map_err(|e| rattle_error(&e))?;
+    .map_err(|e| chain_orbits_error(&e))?;
     let Some((rows, impacts)) = tables else {
         return Err(PyValueError::new_err(format!(
             "orbit = {orbit} is out of range: {} orbit(s) of {} at ω = {omega}, numbered from 0",
@@ -715,8 +715,9 @@ fn continue_branch(
     max_branches: i64,
     max_depth: i64,
 ) -> PyResult<String> {
-    let omega = check_frequency(&scene.scene, "omega", omega)?;
-    unit_only(&scene.scene, "rattle.continue_branch")?;
+    // The command's checks in the command's order, so that the first bad argument gets the
+    // command's message: the settings and the range of `omega`, then the scene and its bounds.
+    let omega = check_omega("omega", omega)?;
     let period = u32::try_from(period).unwrap_or(0);
     let signature = Signature::parse(signature, period)
         .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
@@ -755,6 +756,7 @@ fn continue_branch(
             "omega = {omega} is out of range: must be in [omega_min, omega_max] = [{omega_min}, {omega_max}]"
         )));
     }
+    unit_only(&scene.scene, "rattle.continue_branch")?;
     check_frequency(&scene.scene, "omega_min", omega_min)?;
     check_frequency(&scene.scene, "omega_max", omega_max)?;
     let orbit = orbit
@@ -782,11 +784,6 @@ fn continue_branch(
     json(&record)
 }
 
-/// The record `rattle compare --json` prints for `c` on `scene`: the command's own builder.
-fn cross_check_record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
-    rattle_compare::cli::compare::record(scene, c)
-}
-
 /// `rattle compare --json`: both solvers on the motion the unit settles on; on a chain, the
 /// simulated cycle beside the analytic orbit of its impact sequence (the command's chain
 /// record).
@@ -807,14 +804,14 @@ fn compare(
     if scene.is_chain() {
         let record = compute(py, || {
             chain_cross_check(scene, omega, &options)
-                .map(|c| chain_record(scene, &c))
+                .map(|c| c.record(scene))
                 .map_err(|e| e.to_string())
         })?;
         return json(&record);
     }
     let record = compute(py, || {
         cross_check(scene, omega, &options)
-            .map(|c| cross_check_record(scene, &c))
+            .map(|c| c.record(scene))
             .map_err(|e| e.to_string())
     })?;
     json(&record)

@@ -1,15 +1,9 @@
 //! `rattle compare`: both solvers on the motion the unit settles on, whatever its signature.
 
 use super::{check_frequency, check_omega, heading, load, pretty, Accuracy, Common, RattleError};
-use crate::output::finite;
-use crate::output::records::{
-    multipliers, AnalyticCycleRecord, ChainAnalyticRecord, ChainCompareRecord,
-    ChainConfirmationRecord, ChainSimulatedRecord, ConfirmationRecord, CrossCheckRecord,
-    SimulatedCycleRecord,
-};
 use crate::scene::Scene;
-use crate::verdict::chain::{chain_cross_check, ChainCheck};
-use crate::verdict::{cross_check, CrossCheck};
+use crate::verdict::chain::chain_cross_check;
+use crate::verdict::cross_check;
 use clap::Args;
 use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
@@ -23,55 +17,6 @@ pub struct CompareArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub accuracy: Accuracy,
-}
-
-/// The record `rattle compare --json` prints for `c` on `scene` (also the Python package's).
-pub fn record(scene: &Scene, c: &CrossCheck) -> CrossCheckRecord {
-    let s = &c.simulated;
-    CrossCheckRecord {
-        scene: scene.name.clone(),
-        omega: finite(c.omega),
-        simulated: SimulatedCycleRecord {
-            status: s.status_name(),
-            period: s.steady.period,
-            signature: c.signature.as_ref().map(|sig| sig.to_string()),
-            impacts_per_period: finite(s.steady.impacts_per_period),
-            outer_amplitude: finite(s.outer_amplitude),
-            floquet_multipliers: s
-                .steady
-                .orbit
-                .as_ref()
-                .map(|o| multipliers(&o.floquet_multipliers)),
-        },
-        analytic: c.analytic.as_ref().map(|o| AnalyticCycleRecord {
-            signature: o.signature.to_string(),
-            period: o.period,
-            outer_amplitude: finite(o.outer_amplitude),
-            viable: o.viable,
-            stable: o.stable,
-            floquet_multipliers: multipliers(&o.floquet_multipliers),
-            energy_residual: finite(o.energy_residual),
-        }),
-        analytic_error: c.analytic_error.clone(),
-        class: c.class.name(),
-        class_detail: c.class.detail().to_owned(),
-        relative_difference: c.relative_difference.and_then(finite),
-        multiplier_difference: c.multiplier_difference.and_then(finite),
-        confirmed_orbits: c
-            .confirmed_orbits
-            .iter()
-            .map(|k| ConfirmationRecord {
-                alpha: finite(k.orbit.alpha),
-                impact_phases: k.orbit.impact_phases.iter().map(|&p| finite(p)).collect(),
-                stable: k.orbit.stable,
-                outer_amplitude: finite(k.orbit.outer_amplitude),
-                confirmed: k.confirmed,
-                state_difference: k.state_difference.and_then(finite),
-                multiplier_difference: k.multiplier_difference.and_then(finite),
-                error: k.error.clone(),
-            })
-            .collect(),
-    }
 }
 
 /// Runs `rattle compare`.
@@ -88,7 +33,7 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
     }
     let check =
         cross_check(&scene, omega, &options).map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let r = record(&scene, &check);
+    let r = check.record(&scene);
     if args.common.json {
         return pretty(&r);
     }
@@ -155,64 +100,6 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
     Ok(out)
 }
 
-/// The record `rattle compare --json` prints for `c` on the chain `scene`.
-pub fn chain_record(scene: &Scene, c: &ChainCheck) -> ChainCompareRecord {
-    let s = &c.simulated;
-    let pairs = scene.pair_count();
-    let pair_signatures = s.pair_signatures(pairs).map(|list| {
-        list.into_iter()
-            .map(|r| match r {
-                Ok(Some(sig)) => Some(sig.to_string()),
-                Ok(None) => Some(String::new()),
-                Err(_) => None,
-            })
-            .collect()
-    });
-    ChainCompareRecord {
-        scene: scene.name.clone(),
-        omega: finite(c.omega),
-        cells: c.cells,
-        simulated: ChainSimulatedRecord {
-            status: s.status_name(),
-            period: s.steady.period,
-            pair_signatures,
-            impacts_per_period: finite(s.steady.impacts_per_period),
-            pair_impacts_per_period: s.pair_impacts_per_period(pairs),
-            outer_amplitude: finite(s.outer_amplitude),
-            cell_outer_amplitudes: s.cell_outer_amplitudes().into_iter().map(finite).collect(),
-            floquet_multipliers: s
-                .steady
-                .orbit
-                .as_ref()
-                .map(|o| multipliers(&o.floquet_multipliers)),
-        },
-        analytic: c.analytic.as_ref().map(|o| ChainAnalyticRecord {
-            sequence: o.sequence.to_string(),
-            period: o.period,
-            outer_amplitude: finite(o.outer_amplitude),
-            cell_outer_amplitudes: o.cell_outer_amplitudes.iter().map(|&a| finite(a)).collect(),
-            viable: o.viable,
-            stable: o.stable,
-            floquet_multipliers: multipliers(&o.floquet_multipliers),
-            energy_residual: finite(o.energy_residual),
-        }),
-        analytic_error: c.analytic_error.clone(),
-        class: c.class.name(),
-        reason: c.reason.map(|r| r.name()),
-        class_detail: c.class.detail().to_owned(),
-        relative_difference: c.relative_difference.and_then(finite),
-        multiplier_difference: c.multiplier_difference.and_then(finite),
-        confirmation: c.confirmation.as_ref().map(|k| ChainConfirmationRecord {
-            confirmed: k.confirmed,
-            state_difference: k.state_difference.and_then(finite),
-            map_residual: k.map_residual.and_then(finite),
-            newton_iterations: k.newton_iterations,
-            multiplier_difference: k.multiplier_difference.and_then(finite),
-            error: k.error.clone(),
-        }),
-    }
-}
-
 /// `rattle compare` on a chain scene.
 fn chain_run(
     scene: &Scene,
@@ -222,7 +109,7 @@ fn chain_run(
 ) -> Result<String, RattleError> {
     let check = chain_cross_check(scene, omega, options)
         .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let r = chain_record(scene, &check);
+    let r = check.record(scene);
     if json {
         return pretty(&r);
     }

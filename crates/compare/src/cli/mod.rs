@@ -13,7 +13,7 @@ pub mod orbit;
 pub mod simulate;
 pub mod sweep;
 
-use crate::output::trajectory::{ImpactRow, TrajectoryRow};
+use crate::output::trajectory::{ImpactRow, TrajectoryRow, MAX_SAMPLES_PER_PERIOD};
 use crate::output::{write_table, Format, Header, OutputError};
 use crate::scene::frequency::{FrequencyBounds, FrequencyError};
 use crate::scene::{Scene, SceneError};
@@ -157,10 +157,6 @@ pub struct TrajectoryArgs {
     pub impacts: Option<PathBuf>,
 }
 
-/// Largest `--samples-per-period`: a period drawn with 10⁵ points is smooth at any zoom, and a
-/// 16-period cycle then still fits in a few hundred megabytes of CSV.
-pub const MAX_SAMPLES_PER_PERIOD: u64 = 100_000;
-
 impl TrajectoryArgs {
     /// Writes `rows` to --trajectory and `impacts` to --impacts, each if asked for.
     ///
@@ -236,46 +232,21 @@ fn default_max_oscillations() -> f64 {
         .unwrap_or(f64::INFINITY)
 }
 
-/// Allowed range of `--tol`.
-const ROOT_TOLERANCE_RANGE: (f64, f64) = (1e-15, 1e-2);
-/// Allowed range of `--steady-tol`: below 1e-14 rounding in the stroboscopic state can
-/// prevent a periodic motion from ever repeating.
-const PERIODICITY_TOLERANCE_RANGE: (f64, f64) = (1e-14, 1e-2);
-
 impl Accuracy {
-    /// The simulator's options, after range checks.
+    /// The simulator's options, after the library's range checks
+    /// ([`crate::scene::simulator::Accuracy::options`]).
     ///
     /// # Errors
     /// [`RattleError::Argument`] naming the option and its allowed range.
     pub fn options(&self) -> Result<SimulationOptions, RattleError> {
-        in_range("--tol", self.tol, ROOT_TOLERANCE_RANGE)?;
-        in_range("--steady-tol", self.steady_tol, PERIODICITY_TOLERANCE_RANGE)?;
-        if self.max_periods == 0 {
-            return Err(RattleError::Argument("--max-periods must be > 0".into()));
-        }
-        if !(self.max_oscillations.is_finite() && self.max_oscillations > 0.0) {
-            return Err(RattleError::Argument(format!(
-                "--max-oscillations = {} is out of range: must be finite and > 0",
-                self.max_oscillations
-            )));
-        }
-        Ok(SimulationOptions {
-            root_tolerance: self.tol,
-            periodicity_tolerance: self.steady_tol,
+        crate::scene::simulator::Accuracy {
+            tol: self.tol,
+            steady_tol: self.steady_tol,
             max_periods: self.max_periods,
-            max_oscillations: Some(self.max_oscillations),
-            ..SimulationOptions::default()
-        })
-    }
-}
-
-fn in_range(option: &str, value: f64, (lo, hi): (f64, f64)) -> Result<(), RattleError> {
-    if value.is_finite() && (lo..=hi).contains(&value) {
-        Ok(())
-    } else {
-        Err(RattleError::Argument(format!(
-            "{option} = {value} is out of range: must be in [{lo:e}, {hi:e}]"
-        )))
+            max_oscillations: self.max_oscillations,
+        }
+        .options()
+        .map_err(|e| RattleError::Argument(e.to_string()))
     }
 }
 
@@ -303,10 +274,6 @@ fn load(path: &Option<PathBuf>) -> Result<Scene, RattleError> {
     })
 }
 
-/// The commands that take a chain of cells so far.
-pub const CHAIN_COMMANDS: &str =
-    "`rattle simulate`, `rattle sweep` (`--solver analytic`: the linear chain; `event`; `both`: the verdict of `rattle compare` at every frequency), `rattle map`, `rattle orbit --signature` (a sequence of the pairs' impacts) and `rattle compare` (the simulated cycle beside the analytic orbit of its impact sequence)";
-
 /// The scene at `path` (or the built-in paper scene) for a command that works on a single
 /// unit only.
 ///
@@ -314,29 +281,10 @@ pub const CHAIN_COMMANDS: &str =
 /// As [`load`]; [`RattleError::Argument`] naming `cells`/`chain` when the scene is a chain.
 fn load_unit(path: &Option<PathBuf>, command: &str) -> Result<Scene, RattleError> {
     let scene = load(path)?;
-    refuse_chain(&scene, command)?;
+    scene
+        .refuse_chain(command)
+        .map_err(|e| RattleError::Argument(e.to_string()))?;
     Ok(scene)
-}
-
-/// Refuses a chain scene for a command that works on a single unit only.
-///
-/// # Errors
-/// [`RattleError::Argument`] naming `cells`/`chain` and the commands that take chains.
-pub fn refuse_chain(scene: &Scene, command: &str) -> Result<(), RattleError> {
-    if !scene.is_chain() {
-        return Ok(());
-    }
-    let field = if scene.chain.is_some() {
-        "chain"
-    } else {
-        "cells"
-    };
-    Err(RattleError::Argument(format!(
-        "scene '{}' is a chain of {} cells (`{field}`): `{command}` works on a single unit \
-         (one cell); chains are taken by {CHAIN_COMMANDS}",
-        scene.name,
-        scene.cell_count()
-    )))
 }
 
 /// The first line of a one-frequency table: the scene, the frequency and the active effects.

@@ -10,12 +10,13 @@ use crate::output::records::{
 };
 use crate::output::trajectory::{analytic_rows, ImpactRow, TrajectoryRow};
 use crate::scene::analytic::{
-    analyse, chain_model, orbits_of_signature, sample_sequence_orbit, sample_signature_orbit,
-    OrbitImpact, OrbitSample, OrbitSearch,
+    analyse, chain_linear_model, orbits_of_signature, sample_sequence_orbit,
+    sample_signature_orbit, OrbitImpact, OrbitSample, OrbitSearch,
 };
 use crate::scene::Scene;
+use crate::verdict::chain::{chain_orbits, ChainOrbitsError};
 use clap::Args;
-use rattle_analytic::{sequence_orbits, ImpactSequence, Signature};
+use rattle_analytic::Signature;
 use std::fmt::Write as _;
 
 /// Arguments of `rattle orbit`.
@@ -280,9 +281,12 @@ fn chain_run(
     text: &str,
     args: &OrbitArgs,
 ) -> Result<String, RattleError> {
-    let record = chain_orbits(scene, omega, text, args.period)?;
+    let record = chain_orbits(scene, omega, text, args.period).map_err(|e| match e {
+        ChainOrbitsError::Numerical(_) => RattleError::Numerical(e.to_string()),
+        _ => RattleError::Argument(e.to_string()),
+    })?;
     if args.trajectory.trajectory.is_some() {
-        let model = chain_linear_model(scene)?;
+        let model = chain_linear_model(scene).map_err(|e| RattleError::Argument(e.to_string()))?;
         write_orbit_trajectory(
             scene,
             omega,
@@ -302,51 +306,6 @@ fn chain_run(
         return pretty(&record);
     }
     chain_table(scene, omega, &record)
-}
-
-/// The analytic crate's model of the chain `scene`, on which [`chain_orbits`] solves.
-///
-/// # Errors
-/// [`RattleError::Argument`] naming `--signature` for a cell without stops.
-pub fn chain_linear_model(scene: &Scene) -> Result<rattle_analytic::LinearModel, RattleError> {
-    chain_model(scene).map_err(|j| {
-        RattleError::Argument(format!(
-            "--signature: cell {j} of scene '{}' has no `stops`: a chain's orbits need stops \
-             in every cell",
-            scene.name
-        ))
-    })
-}
-
-/// What `rattle orbit --signature SEQUENCE --period P --json` prints for the chain `scene` at
-/// `omega`: every orbit of the impact sequence `text` (`<pair><side>` tokens, e.g.
-/// `0+ 1- 0- 1+`) over `period` forcing periods.
-///
-/// # Errors
-/// [`RattleError::Argument`] naming `--signature` or `--period` for a sequence that does not
-/// parse, or names a pair the chain does not have, or a cell without stops;
-/// [`RattleError::Numerical`] when the analytic solver fails.
-pub fn chain_orbits(
-    scene: &Scene,
-    omega: f64,
-    text: &str,
-    period: u32,
-) -> Result<ChainOrbitsRecord, RattleError> {
-    let sequence =
-        ImpactSequence::parse(text, period).map_err(|e| RattleError::Argument(e.to_string()))?;
-    let model = chain_linear_model(scene)?;
-    sequence
-        .check(&model)
-        .map_err(|e| RattleError::Argument(e.to_string()))?;
-    let orbits = sequence_orbits(&model, omega, &sequence)
-        .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    Ok(ChainOrbitsRecord {
-        at: At::new(scene, omega),
-        cells: scene.cell_count(),
-        sequence: sequence.to_string(),
-        period: sequence.period(),
-        orbits,
-    })
 }
 
 /// The table `rattle orbit --signature` prints for a chain's `record`.

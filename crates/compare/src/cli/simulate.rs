@@ -6,11 +6,11 @@ use super::{
 };
 use crate::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
 use crate::output::trajectory::simulated_rows;
-use crate::scene::lyapunov::spectrum;
+use crate::scene::lyapunov::{check_periods, spectrum};
 use crate::scene::simulator::{model, run as simulate, SimulatedPoint};
 use crate::scene::Scene;
 use clap::Args;
-use rattle_event_driven::lyapunov::{BATCHES, DEFAULT_LYAPUNOV_PERIODS};
+use rattle_event_driven::lyapunov::DEFAULT_LYAPUNOV_PERIODS;
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
@@ -166,32 +166,31 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
 }
 
 impl LyapunovArgs {
-    /// Checks the flags: with `--lyapunov`, at least [`BATCHES`] periods.
+    /// Checks the flags: with `--lyapunov`, at least
+    /// [`BATCHES`](rattle_event_driven::lyapunov::BATCHES) periods ([`check_periods`]).
     ///
     /// # Errors
     /// [`RattleError::Argument`] naming `--lyapunov-periods` and its range.
     pub fn check(&self) -> Result<(), RattleError> {
-        if self.lyapunov && self.lyapunov_periods < BATCHES {
-            return Err(RattleError::Argument(format!(
-                "--lyapunov-periods = {} is out of range: must be at least {BATCHES}",
-                self.lyapunov_periods
-            )));
+        if self.lyapunov {
+            check_periods(self.lyapunov_periods)
+                .map_err(|e| RattleError::Argument(e.to_string()))?;
         }
         Ok(())
     }
 }
 
-/// The exponents of `sim` when `--lyapunov` asks for them (the command's record, also the
-/// Python package's).
+/// The exponents of `sim` when `--lyapunov` asks for them: the library's [`spectrum`] and
+/// [`LyapunovRecord::new`].
 ///
 /// # Errors
 /// [`RattleError::Argument`] as [`LyapunovArgs::check`]; [`RattleError::Numerical`] when the
 /// exponents' run fails.
-pub fn lyapunov_record(
+fn lyapunov_record(
     args: &LyapunovArgs,
-    scene: &crate::scene::Scene,
-    sim: &crate::scene::simulator::SimulatedPoint,
-    options: &rattle_event_driven::SimulationOptions,
+    scene: &Scene,
+    sim: &SimulatedPoint,
+    options: &SimulationOptions,
 ) -> Result<Option<LyapunovRecord>, RattleError> {
     if !args.lyapunov {
         return Ok(None);

@@ -5,6 +5,11 @@ use super::{finite, table_row};
 use crate::scene::analytic::{OrbitImpact, OrbitSample, SampleKind};
 use rattle_event_driven::trajectory::{RowKind, Trajectory};
 
+/// Largest number of uniform samples per forcing period of a trajectory (`--samples-per-period`,
+/// the Python package's `samples_per_period`): a period drawn with 10⁵ points is smooth at any
+/// zoom, and a 16-period cycle then still fits in a few hundred megabytes of CSV.
+pub const MAX_SAMPLES_PER_PERIOD: u64 = 100_000;
+
 table_row! {
     /// One state of a trajectory.
     pub struct TrajectoryRow {

@@ -451,3 +451,29 @@ pub fn chain_model(scene: &Scene) -> Result<rattle_analytic::LinearModel, usize>
     // The scene is valid, hence so is the chain built of its cells.
     rattle_analytic::LinearModel::graded_chain(&cells, scene.base.amplitude).map_err(|_| 0)
 }
+
+/// A chain scene with a cell without stops, whose orbits were asked for
+/// ([`chain_linear_model`]).
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error(
+    "--signature: cell {cell} of scene '{scene}' has no `stops`: a chain's orbits need stops \
+     in every cell"
+)]
+pub struct MissingStops {
+    /// The scene's name.
+    pub scene: String,
+    /// The first cell without stops, from 0 at the base.
+    pub cell: usize,
+}
+
+/// The analytic crate's model of the chain `scene`, on which
+/// [`crate::verdict::chain::chain_orbits`] solves: [`chain_model`] with its error named.
+///
+/// # Errors
+/// [`MissingStops`], naming `--signature` and the first cell without stops.
+pub fn chain_linear_model(scene: &Scene) -> Result<rattle_analytic::LinearModel, MissingStops> {
+    chain_model(scene).map_err(|cell| MissingStops {
+        scene: scene.name.clone(),
+        cell,
+    })
+}

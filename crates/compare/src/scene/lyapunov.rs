@@ -5,7 +5,7 @@ use crate::scene::simulator::{model, Regime, SimulatedPoint};
 use crate::scene::Scene;
 use rattle_event_driven::lyapunov::{
     lyapunov_after_steady_state, LyapunovError, LyapunovOptions, LyapunovSpectrum,
-    Regime as LyapunovRegime,
+    Regime as LyapunovRegime, BATCHES,
 };
 use rattle_event_driven::{ModelError, SimulationOptions};
 use thiserror::Error;
@@ -19,6 +19,25 @@ pub enum SpectrumError {
     /// The exponents' run failed.
     #[error("lyapunov: {0}")]
     Lyapunov(#[from] LyapunovError),
+}
+
+/// Forcing periods of an exponents' run below the least the spectrum needs (one per batch of
+/// its uncertainty, [`BATCHES`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Error)]
+#[error("--lyapunov-periods = {0} is out of range: must be at least {BATCHES}")]
+pub struct PeriodsError(pub u64);
+
+/// `periods` if an exponents' run over that many forcing periods can give the spectrum and
+/// its uncertainty: at least [`BATCHES`].
+///
+/// # Errors
+/// [`PeriodsError`], naming `--lyapunov-periods` and its range, for fewer.
+pub fn check_periods(periods: u64) -> Result<u64, PeriodsError> {
+    if periods < BATCHES {
+        Err(PeriodsError(periods))
+    } else {
+        Ok(periods)
+    }
 }
 
 /// The exponents of the motion `sim` settled in on `scene`, over `periods` more forcing
@@ -114,5 +133,22 @@ pub fn chaos(
                 regime: None,
             })
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_periods_are_at_least_the_batches() {
+        assert_eq!(check_periods(BATCHES), Ok(BATCHES));
+        assert_eq!(
+            check_periods(BATCHES - 1).unwrap_err().to_string(),
+            format!(
+                "--lyapunov-periods = {} is out of range: must be at least {BATCHES}",
+                BATCHES - 1
+            )
+        );
     }
 }

@@ -31,6 +31,29 @@ use thiserror::Error;
 /// The built-in default scene: the paper's §2.2 unit with `Δ = 0.5`, `e = 0.8`.
 pub const PAPER_SCENE: &str = include_str!("../../../../data/scenes/paper.json");
 
+/// The commands that take a chain of cells so far.
+pub const CHAIN_COMMANDS: &str =
+    "`rattle simulate`, `rattle sweep` (`--solver analytic`: the linear chain; `event`; `both`: the verdict of `rattle compare` at every frequency), `rattle map`, `rattle orbit --signature` (a sequence of the pairs' impacts) and `rattle compare` (the simulated cycle beside the analytic orbit of its impact sequence)";
+
+/// A chain scene given to a command that works on a single unit only
+/// ([`Scene::refuse_chain`]).
+#[derive(Debug, Clone, PartialEq, Eq, Error)]
+#[error(
+    "scene '{scene}' is a chain of {cells} cells (`{field}`): `{command}` works on a single unit \
+     (one cell); chains are taken by {commands}",
+    commands = CHAIN_COMMANDS
+)]
+pub struct ChainRefused {
+    /// The scene's name.
+    pub scene: String,
+    /// Its number of cells.
+    pub cells: usize,
+    /// The field that makes it a chain: `chain` or `cells`.
+    pub field: &'static str,
+    /// The command (or function) that refused it.
+    pub command: String,
+}
+
 /// Why a scene could not be used. Every message names the file or the field.
 #[derive(Debug, Error)]
 pub enum SceneError {
@@ -343,6 +366,27 @@ impl Scene {
     /// Whether the scene is a chain of more than one cell.
     pub fn is_chain(&self) -> bool {
         self.cell_count() > 1
+    }
+
+    /// Refuses a chain for `command`, a command (or function) that works on a single unit only.
+    ///
+    /// # Errors
+    /// [`ChainRefused`], naming the scene's `cells` or `chain` field and the commands that take
+    /// chains, when the scene is a chain.
+    pub fn refuse_chain(&self, command: &str) -> Result<(), ChainRefused> {
+        if !self.is_chain() {
+            return Ok(());
+        }
+        Err(ChainRefused {
+            scene: self.name.clone(),
+            cells: self.cell_count(),
+            field: if self.chain.is_some() {
+                "chain"
+            } else {
+                "cells"
+            },
+            command: command.to_owned(),
+        })
     }
 
     /// Each cell as a one-cell scene (the scene's name; no `cells`, no `chain`), in order

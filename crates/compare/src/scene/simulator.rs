@@ -23,6 +23,97 @@ pub enum SimulateError {
     Simulation(#[from] SimulationError),
 }
 
+/// The simulator's accuracy knobs as a user gives them, before their range checks: the
+/// command's `--tol`, `--steady-tol`, `--max-periods` and `--max-oscillations`, the Python
+/// package's `tol`, `steady_tol`, `max_periods` and `max_oscillations`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Accuracy {
+    /// Relative tolerance of contact times, in [1e-15, 1e-2]
+    /// ([`SimulationOptions::root_tolerance`]).
+    pub tol: f64,
+    /// Relative tolerance of the periodicity test of the steady state, in [1e-14, 1e-2]
+    /// ([`SimulationOptions::periodicity_tolerance`]).
+    pub steady_tol: f64,
+    /// Cap on forcing periods when running until steady, > 0
+    /// ([`SimulationOptions::max_periods`]).
+    pub max_periods: u64,
+    /// Cap on free oscillations of the fastest mode when running until steady, finite and > 0
+    /// ([`SimulationOptions::max_oscillations`]).
+    pub max_oscillations: f64,
+}
+
+/// Allowed range of [`Accuracy::tol`].
+const ROOT_TOLERANCE_RANGE: (f64, f64) = (1e-15, 1e-2);
+/// Allowed range of [`Accuracy::steady_tol`]: below 1e-14 rounding in the stroboscopic state
+/// can prevent a periodic motion from ever repeating.
+const PERIODICITY_TOLERANCE_RANGE: (f64, f64) = (1e-14, 1e-2);
+
+/// An accuracy knob out of its range; the message names it as the command's option
+/// (`--tol`, …).
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum AccuracyError {
+    /// `--tol` or `--steady-tol` outside its allowed range.
+    #[error("{option} = {value} is out of range: must be in [{low:e}, {high:e}]")]
+    OutOfRange {
+        /// The option: `--tol` or `--steady-tol`.
+        option: &'static str,
+        /// The value given.
+        value: f64,
+        /// Smallest allowed value.
+        low: f64,
+        /// Largest allowed value.
+        high: f64,
+    },
+    /// `--max-periods` is 0.
+    #[error("--max-periods must be > 0")]
+    MaxPeriods,
+    /// `--max-oscillations` is not finite and positive.
+    #[error("--max-oscillations = {0} is out of range: must be finite and > 0")]
+    MaxOscillations(f64),
+}
+
+impl Accuracy {
+    /// The simulator's options, after range checks (every other option its default).
+    ///
+    /// # Errors
+    /// [`AccuracyError`] naming the first knob out of its range, and the range.
+    pub fn options(&self) -> Result<SimulationOptions, AccuracyError> {
+        in_range("--tol", self.tol, ROOT_TOLERANCE_RANGE)?;
+        in_range("--steady-tol", self.steady_tol, PERIODICITY_TOLERANCE_RANGE)?;
+        if self.max_periods == 0 {
+            return Err(AccuracyError::MaxPeriods);
+        }
+        if !(self.max_oscillations.is_finite() && self.max_oscillations > 0.0) {
+            return Err(AccuracyError::MaxOscillations(self.max_oscillations));
+        }
+        Ok(SimulationOptions {
+            root_tolerance: self.tol,
+            periodicity_tolerance: self.steady_tol,
+            max_periods: self.max_periods,
+            max_oscillations: Some(self.max_oscillations),
+            ..SimulationOptions::default()
+        })
+    }
+}
+
+/// `value` if finite and in `[low, high]`; else the error naming `option`.
+fn in_range(
+    option: &'static str,
+    value: f64,
+    (low, high): (f64, f64),
+) -> Result<(), AccuracyError> {
+    if value.is_finite() && (low..=high).contains(&value) {
+        Ok(())
+    } else {
+        Err(AccuracyError::OutOfRange {
+            option,
+            value,
+            low,
+            high,
+        })
+    }
+}
+
 /// The motion the simulator settled in, in a researcher's words.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Regime {
@@ -380,5 +471,96 @@ impl SimulatedPoint {
         let two = impacts.iter().find(|i| i.side < 0)?;
         let period = std::f64::consts::TAU / self.omega;
         Some((two.phase - one.phase).rem_euclid(period) / period)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The command's defaults (`rattle simulate --help`).
+    fn defaults() -> Accuracy {
+        let d = SimulationOptions::default();
+        Accuracy {
+            tol: d.root_tolerance,
+            steady_tol: d.periodicity_tolerance,
+            max_periods: d.max_periods,
+            max_oscillations: d.max_oscillations.unwrap_or(f64::INFINITY),
+        }
+    }
+
+    #[test]
+    fn the_defaults_give_the_simulators_defaults() {
+        let options = defaults().options().unwrap();
+        let d = SimulationOptions::default();
+        assert_eq!(options.root_tolerance, d.root_tolerance);
+        assert_eq!(options.periodicity_tolerance, d.periodicity_tolerance);
+        assert_eq!(options.max_periods, d.max_periods);
+        assert_eq!(options.max_oscillations, d.max_oscillations);
+        assert_eq!(options.fixed_periods, d.fixed_periods);
+    }
+
+    #[test]
+    fn the_range_ends_are_allowed() {
+        for (tol, steady_tol) in [(1e-15, 1e-14), (1e-2, 1e-2)] {
+            let a = Accuracy {
+                tol,
+                steady_tol,
+                ..defaults()
+            };
+            assert!(a.options().is_ok(), "{a:?}");
+        }
+    }
+
+    /// The messages `rattle simulate` prints (and the Python package renames), word for word.
+    #[test]
+    fn each_knob_out_of_range_is_named_with_its_range() {
+        let cases = [
+            (
+                Accuracy {
+                    tol: 1.0,
+                    ..defaults()
+                },
+                "--tol = 1 is out of range: must be in [1e-15, 1e-2]",
+            ),
+            (
+                Accuracy {
+                    tol: f64::NAN,
+                    ..defaults()
+                },
+                "--tol = NaN is out of range: must be in [1e-15, 1e-2]",
+            ),
+            (
+                Accuracy {
+                    steady_tol: 1e-15,
+                    ..defaults()
+                },
+                "--steady-tol = 0.000000000000001 is out of range: must be in [1e-14, 1e-2]",
+            ),
+            (
+                Accuracy {
+                    max_periods: 0,
+                    ..defaults()
+                },
+                "--max-periods must be > 0",
+            ),
+            (
+                Accuracy {
+                    max_oscillations: -1.0,
+                    ..defaults()
+                },
+                "--max-oscillations = -1 is out of range: must be finite and > 0",
+            ),
+            (
+                Accuracy {
+                    max_oscillations: f64::INFINITY,
+                    ..defaults()
+                },
+                "--max-oscillations = inf is out of range: must be finite and > 0",
+            ),
+        ];
+        for (accuracy, message) in cases {
+            assert_eq!(accuracy.options().unwrap_err().to_string(), message);
+        }
     }
 }

@@ -9,18 +9,25 @@
 //! impact), and the other impacts' times after it as fractions of the cycle. Coordinates are
 //! the same in both (`u = (u_o,1, u_i,1, u_o,2, …)`, pair `j` is cell `j`'s `r = u_i − u_o`).
 
-use crate::scene::analytic::chain_model;
+use crate::output::finite;
+use crate::output::records::{
+    multipliers, At, ChainAnalyticRecord, ChainCompareRecord, ChainConfirmationRecord,
+    ChainOrbitsRecord, ChainSimulatedRecord,
+};
+use crate::scene::analytic::{chain_linear_model, chain_model, MissingStops};
 use crate::scene::simulator::{model, rest, run, SimulateError, SimulatedPoint};
 use crate::scene::{phase, Scene};
 use crate::verdict::{Class, MATCH_TOLERANCE};
 use nalgebra::{Complex, DVector};
 use rattle_analytic::{
-    chain_response, solve_sequence, Cell, ImpactSequence, PairImpact, SequenceError, SequenceOrbit,
+    chain_response, sequence_orbits, solve_sequence, Cell, ImpactSequence, PairImpact,
+    SequenceError, SequenceOrbit, SequenceOrbitError,
 };
 use rattle_event_driven::{
     periodic_orbit, simulate, ImpactRecord, PeriodicOrbit, SimulationOptions, Start, Status,
     SteadyState,
 };
+use thiserror::Error;
 
 /// Why a chain's point is `beyond` exact comparison or a `contradiction`; `None` for an
 /// agreement.
@@ -147,6 +154,65 @@ pub struct ChainConfirmation {
 }
 
 impl ChainCheck {
+    /// The record of this check on the chain `scene`: what `rattle compare --json` prints, and
+    /// the Python package's `compare` returns.
+    pub fn record(&self, scene: &Scene) -> ChainCompareRecord {
+        let s = &self.simulated;
+        let pairs = scene.pair_count();
+        let pair_signatures = s.pair_signatures(pairs).map(|list| {
+            list.into_iter()
+                .map(|r| match r {
+                    Ok(Some(sig)) => Some(sig.to_string()),
+                    Ok(None) => Some(String::new()),
+                    Err(_) => None,
+                })
+                .collect()
+        });
+        ChainCompareRecord {
+            scene: scene.name.clone(),
+            omega: finite(self.omega),
+            cells: self.cells,
+            simulated: ChainSimulatedRecord {
+                status: s.status_name(),
+                period: s.steady.period,
+                pair_signatures,
+                impacts_per_period: finite(s.steady.impacts_per_period),
+                pair_impacts_per_period: s.pair_impacts_per_period(pairs),
+                outer_amplitude: finite(s.outer_amplitude),
+                cell_outer_amplitudes: s.cell_outer_amplitudes().into_iter().map(finite).collect(),
+                floquet_multipliers: s
+                    .steady
+                    .orbit
+                    .as_ref()
+                    .map(|o| multipliers(&o.floquet_multipliers)),
+            },
+            analytic: self.analytic.as_ref().map(|o| ChainAnalyticRecord {
+                sequence: o.sequence.to_string(),
+                period: o.period,
+                outer_amplitude: finite(o.outer_amplitude),
+                cell_outer_amplitudes: o.cell_outer_amplitudes.iter().map(|&a| finite(a)).collect(),
+                viable: o.viable,
+                stable: o.stable,
+                floquet_multipliers: multipliers(&o.floquet_multipliers),
+                energy_residual: finite(o.energy_residual),
+            }),
+            analytic_error: self.analytic_error.clone(),
+            class: self.class.name(),
+            reason: self.reason.map(|r| r.name()),
+            class_detail: self.class.detail().to_owned(),
+            relative_difference: self.relative_difference.and_then(finite),
+            multiplier_difference: self.multiplier_difference.and_then(finite),
+            confirmation: self.confirmation.as_ref().map(|k| ChainConfirmationRecord {
+                confirmed: k.confirmed,
+                state_difference: k.state_difference.and_then(finite),
+                map_residual: k.map_residual.and_then(finite),
+                newton_iterations: k.newton_iterations,
+                multiplier_difference: k.multiplier_difference.and_then(finite),
+                error: k.error.clone(),
+            }),
+        }
+    }
+
     fn new(scene: &Scene, omega: f64, simulated: SimulatedPoint) -> Self {
         Self {
             omega,
@@ -556,6 +622,48 @@ pub fn matched_distance(a: &[Complex<f64>], b: &[Complex<f64>]) -> f64 {
         }
     }
     largest
+}
+
+/// Why the orbits of an impact sequence of a chain's pairs were not found ([`chain_orbits`]).
+#[derive(Debug, Error)]
+pub enum ChainOrbitsError {
+    /// The sequence does not parse (naming `--signature` or `--period`), or names a pair the
+    /// chain does not have: bad input.
+    #[error(transparent)]
+    Sequence(#[from] SequenceError),
+    /// A cell of the chain has no stops: bad input.
+    #[error(transparent)]
+    MissingStops(#[from] MissingStops),
+    /// The analytic solver failed.
+    #[error(transparent)]
+    Numerical(#[from] SequenceOrbitError),
+}
+
+/// What `rattle orbit --signature SEQUENCE --period P --json` prints for the chain `scene` at
+/// `omega` (and the Python package's `orbit` returns): every orbit of the impact sequence
+/// `text` (`<pair><side>` tokens, e.g. `0+ 1- 0- 1+`) over `period` forcing periods.
+///
+/// # Errors
+/// [`ChainOrbitsError::Sequence`] naming `--signature` or `--period` for a sequence that does
+/// not parse or names a pair the chain does not have; [`ChainOrbitsError::MissingStops`] for a
+/// cell without stops; [`ChainOrbitsError::Numerical`] when the analytic solver fails.
+pub fn chain_orbits(
+    scene: &Scene,
+    omega: f64,
+    text: &str,
+    period: u32,
+) -> Result<ChainOrbitsRecord, ChainOrbitsError> {
+    let sequence = ImpactSequence::parse(text, period)?;
+    let model = chain_linear_model(scene)?;
+    sequence.check(&model)?;
+    let orbits = sequence_orbits(&model, omega, &sequence)?;
+    Ok(ChainOrbitsRecord {
+        at: At::new(scene, omega),
+        cells: scene.cell_count(),
+        sequence: sequence.to_string(),
+        period: sequence.period(),
+        orbits,
+    })
 }
 
 #[cfg(test)]

@@ -6,6 +6,10 @@
 //! report all call it, and each names the [`Choice`] it makes among the candidates.
 //! [`chain`] relates the two on a chain of cells.
 
+use crate::output::finite;
+use crate::output::records::{
+    multipliers, AnalyticCycleRecord, ConfirmationRecord, CrossCheckRecord, SimulatedCycleRecord,
+};
 use crate::scene::analytic::{
     analyse, orbits_of_signature, signature_orbit_state, AnalyticPoint, OrbitSearch,
 };
@@ -655,6 +659,58 @@ fn seeded_check(
     };
     check.analytic = Some(analytic);
     class
+}
+
+impl CrossCheck {
+    /// The record of this check on `scene`: what `rattle compare --json` prints, and the Python
+    /// package's `compare` returns.
+    pub fn record(&self, scene: &Scene) -> CrossCheckRecord {
+        let s = &self.simulated;
+        CrossCheckRecord {
+            scene: scene.name.clone(),
+            omega: finite(self.omega),
+            simulated: SimulatedCycleRecord {
+                status: s.status_name(),
+                period: s.steady.period,
+                signature: self.signature.as_ref().map(|sig| sig.to_string()),
+                impacts_per_period: finite(s.steady.impacts_per_period),
+                outer_amplitude: finite(s.outer_amplitude),
+                floquet_multipliers: s
+                    .steady
+                    .orbit
+                    .as_ref()
+                    .map(|o| multipliers(&o.floquet_multipliers)),
+            },
+            analytic: self.analytic.as_ref().map(|o| AnalyticCycleRecord {
+                signature: o.signature.to_string(),
+                period: o.period,
+                outer_amplitude: finite(o.outer_amplitude),
+                viable: o.viable,
+                stable: o.stable,
+                floquet_multipliers: multipliers(&o.floquet_multipliers),
+                energy_residual: finite(o.energy_residual),
+            }),
+            analytic_error: self.analytic_error.clone(),
+            class: self.class.name(),
+            class_detail: self.class.detail().to_owned(),
+            relative_difference: self.relative_difference.and_then(finite),
+            multiplier_difference: self.multiplier_difference.and_then(finite),
+            confirmed_orbits: self
+                .confirmed_orbits
+                .iter()
+                .map(|k| ConfirmationRecord {
+                    alpha: finite(k.orbit.alpha),
+                    impact_phases: k.orbit.impact_phases.iter().map(|&p| finite(p)).collect(),
+                    stable: k.orbit.stable,
+                    outer_amplitude: finite(k.orbit.outer_amplitude),
+                    confirmed: k.confirmed,
+                    state_difference: k.state_difference.and_then(finite),
+                    multiplier_difference: k.multiplier_difference.and_then(finite),
+                    error: k.error.clone(),
+                })
+                .collect(),
+        }
+    }
 }
 
 #[cfg(test)]
