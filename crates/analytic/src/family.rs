@@ -369,14 +369,7 @@ mod tests {
     /// a period of `2π/1e-300` overflows; the family solve must end with an error instead.
     #[test]
     fn an_overflowing_flow_ends_in_an_error_not_a_hang() {
-        let unit = Unit {
-            outer_mass: 2.0,
-            inner_mass: 1.0,
-            outer_stiffness: 6.0,
-            inner_stiffness: 3.0,
-            base_amplitude: 1.0,
-            damping: None,
-        };
+        let unit = crate::test_models::paper_unit();
         for omega in [1e-300, 1e-200] {
             for beta in [0.3, 0.5] {
                 assert!(
