@@ -34,6 +34,23 @@ pub(super) struct Plan {
     pub(super) record_trajectory: bool,
 }
 
+impl Plan {
+    /// Exactly `periods` periods, nothing observed and no event cap: the runs of the tangent
+    /// flow and of the trace.
+    pub(super) fn fixed(periods: u64) -> Self {
+        Self {
+            p_max: 1,
+            limit: periods,
+            at_limit: Stop::FixedPeriods,
+            window_len: 0,
+            fixed: true,
+            max_events: None,
+            periodicity_tolerance: DEFAULT_PERIODICITY_TOLERANCE,
+            record_trajectory: false,
+        }
+    }
+}
+
 /// A decision taken at a section: run `until` period `until`, observing the final `cycle`
 /// periods, then stop for `then`.
 #[derive(Clone, Copy)]

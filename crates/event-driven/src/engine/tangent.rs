@@ -116,16 +116,7 @@ impl Engine<'_> {
         F: FnMut(&mut Tangent) -> Result<(), SimulationError>,
     {
         let n = self.n;
-        let plan = Plan {
-            p_max: 1,
-            limit: periods,
-            at_limit: Stop::FixedPeriods,
-            window_len: 0,
-            fixed: true,
-            max_events: None,
-            periodicity_tolerance: DEFAULT_PERIODICITY_TOLERANCE,
-            record_trajectory: false,
-        };
+        let plan = Plan::fixed(periods);
         let mut state = self.init(
             &Start {
                 state: y.clone(),

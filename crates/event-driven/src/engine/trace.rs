@@ -92,16 +92,7 @@ impl Engine<'_> {
         periods: u64,
         per_period: u64,
     ) -> Result<Trace, SimulationError> {
-        let plan = Plan {
-            p_max: 1,
-            limit: periods,
-            at_limit: Stop::FixedPeriods,
-            window_len: 0,
-            fixed: true,
-            max_events: None,
-            periodicity_tolerance: DEFAULT_PERIODICITY_TOLERANCE,
-            record_trajectory: false,
-        };
+        let plan = Plan::fixed(periods);
         let mut state = self.init(
             &Start {
                 state: y.clone(),
