@@ -25,6 +25,24 @@ const SICONOS_MOREAU_JEAN: RGBColor = RGBColor(150, 60, 170);
 /// The work-precision chart's coordinates: log time against log error.
 type LogLog = Cartesian2d<LogCoord<f64>, LogCoord<f64>>;
 
+/// The polyline through `(time, error, knob)` points in `colour`, with its legend entry.
+fn draw_line<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, LogLog>,
+    points: &[(f64, f64, f64)],
+    colour: RGBColor,
+    label: String,
+) -> Result<(), String> {
+    chart
+        .draw_series(LineSeries::new(
+            points.iter().map(|&(t, e, _)| (t, e)),
+            colour.stroke_width(2),
+        ))
+        .map_err(err)?
+        .label(label)
+        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+    Ok(())
+}
+
 /// A Siconos run's point: (seconds, error of the outer amplitude), failures at [`FAILED`].
 fn siconos_plotted(run: &SiconosRun, reference: f64) -> Option<(f64, f64)> {
     let seconds = run.seconds.filter(|t| t.is_finite() && *t > 0.0)?;
@@ -61,20 +79,12 @@ fn draw_siconos<DB: DrawingBackend>(
             .filter_map(|r| siconos_plotted(r, reference).map(|(t, e)| (t, e, r.knob)))
             .filter(|p| p.1 < FAILED)
             .collect();
-        chart
-            .draw_series(LineSeries::new(
-                ok.iter().map(|&(t, e, _)| (t, e)),
-                colour.stroke_width(2),
-            ))
-            .map_err(err)?
-            .label(format!(
-                "{label} {:.0e} … {:.0e}{unit} (error of X_o only; CPU time of its loop)",
-                runs.first().map_or(f64::NAN, |r| r.knob),
-                runs.last().map_or(f64::NAN, |r| r.knob)
-            ))
-            .legend(move |(x, y)| {
-                PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-            });
+        let label = format!(
+            "{label} {:.0e} … {:.0e}{unit} (error of X_o only; CPU time of its loop)",
+            runs.first().map_or(f64::NAN, |r| r.knob),
+            runs.last().map_or(f64::NAN, |r| r.knob)
+        );
+        draw_line(chart, &ok, colour, label)?;
         chart
             .draw_series(ok.iter().map(|&(t, e, _)| {
                 Rectangle::new([(t / 1.08, e / 1.6), (t * 1.08, e * 1.6)], colour.filled())
@@ -258,20 +268,12 @@ impl Figure for WorkPrecisionFigure {
                     (t, e, p.tolerance)
                 })
                 .collect();
-            chart
-                .draw_series(LineSeries::new(
-                    ok.iter().map(|&(t, e, _)| (t, e)),
-                    colour.stroke_width(2),
-                ))
-                .map_err(err)?
-                .label(format!(
-                    "{label} {:.0e} … {:.0e}",
-                    points.first().map_or(f64::NAN, |p| p.tolerance),
-                    points.last().map_or(f64::NAN, |p| p.tolerance)
-                ))
-                .legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                });
+            let label = format!(
+                "{label} {:.0e} … {:.0e}",
+                points.first().map_or(f64::NAN, |p| p.tolerance),
+                points.last().map_or(f64::NAN, |p| p.tolerance)
+            );
+            draw_line(&mut chart, &ok, colour, label)?;
             chart
                 .draw_series(
                     ok.iter()
