@@ -9,13 +9,10 @@ use rattle_compare::scene::Scene;
 use serde_json::Value;
 use std::path::PathBuf;
 
-/// Writes `text` to a scene file of this test process named `name`.
+/// Writes `text` to a scene file of this test process named `name`, whole (see
+/// [`common::scene_file`]).
 fn scene_file(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rattle-chain-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("the scene is written");
-    path
+    common::scene_file("chain", name, text)
 }
 
 fn numbers(v: &Value) -> Vec<f64> {

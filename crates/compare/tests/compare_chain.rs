@@ -20,13 +20,10 @@ use common::{json, rattle};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
-/// Writes `text` to a scene file of this test process named `name`.
+/// Writes `text` to a scene file of this test process named `name`, whole (see
+/// [`common::scene_file`]).
 fn scene_file(name: &str, text: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rattle-compare-chain-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("a temporary directory");
-    let path = dir.join(name);
-    std::fs::write(&path, text).expect("the scene is written");
-    path
+    common::scene_file("compare-chain", name, text)
 }
 
 /// The paper's cell, lightly damped, `cells` times in series.

@@ -2,7 +2,30 @@
 #![allow(dead_code)]
 
 use serde_json::Value;
+use std::path::PathBuf;
 use std::process::{Command, Output};
+
+/// Writes `text` as the scene file `name` in this test process's directory `tag`, and returns
+/// its path.
+///
+/// Tests of one process run on several threads and several of them write the same scene: the
+/// file is written under a name of this thread and renamed into place, so a reader never sees
+/// it half written. (A plain `std::fs::write` truncates the file first: CI of stop 26 saw
+/// `rattle` read an empty `paper-chain-2.json` while a neighbouring test rewrote it, "EOF
+/// while parsing a value".)
+pub fn scene_file(tag: &str, name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rattle-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a temporary directory");
+    let path = dir.join(name);
+    let thread = format!("{:?}", std::thread::current().id());
+    let partial = dir.join(format!(
+        ".{name}.{}",
+        thread.trim_start_matches("ThreadId(").trim_end_matches(')')
+    ));
+    std::fs::write(&partial, text).expect("the scene is written");
+    std::fs::rename(&partial, &path).expect("the scene is put in place");
+    path
+}
 
 /// Runs `rattle ARGS` from the repository's root.
 pub fn rattle(args: &[&str]) -> Output {
