@@ -43,6 +43,7 @@
 //! another representation is not listed again. Switching is bounded by
 //! [`ContinuationSettings::max_depth`].
 
+use crate::branch_point::locate_branch_point;
 use crate::cycle::{SignatureOrbit, MIN_FLIGHT, NEWTON_TOLERANCE, STEP_ROUNDING};
 use crate::flow::{join, Augmented, ForcedFlow};
 use crate::linear::transmittance_db;
@@ -1233,6 +1234,24 @@ impl<'a> System<'a> {
     /// rounding: near a branch point the corrector's system is nearly singular and Newton
     /// converges only linearly along the singular direction, so the residual test stops it
     /// about `√(tolerance)` away from the branch; this brings it onto the branch.
+    /// The branch point of these equations near `x` (within about `1e-4`), solved by the
+    /// regular defining system of [`crate::branch_point`]; `None` if that does not converge
+    /// there, or if its solution has an unfolding `β` or residual above the corrector's
+    /// acceptance (no branch point of this system, only a near one).
+    fn branch_point_near(&self, x: &[f64]) -> Option<Vec<f64>> {
+        let h = |u: &[f64]| {
+            if !self.admissible(u) {
+                return None;
+            }
+            let eval = self.evaluate(u)?;
+            Some((eval.residual, eval.jacobian))
+        };
+        let found = locate_branch_point(h, x)?;
+        let eval = self.evaluate(&found.u)?;
+        let floor = rounding_floor(&eval) * self.scale(&eval.y1);
+        (found.unfolding.abs() <= floor && eval.residual.amax() <= floor).then_some(found.u)
+    }
+
     fn polish(&self, x: Vec<f64>, eval: Eval, constraint: &Constraint) -> (Vec<f64>, Eval) {
         let n = self.n();
         let (mut x, mut eval) = (x, eval);
@@ -2269,10 +2288,10 @@ fn event_at(system: &System, a: &Node, b: &Node, test: Test, mut node: Node) -> 
     };
     let (va, vb, located) = (value(&a.tests), value(&b.tests), value(&node.tests));
     let accepted = match test {
-        // Near a branch point its location is pinned only to about `√ε` (Newton converges
-        // linearly there), and steps past it may be that short: the test is that `R_X` has
-        // lost rank there, to that accuracy, which a jump of the test (a pole as an impact's
-        // velocity vanishes) does not show.
+        // A branch point is accepted where `R_X` has lost rank (located by the regular
+        // defining system, or, where that does not converge, pinned by the bracket to about
+        // `√ε`), which a jump of the test (a pole as an impact's velocity vanishes) does not
+        // show.
         Test::Branch => rank_deficiency(&node.jacobian) < BRANCH_RANK_DEFICIENCY,
         _ => located <= EVENT_ACCEPTANCE * va.max(vb),
     };
@@ -2404,7 +2423,14 @@ fn locate(system: &System, a: &Node, b: &Node, test: Test) -> Option<(f64, Node)
             break;
         }
     }
-    let (theta, x) = best?;
+    let (theta, mut x) = best?;
+    if let Test::Branch = test {
+        // The bracket pins a branch point only to about √ε (see above): the regular defining
+        // system takes it from there to rounding.
+        if let Some(u) = system.branch_point_near(&x) {
+            x = u;
+        }
+    }
     Some((theta, finish(&x)?))
 }
 

@@ -45,6 +45,7 @@
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
 #![deny(missing_docs)]
 
+mod branch_point;
 pub mod chain;
 pub mod continuation;
 pub mod cycle;
