@@ -15,11 +15,13 @@
 //! This module holds the format and its validation; [`analytic`] and [`simulator`] adapt a
 //! scene to each solver and name what the solver finds ([`analytic::AnalyticPoint`],
 //! [`simulator::SimulatedPoint`]); [`phase`] the conventions of the base phase; [`frequency`]
-//! the forcing frequencies a scene can be run at in bounded time.
+//! the forcing frequencies a scene can be run at in bounded time; [`parameter`] a number of a
+//! scene named by its JSON path, read and set.
 
 pub mod analytic;
 pub mod frequency;
 pub mod lyapunov;
+pub mod parameter;
 pub mod phase;
 pub mod simulator;
 
