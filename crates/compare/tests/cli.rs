@@ -264,6 +264,22 @@ fn long_simulated_cycles_are_compared_with_their_analytic_orbit() {
     }
 }
 
+/// The one contradiction of the study's 400-frequency sweep of the paper's unit (stop 21): at
+/// ω = 1.4586466165413536 the simulator stopped on a 28-impact cycle that both solvers find
+/// unstable (a multiplier 1.0039), where its sections first repeated. It now runs past a
+/// cycle its own Newton finds unstable, and both solvers agree on the stable cycle beside it,
+/// to the simulator's Newton tolerance at its rounding floor, times ten (1e-8, as
+/// `compare_chain.rs`).
+#[test]
+fn a_run_passing_an_unstable_cycle_goes_on_and_agrees() {
+    let doc = json(&["compare", "--omega", "1.4586466165413536", "--json"]);
+    assert_eq!(doc["class"], "agreement", "{}", doc["class_detail"]);
+    assert_eq!(doc["analytic"]["stable"], true);
+    assert_eq!(doc["simulated"]["impacts_per_period"], 28.0);
+    let rel = doc["relative_difference"].as_f64().expect("a number");
+    assert!(rel <= 1e-8, "{rel:e}");
+}
+
 #[test]
 fn simulate_json_has_the_documented_fields() {
     let doc = json(&[

@@ -310,3 +310,49 @@ fn a_guess_with_another_impact_sequence_is_refused() {
         })
     );
 }
+
+/// The one contradiction of the study's 400-frequency sweep of the paper's unit (stop 21): at
+/// ω = 1.4586466165413536 the sections from rest repeat to 1e-9 after 1 172 periods on a
+/// 28-impact cycle whose multipliers (from this simulator's Newton and from the analytic
+/// solver alike) include 1.0039: a transient passing near an unstable cycle along its stable
+/// manifold, which the run took for the steady state. The run now goes on past a cycle its
+/// Newton finds unstable, and settles on the stable 28-impact cycle beside it.
+#[test]
+fn a_cycle_newton_finds_unstable_is_not_the_steady_state() {
+    let omega = 1.4586466165413536;
+    let model = paper_unit(omega, None, Some((0.5, 0.8)));
+    let radius = |o: &PeriodicOrbit| {
+        o.floquet_multipliers
+            .iter()
+            .map(|m| m.norm())
+            .fold(0.0, f64::max)
+    };
+    // Without polishing there are no multipliers to judge by: the run stops where its
+    // sections first repeat, on the unstable cycle (polished here to show it).
+    let raw = SimulationOptions {
+        polish: false,
+        ..SimulationOptions::default()
+    };
+    let first = simulate(&model, omega, &Start::rest(2), &raw).unwrap();
+    assert_eq!((first.status, first.period), (Status::Periodic, Some(1)));
+    let unstable = periodic_orbit(&model, omega, &first.final_state, 1, &raw).unwrap();
+    assert!(radius(&unstable) > 1.0 + UNSTABLE_MARGIN, "{unstable:?}");
+    // With it, the run goes on.
+    let steady = simulate(
+        &model,
+        omega,
+        &Start::rest(2),
+        &SimulationOptions::default(),
+    )
+    .unwrap();
+    let orbit = steady.orbit.as_ref().expect("polished");
+    assert_eq!((steady.status, steady.period), (Status::Periodic, Some(1)));
+    assert_eq!(steady.stopped, Stop::Decided);
+    assert_eq!(steady.impacts_per_period, 28.0);
+    assert!(radius(orbit) < 1.0, "{:?}", orbit.floquet_multipliers);
+    assert!(steady.periods_run > first.periods_run);
+    // Another cycle: its state differs from the unstable one's by far more than the
+    // periodicity tolerance.
+    let apart = (&orbit.state - &unstable.state).norm() / orbit.state.norm();
+    assert!(apart > 1e-6, "{apart:e}");
+}

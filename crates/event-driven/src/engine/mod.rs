@@ -59,6 +59,7 @@ mod trace;
 
 use flight::{Scratch, Watch, WatchedPairs};
 use periodicity::{least_period, repeat_error, scale_floor, Sections};
+pub(crate) use state::Resume;
 use state::{Contact, Decision, Mode, Observation, Plan, RunState, Window};
 use stuck::Stuck;
 use trace::sample;

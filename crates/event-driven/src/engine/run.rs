@@ -11,11 +11,32 @@ impl Engine<'_> {
         options: &SimulationOptions,
         watch: &mut dyn FnMut(u64, &DVector<f64>) -> bool,
     ) -> Result<SteadyState, SimulationError> {
-        let plan = self.plan(options);
+        self.run_resumed(start, options, Resume::default(), watch)
+    }
+
+    /// As [`Engine::run`], resumed after `resume.periods` periods and `resume.impacts`
+    /// impacts of an earlier run (which the caps count, and the watch's section numbers
+    /// continue), the periodicity rule held for `resume.hold` periods. The report counts this
+    /// run's periods and impacts only.
+    pub(crate) fn run_resumed(
+        &mut self,
+        start: &Start,
+        options: &SimulationOptions,
+        resume: Resume,
+        watch: &mut dyn FnMut(u64, &DVector<f64>) -> bool,
+    ) -> Result<SteadyState, SimulationError> {
+        let mut plan = self.plan(options);
+        plan.limit = plan.limit.saturating_sub(resume.periods);
+        plan.window_len = plan.window_len.min(plan.limit);
+        plan.max_events = plan
+            .max_events
+            .map(|cap| cap.saturating_sub(resume.impacts));
+        plan.hold = resume.hold;
         let mut state = self.init(start, &plan);
+        let mut watch = |k: u64, y: &DVector<f64>| watch(k + resume.periods, y);
         let stop = loop {
             if self.next_iter(&mut state, &plan)? {
-                if let Some(stop) = self.terminate(&mut state, &plan, watch) {
+                if let Some(stop) = self.terminate(&mut state, &plan, &mut watch) {
                     break stop;
                 }
             }
@@ -51,6 +72,7 @@ impl Engine<'_> {
             max_events: options.max_events,
             periodicity_tolerance: options.periodicity_tolerance,
             record_trajectory: options.record_trajectory,
+            hold: 0,
         }
     }
 
@@ -172,7 +194,8 @@ impl Engine<'_> {
     ///    ends.
     /// 4. **Periodic**: the stroboscopic state repeats with least multiplicity `p`
     ///    ([`least_period`]); observe the `p`-period cycle for its amplitudes and impacts, then
-    ///    stop ([`Stop::Decided`]).
+    ///    stop ([`Stop::Decided`]). Not before the plan's `hold` (a run resumed off an
+    ///    unstable cycle).
     ///
     /// Rules 1, 2 and 4 only apply while running until steady and nothing is decided yet.
     pub(super) fn stopping_rule(&self, state: &RunState, plan: &Plan) -> Decision {
@@ -201,7 +224,7 @@ impl Engine<'_> {
             None if state.k >= plan.limit => return Decision::Stop(plan.at_limit),
             _ => {}
         }
-        if deciding {
+        if deciding && state.k >= plan.hold {
             if let Some(p) = least_period(
                 &state.ring,
                 plan.p_max,

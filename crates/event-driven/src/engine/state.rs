@@ -32,6 +32,9 @@ pub(super) struct Plan {
     pub(super) max_events: Option<u64>,
     pub(super) periodicity_tolerance: f64,
     pub(super) record_trajectory: bool,
+    /// The periodicity rule is not applied before this section: a run resumed off a cycle
+    /// that proved unstable ([`Resume`]) first runs until a departure from it would show.
+    pub(super) hold: u64,
 }
 
 impl Plan {
@@ -47,8 +50,22 @@ impl Plan {
             max_events: None,
             periodicity_tolerance: DEFAULT_PERIODICITY_TOLERANCE,
             record_trajectory: false,
+            hold: 0,
         }
     }
+}
+
+/// A run resumed where an earlier one stopped on a cycle that the simulator's Newton found
+/// unstable: the periods and impacts spent so far (the caps count them), and the periods to
+/// run before the periodicity rule applies again.
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Resume {
+    /// Periods already run.
+    pub(crate) periods: u64,
+    /// Impacts already made (counted against the event cap).
+    pub(crate) impacts: u64,
+    /// Periods of this run before periodicity is tested.
+    pub(crate) hold: u64,
 }
 
 /// A decision taken at a section: run `until` period `until`, observing the final `cycle`
