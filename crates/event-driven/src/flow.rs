@@ -886,7 +886,7 @@ mod tests {
     #[test]
     fn summarised_searches_find_the_one_pair_searches_exits() {
         // The summarised search (fixed grid, cached chunk exponentials, seeded polish) against
-        // the one-pair search (the horizon's grid) over many flights of an 8-cell chain, every
+        // the search on the horizon's grid (stepped exponentials, fresh polish) over many flights of an 8-cell chain, every
         // pair, full and cut horizons, bands from wide to grazing: the same first exit, to the
         // time tolerance, on the same side.
         use crate::expsum::SearchStack;
@@ -910,8 +910,13 @@ mod tests {
                 for width in [0.05, 0.2, 0.5, 1.0] {
                     let (lo, hi) = (f0 - width, f0 + 0.7 * width);
                     for cutoff in [horizon, 0.5 * horizon, 0.1] {
-                        let expected =
-                            gap.first_exit_until(lo, hi, horizon, cutoff, tolerances, &mut plain);
+                        let expected = gap.first_exit_on_horizon_grid(
+                            (lo, hi),
+                            horizon,
+                            cutoff,
+                            tolerances,
+                            &mut plain,
+                        );
                         let found = if summary.excludes(lo, hi, cutoff.min(horizon), horizon) {
                             None
                         } else {

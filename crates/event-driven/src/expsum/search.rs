@@ -57,11 +57,14 @@ impl ExpSum {
     /// `depth_tolerance` beyond the edge. Either edge may be infinite (a one-sided band:
     /// `(0, ∞)` finds where a positive function first reaches zero).
     ///
-    /// The horizon is first cut into chunks about an eighth of the fastest oscillation long;
-    /// their midpoints and ends lie on a uniform grid where every exponential follows from
-    /// the previous one by one complex product (`e^{μ(s+w)} = e^{μs} e^{μw}`, recomputed
-    /// afresh every `REANCHOR` = 32 steps), so a whole flight costs a handful of transcendental
-    /// evaluations. When the quadratic model at `0` leaves the band early, or the start is
+    /// The horizon is first cut into chunks about an eighth of the fastest oscillation long.
+    /// When every polynomial is a constant and no rate grows (every steady-response flight),
+    /// the grid is fixed by the rates alone (half-width `π/(8 max|μ|)`) and each chunk's
+    /// exponentials are cached with it, evaluated once per run, and a polish starts from
+    /// them; otherwise the chunks' midpoints and ends lie on a
+    /// uniform grid of the horizon where every exponential follows from the previous one by
+    /// one complex product (`e^{μ(s+w)} = e^{μs} e^{μw}`, recomputed afresh every `REANCHOR` =
+    /// 32 steps), so a whole flight costs a handful of transcendental evaluations. When the quadratic model at `0` leaves the band early, or the start is
     /// cleared only briefly, the first chunk is covered by chunks that double from there (a
     /// short flight in chatter is not found by halving a whole chunk). Only chunks that can be
     /// neither excluded nor bracketed are bisected.
@@ -127,8 +130,9 @@ impl ExpSum {
                 }
             }
             (true, true, false) => {
+                // `f''(0)` too (`CUT`): the fixed grid's search below starts from it.
                 for t in &self.terms {
-                    sum.add_decaying::<false>(t.poly[0], t.rate);
+                    sum.add_decaying::<true>(t.poly[0], t.rate);
                 }
             }
             (true, false, _) => {
@@ -163,6 +167,16 @@ impl ExpSum {
         if sum.excludes(lo, hi, cutoff, horizon) {
             return None;
         }
+        if decaying {
+            return self.fixed_search(
+                &sum,
+                (lo, hi),
+                horizon,
+                cutoff,
+                (time_tolerance, depth_tolerance),
+                stack,
+            );
+        }
         let jerk = if constant {
             sum.jerk_horizon
         } else {
@@ -174,6 +188,29 @@ impl ExpSum {
             cutoff,
             jerk,
             (time_tolerance, depth_tolerance),
+            stack,
+        )
+    }
+
+    /// The search of [`Self::first_exit_until`] on the grid of the horizon (chunks an eighth
+    /// of the fastest oscillation long, exponentials stepped from chunk to chunk), without the
+    /// evaluation-free tests: the reference that the fixed grid's search is tested against.
+    #[cfg(test)]
+    pub(crate) fn first_exit_on_horizon_grid(
+        &self,
+        (lo, hi): (f64, f64),
+        horizon: f64,
+        cutoff: f64,
+        tolerances: Tolerances,
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
+        let jerk = self.jerk_bound(horizon);
+        self.grid_search::<false>(
+            (lo, hi),
+            horizon,
+            cutoff.min(horizon),
+            jerk,
+            (tolerances.time, tolerances.depth),
             stack,
         )
     }
@@ -215,8 +252,12 @@ impl ExpSum {
     /// four sums of the terms' coefficients against cached rows, and the products `cμᵏ` of
     /// [`Derivatives`] are formed only for a search that needs them (a head of short chunks,
     /// a chunk not excluded at once). `f(0)`, `f'(0)`, `f''(0)` are the summary's. The tests,
-    /// the head, the last chunk and the seeded polish are those of [`Self::grid_search`];
-    /// a horizon of more than [`CACHED_CHUNKS`] chunks is left to it.
+    /// the head and the seeded polish are those of [`Self::grid_search`]; the last chunk
+    /// `[a, horizon]` is searched as the whole cached chunk `[a, a + 2w]` that contains it, an
+    /// exit found after `horizon` meaning none before it. A horizon of more than
+    /// [`CACHED_CHUNKS`] chunks is left to [`Self::grid_search`]. It is the search of every
+    /// [`Self::first_exit_until`] whose polynomials are constants and rates do not grow (the
+    /// one-pair searches of steady-response flights), as of the summarised searches.
     pub(super) fn fixed_search(
         &self,
         summary: &Summary,
@@ -339,10 +380,10 @@ impl ExpSum {
             let m = a + w;
             let rows = chunk_rows(chunk_exps, chunk_filled, i, w, &self.terms);
             let (fm, dm, ddm) = mid_values(&self.terms, rows);
-            if i + 1 == chunks {
-                derive(test.derivatives);
-                return self.last_chunk(&mut test, (a, w), (fm, dm, ddm), fa);
-            }
+            // The last chunk, `[a, horizon]`, is searched as the whole chunk `[a, a + 2w]` that
+            // contains it (the bounds hold for every `s ≥ 0`, and its exponentials are cached):
+            // its first exit there is the first in `[a, horizon]` when at most `horizon`, and
+            // otherwise there is none before `horizon`.
             let b = 2.0 * w * (i + 1) as f64;
             let fb = real_dot(&self.terms, &rows[4 * n..]);
             if inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
@@ -360,7 +401,7 @@ impl ExpSum {
             let found =
                 self.exit_in_chunk(&mut test, (a, b, fa, fb), (fm, dm, ddm, d3m), Some(seed));
             if found.is_some() {
-                return found;
+                return found.filter(|&(s, _)| s <= horizon);
             }
             fa = fb;
         }
@@ -378,7 +419,8 @@ impl ExpSum {
     /// flight to the next; the last chunk `[a, horizon]`, shorter than `2w`, is excluded by
     /// the test on `[a, a + 2w]` that contains it, or else searched on its own from fresh
     /// exponentials. A chunk that is not excluded keeps its midpoint's exponentials, and its
-    /// polish starts from them ([`Seed`]). The one-pair searches keep the grid of the horizon.
+    /// polish starts from them ([`Seed`]). The searches of other functions (a polynomial that
+    /// is not a constant, a growing rate) use the grid of the horizon.
     #[inline(always)]
     pub(super) fn grid_search<const FIXED: bool>(
         &self,
