@@ -434,17 +434,26 @@ impl LinearFlow {
     /// evaluated at `t0 + s`).
     pub fn flight(&self, y: &DVector<f64>, t0: f64) -> Flight<'_> {
         let (sin, cos) = (self.omega * t0).sin_cos();
-        self.flight_at_phase(y, C64::new(cos, sin))
+        self.flight_at_phase(y, C64::new(cos, sin), Vec::new())
     }
 
     /// [`Self::flight`] given its forcing phase `e^{iωt0}` as `(ωt0).sin_cos()` gives it (the
     /// event loop keeps the last one it computed: a contact's accelerations and the flight
-    /// that follows start at the same time).
-    pub(crate) fn flight_at_phase(&self, y: &DVector<f64>, phase: C64) -> Flight<'_> {
+    /// that follows start at the same time), its modal deviation written into `storage`
+    /// (any contents; the event loop hands back the last flight's, [`Flight::into_storage`],
+    /// so that a flight allocates nothing).
+    pub(crate) fn flight_at_phase(
+        &self,
+        y: &DVector<f64>,
+        phase: C64,
+        mut storage: Vec<C64>,
+    ) -> Flight<'_> {
         let m = 2 * self.dofs;
         let form = match &self.steady {
             Some(p) => {
-                let mut deviation = vec![C64::default(); m];
+                storage.clear();
+                storage.resize(m, C64::default());
+                let mut deviation = storage;
                 let y = y.as_slice();
                 let (rows_re, rows_im) = &self.inverse_rows;
                 for &(k, _) in &self.kept {
@@ -561,6 +570,15 @@ impl LinearFlow {
 }
 
 impl Flight<'_> {
+    /// The flight's storage for its modal deviation (empty for the resonance-safe form), for
+    /// the next [`LinearFlow::flight_at_phase`].
+    pub(crate) fn into_storage(self) -> Vec<C64> {
+        match self.form {
+            Form::Steady { deviation, .. } => deviation,
+            Form::General { .. } => Vec::new(),
+        }
+    }
+
     /// The state `y(s)` at time `s` into the flight.
     pub fn state(&self, s: f64) -> DVector<f64> {
         let mut y = DVector::zeros(2 * self.flow.dofs);
