@@ -23,6 +23,23 @@
 //! state 7.5 %, the flight's start 6.4 %. Measured and not taken: searching one pair as the
 //! summarised searches do (fixed grid, cached chunk exponentials, seeded polish) costs 9.8 %
 //! fewer instructions (436.3e6 → 393.6e6) but moves the unit's last bits.
+//!
+//! Measured again (branch h24-core against main 2f00f23, whose event-driven crate is b5cf96f's
+//! restructured and with one `sincos` fewer per impact, at the same bits by those commits'
+//! messages; the two builds alternated, five runs each, medians of
+//! `/usr/bin/time -f "%U %e"`; five agents shared the 2-core machine, load average 9 to 11, wall
+//! times 2.5 times the CPU times, so CPU time is quoted): 2 000 009 impacts in 1.55 s of one core
+//! before (1.29 M impacts/s) and 1.35 s after (1.48 M/s), ×1.15; callgrind over 20 000 periods
+//! (40 009 impacts): 432.8e6 instructions before (10 820 per impact), 368.7e6 after (9 220).
+//! What changed: the one-pair search of a steady-response flight is the summarised searches'
+//! (fixed grid, cached chunk exponentials, polish from a cached seed point: no `sin`/`cos` in
+//! the search; it moves the last bits), the fixed grid's last chunk is searched as the whole
+//! cached chunk (no fresh exponentials at the section), a one-pair watch makes no quadratic
+//! estimate, and a flight reuses the last one's storage (no allocation per flight). Issue 24's
+//! ×2 is not reached: where the time goes now (callgrind), the search 64 % (its exit-in-chunk
+//! tests and polish 27 %, the polish's exponential steps 10 %), the state at the contact and at
+//! the section 9 %, the contact 8 %, the flight's start 5 %; `sin`/`cos` 4 % (the flight's state,
+//! the contact's accelerations, the amplitudes of the final stretch).
 
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, SimulationOptions, Start};

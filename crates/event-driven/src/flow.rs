@@ -434,17 +434,26 @@ impl LinearFlow {
     /// evaluated at `t0 + s`).
     pub fn flight(&self, y: &DVector<f64>, t0: f64) -> Flight<'_> {
         let (sin, cos) = (self.omega * t0).sin_cos();
-        self.flight_at_phase(y, C64::new(cos, sin))
+        self.flight_at_phase(y, C64::new(cos, sin), Vec::new())
     }
 
     /// [`Self::flight`] given its forcing phase `e^{iωt0}` as `(ωt0).sin_cos()` gives it (the
     /// event loop keeps the last one it computed: a contact's accelerations and the flight
-    /// that follows start at the same time).
-    pub(crate) fn flight_at_phase(&self, y: &DVector<f64>, phase: C64) -> Flight<'_> {
+    /// that follows start at the same time), its modal deviation written into `storage`
+    /// (any contents; the event loop hands back the last flight's, [`Flight::into_storage`],
+    /// so that a flight allocates nothing).
+    pub(crate) fn flight_at_phase(
+        &self,
+        y: &DVector<f64>,
+        phase: C64,
+        mut storage: Vec<C64>,
+    ) -> Flight<'_> {
         let m = 2 * self.dofs;
         let form = match &self.steady {
             Some(p) => {
-                let mut deviation = vec![C64::default(); m];
+                storage.clear();
+                storage.resize(m, C64::default());
+                let mut deviation = storage;
                 let y = y.as_slice();
                 let (rows_re, rows_im) = &self.inverse_rows;
                 for &(k, _) in &self.kept {
@@ -561,6 +570,15 @@ impl LinearFlow {
 }
 
 impl Flight<'_> {
+    /// The flight's storage for its modal deviation (empty for the resonance-safe form), for
+    /// the next [`LinearFlow::flight_at_phase`].
+    pub(crate) fn into_storage(self) -> Vec<C64> {
+        match self.form {
+            Form::Steady { deviation, .. } => deviation,
+            Form::General { .. } => Vec::new(),
+        }
+    }
+
     /// The state `y(s)` at time `s` into the flight.
     pub fn state(&self, s: f64) -> DVector<f64> {
         let mut y = DVector::zeros(2 * self.flow.dofs);
@@ -886,7 +904,7 @@ mod tests {
     #[test]
     fn summarised_searches_find_the_one_pair_searches_exits() {
         // The summarised search (fixed grid, cached chunk exponentials, seeded polish) against
-        // the one-pair search (the horizon's grid) over many flights of an 8-cell chain, every
+        // the search on the horizon's grid (stepped exponentials, fresh polish) over many flights of an 8-cell chain, every
         // pair, full and cut horizons, bands from wide to grazing: the same first exit, to the
         // time tolerance, on the same side.
         use crate::expsum::SearchStack;
@@ -910,8 +928,13 @@ mod tests {
                 for width in [0.05, 0.2, 0.5, 1.0] {
                     let (lo, hi) = (f0 - width, f0 + 0.7 * width);
                     for cutoff in [horizon, 0.5 * horizon, 0.1] {
-                        let expected =
-                            gap.first_exit_until(lo, hi, horizon, cutoff, tolerances, &mut plain);
+                        let expected = gap.first_exit_on_horizon_grid(
+                            (lo, hi),
+                            horizon,
+                            cutoff,
+                            tolerances,
+                            &mut plain,
+                        );
                         let found = if summary.excludes(lo, hi, cutoff.min(horizon), horizon) {
                             None
                         } else {

@@ -42,6 +42,9 @@ pub(super) struct Scratch {
     pub(super) carried_tau: f64,
     /// The state just before the contact the deviation is carried across.
     pub(super) before_contact: Vec<f64>,
+    /// The last free flight's storage for its modal deviation, handed to the next
+    /// ([`LinearFlow::flight_at_phase`](crate::flow::LinearFlow)).
+    pub(super) flight_storage: Vec<nalgebra::Complex<f64>>,
 }
 
 impl Scratch {
@@ -133,7 +136,12 @@ impl Engine<'_> {
                     None => {
                         let gap = &mut work.gaps[count];
                         flight.expand(functional, gap);
-                        gap.estimated_exit(lo, hi)
+                        // One pair has no order to choose: no estimate.
+                        if several {
+                            gap.estimated_exit(lo, hi)
+                        } else {
+                            0.0
+                        }
                     }
                 }
             };
@@ -227,12 +235,13 @@ impl Engine<'_> {
         };
         let (sin, cos) = self.forcing_at(state.tau);
         let phase = nalgebra::Complex::new(cos, sin);
+        let storage = std::mem::take(&mut self.work.flight_storage);
         let flight = match carried {
             Some(deviation) => match self.free.flight_with_deviation(deviation, phase) {
                 Ok(flight) => flight,
-                Err(_) => self.free.flight_at_phase(&state.y, phase),
+                Err(_) => self.free.flight_at_phase(&state.y, phase, storage),
             },
-            None => self.free.flight_at_phase(&state.y, phase),
+            None => self.free.flight_at_phase(&state.y, phase, storage),
         };
         // Positions are known to rounding relative to their size, not to the gap: an excursion
         // beyond a stop smaller than that is no contact.
@@ -259,6 +268,7 @@ impl Engine<'_> {
                 trace.segment(state.k, period, state.tau, step, |s| flight.state(s));
             }
             state.y = flight.state(step);
+            self.work.flight_storage = flight.into_storage();
             if let Some(t) = state.tangent.as_mut() {
                 self.propagate_tangent(t, step);
             }
@@ -295,12 +305,14 @@ impl Engine<'_> {
         match contact {
             None => {
                 flight.state_into(horizon, &mut state.y);
+                self.work.flight_storage = flight.into_storage();
                 state.tau = period;
             }
             Some(c) => {
                 // Just before the contact.
                 flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
                 let carry = several && Self::carry_from(&mut self.work, &flight, &state.y);
+                self.work.flight_storage = flight.into_storage();
                 state.tau += c.s;
                 self.contact(state, c)?;
                 if carry {

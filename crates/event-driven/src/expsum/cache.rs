@@ -10,7 +10,8 @@ pub struct SearchStack {
     pub(super) intervals: Vec<(f64, f64, f64, f64)>,
     /// `e^{μ_j s}` of every term at the current grid point.
     pub(super) exps: Vec<C64>,
-    /// The steps of the last grid of a horizon (the one-pair searches).
+    /// The steps of the last grid of a horizon (the searches of functions whose polynomials
+    /// are not all constants, or whose rates grow).
     pub(super) grid: GridSteps,
     /// The steps of the fixed grids of the summarised searches, most recently used first (at
     /// most [`FIXED_GRIDS`]: the free flow's, and those of the sets of pairs held on their

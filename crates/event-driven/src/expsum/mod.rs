@@ -9,16 +9,18 @@ type C64 = Complex<f64>;
 mod cache;
 mod chunk;
 mod polish;
+mod scan;
 mod search;
 mod summary;
 
 pub use cache::SearchStack;
 use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
-    CACHED_CHUNKS, SEED_DIVISIONS,
+    CACHED_CHUNKS, CHUNK_ROWS, SEED_DIVISIONS,
 };
 use chunk::{inside, quadratic_exit, taylor_clearance, ChunkTest};
 use polish::{polish, polish_from, Crossing, Exponentials};
+use scan::{CachedChunks, ChunkSource, Chunks, SteppedChunks};
 pub use search::Tolerances;
 pub(crate) use summary::{summarize_two, ModeTerm, Summary};
 
@@ -302,6 +304,7 @@ impl ExpSum {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     fn cosine(amplitude: f64, omega: f64, phase: f64, offset: f64) -> ExpSum {
         // offset + A cos(ωs + φ) = Re[offset + A e^{iφ} e^{iωs}]
@@ -438,6 +441,74 @@ mod tests {
             }
         }
         assert!(checked >= 100, "only {checked} exits checked");
+    }
+
+    /// Beats: two undamped oscillations at `2` and `2.05` rad/s (amplitude `1` each, the
+    /// first of phase `φ = 5 + 0.05k`) and a damped one: the envelope `|1 + e^{i(0.05s − φ)}|`
+    /// is `1.6` at `s = 0` and first peaks (`2`) at `s = φ/0.05 = 100 + k`.
+    fn beats(k: usize) -> ExpSum {
+        let term = |c: C64, rate: C64| Term {
+            poly: [c, C64::default(), C64::default(), C64::default()],
+            rate,
+        };
+        ExpSum {
+            terms: vec![
+                term(
+                    C64::from_polar(1.0, 5.0 + 0.05 * k as f64),
+                    C64::new(0.0, 2.0),
+                ),
+                term(C64::new(1.0, 0.0), C64::new(0.0, 2.05)),
+                term(C64::new(0.1, -0.05), C64::new(-0.3, 1.3)),
+            ],
+        }
+    }
+
+    #[test]
+    fn searches_of_more_chunks_than_cached_find_the_horizon_grids_exits() {
+        // A horizon of some 520 chunks of the fixed grid (more than CACHED_CHUNKS = 256, which
+        // cover s < 98): the fixed grid's search steps its exponentials (SteppedChunks) and
+        // searches its last chunk alone. Against the search on the horizon's grid: the same
+        // first exit, to the time tolerance, on the same side, or none in both; cut horizons
+        // too. Bands just inside the beats' peak make the exits late.
+        let tolerances = Tolerances {
+            time: 1e-12,
+            depth: 1e-12,
+        };
+        let horizon = 200.0;
+        let cached_end = 256.0 * PI / (4.0 * 2.05);
+        let (mut fixed, mut plain) = (SearchStack::default(), SearchStack::default());
+        let (mut exits, mut late) = (0, 0);
+        for k in 0..20 {
+            let f = beats(k);
+            for edge in [1.7, 1.9, 1.95, 1.999, 2.2] {
+                let (lo, hi) = (-edge - 0.01, edge);
+                for cutoff in [horizon, 120.0, 7.0] {
+                    let found = f.first_exit_until(lo, hi, horizon, cutoff, tolerances, &mut fixed);
+                    let expected = f.first_exit_on_horizon_grid(
+                        (lo, hi),
+                        horizon,
+                        cutoff,
+                        tolerances,
+                        &mut plain,
+                    );
+                    let keep = |e: Option<(f64, i8)>| e.filter(|&(s, _)| s <= cutoff);
+                    match (keep(expected), keep(found)) {
+                        (None, None) => {}
+                        (Some((a, sa)), Some((b, sb))) => {
+                            assert_eq!(sa, sb, "k {k} edge {edge}: side");
+                            assert!((a - b).abs() <= 4e-12, "k {k} edge {edge}: {a} vs {b}");
+                            exits += 1;
+                            late += usize::from(a > cached_end);
+                        }
+                        (a, b) => panic!("k {k} edge {edge}: {a:?} vs {b:?}"),
+                    }
+                }
+            }
+        }
+        assert!(
+            exits >= 40 && late >= 20,
+            "{exits} exits, {late} past the cached chunks"
+        );
     }
 
     #[test]

@@ -4,10 +4,6 @@
 use super::*;
 use std::ops::ControlFlow;
 
-/// Grid steps between fresh exponentials in [`ExpSum::first_exit`]: the recurrence
-/// `e^{μ(s + w)} = e^{μs} e^{μw}` gains at most about this many roundings.
-pub(super) const REANCHOR: usize = 32;
-
 /// Growth factor of the head chunks of [`ExpSum::first_exit`]: a short flight is covered by
 /// chunks that double from the start's clearance, so it is found in about `log₂` of the first
 /// chunk's length over the flight's steps.
@@ -57,11 +53,14 @@ impl ExpSum {
     /// `depth_tolerance` beyond the edge. Either edge may be infinite (a one-sided band:
     /// `(0, ∞)` finds where a positive function first reaches zero).
     ///
-    /// The horizon is first cut into chunks about an eighth of the fastest oscillation long;
-    /// their midpoints and ends lie on a uniform grid where every exponential follows from
-    /// the previous one by one complex product (`e^{μ(s+w)} = e^{μs} e^{μw}`, recomputed
-    /// afresh every `REANCHOR` = 32 steps), so a whole flight costs a handful of transcendental
-    /// evaluations. When the quadratic model at `0` leaves the band early, or the start is
+    /// The horizon is first cut into chunks about an eighth of the fastest oscillation long.
+    /// When every polynomial is a constant and no rate grows (every steady-response flight),
+    /// the grid is fixed by the rates alone (half-width `π/(8 max|μ|)`) and each chunk's
+    /// exponentials are cached with it, evaluated once per run, and a polish starts from
+    /// them; otherwise the chunks' midpoints and ends lie on a
+    /// uniform grid of the horizon where every exponential follows from the previous one by
+    /// one complex product (`e^{μ(s+w)} = e^{μs} e^{μw}`, recomputed afresh every `REANCHOR` =
+    /// 32 steps), so a whole flight costs a handful of transcendental evaluations. When the quadratic model at `0` leaves the band early, or the start is
     /// cleared only briefly, the first chunk is covered by chunks that double from there (a
     /// short flight in chatter is not found by halving a whole chunk). Only chunks that can be
     /// neither excluded nor bracketed are bisected.
@@ -127,8 +126,9 @@ impl ExpSum {
                 }
             }
             (true, true, false) => {
+                // `f''(0)` too (`CUT`): the fixed grid's search below starts from it.
                 for t in &self.terms {
-                    sum.add_decaying::<false>(t.poly[0], t.rate);
+                    sum.add_decaying::<true>(t.poly[0], t.rate);
                 }
             }
             (true, false, _) => {
@@ -163,6 +163,16 @@ impl ExpSum {
         if sum.excludes(lo, hi, cutoff, horizon) {
             return None;
         }
+        if decaying {
+            return self.fixed_search(
+                &sum,
+                (lo, hi),
+                horizon,
+                cutoff,
+                (time_tolerance, depth_tolerance),
+                stack,
+            );
+        }
         let jerk = if constant {
             sum.jerk_horizon
         } else {
@@ -174,6 +184,29 @@ impl ExpSum {
             cutoff,
             jerk,
             (time_tolerance, depth_tolerance),
+            stack,
+        )
+    }
+
+    /// The search of [`Self::first_exit_until`] on the grid of the horizon (chunks an eighth
+    /// of the fastest oscillation long, exponentials stepped from chunk to chunk), without the
+    /// evaluation-free tests: the reference that the fixed grid's search is tested against.
+    #[cfg(test)]
+    pub(crate) fn first_exit_on_horizon_grid(
+        &self,
+        (lo, hi): (f64, f64),
+        horizon: f64,
+        cutoff: f64,
+        tolerances: Tolerances,
+        stack: &mut SearchStack,
+    ) -> Option<(f64, i8)> {
+        let jerk = self.jerk_bound(horizon);
+        self.grid_search::<false>(
+            (lo, hi),
+            horizon,
+            cutoff.min(horizon),
+            jerk,
+            (tolerances.time, tolerances.depth),
             stack,
         )
     }
@@ -215,8 +248,13 @@ impl ExpSum {
     /// four sums of the terms' coefficients against cached rows, and the products `cμᵏ` of
     /// [`Derivatives`] are formed only for a search that needs them (a head of short chunks,
     /// a chunk not excluded at once). `f(0)`, `f'(0)`, `f''(0)` are the summary's. The tests,
-    /// the head, the last chunk and the seeded polish are those of [`Self::grid_search`];
-    /// a horizon of more than [`CACHED_CHUNKS`] chunks is left to it.
+    /// the head and the seeded polish are those of [`Self::grid_search`]; the last chunk
+    /// `[a, horizon]` is searched as the whole cached chunk `[a, a + 2w]` that contains it, an
+    /// exit found after `horizon` meaning none before it. A horizon of more than
+    /// [`CACHED_CHUNKS`] chunks is left to [`Self::grid_search`]. The chunks after the head
+    /// are scanned by [`Self::scan`] over [`CachedChunks`]. It is the search of every
+    /// [`Self::first_exit_until`] whose polynomials are constants and rates do not grow (the
+    /// one-pair searches of steady-response flights), as of the summarised searches.
     pub(super) fn fixed_search(
         &self,
         summary: &Summary,
@@ -270,13 +308,15 @@ impl ExpSum {
             polish: scratch,
             point,
         };
-        // `Derivatives::of`, once, when first needed.
-        let mut derived = false;
-        let mut derive = |derivatives: &mut Derivatives| {
-            if !derived {
-                derivatives.of(self);
-                derived = true;
-            }
+        // `Derivatives::of`, once, when first needed (`ChunkSource::prepare`).
+        let mut source = CachedChunks {
+            terms: &self.terms,
+            w,
+            chunk_exps,
+            chunk_filled,
+            seeds,
+            derived: false,
+            current: 0,
         };
         test.polish.at = f64::NAN;
         test.polish.together = true;
@@ -286,7 +326,7 @@ impl ExpSum {
         let first_end = if chunks == 1 { horizon } else { 2.0 * w };
         let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
         if slow_on_edge((f0, d0), (lo, hi), first_end) {
-            derive(test.derivatives);
+            source.prepare(self, test.derivatives);
         }
         let cleared = self.start_clearance(&test, (f0, d0, dd0), first_end);
         let head = Head {
@@ -299,8 +339,7 @@ impl ExpSum {
         if cleared >= first_end {
             first = 1;
             if chunks > 1 {
-                let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
-                fa = real_dot(&self.terms, &rows[4 * n..]);
+                fa = real_dot(&self.terms, &source.rows(0)[4 * n..]);
             }
         } else if cleared == 0.0
             && chunks > 1
@@ -313,9 +352,9 @@ impl ExpSum {
             // follow from the cached ones at `w` by one product per term, and the polish
             // starts from them. (A flight estimated shorter than a step, as in chatter, keeps
             // the head of `grid_search`, whose chunks start that short.)
-            derive(test.derivatives);
-            let rows = chunk_rows(chunk_exps, chunk_filled, 0, w, &self.terms);
-            match self.seeded_head(&mut test, (&rows[..n], &mut *seeds), w, head, fa) {
+            source.prepare(self, test.derivatives);
+            let cached = source.mid_and_seeds(0);
+            match self.seeded_head(&mut test, cached, w, head, fa) {
                 ControlFlow::Break(found) => return found,
                 ControlFlow::Continue(end) => fa = end,
             }
@@ -323,48 +362,21 @@ impl ExpSum {
         } else if (cleared > 0.0 && HEAD * cleared < first_end)
             || HEAD_ESTIMATE * estimate < first_end
         {
-            derive(test.derivatives);
+            source.prepare(self, test.derivatives);
             match self.doubling_head(&mut test, head, fa) {
                 ControlFlow::Break(found) => return found,
                 ControlFlow::Continue(end) => fa = end,
             }
             first = 1;
         }
-        let jerk_reach = jerk * w * w * w / 6.0;
-        for i in first..chunks {
-            let a = 2.0 * w * i as f64;
-            if a >= cutoff {
-                break;
-            }
-            let m = a + w;
-            let rows = chunk_rows(chunk_exps, chunk_filled, i, w, &self.terms);
-            let (fm, dm, ddm) = mid_values(&self.terms, rows);
-            if i + 1 == chunks {
-                derive(test.derivatives);
-                return self.last_chunk(&mut test, (a, w), (fm, dm, ddm), fa);
-            }
-            let b = 2.0 * w * (i + 1) as f64;
-            let fb = real_dot(&self.terms, &rows[4 * n..]);
-            if inside((fm, dm, ddm), w, jerk_reach, (lo, hi)) {
-                fa = fb;
-                continue;
-            }
-            let d3m = real_dot(&self.terms, &rows[3 * n..4 * n]);
-            derive(test.derivatives);
-            let seed = Seed {
-                m,
-                w,
-                mid: &rows[..n],
-                seeds: &mut *seeds,
-            };
-            let found =
-                self.exit_in_chunk(&mut test, (a, b, fa, fb), (fm, dm, ddm, d3m), Some(seed));
-            if found.is_some() {
-                return found;
-            }
-            fa = fb;
-        }
-        None
+        let range = Chunks {
+            first,
+            chunks,
+            w,
+            cutoff,
+            fa,
+        };
+        self.scan(&mut test, &mut source, range)
     }
 
     /// The search of [`Self::first_exit_until`] past its evaluation-free tests, with `jerk`
@@ -378,7 +390,9 @@ impl ExpSum {
     /// flight to the next; the last chunk `[a, horizon]`, shorter than `2w`, is excluded by
     /// the test on `[a, a + 2w]` that contains it, or else searched on its own from fresh
     /// exponentials. A chunk that is not excluded keeps its midpoint's exponentials, and its
-    /// polish starts from them ([`Seed`]). The one-pair searches keep the grid of the horizon.
+    /// polish starts from them ([`Seed`]). The chunks after the head are scanned by
+    /// [`Self::scan`] over [`SteppedChunks`]. The searches of other functions (a polynomial that
+    /// is not a constant, a growing rate) use the grid of the horizon.
     #[inline(always)]
     pub(super) fn grid_search<const FIXED: bool>(
         &self,
@@ -462,64 +476,20 @@ impl ExpSum {
             first = 1;
             set_exponentials(exps, &self.terms, first_end, chunks, doubled);
         }
-        let jerk_reach = jerk * w * w * w / 6.0;
-        for i in first..chunks {
-            let a = 2.0 * w * i as f64;
-            if a >= cutoff {
-                break;
-            }
-            let b = if i + 1 == chunks {
-                horizon
-            } else {
-                2.0 * w * (i + 1) as f64
-            };
-            let m = a + w;
-            for (e, step) in exps.iter_mut().zip(steps.iter()) {
-                *e *= step;
-            }
-            let (fm, dm, ddm) = test.derivatives.at(self, m, exps);
-            if fixed && i + 1 == chunks {
-                return self.last_chunk(&mut test, (a, w), (fm, dm, ddm), fa);
-            }
-            // The test of `exit_in_chunk`, inline: most chunks are excluded at once.
-            let excluded = inside((fm, dm, ddm), w, jerk_reach, (lo, hi));
-            let d3m = if excluded {
-                f64::NAN
-            } else {
-                test.derivatives.third(exps)
-            };
-            if fixed && !excluded {
-                mid.clear();
-                mid.extend_from_slice(exps);
-            }
-            if (2 * i + 2) % REANCHOR == 0 {
-                for (e, t) in exps.iter_mut().zip(&self.terms) {
-                    *e = cexp(t.rate, b);
-                }
-            } else {
-                for (e, step) in exps.iter_mut().zip(steps.iter()) {
-                    *e *= step;
-                }
-            }
-            let fb = test.derivatives.value(self, b, exps);
-            if excluded {
-                fa = fb;
-                continue;
-            }
-            let at_m = (fm, dm, ddm, d3m);
-            let seed = fixed.then_some(Seed {
-                m,
-                w,
-                mid,
-                seeds: &mut *seeds,
-            });
-            let found = self.exit_in_chunk(&mut test, (a, b, fa, fb), at_m, seed);
-            if found.is_some() {
-                return found;
-            }
-            fa = fb;
-        }
-        None
+        let mut source = SteppedChunks {
+            terms: &self.terms,
+            exps,
+            steps,
+            fixed: fixed.then_some((mid, seeds)),
+        };
+        let range = Chunks {
+            first,
+            chunks,
+            w,
+            cutoff,
+            fa,
+        };
+        self.scan(&mut test, &mut source, range)
     }
 }
 
@@ -684,22 +654,6 @@ impl ExpSum {
     }
 }
 
-/// `(f, f', f'')` at a cached chunk's midpoint: the terms' constant coefficients against its
-/// rows `e^{μm}`, `μe^{μm}`, `μ²e^{μm}` ([`GridSteps::chunk_exps`]).
-#[inline]
-fn mid_values(terms: &[Term], rows: &[C64]) -> (f64, f64, f64) {
-    let n = terms.len();
-    let (mut fm, mut dm, mut ddm) = (0.0, 0.0, 0.0);
-    for (j, t) in terms.iter().enumerate() {
-        let c = t.poly[0];
-        let re = |x: C64| c.re * x.re - c.im * x.im;
-        fm += re(rows[j]);
-        dm += re(rows[n + j]);
-        ddm += re(rows[2 * n + j]);
-    }
-    (fm, dm, ddm)
-}
-
 impl ExpSum {
     /// The grid of a search over `horizon`: `(fixed, chunks, w)`, on the fixed grid of the
     /// rates (`w = π/(8 max|μ|)`, `FIXED` and a finite positive fastest rate) or else the
@@ -724,25 +678,5 @@ impl ExpSum {
             (chunks, 0.5 * horizon / chunks as f64)
         };
         (fixed, chunks, w)
-    }
-
-    /// The last chunk of a fixed grid, `[a, horizon]` within `[a, a + 2w]` (`(f, f', f'')` at
-    /// `a + w` given, `fa = f(a)`): excluded by the test on `[a, a + 2w]` when that contains
-    /// it, or else searched on its own from fresh exponentials.
-    fn last_chunk(
-        &self,
-        test: &mut ChunkTest<'_>,
-        (a, w): (f64, f64),
-        at_m: (f64, f64, f64),
-        fa: f64,
-    ) -> Option<(f64, i8)> {
-        let horizon = test.horizon;
-        let jerk_reach = test.jerk * w * w * w / 6.0;
-        if a + 2.0 * w >= horizon && inside(at_m, w, jerk_reach, test.band) {
-            return None;
-        }
-        let at_m = self.eval3(0.5 * (a + horizon), test.derivatives, test.point);
-        let fb = self.eval(horizon).0;
-        self.exit_in_chunk(test, (a, horizon, fa, fb), at_m, None)
     }
 }
