@@ -22,7 +22,7 @@
 //! test functions whose sign changes between consecutive points are events: every test that
 //! changed sign over a step is located on its own, by the Illinois variant of regula falsi on
 //! the chord between the two points (each trial point corrected onto the branch) until the
-//! chord fraction is bracketed to [`LOCATION_FRACTION`], and the events of a step are listed
+//! chord fraction is bracketed to `1e-13`, and the events of a step are listed
 //! in their order along it (events closer than the step are all found):
 //!
 //! | event | test function |

@@ -136,7 +136,7 @@ pub enum EndReason {
     /// representation of the same orbits: [`BranchEnd::joins`] names that branch. A branch
     /// whose seed lies on one already followed ends so in both directions at its seed.
     Joins,
-    /// A branch that leaves an event of a branch at [`ContinuationSettings::max_depth`]:
+    /// A branch that leaves an event of a branch at [`ContinuationSettings::max_depth`](crate::ContinuationSettings::max_depth):
     /// recorded without points, not followed.
     MaxDepth,
 }

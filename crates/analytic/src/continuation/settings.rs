@@ -35,7 +35,7 @@ pub struct ContinuationSettings {
     pub follow_switches: bool,
     /// Switching depth: the start's branch has depth 0, a branch switched onto from one of
     /// depth `d` has depth `d + 1`; branches deeper than this are not followed (the cut is
-    /// recorded as a branch without points ending [`EndReason::MaxDepth`]).
+    /// recorded as a branch without points ending [`EndReason::MaxDepth`](crate::EndReason::MaxDepth)(crate::EndReason::MaxDepth)).
     pub max_depth: usize,
 }
 
