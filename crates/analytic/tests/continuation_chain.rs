@@ -2,7 +2,8 @@
 //! branch (every point the unit solver's orbit at its frequency, the same events at the same
 //! frequencies), and on a 2-cell chain every point of a branch must be an orbit of the
 //! sequence solver at its frequency, each cell's outer amplitude its, with a Neimark–Sacker
-//! event where the solver's stability verdict changes.
+//! event where the solver's multipliers cross the unit circle, and a grazing and a vanishing
+//! impact where its verdict on that pair changes.
 
 use nalgebra::Complex;
 use rattle_analytic::test_models::{damped_paper_unit, paper_stops, paper_unit};
@@ -247,4 +248,84 @@ fn a_neimark_sacker_event_of_the_chain_is_where_the_solvers_stability_changes() 
             .iter()
             .any(|m| m.im.abs() > 1e-9 && (m.norm() - 1.0).abs() < 1e-6));
     }
+}
+
+/// `|a − p| + |p − b| − |a − b|` in `(α, φ₂ … φₙ, ω)` for the step `[a, b]` and a point `p`:
+/// zero when `p` lies on the chord.
+fn detour(step: &[ContinuationPoint], p: &ContinuationPoint) -> f64 {
+    let d = |u: &ContinuationPoint, v: &ContinuationPoint| {
+        let phases: f64 = u
+            .impact_phases
+            .iter()
+            .zip(&v.impact_phases)
+            .map(|(x, y)| (x - y).powi(2))
+            .sum();
+        (wrap(u.alpha - v.alpha).powi(2) + phases + (u.omega - v.omega).powi(2)).sqrt()
+    };
+    d(&step[0], p) + d(p, &step[1]) - d(&step[0], &step[1])
+}
+
+#[test]
+fn a_grazing_and_a_vanishing_impact_of_the_chain_are_where_the_solvers_verdict_on_the_pair_changes()
+{
+    // The branch that leaves the 2-cell branch's branch point at 3.33878 rad/s (switched onto
+    // at depth 1) has, within [2.5, 4.0], a vanishing impact and a grazing of pair 0 (found
+    // by `rattle continue` when this test was written; the test follows it again).
+    let model = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2).unwrap();
+    let sequence = ImpactSequence::parse("0+ 1- 0- 1+", 1).unwrap();
+    let orbits = sequence_orbits(&model, 3.3, &sequence).unwrap();
+    let start = orbits.iter().find(|o| o.viable).expect("a viable orbit");
+    let settings = ContinuationSettings {
+        max_depth: 1,
+        ..ContinuationSettings::new(2.5, 4.0)
+    };
+    let c = continue_sequence(&model, start, &settings).unwrap();
+    let mut checked = Vec::new();
+    for e in &c.events {
+        if !matches!(e.kind, EventKind::Grazing | EventKind::VanishingImpact) {
+            continue;
+        }
+        let pair = e.pair.expect("the pair of a grazing or vanishing impact");
+        assert!(pair < 2);
+        let branch = &c.branches[e.branch];
+        // The consecutive points around the event (the step whose chord passes closest to
+        // it), re-solved by the orbit solver at their own frequencies: on one side only does
+        // the solver find the pair's excursion beyond a stop (grazing) or an impact of the
+        // pair approached from outside (vanishing impact).
+        let around = branch
+            .points
+            .windows(2)
+            .min_by(|v, w| detour(v, &e.point).total_cmp(&detour(w, &e.point)))
+            .expect("a step of the branch");
+        let kind = e.kind;
+        let viable = |p: &ContinuationPoint| {
+            let o = solve_sequence(&model, p.omega, &branch.signature, &guess_of(p)).unwrap();
+            !o.violations.iter().any(|v| match *v {
+                SequenceViolation::Penetration { pair: q, .. }
+                | SequenceViolation::ExtraImpact { pair: q, .. } => {
+                    kind == EventKind::Grazing && q == pair
+                }
+                SequenceViolation::WrongApproach { pair: q, .. } => {
+                    kind == EventKind::VanishingImpact && q == pair
+                }
+            })
+        };
+        assert_ne!(
+            viable(&around[0]),
+            viable(&around[1]),
+            "{:?} at ω = {}",
+            e.kind,
+            e.omega
+        );
+        if e.kind == EventKind::Grazing {
+            // The new sequence has one more impact, of the grazing pair.
+            let after = e.signature_after.as_ref().expect("the grazed sequence");
+            assert_eq!(after.impacts().len(), branch.signature.impacts().len() + 1);
+            let count = |s: &ImpactSequence| s.impacts().iter().filter(|i| i.pair == pair).count();
+            assert_eq!(count(after), count(&branch.signature) + 1);
+        }
+        checked.push(e.kind);
+    }
+    assert!(checked.contains(&EventKind::Grazing), "{checked:?}");
+    assert!(checked.contains(&EventKind::VanishingImpact), "{checked:?}");
 }

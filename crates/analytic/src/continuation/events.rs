@@ -112,7 +112,10 @@ fn detect_step<M: BranchModel>(system: &System<M>, a: &Node, b: &Node) -> Vec<Fo
     let mut found: Vec<(f64, Found<M::Label>)> = sign_changes(&a.tests, &b.tests)
         .into_iter()
         .filter_map(|test| {
-            let (theta, node) = locate(system, a, b, test)?;
+            let (theta, node) = match test {
+                Test::Branch => locate_branch_point(system, a, b)?,
+                _ => locate(system, a, b, test)?,
+            };
             Some((theta, event_at(system, a, b, test, node)?))
         })
         .collect();
@@ -206,6 +209,18 @@ fn event_at<M: BranchModel>(
         },
         node,
     })
+}
+
+/// The branch point between `a` and `b` whose test function `det(M − I) / (dω/ds)` changed
+/// sign: the zero of that test by [`locate`] (each trial point polished onto the branch),
+/// accepted by [`event_at`] where `R_X` has lost rank. The one place a branch point is located,
+/// so that another locator (a regular, minimally augmented system) can replace it.
+fn locate_branch_point<M: BranchModel>(
+    system: &System<M>,
+    a: &Node,
+    b: &Node,
+) -> Option<(f64, Node)> {
+    locate(system, a, b, Test::Branch)
 }
 
 /// The zero of `test` between `a` and `b`, by Illinois on the chord fraction `θ`: each trial
