@@ -2,7 +2,25 @@
 //! the tangent at a branch's seed.
 
 use super::system::{BranchModel, System};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
+
+impl<M: BranchModel> System<M> {
+    /// The unit tangent at a point with Jacobian `jacobian`, oriented along `previous`:
+    /// the solution of `[R_X; previousᵀ] t = e_{n+1}`, normalised.
+    pub(crate) fn tangent(&self, jacobian: &DMatrix<f64>, previous: &[f64]) -> Option<Vec<f64>> {
+        let n = self.n();
+        let mut m = DMatrix::zeros(n + 1, n + 1);
+        m.view_mut((0, 0), (n, n + 1)).copy_from(jacobian);
+        for k in 0..=n {
+            m[(n, k)] = previous[k];
+        }
+        let mut rhs = DVector::zeros(n + 1);
+        rhs[n] = 1.0;
+        let t = m.lu().solve(&rhs)?;
+        let norm = t.norm();
+        (norm.is_finite() && norm > 0.0).then(|| t.iter().map(|v| v / norm).collect())
+    }
+}
 
 /// The tangent at the seed of a branch: the seed's own (`own`), or the null vector of `R_X` oriented
 /// towards increasing `ω`.

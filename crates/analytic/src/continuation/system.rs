@@ -1,6 +1,6 @@
 //! The cycle equations of one branch as functions of `X = (α, φ₂ … φₙ, ω)`, on any model: the
 //! model's side ([`BranchModel`]: its instance of [`CycleEquations`], its verdicts and test
-//! functions) and what continuation derives from it ([`System`]: admissibility, tangents,
+//! functions) and what continuation derives from it ([`System`]: admissibility, test values,
 //! the points of a branch).
 
 use super::result::ContinuationPoint;
@@ -268,22 +268,6 @@ impl<M: BranchModel> System<M> {
     /// Residuals only (an empty Jacobian): one exponential per flight, no derivatives.
     pub(crate) fn evaluate_residual(&self, x: &[f64]) -> Option<M::Evaluation> {
         self.model.evaluate(x, false)
-    }
-
-    /// The unit tangent at a point with Jacobian `jacobian`, oriented along `previous`:
-    /// the solution of `[R_X; previousᵀ] t = e_{n+1}`, normalised.
-    pub(crate) fn tangent(&self, jacobian: &DMatrix<f64>, previous: &[f64]) -> Option<Vec<f64>> {
-        let n = self.n();
-        let mut m = DMatrix::zeros(n + 1, n + 1);
-        m.view_mut((0, 0), (n, n + 1)).copy_from(jacobian);
-        for k in 0..=n {
-            m[(n, k)] = previous[k];
-        }
-        let mut rhs = DVector::zeros(n + 1);
-        rhs[n] = 1.0;
-        let t = m.lu().solve(&rhs)?;
-        let norm = t.norm();
-        (norm.is_finite() && norm > 0.0).then(|| t.iter().map(|v| v / norm).collect())
     }
 
     /// One test function at a converged `X` (`eval` with or without Jacobian), computing
