@@ -52,7 +52,7 @@ const MAX_MOVE: f64 = 1e-4;
 ///
 /// `h(u)` returns `H(u)` (length `n`) and `H_u(u)` (`n × (n + 1)`), or `None` where the
 /// problem is not defined.
-pub(crate) fn locate_branch_point<F>(h: F, u0: &[f64]) -> Option<BranchPoint>
+pub(crate) fn solve_branch_point<F>(h: F, u0: &[f64]) -> Option<BranchPoint>
 where
     F: Fn(&[f64]) -> Option<(DVector<f64>, DMatrix<f64>)>,
 {
@@ -160,7 +160,7 @@ mod tests {
     #[test]
     fn the_pitchfork_is_located_at_its_exact_branch_point() {
         for start in [[1e-5, 2e-5], [-2e-5, 1e-5], [1e-5, -1e-5]] {
-            let bp = locate_branch_point(pitchfork, &start).expect("converges");
+            let bp = solve_branch_point(pitchfork, &start).expect("converges");
             assert!(bp.u[0].abs() < 1e-15 && bp.u[1].abs() < 1e-15, "{bp:?}");
             assert!(bp.unfolding.abs() < 1e-15, "{bp:?}");
         }
@@ -175,7 +175,7 @@ mod tests {
             let (r, j) = pitchfork(u)?;
             Some((r.add_scalar(delta), j))
         };
-        let bp = locate_branch_point(h, &[1e-5, 1e-5]).expect("converges");
+        let bp = solve_branch_point(h, &[1e-5, 1e-5]).expect("converges");
         assert!((bp.unfolding.abs() - delta).abs() < 1e-15, "{bp:?}");
     }
 
@@ -190,7 +190,7 @@ mod tests {
             let j = DMatrix::from_row_slice(2, 3, &[l - 2.0 * x, 2.0 * y, x, -1.0, 1.0, 0.0]);
             Some((r, j))
         };
-        let bp = locate_branch_point(h, &[2e-5, 1e-5, -1e-5]).expect("converges");
+        let bp = solve_branch_point(h, &[2e-5, 1e-5, -1e-5]).expect("converges");
         assert!(bp.u.iter().all(|v| v.abs() < 1e-15), "{bp:?}");
         assert!(bp.unfolding.abs() < 1e-15, "{bp:?}");
     }

@@ -18,7 +18,9 @@
 
 use crate::orbit::wrap;
 use nalgebra::allocator::Allocator;
-use nalgebra::{Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, OMatrix, OVector, LU};
+use nalgebra::{
+    Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, OMatrix, OVector, SMatrix, LU,
+};
 
 /// A flight shorter than this fraction of the cycle is two impacts merging: a grazing limit,
 /// not an orbit of the sequence. Far below any grid spacing, far above rounding of the times.
@@ -127,6 +129,38 @@ where
             symmetries,
             cycle,
         }
+    }
+
+    /// The same impacts at another frequency: `omega`, its augmented matrix `augmented` and
+    /// cycle length `cycle` (what continuation in `ω` evaluates at each point).
+    pub fn at_frequency(&self, omega: f64, augmented: OMatrix<f64, D, D>, cycle: f64) -> Self {
+        Self {
+            omega,
+            augmented,
+            cycle,
+            ..self.clone()
+        }
+    }
+
+    /// `‖K‖∞ ‖K⁻¹‖∞` of the periodicity matrix `K = I − Ψ_xx` of the maps `pre` of one cycle
+    /// (infinite when `K` is singular): the contact residuals carry rounding of about this
+    /// many units of the motion's size.
+    pub fn conditioning(&self, pre: &[OMatrix<f64, D, D>]) -> f64 {
+        let Some(last) = pre.last() else {
+            return f64::INFINITY;
+        };
+        let psi = &self.g_hats[0] * last;
+        let s = self.states();
+        let k = DMatrix::from_fn(s, s, |i, j| f64::from(u8::from(i == j)) - psi[(i, j)]);
+        let inf_norm = |m: &DMatrix<f64>| {
+            m.row_iter()
+                .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+                .fold(0.0, f64::max)
+        };
+        // The inverse from the LU factors (partial pivoting), not the cofactor formula that
+        // `try_inverse` uses up to 4×4, which loses accuracy where `K` is ill-conditioned.
+        let inverse = k.clone().lu().try_inverse();
+        inf_norm(&k) * inverse.map_or(f64::INFINITY, |i| inf_norm(&i))
     }
 
     /// The forcing frequency.
@@ -325,14 +359,20 @@ where
             .map(|f| {
                 let end = if f + 1 < m { phases[f + 1] } else { 1.0 };
                 let sigma = (end - phases[f]) * angle;
-                let big = DMatrix::from_fn(2 * size, 2 * size, |i, j| match (i < size, j < size) {
+                let block = |i: usize, j: usize| match (i < size, j < size) {
                     (true, true) => b[(i, j)] * sigma,
                     (false, false) => b[(i - size, j - size)] * sigma,
                     (true, false) => b_rate[(i, j - size)] * sigma,
                     (false, true) => 0.0,
-                });
-                let ex = dynamic_exp(&big);
-                OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| ex[(i, size + j)])
+                };
+                if size == UNIT_SIZE {
+                    // The unit's 12×12 exponential on the stack (no heap matrices per flight).
+                    let ex = unit_exp(&SMatrix::from_fn(block));
+                    OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| ex[(i, size + j)])
+                } else {
+                    let ex = dynamic_exp(&DMatrix::from_fn(2 * size, 2 * size, block));
+                    OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| ex[(i, size + j)])
+                }
             })
             .collect();
         let own = |f: usize| {
@@ -413,6 +453,17 @@ where
             self.contacts[j].dot(&total)
         }))
     }
+}
+
+/// Augmented dimension of the unit (two degrees of freedom and the two forcing phases).
+const UNIT_SIZE: usize = 6;
+
+/// `exp(m)` of the unit's doubled stack matrix (outside the generic impl, as
+/// [`dynamic_exp`]).
+fn unit_exp(
+    m: &SMatrix<f64, { 2 * UNIT_SIZE }, { 2 * UNIT_SIZE }>,
+) -> SMatrix<f64, { 2 * UNIT_SIZE }, { 2 * UNIT_SIZE }> {
+    m.exp()
 }
 
 /// `exp(m)` of a heap matrix (outside the generic impl, whose bounds hide the method).

@@ -32,8 +32,9 @@
 //!   sequence on any [`LinearModel`] (the signature solver generalised: problem, Newton solver
 //!   and state; amplitudes, viability per pair, Floquet multipliers and energy balance; the
 //!   multi-start [`sequence_orbits`]), with [`model_flight`]'s rigorous extrema and integrals;
-//! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
-//!   ([`continue_orbit`]) through folds, with exact derivatives in `ω`, the bifurcation events
+//! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature of the
+//!   unit ([`continue_orbit`]) and of any impact sequence of a [`LinearModel`] such as a chain
+//!   ([`continue_sequence`]) through folds, with exact derivatives in `ω`, the bifurcation events
 //!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
 //!   impact) located to `1e-8` in `ω`, and the branches that leave at them, each followed
 //!   once (a branch onto one followed, or onto its mirror image, ends there);
@@ -68,8 +69,9 @@ pub mod unit;
 
 pub use chain::{chain_response, validate_chain, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
-    continue_orbit, continue_orbit_after, Branch, BranchEnd, Continuation, ContinuationError,
-    ContinuationPoint, ContinuationSettings, EndReason, Event, EventKind,
+    continue_orbit, continue_orbit_after, continue_sequence, continue_sequence_after, Branch,
+    BranchEnd, Continuation, ContinuationError, ContinuationPoint, ContinuationSettings, EndReason,
+    Event, EventKind,
 };
 pub use cycle::{
     signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,

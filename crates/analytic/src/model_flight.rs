@@ -59,9 +59,39 @@ impl ModelFlight {
         duration: f64,
         functionals: &[DVector<f64>],
     ) -> Vec<Extrema> {
+        self.mixed_extrema(start, duration, functionals, &[])
+    }
+
+    /// [`Self::extrema`] for the functionals whose `critical` flag is false (missing flags
+    /// count as false), and for the others the extrema over the flight's *interior critical
+    /// points* only, as [`crate::flow::ForcedFlow::critical_extrema`]: a functional monotone
+    /// along the whole flight has `max = −∞`, `min = +∞` (and `NaN` times).
+    ///
+    /// # Panics
+    /// If `start` or a functional does not have `2n + 2` entries.
+    pub fn mixed_extrema(
+        &self,
+        start: &DVector<f64>,
+        duration: f64,
+        functionals: &[DVector<f64>],
+        critical: &[bool],
+    ) -> Vec<Extrema> {
+        let critical_only = |i: usize| critical.get(i).copied().unwrap_or(false);
         let mut found: Vec<Extrema> = functionals
             .iter()
-            .map(|c| Extrema::at_start(c.dot(start)))
+            .enumerate()
+            .map(|(i, c)| {
+                if critical_only(i) {
+                    Extrema {
+                        max: f64::NEG_INFINITY,
+                        argmax: f64::NAN,
+                        min: f64::INFINITY,
+                        argmin: f64::NAN,
+                    }
+                } else {
+                    Extrema::at_start(c.dot(start))
+                }
+            })
             .collect();
         if duration <= 0.0 || functionals.is_empty() {
             return found;
@@ -96,11 +126,11 @@ impl ModelFlight {
         let mut poly = [0.0; TAYLOR_DEGREE + 1];
         for piece in 0..pieces {
             let t0 = piece as f64 * h;
-            for (row, ext) in rows.iter().zip(found.iter_mut()) {
+            for (i, (row, ext)) in rows.iter().zip(found.iter_mut()).enumerate() {
                 for (pk, rk) in poly.iter_mut().zip(row.iter()) {
                     *pk = rk.dot(&z);
                 }
-                polynomial_extrema(&poly, ext, t0, h, false);
+                polynomial_extrema(&poly, ext, t0, h, critical_only(i));
             }
             z = &step * z;
         }

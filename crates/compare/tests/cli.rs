@@ -883,3 +883,98 @@ fn bad_trajectory_options_exit_2_and_name_the_option() {
         assert!(stderr.contains(option), "{args:?}: {stderr}");
     }
 }
+
+/// A 2-cell chain of the paper's damped unit (`paper-chain-5.json` with two cells): on it the
+/// sequence `0+ 1- 0- 1+` has a viable orbit at ω = 3.3 (`tests/continuation_chain.rs` of the
+/// analytic crate follows it).
+const PAPER_CHAIN_2: &str = r#"{
+  "name": "paper-chain-2",
+  "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+  "base": {"amplitude": 1.0},
+  "stops": {"gap": 0.5, "restitution": 0.8},
+  "damping": {"outer": 0.1, "inner": 0.05},
+  "cells": 2
+}"#;
+
+#[test]
+fn continue_on_a_chain_gives_every_cells_outer_amplitude_per_point() {
+    let scene = common::scene_file("cli-continue", "paper-chain-2.json", PAPER_CHAIN_2);
+    let scene = scene.to_str().unwrap();
+    let args = [
+        "continue",
+        scene,
+        "--signature",
+        "0+ 1- 0- 1+",
+        "--omega",
+        "3.3",
+        "--omega-min",
+        "3.2",
+        "--omega-max",
+        "3.4",
+        "--max-depth",
+        "0",
+    ];
+    let doc = json(&[&args[..], &["--json"]].concat());
+    assert_eq!(doc["cells"], 2);
+    assert_eq!(doc["signature"], "0+ 1- 0- 1+");
+    let points = doc["points"].as_array().unwrap();
+    assert!(points.len() > 20, "{} points", points.len());
+    for p in points {
+        let cells = p["cell_outer_amplitudes"].as_array().unwrap();
+        assert_eq!(cells.len(), 2);
+        assert_eq!(cells[1], p["outer_amplitude"]);
+        assert!(cells[0].as_f64().unwrap() > 0.0);
+    }
+    let branches = doc["branches"].as_array().unwrap();
+    assert_eq!(branches[0]["signature"], "0+ 1- 0- 1+");
+    assert_eq!(doc["ends"].as_array().unwrap().len(), 2 * branches.len());
+    let kinds: Vec<&str> = doc["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["kind"].as_str().unwrap())
+        .collect();
+    assert!(kinds.contains(&"neimark-sacker"), "{kinds:?}");
+
+    // The CSV: one row per point, with the cells' amplitudes `;`-separated.
+    let dir = std::env::temp_dir().join(format!("rattle-cli-continue-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("chain.csv");
+    let out = rattle(&[&args[..], &["--out", csv.to_str().unwrap()]].concat());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = header
+        .iter()
+        .position(|c| *c == "cell_outer_amplitudes")
+        .expect("a cell_outer_amplitudes column");
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), points.len());
+    assert_eq!(
+        rows[0].split(',').nth(column).unwrap().split(';').count(),
+        2
+    );
+
+    // A single unit's document has neither field.
+    let unit = json(&[
+        "continue",
+        "--signature",
+        "+-",
+        "--omega",
+        "3",
+        "--omega-min",
+        "2.9",
+        "--omega-max",
+        "3.1",
+        "--max-depth",
+        "0",
+        "--json",
+    ]);
+    assert!(unit.get("cells").is_none());
+    assert!(unit["points"][0].get("cell_outer_amplitudes").is_none());
+}

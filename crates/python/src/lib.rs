@@ -35,7 +35,7 @@ use rattle_compare::output::Row;
 use rattle_compare::output::{table_text, Format, Header};
 use rattle_compare::runs::axis::Axis;
 use rattle_compare::runs::basins::{basin_options, write_basins, BasinGrid, BasinRow};
-use rattle_compare::runs::continuation::{follow, FollowError};
+use rattle_compare::runs::continuation::{follow, follow_chain, FollowError};
 use rattle_compare::runs::map::{write_map, MapError, MapGrid, MapPointRow, MapSettings};
 use rattle_compare::runs::parallel::Progress;
 use rattle_compare::runs::shard::{merge as merge_parts, Shard};
@@ -695,9 +695,9 @@ fn continuation_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(out)
 }
 
-/// `rattle continue --json`: every orbit of `signature` at `omega` (or only the `orbit`-th)
-/// followed in ω over `[omega_min, omega_max]`, with the command's settings, checks and
-/// messages (options named as the Python parameters).
+/// `rattle continue --json`: every orbit of `signature` (on a chain: an impact sequence of its
+/// pairs) at `omega` (or only the `orbit`-th) followed in ω over `[omega_min, omega_max]`,
+/// with the command's settings, checks and messages (options named as the Python parameters).
 #[pyfunction]
 #[pyo3(signature = (scene, signature, omega, omega_min, omega_max, period, orbit, switch, max_step, max_branches, max_depth))]
 #[allow(clippy::too_many_arguments)]
@@ -719,8 +719,16 @@ fn continue_branch(
     // command's message: the settings and the range of `omega`, then the scene and its bounds.
     let omega = check_omega("omega", omega)?;
     let period = u32::try_from(period).unwrap_or(0);
-    let signature = Signature::parse(signature, period)
-        .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
+    let text = signature;
+    let signature = if scene.scene.is_chain() {
+        // A chain's impact sequence is parsed against the chain, as the command does.
+        None
+    } else {
+        Some(
+            Signature::parse(text, period)
+                .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?,
+        )
+    };
     let max_branches = usize::try_from(max_branches).unwrap_or(0);
     let max_depth = usize::try_from(max_depth).map_err(|_| {
         PyValueError::new_err(format!(
@@ -756,7 +764,6 @@ fn continue_branch(
             "omega = {omega} is out of range: must be in [omega_min, omega_max] = [{omega_min}, {omega_max}]"
         )));
     }
-    unit_only(&scene.scene, "rattle.continue_branch")?;
     check_frequency(&scene.scene, "omega_min", omega_min)?;
     check_frequency(&scene.scene, "omega_max", omega_max)?;
     let orbit = orbit
@@ -768,12 +775,20 @@ fn continue_branch(
         .transpose()?;
     let scene = &scene.scene;
     let followed = compute(py, || {
-        Ok(follow(scene, &signature, omega, orbit, &settings).map(|f| f.record(&scene.name)))
+        Ok(match &signature {
+            Some(signature) => {
+                follow(scene, signature, omega, orbit, &settings).map(|f| f.record(&scene.name))
+            }
+            None => follow_chain(scene, text, period, omega, orbit, &settings)
+                .map(|f| f.record(&scene.name)),
+        })
     })?;
     // Which errors are the caller's is the command's split (its exit code 2 against 1); a
     // numerical failure keeps the command's words (its hint names a command).
     let record = followed.map_err(|e| match e {
-        FollowError::OrbitIndex { .. } | FollowError::NoStops => {
+        FollowError::OrbitIndex { .. }
+        | FollowError::NoStops
+        | FollowError::Chain(ChainOrbitsError::Sequence(_) | ChainOrbitsError::MissingStops(_)) => {
             PyValueError::new_err(python_names(&e.to_string()))
         }
         FollowError::Continuation(ref c) if c.to_string().contains("out of range") => {

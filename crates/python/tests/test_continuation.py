@@ -1,6 +1,8 @@
-"""`continue_branch` against `rattle continue --json`: the same document, number for number;
-its points as numpy columns; bad arguments as ValueError with the command's message, the
-options named as the Python parameters."""
+"""`continue_branch` against `rattle continue --json`: the same document, number for number,
+on the unit and on a chain; its points as numpy columns; bad arguments as ValueError with the
+command's message, the options named as the Python parameters."""
+
+import json
 
 import numpy as np
 import pytest
@@ -117,3 +119,41 @@ def test_nothing_to_follow_is_a_runtime_error(rattle_cli):
             rattle.Scene.paper(), signature="+-", omega=0.3, omega_min=0.2, omega_max=0.4
         )
     assert str(e.value) == theirs
+
+
+#: Two of the paper's cells in series, lightly damped as `data/scenes/paper-chain-5.json`: the
+#: sequence `0+ 1- 0- 1+` has a viable orbit at ω = 3.3 (the analytic crate's
+#: `tests/continuation_chain.rs` follows it).
+TWO_CELLS = {
+    "name": "two",
+    "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0,
+             "inner_stiffness": 3.0},
+    "base": {"amplitude": 1.0},
+    "stops": {"gap": 0.5, "restitution": 0.8},
+    "damping": {"outer": 0.1, "inner": 0.05},
+    "cells": 2,
+}
+
+
+def test_a_chains_branch_is_the_commands(rattle_cli, tmp_path):
+    path = tmp_path / "two.json"
+    path.write_text(json.dumps(TWO_CELLS))
+    sequence = "0+ 1- 0- 1+"
+    ours = rattle.continue_branch(
+        rattle.Scene.from_dict(TWO_CELLS), sequence, 3.3, 3.2, 3.4, max_depth=0
+    )
+    theirs = rattle_cli.json(
+        "continue", path, "--signature", sequence, "--omega", 3.3, "--omega-min", 3.2,
+        "--omega-max", 3.4, "--max-depth", 0,
+    )
+    assert ours.to_dict() == theirs
+    assert ours.signature == sequence and ours.cells == 2
+    assert len(ours.points) > 20
+    for p in ours.to_dict()["points"]:
+        assert len(p["cell_outer_amplitudes"]) == 2
+        assert p["cell_outer_amplitudes"][-1] == p["outer_amplitude"]
+    assert "neimark-sacker" in [e["kind"] for e in ours.to_dict()["events"]]
+    with pytest.raises(ValueError, match="pair 2"):
+        rattle.continue_branch(
+            rattle.Scene.from_dict(TWO_CELLS), "0+ 2-", 3.3, 3.2, 3.4, max_depth=0
+        )

@@ -1,10 +1,11 @@
-//! `rattle continue`: the branches through every orbit of a signature at one frequency,
-//! followed in ω with their bifurcations.
+//! `rattle continue`: the branches through every orbit of a signature (on a chain: an impact
+//! sequence) at one frequency, followed in ω with their bifurcations.
 
-use super::{check_frequency, check_omega, load_unit, pretty, RattleError};
-use crate::output::records::ContinuationPointRecord;
-use crate::output::{finite, table_row, writer, Format, Header, OutputError};
-use crate::runs::continuation::{follow, FollowError, Followed};
+use super::{check_frequency, check_omega, load, pretty, RattleError};
+use crate::output::records::ContinuationRecord;
+use crate::output::{finite, number_list, table_row, writer, Format, Header, OutputError};
+use crate::runs::continuation::{follow, follow_chain, ChainFollowed, FollowError, Followed};
+use crate::verdict::chain::ChainOrbitsError;
 use clap::Args;
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
@@ -14,10 +15,13 @@ use std::path::PathBuf;
 /// Arguments of `rattle continue`.
 #[derive(Debug, Args)]
 pub struct ContinueArgs {
-    /// Scene file (JSON). Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    /// Scene file (JSON), a single unit or a chain of cells. Omit for the built-in paper scene
+    /// (Δ = 0.5, e = 0.8).
     pub scene: Option<PathBuf>,
     /// The impact signature to follow: the stops hit over one cycle in time order, `+` side 1
-    /// (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`).
+    /// (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`). On a chain: the impacts of
+    /// every pair in time order as `<pair><side>` tokens, pairs (cells) numbered from 0 (e.g.
+    /// "0+ 1- 0- 1+"); each point then carries every cell's outer amplitude.
     #[arg(long, allow_hyphen_values = true)]
     pub signature: String,
     /// Forcing periods per cycle of the signature, in [1, 8].
@@ -86,6 +90,59 @@ table_row! {
     }
 }
 
+table_row! {
+    /// One point of a chain's continued branch, as a CSV row: the unit's columns and every
+    /// cell's outer amplitude.
+    pub struct ChainContinuationRow {
+        /// Index of its branch.
+        pub branch: usize,
+        /// The branch's canonical impact sequence.
+        pub signature: String,
+        /// Forcing periods per cycle.
+        pub period: u32,
+        /// Angular frequency, rad/s.
+        pub omega: Option<f64>,
+        /// Base phase at the first canonical impact, rad.
+        pub alpha: Option<f64>,
+        /// `X_o` of the last cell, m.
+        pub outer_amplitude: Option<f64>,
+        /// `T`, dB.
+        pub transmittance_db: Option<f64>,
+        /// Every Floquet multiplier inside the unit circle.
+        pub stable: bool,
+        /// No penetration, every impact from inside, no extra impact.
+        pub viable: bool,
+        /// The largest modulus of a Floquet multiplier.
+        pub largest_multiplier: Option<f64>,
+        /// `max|u_o,j|` of every cell, from the base out, m: a list, `;`-separated.
+        pub cell_outer_amplitudes: Option<String>,
+    }
+}
+
+/// The rows of every point of a chain's `f`.
+fn chain_rows(f: &ChainFollowed) -> impl Iterator<Item = ChainContinuationRow> + '_ {
+    f.continuation.branches.iter().flat_map(|b| {
+        b.points.iter().map(move |p| ChainContinuationRow {
+            branch: b.index,
+            signature: b.signature.to_string(),
+            period: b.period,
+            omega: finite(p.omega),
+            alpha: finite(p.alpha),
+            outer_amplitude: finite(p.outer_amplitude),
+            transmittance_db: finite(p.transmittance_db),
+            stable: p.stable,
+            viable: p.viable,
+            largest_multiplier: p
+                .floquet_multipliers
+                .iter()
+                .map(|m| m.norm())
+                .reduce(f64::max)
+                .and_then(finite),
+            cell_outer_amplitudes: number_list(&p.cell_outer_amplitudes),
+        })
+    })
+}
+
 /// The rows of every point of `f`.
 fn rows(f: &Followed) -> impl Iterator<Item = ContinuationRow> + '_ {
     f.branches.branches.iter().flat_map(|b| {
@@ -115,8 +172,53 @@ fn rows(f: &Followed) -> impl Iterator<Item = ContinuationRow> + '_ {
 /// Bad arguments or scene (exit code 2); no orbit to follow or a refused start (exit code 1).
 pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.omega)?;
+    let settings = settings(&args)?;
+    if !(args.omega_min..=args.omega_max).contains(&omega) {
+        return Err(RattleError::Argument(format!(
+            "--omega = {omega} is out of range: must be in [--omega-min, --omega-max] = [{}, {}]",
+            args.omega_min, args.omega_max
+        )));
+    }
+    let format = args
+        .out
+        .as_ref()
+        .map(|p| Format::of(p, "--out"))
+        .transpose()?;
+    if format == Some(Format::JsonLines) {
+        return Err(RattleError::Argument(
+            "--out: a continuation is written as .csv (points) or .json (the whole document)"
+                .into(),
+        ));
+    }
+    let scene = load(&args.scene)?;
+    check_frequency(&scene, "--omega-min", args.omega_min)?;
+    check_frequency(&scene, "--omega-max", args.omega_max)?;
+    if scene.is_chain() {
+        let followed = follow_chain(
+            &scene,
+            &args.signature,
+            args.period,
+            omega,
+            args.orbit,
+            &settings,
+        )
+        .map_err(follow_error)?;
+        let record = followed.record(&scene.name);
+        return write(&args, format, &record, || chain_rows(&followed));
+    }
     let signature = Signature::parse(&args.signature, args.period)
         .map_err(|e| RattleError::Argument(e.to_string()))?;
+    let followed =
+        follow(&scene, &signature, omega, args.orbit, &settings).map_err(follow_error)?;
+    let record = followed.record(&scene.name);
+    write(&args, format, &record, || rows(&followed))
+}
+
+/// The continuation settings of the arguments.
+///
+/// # Errors
+/// [`RattleError::Argument`] naming the option out of range.
+fn settings(args: &ContinueArgs) -> Result<ContinuationSettings, RattleError> {
     let mut settings = ContinuationSettings {
         max_step: args.max_step,
         max_branches: args.max_branches,
@@ -141,39 +243,38 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
     settings
         .validate()
         .map_err(|e| RattleError::Argument(e.to_string()))?;
-    if !(args.omega_min..=args.omega_max).contains(&omega) {
-        return Err(RattleError::Argument(format!(
-            "--omega = {omega} is out of range: must be in [--omega-min, --omega-max] = [{}, {}]",
-            args.omega_min, args.omega_max
-        )));
+    Ok(settings)
+}
+
+/// The command's error for a refused continuation: bad input (exit code 2) or a numerical
+/// failure (exit code 1).
+fn follow_error(e: FollowError) -> RattleError {
+    match e {
+        FollowError::OrbitIndex { .. }
+        | FollowError::NoStops
+        | FollowError::Chain(ChainOrbitsError::Sequence(_) | ChainOrbitsError::MissingStops(_)) => {
+            RattleError::Argument(e.to_string())
+        }
+        FollowError::Continuation(ref c) if c.to_string().contains("out of range") => {
+            RattleError::Argument(e.to_string())
+        }
+        _ => RattleError::Numerical(e.to_string()),
     }
-    let format = args
-        .out
-        .as_ref()
-        .map(|p| Format::of(p, "--out"))
-        .transpose()?;
-    if format == Some(Format::JsonLines) {
-        return Err(RattleError::Argument(
-            "--out: a continuation is written as .csv (points) or .json (the whole document)"
-                .into(),
-        ));
-    }
-    let scene = load_unit(&args.scene, "rattle continue")?;
-    check_frequency(&scene, "--omega-min", args.omega_min)?;
-    check_frequency(&scene, "--omega-max", args.omega_max)?;
-    let followed =
-        follow(&scene, &signature, omega, args.orbit, &settings).map_err(|e| match e {
-            FollowError::OrbitIndex { .. } | FollowError::NoStops => {
-                RattleError::Argument(e.to_string())
-            }
-            FollowError::Continuation(ref c) if c.to_string().contains("out of range") => {
-                RattleError::Argument(e.to_string())
-            }
-            _ => RattleError::Numerical(e.to_string()),
-        })?;
-    let record = followed.record(&scene.name);
+}
+
+/// The output of a run: `--json` prints `record`; `--out` writes it (`.json`) or the points'
+/// `rows` (`.csv`); the summary is printed otherwise.
+///
+/// # Errors
+/// [`RattleError::Output`] when the file cannot be written.
+fn write<R: crate::output::Row, I: Iterator<Item = R>>(
+    args: &ContinueArgs,
+    format: Option<Format>,
+    record: &ContinuationRecord,
+    rows: impl FnOnce() -> I,
+) -> Result<String, RattleError> {
     if args.json {
-        return pretty(&record);
+        return pretty(record);
     }
     if let (Some(path), Some(format)) = (&args.out, format) {
         let io = |source| {
@@ -183,76 +284,78 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
             })
         };
         if format == Format::Json {
-            std::fs::write(path, pretty(&record)?).map_err(io)?;
+            std::fs::write(path, pretty(record)?).map_err(io)?;
         } else {
             let file = std::fs::File::create(path).map_err(io)?;
-            let mut table = writer::<ContinuationRow, _>(
+            let mut table = writer::<R, _>(
                 format,
                 std::io::BufWriter::new(file),
                 &Header::default(),
                 None,
             )
             .map_err(io)?;
-            for row in rows(&followed) {
+            for row in rows() {
                 table.row(&row).map_err(io)?;
             }
             table.finish().map_err(io)?;
         }
     }
-    Ok(summary(&scene.name, &followed, &record.points))
+    Ok(summary(record))
 }
 
 /// The summary printed without `--json`.
-fn summary(scene: &str, f: &Followed, points: &[ContinuationPointRecord]) -> String {
+fn summary(record: &ContinuationRecord) -> String {
+    let value = |v: Option<f64>| v.unwrap_or(f64::NAN);
     let mut out = format!(
-        "scene {scene}: {} orbit(s) of {} over {} period(s) at ω = {}; followed from {:?}\n",
-        f.start_orbits.len(),
-        f.signature,
-        f.signature.period(),
-        f.omega_start,
-        f.followed_starts
+        "scene {}: {} orbit(s) of {} over {} period(s) at ω = {}; followed from {:?}\n",
+        record.scene,
+        record.start_orbits,
+        record.signature,
+        record.period,
+        value(record.omega_start),
+        record.followed_starts
     );
-    for b in &f.branches.branches {
-        let (lo, hi) = b
-            .points
-            .iter()
+    for b in &record.branches {
+        let points = record.points.iter().filter(|p| p.branch == b.branch);
+        let (lo, hi) = points
+            .clone()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(p.omega), hi.max(p.omega))
+                (lo.min(value(p.omega)), hi.max(value(p.omega)))
             });
-        let stable = b.points.iter().filter(|p| p.stable && p.viable).count();
+        let stable = points.filter(|p| p.stable && p.viable).count();
         let _ = writeln!(
             out,
             "branch {}: {} over {} period(s), {} points on ω ∈ [{lo:.6}, {hi:.6}], {stable} stable and viable{}",
-            b.index,
+            b.branch,
             b.signature,
             b.period,
-            b.points.len(),
+            b.points,
             b.from_event
                 .map_or(String::new(), |e| format!(", from event {e}"))
         );
     }
-    for (k, e) in f.branches.events.iter().enumerate() {
+    for (k, e) in record.events.iter().enumerate() {
         let _ = writeln!(
             out,
             "event {k}: {} on branch {} at ω = {:.10}{}",
-            e.kind.name(),
+            e.kind,
             e.branch,
-            e.omega,
+            value(e.omega),
             e.signature_after
                 .as_ref()
                 .map_or(String::new(), |s| format!(" → {s}"))
         );
     }
-    for e in &f.branches.ends {
+    for e in &record.ends {
         let _ = writeln!(
             out,
             "end of branch {} at ω = {:.10}: {}{}",
             e.branch,
-            e.omega,
-            e.reason.name(),
+            value(e.omega),
+            e.reason,
             e.joins.map_or(String::new(), |b| format!(" branch {b}"))
         );
     }
-    let _ = writeln!(out, "{} points in all", points.len());
+    let _ = writeln!(out, "{} points in all", record.points.len());
     out
 }

@@ -501,10 +501,14 @@ pub struct ContinuationPointRecord {
     pub viable: bool,
     /// Floquet multipliers `[re, im]`.
     pub floquet_multipliers: Vec<[Option<f64>; 2]>,
+    /// On a chain: `max|u_o,j|` of every cell, from the base out, m (`outer_amplitude` is the
+    /// last); absent on a single unit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cell_outer_amplitudes: Option<Vec<Option<f64>>>,
 }
 
 impl ContinuationPointRecord {
-    /// The record of `p`.
+    /// The record of a unit's point `p` (without `cell_outer_amplitudes`).
     pub fn new(p: &rattle_analytic::continuation::ContinuationPoint) -> Self {
         Self {
             branch: p.branch,
@@ -516,6 +520,17 @@ impl ContinuationPointRecord {
             stable: p.stable,
             viable: p.viable,
             floquet_multipliers: multipliers(&p.floquet_multipliers),
+            cell_outer_amplitudes: None,
+        }
+    }
+
+    /// The record of a chain's point `p`, with every cell's outer amplitude.
+    pub fn of_chain(p: &rattle_analytic::continuation::ContinuationPoint) -> Self {
+        Self {
+            cell_outer_amplitudes: Some(
+                p.cell_outer_amplitudes.iter().map(|&a| finite(a)).collect(),
+            ),
+            ..Self::new(p)
         }
     }
 }
@@ -574,10 +589,14 @@ pub struct EndRecord {
 pub struct ContinuationRecord {
     /// Scene name.
     pub scene: String,
-    /// The signature asked for, canonical.
+    /// The signature asked for, canonical (on a chain: the impact sequence, `0+ 1- 0- 1+`).
     pub signature: String,
     /// Its period.
     pub period: u32,
+    /// On a chain: its number of cells (the length of each point's
+    /// `cell_outer_amplitudes`); absent on a single unit.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cells: Option<usize>,
     /// The start frequency, rad/s.
     pub omega_start: Option<f64>,
     /// Orbits of the signature found at the start frequency.

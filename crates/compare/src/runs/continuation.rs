@@ -1,17 +1,19 @@
-//! Continuation in ω of every orbit of a signature found at one frequency: the branches, their
-//! bifurcation events and ends, numbered across starts.
+//! Continuation in ω of every orbit of a signature (on a chain: an impact sequence) found at
+//! one frequency: the branches, their bifurcation events and ends, numbered across starts.
 
 use crate::output::finite;
 use crate::output::records::{
     BranchRecord, ContinuationPointRecord, ContinuationRecord, EndRecord, EventRecord,
 };
+use crate::scene::analytic::chain_linear_model;
 use crate::scene::analytic::orbits_of_signature;
 use crate::scene::Scene;
+use crate::verdict::chain::{chain_orbits, ChainOrbitsError};
 use rattle_analytic::continuation::{
-    continue_orbit_after, Branch, BranchEnd, Continuation, ContinuationError, ContinuationSettings,
-    Event,
+    continue_orbit_after, continue_sequence_after, Branch, BranchEnd, Continuation,
+    ContinuationError, ContinuationPoint, ContinuationSettings, Event,
 };
-use rattle_analytic::{Signature, SignatureOrbit};
+use rattle_analytic::{ImpactSequence, SequenceOrbit, Signature, SignatureOrbit};
 use std::f64::consts::PI;
 use thiserror::Error;
 
@@ -68,6 +70,9 @@ pub enum FollowError {
     /// The analytic continuation refused its settings or start.
     #[error("{0}")]
     Continuation(#[from] ContinuationError),
+    /// A chain's impact sequence or cells refused, or its start orbits not found.
+    #[error("{0}")]
+    Chain(#[from] ChainOrbitsError),
 }
 
 /// Follows every orbit of `signature` at `omega_start` (or only the `orbit`-th) within the
@@ -218,16 +223,52 @@ fn passes_through(branch: &Branch, orbit: &SignatureOrbit) -> bool {
 impl Followed {
     /// The record of the run on the scene named `scene`.
     pub fn record(&self, scene: &str) -> ContinuationRecord {
-        let f = self;
+        let b = &self.branches;
+        Parts {
+            signature: &self.signature,
+            period: self.signature.period(),
+            cells: None,
+            omega_start: self.omega_start,
+            start_orbits: self.start_orbits.len(),
+            followed_starts: &self.followed_starts,
+            branches: &b.branches,
+            events: &b.events,
+            ends: &b.ends,
+        }
+        .record(scene, ContinuationPointRecord::new)
+    }
+}
+
+/// What a continuation record is made of, for a unit's branches (`L` a [`Signature`]) or a
+/// chain's ([`ImpactSequence`]).
+struct Parts<'a, L> {
+    signature: &'a L,
+    period: u32,
+    cells: Option<usize>,
+    omega_start: f64,
+    start_orbits: usize,
+    followed_starts: &'a [usize],
+    branches: &'a [Branch<L>],
+    events: &'a [Event<L>],
+    ends: &'a [BranchEnd],
+}
+
+impl<L: std::fmt::Display> Parts<'_, L> {
+    /// The record on the scene named `scene`, each point's by `point`.
+    fn record(
+        &self,
+        scene: &str,
+        point: impl Fn(&ContinuationPoint) -> ContinuationPointRecord,
+    ) -> ContinuationRecord {
         ContinuationRecord {
             scene: scene.to_owned(),
-            signature: f.signature.to_string(),
-            period: f.signature.period(),
-            omega_start: finite(f.omega_start),
-            start_orbits: f.start_orbits.len(),
-            followed_starts: f.followed_starts.clone(),
-            branches: f
-                .branches
+            signature: self.signature.to_string(),
+            period: self.period,
+            cells: self.cells,
+            omega_start: finite(self.omega_start),
+            start_orbits: self.start_orbits,
+            followed_starts: self.followed_starts.to_vec(),
+            branches: self
                 .branches
                 .iter()
                 .map(|b| BranchRecord {
@@ -238,14 +279,12 @@ impl Followed {
                     points: b.points.len(),
                 })
                 .collect(),
-            points: f
-                .branches
+            points: self
                 .branches
                 .iter()
-                .flat_map(|b| b.points.iter().map(ContinuationPointRecord::new))
+                .flat_map(|b| b.points.iter().map(&point))
                 .collect(),
-            events: f
-                .branches
+            events: self
                 .events
                 .iter()
                 .map(|e| EventRecord {
@@ -257,8 +296,7 @@ impl Followed {
                     outer_amplitude: finite(e.point.outer_amplitude),
                 })
                 .collect(),
-            ends: f
-                .branches
+            ends: self
                 .ends
                 .iter()
                 .map(|e| EndRecord {
@@ -269,6 +307,100 @@ impl Followed {
                 })
                 .collect(),
         }
+    }
+}
+
+/// Every branch followed from the orbits of an impact sequence of a chain at one frequency.
+#[derive(Debug, Clone)]
+pub struct ChainFollowed {
+    /// The impact sequence asked for, canonical.
+    pub sequence: ImpactSequence,
+    /// The chain's number of cells.
+    pub cells: usize,
+    /// The frequency of the start orbits, rad/s.
+    pub omega_start: f64,
+    /// The orbits found at `omega_start` (all of them, viable or not).
+    pub start_orbits: Vec<SequenceOrbit>,
+    /// Indices into `start_orbits` of the orbits followed; the others lie on a branch already
+    /// followed.
+    pub followed_starts: Vec<usize>,
+    /// Every branch, event and end, numbered across starts.
+    pub continuation: Continuation<ImpactSequence>,
+}
+
+/// [`follow`] on a chain: every orbit of the impact sequence `text` over `period` forcing
+/// periods (`0+ 1- 0- 1+`: pair index and side) at `omega_start` (or only the `orbit`-th),
+/// each followed unless it lies on a branch already followed.
+///
+/// # Errors
+/// [`FollowError::Chain`] for a sequence that does not parse or names a pair the chain lacks,
+/// or a cell without stops; [`FollowError::NoOrbit`], [`FollowError::OrbitIndex`] and
+/// [`FollowError::Continuation`] as [`follow`].
+pub fn follow_chain(
+    scene: &Scene,
+    text: &str,
+    period: u32,
+    omega_start: f64,
+    orbit: Option<usize>,
+    settings: &ContinuationSettings,
+) -> Result<ChainFollowed, FollowError> {
+    settings.validate()?;
+    let record = chain_orbits(scene, omega_start, text, period)?;
+    let model = chain_linear_model(scene).map_err(ChainOrbitsError::from)?;
+    let sequence = ImpactSequence::parse(text, period).map_err(ChainOrbitsError::from)?;
+    let start_orbits = record.orbits;
+    if start_orbits.is_empty() {
+        return Err(FollowError::NoOrbit {
+            signature: sequence.to_string(),
+            period,
+            omega: omega_start,
+        });
+    }
+    let chosen: Vec<usize> = match orbit {
+        Some(k) if k >= start_orbits.len() => {
+            return Err(FollowError::OrbitIndex {
+                asked: k,
+                found: start_orbits.len(),
+                omega: omega_start,
+            })
+        }
+        Some(k) => vec![k],
+        None => (0..start_orbits.len()).collect(),
+    };
+    let mut continuation = Continuation::default();
+    let mut followed_starts = Vec::new();
+    for k in chosen {
+        if continue_sequence_after(&model, &start_orbits[k], settings, &mut continuation)? {
+            followed_starts.push(k);
+        }
+    }
+    Ok(ChainFollowed {
+        sequence,
+        cells: scene.cell_count(),
+        omega_start,
+        start_orbits,
+        followed_starts,
+        continuation,
+    })
+}
+
+impl ChainFollowed {
+    /// The record of the run on the scene named `scene`: the unit's fields, with `cells` and
+    /// each point's `cell_outer_amplitudes`.
+    pub fn record(&self, scene: &str) -> ContinuationRecord {
+        let c = &self.continuation;
+        Parts {
+            signature: &self.sequence,
+            period: self.sequence.period(),
+            cells: Some(self.cells),
+            omega_start: self.omega_start,
+            start_orbits: self.start_orbits.len(),
+            followed_starts: &self.followed_starts,
+            branches: &c.branches,
+            events: &c.events,
+            ends: &c.ends,
+        }
+        .record(scene, ContinuationPointRecord::of_chain)
     }
 }
 

@@ -367,8 +367,9 @@ class Continuation(Record):
     ``alpha``, ``impact_phases``, ``outer_amplitude``, ``transmittance_db``, ``stable``,
     ``viable``, ``floquet_multipliers``), ``events`` (bifurcations, grazings…, each listed
     once) and ``ends`` (how each branch ends: ``branch``, ``omega``, ``reason``, and for
-    ``reason == "joins"`` the branch it runs onto in ``joins``). :meth:`points_columns` gives
-    the points as numpy arrays."""
+    ``reason == "joins"`` the branch it runs onto in ``joins``). On a chain also ``cells``,
+    and each point's ``cell_outer_amplitudes`` (every cell's outer amplitude, from the base
+    out). :meth:`points_columns` gives the points as numpy arrays."""
 
     def points_columns(self):
         """The points as a dict of numpy arrays, for plotting: ``branch`` (``int64``),
@@ -714,8 +715,16 @@ def continue_branch(
     already followed, or onto its mirror image, ends ``joins`` with that branch. Returns a
     :class:`Continuation`.
 
+    On a chain scene ``signature`` is an impact sequence of its pairs, ``"0+ 1- 0- 1+"``
+    (pair index from 0 at the base, then the side), as in :func:`orbit`; the same
+    continuation runs on the chain's equations (grazing and vanishing impact per pair), and
+    the document gains ``cells`` and each point ``cell_outer_amplitudes`` (every cell's
+    outer amplitude from the base out, the last being ``outer_amplitude``), as
+    ``rattle continue CHAIN --json``.
+
     A bad argument is a :class:`ValueError` naming it (``omega_min``, ``max_step``,
-    ``orbit``…); no orbit of the signature at ``omega`` a :class:`RuntimeError`.
+    ``orbit``, a pair the chain lacks…); no orbit of the signature at ``omega`` a
+    :class:`RuntimeError`.
     """
     text = _rattle.continue_branch(
         _native_scene(scene),

@@ -1,0 +1,320 @@
+//! Events: every test function that changed sign over a step is located on its own, by the
+//! Illinois variant of regula falsi on the chord between the two points (each trial point
+//! corrected onto the branch), and accepted or not as an event of its kind.
+
+use super::corrector::Constraint;
+use super::result::Event;
+use super::system::{doubled, grazed, BranchModel, Label, Node, System};
+use super::test_functions::{hidden_pair, sign_changes, Test, Tests};
+use nalgebra::DMatrix;
+
+/// An event is located when the chord fraction `θ ∈ [0, 1]` between two points is bracketed
+/// to this width: steps are at most `max_step` long in `(x, ω)`, so the event's `ω` is pinned
+/// to well under `1e-12` for any `max_step ≤ 1`, four orders inside the required `1e-8`.
+pub(crate) const LOCATION_FRACTION: f64 = 1e-13;
+
+/// Cap on the Illinois iterations of one event location: Illinois converges superlinearly,
+/// so a location that needs more is stalling on a discontinuity.
+pub(crate) const LOCATION_ITERATIONS: usize = 100;
+
+/// A sign change of a test function is an event only if its value at the located point is
+/// below this fraction of the larger of its values at the two points around it. A continuous
+/// test function is zero there to rounding; one that jumped (a critical point of `r` born
+/// away from the stops, a multiplier test through a pole as `ṙ⁻ → 0`) is not.
+pub(crate) const EVENT_ACCEPTANCE: f64 = 1e-3;
+
+/// A located zero of the branch-point test is a branch point when the smallest singular value
+/// of `R_X` there is below this fraction of its largest (it vanishes at a branch point, where
+/// `R_X` loses rank; at a regular point it is of the order of the largest). Measured on the
+/// paper unit: 1.7e-10 at the pitchfork at 2.1925686 rad/s located on the asymmetric pair,
+/// 0.026 at a sign change of the test through its pole at a vanishing impact (2.19307 rad/s).
+pub(crate) const BRANCH_RANK_DEFICIENCY: f64 = 1e-5;
+
+/// `σ_min / σ_max` of `R_X` (`n × (n + 1)`); 1 when it cannot be formed.
+fn rank_deficiency(jacobian: &DMatrix<f64>) -> f64 {
+    let sv = jacobian.singular_values();
+    let max = sv.iter().copied().fold(0.0, f64::max);
+    let min = sv.iter().copied().fold(f64::INFINITY, f64::min);
+    if max > 0.0 && min.is_finite() {
+        min / max
+    } else {
+        1.0
+    }
+}
+
+/// A complex pair of multipliers is on the unit circle at a Neimark–Sacker event when its
+/// modulus is within this of 1; a located zero of the pair-product test without such a pair
+/// is a neutral saddle (real `μ, 1/μ`), not an event. The multipliers come from a 4×4 Schur
+/// form carrying about `1e-13` of rounding; located to `1e-13` in the chord fraction, the
+/// modulus is pinned far tighter than this.
+pub(crate) const TORUS_TOLERANCE: f64 = 1e-6;
+
+/// Imaginary part below which a multiplier counts as real.
+const REAL_MULTIPLIER: f64 = 1e-9;
+
+/// A graze is interior when its critical point lies at least this far (as a fraction of the
+/// cycle) from both ends of its flight. As an impact's velocity `ṙ⁻` passes through zero, a
+/// critical point of `r` leaves the flight through that end with `r` at the stop: the
+/// clearance crosses zero at the vanishing impact too, within the location tolerance of it.
+/// Those crossings are the vanishing impact, not a graze. Far above the location error of an
+/// event's time, far below the flights of the orbits followed.
+pub(crate) const GRAZE_INTERIOR: f64 = 1e-6;
+
+impl<M: BranchModel> System<M> {
+    /// The point of the branch at chord fraction `theta` between its points `a` and `b`
+    /// (corrected within the hyperplane normal to the chord), described as a point of the
+    /// branch of `a` with its tangent oriented as `a`'s.
+    pub(crate) fn node_at(&self, a: &Node, b: &Node, theta: f64) -> Option<Node> {
+        let n = self.n();
+        let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
+        let through: Vec<f64> = (0..=n).map(|k| a.x[k] + theta * chord[k]).collect();
+        let plane = Constraint::Plane {
+            normal: &chord,
+            through: &through,
+        };
+        let (x, eval, _) = self.converge(&through, &plane, &a.jacobian)?;
+        let tangent = self.tangent(M::jacobian(&eval), &a.tangent)?;
+        Some(self.describe(&x, &eval, &tangent, a.point.branch))
+    }
+}
+
+/// A located event with the branch point it sits at.
+pub(crate) struct Found<L> {
+    pub(crate) event: Event<L>,
+    pub(crate) node: Node,
+}
+
+/// The events between two consecutive points `a`, `b` (`before`: the point before `a`): the
+/// zero of every test function that changed sign over the step, each located on its own, in
+/// their order along the step. Where a test function may have two zeros within the step
+/// ([`hidden_pair`]), the step is split at the point between them and each half searched.
+pub(crate) fn detect<M: BranchModel>(
+    system: &System<M>,
+    a: &Node,
+    b: &Node,
+    before: Option<&Node>,
+) -> Vec<Found<M::Label>> {
+    let split = before
+        .and_then(|p| hidden_pair(p, a, b))
+        .and_then(|theta| system.node_at(a, b, theta));
+    match split {
+        Some(middle) => {
+            let mut found = detect_step(system, a, &middle);
+            found.extend(detect_step(system, &middle, b));
+            found
+        }
+        None => detect_step(system, a, b),
+    }
+}
+
+/// [`detect`] over one step, without splitting it.
+fn detect_step<M: BranchModel>(system: &System<M>, a: &Node, b: &Node) -> Vec<Found<M::Label>> {
+    let mut found: Vec<(f64, Found<M::Label>)> = sign_changes(&a.tests, &b.tests)
+        .into_iter()
+        .filter_map(|test| {
+            let (theta, node) = match test {
+                Test::Branch => locate_branch_point(system, a, b)?,
+                _ => locate(system, a, b, test)?,
+            };
+            Some((theta, event_at(system, a, b, test, node)?))
+        })
+        .collect();
+    found.sort_by(|p, q| p.0.total_cmp(&q.0));
+    found.into_iter().map(|(_, f)| f).collect()
+}
+
+/// The event of `test` at its located zero `node` between `a` and `b`, unless the zero is
+/// not an event (a jump of the test function, a neutral saddle, a graze at a flight's end).
+fn event_at<M: BranchModel>(
+    system: &System<M>,
+    a: &Node,
+    b: &Node,
+    test: Test,
+    mut node: Node,
+) -> Option<Found<M::Label>> {
+    let n = system.n();
+    if let Test::Branch = test {
+        // At a branch point R_X has a two-dimensional null space and the bordered tangent
+        // solve picks an arbitrary member of it: the branch's own direction there is the
+        // chord between the two regular points around it.
+        let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
+        let norm = chord.iter().map(|v| v * v).sum::<f64>().sqrt();
+        node.tangent = chord.iter().map(|v| v / norm).collect();
+        node.point.domega_ds = node.tangent[n];
+    }
+    // The branch test is accepted on its determinant `det(M − I)`, zero at a branch point
+    // (the tangent there, hence `dω/ds`, is arbitrary: on the asymmetric pair through a
+    // pitchfork `dω/ds` vanishes too).
+    let value = |t: &Tests| match test {
+        Test::Branch => t.branch.abs(),
+        _ => test.value(t).abs(),
+    };
+    let (va, vb, located) = (value(&a.tests), value(&b.tests), value(&node.tests));
+    let accepted = match test {
+        // A branch point is accepted where `R_X` has lost rank (located by the regular
+        // defining system, or, where that does not converge, pinned by the bracket to about
+        // `√ε`), which a jump of the test (a pole as an impact's velocity vanishes) does not
+        // show.
+        Test::Branch => rank_deficiency(&node.jacobian) < BRANCH_RANK_DEFICIENCY,
+        _ => located <= EVENT_ACCEPTANCE * va.max(vb),
+    };
+    if located.is_nan() || !accepted {
+        return None;
+    }
+    let mut phase = None;
+    let mut pair = None;
+    let mut signature_after = None;
+    match test {
+        Test::Torus => {
+            let on_circle =
+                node.point.floquet_multipliers.iter().any(|m| {
+                    m.im.abs() > REAL_MULTIPLIER && (m.norm() - 1.0).abs() < TORUS_TOLERANCE
+                });
+            if !on_circle {
+                return None;
+            }
+        }
+        Test::Branch => signature_after = Some(system.label().clone()),
+        Test::Doubling => signature_after = doubled(system.label()),
+        Test::Clearance(c) => {
+            let (time, impact) = node.tests.graze[c];
+            let f = c / system.model.pairs();
+            let (s, e) = system.flight_span(&node.x, f);
+            // A critical point of r at a flight's end is the shadow of a vanishing impact
+            // there (r̈ turns r back at the stop), not a graze between impacts.
+            if !(time > GRAZE_INTERIOR && e - s - time > GRAZE_INTERIOR) {
+                return None;
+            }
+            phase = Some(s + time);
+            pair = Some(impact.pair);
+            signature_after = grazed(system.label(), f, impact).map(|(sig, _)| sig);
+        }
+        Test::Approach(j) => {
+            phase = Some(if j == 0 { 0.0 } else { node.x[j] });
+            pair = Some(system.label().impact_list()[j].pair);
+        }
+        Test::Fold => {}
+    }
+    let period_after = signature_after.as_ref().map(|s| s.period());
+    Some(Found {
+        event: Event {
+            branch: node.point.branch,
+            kind: test.kind(),
+            omega: node.x[n],
+            signature_after,
+            period_after,
+            phase,
+            pair,
+            point: node.point.clone(),
+        },
+        node,
+    })
+}
+
+/// The branch point between `a` and `b` whose test function `det(M − I) / (dω/ds)` changed
+/// sign: the zero of that test by [`locate`] (each trial point polished onto the branch),
+/// which pins it to about `√ε` (the corrected points near a branch point carry errors of that
+/// size), then solved to rounding by the regular defining system of
+/// [`crate::branch_point`]; accepted by [`event_at`] where `R_X` has lost rank.
+fn locate_branch_point<M: BranchModel>(
+    system: &System<M>,
+    a: &Node,
+    b: &Node,
+) -> Option<(f64, Node)> {
+    let (theta, node) = locate(system, a, b, Test::Branch)?;
+    let Some(x) = system.branch_point_near(&node.x) else {
+        return Some((theta, node));
+    };
+    let eval = system.evaluate(&x)?;
+    let tangent = system.tangent(M::jacobian(&eval), &a.tangent)?;
+    Some((theta, system.describe(&x, &eval, &tangent, a.point.branch)))
+}
+
+/// The zero of `test` between `a` and `b`, by Illinois on the chord fraction `θ`: each trial
+/// point `a + θ (b − a)` is corrected onto the branch within the hyperplane normal to the
+/// chord. Returns `θ` at the zero and the point there.
+fn locate<M: BranchModel>(
+    system: &System<M>,
+    a: &Node,
+    b: &Node,
+    test: Test,
+) -> Option<(f64, Node)> {
+    let n = system.n();
+    let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
+    // A trial point on the branch at chord fraction θ, and the test function there: only
+    // what the test needs is computed (the full point is built once, at the end).
+    let at = |theta: f64| -> Option<(Vec<f64>, f64)> {
+        let through: Vec<f64> = (0..=n).map(|k| a.x[k] + theta * chord[k]).collect();
+        let plane = Constraint::Plane {
+            normal: &chord,
+            through: &through,
+        };
+        let (x, eval) = match test {
+            // Near a branch point Newton converges only linearly along the singular
+            // direction: full Newton, then polish.
+            Test::Branch => {
+                let (x, eval, _) = system.correct(&through, &plane)?;
+                system.polish(x, eval, &plane)
+            }
+            _ => {
+                let (x, eval, _) = system
+                    .correct_chord(&through, &plane, &a.jacobian)
+                    .or_else(|| system.correct(&through, &plane))?;
+                (x, eval)
+            }
+        };
+        let mut value = system.test_value(test, &x, &eval, &a.tangent)?;
+        if let Test::Branch = test {
+            value /= system.tangent(M::jacobian(&eval), &a.tangent)?[n];
+        }
+        Some((x, value))
+    };
+    let finish = |x: &[f64]| -> Option<Node> {
+        let eval = system.evaluate(x)?;
+        let tangent = system.tangent(M::jacobian(&eval), &a.tangent)?;
+        Some(system.describe(x, &eval, &tangent, a.point.branch))
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut f_lo = test.value(&a.tests);
+    let mut f_hi = test.value(&b.tests);
+    if f_lo.is_nan() || f_hi.is_nan() || f_lo * f_hi >= 0.0 {
+        return None;
+    }
+    let mut best: Option<(f64, Vec<f64>)> = None;
+    let mut side = 0i8;
+    for _ in 0..LOCATION_ITERATIONS {
+        if hi - lo <= LOCATION_FRACTION {
+            break;
+        }
+        let mut theta = (lo * f_hi - hi * f_lo) / (f_hi - f_lo);
+        if !(theta > lo && theta < hi) {
+            theta = 0.5 * (lo + hi);
+        }
+        let (x, f) = at(theta)?;
+        if !f.is_finite() {
+            return None;
+        }
+        let done = f == 0.0;
+        if f.signum() == f_hi.signum() {
+            hi = theta;
+            f_hi = f;
+            if side == -1 {
+                f_lo *= 0.5;
+            }
+            side = -1;
+        } else {
+            lo = theta;
+            f_lo = f;
+            if side == 1 {
+                f_hi *= 0.5;
+            }
+            side = 1;
+        }
+        best = Some((theta, x));
+        if done {
+            break;
+        }
+    }
+    let (theta, x) = best?;
+    Some((theta, finish(&x)?))
+}
