@@ -32,6 +32,8 @@
 //!   sequence on any [`LinearModel`] (the signature solver generalised: problem, Newton solver
 //!   and state; amplitudes, viability per pair, Floquet multipliers and energy balance; the
 //!   multi-start [`sequence_orbits`]), with [`model_flight`]'s rigorous extrema and integrals;
+//!   the verdicts (viability per pair, multipliers with saltation, the [`EnergyBalance`]) are
+//!   assembled once for every model, the unit's signature orbits included;
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature
 //!   ([`continue_orbit`]) through folds, with exact derivatives in `ω`, the bifurcation events
 //!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
@@ -64,15 +66,14 @@ pub mod signature;
 pub mod symmetric;
 pub mod test_models;
 pub mod unit;
+mod verdicts;
 
 pub use chain::{chain_response, validate_chain, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
     continue_orbit, continue_orbit_after, Branch, BranchEnd, Continuation, ContinuationError,
     ContinuationPoint, ContinuationSettings, EndReason, Event, EventKind,
 };
-pub use cycle::{
-    signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
-};
+pub use cycle::{signature_orbits, signature_orbits_on_grid, solve_signature, SignatureOrbit};
 pub use cycle_equations::{CycleEquations, CycleEvaluation, ImpactCondition};
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use lattice::{
@@ -89,9 +90,8 @@ pub use sequence_orbit::{
     NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,
 };
 pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
-pub use sequence_verdicts::{
-    solve_sequence, ModelEnergy, SequenceOrbit, SequenceViolation, ENERGY_EXCHANGE_FRACTION,
-};
+pub use sequence_verdicts::{solve_sequence, SequenceOrbit};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};
+pub use verdicts::{EnergyBalance, SequenceViolation, ENERGY_EXCHANGE_FRACTION};

@@ -16,7 +16,7 @@ use crate::model_flight::eigenvalues;
 use crate::orbit::wrap;
 use crate::sequence::ImpactSequence;
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
-use crate::sequence_verdicts::{assemble, SequenceOrbit};
+use crate::sequence_verdicts::{ModelVerdicts, SequenceOrbit};
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, DimMin, OMatrix};
 use std::collections::HashMap;
@@ -116,8 +116,9 @@ pub fn sequence_orbits_on_grid(
     grid: usize,
 ) -> Result<Vec<SequenceOrbit>, SequenceOrbitError> {
     let problem = SequenceProblem::new(model, omega, sequence)?;
+    let verdicts = ModelVerdicts::new(&problem);
     let found = multi_start(problem.equations(), grid, |alpha, phases, iterations| {
-        assemble(&problem, alpha, phases, iterations).ok()
+        verdicts.assemble(alpha, phases, iterations).ok()
     });
     Ok(found)
 }
