@@ -456,43 +456,43 @@ where
 {
     let n = mass.nrows();
     assert_eq!(d.value(), 2 * n + 2, "the augmented dimension is 2n + 2");
-    let [work, dissipation, exchange] = heap_energy_forms(mass, damping, cosine, sine, omega);
-    let sized = |q: DMatrix<f64>| OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| q[(i, j)]);
+    let zeros = || OMatrix::<f64, D, D>::zeros_generic(d, d);
+    let (mut work, mut dissipation, mut exchange) = (zeros(), zeros(), zeros());
+    for i in 0..n {
+        // ½(b + bᵀ), b carrying f_c p₀ + f_s p₁ into the velocity rows.
+        for (column, force) in [(2 * n, cosine[i]), (2 * n + 1, sine[i])] {
+            work[(n + i, column)] = force * 0.5;
+            work[(column, n + i)] = force * 0.5;
+        }
+        for j in 0..n {
+            dissipation[(n + i, n + j)] = damping[(i, j)];
+            exchange[(n + i, n + j)] = mass[(i, j)] * (0.5 * omega);
+        }
+    }
+    if let Some(compliance) = compliance(mass, cosine, sine, omega) {
+        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            exchange[(2 * n + i, 2 * n + j)] = compliance[(i, j)];
+        }
+    }
     EnergyForms {
-        work: sized(work),
-        dissipation: sized(dissipation),
-        exchange: sized(exchange),
+        work,
+        dissipation,
+        exchange,
     }
 }
 
-/// [`energy_forms`] on heap matrices: work, dissipation, exchange.
-fn heap_energy_forms(
+/// `fᵀM⁻¹f / 2ω` of the force `f = (f_c, f_s)` (`2 × 2`), by the Cholesky factor of `M`;
+/// `None` when `M` is not positive definite.
+fn compliance(
     mass: &DMatrix<f64>,
-    damping: &DMatrix<f64>,
     cosine: &DVector<f64>,
     sine: &DVector<f64>,
     omega: f64,
-) -> [DMatrix<f64>; 3] {
+) -> Option<DMatrix<f64>> {
     let n = mass.nrows();
-    let size = 2 * n + 2;
-    let mut b = DMatrix::zeros(size, size);
-    b.view_mut((n, 2 * n), (n, 1)).copy_from(cosine);
-    b.view_mut((n, 2 * n + 1), (n, 1)).copy_from(sine);
-    let work = (&b + b.transpose()) * 0.5;
-    let mut dissipation = DMatrix::zeros(size, size);
-    dissipation.view_mut((n, n), (n, n)).copy_from(damping);
-    let mut exchange = DMatrix::zeros(size, size);
-    exchange
-        .view_mut((n, n), (n, n))
-        .copy_from(&(mass * (0.5 * omega)));
     let mut force = DMatrix::zeros(n, 2);
     force.column_mut(0).copy_from(cosine);
     force.column_mut(1).copy_from(sine);
-    if let Some(cholesky) = mass.clone().cholesky() {
-        let compliance = force.transpose() * cholesky.solve(&force) * (0.5 / omega);
-        exchange
-            .view_mut((2 * n, 2 * n), (2, 2))
-            .copy_from(&compliance);
-    }
-    [work, dissipation, exchange]
+    let cholesky = mass.clone().cholesky()?;
+    Some(force.transpose() * cholesky.solve(&force) * (0.5 / omega))
 }
