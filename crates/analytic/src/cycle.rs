@@ -62,6 +62,9 @@ pub struct SignatureOrbit {
     pub state_after_impact: Vector4<f64>,
     /// State just before each impact, in canonical order.
     pub states_before_impacts: Vec<Vector4<f64>>,
+    /// State just after each impact, in canonical order (the first is
+    /// `state_after_impact`); the motion between impacts is [`crate::UnitMotion`]'s.
+    pub states_after_impacts: Vec<Vector4<f64>>,
     /// `X_o = max |u_o(t)|` over the cycle, from the rigorous extrema of every flight.
     pub outer_amplitude: f64,
     /// `20 log10(X_o / u_g)`.
@@ -315,6 +318,7 @@ fn assemble(
         alpha,
         state_after_impact: verdicts.states_after[0],
         states_before_impacts: verdicts.states_before,
+        states_after_impacts: verdicts.states_after,
         outer_amplitude,
         transmittance_db: transmittance_db(outer_amplitude, problem.base_amplitude),
         viable: violations.is_empty(),

@@ -43,6 +43,8 @@
 //!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
 //!   from the monodromy matrix with saltation matrices.
 //!
+//! An orbit's motion at any time of its cycle is [`UnitMotion`]'s (a unit's orbits).
+//!
 //! The flow between impacts is the exponential of the system augmented with the forcing's two
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
 #![deny(missing_docs)]
@@ -57,6 +59,7 @@ pub mod lattice;
 pub mod linear;
 pub mod model;
 pub mod model_flight;
+pub mod motion;
 pub mod orbit;
 pub mod sequence;
 pub mod sequence_orbit;
@@ -84,6 +87,7 @@ pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
     ContactPair, HarmonicForcing, HarmonicState, LinearModel, ModelError, ModelTransition,
 };
+pub use motion::UnitMotion;
 pub use orbit::{Orbit, Side, Violation};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};
 pub use sequence_orbit::{

@@ -80,6 +80,9 @@ pub struct Orbit {
     pub state_after_impact: Vector4<f64>,
     /// State just before the side-2 impact (`t = βT⁻`).
     pub state_before_side2: Vector4<f64>,
+    /// State just after the side-2 impact (`t = βT⁺`); the motion between impacts is
+    /// [`crate::UnitMotion`]'s.
+    pub state_after_side2: Vector4<f64>,
     /// `X_o = max |u_o(t)|` over the period, from the rigorous extrema of the closed form.
     pub outer_amplitude: f64,
     /// `20 log10(X_o / u_g)`.
@@ -292,6 +295,7 @@ pub(crate) fn assemble(
         state_before_impact: before1,
         state_after_impact: after1,
         state_before_side2: before2,
+        state_after_side2: after2,
         outer_amplitude,
         transmittance_db: transmittance_db(outer_amplitude, unit.base_amplitude),
         viable: violations.is_empty(),
