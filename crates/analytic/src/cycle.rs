@@ -28,18 +28,15 @@ use crate::signature::Signature;
 use crate::symmetric::OrbitError;
 use crate::unit::{Stops, Unit};
 use crate::verdicts::{energy_forms, CycleModel, EnergyForms, SequenceViolation};
-pub use crate::verdicts::{EnergyBalance, ENERGY_EXCHANGE_FRACTION, ENERGY_FLOOR};
+pub use crate::verdicts::{EnergyBalance, ENERGY_EXCHANGE_FRACTION};
 use nalgebra::{
     Complex, DMatrix, DVector, Matrix2, Matrix4, Matrix6, SMatrix, Vector2, Vector4, U4, U6,
 };
 
-pub use crate::cycle_equations::MIN_FLIGHT;
-pub use crate::sequence_orbit::{
-    NEWTON_ACCEPTANCE, NEWTON_ITERATIONS, NEWTON_TOLERANCE, STEP_ROUNDING,
-};
-pub use crate::sequence_search::{
-    ALPHA_SCAN, DEDUP_TOLERANCE, FULL_START_TUPLES, GRID_PER_OSCILLATION, MAX_TUPLES, MIN_GRID,
-};
+pub(crate) use crate::cycle_equations::MIN_FLIGHT;
+pub use crate::sequence_orbit::{NEWTON_ACCEPTANCE, NEWTON_ITERATIONS};
+pub(crate) use crate::sequence_orbit::{NEWTON_TOLERANCE, STEP_ROUNDING};
+pub use crate::sequence_search::{GRID_PER_OSCILLATION, MAX_TUPLES, MIN_GRID};
 
 type Matrix12 = SMatrix<f64, 12, 12>;
 
@@ -85,7 +82,7 @@ pub struct SignatureOrbit {
     /// `|work − dissipation − impact losses|` relative to the reference of every path
     /// ([`crate::SequenceOrbit::energy_residual`]): the largest of `|work|`,
     /// `dissipation + losses`, [`ENERGY_EXCHANGE_FRACTION`]` · exchange_bound` and
-    /// [`ENERGY_FLOOR`]` k_o u_g²`.
+    /// `ENERGY_FLOOR = 1e-6`` k_o u_g²`.
     pub energy_residual: f64,
     /// Newton iterations taken to converge.
     pub newton_iterations: usize,
@@ -243,7 +240,7 @@ fn orbit_error(e: SequenceOrbitError) -> OrbitError {
 /// [`OrbitError::InvalidGuess`] when `guess` does not have `n` finite entries with ordered
 /// phases in `(0, 1)`; [`OrbitError::SingularCycle`] when the periodicity solve or the Newton
 /// Jacobian is singular; [`OrbitError::NoConvergence`] when Newton does not reach
-/// [`NEWTON_TOLERANCE`] within [`NEWTON_ITERATIONS`].
+/// `NEWTON_TOLERANCE = 1e-13` within [`NEWTON_ITERATIONS`].
 pub fn solve_signature(
     unit: &Unit,
     stops: &Stops,
@@ -356,8 +353,8 @@ fn second_moment(flow: &ForcedFlow, start: &Augmented, tau: f64) -> Matrix6<f64>
 /// ordered tuple `0 < φ₂ < … < φₙ < 1` of grid points is scanned. The phase `α` is not a
 /// Newton guess from a coarse grid: for fixed impact times the contact residuals are
 /// *linear* in `(cos α, sin α)`, so each tuple's squared residual is scanned on
-/// [`ALPHA_SCAN`] values of `α` for the cost of one cycle. Newton starts from every minimum
-/// in `α` of every tuple when there are at most [`FULL_START_TUPLES`] tuples, and otherwise
+/// `ALPHA_SCAN = 64` values of `α` for the cost of one cycle. Newton starts from every minimum
+/// in `α` of every tuple when there are at most `FULL_START_TUPLES = 5000` tuples, and otherwise
 /// from the nodes that are minima over the joint grid of impact phases and `α`.
 ///
 /// Why this grid: each impact time of any orbit lies within `1/32` of the fastest period of

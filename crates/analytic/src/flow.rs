@@ -83,7 +83,7 @@ impl Extrema {
 
 /// Degree of the Taylor polynomial of the flow on one piece. Pieces start no longer than
 /// `1/rate`, so `‖Âh‖` is of order one and the last term is of order `1/24! ≈ 1.6e-24`: the
-/// tail test ([`TAIL_TOLERANCE`]) has six orders of margin for matrices whose norm exceeds
+/// tail test (`TAIL_TOLERANCE = 1e-18`) has six orders of margin for matrices whose norm exceeds
 /// their spectral radius before a piece must be halved.
 pub(crate) const TAYLOR_DEGREE: usize = 24;
 
@@ -104,7 +104,7 @@ const CACHED_TABLES: usize = 2;
 
 /// A polynomial coefficient below this fraction of `Σ|q_k|` is dropped: it changes no value
 /// on `[0, 1]` by more than `1e-18` of the polynomial's size, the same truncation level as
-/// [`TAIL_TOLERANCE`] and below rounding.
+/// `TAIL_TOLERANCE = 1e-18` and below rounding.
 const NEGLIGIBLE_COEFFICIENT: f64 = 1e-18;
 
 /// Value resolution of the extremum search, relative to `Σ|q_k|`: an interval whose value
@@ -287,7 +287,7 @@ impl ForcedFlow {
 
 impl ForcedFlow {
     /// Equal pieces no longer than `1/rate`; the rows `c (Âh)^k / k!` of each functional are
-    /// computed once, and the pieces halved until their tail is below [`TAIL_TOLERANCE`].
+    /// computed once, and the pieces halved until their tail is below `TAIL_TOLERANCE = 1e-18`.
     fn table(&self, duration: f64, functionals: &[Augmented]) -> Table {
         let mut pieces = (duration * self.rate).ceil().max(1.0) as usize;
         let mut rows = vec![[Augmented::zeros(); TAYLOR_DEGREE + 1]; functionals.len()];

@@ -71,7 +71,7 @@ pub mod test_models;
 pub mod unit;
 mod verdicts;
 
-pub use chain::{chain_response, validate_chain, Cell, ChainResponse, MAX_CELLS};
+pub use chain::{chain_response, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
     continue_orbit, continue_orbit_after, Branch, BranchEnd, Continuation, ContinuationError,
     ContinuationPoint, ContinuationSettings, EndReason, Event, EventKind,

@@ -114,7 +114,7 @@ pub const STABILITY_MARGIN: f64 = 1e-9;
 /// Cap on the QR sweeps of one Schur attempt in [`eigenvalues`]. A 4×4 matrix deflates in a
 /// few sweeps per eigenvalue; 1000 is reached only by an iteration that cycles (as nalgebra's
 /// unbounded one did), and then the next attempt is tried.
-pub const SCHUR_ITERATIONS: usize = 1000;
+pub(crate) const SCHUR_ITERATIONS: usize = 1000;
 
 /// Convergence threshold of the Schur iteration: a subdiagonal entry is deflated when it falls
 /// to unit roundoff of its neighbours, the tightest threshold a double can resolve.

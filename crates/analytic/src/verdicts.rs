@@ -21,7 +21,7 @@ use serde::Serialize;
 /// Energy scale floor of the energy residual's reference, as a fraction of the static energy
 /// `f_cᵀK⁻¹f_c` (`k_o u_g²` on the unit): a conservative orbit that exchanges next to no
 /// energy is measured against this rather than against rounding.
-pub const ENERGY_FLOOR: f64 = 1e-6;
+pub(crate) const ENERGY_FLOOR: f64 = 1e-6;
 
 /// Fraction of [`EnergyBalance::exchange_bound`] below which the energy residual's reference
 /// does not fall: `1e-3`, so that a conservative orbit (no work, no losses) is measured
@@ -416,7 +416,7 @@ where
 
 /// The reference of the energy residual on every path (the unit's and every model's): the
 /// largest of `|work|`, the losses (dashpots and impacts), [`ENERGY_EXCHANGE_FRACTION`] of the
-/// bound on the gross energy exchanged, and [`ENERGY_FLOOR`] of the static energy (ignored
+/// bound on the gross energy exchanged, and `ENERGY_FLOOR = 1e-6` of the static energy (ignored
 /// when not finite).
 pub(crate) fn energy_reference(
     work: f64,
