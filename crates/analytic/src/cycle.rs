@@ -29,9 +29,7 @@ use crate::symmetric::OrbitError;
 use crate::unit::{Stops, Unit};
 use crate::verdicts::{energy_forms, CycleModel, EnergyForms, SequenceViolation};
 pub use crate::verdicts::{EnergyBalance, ENERGY_EXCHANGE_FRACTION};
-use nalgebra::{
-    Complex, DMatrix, DVector, Matrix2, Matrix4, Matrix6, SMatrix, Vector2, Vector4, U4, U6,
-};
+use nalgebra::{Complex, Matrix2, Matrix4, Matrix6, SMatrix, Vector2, Vector4, U4, U6};
 
 pub(crate) use crate::cycle_equations::MIN_FLIGHT;
 pub use crate::sequence_orbit::{NEWTON_ACCEPTANCE, NEWTON_ITERATIONS};
@@ -133,13 +131,12 @@ impl Problem {
         );
         let (ko, ug) = (unit.outer_stiffness, unit.base_amplitude);
         let co = unit.damping.map_or(0.0, |d| d.outer);
-        let heap = |m: Matrix2<f64>| DMatrix::from_column_slice(2, 2, m.as_slice());
         let forms = energy_forms(
             U6,
-            &heap(unit.mass()),
-            &heap(unit.damping_matrix()),
-            &DVector::from_column_slice(&[ko * ug, 0.0]),
-            &DVector::from_column_slice(&[-co * ug * omega, 0.0]),
+            &unit.mass(),
+            &unit.damping_matrix(),
+            &Vector2::new(ko * ug, 0.0),
+            &Vector2::new(-co * ug * omega, 0.0),
             omega,
         );
         Self {

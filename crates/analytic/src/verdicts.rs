@@ -14,7 +14,7 @@ use crate::orbit::{STABILITY_MARGIN, VIABILITY_TOLERANCE};
 use crate::sequence::PairImpact;
 use nalgebra::allocator::Allocator;
 use nalgebra::{
-    Complex, Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, OMatrix, OVector, Vector2,
+    Cholesky, Complex, Const, DefaultAllocator, Dim, DimMin, Matrix2, OMatrix, OVector, Vector2, U2,
 };
 use serde::Serialize;
 
@@ -443,16 +443,17 @@ pub(crate) fn energy_reference(
 ///
 /// # Panics
 /// If `d` is not `2n + 2` for the `n × n` matrices.
-pub(crate) fn energy_forms<D: Dim>(
+pub(crate) fn energy_forms<D: Dim, N: Dim>(
     d: D,
-    mass: &DMatrix<f64>,
-    damping: &DMatrix<f64>,
-    cosine: &DVector<f64>,
-    sine: &DVector<f64>,
+    mass: &OMatrix<f64, N, N>,
+    damping: &OMatrix<f64, N, N>,
+    cosine: &OVector<f64, N>,
+    sine: &OVector<f64, N>,
     omega: f64,
 ) -> EnergyForms<D>
 where
-    DefaultAllocator: Allocator<D, D>,
+    DefaultAllocator:
+        Allocator<D, D> + Allocator<N, N> + Allocator<N> + Allocator<N, U2> + Allocator<U2, N>,
 {
     let n = mass.nrows();
     assert_eq!(d.value(), 2 * n + 2, "the augmented dimension is 2n + 2");
@@ -483,16 +484,20 @@ where
 
 /// `fᵀM⁻¹f / 2ω` of the force `f = (f_c, f_s)` (`2 × 2`), by the Cholesky factor of `M`;
 /// `None` when `M` is not positive definite.
-fn compliance(
-    mass: &DMatrix<f64>,
-    cosine: &DVector<f64>,
-    sine: &DVector<f64>,
+fn compliance<N: Dim>(
+    mass: &OMatrix<f64, N, N>,
+    cosine: &OVector<f64, N>,
+    sine: &OVector<f64, N>,
     omega: f64,
-) -> Option<DMatrix<f64>> {
-    let n = mass.nrows();
-    let mut force = DMatrix::zeros(n, 2);
+) -> Option<Matrix2<f64>>
+where
+    DefaultAllocator: Allocator<N, N> + Allocator<N> + Allocator<N, U2> + Allocator<U2, N>,
+{
+    let n = mass.shape_generic().0;
+    let mut force = OMatrix::<f64, N, U2>::zeros_generic(n, U2);
     force.column_mut(0).copy_from(cosine);
     force.column_mut(1).copy_from(sine);
-    let cholesky = mass.clone().cholesky()?;
-    Some(force.transpose() * cholesky.solve(&force) * (0.5 / omega))
+    let cholesky = Cholesky::new(mass.clone())?;
+    let solved = cholesky.solve(&force);
+    Some(force.transpose() * solved * (0.5 / omega))
 }
