@@ -32,7 +32,7 @@
 //!
 //! The finite chain has no bounded steady state where `Ũ_0 = 0` (an undamped resonance of the
 //! chain on a fixed base); that is declared when `|Ũ_0|` is within rounding of the sizes of the
-//! terms that form it ([`CHAIN_RESONANCE_ULPS`]) and reported as `unbounded`, never NaN.
+//! terms that form it (`CHAIN_RESONANCE_ULPS = 64.0`) and reported as `unbounded`, never NaN.
 
 use nalgebra::{Complex, DMatrix, DVector};
 
@@ -139,7 +139,7 @@ pub(crate) fn check(
 /// [`ModelError::OutOfRange`] naming `chain` (with the number of cells as the value) when
 /// there are none or more than [`MAX_CELLS`], then the first bad field of a cell (see
 /// [`Cell::validate`]), then `base.amplitude`.
-pub fn validate_chain(cells: &[Cell], base_amplitude: f64) -> Result<(), ModelError> {
+pub(crate) fn validate_chain(cells: &[Cell], base_amplitude: f64) -> Result<(), ModelError> {
     let count = cells.len();
     check(
         "chain".to_string(),
@@ -251,9 +251,9 @@ pub(crate) fn assemble(
 /// the forward product, `M_j` cell `j`'s scaled backward step and `S_j` its entries' term sizes
 /// (`|k_i| + m_i ω² + ω c_i` for `D`, …), so a relative error `ε` in each term of each step moves
 /// `Ũ_0` by at most `ε` times that sum. Reasoning (not a measurement): each entry is formed and
-/// applied with a few complex roundings; 64 is the margin [`crate::linear::RESONANCE_ULPS`]
+/// applied with a few complex roundings; 64 is the margin `RESONANCE_ULPS = 64.0`
 /// leaves for the unit, whose determinant a one-cell chain's `Ũ_0` is (over `κ`).
-pub const CHAIN_RESONANCE_ULPS: f64 = 64.0;
+pub(crate) const CHAIN_RESONANCE_ULPS: f64 = 64.0;
 
 /// The linear chain's steady state `u(t) = Re{U e^{iωt}}` at one frequency.
 #[derive(Debug, Clone, PartialEq)]
@@ -271,7 +271,7 @@ pub struct ChainResponse {
     /// `T = 20 log10(|U_o,N| / u_g)`: `+∞` when unbounded, `−∞` when the last outer mass stands
     /// exactly still.
     pub transmittance_db: f64,
-    /// True at an undamped resonance of the chain (see [`CHAIN_RESONANCE_ULPS`]): no bounded
+    /// True at an undamped resonance of the chain (see `CHAIN_RESONANCE_ULPS = 64.0`): no bounded
     /// steady state exists.
     pub unbounded: bool,
 }
@@ -322,7 +322,7 @@ impl Step {
 /// finite wherever a bounded steady state exists, damped or not.
 ///
 /// # Errors
-/// [`ModelError::OutOfRange`] from [`validate_chain`], or naming `omega` if it is not finite
+/// [`ModelError::OutOfRange`] from `validate_chain`, or naming `omega` if it is not finite
 /// and `≥ 0`.
 pub fn chain_response(
     cells: &[Cell],
@@ -420,7 +420,7 @@ pub fn chain_response(
     })
 }
 
-/// `Σ_j |ℓ_j| S_j |x̃_j|` of [`CHAIN_RESONANCE_ULPS`], relative to the scale of `x̃_0`:
+/// `Σ_j |ℓ_j| S_j |x̃_j|` of `CHAIN_RESONANCE_ULPS = 64.0`, relative to the scale of `x̃_0`:
 /// `tails[j] = (Ũ_j, F̃_{j+1}, log scale)` normalised, `ℓ_j` carried forward normalised too.
 fn rounding_scale(steps: &[Step], tails: &[(Complex<f64>, Complex<f64>, f64)]) -> f64 {
     let base_log = tails[0].2;

@@ -14,47 +14,28 @@
 //! model shares, [`crate::cycle_equations::CycleEquations`]: residuals and exact derivatives
 //! (`∂Φ_j/∂τ_j = Â Φ_j`, `∂p₀/∂α = (−sin α, cos α)`, the periodicity solve differentiated
 //! implicitly), solved by the one Newton ([`crate::SequenceNewton`]) and found by the one
-//! multi-start of [`crate::sequence_search`]; the verdicts here use the unit's own flow.
+//! multi-start of [`crate::sequence_search`]; its verdicts are the ones every model shares
+//! (`verdicts::assemble`), run on the unit's own flow.
 
 use crate::cycle_equations::{CycleEquations, ImpactCondition};
-use crate::flow::{join, Augmented, ForcedFlow};
+use crate::flow::{join, Augmented, Extrema, ForcedFlow};
 use crate::linear::{modes, transmittance_db};
-use crate::orbit::{
-    eigenvalues, impact, relative_displacement, saltation, Side, Violation, STABILITY_MARGIN,
-    VIABILITY_TOLERANCE,
-};
+use crate::orbit::{eigenvalues, impact, relative_displacement, saltation, Side, Violation};
+use crate::sequence::{ImpactSequence, PairImpact};
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError};
 use crate::sequence_search::{grid_intervals, multi_start};
-use crate::sequence_verdicts::energy_reference;
-pub use crate::sequence_verdicts::{ENERGY_EXCHANGE_FRACTION, ENERGY_FLOOR};
 use crate::signature::Signature;
 use crate::symmetric::OrbitError;
 use crate::unit::{Stops, Unit};
-use nalgebra::{Complex, Matrix2, Matrix4, Matrix6, SMatrix, Vector2, Vector4, U6};
+use crate::verdicts::{energy_forms, CycleModel, EnergyForms, SequenceViolation};
+pub use crate::verdicts::{EnergyBalance, ENERGY_EXCHANGE_FRACTION};
+use nalgebra::{Complex, Matrix2, Matrix4, Matrix6, SMatrix, Vector2, Vector4, U4, U6};
 
-pub use crate::cycle_equations::MIN_FLIGHT;
-pub use crate::sequence_orbit::{
-    NEWTON_ACCEPTANCE, NEWTON_ITERATIONS, NEWTON_TOLERANCE, STEP_ROUNDING,
-};
-pub use crate::sequence_search::{
-    ALPHA_SCAN, DEDUP_TOLERANCE, FULL_START_TUPLES, GRID_PER_OSCILLATION, MAX_TUPLES, MIN_GRID,
-};
+pub use crate::sequence_orbit::{NEWTON_ACCEPTANCE, NEWTON_ITERATIONS};
+pub(crate) use crate::sequence_orbit::{NEWTON_TOLERANCE, STEP_ROUNDING};
+pub use crate::sequence_search::{GRID_PER_OSCILLATION, MAX_TUPLES, MIN_GRID};
 
 type Matrix12 = SMatrix<f64, 12, 12>;
-
-/// The energy balance of a cycle, each term computed on its own.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EnergyBalance {
-    /// Work done by the base over the cycle, `∫ −(k_o (u_o − u_g) + c_o (u̇_o − u̇_g)) u̇_g dt`.
-    pub base_work: f64,
-    /// Dissipation of both dashpots, `∫ c_o (u̇_o − u̇_g)² + c_i ṙ² dt`.
-    pub dashpot_dissipation: f64,
-    /// Impact losses `Σ ½ μ (1 − e²) ṙ⁻²`.
-    pub impact_losses: f64,
-    /// `½ ∮ (ω u̇ᵀMu̇ + fᵀM⁻¹f / ω) dt`, `f` the base's force on the outer mass: the bound on
-    /// the gross energy exchanged of [`crate::ModelEnergy::exchange_bound`].
-    pub exchange_bound: f64,
-}
 
 /// A periodic orbit of an impact signature and its verdicts.
 ///
@@ -75,6 +56,9 @@ pub struct SignatureOrbit {
     pub state_after_impact: Vector4<f64>,
     /// State just before each impact, in canonical order.
     pub states_before_impacts: Vec<Vector4<f64>>,
+    /// State just after each impact, in canonical order (the first is
+    /// `state_after_impact`); the motion between impacts is [`crate::UnitMotion`]'s.
+    pub states_after_impacts: Vec<Vector4<f64>>,
     /// `X_o = max |u_o(t)|` over the cycle, from the rigorous extrema of every flight.
     pub outer_amplitude: f64,
     /// `20 log10(X_o / u_g)`.
@@ -85,28 +69,39 @@ pub struct SignatureOrbit {
     pub violations: Vec<Violation>,
     /// Eigenvalues of the monodromy matrix (flight propagators and saltation matrices).
     pub floquet_multipliers: Vec<Complex<f64>>,
-    /// Every multiplier has modulus `< 1 −` [`STABILITY_MARGIN`].
+    /// Every multiplier has modulus `< 1 −` [`crate::orbit::STABILITY_MARGIN`].
     pub stable: bool,
     /// The monodromy matrix over the cycle, from just after the first canonical impact.
     pub monodromy: Matrix4<f64>,
-    /// The energy balance over the cycle.
+    /// The energy balance over the cycle, the same terms as every model's
+    /// ([`crate::SequenceOrbit::energy`]).
     pub energy: EnergyBalance,
     /// `|work − dissipation − impact losses|` relative to the reference of every path
     /// ([`crate::SequenceOrbit::energy_residual`]): the largest of `|work|`,
     /// `dissipation + losses`, [`ENERGY_EXCHANGE_FRACTION`]` · exchange_bound` and
-    /// [`ENERGY_FLOOR`]` k_o u_g²`.
+    /// `ENERGY_FLOOR = 1e-6`` k_o u_g²`.
     pub energy_residual: f64,
     /// Newton iterations taken to converge.
     pub newton_iterations: usize,
 }
 
-/// The cycle's problem: the flow and impact map of the verdicts, and the unit's fixed-size
-/// instance of the cycle equations.
+/// The cycle's problem: the unit's fixed-size instance of the cycle equations, and what the
+/// verdicts need of the unit (its flow, impact map, contact pair and energy forms).
 struct Problem {
     flow: ForcedFlow,
     g: Matrix2<f64>,
-    gap: f64,
     equations: CycleEquations<U6>,
+    sequence: ImpactSequence,
+    /// The pair's coordinate `r = u_i − u_o` and its two gaps.
+    pair: [(Augmented, [f64; 2]); 1],
+    /// `u_o`, whose amplitude is reported.
+    outer: [Augmented; 1],
+    forms: EnergyForms<U6>,
+    /// `k_o u_g²`: both masses follow the base statically.
+    static_energy: f64,
+    reduced_mass: f64,
+    restitution_squared: f64,
+    base_amplitude: f64,
 }
 
 impl Problem {
@@ -133,16 +128,86 @@ impl Problem {
             signature.symmetries(),
             cycle,
         );
+        let (ko, ug) = (unit.outer_stiffness, unit.base_amplitude);
+        let co = unit.damping.map_or(0.0, |d| d.outer);
+        let forms = energy_forms(
+            U6,
+            &unit.mass(),
+            &unit.damping_matrix(),
+            &Vector2::new(ko * ug, 0.0),
+            &Vector2::new(-co * ug * omega, 0.0),
+            omega,
+        );
         Self {
             flow,
             g,
-            gap: stops.gap,
             equations,
+            sequence: ImpactSequence::from_signature(signature),
+            pair: [(h, [stops.gap, stops.gap])],
+            outer: [Augmented::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0)],
+            forms,
+            static_energy: ko * ug.powi(2),
+            reduced_mass: unit.reduced_mass(),
+            restitution_squared: stops.restitution * stops.restitution,
+            base_amplitude: ug,
         }
     }
+}
 
-    fn cycle(&self) -> f64 {
-        self.equations.cycle()
+/// The unit's own numerics for the verdicts: 6×6 flights, 4×4 monodromy.
+impl CycleModel<U6> for Problem {
+    type State = U4;
+
+    fn state_dim(&self) -> U4 {
+        U4
+    }
+
+    fn impacts(&self) -> &[PairImpact] {
+        self.sequence.impacts()
+    }
+
+    fn pairs(&self) -> &[(Augmented, [f64; 2])] {
+        &self.pair
+    }
+
+    fn amplitude_functionals(&self) -> &[Augmented] {
+        &self.outer
+    }
+
+    fn energy_forms(&self) -> &EnergyForms<U6> {
+        &self.forms
+    }
+
+    fn static_energy(&self) -> f64 {
+        self.static_energy
+    }
+
+    fn extrema(&self, start: &Augmented, duration: f64, functionals: &[Augmented]) -> Vec<Extrema> {
+        self.flow.extrema(start, duration, functionals)
+    }
+
+    fn second_moment(&self, start: &Augmented, tau: f64) -> Matrix6<f64> {
+        second_moment(&self.flow, start, tau)
+    }
+
+    fn impact_state(&self, _pair: usize, before: &Vector4<f64>) -> Vector4<f64> {
+        impact(&self.g, before)
+    }
+
+    fn relative_velocity(&self, _pair: usize, x: &Vector4<f64>) -> f64 {
+        x[3] - x[2]
+    }
+
+    fn impact_loss(&self, _pair: usize, rdot: f64) -> f64 {
+        0.5 * self.reduced_mass * (1.0 - self.restitution_squared) * rdot * rdot
+    }
+
+    fn saltation(&self, _pair: usize, before: &Vector4<f64>, phase: &Vector2<f64>) -> Matrix4<f64> {
+        saltation(&self.flow, &self.g, before, phase)
+    }
+
+    fn eigenvalues(&self, monodromy: &Matrix4<f64>) -> Option<Vec<Complex<f64>>> {
+        eigenvalues(monodromy).map(|e| e.to_vec())
     }
 }
 
@@ -171,7 +236,7 @@ fn orbit_error(e: SequenceOrbitError) -> OrbitError {
 /// [`OrbitError::InvalidGuess`] when `guess` does not have `n` finite entries with ordered
 /// phases in `(0, 1)`; [`OrbitError::SingularCycle`] when the periodicity solve or the Newton
 /// Jacobian is singular; [`OrbitError::NoConvergence`] when Newton does not reach
-/// [`NEWTON_TOLERANCE`] within [`NEWTON_ITERATIONS`].
+/// `NEWTON_TOLERANCE = 1e-13` within [`NEWTON_ITERATIONS`].
 pub fn solve_signature(
     unit: &Unit,
     stops: &Stops,
@@ -187,186 +252,77 @@ pub fn solve_signature(
         .solve(&problem.equations, guess)
         .map_err(orbit_error)?;
     let (alpha, phases) = problem.equations.canonical(&converged.unknowns);
-    assemble(
-        unit,
-        stops,
-        &problem,
-        signature,
-        alpha,
-        &phases,
-        converged.iteration,
-    )
+    assemble(&problem, signature, alpha, &phases, converged.iteration)
 }
 
-/// Builds the orbit at converged unknowns and derives its verdicts.
+/// Builds the orbit at converged unknowns by the verdicts every model shares
+/// ([`crate::verdicts::assemble`]) on the unit's own flow.
 fn assemble(
-    unit: &Unit,
-    stops: &Stops,
     problem: &Problem,
     signature: &Signature,
     alpha: f64,
     phases: &[f64],
     newton_iterations: usize,
 ) -> Result<SignatureOrbit, OrbitError> {
-    let n = signature.impacts();
-    let sides = signature.sides();
-    let flow = &problem.flow;
-    let mut x = phases.to_vec();
-    x[0] = alpha;
-    let e = problem
-        .equations
-        .evaluate_with(&x, false)
-        .ok_or(OrbitError::SingularCycle {
-            omega: flow.omega(),
-        })?;
-    let p0: Vector2<f64> = e.z1.fixed_rows::<2>(4).into();
-    // Augmented state just before impact j (impact 0 closes the cycle).
-    let before = e.before_impacts();
-    let x_before: Vec<Vector4<f64>> = before.iter().map(|z| z.fixed_rows::<4>(0).into()).collect();
-    let p_at: Vec<Vector2<f64>> = (0..n)
-        .map(|j| {
-            if j == 0 {
-                p0
-            } else {
-                before[j].fixed_rows::<2>(4).into()
-            }
+    let omega = problem.flow.omega();
+    let verdicts = crate::verdicts::assemble(problem, &problem.equations, alpha, phases)
+        .ok_or(OrbitError::SingularCycle { omega })?;
+    let outer_amplitude = verdicts.amplitudes[0];
+    let side = |side: u8| if side == 1 { Side::One } else { Side::Two };
+    let violations: Vec<Violation> = verdicts
+        .violations
+        .iter()
+        .map(|v| match *v {
+            SequenceViolation::Penetration {
+                side: s,
+                time,
+                excess,
+                ..
+            } => Violation::Penetration {
+                side: side(s),
+                time,
+                excess,
+            },
+            SequenceViolation::WrongApproach {
+                side: s,
+                relative_velocity,
+                ..
+            } => Violation::WrongApproach {
+                side: side(s),
+                relative_velocity,
+            },
+            SequenceViolation::ExtraImpact {
+                side: s,
+                time,
+                excess,
+                ..
+            } => Violation::ExtraImpact {
+                side: side(s),
+                time,
+                excess,
+            },
         })
         .collect();
-    let after: Vec<Vector4<f64>> = x_before.iter().map(|x| impact(&problem.g, x)).collect();
-
-    let gap = problem.gap;
-    let r_fn = join(&relative_displacement(), &Vector2::zeros());
-    let uo_fn = Augmented::new(1.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    let mut violations = Vec::new();
-    let rdot: Vec<f64> = x_before.iter().map(|x| x[3] - x[2]).collect();
-    let side_of = |s: i8| if s > 0 { Side::One } else { Side::Two };
-    let wrong: Vec<bool> = (0..n).map(|j| sides[j] as f64 * rdot[j] <= 0.0).collect();
-    for j in 0..n {
-        if wrong[j] {
-            violations.push(Violation::WrongApproach {
-                side: side_of(sides[j]),
-                relative_velocity: rdot[j],
-            });
-        }
-    }
-    let tol = VIABILITY_TOLERANCE * gap;
-    let mut outer_amplitude: f64 = 0.0;
-    let mut energy = EnergyBalance {
-        base_work: 0.0,
-        dashpot_dissipation: 0.0,
-        impact_losses: 0.0,
-        exchange_bound: 0.0,
-    };
-    let (work_q, dissipation_q, exchange_q) = energy_forms(unit, flow.omega());
-    for f in 0..n {
-        let end = if f + 1 < n { phases[f + 1] } else { 1.0 };
-        let duration = (end - phases[f]) * problem.cycle();
-        let start = join(&after[f], &p_at[f]);
-        let ext = flow.extrema(&start, duration, &[r_fn, uo_fn]);
-        outer_amplitude = outer_amplitude.max(ext[1].max.abs()).max(ext[1].min.abs());
-        let t0 = phases[f] * problem.cycle();
-        let next = (f + 1) % n;
-        // An excursion beyond a stop that one of this flight's own impacts on that stop reaches
-        // from outside is the flight passing through the stop; any other is a contact the
-        // signature does not have.
-        let attached = |s: i8| (sides[f] == s && wrong[f]) || (sides[next] == s && wrong[next]);
-        for (s, excess, time) in [
-            (1i8, ext[0].max - gap, ext[0].argmax),
-            (-1i8, -gap - ext[0].min, ext[0].argmin),
-        ] {
-            if excess > tol {
-                let (side, time) = (side_of(s), t0 + time);
-                violations.push(if attached(s) {
-                    Violation::Penetration { side, time, excess }
-                } else {
-                    Violation::ExtraImpact { side, time, excess }
-                });
-            }
-        }
-        let moment = second_moment(flow, &start, duration);
-        let integral = |q: &Matrix6<f64>| q.component_mul(&moment).sum();
-        energy.base_work += integral(&work_q);
-        energy.dashpot_dissipation += integral(&dissipation_q);
-        energy.exchange_bound += integral(&exchange_q);
-    }
-    let e2 = stops.restitution * stops.restitution;
-    energy.impact_losses = rdot
-        .iter()
-        .map(|v| 0.5 * unit.reduced_mass() * (1.0 - e2) * v * v)
-        .sum();
-    // The static energy f_cᵀK⁻¹f_c of the base-driven unit: both masses follow the base.
-    let static_energy = unit.outer_stiffness * unit.base_amplitude.powi(2);
-    let reference = energy_reference(
-        energy.base_work,
-        energy.dashpot_dissipation.abs() + energy.impact_losses,
-        energy.exchange_bound,
-        static_energy,
-    );
-    let energy_residual =
-        (energy.base_work - energy.dashpot_dissipation - energy.impact_losses).abs() / reference;
-
-    // Monodromy from just after impact 0: E₀, then S₁, E₁, …, Eₙ₋₁, S₀.
-    let mut monodromy = Matrix4::identity();
-    for f in 0..n {
-        let next = (f + 1) % n;
-        let hom = e.flights[f].fixed_view::<4, 4>(0, 0).into_owned();
-        let s = saltation(flow, &problem.g, &x_before[next], &p_at[next]);
-        monodromy = s * hom * monodromy;
-    }
-    let floquet_multipliers: Vec<Complex<f64>> = eigenvalues(&monodromy)
-        .map(|e| e.to_vec())
-        .unwrap_or_else(|| vec![Complex::new(f64::NAN, f64::NAN); 4]);
-    let stable = floquet_multipliers
-        .iter()
-        .all(|m| m.norm() < 1.0 - STABILITY_MARGIN);
-
     Ok(SignatureOrbit {
         signature: signature.clone(),
         period: signature.period(),
-        omega: flow.omega(),
+        omega,
         impact_phases: phases.to_vec(),
         alpha,
-        state_after_impact: after[0],
-        states_before_impacts: x_before,
+        state_after_impact: verdicts.states_after[0],
+        states_before_impacts: verdicts.states_before,
+        states_after_impacts: verdicts.states_after,
         outer_amplitude,
-        transmittance_db: transmittance_db(outer_amplitude, unit.base_amplitude),
+        transmittance_db: transmittance_db(outer_amplitude, problem.base_amplitude),
         viable: violations.is_empty(),
         violations,
-        floquet_multipliers,
-        stable,
-        monodromy,
-        energy,
-        energy_residual,
+        floquet_multipliers: verdicts.floquet_multipliers,
+        stable: verdicts.stable,
+        monodromy: verdicts.monodromy,
+        energy: verdicts.energy,
+        energy_residual: verdicts.energy_residual,
         newton_iterations,
     })
-}
-
-/// The quadratic forms `Q` (`rate = zᵀ Q z` on the augmented state) of the base's power, of
-/// the dashpots' dissipation and of the exchange bound. With `u_g(t) = u_g p₀`,
-/// `u̇_g = −u_g ω p₁`: power `−(k_o (u_o − u_g) + c_o (u̇_o − u̇_g)) u̇_g`, dissipation
-/// `c_o (u̇_o − u̇_g)² + c_i (u̇_i − u̇_o)²`, and the general path's bound on the gross
-/// exchange ([`crate::ModelEnergy::exchange_bound`]) `½(ω u̇ᵀMu̇ + fᵀM⁻¹f/ω)` with the base's
-/// force on the outer mass `f = k_o u_g + c_o u̇_g`.
-fn energy_forms(unit: &Unit, omega: f64) -> (Matrix6<f64>, Matrix6<f64>, Matrix6<f64>) {
-    let (co, ci) = unit.damping.map_or((0.0, 0.0), |d| (d.outer, d.inner));
-    let (ko, ug) = (unit.outer_stiffness, unit.base_amplitude);
-    // Force on the base side of the spring-dashpot, k_o(u_o − u_g) + c_o(u̇_o − u̇_g), as w·z.
-    let w = Augmented::new(ko, 0.0, co, 0.0, -ko * ug, co * ug * omega);
-    // −u̇_g = u_g ω p₁.
-    let v = Augmented::new(0.0, 0.0, 0.0, 0.0, 0.0, ug * omega);
-    let work = 0.5 * (v * w.transpose() + w * v.transpose());
-    let a = Augmented::new(0.0, 0.0, 1.0, 0.0, 0.0, ug * omega);
-    let b = Augmented::new(0.0, 0.0, -1.0, 1.0, 0.0, 0.0);
-    let dissipation = a * a.transpose() * co + b * b.transpose() * ci;
-    let mut exchange = Matrix6::zeros();
-    exchange[(2, 2)] = 0.5 * omega * unit.outer_mass;
-    exchange[(3, 3)] = 0.5 * omega * unit.inner_mass;
-    // f = k_o u_g p₀ − c_o u_g ω p₁ on the outer mass.
-    let force = Vector2::new(ko * ug, -co * ug * omega);
-    exchange
-        .fixed_view_mut::<2, 2>(4, 4)
-        .copy_from(&(force * force.transpose() * (0.5 / (omega * unit.outer_mass))));
-    (work, dissipation, exchange)
 }
 
 /// `W = ∫₀^τ z(t) z(t)ᵀ dt` along the exact flow from `start`, in closed form by Van Loan's
@@ -393,8 +349,8 @@ fn second_moment(flow: &ForcedFlow, start: &Augmented, tau: f64) -> Matrix6<f64>
 /// ordered tuple `0 < φ₂ < … < φₙ < 1` of grid points is scanned. The phase `α` is not a
 /// Newton guess from a coarse grid: for fixed impact times the contact residuals are
 /// *linear* in `(cos α, sin α)`, so each tuple's squared residual is scanned on
-/// [`ALPHA_SCAN`] values of `α` for the cost of one cycle. Newton starts from every minimum
-/// in `α` of every tuple when there are at most [`FULL_START_TUPLES`] tuples, and otherwise
+/// `ALPHA_SCAN = 64` values of `α` for the cost of one cycle. Newton starts from every minimum
+/// in `α` of every tuple when there are at most `FULL_START_TUPLES = 5000` tuples, and otherwise
 /// from the nodes that are minima over the joint grid of impact phases and `α`.
 ///
 /// Why this grid: each impact time of any orbit lies within `1/32` of the fastest period of
@@ -443,6 +399,6 @@ pub fn signature_orbits_on_grid(
     }
     let problem = Problem::new(unit, stops, omega, signature);
     multi_start(&problem.equations, grid, |alpha, phases, iterations| {
-        assemble(unit, stops, &problem, signature, alpha, phases, iterations).ok()
+        assemble(&problem, signature, alpha, phases, iterations).ok()
     })
 }

@@ -24,7 +24,7 @@ use nalgebra::{
 
 /// A flight shorter than this fraction of the cycle is two impacts merging: a grazing limit,
 /// not an orbit of the sequence. Far below any grid spacing, far above rounding of the times.
-pub const MIN_FLIGHT: f64 = 1e-9;
+pub(crate) const MIN_FLIGHT: f64 = 1e-9;
 
 /// What one impact of the sequence contributes to the cycle equations.
 #[derive(Debug, Clone)]
@@ -202,7 +202,7 @@ where
         p
     }
 
-    /// Whether the unknowns keep every flight longer than [`MIN_FLIGHT`] of the cycle.
+    /// Whether the unknowns keep every flight longer than `MIN_FLIGHT = 1e-9` of the cycle.
     pub fn ordered(&self, x: &[f64]) -> bool {
         let m = self.impacts();
         (1..m).all(|i| {

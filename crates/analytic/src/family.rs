@@ -31,7 +31,7 @@ pub const NEAR_HALF: f64 = 1e-4;
 /// The fewest grid intervals [`asymmetric_orbits`] accepts: grid points `j/samples`,
 /// `0 < j < samples`, so 4 is the least grid with a bracketing interval on each side of `½`
 /// (where mirror pairs `β`, `1 − β` live).
-pub const MIN_SAMPLES: usize = 4;
+pub(crate) const MIN_SAMPLES: usize = 4;
 
 /// Cap on the regula falsi (Illinois) iterations per bracket. Illinois converges
 /// superlinearly (order ≈ 1.44), so a converging bracket stops long before; the cap bounds a
@@ -60,7 +60,7 @@ pub const GAP_ACCEPTANCE: f64 = 1e-12;
 /// [`crate::symmetric_orbits`]). By mirror symmetry `Δ*(β) = Δ*(1 − β)` is even about `½`, so
 /// the regula falsi's gap residual `1e-13` pins `β` only to about `√1e-13 ≈ 3e-7` of `½` (for a
 /// curvature of order one): `10⁻⁶` cannot tell such a root from `½`. Reasoned, not measured.
-pub const SYMMETRIC_EXCLUSION: f64 = 1e-6;
+pub(crate) const SYMMETRIC_EXCLUSION: f64 = 1e-6;
 
 /// A failure of the family computation.
 #[derive(Debug, Clone, PartialEq, Error)]
@@ -301,9 +301,9 @@ pub fn gap_for_beta(
 /// Every asymmetric two-impact orbit (`β ≠ ½`) of `unit` with `stops` at `omega`: the roots
 /// of `Δ*(β) = Δ` on `(0, 1)`.
 ///
-/// Roots are bracketed on a grid of `samples` intervals (at least [`MIN_SAMPLES`]) and refined
+/// Roots are bracketed on a grid of `samples` intervals (at least `MIN_SAMPLES = 4`) and refined
 /// by regula falsi (Illinois) to `|Δ*(β) − Δ| < 1e-12 Δ` ([`GAP_ACCEPTANCE`]); two roots within
-/// one grid interval can be missed. Roots within `10⁻⁶` of `½` ([`SYMMETRIC_EXCLUSION`]) are
+/// one grid interval can be missed. Roots within `10⁻⁶` of `½` (`SYMMETRIC_EXCLUSION = 1e-6`) are
 /// the symmetric orbits and are left to [`crate::symmetric_orbits`]. Mirror images come in
 /// pairs `β`, `1 − β`. A `β` at which [`gap_for_beta`] fails is skipped, never reported.
 pub fn asymmetric_orbits(unit: &Unit, stops: &Stops, omega: f64, samples: usize) -> Vec<Orbit> {

@@ -71,7 +71,7 @@ pub struct Extrema {
 impl Extrema {
     /// The extrema of a single value `v` at the flight's start: where a search over the
     /// flight begins.
-    pub fn at_start(v: f64) -> Self {
+    pub(crate) fn at_start(v: f64) -> Self {
         Self {
             max: v,
             argmax: 0.0,
@@ -83,7 +83,7 @@ impl Extrema {
 
 /// Degree of the Taylor polynomial of the flow on one piece. Pieces start no longer than
 /// `1/rate`, so `‖Âh‖` is of order one and the last term is of order `1/24! ≈ 1.6e-24`: the
-/// tail test ([`TAIL_TOLERANCE`]) has six orders of margin for matrices whose norm exceeds
+/// tail test (`TAIL_TOLERANCE = 1e-18`) has six orders of margin for matrices whose norm exceeds
 /// their spectral radius before a piece must be halved.
 pub(crate) const TAYLOR_DEGREE: usize = 24;
 
@@ -104,7 +104,7 @@ const CACHED_TABLES: usize = 2;
 
 /// A polynomial coefficient below this fraction of `Σ|q_k|` is dropped: it changes no value
 /// on `[0, 1]` by more than `1e-18` of the polynomial's size, the same truncation level as
-/// [`TAIL_TOLERANCE`] and below rounding.
+/// `TAIL_TOLERANCE = 1e-18` and below rounding.
 const NEGLIGIBLE_COEFFICIENT: f64 = 1e-18;
 
 /// Value resolution of the extremum search, relative to `Σ|q_k|`: an interval whose value
@@ -151,7 +151,7 @@ impl ForcedFlow {
     }
 
     /// Angular frequency of the forcing.
-    pub fn omega(&self) -> f64 {
+    pub(crate) fn omega(&self) -> f64 {
         self.omega
     }
 
@@ -161,7 +161,7 @@ impl ForcedFlow {
     }
 
     /// The augmented matrix `Â`.
-    pub fn augmented_matrix(&self) -> &Matrix6 {
+    pub(crate) fn augmented_matrix(&self) -> &Matrix6 {
         &self.augmented
     }
 
@@ -171,7 +171,7 @@ impl ForcedFlow {
     }
 
     /// The time derivative of the flow over time `t`: `Â exp(Â t)`, split into blocks.
-    pub fn transition_rate(&self, t: f64) -> Transition {
+    pub(crate) fn transition_rate(&self, t: f64) -> Transition {
         split(&(self.augmented * (self.augmented * t).exp()))
     }
 
@@ -190,7 +190,7 @@ impl ForcedFlow {
     /// coefficients one dot product each with the piece's starting state. Its extrema are
     /// found among the piece's ends and the roots of its derivative, isolated by exclusion tests with bounds on the second and third derivatives
     /// and polished by safeguarded Newton. No extremum can fall between samples.
-    pub fn extrema(
+    pub(crate) fn extrema(
         &self,
         start: &Augmented,
         duration: f64,
@@ -206,8 +206,10 @@ impl ForcedFlow {
 
     /// Extrema of the linear functionals `c · z(t)` over the *interior critical points* of the
     /// flight only: the times `0 < t < duration` where `d(c · z)/dt = 0`, found with the same
-    /// guarantee as [`Self::extrema`]. The flight's ends are not candidates, so a functional
-    /// that is monotone along the whole flight has `max = −∞`, `min = +∞` (and `NaN` times).
+    /// guarantee as the extrema of a whole flight (exact Taylor pieces and exclusion tests: no
+    /// critical point can fall between samples). The flight's ends are not candidates, so a
+    /// functional that is monotone along the whole flight has `max = −∞`, `min = +∞` (and
+    /// `NaN` times).
     ///
     /// This is what decides grazing: between two impacts `r(t)` touches a stop from inside at
     /// an interior critical point, while at the flight's ends it sits on the stops anyway.
@@ -223,7 +225,7 @@ impl ForcedFlow {
     /// [`Self::extrema`] for the functionals whose `critical` flag is false and
     /// [`Self::critical_extrema`] for the others, in one pass over the flight (one Taylor
     /// table). `critical` has one flag per functional (missing flags count as false).
-    pub fn mixed_extrema(
+    pub(crate) fn mixed_extrema(
         &self,
         start: &Augmented,
         duration: f64,
@@ -285,7 +287,7 @@ impl ForcedFlow {
 
 impl ForcedFlow {
     /// Equal pieces no longer than `1/rate`; the rows `c (Âh)^k / k!` of each functional are
-    /// computed once, and the pieces halved until their tail is below [`TAIL_TOLERANCE`].
+    /// computed once, and the pieces halved until their tail is below `TAIL_TOLERANCE = 1e-18`.
     fn table(&self, duration: f64, functionals: &[Augmented]) -> Table {
         let mut pieces = (duration * self.rate).ceil().max(1.0) as usize;
         let mut rows = vec![[Augmented::zeros(); TAYLOR_DEGREE + 1]; functionals.len()];

@@ -32,6 +32,8 @@
 //!   sequence on any [`LinearModel`] (the signature solver generalised: problem, Newton solver
 //!   and state; amplitudes, viability per pair, Floquet multipliers and energy balance; the
 //!   multi-start [`sequence_orbits`]), with [`model_flight`]'s rigorous extrema and integrals;
+//!   the verdicts (viability per pair, multipliers with saltation, the [`EnergyBalance`]) are
+//!   assembled once for every model, the unit's signature orbits included;
 //! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature of the
 //!   unit ([`continue_orbit`]) and of any impact sequence of a [`LinearModel`] such as a chain
 //!   ([`continue_sequence`]) through folds, with exact derivatives in `ω`, the bifurcation events
@@ -41,6 +43,8 @@
 //! - for every orbit ([`orbit::Orbit`]): the outer amplitude from rigorous extrema, viability
 //!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
 //!   from the monodromy matrix with saltation matrices.
+//!
+//! An orbit's motion at any time of its cycle is [`UnitMotion`]'s (a unit's orbits).
 //!
 //! The flow between impacts is the exponential of the system augmented with the forcing's two
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
@@ -57,6 +61,7 @@ pub mod lattice;
 pub mod linear;
 pub mod model;
 pub mod model_flight;
+pub mod motion;
 pub mod orbit;
 pub mod sequence;
 pub mod sequence_orbit;
@@ -66,16 +71,15 @@ pub mod signature;
 pub mod symmetric;
 pub mod test_models;
 pub mod unit;
+mod verdicts;
 
-pub use chain::{chain_response, validate_chain, Cell, ChainResponse, MAX_CELLS};
+pub use chain::{chain_response, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
     continue_orbit, continue_orbit_after, continue_sequence, continue_sequence_after, Branch,
     BranchEnd, Continuation, ContinuationError, ContinuationPoint, ContinuationSettings, EndReason,
     Event, EventKind,
 };
-pub use cycle::{
-    signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
-};
+pub use cycle::{signature_orbits, signature_orbits_on_grid, solve_signature, SignatureOrbit};
 pub use cycle_equations::{CycleEquations, CycleEvaluation, ImpactCondition};
 pub use family::{asymmetric_orbits, gap_for_beta, FamilyPoint};
 pub use lattice::{
@@ -86,15 +90,15 @@ pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
     ContactPair, HarmonicForcing, HarmonicState, LinearModel, ModelError, ModelTransition,
 };
+pub use motion::UnitMotion;
 pub use orbit::{Orbit, Side, Violation};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};
 pub use sequence_orbit::{
     NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,
 };
 pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
-pub use sequence_verdicts::{
-    solve_sequence, ModelEnergy, SequenceOrbit, SequenceViolation, ENERGY_EXCHANGE_FRACTION,
-};
+pub use sequence_verdicts::{solve_sequence, SequenceOrbit};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};
+pub use verdicts::{EnergyBalance, SequenceViolation, ENERGY_EXCHANGE_FRACTION};

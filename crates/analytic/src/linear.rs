@@ -10,7 +10,7 @@ use nalgebra::{Complex, Matrix2, SymmetricEigen};
 /// and its two products (both 9) cancel with rounding of a few `9ε`: a few `ε·scale` in all.
 /// 64 leaves about an order of margin above that, and is still `~1e-14` relative, far from
 /// any frequency a sweep means to resolve.
-pub const RESONANCE_ULPS: f64 = 64.0;
+pub(crate) const RESONANCE_ULPS: f64 = 64.0;
 
 /// Natural frequencies and mass-normalised mode shapes of the undamped unit.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -78,7 +78,7 @@ pub struct LinearResponse {
 /// Closed-form steady state of the linear unit at angular frequency `omega`:
 /// `(K − ω² M + iωC) U = ((k_o + iω c_o) u_g, 0)`.
 ///
-/// Undamped exact resonance (the determinant vanishes to within [`RESONANCE_ULPS`] ulps of its
+/// Undamped exact resonance (the determinant vanishes to within `RESONANCE_ULPS = 64.0` ulps of its
 /// terms) is
 /// reported as `unbounded` with infinite amplitudes, never NaN.
 pub fn linear_response(unit: &Unit, omega: f64) -> LinearResponse {

@@ -61,13 +61,13 @@ pub enum ModelError {
 /// agree to this many ulps of the matrix's largest entry. Matrices built from physical springs
 /// and dashpots are symmetric bit for bit; 16 ulps leave room for matrices assembled by sums in
 /// another order, and no more.
-pub const SYMMETRY_ULPS: f64 = 16.0;
+pub(crate) const SYMMETRY_ULPS: f64 = 16.0;
 
 /// Smallest reciprocal condition estimate (`min |u_kk| / max |u_kk|` of the LU factor) of the
 /// `2n × 2n` real steady-state system below which it is reported as singular
 /// ([`ModelError::Unbounded`]): `n` times the unit roundoff, the accuracy floor of LU with
 /// partial pivoting on a well-scaled system.
-pub fn singular_pivot_ratio(dofs: usize) -> f64 {
+pub(crate) fn singular_pivot_ratio(dofs: usize) -> f64 {
     dofs as f64 * f64::EPSILON
 }
 
@@ -365,7 +365,7 @@ impl LinearModel {
     ///
     /// # Errors
     /// [`ModelError::Unbounded`] if the system is singular to within
-    /// [`singular_pivot_ratio`] (an undamped resonance).
+    /// `singular_pivot_ratio` (an undamped resonance).
     pub fn linear_steady_state(&self, omega: f64) -> Result<HarmonicState, ModelError> {
         let n = self.dofs();
         let dynamic = &self.stiffness - &self.mass * (omega * omega);

@@ -48,7 +48,7 @@ impl ModelFlight {
     }
 
     /// Extrema of the linear functionals `c · z(t)` over `t ∈ [0, duration]` from the augmented
-    /// state `start`, ends included, with the guarantee of [`crate::flow::ForcedFlow::extrema`]:
+    /// state `start`, ends included, with the guarantee of the unit's fixed-size search (`ForcedFlow::extrema`):
     /// no extremum can fall between samples.
     ///
     /// # Panics

@@ -80,6 +80,9 @@ pub struct Orbit {
     pub state_after_impact: Vector4<f64>,
     /// State just before the side-2 impact (`t = βT⁻`).
     pub state_before_side2: Vector4<f64>,
+    /// State just after the side-2 impact (`t = βT⁺`); the motion between impacts is
+    /// [`crate::UnitMotion`]'s.
+    pub state_after_side2: Vector4<f64>,
     /// `X_o = max |u_o(t)|` over the period, from the rigorous extrema of the closed form.
     pub outer_amplitude: f64,
     /// `20 log10(X_o / u_g)`.
@@ -111,7 +114,7 @@ pub const STABILITY_MARGIN: f64 = 1e-9;
 /// Cap on the QR sweeps of one Schur attempt in [`eigenvalues`]. A 4×4 matrix deflates in a
 /// few sweeps per eigenvalue; 1000 is reached only by an iteration that cycles (as nalgebra's
 /// unbounded one did), and then the next attempt is tried.
-pub const SCHUR_ITERATIONS: usize = 1000;
+pub(crate) const SCHUR_ITERATIONS: usize = 1000;
 
 /// Convergence threshold of the Schur iteration: a subdiagonal entry is deflated when it falls
 /// to unit roundoff of its neighbours, the tightest threshold a double can resolve.
@@ -292,6 +295,7 @@ pub(crate) fn assemble(
         state_before_impact: before1,
         state_after_impact: after1,
         state_before_side2: before2,
+        state_after_side2: after2,
         outer_amplitude,
         transmittance_db: transmittance_db(outer_amplitude, unit.base_amplitude),
         viable: violations.is_empty(),

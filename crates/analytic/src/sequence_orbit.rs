@@ -38,22 +38,22 @@ pub const NEWTON_ITERATIONS: usize = 40;
 /// Newton has converged when the largest contact residual is below this fraction of the
 /// motion's size (the largest stop and displacement just after the first impact): about 450
 /// `ε`, the rounding left by a chain of a few exponentials and a periodicity solve.
-pub const NEWTON_TOLERANCE: f64 = 1e-13;
+pub(crate) const NEWTON_TOLERANCE: f64 = 1e-13;
 
-/// Fallback acceptance: when the Newton step has shrunk to rounding ([`STEP_ROUNDING`]) the
+/// Fallback acceptance: when the Newton step has shrunk to rounding (`STEP_ROUNDING = 1e-15`) the
 /// residual cannot be reduced further; it is then accepted if below this fraction of the
-/// motion's size (two orders looser than [`NEWTON_TOLERANCE`], for ill-conditioned cycles).
+/// motion's size (two orders looser than `NEWTON_TOLERANCE = 1e-13`, for ill-conditioned cycles).
 pub const NEWTON_ACCEPTANCE: f64 = 1e-11;
 
 /// A Newton step below this (in radians of `α` and in fractions of the cycle) no longer moves
 /// the unknowns beyond a few ulps of numbers of order one.
-pub const STEP_ROUNDING: f64 = 1e-15;
+pub(crate) const STEP_ROUNDING: f64 = 1e-15;
 
 /// Halvings of the Newton step when it would reorder the impacts or raise the residual's
 /// 2-norm: `2⁻¹⁰ ≈ 1e-3` of a step; beyond that the direction is useless and the start is
 /// abandoned. (30 halvings cost the multi-start 2–3 times more and found the same viable
 /// orbits on the paper unit; see [`crate::signature_orbits`].)
-pub const LINE_SEARCH_HALVINGS: usize = 10;
+pub(crate) const LINE_SEARCH_HALVINGS: usize = 10;
 
 /// Whether `guess = (α, φ₂, …, φ_n)` is a usable start for `n` impacts: `n` finite entries
 /// with the impact phases ordered in `(0, 1)` (`α` is free).
@@ -249,7 +249,7 @@ pub struct SequenceNewton {
 }
 
 impl Default for SequenceNewton {
-    /// [`NEWTON_ITERATIONS`], [`NEWTON_TOLERANCE`], [`NEWTON_ACCEPTANCE`].
+    /// [`NEWTON_ITERATIONS`], `NEWTON_TOLERANCE = 1e-13`, [`NEWTON_ACCEPTANCE`].
     fn default() -> Self {
         Self {
             max_iterations: NEWTON_ITERATIONS,
@@ -304,9 +304,9 @@ impl SequenceNewton {
         Ok(state(guess.to_vec(), evaluation, 0, false))
     }
 
-    /// One damped Newton step: the full step, halved up to [`LINE_SEARCH_HALVINGS`] times
+    /// One damped Newton step: the full step, halved up to `LINE_SEARCH_HALVINGS = 10` times
     /// until it keeps the impacts ordered and lowers the merit; `stalled` when none does or
-    /// the step is below [`STEP_ROUNDING`].
+    /// the step is below `STEP_ROUNDING = 1e-15`.
     ///
     /// # Errors
     /// [`SequenceOrbitError::SingularCycle`] when the Jacobian is singular.

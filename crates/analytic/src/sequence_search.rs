@@ -4,11 +4,11 @@
 //! The cycle `pT` is cut into `N` grid intervals and every ordered tuple
 //! `0 < φ₂ < … < φ_m < 1` of grid points is scanned. For fixed impact times the contact
 //! residuals are linear in `(cos α, sin α)`, so each tuple's squared residual is scanned on
-//! [`ALPHA_SCAN`] values of `α` for the cost of one cycle; Newton
+//! `ALPHA_SCAN = 64` values of `α` for the cost of one cycle; Newton
 //! ([`crate::sequence_orbit::SequenceNewton`]) starts from every minimum in `α` of every tuple
-//! (up to [`FULL_START_TUPLES`] tuples; above, from the minima over the joint grid). Converged
+//! (up to `FULL_START_TUPLES = 5000` tuples; above, from the minima over the joint grid). Converged
 //! solutions are brought to the canonical first impact and deduplicated by `(α, phases)`
-//! within [`DEDUP_TOLERANCE`]. The grid and the start rules are those of the unit's search.
+//! within `DEDUP_TOLERANCE = 1e-8`. The grid and the start rules are those of the unit's search.
 
 use crate::cycle_equations::CycleEquations;
 use crate::model::LinearModel;
@@ -16,7 +16,7 @@ use crate::model_flight::eigenvalues;
 use crate::orbit::wrap;
 use crate::sequence::ImpactSequence;
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
-use crate::sequence_verdicts::{assemble, SequenceOrbit};
+use crate::sequence_verdicts::{ModelVerdicts, SequenceOrbit};
 use nalgebra::allocator::Allocator;
 use nalgebra::{DefaultAllocator, DimMin, OMatrix};
 use std::collections::HashMap;
@@ -37,7 +37,7 @@ pub const MIN_GRID: usize = 16;
 /// tuple's linear residual; above it, only from the minima over the joint grid of impact
 /// phases and `α`. A Newton start costs about 0.2 ms on the unit, so this bounds the full
 /// search to about two seconds (`n = 4`, `p = 1`, `ω ≥ 1.2` on the paper unit stay below it).
-pub const FULL_START_TUPLES: usize = 5000;
+pub(crate) const FULL_START_TUPLES: usize = 5000;
 
 /// Cap on the impact-phase tuples of a multi-start: at low `ω` or long cycles the grid of
 /// [`GRID_PER_OSCILLATION`] is coarsened until `C(N − 1, n − 1)` tuples fit, which bounds the
@@ -50,12 +50,12 @@ pub const MAX_TUPLES: usize = 60_000;
 /// square is a trigonometric polynomial of degree 2 in `α` (at most two local minima), so 64
 /// samples (`π/32` apart) land within `π/64` of each minimum, and separate the two unless
 /// they nearly merge (then one start serves both).
-pub const ALPHA_SCAN: usize = 64;
+pub(crate) const ALPHA_SCAN: usize = 64;
 
 /// Two converged solutions are the same orbit when their base phases (after bringing both
 /// to the canonical first impact) and impact phases differ by less than this: Newton pins
 /// them to about `1e-13`, and distinct orbits lie many orders further apart.
-pub const DEDUP_TOLERANCE: f64 = 1e-8;
+pub(crate) const DEDUP_TOLERANCE: f64 = 1e-8;
 
 /// The grid intervals of a multi-start over a cycle of `period` forcing periods with `m`
 /// impacts, `fastest` the fastest frequency of the motion (`max(ω, ω_n)`): `max(`[`MIN_GRID`]`,
@@ -116,8 +116,9 @@ pub fn sequence_orbits_on_grid(
     grid: usize,
 ) -> Result<Vec<SequenceOrbit>, SequenceOrbitError> {
     let problem = SequenceProblem::new(model, omega, sequence)?;
+    let verdicts = ModelVerdicts::new(&problem);
     let found = multi_start(problem.equations(), grid, |alpha, phases, iterations| {
-        assemble(&problem, alpha, phases, iterations).ok()
+        verdicts.assemble(alpha, phases, iterations).ok()
     });
     Ok(found)
 }
@@ -125,7 +126,7 @@ pub fn sequence_orbits_on_grid(
 /// The multi-start over a grid of `grid` intervals of the cycle on any cycle equations: every
 /// ordered impact-phase tuple scanned in `α` ([`linear_scan`]), Newton ([`SequenceNewton`])
 /// from the start nodes ([`start_nodes`]), each converged solution brought to its canonical
-/// representation, deduplicated within [`DEDUP_TOLERANCE`] and made into an orbit by
+/// representation, deduplicated within `DEDUP_TOLERANCE = 1e-8` and made into an orbit by
 /// `assemble(α, phases, iterations)` (`None`: dropped). The orbits sorted by `α`; an empty list
 /// when `grid` is below the number of impacts.
 pub(crate) fn multi_start<D, O>(
@@ -177,7 +178,7 @@ where
 }
 
 /// Whether a found orbit's key `(α, φ₂ …)` matches `(alpha, phases)` within
-/// [`DEDUP_TOLERANCE`] (angles compared modulo 2π).
+/// `DEDUP_TOLERANCE = 1e-8` (angles compared modulo 2π).
 fn same_orbit(key: &[f64], alpha: f64, phases: &[f64]) -> bool {
     wrap(key[0] - alpha).abs() < DEDUP_TOLERANCE
         && key[1..]
@@ -255,14 +256,14 @@ pub(crate) fn next_tuple(tuple: &mut [usize], grid: usize) -> bool {
     }
 }
 
-/// Sample `k` of the `α` scan: `−π + 2πk/`[`ALPHA_SCAN`].
+/// Sample `k` of the `α` scan: `−π + 2πk/``ALPHA_SCAN = 64`.
 pub(crate) fn scan_angle(k: usize) -> f64 {
     -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / ALPHA_SCAN as f64
 }
 
 /// The starts of a multi-start over `scanned` (impact-index tuple → residual on the `α`
 /// scan): each node `(tuple, k)` that is a finite local minimum in `α` and, when there are
-/// more than [`FULL_START_TUPLES`] tuples, also over the tuple's `neighbours` in the joint
+/// more than `FULL_START_TUPLES = 5000` tuples, also over the tuple's `neighbours` in the joint
 /// grid; in sorted order.
 pub(crate) fn start_nodes<'a, I>(
     scanned: &'a HashMap<Vec<usize>, Vec<f64>>,

@@ -17,7 +17,7 @@ use thiserror::Error;
 /// A failure of the orbit computation that is not "no orbit exists".
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum OrbitError {
-    /// The symmetry equations lose rank (below [`DEGENERACY_TOLERANCE`]): the phase is not
+    /// The symmetry equations lose rank (below `DEGENERACY_TOLERANCE = 1e-13`): the phase is not
     /// determined by them.
     #[error("the symmetric-orbit equations are degenerate at ω = {omega} (rank < 3)")]
     Degenerate {
@@ -60,10 +60,10 @@ pub enum OrbitError {
 /// fraction of the product of its column norms (Hadamard's bound, so the ratio lies in
 /// `[0, 1]`). Each minor carries rounding of a few `ε ≈ 2.2e-16` of that product; `1e-13`
 /// (about 450 `ε`) leaves a margin of two orders above rounding. Reasoned, not measured.
-pub const DEGENERACY_TOLERANCE: f64 = 1e-13;
+pub(crate) const DEGENERACY_TOLERANCE: f64 = 1e-13;
 
 /// Relative cutoff of the SVD solve for the impact state: zero, so no singular value is
-/// dropped. `N_a` has full column rank once it passes [`DEGENERACY_TOLERANCE`], and the
+/// dropped. `N_a` has full column rank once it passes `DEGENERACY_TOLERANCE = 1e-13`, and the
 /// right-hand side lies in its range on the phase line, so the solve is exact.
 const SVD_CUTOFF: f64 = 0.0;
 
@@ -88,7 +88,7 @@ fn left_null(n: &Matrix4x3<f64>) -> Vector4<f64> {
 ///
 /// # Errors
 /// [`OrbitError::Degenerate`] when the symmetry equations lose rank
-/// ([`DEGENERACY_TOLERANCE`]), so that they do not determine the phase.
+/// (`DEGENERACY_TOLERANCE = 1e-13`), so that they do not determine the phase.
 pub fn symmetric_orbits(unit: &Unit, stops: &Stops, omega: f64) -> Result<Vec<Orbit>, OrbitError> {
     let flow = ForcedFlow::new(unit, omega);
     let half = flow.transition(0.5 * flow.period());

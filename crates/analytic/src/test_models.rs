@@ -83,7 +83,7 @@ pub struct SteadyStateAnswer {
     /// `U_i`.
     pub inner: Complex<f64>,
     /// `(k_o + k_i + ω² m_o)(k_i + ω² m_i)`, the size of the terms of the determinant: the
-    /// scale against which its rounding is measured (see [`crate::linear::RESONANCE_ULPS`]).
+    /// scale against which its rounding is measured (see `RESONANCE_ULPS = 64.0`).
     pub determinant_scale: f64,
     /// `|det(K − ω²M + iωC)|`: the relative error of any solve grows like
     /// `determinant_scale / |det|` near a resonance.

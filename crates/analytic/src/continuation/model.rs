@@ -1,6 +1,6 @@
 //! A [`LinearModel`]'s side of continuation (a chain of cells, or any model with contact
 //! pairs): its cycle equations on heap matrices, the verdicts of
-//! [`crate::sequence_verdicts::assemble`] at each point, and the test functions per contact
+//! [`crate::verdicts::assemble`] at each point, and the test functions per contact
 //! pair from the model's rigorous extrema.
 
 use super::system::{flight_span, BranchModel, Cycles, Verdicts};
@@ -10,7 +10,7 @@ use crate::model::LinearModel;
 use crate::model_flight::ModelFlight;
 use crate::sequence::{ImpactSequence, PairImpact, SequenceError};
 use crate::sequence_orbit::{SequenceOrbitError, SequenceProblem};
-use crate::sequence_verdicts::{assemble, SequenceOrbit};
+use crate::sequence_verdicts::{ModelVerdicts, SequenceOrbit};
 use nalgebra::{Complex, DMatrix, DVector, Dyn};
 
 /// The cycle equations of one impact sequence of a model.
@@ -49,7 +49,7 @@ impl<'a> ModelBranch<'a> {
         let n = x.len() - 1;
         let problem = SequenceProblem::new(self.model, x[n], &self.sequence).ok()?;
         let phases = CycleEquations::<Dyn>::phases(&x[..n]);
-        assemble(&problem, x[0], &phases, 0).ok()
+        ModelVerdicts::new(&problem).assemble(x[0], &phases, 0).ok()
     }
 
     /// Per flight and pair, the distance of the pair's coordinate to its nearer stop at its

@@ -2,11 +2,10 @@
 //! frequency, and the evaluation of either over time.
 
 use crate::scene::Scene;
-use nalgebra::{Complex, DVector, Vector2, Vector4};
-use rattle_analytic::flow::ForcedFlow;
+use nalgebra::{Complex, DVector, Vector4};
 use rattle_analytic::{
     asymmetric_orbits, chain_response, linear_response, signature_orbits, symmetric_orbits, Cell,
-    LinearResponse, Orbit, OrbitError, SequenceOrbit, Signature, SignatureOrbit,
+    LinearResponse, Orbit, OrbitError, SequenceOrbit, Signature, SignatureOrbit, UnitMotion,
 };
 
 /// How many grid intervals on `β ∈ (0, 1)` bracket the asymmetric orbits: 400 resolves the
@@ -160,27 +159,10 @@ pub fn orbits_of_signature(
 }
 
 /// The state of an orbit of any signature at time `t ∈ [0, pT)` after its first canonical
-/// impact: flight after flight from the state after each impact (velocities mapped by the
-/// scene's restitution), on the analytic crate's own flow.
+/// impact (at an impact's time, the state just after it): the analytic crate's
+/// [`UnitMotion::state_at`].
 pub fn signature_orbit_state(scene: &Scene, orbit: &SignatureOrbit, t: f64) -> Vector4<f64> {
-    let unit = scene.unit_model();
-    let flow = ForcedFlow::new(&unit, orbit.omega);
-    let cycle = orbit.period as f64 * flow.period();
-    let j = orbit
-        .impact_phases
-        .iter()
-        .rposition(|&phi| phi * cycle <= t)
-        .unwrap_or(0);
-    let t_j = orbit.impact_phases[j] * cycle;
-    let p0 = Vector2::new(orbit.alpha.cos(), orbit.alpha.sin());
-    let (_, p_j) = flow.transition(t_j).apply(&Vector4::zeros(), &p0);
-    let x = orbit.states_before_impacts[j];
-    let v = match scene.stops_model() {
-        Some(stops) => stops.impact_map(&unit) * Vector2::new(x[2], x[3]),
-        None => Vector2::new(x[2], x[3]),
-    };
-    let after = Vector4::new(x[0], x[1], v[0], v[1]);
-    flow.transition(t - t_j).apply(&after, &p_j).0
+    UnitMotion::of_signature_orbit(&scene.unit_model(), orbit).state_at(t)
 }
 
 impl AnalyticPoint {
@@ -200,24 +182,11 @@ pub fn linear_displacements(response: &LinearResponse, omega: f64, t: f64) -> (f
 }
 
 /// The state of a two-impact orbit of `scene` at time `t ∈ [0, T)` after its side-1 impact:
-/// the first flight from the state after that impact, then, after the side-2 impact (velocities
-/// mapped by the scene's restitution), the second flight. Holds for any `β`.
+/// the first flight from the state after that impact up to and including `βT` (the state just
+/// before the side-2 impact), then the second flight. Holds for any `β`: the analytic crate's
+/// [`UnitMotion::state_before`].
 pub fn orbit_state(scene: &Scene, orbit: &Orbit, t: f64) -> Vector4<f64> {
-    let unit = scene.unit_model();
-    let flow = ForcedFlow::new(&unit, orbit.omega);
-    let p0 = Vector2::new(orbit.alpha.cos(), orbit.alpha.sin());
-    let side2 = orbit.beta * flow.period();
-    if t <= side2 {
-        return flow.transition(t).apply(&orbit.state_after_impact, &p0).0;
-    }
-    let (_, p2) = flow.transition(side2).apply(&orbit.state_after_impact, &p0);
-    let x = orbit.state_before_side2;
-    let v = match scene.stops_model() {
-        Some(stops) => stops.impact_map(&unit) * Vector2::new(x[2], x[3]),
-        None => Vector2::new(x[2], x[3]),
-    };
-    let after = Vector4::new(x[0], x[1], v[0], v[1]);
-    flow.transition(t - side2).apply(&after, &p2).0
+    UnitMotion::of_orbit(&scene.unit_model(), orbit).state_before(t)
 }
 
 #[cfg(test)]
@@ -332,8 +301,9 @@ pub fn sample_signature_orbit(
     let cycle = orbit.period as f64 * period;
     // The base phase α at the first impact: t = t' + α/ω, brought into [0, T).
     let shift = (orbit.alpha / orbit.omega).rem_euclid(period);
+    let motion = UnitMotion::of_signature_orbit(&scene.unit_model(), orbit);
     let mut rows = uniform_samples(samples_per_period, orbit.period, cycle, shift, |t| {
-        dvector(signature_orbit_state(scene, orbit, t))
+        dvector(motion.state_at(t))
     });
     let mut impacts = Vec::new();
     for (j, (&phase, &side)) in orbit
@@ -358,7 +328,7 @@ pub fn sample_signature_orbit(
         rows.push(OrbitSample {
             time: shift + t,
             kind: SampleKind::AfterImpact,
-            state: dvector(signature_orbit_state(scene, orbit, t)),
+            state: dvector(motion.state_at(t)),
         });
     }
     in_time_order(&mut rows);

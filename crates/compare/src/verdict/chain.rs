@@ -501,6 +501,30 @@ fn seeded_check(
         &orbit.floquet_multipliers,
         &analytic.floquet_multipliers,
     ));
+    classify(check, &sequence, &analytic, difference);
+    if analytic.viable {
+        check.confirmation = Some(confirm(
+            scene,
+            &analytic_model,
+            &analytic,
+            &cycle.orbit,
+            options,
+        )?);
+    }
+    check.polished = Some(cycle);
+    check.analytic = Some(analytic);
+    Ok(())
+}
+
+/// The class of a seeded check from the analytic orbit's verdicts and its `difference` from
+/// the simulated cycle: a contradiction when the simulator settles on a cycle the analytic
+/// solver calls not viable or unstable, or that differs from it; agreement otherwise.
+fn classify(
+    check: &mut ChainCheck,
+    sequence: &ImpactSequence,
+    analytic: &rattle_analytic::SequenceOrbit,
+    difference: f64,
+) {
     if !analytic.viable {
         check.contradiction(
             ChainReason::NotViable,
@@ -523,18 +547,6 @@ fn seeded_check(
             format!("the {sequence} orbits differ by {difference:.1e}"),
         );
     }
-    if analytic.viable {
-        check.confirmation = Some(confirm(
-            scene,
-            &analytic_model,
-            &analytic,
-            &cycle.orbit,
-            options,
-        )?);
-    }
-    check.polished = Some(cycle);
-    check.analytic = Some(analytic);
-    Ok(())
 }
 
 /// The simulator's Newton on its own stroboscopic map, started on the analytic `orbit` of
