@@ -5,15 +5,17 @@ use clap::Args;
 use rattle_compare::figures;
 use rattle_compare::output::{write_table, Format, Header};
 use rattle_compare::peers::siconos::{SiconosPeer, SICONOS_DATA};
-use rattle_compare::peers::work_precision;
+use rattle_compare::peers::work_precision::{self, WorkPrecision};
 use rattle_compare::runs::axis::Axis;
-use rattle_compare::runs::basins::{basin_options, BasinGrid};
+use rattle_compare::runs::basins::{basin_options, BasinGrid, Basins};
+use rattle_compare::runs::map::Map;
 use rattle_compare::runs::parallel::Progress;
 use rattle_compare::scene::simulator::run as simulate;
 use rattle_compare::scene::{Scene, StopsSpec};
-use rattle_compare::study::chain::{chain_section, chain_study};
+use rattle_compare::study::chain::{chain_section, chain_study, ChainStudy};
 use rattle_compare::study::chaos::{
-    chaos_samples, poincare_sections, POINCARE_OMEGA, POINCARE_POINTS,
+    chaos_samples, poincare_sections, ChaosSample, PoincareSections, POINCARE_OMEGA,
+    POINCARE_POINTS,
 };
 use rattle_compare::study::paper::READING_B_GAP_FACTOR;
 use rattle_compare::study::report::{agreement, report, siconos_section};
@@ -94,6 +96,242 @@ fn write(path: &Path, text: &str) -> Result<(), String> {
     std::fs::write(path, text).map_err(|e| format!("{}: {e}", path.display()))
 }
 
+/// The clock of one run: each stage's wall time, printed as the stage ends.
+struct Clock {
+    start: Instant,
+}
+
+impl Clock {
+    /// `work()`, printing `label`, its wall time and when it started and ended on this clock.
+    fn stage<T>(&self, label: &str, work: impl FnOnce() -> T) -> T {
+        let from = self.start.elapsed().as_secs_f64();
+        let out = work();
+        let to = self.start.elapsed().as_secs_f64();
+        eprintln!(
+            "{label}: {:.1} s (from {from:.1} s to {to:.1} s)",
+            to - from
+        );
+        out
+    }
+}
+
+/// CPU time (user + system) of this process so far, seconds, from `/proc/self/stat` (in
+/// clock ticks of 1/100 s, Linux's `USER_HZ`); `None` where that file is not.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // The fields after the command name (which may hold spaces) in parentheses: the state is
+    // field 3; utime and stime are fields 14 and 15.
+    let fields: Vec<&str> = stat.rsplit_once(')')?.1.split_whitespace().collect();
+    let ticks = |k: usize| fields.get(k - 3)?.parse::<f64>().ok();
+    Some((ticks(14)? + ticks(15)?) / 100.0)
+}
+
+/// Everything the figures and the report show, but the work-precision study.
+struct Computed {
+    main: Study,
+    other: Study,
+    elastic_note: String,
+    maps: Option<(Map, Map)>,
+    basins: Basins,
+    samples: Vec<ChaosSample>,
+    poincare: Result<PoincareSections, String>,
+    chains: ChainStudy,
+}
+
+/// The scene's copy with the gap of the study's second reading.
+fn reading_b(scene: &Scene) -> Scene {
+    let mut other = scene.clone();
+    other.name = format!("{} (half gap)", scene.name);
+    other.stops = scene.stops.map(|s| StopsSpec {
+        gap: READING_B_GAP_FACTOR * s.gap,
+        ..s
+    });
+    other
+}
+
+/// Every stage but the work-precision study, all at once: rayon shares the threads between
+/// them (and the study's continuation has a thread of its own, see [`Study::run`]). Each
+/// stage's result does not depend on the order the stages run in or on the thread count.
+fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
+    let (size, map_sizes) = if quick {
+        (StudySize::quick(), MapSizes::quick())
+    } else {
+        (StudySize::full(), MapSizes::full())
+    };
+    let options = SimulationOptions {
+        max_periods: STUDY_MAX_PERIODS,
+        ..SimulationOptions::default()
+    };
+    let (mut main, mut other, mut elastic, mut maps_done) = (None, None, None, None);
+    let (mut basins, mut samples, mut poincare, mut chains) = (None, None, None, None);
+    // Stages handed out longest first: another thread takes the earliest spawned, this one
+    // the latest.
+    rayon::scope(|s| {
+        s.spawn(|_| {
+            // Its parts' times printed (indented) as they end.
+            main = Some(clock.stage("study, reading A", || {
+                Study::run(scene, size, &options, true)
+            }))
+        });
+        s.spawn(|_| maps_done = Some(clock.stage("maps", || maps(scene, map_sizes, false))));
+        s.spawn(|_| basins = Some(clock.stage("basins", || basins_of(scene, quick))));
+        s.spawn(|_| {
+            other = Some(clock.stage("study, reading B", || {
+                Study::run(&reading_b(scene), size.without_extras(), &options, false)
+            }))
+        });
+        s.spawn(|_| samples = Some(clock.stage("lyapunov", || lyapunov_samples(scene, quick))));
+        s.spawn(|_| chains = Some(clock.stage("chains", || chain_study(scene, quick, false))));
+        s.spawn(|_| poincare = Some(clock.stage("poincare", || poincare_of(scene, quick))));
+        s.spawn(|_| elastic = Some(clock.stage("elastic note", || elastic_note(scene, &options))));
+    });
+    // Every slot is filled once the scope has ended (a stage's panic is carried on by it).
+    let filled = "every stage has run";
+    Computed {
+        main: main.expect(filled),
+        other: other.expect(filled),
+        elastic_note: elastic.expect(filled),
+        maps: maps_done.expect(filled),
+        basins: basins.expect(filled),
+        samples: samples.expect(filled),
+        poincare: poincare.expect(filled),
+        chains: chains.expect(filled),
+    }
+}
+
+/// The basins figure's grid at [`BASINS_OMEGA`].
+fn basins_of(scene: &Scene, quick: bool) -> Basins {
+    let side = Axis::new(-BASINS_EXTENT, BASINS_EXTENT, size_basins(quick));
+    rattle_compare::runs::basins::basins(
+        scene,
+        BASINS_OMEGA,
+        BasinGrid {
+            outer: side,
+            inner: side,
+        },
+        &basin_options(),
+        &Progress::hidden(),
+    )
+}
+
+/// The Lyapunov figure's samples over the paper's axis.
+fn lyapunov_samples(scene: &Scene, quick: bool) -> Vec<ChaosSample> {
+    let options = SimulationOptions {
+        max_periods: STUDY_MAX_PERIODS,
+        ..SimulationOptions::default()
+    };
+    chaos_samples(
+        scene,
+        &Axis::new(0.1, 4.0, size_lyapunov(quick)).values(),
+        &options,
+        &Progress::hidden(),
+    )
+}
+
+/// The Poincaré figure's sections, with the command's own options (`rattle simulate --omega
+/// 1.25 --lyapunov` prints the title's exponents).
+fn poincare_of(scene: &Scene, quick: bool) -> Result<PoincareSections, String> {
+    poincare_sections(
+        scene,
+        POINCARE_OMEGA,
+        if quick { 500 } else { POINCARE_POINTS },
+        rattle_event_driven::DEFAULT_LYAPUNOV_PERIODS,
+        &SimulationOptions::default(),
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// The work-precision study, with Siconos's points as `cargo xtask peers` measured them
+/// (absent: the figure goes without). It times the solvers, so it runs alone.
+fn precision_study(damped: &Scene, siconos: Option<&SiconosPeer>) -> Result<WorkPrecision, String> {
+    let options = SimulationOptions {
+        max_periods: STUDY_MAX_PERIODS,
+        ..SimulationOptions::default()
+    };
+    let mut precision = work_precision::study(
+        damped,
+        WORK_PRECISION_OMEGA,
+        WORK_PRECISION_PERIODS,
+        SWEEP_COST_RANGE,
+        &options,
+    )
+    .map_err(|e| e.to_string())?;
+    precision.siconos = siconos
+        .and_then(|p| {
+            p.work_precision_for(
+                WORK_PRECISION_SCENE,
+                WORK_PRECISION_OMEGA,
+                WORK_PRECISION_PERIODS,
+            )
+        })
+        .cloned();
+    Ok(precision)
+}
+
+/// Writes the maps' tables into `data_dir`.
+fn write_maps(maps: &(Map, Map), data_dir: &Path) -> Result<(), String> {
+    let (bandwidth, regimes) = maps;
+    std::fs::create_dir_all(data_dir).map_err(|e| e.to_string())?;
+    write_table(
+        &data_dir.join("bandwidth-map.csv"),
+        Format::Csv,
+        &Header::default(),
+        bandwidth.bandwidth_rows(),
+    )
+    .map_err(|e| e.to_string())?;
+    write_table(
+        &data_dir.join("regime-map.csv"),
+        Format::Csv,
+        &Header::default(),
+        regimes.point_rows(),
+    )
+    .map_err(|e| e.to_string())
+}
+
+/// Draws every figure of `c` and `precision` into `dir`; returns the files written.
+fn draw_all(c: &Computed, precision: &WorkPrecision, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let options = SimulationOptions {
+        max_periods: STUDY_MAX_PERIODS,
+        ..SimulationOptions::default()
+    };
+    let plots = c.main.plots(&options, c.maps.as_ref());
+    let name = &c.main.scene.name;
+    let mut written = figures::draw(&plots, dir).map_err(|e| e.to_string())?;
+    written.extend(figures::draw_work_precision(precision, dir).map_err(|e| e.to_string())?);
+    written.extend(
+        figures::draw_basins(
+            &figures::basins::BasinsFigure {
+                scene_name: name.clone(),
+                basins: c.basins.clone(),
+            },
+            dir,
+        )
+        .map_err(|e| e.to_string())?,
+    );
+    written.extend(
+        figures::draw_lyapunov(
+            &figures::lyapunov::LyapunovFigure {
+                scene_name: name.clone(),
+                samples: c.samples.clone(),
+            },
+            dir,
+        )
+        .map_err(|e| e.to_string())?,
+    );
+    written.extend(
+        figures::draw_poincare(
+            &figures::poincare::PoincareFigure {
+                scene_name: name.clone(),
+                sections: c.poincare.clone()?,
+            },
+            dir,
+        )
+        .map_err(|e| e.to_string())?,
+    );
+    written.extend(figures::draw_chains(&c.chains, dir).map_err(|e| e.to_string())?);
+    Ok(written)
+}
+
 /// Runs the task.
 pub fn run(args: FiguresArgs) -> Result<(), String> {
     let scene = match &args.scene {
@@ -108,182 +346,55 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
             scene.cell_count()
         ));
     }
-    let (size, map_sizes) = if args.quick {
-        (StudySize::quick(), MapSizes::quick())
-    } else {
-        (StudySize::full(), MapSizes::full())
-    };
+    let damped = Scene::load(&root().join(WORK_PRECISION_SCENE)).map_err(|e| e.to_string())?;
+    let siconos = SiconosPeer::load(&root().join(SICONOS_DATA)).map_err(|e| e.to_string())?;
     let out = args.out.unwrap_or_else(root);
-    let start = Instant::now();
-    let lap = |what: &str| eprintln!("{what}: {:.1} s", start.elapsed().as_secs_f64());
-    let options = SimulationOptions {
-        max_periods: STUDY_MAX_PERIODS,
-        ..SimulationOptions::default()
+    let clock = Clock {
+        start: Instant::now(),
     };
     eprintln!(
-        "study of scene '{}' (reading A: the scene's gap)",
+        "figures of scene '{}' (reading A: the scene's gap; reading B: half of it); every stage \
+         at once, then the work-precision study alone",
         scene.name
     );
-    let main = Study::run(&scene, size, &options, true);
-    lap("study, reading A");
-    let mut other_scene = scene.clone();
-    other_scene.name = format!("{} (half gap)", scene.name);
-    other_scene.stops = scene.stops.map(|s| StopsSpec {
-        gap: READING_B_GAP_FACTOR * s.gap,
-        ..s
-    });
-    let other = Study::run(&other_scene, size.without_extras(), &options, true);
-    lap("study, reading B");
-    let elastic_note = elastic_note(&scene, &options);
-
-    let maps = maps(&scene, map_sizes, true);
-    lap("maps");
-    let data_dir = out.join("data/maps");
-    match &maps {
-        Some((bandwidth, regimes)) => {
-            std::fs::create_dir_all(&data_dir).map_err(|e| e.to_string())?;
-            let table = |name: &str| data_dir.join(name);
-            write_table(
-                &table("bandwidth-map.csv"),
-                Format::Csv,
-                &Header::default(),
-                bandwidth.bandwidth_rows(),
-            )
-            .map_err(|e| e.to_string())?;
-            write_table(
-                &table("regime-map.csv"),
-                Format::Csv,
-                &Header::default(),
-                regimes.point_rows(),
-            )
-            .map_err(|e| e.to_string())?;
+    let c = compute(&scene, args.quick, &clock);
+    let precision = clock.stage("work-precision", || {
+        precision_study(&damped, siconos.as_ref())
+    })?;
+    let written = clock.stage("figures drawn, tables and report written", || {
+        let written = draw_all(&c, &precision, &out.join("figures"))?;
+        match &c.maps {
+            Some(maps) => write_maps(maps, &out.join("data/maps"))?,
+            None => eprintln!(
+                "no maps: the scene has no stops (a map varies their gap and restitution)"
+            ),
         }
-        None => {
-            eprintln!("no maps: the scene has no stops (a map varies their gap and restitution)")
-        }
-    }
-
-    let figures_dir = out.join("figures");
-    let plots = main.plots(&options, maps.as_ref());
-    let mut written = figures::draw(&plots, &figures_dir).map_err(|e| e.to_string())?;
-    lap("figures");
-
-    let damped = Scene::load(&root().join(WORK_PRECISION_SCENE)).map_err(|e| e.to_string())?;
-    eprintln!("work-precision study on '{}'", damped.name);
-    let mut precision = work_precision::study(
-        &damped,
-        WORK_PRECISION_OMEGA,
-        WORK_PRECISION_PERIODS,
-        SWEEP_COST_RANGE,
-        &options,
-    )
-    .map_err(|e| e.to_string())?;
-    // Siconos's points, as `cargo xtask peers` measured them (absent: the figure goes without).
-    let siconos = SiconosPeer::load(&root().join(SICONOS_DATA)).map_err(|e| e.to_string())?;
-    precision.siconos = siconos
-        .as_ref()
-        .and_then(|p| {
-            p.work_precision_for(
-                WORK_PRECISION_SCENE,
-                WORK_PRECISION_OMEGA,
-                WORK_PRECISION_PERIODS,
-            )
-        })
-        .cloned();
-    written
-        .extend(figures::draw_work_precision(&precision, &figures_dir).map_err(|e| e.to_string())?);
-    lap("work-precision");
-
-    let basins = rattle_compare::runs::basins::basins(
-        &scene,
-        BASINS_OMEGA,
-        BasinGrid {
-            outer: Axis::new(-BASINS_EXTENT, BASINS_EXTENT, size_basins(args.quick)),
-            inner: Axis::new(-BASINS_EXTENT, BASINS_EXTENT, size_basins(args.quick)),
-        },
-        &basin_options(),
-        &Progress::new("basins", 0, false),
-    );
-    written.extend(
-        figures::draw_basins(
-            &figures::basins::BasinsFigure {
-                scene_name: scene.name.clone(),
-                basins,
-            },
-            &figures_dir,
-        )
-        .map_err(|e| e.to_string())?,
-    );
-    lap("basins");
-
-    let lyapunov_options = SimulationOptions {
-        max_periods: STUDY_MAX_PERIODS,
-        ..SimulationOptions::default()
-    };
-    let samples = chaos_samples(
-        &scene,
-        &Axis::new(0.1, 4.0, size_lyapunov(args.quick)).values(),
-        &lyapunov_options,
-        &Progress::new("lyapunov", 0, false),
-    );
-    written.extend(
-        figures::draw_lyapunov(
-            &figures::lyapunov::LyapunovFigure {
-                scene_name: scene.name.clone(),
-                samples: samples.clone(),
-            },
-            &figures_dir,
-        )
-        .map_err(|e| e.to_string())?,
-    );
-    lap("lyapunov");
-
-    // The command's own options (`rattle simulate --omega 1.25 --lyapunov` prints the title's
-    // exponents).
-    let poincare = poincare_sections(
-        &scene,
-        POINCARE_OMEGA,
-        if args.quick { 500 } else { POINCARE_POINTS },
-        rattle_event_driven::DEFAULT_LYAPUNOV_PERIODS,
-        &SimulationOptions::default(),
-    )
-    .map_err(|e| e.to_string())?;
-    written.extend(
-        figures::draw_poincare(
-            &figures::poincare::PoincareFigure {
-                scene_name: scene.name.clone(),
-                sections: poincare,
-            },
-            &figures_dir,
-        )
-        .map_err(|e| e.to_string())?,
-    );
-    lap("poincare");
-
-    let chains = chain_study(&scene, args.quick, false);
-    written.extend(figures::draw_chains(&chains, &figures_dir).map_err(|e| e.to_string())?);
-    lap("chains");
-
-    let validation = out.join("validation");
-    let doc = serde_json::to_string_pretty(&agreement(&main)).map_err(|e| e.to_string())?;
-    write(&validation.join("agreement.json"), &(doc + "\n"))?;
-    write(
-        &validation.join("report.md"),
-        &(report(&main, &other, &elastic_note, &samples)
-            + &chain_section(&chains)
-            + &siconos_section(siconos.as_ref(), &precision)),
-    )?;
+        let validation = out.join("validation");
+        let doc = serde_json::to_string_pretty(&agreement(&c.main)).map_err(|e| e.to_string())?;
+        write(&validation.join("agreement.json"), &(doc + "\n"))?;
+        write(
+            &validation.join("report.md"),
+            &(report(&c.main, &c.other, &c.elastic_note, &c.samples)
+                + &chain_section(&c.chains)
+                + &siconos_section(siconos.as_ref(), &precision)),
+        )?;
+        Ok::<_, String>(written)
+    })?;
     for path in &written {
         eprintln!(
             "wrote {}",
             path.strip_prefix(&out).unwrap_or(path).display()
         );
     }
-    if maps.is_some() {
+    if c.maps.is_some() {
         eprintln!("wrote data/maps/bandwidth-map.csv, data/maps/regime-map.csv");
     }
     eprintln!("wrote validation/agreement.json, validation/report.md");
-    eprintln!("figures done in {:.1} s", start.elapsed().as_secs_f64());
+    let cpu = cpu_seconds().map_or(String::new(), |s| format!(", {s:.1} s of CPU"));
+    eprintln!(
+        "figures done in {:.1} s{cpu}",
+        clock.start.elapsed().as_secs_f64()
+    );
     Ok(())
 }
 

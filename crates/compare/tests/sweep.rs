@@ -233,6 +233,33 @@ fn the_figures_pipeline_runs_end_to_end() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The study runs its parts at once (the continuation on a thread of its own, fed the compared
+/// sweep's seeds when that is done): its every number, the agreement and the report are the
+/// same on one thread as on two (issue #24, the figures' stages made concurrent).
+#[cfg(feature = "figures")]
+#[test]
+fn the_study_is_the_same_on_one_and_two_threads() {
+    use rattle_compare::study::report::{agreement, report};
+    use rattle_compare::study::{Study, StudySize};
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let study = Study::run(&Scene::paper(), StudySize::quick(), &options(), false);
+            (
+                format!("{study:?}"),
+                serde_json::to_string(&agreement(&study)).unwrap(),
+                report(&study, &study, "n/a", &[]),
+            )
+        })
+    };
+    let one = run(1);
+    assert!(one.0.contains("branches: [Branch"), "no branch followed");
+    assert_eq!(one, run(2));
+}
+
 #[test]
 fn merged_shards_are_byte_identical_to_the_unsharded_sweep() {
     let scene = Scene::paper();

@@ -135,6 +135,29 @@ where
     Ok(())
 }
 
+/// `work` over every input, in parallel, the results handed to `sink` a block of `block`
+/// inputs at a time (the last block may be shorter), blocks in input order, each as soon as
+/// it is done: so that `sink` can start on the first results while the next block is
+/// computed (on another thread). `block = 0` counts as 1.
+pub fn for_each_block<I, O, F, S>(
+    inputs: &[I],
+    grain: Grain,
+    block: usize,
+    progress: &Progress,
+    work: F,
+    mut sink: S,
+) where
+    I: Sync,
+    O: Send,
+    F: Fn(&I) -> O + Sync + Send,
+    S: FnMut(Vec<O>),
+{
+    for chunk in inputs.chunks(block.max(1)) {
+        sink(map_block(chunk, grain, progress, &work));
+    }
+    progress.finish();
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -158,6 +181,18 @@ mod tests {
             )
             .unwrap();
             assert_eq!(streamed, out);
+            let mut blocks = Vec::new();
+            for_each_block(
+                &inputs,
+                grain,
+                7000,
+                &Progress::hidden(),
+                |&i| i * 2,
+                |b| blocks.push(b),
+            );
+            let sizes: Vec<usize> = blocks.iter().map(Vec::len).collect();
+            assert_eq!(sizes, [7000, 7000, 6000]);
+            assert_eq!(blocks.concat(), out);
         }
     }
 

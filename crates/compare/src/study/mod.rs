@@ -11,7 +11,7 @@ pub mod report;
 use crate::runs::axis::Axis;
 use crate::runs::continuation::Branches;
 use crate::runs::map::{Map, MapGrid, MapSettings};
-use crate::runs::parallel::{parallel_map, Grain, Progress};
+use crate::runs::parallel::{for_each_block, parallel_map, Grain, Progress};
 use crate::scene::analytic::orbits_of_signature;
 use crate::scene::analytic::{analyse, AnalyticPoint, OrbitSearch};
 use crate::scene::simulator::{run, start_on_orbit, Regime, SimulatedPoint, START_PERTURBATION};
@@ -26,6 +26,7 @@ use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::gap_for_beta;
 use rattle_analytic::{Signature, SignatureOrbit};
 use rattle_event_driven::SimulationOptions;
+use std::sync::mpsc::{Receiver, Sender};
 
 /// Sizes of the study; [`StudySize::full`] for the committed figures, [`StudySize::quick`] for
 /// a smoke test.
@@ -57,7 +58,7 @@ impl StudySize {
             omega_max: 4.0,
             analytic_points: 1561,
             compared_points: 400,
-            bifurcation_points: 160,
+            bifurcation_points: 200,
             beta_points: 197,
             start_on_orbits: true,
             continuation: true,
@@ -149,115 +150,238 @@ pub const STUDY_BRANCHES: usize = 4;
 /// Points per branch in the study (both directions together).
 pub const STUDY_BRANCH_POINTS: usize = 1500;
 
-/// Every branch through the seeds: the `+-` orbits at [`TWO_IMPACT_SEEDS`], then the viable
-/// analytic orbit of each periodic simulated motion of `compared`, each skipped when a branch
+/// The viable `+-` orbits at [`TWO_IMPACT_SEEDS`] within the study's frequencies: the first
+/// seeds of the study's continuation.
+fn two_impact_seeds(scene: &Scene, size: &StudySize) -> Vec<SignatureOrbit> {
+    let Ok(two_impact) = Signature::parse("+-", 1) else {
+        return Vec::new();
+    };
+    TWO_IMPACT_SEEDS
+        .iter()
+        .filter(|&&w| w >= size.omega_min && w <= size.omega_max)
+        .flat_map(|&w| orbits_of_signature(scene, w, &two_impact))
+        .filter(|o| o.viable)
+        .collect()
+}
+
+/// The viable analytic orbit of each periodic simulated motion of `compared`, in the compared
+/// grid's order: the seeds of the study's continuation after the `+-` orbits.
+fn compared_seeds(compared: &[ComparedPoint]) -> Vec<SignatureOrbit> {
+    compared
+        .iter()
+        .filter_map(|p| p.cross.analytic.clone())
+        .filter(|o| o.viable)
+        .collect()
+}
+
+/// Every branch through the seeds: the `+-` orbits ([`two_impact_seeds`]), then each batch of
+/// seeds `later` delivers ([`compared_seeds`]), in that order, each seed skipped when a branch
 /// already followed passes through it. Seeds the continuation refuses are skipped.
-fn branches(scene: &Scene, size: &StudySize, compared: &[ComparedPoint]) -> Branches {
+///
+/// The seeds are followed one after another, each against the branches of those before, so
+/// the branches are those of one serial run over all the seeds whatever the thread count;
+/// the `+-` seeds are followed while `later` is still being computed. The batches are not
+/// waited for without stops or without `size.continuation`. `progress` prints how long the
+/// following took and how many branches it added, for each kind of seed.
+fn branches(
+    scene: &Scene,
+    size: &StudySize,
+    later: Receiver<Vec<SignatureOrbit>>,
+    progress: bool,
+) -> Branches {
     let mut out = Branches::default();
     let (Some(stops), true) = (scene.stops_model(), size.continuation) else {
         return out;
     };
     let unit = scene.unit_model();
     let settings = study_continuation(size.omega_min, size.omega_max);
-    let two_impact = Signature::parse("+-", 1).ok();
-    let mut seeds: Vec<SignatureOrbit> = TWO_IMPACT_SEEDS
-        .iter()
-        .filter(|&&w| w >= size.omega_min && w <= size.omega_max)
-        .flat_map(|&w| {
-            two_impact
-                .as_ref()
-                .map(|sig| orbits_of_signature(scene, w, sig))
-                .unwrap_or_default()
-        })
-        .filter(|o| o.viable)
-        .collect();
-    seeds.extend(
-        compared
-            .iter()
-            .filter_map(|p| p.cross.analytic.clone())
-            .filter(|o| o.viable),
-    );
-    // A refused seed (Newton fails to restart it) leaves the other seeds' branches.
-    let _ = out.extend_all(&unit, &stops, &seeds, &settings);
+    // A refused seed (Newton fails to restart it) leaves the other seeds' branches; the time
+    // spent following and the branches added are told per kind of seed.
+    let mut follow = |seeds: &[SignatureOrbit], told: &mut (usize, usize, f64)| {
+        let (clock, before) = (std::time::Instant::now(), out.branches.len());
+        let _ = out.extend_all(&unit, &stops, seeds, &settings);
+        told.0 += seeds.len();
+        told.1 += out.branches.len() - before;
+        told.2 += clock.elapsed().as_secs_f64();
+    };
+    let tell = |what: &str, (seeds, branches, seconds): (usize, usize, f64)| {
+        if progress {
+            eprintln!("  continuation from {seeds} {what}: {seconds:.1} s, {branches} branches");
+        }
+    };
+    let mut told = (0, 0, 0.0);
+    follow(&two_impact_seeds(scene, size), &mut told);
+    tell("`+-` seeds", told);
+    let mut told = (0, 0, 0.0);
+    for seeds in later {
+        follow(&seeds, &mut told);
+    }
+    tell("seeds of the compared sweep", told);
     out
 }
 
+/// `work()`, printing `label` and how long it took when `progress` is on.
+fn timed<T>(label: &str, progress: bool, work: impl FnOnce() -> T) -> T {
+    let clock = std::time::Instant::now();
+    let out = work();
+    if progress {
+        eprintln!("  {label}: {:.1} s", clock.elapsed().as_secs_f64());
+    }
+    out
+}
+
+/// The analytic picture of `scene` on the study's fine grid.
+fn analytic_grid(scene: &Scene, size: &StudySize, progress: &Progress) -> Vec<AnalyticPoint> {
+    let grid = Axis::new(size.omega_min, size.omega_max, size.analytic_points).values();
+    parallel_map(&grid, Grain::Even, progress, |&w| {
+        analyse(scene, w, OrbitSearch::Symmetric)
+    })
+    .into_iter()
+    .filter_map(Result::ok)
+    .collect()
+}
+
+/// Frequencies of the compared sweep per block: after each block, the seeds of its periodic
+/// motions go to the continuation, which follows them while the next blocks are compared (ten
+/// blocks over the 400 frequencies of [`StudySize::full`]).
+pub const COMPARED_BLOCK: usize = 40;
+
+/// Both solvers on the study's compared grid: the points compared and the frequencies that
+/// failed, with the reason. After each block of [`COMPARED_BLOCK`] frequencies, its
+/// [`compared_seeds`] are sent to `seeds` (the order of the grid kept); a closed channel
+/// (the continuation needs no seeds) is no failure.
+fn compared_sweep(
+    scene: &Scene,
+    size: &StudySize,
+    options: &SimulationOptions,
+    progress: &Progress,
+    seeds: &Sender<Vec<SignatureOrbit>>,
+) -> (Vec<ComparedPoint>, Vec<(f64, String)>) {
+    let grid = Axis::new(size.omega_min, size.omega_max, size.compared_points).values();
+    let starts = if size.start_on_orbits {
+        Starts::RestAndOrbits
+    } else {
+        Starts::Rest
+    };
+    let mut compared = Vec::new();
+    let mut failures = Vec::new();
+    for_each_block(
+        &grid,
+        Grain::Uneven,
+        COMPARED_BLOCK,
+        progress,
+        |&w| compare(scene, w, options, starts).map_err(|e| (w, e.to_string())),
+        |block| {
+            let first = compared.len();
+            for r in block {
+                match r {
+                    Ok(c) => compared.push(c),
+                    Err(f) => failures.push(f),
+                }
+            }
+            let _ = seeds.send(compared_seeds(&compared[first..]));
+        },
+    );
+    (compared, failures)
+}
+
+/// Stroboscopic `(ω, u_o)` points of a sweep.
+type Stroboscopic = Vec<(f64, f64)>;
+
+/// The stroboscopic sweeps up and down the study's bifurcation grid (each sequential, the two
+/// in parallel).
+fn bifurcation_sweeps(
+    scene: &Scene,
+    size: &StudySize,
+    options: &SimulationOptions,
+) -> (Stroboscopic, Stroboscopic) {
+    let grid = Axis::new(size.omega_min, size.omega_max, size.bifurcation_points).values();
+    let down_grid: Vec<f64> = grid.iter().rev().copied().collect();
+    rayon::join(
+        || continuation(scene, &grid, options),
+        || continuation(scene, &down_grid, options),
+    )
+}
+
 impl Study {
-    /// Runs the study; `progress` draws progress lines on a terminal.
+    /// Runs the study; `progress` draws progress bars on a terminal and prints how long each
+    /// part took.
+    ///
+    /// The parts run concurrently: the continuation of the branches on a thread of its own
+    /// (from the start, beginning with the `+-` seeds; the seeds of each block of the compared
+    /// sweep follow as soon as the block is done), the analytic grid and the compared sweep
+    /// beside the bifurcation sweeps and the family, on rayon's threads. Every part is sequential where its result depends
+    /// on an order, so the study does not depend on the number of threads.
+    ///
+    /// # Panics
+    /// When a part panics (the panic is carried on).
     pub fn run(
         scene: &Scene,
         size: StudySize,
         options: &SimulationOptions,
         progress: bool,
     ) -> Study {
-        let clock = std::time::Instant::now();
-        let lap = |what: &str| {
-            if progress {
-                eprintln!("  {what}: {:.1} s", clock.elapsed().as_secs_f64());
-            }
-        };
         let bar = |label: &str, n: usize| Progress::new(label, n, progress);
-        let grid = Axis::new(size.omega_min, size.omega_max, size.analytic_points).values();
-        let analytic: Vec<AnalyticPoint> =
-            parallel_map(&grid, Grain::Even, &bar("analytic", grid.len()), |&w| {
-                analyse(scene, w, OrbitSearch::Symmetric)
-            })
-            .into_iter()
-            .filter_map(Result::ok)
-            .collect();
-
-        lap("analytic grid");
-        let grid = Axis::new(size.omega_min, size.omega_max, size.compared_points).values();
-        let starts = if size.start_on_orbits {
-            Starts::RestAndOrbits
-        } else {
-            Starts::Rest
-        };
-        let results = parallel_map(
-            &grid,
-            Grain::Uneven,
-            &bar("both solvers", grid.len()),
-            |&w| compare(scene, w, options, starts).map_err(|e| (w, e.to_string())),
-        );
-        let mut compared = Vec::new();
-        let mut failures = Vec::new();
-        for r in results {
-            match r {
-                Ok(c) => compared.push(c),
-                Err(f) => failures.push(f),
+        let (seeds, later) = std::sync::mpsc::channel();
+        std::thread::scope(|threads| {
+            let follower = threads.spawn(|| {
+                timed("continuation", progress, || {
+                    branches(scene, &size, later, progress)
+                })
+            });
+            let (
+                (analytic, (compared, failures)),
+                ((bifurcation_up, bifurcation_down), (family, confirmations)),
+            ) = rayon::join(
+                || {
+                    let analytic = timed("analytic grid", progress, || {
+                        analytic_grid(scene, &size, &bar("analytic", size.analytic_points))
+                    });
+                    let compared = timed("both solvers", progress, || {
+                        compared_sweep(
+                            scene,
+                            &size,
+                            options,
+                            &bar("both solvers", size.compared_points),
+                            &seeds,
+                        )
+                    });
+                    // The last seeds are sent: the follower ends with them.
+                    drop(seeds);
+                    (analytic, compared)
+                },
+                || {
+                    rayon::join(
+                        || {
+                            timed("bifurcation sweeps", progress, || {
+                                bifurcation_sweeps(scene, &size, options)
+                            })
+                        },
+                        || {
+                            timed("family", progress, || match scene.stops {
+                                Some(stops) => family(scene, stops, size.beta_points, options),
+                                None => (Vec::new(), Vec::new()),
+                            })
+                        },
+                    )
+                },
+            );
+            let branches = follower
+                .join()
+                .unwrap_or_else(|panic| std::panic::resume_unwind(panic));
+            Study {
+                scene: scene.clone(),
+                size,
+                analytic,
+                compared,
+                failures,
+                bifurcation_up,
+                bifurcation_down,
+                family,
+                confirmations,
+                branches,
             }
-        }
-
-        lap("both solvers");
-        let grid = Axis::new(size.omega_min, size.omega_max, size.bifurcation_points).values();
-        let down_grid: Vec<f64> = grid.iter().rev().copied().collect();
-        let directions = [grid, down_grid];
-        let mut sweeps = parallel_map(&directions, Grain::Uneven, &Progress::hidden(), |g| {
-            continuation(scene, g, options)
-        });
-        let bifurcation_down = sweeps.pop().unwrap_or_default();
-        let bifurcation_up = sweeps.pop().unwrap_or_default();
-
-        lap("bifurcation sweeps");
-        let (family, confirmations) = match scene.stops {
-            Some(stops) => family(scene, stops, size.beta_points, options),
-            None => (Vec::new(), Vec::new()),
-        };
-        lap("family");
-        let branches = branches(scene, &size, &compared);
-        lap("continuation");
-        Study {
-            scene: scene.clone(),
-            size,
-            analytic,
-            compared,
-            failures,
-            bifurcation_up,
-            bifurcation_down,
-            family,
-            confirmations,
-            branches,
-        }
+        })
     }
 
     /// The simulated from-rest points of the compared sweep.
@@ -366,17 +490,18 @@ pub struct MapSizes {
 }
 
 impl MapSizes {
-    /// The grids of `cargo xtask figures` (`rattle map` runs finer grids). The maps took 37.5
-    /// s of the command's 76 s at 21 × 16 × 160 and 16 × 300 (2 threads); with the basins,
-    /// Poincaré and chain figures added, they are 11 × 16 × 80 (steps 0.1 in e, the paper's
-    /// 0.8 included, 0.063 in Δ/u_g, 0.049 rad/s; 100 frequencies until the basins figure
-    /// grew to 200 × 200 starts) and 16 × 200.
+    /// The grids of `cargo xtask figures` (`rattle map` runs finer grids): the bandwidth map
+    /// 11 × 16 × 80 (steps 0.1 in e, the paper's 0.8 included, 0.063 in Δ/u_g, 0.049 rad/s),
+    /// the regime map 16 × 300 (0.013 rad/s). The bandwidth map was 21 × 16 × 160 before the
+    /// basins, Poincaré and chain figures were added; at that size it alone would cost about
+    /// 50 s of CPU (3.8 times its 13 s, measured with `perf` in issue #24), more than the whole
+    /// command's 30 s on two cores.
     pub fn full() -> MapSizes {
         MapSizes {
             restitutions: 11,
             gaps: 16,
             bandwidth_points: 80,
-            regime_points: 200,
+            regime_points: 300,
         }
     }
 
@@ -418,7 +543,7 @@ pub fn map_scene(scene: &Scene) -> Scene {
 }
 
 /// The bandwidth map (over restitution and gap) and the regime map (over frequency and gap at
-/// the scene's restitution) of [`map_scene`]`(scene)`; `None` without stops.
+/// the scene's restitution) of [`map_scene`]`(scene)`, computed at once; `None` without stops.
 pub fn maps(scene: &Scene, sizes: MapSizes, progress: bool) -> Option<(Map, Map)> {
     let restitution = scene.stops?.restitution;
     let scene = map_scene(scene);
@@ -448,10 +573,13 @@ pub fn maps(scene: &Scene, sizes: MapSizes, progress: bool) -> Option<(Map, Map)
             &Progress::new(label, lines, progress),
         )
     };
-    // Both grids are valid by construction and the scene has stops.
-    let bandwidth = run(bandwidth_grid, &bandwidth_settings, "bandwidth map").ok()?;
-    let regimes = run(regime_grid, &settings, "regime map").ok()?;
-    Some((bandwidth, regimes))
+    // Both grids are valid by construction and the scene has stops. The two maps run at once
+    // (each map's lines in parallel, each line sequential: the maps do not depend on it).
+    let (bandwidth, regimes) = rayon::join(
+        || run(bandwidth_grid, &bandwidth_settings, "bandwidth map"),
+        || run(regime_grid, &settings, "regime map"),
+    );
+    Some((bandwidth.ok()?, regimes.ok()?))
 }
 
 impl Study {
