@@ -48,30 +48,29 @@
 //!
 //! The flow between impacts is the exponential of the system augmented with the forcing's two
 //! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
+//!
+//! The source is in folders by job: [`problem`] (what is solved), [`linear`] (without
+//! stops), [`flow`] (between impacts), [`cycle`] (the cycle equations of any impact sequence,
+//! their Newton and search, the unit's signature orbits and the verdicts), [`closed_form`]
+//! (the two-impact closed forms) and [`continuation`]; each module is also at the crate's root
+//! (`rattle_analytic::unit`, `rattle_analytic::cycle_equations`, …).
 #![deny(missing_docs)]
 
-mod branch_point;
-pub mod chain;
+pub mod closed_form;
 pub mod continuation;
 pub mod cycle;
-pub mod cycle_equations;
-pub mod family;
 pub mod flow;
-pub mod lattice;
 pub mod linear;
-pub mod model;
-pub mod model_flight;
-pub mod motion;
-pub mod orbit;
-pub mod sequence;
-pub mod sequence_orbit;
-pub mod sequence_search;
-pub mod sequence_verdicts;
-pub mod signature;
-pub mod symmetric;
+pub mod problem;
 pub mod test_models;
-pub mod unit;
-mod verdicts;
+
+pub use closed_form::{family, orbit, symmetric};
+use cycle::verdicts;
+pub use cycle::{cycle_equations, motion, sequence_orbit, sequence_search};
+pub use flow::model_flight;
+pub use linear::lattice;
+pub use problem::{chain, model, sequence, signature, unit};
+pub use verdicts::sequence_verdicts;
 
 pub use chain::{chain_response, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{

@@ -2,8 +2,8 @@
 //! point onto the branch: chord Newton with the Jacobian of a nearby point (one residual
 //! evaluation per iteration), full Newton as the fallback, and polishing near a branch point.
 
+use super::branch_point::solve_branch_point;
 use super::system::{BranchModel, System};
-use crate::branch_point::solve_branch_point;
 use crate::cycle::{NEWTON_TOLERANCE, STEP_ROUNDING};
 use nalgebra::{DMatrix, DVector};
 
@@ -126,7 +126,7 @@ impl<M: BranchModel> System<M> {
     }
 
     /// The branch point of these equations near `x` (within about `1e-4`), solved by the
-    /// regular defining system of [`crate::branch_point`]; `None` if that does not converge
+    /// regular defining system of [`super::branch_point`]; `None` if that does not converge
     /// there, or if its solution has an unfolding `β` or residual above the corrector's
     /// acceptance (no branch point of this system, only a near one).
     pub(crate) fn branch_point_near(&self, x: &[f64]) -> Option<Vec<f64>> {

@@ -215,7 +215,7 @@ fn event_at<M: BranchModel>(
 /// sign: the zero of that test by [`locate`] (each trial point polished onto the branch),
 /// which pins it to about `√ε` (the corrected points near a branch point carry errors of that
 /// size), then solved to rounding by the regular defining system of
-/// [`crate::branch_point`]; accepted by [`event_at`] where `R_X` has lost rank.
+/// [`super::branch_point`]; accepted by [`event_at`] where `R_X` has lost rank.
 fn locate_branch_point<M: BranchModel>(
     system: &System<M>,
     a: &Node,

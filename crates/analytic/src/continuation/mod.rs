@@ -50,6 +50,7 @@
 //! another representation is not listed again. Switching is bounded by
 //! [`ContinuationSettings::max_depth`].
 
+mod branch_point;
 mod branches;
 mod corrector;
 mod driver;
@@ -197,7 +198,7 @@ fn start_run<M: BranchModel>(
 /// `[omega_min, omega_max]`, with the same events (grazing and vanishing impact for every
 /// contact pair) and switching. Each point carries the amplitude of every cell's outer mass
 /// ([`ContinuationPoint::cell_outer_amplitudes`]) and the verdicts of
-/// [`crate::sequence_verdicts::assemble`]. Mirror images count as the same branch when every
+/// [`crate::solve_sequence`] (one assembly for every model). Mirror images count as the same branch when every
 /// pair's stops are symmetric.
 ///
 /// # Errors

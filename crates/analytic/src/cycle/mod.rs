@@ -17,6 +17,12 @@
 //! multi-start of [`crate::sequence_search`]; its verdicts are the ones every model shares
 //! (`verdicts::assemble`), run on the unit's own flow.
 
+pub mod cycle_equations;
+pub mod motion;
+pub mod sequence_orbit;
+pub mod sequence_search;
+pub(crate) mod verdicts;
+
 use crate::cycle_equations::{CycleEquations, ImpactCondition};
 use crate::flow::{join, Augmented, Extrema, ForcedFlow};
 use crate::linear::{modes, transmittance_db};

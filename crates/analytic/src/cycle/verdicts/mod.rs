@@ -8,6 +8,8 @@
 //! [`crate::sequence_verdicts`]) each supply their flights' extrema and second moments, their
 //! impact maps, saltation matrices and eigenvalues; the verdicts are decided here, once.
 
+pub mod sequence_verdicts;
+
 use crate::cycle_equations::CycleEquations;
 use crate::flow::Extrema;
 use crate::orbit::{STABILITY_MARGIN, VIABILITY_TOLERANCE};

@@ -5,6 +5,8 @@
 //! so the flow over a time `t` is the matrix exponential `exp(Â t)`: exact, and finite at every
 //! frequency, including undamped exact resonance where the modal particular solution blows up.
 
+pub mod model_flight;
+
 use crate::unit::Unit;
 use nalgebra::{Matrix2, Matrix4, Matrix4x2, Vector2, Vector4, Vector6};
 

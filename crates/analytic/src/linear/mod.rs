@@ -1,5 +1,7 @@
 //! The linear unit (no stops): modes and the closed-form steady state.
 
+pub mod lattice;
+
 use crate::unit::Unit;
 use nalgebra::{Complex, Matrix2, SymmetricEigen};
 
