@@ -426,16 +426,6 @@ fn the_crate_paths_of_a_line_are_found() {
 /// brace (issue #22: no function over 150 lines).
 const MAX_FUNCTION_LINES: usize = 150;
 
-/// Files still being split into short functions (issue #22), exempt from
-/// [`MAX_FUNCTION_LINES`] until then: TEMPORARY, to be emptied as the splits are merged. A
-/// path exempts every file it begins. Left: the figures' `draw` of transmittance (188 lines)
-/// and work-precision (184) and the study's `report` (223).
-const AWAITING_SPLIT: [&str; 3] = [
-    "crates/compare/src/figures/transmittance.rs",
-    "crates/compare/src/figures/work_precision.rs",
-    "crates/compare/src/study/report.rs",
-];
-
 /// Whether a trimmed line opens a function: `fn name` after optional visibility and
 /// qualifiers.
 fn opens_function(trimmed: &str) -> Option<String> {
@@ -536,9 +526,6 @@ fn no_function_over_150_lines_in_the_solver_crates() {
         for file in rust_files(&root().join(krate)) {
             let relative = file.strip_prefix(root()).unwrap_or(&file).to_owned();
             let shown = relative.display().to_string();
-            if AWAITING_SPLIT.iter().any(|p| shown.starts_with(p)) {
-                continue;
-            }
             checked += 1;
             let text = std::fs::read_to_string(&file).expect("source files are readable");
             for (line, name, length) in long_functions(&text, MAX_FUNCTION_LINES) {

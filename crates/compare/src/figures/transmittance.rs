@@ -4,6 +4,7 @@
 use crate::figures::plot::{axes, err, legend, text, Figure};
 use crate::scene::simulator::Regime;
 use crate::study::plots::Transmittance;
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -58,6 +59,25 @@ impl Figure for Transmittance {
             "transmittance T (dB)",
             18,
         )?;
+        self.draw_claims(&mut chart, wmax)?;
+        self.draw_linear(&mut chart, wmin, wmax)?;
+        self.draw_orbits(&mut chart)?;
+        self.draw_simulated(&mut chart)?;
+        legend(&mut chart, SeriesLabelPosition::LowerLeft, 15)?;
+        Ok(())
+    }
+}
+
+/// The chart of the figure: frequency against transmittance.
+type Chart<'a, DB> = ChartContext<'a, DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+impl Transmittance {
+    /// The paper's claimed attenuation bands and its marked frequencies.
+    fn draw_claims<DB: DrawingBackend>(
+        &self,
+        chart: &mut Chart<'_, DB>,
+        wmax: f64,
+    ) -> Result<(), String> {
         // The paper's claimed attenuation bands.
         for (i, (from, to, label)) in self.claimed_bands.iter().enumerate() {
             let (y0, y1) = (T_MAX - 4.0 - 3.0 * i as f64, T_MAX - 1.5 - 3.0 * i as f64);
@@ -97,6 +117,16 @@ impl Figure for Transmittance {
                 )))
                 .map_err(err)?;
         }
+        Ok(())
+    }
+
+    /// The 0 dB line and the linear unit, in contiguous runs of finite values.
+    fn draw_linear<DB: DrawingBackend>(
+        &self,
+        chart: &mut Chart<'_, DB>,
+        wmin: f64,
+        wmax: f64,
+    ) -> Result<(), String> {
         // 0 dB.
         chart
             .draw_series(LineSeries::new(
@@ -129,10 +159,15 @@ impl Figure for Transmittance {
             if p.linear.transmittance_db.is_finite() {
                 run.push((p.omega, clamp(p.linear.transmittance_db)));
             } else {
-                flush(&mut run, &mut chart)?;
+                flush(&mut run, chart)?;
             }
         }
-        flush(&mut run, &mut chart)?;
+        flush(&mut run, chart)?;
+        Ok(())
+    }
+
+    /// The analytic symmetric two-impact orbits, segment by segment, by verdict.
+    fn draw_orbits<DB: DrawingBackend>(&self, chart: &mut Chart<'_, DB>) -> Result<(), String> {
         // Analytic two-impact orbits: symmetric branches, segment by segment.
         let stable = RGBColor(0, 0, 0);
         let mut labelled = [false; 3];
@@ -200,6 +235,11 @@ impl Figure for Transmittance {
                 }
             }
         }
+        Ok(())
+    }
+
+    /// The simulated steady states from rest, by regime.
+    fn draw_simulated<DB: DrawingBackend>(&self, chart: &mut Chart<'_, DB>) -> Result<(), String> {
         // Simulated steady states from rest.
         let mut seen: Vec<Regime> = Vec::new();
         for p in &self.simulated {
@@ -221,7 +261,6 @@ impl Figure for Transmittance {
                     .legend(move |(x, y)| Circle::new((x + 10, y), 4, colour.filled()));
             }
         }
-        legend(&mut chart, SeriesLabelPosition::LowerLeft, 15)?;
         Ok(())
     }
 }

@@ -154,6 +154,166 @@ fn padded_range(points: impl Iterator<Item = f64>) -> (f64, f64) {
     }
 }
 
+/// The figure's title and the three lines that say what is measured.
+fn draw_titles<DB: DrawingBackend>(
+    title: &DrawingArea<DB, Shift>,
+    s: &WorkPrecision,
+) -> Result<(), String> {
+    title
+        .draw(&Text::new(
+            format!(
+                "Work–precision, scene '{}', ω = {} rad/s (stable two-impact orbit, max|μ| = {:.3})",
+                s.scene_name,
+                s.omega,
+                s.orbit
+                    .floquet_multipliers
+                    .iter()
+                    .map(|m| m.norm())
+                    .fold(0.0, f64::max)
+            ),
+            (20, 10),
+            text(24),
+        ))
+        .map_err(err)?;
+    title
+        .draw(&Text::new(
+            format!(
+                "Both integrators start from rest and run {} periods. Error: the largest relative difference from the analytic orbit over the last",
+                s.periods
+            ),
+            (20, 45),
+            text(15),
+        ))
+        .map_err(err)?;
+    title
+        .draw(&Text::new(
+            "period (outer amplitude X_o, state just before the side-1 impact, impact phase/π). Times: minimum of repeated runs, one thread.",
+            (20, 67),
+            text(15),
+        ))
+        .map_err(err)?;
+    title
+        .draw(&Text::new(
+            format!(
+                "Failed solves (missed impact, other motion, error > {FAILURE_ERROR}) are drawn as crosses at the top."
+            ),
+            (20, 89),
+            text(15),
+        ))
+        .map_err(err)?;
+    Ok(())
+}
+
+/// Our two integrators: each a line over its knob (circles), labelled with the knob (one
+/// stacked list where the points crowd), failures as crosses.
+fn draw_ours<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, LogLog>,
+    s: &WorkPrecision,
+) -> Result<(), String> {
+    let series = [
+        (
+            &s.event_driven,
+            EVENT,
+            "event-driven simulator, root tolerance",
+        ),
+        (
+            &s.baseline,
+            BASELINE,
+            "Dormand–Prince 5(4) + event location on dense output, rtol",
+        ),
+    ];
+    for (points, colour, label) in series {
+        let ok: Vec<(f64, f64, f64)> = points
+            .iter()
+            .filter(|p| p.failure.is_none())
+            .map(|p| {
+                let (t, e) = plotted(p);
+                (t, e, p.tolerance)
+            })
+            .collect();
+        let label = format!(
+            "{label} {:.0e} … {:.0e}",
+            points.first().map_or(f64::NAN, |p| p.tolerance),
+            points.last().map_or(f64::NAN, |p| p.tolerance)
+        );
+        draw_line(chart, &ok, colour, label)?;
+        chart
+            .draw_series(
+                ok.iter()
+                    .map(|&(t, e, _)| Circle::new((t, e), 5, colour.filled())),
+            )
+            .map_err(err)?;
+        // Labels: the knob at each point; when the points crowd (the event-driven errors all
+        // sit at rounding level), one stacked list beside them.
+        let (t_lo, t_hi) = ok.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| {
+            (lo.min(p.0), hi.max(p.0))
+        });
+        let crowded = (t_hi / t_lo).log10() < 0.5;
+        let e_lo = ok.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+        chart
+            .draw_series(ok.iter().enumerate().map(|(k, &(t, e, tol))| {
+                let at = if crowded {
+                    (t_hi * 1.3, e_lo * 10f64.powf(1.0 + 0.4 * k as f64))
+                } else {
+                    (t, e * 2.2)
+                };
+                let words = if crowded {
+                    format!("{tol:.0e}: error {e:.1e}")
+                } else {
+                    format!("{tol:.0e}")
+                };
+                Text::new(words, at, text(13).color(&colour))
+            }))
+            .map_err(err)?;
+        chart
+            .draw_series(
+                points
+                    .iter()
+                    .filter(|p| p.failure.is_some())
+                    .map(|p| Cross::new(plotted(p), 7, colour.stroke_width(3))),
+            )
+            .map_err(err)?;
+    }
+    Ok(())
+}
+
+/// The analytic solve, and the legend entry of a failed solve.
+fn draw_analytic<DB: DrawingBackend>(
+    chart: &mut ChartContext<'_, DB, LogLog>,
+    s: &WorkPrecision,
+) -> Result<(), String> {
+    // The analytic solve: one point, drawn at its difference from the most accurate
+    // simulation (a bound on both).
+    let floor = s
+        .event_driven
+        .iter()
+        .filter_map(PrecisionPoint::error)
+        .fold(f64::INFINITY, f64::min);
+    let floor = if floor.is_finite() {
+        floor.max(FLOOR)
+    } else {
+        FLOOR
+    };
+    chart
+        .draw_series(std::iter::once(TriangleMarker::new(
+            (s.analytic_seconds, floor),
+            9,
+            BLACK.filled(),
+        )))
+        .map_err(err)?
+        .label(format!(
+            "analytic orbit solve (the reference), {:.1} µs; drawn at its difference from the simulator",
+            s.analytic_seconds * 1e6
+        ))
+        .legend(|(x, y)| TriangleMarker::new((x + 10, y), 7, BLACK.filled()));
+    chart
+        .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
+        .map_err(err)?
+        .label("failed solve (no two-impact motion in the last period, or error > 0.1)")
+        .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(2)));
+    Ok(())
+}
+
 impl Figure for WorkPrecisionFigure {
     fn name(&self) -> &str {
         "work-precision"
@@ -180,48 +340,7 @@ impl Figure for WorkPrecisionFigure {
                 .chain(siconos_seconds),
         );
         let (title, body) = root.split_vertically(112);
-        title
-            .draw(&Text::new(
-                format!(
-                    "Work–precision, scene '{}', ω = {} rad/s (stable two-impact orbit, max|μ| = {:.3})",
-                    s.scene_name,
-                    s.omega,
-                    s.orbit
-                        .floquet_multipliers
-                        .iter()
-                        .map(|m| m.norm())
-                        .fold(0.0, f64::max)
-                ),
-                (20, 10),
-                text(24),
-            ))
-            .map_err(err)?;
-        title
-            .draw(&Text::new(
-                format!(
-                    "Both integrators start from rest and run {} periods. Error: the largest relative difference from the analytic orbit over the last",
-                    s.periods
-                ),
-                (20, 45),
-                text(15),
-            ))
-            .map_err(err)?;
-        title
-            .draw(&Text::new(
-                "period (outer amplitude X_o, state just before the side-1 impact, impact phase/π). Times: minimum of repeated runs, one thread.",
-                (20, 67),
-                text(15),
-            ))
-            .map_err(err)?;
-        title
-            .draw(&Text::new(
-                format!(
-                    "Failed solves (missed impact, other motion, error > {FAILURE_ERROR}) are drawn as crosses at the top."
-                ),
-                (20, 89),
-                text(15),
-            ))
-            .map_err(err)?;
+        draw_titles(&title, s)?;
         let mut chart = ChartBuilder::on(&body)
             .margin(20)
             .x_label_area_size(55)
@@ -247,102 +366,11 @@ impl Figure for WorkPrecisionFigure {
                 RGBColor(150, 150, 150).stroke_width(1),
             ))
             .map_err(err)?;
-        let series = [
-            (
-                &s.event_driven,
-                EVENT,
-                "event-driven simulator, root tolerance",
-            ),
-            (
-                &s.baseline,
-                BASELINE,
-                "Dormand–Prince 5(4) + event location on dense output, rtol",
-            ),
-        ];
-        for (points, colour, label) in series {
-            let ok: Vec<(f64, f64, f64)> = points
-                .iter()
-                .filter(|p| p.failure.is_none())
-                .map(|p| {
-                    let (t, e) = plotted(p);
-                    (t, e, p.tolerance)
-                })
-                .collect();
-            let label = format!(
-                "{label} {:.0e} … {:.0e}",
-                points.first().map_or(f64::NAN, |p| p.tolerance),
-                points.last().map_or(f64::NAN, |p| p.tolerance)
-            );
-            draw_line(&mut chart, &ok, colour, label)?;
-            chart
-                .draw_series(
-                    ok.iter()
-                        .map(|&(t, e, _)| Circle::new((t, e), 5, colour.filled())),
-                )
-                .map_err(err)?;
-            // Labels: the knob at each point; when the points crowd (the event-driven errors all
-            // sit at rounding level), one stacked list beside them.
-            let (t_lo, t_hi) = ok.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| {
-                (lo.min(p.0), hi.max(p.0))
-            });
-            let crowded = (t_hi / t_lo).log10() < 0.5;
-            let e_lo = ok.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
-            chart
-                .draw_series(ok.iter().enumerate().map(|(k, &(t, e, tol))| {
-                    let at = if crowded {
-                        (t_hi * 1.3, e_lo * 10f64.powf(1.0 + 0.4 * k as f64))
-                    } else {
-                        (t, e * 2.2)
-                    };
-                    let words = if crowded {
-                        format!("{tol:.0e}: error {e:.1e}")
-                    } else {
-                        format!("{tol:.0e}")
-                    };
-                    Text::new(words, at, text(13).color(&colour))
-                }))
-                .map_err(err)?;
-            chart
-                .draw_series(
-                    points
-                        .iter()
-                        .filter(|p| p.failure.is_some())
-                        .map(|p| Cross::new(plotted(p), 7, colour.stroke_width(3))),
-                )
-                .map_err(err)?;
-        }
+        draw_ours(&mut chart, s)?;
         if let Some(siconos) = &s.siconos {
             draw_siconos(&mut chart, siconos, s.orbit.outer_amplitude)?;
         }
-        // The analytic solve: one point, drawn at its difference from the most accurate
-        // simulation (a bound on both).
-        let floor = s
-            .event_driven
-            .iter()
-            .filter_map(PrecisionPoint::error)
-            .fold(f64::INFINITY, f64::min);
-        let floor = if floor.is_finite() {
-            floor.max(FLOOR)
-        } else {
-            FLOOR
-        };
-        chart
-            .draw_series(std::iter::once(TriangleMarker::new(
-                (s.analytic_seconds, floor),
-                9,
-                BLACK.filled(),
-            )))
-            .map_err(err)?
-            .label(format!(
-                "analytic orbit solve (the reference), {:.1} µs; drawn at its difference from the simulator",
-                s.analytic_seconds * 1e6
-            ))
-            .legend(|(x, y)| TriangleMarker::new((x + 10, y), 7, BLACK.filled()));
-        chart
-            .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())
-            .map_err(err)?
-            .label("failed solve (no two-impact motion in the last period, or error > 0.1)")
-            .legend(|(x, y)| Cross::new((x + 10, y), 6, BLACK.stroke_width(2)));
+        draw_analytic(&mut chart, s)?;
         // Lower right (slow and accurate) is empty; Siconos's points sit top right.
         legend(&mut chart, SeriesLabelPosition::LowerRight, 15)?;
         Ok(())

@@ -181,15 +181,20 @@ fn verdict(ok: bool) -> &'static str {
 /// `chaos` (the largest exponent of the motion from rest along a frequency axis,
 /// [`crate::study::chaos::chaos_samples`]; the section says so when it is empty).
 pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSample]) -> String {
+    let mut r = header(main, other);
+    linear_claims(&mut r, main);
+    impacting_claims(&mut r, main, other);
+    beta_claim(&mut r, main);
+    time_response_claims(&mut r, main, other, elastic_note);
+    agreement_section(&mut r, main);
+    bands_section(&mut r, main);
+    chaos_section(&mut r, chaos);
+    r
+}
+
+/// The report's title, the scene and the claims table's head.
+fn header(main: &Study, other: &Study) -> String {
     let unit = main.scene.unit_model();
-    let m = modes(&unit);
-    let (w1, w2) = (
-        m.natural_frequencies_squared[0].sqrt(),
-        m.natural_frequencies_squared[1].sqrt(),
-    );
-    let anti = (unit.inner_stiffness / unit.inner_mass).sqrt();
-    let [lin, sim_a, pred_a] = study_bands(main);
-    let [_, sim_b, pred_b] = study_bands(other);
     let gap_a = main.scene.stops.map_or(f64::NAN, |s| s.gap);
     let gap_b = other.scene.stops.map_or(f64::NAN, |s| s.gap);
     let e = main.scene.stops.map_or(f64::NAN, |s| s.restitution);
@@ -213,6 +218,19 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
         r,
         "| claim (paper) | workbench | verdict |\n| --- | --- | --- |"
     );
+    r
+}
+
+/// The claims of the linear unit: resonances, anti-resonance, attenuation bands.
+fn linear_claims(r: &mut String, main: &Study) {
+    let unit = main.scene.unit_model();
+    let m = modes(&unit);
+    let (w1, w2) = (
+        m.natural_frequencies_squared[0].sqrt(),
+        m.natural_frequencies_squared[1].sqrt(),
+    );
+    let anti = (unit.inner_stiffness / unit.inner_mass).sqrt();
+    let [lin, _, _] = study_bands(main);
     let near = |a: f64, b: f64, tol: f64| (a - b).abs() <= tol;
     let _ = writeln!(
         r,
@@ -239,6 +257,12 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
         describe(&lin),
         verdict(lin_ok)
     );
+}
+
+/// The claim of the impacting unit's attenuation band, under both readings of the gap.
+fn impacting_claims(r: &mut String, main: &Study, other: &Study) {
+    let [_, sim_a, pred_a] = study_bands(main);
+    let [_, sim_b, pred_b] = study_bands(other);
     let claim_ok = |b: &[(f64, f64)]| {
         b.len() == 1
             && b[0].0 <= paper::IMPACTING_BAND.0 + read_off::BAND_START
@@ -258,6 +282,11 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
         describe(&pred_a),
         describe(&pred_b)
     );
+}
+
+/// Nigm–Shabana's claim of non-viable `β`: the smallest viable `β` over the family's frequencies.
+fn beta_claim(r: &mut String, main: &Study) {
+    let e = main.scene.stops.map_or(f64::NAN, |s| s.restitution);
     // Nigm–Shabana: smallest viable β over the family frequencies.
     let smallest: Vec<String> = main
         .family
@@ -291,6 +320,10 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
         smallest.join("; "),
         if ns_ok { "reproduced" } else { "not reproduced as a fixed bound" }
     );
+}
+
+/// The claims of Figure 4 (the impacting time responses).
+fn time_response_claims(r: &mut String, main: &Study, other: &Study, elastic_note: &str) {
     let at = |s: &Study, w: f64| {
         s.compared
             .iter()
@@ -318,6 +351,10 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
         r,
         "| Fig. 4: fully elastic impacts | {elastic_note} | not checkable as a steady state |"
     );
+}
+
+/// The agreement of the two solvers (reading A), from [`agreement`].
+fn agreement_section(r: &mut String, main: &Study) {
     let _ = writeln!(r, "\n## Agreement of the two solvers (reading A)\n");
     // Serialisation of a record of numbers, strings and maps cannot fail.
     let a = serde_json::to_value(agreement(main)).unwrap_or_default();
@@ -352,6 +389,10 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
             c["detail"].as_str().unwrap_or("")
         );
     }
+}
+
+/// The motion the unit takes, band by band (reading A), from [`motion_bands`].
+fn bands_section(r: &mut String, main: &Study) {
     let _ = writeln!(r, "\n## Band by band (reading A)\n");
     let _ = writeln!(
         r,
@@ -379,6 +420,10 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
             b.analytic
         );
     }
+}
+
+/// The chaotic bands (reading A), from `chaos`.
+fn chaos_section(r: &mut String, chaos: &[ChaosSample]) {
     let _ = writeln!(r, "\n## Chaotic bands (reading A)\n");
     if chaos.is_empty() {
         let _ = writeln!(r, "Not computed in this run.");
@@ -393,7 +438,7 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
             chaos.last().map_or(f64::NAN, |s| s.omega),
             regime_counts(chaos)
         );
-        r += &chaotic_bands_text(chaos);
+        *r += &chaotic_bands_text(chaos);
         let _ = writeln!(
             r,
             "\nfigures/poincare shows the stroboscopic section and the impact map of the motion from rest at ω = {} rad/s, \
@@ -401,7 +446,6 @@ pub fn report(main: &Study, other: &Study, elastic_note: &str, chaos: &[ChaosSam
             crate::study::chaos::POINCARE_OMEGA
         );
     }
-    r
 }
 
 /// How the frequencies of `chaos` divide by regime, in words.
