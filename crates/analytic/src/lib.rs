@@ -38,7 +38,7 @@
 //!   unit ([`continue_orbit`]) and of any impact sequence of a [`LinearModel`] such as a chain
 //!   ([`continue_sequence`]) through folds, with exact derivatives in `ω`, the bifurcation events
 //!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
-//!   impact) located to `1e-8` in `ω`, and the branches that leave at them, each followed
+//!   impact) located to `1e-8` in `ω` (branch points to rounding, by a regular defining system), and the branches that leave at them, each followed
 //!   once (a branch onto one followed, or onto its mirror image, ends there);
 //! - for every orbit ([`orbit::Orbit`]): the outer amplitude from rigorous extrema, viability
 //!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
