@@ -453,6 +453,51 @@ fn event_and_end_names() {
     assert_eq!(EndReason::FlightMerged.name(), "flight-merged");
 }
 
+/// Issue #22: the branch cap used to drop the seeds still queued without a word. With one
+/// branch allowed, the symmetric branch through ω = 2.9 is followed and every branch it would
+/// switch onto is listed, without points, both ends `branch-cap`: as many as leave it when
+/// the cap allows them.
+#[test]
+fn branches_past_the_cap_are_listed_with_their_reason() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = symmetric_start(2.9);
+    let capped = ContinuationSettings {
+        max_branches: 1,
+        max_depth: 1,
+        ..ContinuationSettings::new(2.8, 3.0)
+    };
+    let c = continue_orbit(&unit, &stops, &start, &capped).unwrap();
+    assert!(!c.branches[0].points.is_empty());
+    let listed: Vec<&Branch> = c.branches.iter().skip(1).collect();
+    assert!(!listed.is_empty(), "the branch point's branch is queued");
+    for b in &listed {
+        assert!(
+            b.points.is_empty(),
+            "branch {} followed past the cap",
+            b.index
+        );
+        let reasons: Vec<EndReason> = c
+            .ends
+            .iter()
+            .filter(|e| e.branch == b.index)
+            .map(|e| e.reason)
+            .collect();
+        assert_eq!(reasons, [EndReason::BranchCap; 2], "branch {}", b.index);
+    }
+    assert_eq!(EndReason::BranchCap.name(), "branch-cap");
+    let free = ContinuationSettings {
+        max_depth: 1,
+        ..ContinuationSettings::new(2.8, 3.0)
+    };
+    let all = continue_orbit(&unit, &stops, &start, &free).unwrap();
+    let from_start = all
+        .branches
+        .iter()
+        .filter(|b| b.from_event.is_some_and(|e| all.events[e].branch == 0))
+        .count();
+    assert_eq!(listed.len(), from_start);
+}
+
 #[test]
 fn neimark_sacker_puts_a_complex_pair_on_the_unit_circle() {
     let (unit, stops) = (paper_unit(), paper_stops());

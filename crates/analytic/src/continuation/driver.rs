@@ -50,11 +50,19 @@ pub(crate) struct Run<'a, M: BranchModel> {
 }
 
 impl<M: BranchModel> Run<'_, M> {
-    /// Follows the seeds queued, up to `max_branches`.
+    /// Follows the seeds queued, up to `max_branches`; the seeds left then are recorded as
+    /// branches without points, both ends [`EndReason::BranchCap`] at their seed.
     pub(crate) fn run(&mut self) {
         while let Some(seed) = self.queue.pop_front() {
             if self.followed >= self.settings.max_branches {
-                break;
+                let omega = seed.x[seed.x.len() - 1];
+                self.unfollowed(
+                    &seed.signature,
+                    seed.from_event,
+                    omega,
+                    EndReason::BranchCap,
+                );
+                continue;
             }
             self.follow(seed);
         }

@@ -139,11 +139,14 @@ pub enum EndReason {
     /// A branch that leaves an event of a branch at [`ContinuationSettings::max_depth`](crate::ContinuationSettings::max_depth):
     /// recorded without points, not followed.
     MaxDepth,
+    /// A branch queued when [`ContinuationSettings::max_branches`](crate::ContinuationSettings::max_branches)
+    /// had been followed: recorded without points, not followed.
+    BranchCap,
 }
 
 impl EndReason {
     /// `omega-min`, `omega-max`, `step-below-minimum`, `point-cap`, `flight-merged`,
-    /// `vanishing-impact`, `newton-failed`, `closed-loop`, `joins` or `max-depth`.
+    /// `vanishing-impact`, `newton-failed`, `closed-loop`, `joins`, `max-depth` or `branch-cap`.
     pub fn name(self) -> &'static str {
         match self {
             EndReason::OmegaMin => "omega-min",
@@ -156,6 +159,7 @@ impl EndReason {
             EndReason::ClosedLoop => "closed-loop",
             EndReason::Joins => "joins",
             EndReason::MaxDepth => "max-depth",
+            EndReason::BranchCap => "branch-cap",
         }
     }
 }

@@ -711,7 +711,8 @@ def continue_branch(
     phases and ω together, ≥ 1e-9), ``max_branches`` the cap on the branches per start
     orbit (≥ 1), ``max_depth`` the switching depth (≥ 0; a start's branch has depth 0, one
     switched onto from a branch of depth d has d + 1; where the depth cuts, a branch without
-    points ends ``max-depth``). Each branch is followed once: one that runs onto a branch
+    points ends ``max-depth``; the branches still queued once ``max_branches`` have been
+    followed end ``branch-cap``). Each branch is followed once: one that runs onto a branch
     already followed, or onto its mirror image, ends ``joins`` with that branch. Returns a
     :class:`Continuation`.
 
