@@ -69,9 +69,10 @@ pub mod unit;
 
 pub use chain::{chain_response, validate_chain, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
-    continue_orbit, continue_orbit_after, continue_sequence, continue_sequence_after, Branch,
-    BranchEnd, Continuation, ContinuationError, ContinuationPoint, ContinuationSettings, EndReason,
-    Event, EventKind,
+    continue_orbit, continue_orbit_after, continue_sequence, continue_sequence_after,
+    follow_boundary, Boundary, BoundaryAt, BoundaryEnd, BoundaryEndReason, BoundaryError,
+    BoundaryPoint, BoundarySettings, BoundaryStart, Branch, BranchEnd, Continuation,
+    ContinuationError, ContinuationPoint, ContinuationSettings, EndReason, Event, EventKind,
 };
 pub use cycle::{
     signature_orbits, signature_orbits_on_grid, solve_signature, EnergyBalance, SignatureOrbit,
