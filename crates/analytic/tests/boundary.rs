@@ -313,3 +313,86 @@ fn branch_points_are_refused_and_bad_settings_name_the_field() {
         }
     );
 }
+
+#[test]
+fn neimark_sacker_curve_over_the_restitution_keeps_a_complex_pair_on_the_unit_circle() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let signature = Signature::parse("+-", 1).unwrap();
+    let start = signature_orbits(&unit, &stops, 2.9, &signature)
+        .into_iter()
+        .find(|o| (o.impact_phases[1] - 0.5).abs() < 1e-9 && o.viable)
+        .expect("the viable symmetric orbit at 2.9");
+    let event = event_of(&unit, &stops, &start, EventKind::NeimarkSacker, 2.9, 3.5).unwrap();
+    let boundary = follow_boundary(
+        &BoundaryStart {
+            unit_at: paper_at_restitution,
+            signature: &start.signature,
+            event: &event,
+            param: stops.restitution,
+            at: &[0.78, 0.8, 0.82],
+        },
+        &BoundarySettings::new(0.76, 0.84),
+    )
+    .unwrap();
+    one_parameter_agrees(&boundary, paper_at_restitution, 0.01);
+    for p in boundary.points.iter().step_by(3) {
+        let (unit, stops) = paper_at_restitution(p.param_value).unwrap();
+        let guess = guess_of(p.alpha, &p.impact_phases);
+        let orbit = solve_signature(&unit, &stops, p.omega, &boundary.signature, &guess).unwrap();
+        let on_circle = orbit
+            .floquet_multipliers
+            .iter()
+            .filter(|m| m.im.abs() > 1e-6)
+            .map(|m| (m.norm() - 1.0).abs())
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            on_circle < 1e-8,
+            "||μ| − 1| = {on_circle:e} at e = {}",
+            p.param_value
+        );
+    }
+}
+
+#[test]
+fn vanishing_impact_curve_over_the_gap_has_zero_relative_velocity() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    // The symmetric orbit at ω = 3.5 that is not a motion (the continuation test's).
+    let signature = Signature::parse("+-", 1).unwrap();
+    let start = signature_orbits(&unit, &stops, 3.5, &signature)
+        .into_iter()
+        .find(|o| (o.impact_phases[1] - 0.5).abs() < 1e-9 && !o.viable)
+        .expect("a non-viable symmetric orbit at 3.5");
+    let event = event_of(&unit, &stops, &start, EventKind::VanishingImpact, 3.0, 3.7).unwrap();
+    let boundary = follow_boundary(
+        &BoundaryStart {
+            unit_at: paper_at_gap,
+            signature: &start.signature,
+            event: &event,
+            param: stops.gap,
+            at: &[0.48, 0.5, 0.52],
+        },
+        &BoundarySettings::new(0.46, 0.54),
+    )
+    .unwrap();
+    one_parameter_agrees(&boundary, paper_at_gap, 0.01);
+    let phase = event.phase.unwrap();
+    let j = event
+        .point
+        .impact_phases
+        .iter()
+        .position(|p| (p - phase).abs() < 1e-9)
+        .unwrap();
+    for p in &boundary.points {
+        let (unit, stops) = paper_at_gap(p.param_value).unwrap();
+        let guess = guess_of(p.alpha, &p.impact_phases);
+        let orbit = solve_signature(&unit, &stops, p.omega, &boundary.signature, &guess).unwrap();
+        let x = orbit.states_before_impacts[j];
+        // Relative to the velocity scale ω Δ of the motion.
+        let rdot = (x[3] - x[2]) / (p.omega * stops.gap);
+        assert!(
+            rdot.abs() < 1e-10,
+            "ṙ⁻/(ωΔ) = {rdot:e} at gap {}",
+            p.param_value
+        );
+    }
+}
