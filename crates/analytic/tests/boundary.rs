@@ -80,16 +80,13 @@ fn symmetric_start() -> SignatureOrbit {
     symmetric.into_iter().next().expect("a symmetric orbit")
 }
 
-/// The point of the curve nearest parameter value `value`.
-fn nearest(boundary: &Boundary, value: f64) -> &BoundaryPoint {
+/// The point of the curve nearest `at` in (p, ω).
+fn nearest_to<'a>(boundary: &'a Boundary, at: &BoundaryAt) -> &'a BoundaryPoint {
+    let d = |p: &BoundaryPoint| (p.param_value - at.param_value).hypot(p.omega - at.omega);
     boundary
         .points
         .iter()
-        .min_by(|a, b| {
-            (a.param_value - value)
-                .abs()
-                .total_cmp(&(b.param_value - value).abs())
-        })
+        .min_by(|a, b| d(a).total_cmp(&d(b)))
         .unwrap()
 }
 
@@ -102,10 +99,19 @@ where
 {
     // Each of these curves is a graph over the parameter: one crossing per value.
     assert_eq!(boundary.at.len(), 3, "{:?}", boundary.at);
+    crossings_agree(boundary, unit_at, offset);
+}
+
+/// [`one_parameter_agrees`] for any number of crossings.
+fn crossings_agree<F>(boundary: &Boundary, unit_at: F, offset: f64)
+where
+    F: Fn(f64) -> Result<(Unit, Stops), UnitError>,
+{
     for at in &boundary.at {
         let (unit, stops) = unit_at(at.param_value).unwrap();
-        let point = nearest(boundary, at.param_value);
+        let point = nearest_to(boundary, at);
         let guess = guess_of(point.alpha, &point.impact_phases);
+        // The orbit `offset` above the crossing, or below where the branch has none above.
         let start = solve_signature(
             &unit,
             &stops,
@@ -113,6 +119,15 @@ where
             &boundary.signature,
             &guess,
         )
+        .or_else(|_| {
+            solve_signature(
+                &unit,
+                &stops,
+                at.omega - offset,
+                &boundary.signature,
+                &guess,
+            )
+        })
         .unwrap();
         let event = event_of(
             &unit,
@@ -395,4 +410,39 @@ fn vanishing_impact_curve_over_the_gap_has_zero_relative_velocity() {
             p.param_value
         );
     }
+}
+
+#[test]
+fn grazing_curve_over_the_restitution_passes_its_turning_point() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = asymmetric_start();
+    let event = event_of(&unit, &stops, &start, EventKind::Grazing, 2.5, 3.0).unwrap();
+    // Measured with `rattle boundary` (this curve): it turns back in e near e = 0.559,
+    // ω = 2.452, so that e = 0.7 is crossed twice, once on either side of the turn.
+    let boundary = follow_boundary(
+        &BoundaryStart {
+            unit_at: paper_at_restitution,
+            signature: &start.signature,
+            event: &event,
+            param: stops.restitution,
+            at: &[0.7],
+        },
+        &BoundarySettings::new(0.5, 0.9),
+    )
+    .unwrap();
+    let e: Vec<f64> = boundary.points.iter().map(|p| p.param_value).collect();
+    let turns = e
+        .windows(3)
+        .filter(|w| (w[1] - w[0]) * (w[2] - w[1]) < 0.0)
+        .count();
+    assert_eq!(turns, 1, "{e:?}");
+    assert_eq!(
+        boundary.ends.map(|e| e.reason),
+        [BoundaryEndReason::ParamMax; 2]
+    );
+    assert_eq!(boundary.at.len(), 2, "{:?}", boundary.at);
+    assert!((boundary.at[0].omega - boundary.at[1].omega).abs() > 0.1);
+    // The lower crossing (ω = 2.2304) lies 7e-4 above the branch point where this asymmetric
+    // branch leaves the symmetric orbit (2.2297 at e = 0.7): the start is taken closer.
+    crossings_agree(&boundary, paper_at_restitution, 2e-4);
 }

@@ -16,7 +16,8 @@
 //! | vanishing impact | `s_j ṙ⁻_j` of the impact |
 //!
 //! `R_X` is the exact Jacobian of the cycle equations; `R_p`, `T_X` and `T_p` are central
-//! differences with relative step `ε^{1/3}` (error of order `ε^{2/3}` relative). The residual
+//! differences with relative step `ε^{1/3}` (error of order `ε^{2/3}` relative; in `p`
+//! one-sided at the edge of the parameter's physical range). The residual
 //! itself is exact, so Newton on the defining system converges to rounding. The curve
 //! `{R = 0, T = 0}` in `Y` is followed by pseudo-arclength continuation (tangent predictor,
 //! Newton corrector on the bordered system, step control by the corrector's iterations),
@@ -568,12 +569,21 @@ where
         })?;
         let p = y[n + 1];
         let h = DIFFERENCE_STEP * p.abs().max(1.0);
-        let up = self.with_model(p + h, |model| self.values(model, x))?;
-        let down = self.with_model(p - h, |model| self.values(model, x))?;
+        // Central where both sides give a unit; one-sided at the edge of the parameter's
+        // physical range (restitution 1, say), where Newton then converges linearly at a
+        // rate of order `h`, still onto the exact residual's zero.
+        let up = self.with_model(p + h, |model| self.values(model, x));
+        let down = self.with_model(p - h, |model| self.values(model, x));
+        let (high, low, width) = match (&up, &down) {
+            (Some(u), Some(d)) => (u, d, 2.0 * h),
+            (Some(u), None) => (u, &values, h),
+            (None, Some(d)) => (&values, d, h),
+            (None, None) => return None,
+        };
         for i in 0..n {
-            jacobian[(i, n + 1)] = (up.residual[i] - down.residual[i]) / (2.0 * h);
+            jacobian[(i, n + 1)] = (high.residual[i] - low.residual[i]) / width;
         }
-        jacobian[(n, n + 1)] = (up.test - down.test) / (2.0 * h);
+        jacobian[(n, n + 1)] = (high.test - low.test) / width;
         Some((values, jacobian))
     }
 
@@ -827,6 +837,10 @@ where
                     }
                 }
                 Step::Rejected => {
+                    if let Some((end, reason)) = self.beyond(&walk, settings) {
+                        walk.nodes.push(end);
+                        return (walk.nodes, reason);
+                    }
                     walk.step *= STEP_SHRINK;
                     if walk.step < settings.min_step {
                         return (walk.nodes, self.stuck(&walk.last.y));
@@ -895,6 +909,24 @@ where
             walk.step = (walk.step * STEP_GROWTH).min(settings.max_step);
         }
         None
+    }
+
+    /// After a failed step whose prediction lies beyond a range's bound (where the unit may
+    /// not exist, e.g. restitution above 1): the curve's point on that bound, solved from the
+    /// last point and the prediction, and the end's reason.
+    fn beyond(
+        &self,
+        walk: &Walk,
+        settings: &BoundarySettings,
+    ) -> Option<(Node, BoundaryEndReason)> {
+        let (y0, t0) = (&walk.last.y, &walk.last.tangent);
+        let predicted: Vec<f64> = y0.iter().zip(t0).map(|(y, t)| y + walk.step * t).collect();
+        let (index, value, reason) = outside(&predicted, self.n(), settings)?;
+        let ahead = Node {
+            y: predicted,
+            tangent: t0.clone(),
+        };
+        Some((self.end_at(&walk.last, &ahead, index, value)?, reason))
     }
 
     /// The point where the curve crosses `Y[index] = value` between `a` and `b`.
