@@ -11,7 +11,7 @@
 //! |---|---|
 //! | fold | `det R_x`, `R_x` the Jacobian in the state unknowns `(α, φ₂ … φₙ)` (the numerator of the continuation's `dω/ds` by Cramer's rule: regular at a fold, where `dω/ds` changes sign) |
 //! | period doubling | `det(M + I)` |
-//! | Neimark–Sacker | `Π_{i<j} (μ_i μ_j − 1)` |
+//! | Neimark–Sacker | `Π_{i<j} (μ_i μ_j − 1)`, as `det(M ⊙ M − I)` (second compound: smooth in `M`); the curve ends where the complex pair leaves the unit circle for the real axis |
 //! | grazing | the clearance of the grazing flight: the gap less the largest `|r|` at the flight's interior critical points |
 //! | vanishing impact | `s_j ṙ⁻_j` of the impact |
 //!
@@ -28,16 +28,17 @@
 //! Branch points are not followed yet ([`BoundaryError::Unsupported`]): their test function
 //! is singular at the event and needs [`crate::branch_point`]'s extended system with `p` free.
 
-use super::corrector::CORRECTOR_ACCEPTANCE;
+use super::corrector::rounding_floor;
+use super::events::TORUS_TOLERANCE;
 use super::result::{Event, EventKind};
 use super::system::BranchModel;
 use super::test_functions::Test;
 use super::unit::UnitBranch;
 use crate::cycle_equations::{CycleEvaluation, MIN_FLIGHT};
-use crate::orbit::wrap;
+use crate::orbit::{eigenvalues, wrap};
 use crate::signature::Signature;
 use crate::unit::{Stops, Unit};
-use nalgebra::{Complex, DMatrix, DVector, U6};
+use nalgebra::{Complex, DMatrix, DVector, Matrix4, Matrix6, U6};
 use thiserror::Error;
 
 /// Relative step of the central differences: `ε^{1/3}`, balancing truncation (`h²`) against
@@ -51,6 +52,17 @@ const NEWTON_ITERATIONS: usize = 10;
 /// Newton has converged when its step is below this, relative to `1 + |Y|`: `ω` is then
 /// pinned far below the `1e-9` asked of a boundary.
 const STEP_TOLERANCE: f64 = 1e-12;
+
+/// Newton has stalled at the rounding floor when its step is below this, relative to
+/// `1 + |Y|`, and no longer shrinks by [`STALL_RATIO`]: quadratic convergence shrinks it by
+/// orders of magnitude per iteration.
+const STALL_TOLERANCE: f64 = 1e-10;
+
+/// See [`STALL_TOLERANCE`].
+const STALL_RATIO: f64 = 0.25;
+
+/// Imaginary part below which a multiplier counts as real (as in event location).
+const REAL_MULTIPLIER: f64 = 1e-9;
 
 /// Newton iterations at or below which the next step grows.
 const EASY_ITERATIONS: usize = 4;
@@ -280,11 +292,16 @@ pub enum BoundaryEndReason {
     PointCap,
     /// The curve came back to its start: a closed curve, followed once.
     ClosedLoop,
+    /// A Neimark–Sacker curve whose complex pair meets on the real axis (at a strong
+    /// resonance, `μ = ±1` double): beyond, the zeros of its test are neutral saddles
+    /// (real `μ, 1/μ`), not Neimark–Sacker points. The last point is the last one with the
+    /// pair on the unit circle.
+    NeutralSaddle,
 }
 
 impl BoundaryEndReason {
     /// `param-min`, `param-max`, `omega-min`, `omega-max`, `step-below-minimum`,
-    /// `flight-merged`, `point-cap` or `closed-loop`.
+    /// `flight-merged`, `point-cap`, `closed-loop` or `neutral-saddle`.
     pub fn name(self) -> &'static str {
         match self {
             BoundaryEndReason::ParamMin => "param-min",
@@ -295,6 +312,7 @@ impl BoundaryEndReason {
             BoundaryEndReason::FlightMerged => "flight-merged",
             BoundaryEndReason::PointCap => "point-cap",
             BoundaryEndReason::ClosedLoop => "closed-loop",
+            BoundaryEndReason::NeutralSaddle => "neutral-saddle",
         }
     }
 }
@@ -537,6 +555,7 @@ where
         let eval = model.evaluate(x, fold)?;
         let test = match self.test {
             Test::Fold => fold_test(&eval),
+            Test::Torus => torus_test(&model.monodromy_at(x, &eval)),
             test => model.test_value(test, x, &eval)?,
         };
         Some(Values {
@@ -594,6 +613,7 @@ where
     fn correct(&self, guess: &[f64], border: &Border) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
         let n = self.n();
         let mut y = guess.to_vec();
+        let mut last = f64::INFINITY;
         for iteration in 1..=NEWTON_ITERATIONS {
             if !self.admissible(&y) {
                 return None;
@@ -614,22 +634,30 @@ where
                 *v += s;
             }
             let size = y.iter().fold(1.0_f64, |a, v| a.max(v.abs()));
-            if step.amax() <= STEP_TOLERANCE * size {
+            let length = step.amax();
+            // Converged; or stalled at the rounding floor of an ill-conditioned cycle (near a
+            // natural frequency the test function's rounding keeps Newton's step from
+            // shrinking further), well inside the 1e-9 asked of ω.
+            let stalled = length <= STALL_TOLERANCE * size && length > STALL_RATIO * last;
+            if length <= STEP_TOLERANCE * size || stalled {
                 return self.accepted(&y).then_some((y, jacobian, iteration));
             }
+            last = length;
         }
         None
     }
 
-    /// Whether the contact residuals at a converged `Y` are within the corrector's
-    /// acceptance.
+    /// Whether the contact residuals at a converged `Y` are within the continuation
+    /// corrector's acceptance ([`CORRECTOR_ACCEPTANCE`], or its rounding floor where the
+    /// periodicity solve is ill-conditioned).
     fn accepted(&self, y: &[f64]) -> bool {
         let n = self.n();
         self.admissible(y)
             && self
                 .with_model(y[n + 1], |model| {
                     let eval = model.evaluate(&y[..=n], false)?;
-                    Some(eval.residual.amax() <= CORRECTOR_ACCEPTANCE * model.scale(&eval))
+                    let floor = rounding_floor(model.conditioning(&y[..=n], &eval));
+                    Some(eval.residual.amax() <= floor * model.scale(&eval))
                 })
                 .unwrap_or(false)
     }
@@ -730,6 +758,31 @@ where
 fn fold_test(eval: &CycleEvaluation<U6>) -> f64 {
     let n = eval.jacobian.nrows();
     eval.jacobian.columns(0, n).into_owned().determinant()
+}
+
+/// The Neimark–Sacker test `det(M ⊙ M − I) = Π_{i<j} (μ_i μ_j − 1)`, `M ⊙ M` the second
+/// compound of `M` (its 2×2 minors, whose eigenvalues are the products `μ_i μ_j`, `i < j`):
+/// the continuation's pair product, but a polynomial in `M`'s entries, so that its
+/// differences stay accurate where two multipliers nearly coincide (as the complex pair
+/// nears −1), which those of a product over computed eigenvalues do not.
+fn torus_test(m: &Matrix4<f64>) -> f64 {
+    let pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+    let mut compound = Matrix6::zeros();
+    for (a, &(p, q)) in pairs.iter().enumerate() {
+        for (b, &(r, s)) in pairs.iter().enumerate() {
+            compound[(a, b)] = m[(p, r)] * m[(q, s)] - m[(p, s)] * m[(q, r)];
+        }
+    }
+    (compound - Matrix6::identity()).determinant()
+}
+
+/// Whether `multipliers` hold a complex pair on the unit circle (as the continuation's
+/// Neimark–Sacker events do, to [`TORUS_TOLERANCE`]): where the curve of zeros of the
+/// Neimark–Sacker test goes on with real multipliers `μ, 1/μ`, it is a neutral saddle.
+fn complex_pair_on_circle(multipliers: &[Complex<f64>]) -> bool {
+    multipliers
+        .iter()
+        .any(|m| m.im.abs() > REAL_MULTIPLIER && (m.norm() - 1.0).abs() < TORUS_TOLERANCE)
 }
 
 /// The multiplier an event of `kind` concerns (see [`BoundaryPoint::critical_multiplier`]).
@@ -888,6 +941,9 @@ where
             walk.nodes.extend(end);
             return Some(reason);
         }
+        if self.kind == EventKind::NeimarkSacker && !self.on_circle(&node.y) {
+            return Some(BoundaryEndReason::NeutralSaddle);
+        }
         let back = distance(&node.y, &start.y) < walk.step
             && walk.nodes.len() >= 3
             && node
@@ -927,6 +983,17 @@ where
             tangent: t0.clone(),
         };
         Some((self.end_at(&walk.last, &ahead, index, value)?, reason))
+    }
+
+    /// Whether the orbit at `Y` has a complex pair of multipliers on the unit circle.
+    fn on_circle(&self, y: &[f64]) -> bool {
+        let n = self.n();
+        self.with_model(y[n + 1], |model| {
+            let eval = model.evaluate(&y[..=n], false)?;
+            let m = model.monodromy_at(&y[..=n], &eval);
+            Some(complex_pair_on_circle(&eigenvalues(&m)?))
+        })
+        .unwrap_or(false)
     }
 
     /// The point where the curve crosses `Y[index] = value` between `a` and `b`.

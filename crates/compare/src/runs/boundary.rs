@@ -107,7 +107,7 @@ pub struct BoundaryEndRecord {
     /// Its frequency.
     pub omega: f64,
     /// Why the curve stops (`param-min`, `param-max`, `omega-min`, `omega-max`,
-    /// `step-below-minimum`, `flight-merged`, `point-cap`, `closed-loop`).
+    /// `step-below-minimum`, `flight-merged`, `point-cap`, `closed-loop`, `neutral-saddle`).
     pub reason: &'static str,
 }
 
