@@ -32,7 +32,7 @@ pub(crate) const ROUNDING_ULPS: f64 = 4.0;
 /// the periodicity solve is ill-conditioned (near a natural frequency), whichever is larger.
 /// Points accepted above [`CORRECTOR_ACCEPTANCE`] carry their residual in
 /// [`ContinuationPoint::residual`]; the floor is capped at [`MAX_ROUNDING_FLOOR`].
-fn rounding_floor(conditioning: f64) -> f64 {
+pub(crate) fn rounding_floor(conditioning: f64) -> f64 {
     CORRECTOR_ACCEPTANCE
         .max(ROUNDING_ULPS * f64::EPSILON * conditioning)
         .min(MAX_ROUNDING_FLOOR)

@@ -50,6 +50,7 @@
 //! another representation is not listed again. Switching is bounded by
 //! [`ContinuationSettings::max_depth`].
 
+mod boundary;
 mod branch_point;
 mod branches;
 mod corrector;
@@ -64,6 +65,10 @@ mod system;
 mod test_functions;
 mod unit;
 
+pub use boundary::{
+    follow_boundary, Boundary, BoundaryAt, BoundaryEnd, BoundaryEndReason, BoundaryError,
+    BoundaryPoint, BoundarySettings, BoundaryStart,
+};
 pub use corrector::CORRECTOR_ACCEPTANCE;
 pub use result::{Branch, BranchEnd, Continuation, ContinuationPoint, EndReason, Event, EventKind};
 pub use settings::{ContinuationError, ContinuationSettings, DEFAULT_MAX_DEPTH};

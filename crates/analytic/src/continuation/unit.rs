@@ -98,6 +98,14 @@ impl<'a> UnitBranch<'a> {
         monodromy
     }
 
+    /// The monodromy matrix (saltations included) of the cycle at `X` from its evaluation
+    /// `eval` (with or without Jacobian).
+    pub(crate) fn monodromy_at(&self, x: &[f64], eval: &CycleEvaluation<U6>) -> Matrix4<f64> {
+        let flow = ForcedFlow::new(self.unit, x[x.len() - 1]);
+        let (x_before, p_at) = self.impact_states(eval);
+        self.monodromy(&flow, eval, &x_before, &p_at)
+    }
+
     /// `s_j ṙ⁻_j` of each impact.
     fn approach(&self, x_before: &[Vector4<f64>]) -> Vec<f64> {
         self.signature

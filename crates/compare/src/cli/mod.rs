@@ -4,6 +4,7 @@
 //! explanation, 2 bad input (arguments or scene).
 
 pub mod basins;
+pub mod boundary;
 pub mod compare;
 pub mod continuation;
 pub mod family;
@@ -56,6 +57,10 @@ pub enum Command {
     /// frequency, through folds, with its bifurcations (fold, branch point, period doubling,
     /// Neimark–Sacker, grazing, vanishing impact) and the branches they lead onto.
     Continue(continuation::ContinueArgs),
+    /// A regime boundary: the event of one kind (fold, period doubling, Neimark–Sacker,
+    /// grazing, vanishing impact) nearest a frequency on the branches of a signature's orbits,
+    /// followed in (ω, a scene parameter) through turning points, exact to rounding.
+    Boundary(boundary::BoundaryArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
     /// JSON Lines file as it runs; on a chain, every solver (`both`: the verdict of `compare`
     /// at every frequency).
@@ -117,6 +122,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Simulate(args) => simulate::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Continue(args) => continuation::run(args),
+        Command::Boundary(args) => boundary::run(args),
         Command::Sweep(args) => sweep::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Map(args) => map::run(args),

@@ -1,0 +1,1058 @@
+//! Exact regime boundaries: one codimension-one event of the unit's orbits of one signature
+//! (fold, period doubling, Neimark–Sacker, grazing, vanishing impact) followed in the plane of
+//! the forcing frequency `ω` and one parameter `p` of the unit or its stops
+//! ([`follow_boundary`]).
+//!
+//! The unknowns are `Y = (X, p)`, `X = (α, φ₂ … φₙ, ω)` the branch's unknowns of
+//! continuation in `ω`; the equations are `R(X; p) = 0`, the cycle equations of the unit built
+//! at `p`, and `T(X; p) = 0`, the event's test function:
+//!
+//! | event | `T` |
+//! |---|---|
+//! | fold | `det R_x`, `R_x` the Jacobian in the state unknowns `(α, φ₂ … φₙ)` (the numerator of the continuation's `dω/ds` by Cramer's rule: regular at a fold, where `dω/ds` changes sign) |
+//! | period doubling | `det(M + I)` |
+//! | Neimark–Sacker | `Π_{i<j} (μ_i μ_j − 1)`, as `det(M ⊙ M − I)` (second compound: smooth in `M`); the curve ends where the complex pair leaves the unit circle for the real axis |
+//! | grazing | the clearance of the grazing flight: the gap less the largest `|r|` at the flight's interior critical points |
+//! | vanishing impact | `s_j ṙ⁻_j` of the impact |
+//!
+//! `R_X` is the exact Jacobian of the cycle equations; `R_p`, `T_X` and `T_p` are central
+//! differences with relative step `ε^{1/3}` (error of order `ε^{2/3}` relative; in `p`
+//! one-sided at the edge of the parameter's physical range). The residual
+//! itself is exact, so Newton on the defining system converges to rounding. The curve
+//! `{R = 0, T = 0}` in `Y` is followed by pseudo-arclength continuation (tangent predictor,
+//! Newton corrector on the bordered system, step control by the corrector's iterations),
+//! through turning points in `p`, both ways from the start within `[param_min, param_max]`
+//! and `[omega_min, omega_max]`; each end carries its reason, and the curve's `ω` at given
+//! parameter values is solved on the same system with `p` fixed.
+//!
+//! Branch points are not followed yet ([`BoundaryError::Unsupported`]): their test function
+//! is singular at the event and needs [`crate::branch_point`]'s extended system with `p` free.
+
+use super::corrector::rounding_floor;
+use super::events::TORUS_TOLERANCE;
+use super::result::{Event, EventKind};
+use super::system::BranchModel;
+use super::test_functions::Test;
+use super::unit::UnitBranch;
+use crate::cycle_equations::{CycleEvaluation, MIN_FLIGHT};
+use crate::orbit::{eigenvalues, wrap};
+use crate::signature::Signature;
+use crate::unit::{Stops, Unit};
+use nalgebra::{Complex, DMatrix, DVector, Matrix4, Matrix6, U6};
+use thiserror::Error;
+
+/// Relative step of the central differences: `ε^{1/3}`, balancing truncation (`h²`) against
+/// rounding (`ε / h`).
+const DIFFERENCE_STEP: f64 = 6.055_454_452_393_343e-6;
+
+/// Cap on the Newton iterations of one correction: from the tangent predictor Newton converges
+/// quadratically in three to five iterations; a step needing more is halved.
+const NEWTON_ITERATIONS: usize = 10;
+
+/// Newton has converged when its step is below this, relative to `1 + |Y|`: `ω` is then
+/// pinned far below the `1e-9` asked of a boundary.
+const STEP_TOLERANCE: f64 = 1e-12;
+
+/// Newton has stalled at the rounding floor when its step is below this, relative to
+/// `1 + |Y|`, and no longer shrinks by [`STALL_RATIO`]: quadratic convergence shrinks it by
+/// orders of magnitude per iteration.
+const STALL_TOLERANCE: f64 = 1e-10;
+
+/// See [`STALL_TOLERANCE`].
+const STALL_RATIO: f64 = 0.25;
+
+/// Imaginary part below which a multiplier counts as real (as in event location).
+const REAL_MULTIPLIER: f64 = 1e-9;
+
+/// Newton iterations at or below which the next step grows.
+const EASY_ITERATIONS: usize = 4;
+
+/// Step growth after an easy correction.
+const STEP_GROWTH: f64 = 1.5;
+
+/// Step shrink after a rejected one.
+const STEP_SHRINK: f64 = 0.5;
+
+/// Two consecutive tangents must make an angle of cosine at least this (about 26°), or the
+/// step is halved: a larger turn within a step may have jumped to another curve.
+const MIN_TANGENT_COSINE: f64 = 0.9;
+
+/// Shortest flight (fraction of the cycle) below which a curve ending for want of a step is
+/// reported as two impacts merging.
+const MERGE_WARNING: f64 = 1e-6;
+
+/// Settings of a boundary curve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundarySettings {
+    /// Lowest parameter value followed.
+    pub param_min: f64,
+    /// Highest parameter value followed, `> param_min`.
+    pub param_max: f64,
+    /// Lowest forcing frequency followed (rad/s), `> 0`.
+    pub omega_min: f64,
+    /// Highest forcing frequency followed (rad/s), `> omega_min`.
+    pub omega_max: f64,
+    /// First step length in `(α, φ₂ … φₙ, ω, p)`.
+    pub initial_step: f64,
+    /// Smallest step: a curve whose step would fall below it ends.
+    pub min_step: f64,
+    /// Largest step.
+    pub max_step: f64,
+    /// Cap on the points of the curve in each direction.
+    pub max_points: usize,
+}
+
+impl BoundarySettings {
+    /// The parameter range `[param_min, param_max]` with `ω ∈ [0.1, 4]` (the band the
+    /// workbench studies on the paper unit), steps from `10⁻⁹` to `0.02` starting at `0.005`,
+    /// 5 000 points each way.
+    pub fn new(param_min: f64, param_max: f64) -> Self {
+        Self {
+            param_min,
+            param_max,
+            omega_min: 0.1,
+            omega_max: 4.0,
+            initial_step: 0.005,
+            min_step: 1e-9,
+            max_step: 0.02,
+            max_points: 5000,
+        }
+    }
+
+    /// Checks every setting.
+    ///
+    /// # Errors
+    /// [`BoundaryError::Setting`] naming the first field that fails: `--min` (finite), `--max`
+    /// (finite, `> --min`), `--omega-min` (finite, `> 0`), `--omega-max` (finite,
+    /// `> --omega-min`), `boundary.min_step` (finite, `> 0`), `boundary.max_step` (finite,
+    /// `≥ min_step`), `boundary.initial_step` (in `[min_step, max_step]`),
+    /// `boundary.max_points` (`≥ 1`).
+    pub fn validate(&self) -> Result<(), BoundaryError> {
+        let check = |field: &'static str, value: f64, ok: bool, allowed: String| {
+            if value.is_finite() && ok {
+                Ok(())
+            } else {
+                Err(BoundaryError::Setting {
+                    field,
+                    value,
+                    allowed,
+                })
+            }
+        };
+        check("--min", self.param_min, true, "finite".into())?;
+        check(
+            "--max",
+            self.param_max,
+            self.param_max > self.param_min,
+            format!("finite and > --min = {}", self.param_min),
+        )?;
+        check(
+            "--omega-min",
+            self.omega_min,
+            self.omega_min > 0.0,
+            "finite and > 0".into(),
+        )?;
+        check(
+            "--omega-max",
+            self.omega_max,
+            self.omega_max > self.omega_min,
+            format!("finite and > --omega-min = {}", self.omega_min),
+        )?;
+        check(
+            "boundary.min_step",
+            self.min_step,
+            self.min_step > 0.0,
+            "finite and > 0".into(),
+        )?;
+        check(
+            "boundary.max_step",
+            self.max_step,
+            self.max_step >= self.min_step,
+            format!("finite and >= boundary.min_step = {}", self.min_step),
+        )?;
+        check(
+            "boundary.initial_step",
+            self.initial_step,
+            self.initial_step >= self.min_step && self.initial_step <= self.max_step,
+            format!(
+                "in [{}, {}] (min_step, max_step)",
+                self.min_step, self.max_step
+            ),
+        )?;
+        check(
+            "boundary.max_points",
+            self.max_points as f64,
+            self.max_points >= 1,
+            ">= 1".into(),
+        )
+    }
+}
+
+/// Why a boundary curve cannot be followed.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum BoundaryError {
+    /// A setting outside its allowed range.
+    #[error("{field} = {value} is out of range: must be {allowed}")]
+    Setting {
+        /// The setting, e.g. `--min` or `boundary.max_step`.
+        field: &'static str,
+        /// The rejected value.
+        value: f64,
+        /// The allowed range, in words.
+        allowed: String,
+    },
+    /// An event kind whose curve is not followed yet.
+    #[error("--event {kind} is not supported yet: supported are fold, period-doubling, neimark-sacker, grazing, vanishing-impact")]
+    Unsupported {
+        /// The event kind's name.
+        kind: &'static str,
+    },
+    /// The event does not say which flight or impact it concerns, or names one the signature
+    /// lacks.
+    #[error(
+        "the {kind} event at omega = {omega} names no flight or impact of the {signature} orbits"
+    )]
+    EventMismatch {
+        /// The event kind's name.
+        kind: &'static str,
+        /// The event's frequency.
+        omega: f64,
+        /// The signature of the orbits.
+        signature: String,
+    },
+    /// The parameter's own value gives no unit.
+    #[error("the parameter value {value} gives no valid unit: {message}")]
+    Parameter {
+        /// The parameter value.
+        value: f64,
+        /// Why.
+        message: String,
+    },
+    /// Newton on the defining system at the start's parameter value does not converge from
+    /// the event's orbit.
+    #[error("the {kind} event at omega = {omega} does not converge onto its curve at the parameter value {param}")]
+    StartNotConverged {
+        /// The event kind's name.
+        kind: &'static str,
+        /// The event's frequency.
+        omega: f64,
+        /// The start's parameter value.
+        param: f64,
+    },
+}
+
+/// One point of a boundary curve: the orbit at the event there.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundaryPoint {
+    /// The parameter's value.
+    pub param_value: f64,
+    /// Forcing frequency (rad/s).
+    pub omega: f64,
+    /// Base phase at the first canonical impact, radians in `(−π, π]`.
+    pub alpha: f64,
+    /// Impact times as fractions of the cycle, first 0.
+    pub impact_phases: Vec<f64>,
+    /// `X_o = max |u_o(t)|` over the cycle (rigorous extrema).
+    pub outer_amplitude: f64,
+    /// Eigenvalues of the monodromy matrix.
+    pub floquet_multipliers: Vec<Complex<f64>>,
+    /// The multiplier the event concerns: nearest `+1` at a fold, nearest `−1` at a period
+    /// doubling, the one of the complex pair (non-negative imaginary part) nearest the unit
+    /// circle at a Neimark–Sacker; the largest in modulus at a grazing or vanishing impact.
+    pub critical_multiplier: Complex<f64>,
+    /// Largest contact residual relative to the motion's size.
+    pub residual: f64,
+}
+
+/// The curve's `ω` solved at one parameter value ([`follow_boundary`]'s `at`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundaryAt {
+    /// The parameter value asked for.
+    pub param_value: f64,
+    /// The curve's frequency there (one entry per crossing of the curve).
+    pub omega: f64,
+}
+
+/// Why a boundary curve stops in one direction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum BoundaryEndReason {
+    /// It reached `param_min`; the last point lies exactly there.
+    ParamMin,
+    /// It reached `param_max`; the last point lies exactly there.
+    ParamMax,
+    /// It reached `omega_min`; the last point lies exactly there.
+    OmegaMin,
+    /// It reached `omega_max`; the last point lies exactly there.
+    OmegaMax,
+    /// The step fell below `min_step` without the corrector converging.
+    StepBelowMinimum,
+    /// Two impacts merge (a flight shrinks to nothing).
+    FlightMerged,
+    /// The direction reached `max_points`.
+    PointCap,
+    /// The curve came back to its start: a closed curve, followed once.
+    ClosedLoop,
+    /// A Neimark–Sacker curve whose complex pair meets on the real axis (at a strong
+    /// resonance, `μ = ±1` double): beyond, the zeros of its test are neutral saddles
+    /// (real `μ, 1/μ`), not Neimark–Sacker points. The last point is the last one with the
+    /// pair on the unit circle.
+    NeutralSaddle,
+}
+
+impl BoundaryEndReason {
+    /// `param-min`, `param-max`, `omega-min`, `omega-max`, `step-below-minimum`,
+    /// `flight-merged`, `point-cap`, `closed-loop` or `neutral-saddle`.
+    pub fn name(self) -> &'static str {
+        match self {
+            BoundaryEndReason::ParamMin => "param-min",
+            BoundaryEndReason::ParamMax => "param-max",
+            BoundaryEndReason::OmegaMin => "omega-min",
+            BoundaryEndReason::OmegaMax => "omega-max",
+            BoundaryEndReason::StepBelowMinimum => "step-below-minimum",
+            BoundaryEndReason::FlightMerged => "flight-merged",
+            BoundaryEndReason::PointCap => "point-cap",
+            BoundaryEndReason::ClosedLoop => "closed-loop",
+            BoundaryEndReason::NeutralSaddle => "neutral-saddle",
+        }
+    }
+}
+
+/// One end of a boundary curve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BoundaryEnd {
+    /// The parameter value of the last point.
+    pub param_value: f64,
+    /// Its frequency.
+    pub omega: f64,
+    /// Why the curve stops there.
+    pub reason: BoundaryEndReason,
+}
+
+/// A followed boundary curve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Boundary {
+    /// The signature of the orbits.
+    pub signature: Signature,
+    /// The event followed.
+    pub kind: EventKind,
+    /// The points in order along the curve, the start somewhere inside.
+    pub points: Vec<BoundaryPoint>,
+    /// The curve's `ω` at each value asked for, in the order asked and along the curve.
+    pub at: Vec<BoundaryAt>,
+    /// The two ends: the first point's, then the last point's.
+    pub ends: [BoundaryEnd; 2],
+}
+
+/// What to follow: the unit as a function of the parameter, the orbits' signature, the event
+/// on their branch (from [`crate::continue_orbit`] on the unit at `param`), the parameter's
+/// own value there and the values at which to solve the curve's `ω`.
+pub struct BoundaryStart<'a, F> {
+    /// The unit and its stops at a parameter value; an `Err` (with its message) where the
+    /// value gives no valid unit.
+    pub unit_at: F,
+    /// The signature of the branch the event lies on.
+    pub signature: &'a Signature,
+    /// The event to follow.
+    pub event: &'a Event,
+    /// The parameter's value at which the event was found.
+    pub param: f64,
+    /// Parameter values at which the curve's `ω` is solved.
+    pub at: &'a [f64],
+}
+
+/// Follows the curve of `start.event` in `(ω, p)` both ways from `(event.omega, param)`
+/// within the settings' ranges, through turning points in `p`, and solves its `ω` at each
+/// value of `start.at` (every crossing of the curve there).
+///
+/// # Errors
+/// [`BoundaryError::Setting`] for a bad setting, or (field `--at`) a value of `at` outside
+/// `[param_min, param_max]`, or (field `param`) a start outside it;
+/// [`BoundaryError::Unsupported`] for a branch point; [`BoundaryError::EventMismatch`] when
+/// a grazing or vanishing impact names no flight or impact of the signature;
+/// [`BoundaryError::Parameter`] when `unit_at(param)` fails;
+/// [`BoundaryError::StartNotConverged`] when Newton on the defining system at `param` does
+/// not converge from the event's orbit.
+pub fn follow_boundary<F, E>(
+    start: &BoundaryStart<'_, F>,
+    settings: &BoundarySettings,
+) -> Result<Boundary, BoundaryError>
+where
+    F: Fn(f64) -> Result<(Unit, Stops), E>,
+    E: std::fmt::Display,
+{
+    settings.validate()?;
+    check_inside("param", start.param, settings)?;
+    for &value in start.at {
+        check_inside("--at", value, settings)?;
+    }
+    if let Err(e) = (start.unit_at)(start.param) {
+        return Err(BoundaryError::Parameter {
+            value: start.param,
+            message: e.to_string(),
+        });
+    }
+    let event = start.event;
+    let n = start.signature.impacts();
+    let curve = EventCurve {
+        unit_at: &start.unit_at,
+        signature: start.signature.clone(),
+        test: test_of(event, n, start.signature)?,
+        kind: event.kind,
+    };
+    let not_converged = || BoundaryError::StartNotConverged {
+        kind: event.kind.name(),
+        omega: event.omega,
+        param: start.param,
+    };
+    let mut guess = vec![event.point.alpha];
+    guess.extend_from_slice(
+        event
+            .point
+            .impact_phases
+            .get(1..n)
+            .ok_or_else(not_converged)?,
+    );
+    guess.extend([event.omega, start.param]);
+    let fixed = Border::Fixed {
+        index: n + 1,
+        value: start.param,
+    };
+    let (y, jacobian, _) = curve.correct(&guess, &fixed).ok_or_else(not_converged)?;
+    let tangent = null_vector(&jacobian).ok_or_else(not_converged)?;
+    Ok(curve.trace(y, tangent, start.at, settings))
+}
+
+/// `Err` naming `field` when `value` is outside `[param_min, param_max]`.
+fn check_inside(
+    field: &'static str,
+    value: f64,
+    settings: &BoundarySettings,
+) -> Result<(), BoundaryError> {
+    if value.is_finite() && value >= settings.param_min && value <= settings.param_max {
+        Ok(())
+    } else {
+        Err(BoundaryError::Setting {
+            field,
+            value,
+            allowed: format!(
+                "in [{}, {}] (--min, --max)",
+                settings.param_min, settings.param_max
+            ),
+        })
+    }
+}
+
+/// The test function of `event` on orbits of `n` impacts.
+fn test_of(event: &Event, n: usize, signature: &Signature) -> Result<Test, BoundaryError> {
+    let mismatch = || BoundaryError::EventMismatch {
+        kind: event.kind.name(),
+        omega: event.omega,
+        signature: signature.to_string(),
+    };
+    let phases = &event.point.impact_phases;
+    match event.kind {
+        EventKind::Fold => Ok(Test::Fold),
+        EventKind::PeriodDoubling => Ok(Test::Doubling),
+        EventKind::NeimarkSacker => Ok(Test::Torus),
+        EventKind::BranchPoint => Err(BoundaryError::Unsupported {
+            kind: event.kind.name(),
+        }),
+        EventKind::Grazing => {
+            let phase = event.phase.ok_or_else(mismatch)?;
+            let f = (0..n)
+                .rev()
+                .find(|&f| phases.get(f).is_some_and(|&p| p <= phase))
+                .ok_or_else(mismatch)?;
+            Ok(Test::Clearance(f))
+        }
+        EventKind::VanishingImpact => {
+            let phase = event.phase.ok_or_else(mismatch)?;
+            let j = (0..n)
+                .min_by(|&a, &b| {
+                    let d = |j: usize| phases.get(j).map_or(f64::INFINITY, |p| (p - phase).abs());
+                    d(a).total_cmp(&d(b))
+                })
+                .ok_or_else(mismatch)?;
+            Ok(Test::Approach(j))
+        }
+    }
+}
+
+/// The hyperplane that closes the corrector's system.
+enum Border<'a> {
+    /// `normal · (Y − through) = 0`.
+    Plane {
+        normal: &'a [f64],
+        through: &'a [f64],
+    },
+    /// `Y[index] = value`.
+    Fixed { index: usize, value: f64 },
+}
+
+impl Border<'_> {
+    /// The constraint's row and its residual at `y`.
+    fn row(&self, y: &[f64]) -> (Vec<f64>, f64) {
+        match self {
+            Border::Plane { normal, through } => {
+                let value = (0..y.len()).map(|k| normal[k] * (y[k] - through[k])).sum();
+                (normal.to_vec(), value)
+            }
+            Border::Fixed { index, value } => {
+                let mut row = vec![0.0; y.len()];
+                row[*index] = 1.0;
+                (row, y[*index] - value)
+            }
+        }
+    }
+}
+
+/// The defining system of one event's curve.
+struct EventCurve<'a, F> {
+    unit_at: &'a F,
+    signature: Signature,
+    test: Test,
+    kind: EventKind,
+}
+
+/// `R` and `T` at one `Y`.
+struct Values {
+    residual: DVector<f64>,
+    test: f64,
+}
+
+impl<F, E> EventCurve<'_, F>
+where
+    F: Fn(f64) -> Result<(Unit, Stops), E>,
+{
+    /// Number of impacts.
+    fn n(&self) -> usize {
+        self.signature.impacts()
+    }
+
+    /// `f` of the unit's branch model at parameter value `p`; `None` where `p` gives no unit.
+    fn with_model<R>(&self, p: f64, f: impl FnOnce(&UnitBranch<'_>) -> Option<R>) -> Option<R> {
+        let (unit, stops) = (self.unit_at)(p).ok()?;
+        let model = UnitBranch::new(&unit, &stops, self.signature.clone());
+        f(&model)
+    }
+
+    /// Whether `Y` is finite, ordered with flights above [`MIN_FLIGHT`] and `ω > 0`.
+    fn admissible(&self, y: &[f64]) -> bool {
+        let n = self.n();
+        let mut last = 0.0;
+        for &phase in &y[1..n] {
+            if phase - last <= MIN_FLIGHT {
+                return false;
+            }
+            last = phase;
+        }
+        y.iter().all(|v| v.is_finite()) && 1.0 - last > MIN_FLIGHT && y[n] > 0.0
+    }
+
+    /// `R` and `T` at `X` on `model`.
+    fn values(&self, model: &UnitBranch<'_>, x: &[f64]) -> Option<Values> {
+        let fold = matches!(self.test, Test::Fold);
+        let eval = model.evaluate(x, fold)?;
+        let test = match self.test {
+            Test::Fold => fold_test(&eval),
+            Test::Torus => torus_test(&model.monodromy_at(x, &eval)),
+            test => model.test_value(test, x, &eval)?,
+        };
+        Some(Values {
+            residual: eval.residual.clone(),
+            test,
+        })
+    }
+
+    /// The residual `[R; T]` at `Y` and its Jacobian in `Y` (`n + 1` rows, `n + 2` columns):
+    /// `R_X` exact, the rest by central differences.
+    fn linearise(&self, y: &[f64]) -> Option<(Values, DMatrix<f64>)> {
+        let n = self.n();
+        let x = &y[..=n];
+        let mut jacobian = DMatrix::zeros(n + 1, n + 2);
+        let values = self.with_model(y[n + 1], |model| {
+            let eval = model.evaluate(x, true)?;
+            jacobian
+                .view_mut((0, 0), (n, n + 1))
+                .copy_from(&eval.jacobian);
+            let values = self.values(model, x)?;
+            for k in 0..=n {
+                let h = DIFFERENCE_STEP * x[k].abs().max(1.0);
+                let (mut up, mut down) = (x.to_vec(), x.to_vec());
+                up[k] += h;
+                down[k] -= h;
+                let difference = self.values(model, &up)?.test - self.values(model, &down)?.test;
+                jacobian[(n, k)] = difference / (2.0 * h);
+            }
+            Some(values)
+        })?;
+        let p = y[n + 1];
+        let h = DIFFERENCE_STEP * p.abs().max(1.0);
+        // Central where both sides give a unit; one-sided at the edge of the parameter's
+        // physical range (restitution 1, say), where Newton then converges linearly at a
+        // rate of order `h`, still onto the exact residual's zero.
+        let up = self.with_model(p + h, |model| self.values(model, x));
+        let down = self.with_model(p - h, |model| self.values(model, x));
+        let (high, low, width) = match (&up, &down) {
+            (Some(u), Some(d)) => (u, d, 2.0 * h),
+            (Some(u), None) => (u, &values, h),
+            (None, Some(d)) => (&values, d, h),
+            (None, None) => return None,
+        };
+        for i in 0..n {
+            jacobian[(i, n + 1)] = (high.residual[i] - low.residual[i]) / width;
+        }
+        jacobian[(n, n + 1)] = (high.test - low.test) / width;
+        Some((values, jacobian))
+    }
+
+    /// Newton on `[R; T; border] = 0` from `guess`: the converged `Y`, the Jacobian of
+    /// `[R; T]` at the last iterate, and the iterations taken. `None` when it leaves the
+    /// admissible set, does not converge within [`NEWTON_ITERATIONS`], or stops with contact
+    /// residuals above [`CORRECTOR_ACCEPTANCE`] of the motion's size.
+    fn correct(&self, guess: &[f64], border: &Border) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
+        let n = self.n();
+        let mut y = guess.to_vec();
+        let mut last = f64::INFINITY;
+        for iteration in 1..=NEWTON_ITERATIONS {
+            if !self.admissible(&y) {
+                return None;
+            }
+            let (values, jacobian) = self.linearise(&y)?;
+            let (row, constraint) = border.row(&y);
+            let mut m = DMatrix::zeros(n + 2, n + 2);
+            m.view_mut((0, 0), (n + 1, n + 2)).copy_from(&jacobian);
+            for (k, v) in row.iter().enumerate() {
+                m[(n + 1, k)] = *v;
+            }
+            let mut rhs = DVector::zeros(n + 2);
+            rhs.rows_mut(0, n).copy_from(&(-&values.residual));
+            rhs[n] = -values.test;
+            rhs[n + 1] = -constraint;
+            let step = m.lu().solve(&rhs)?;
+            for (v, s) in y.iter_mut().zip(step.iter()) {
+                *v += s;
+            }
+            let size = y.iter().fold(1.0_f64, |a, v| a.max(v.abs()));
+            let length = step.amax();
+            // Converged; or stalled at the rounding floor of an ill-conditioned cycle (near a
+            // natural frequency the test function's rounding keeps Newton's step from
+            // shrinking further), well inside the 1e-9 asked of ω.
+            let stalled = length <= STALL_TOLERANCE * size && length > STALL_RATIO * last;
+            if length <= STEP_TOLERANCE * size || stalled {
+                return self.accepted(&y).then_some((y, jacobian, iteration));
+            }
+            last = length;
+        }
+        None
+    }
+
+    /// Whether the contact residuals at a converged `Y` are within the continuation
+    /// corrector's acceptance ([`CORRECTOR_ACCEPTANCE`], or its rounding floor where the
+    /// periodicity solve is ill-conditioned).
+    fn accepted(&self, y: &[f64]) -> bool {
+        let n = self.n();
+        self.admissible(y)
+            && self
+                .with_model(y[n + 1], |model| {
+                    let eval = model.evaluate(&y[..=n], false)?;
+                    let floor = rounding_floor(model.conditioning(&y[..=n], &eval));
+                    Some(eval.residual.amax() <= floor * model.scale(&eval))
+                })
+                .unwrap_or(false)
+    }
+
+    /// The curve both ways from `(y, tangent)`, the `ω` at the values `at`, and the ends.
+    fn trace(
+        &self,
+        y: Vec<f64>,
+        tangent: Vec<f64>,
+        at: &[f64],
+        settings: &BoundarySettings,
+    ) -> Boundary {
+        let start = Node { y, tangent };
+        let (forward, forward_end) = self.follow(&start, 1.0, settings);
+        let (mut nodes, backward_end) = if forward_end == BoundaryEndReason::ClosedLoop {
+            (Vec::new(), BoundaryEndReason::ClosedLoop)
+        } else {
+            self.follow(&start, -1.0, settings)
+        };
+        nodes.reverse();
+        nodes.push(start);
+        nodes.extend(forward);
+        let n = self.n();
+        let end = |node: &Node, reason| BoundaryEnd {
+            param_value: node.y[n + 1],
+            omega: node.y[n],
+            reason,
+        };
+        let ends = [
+            end(&nodes[0], backward_end),
+            end(&nodes[nodes.len() - 1], forward_end),
+        ];
+        let at = at.iter().flat_map(|&v| self.solve_at(&nodes, v)).collect();
+        Boundary {
+            signature: self.signature.clone(),
+            kind: self.kind,
+            points: nodes
+                .iter()
+                .filter_map(|node| self.describe(&node.y))
+                .collect(),
+            at,
+            ends,
+        }
+    }
+
+    /// The curve's points at parameter value `value`: each crossing of `p = value` between
+    /// consecutive nodes, solved with `p` fixed from the chord's point.
+    fn solve_at(&self, nodes: &[Node], value: f64) -> Vec<BoundaryAt> {
+        let n = self.n();
+        let mut found: Vec<BoundaryAt> = Vec::new();
+        for (i, pair) in nodes.windows(2).enumerate() {
+            let (a, b) = (&pair[0].y, &pair[1].y);
+            let (pa, pb) = (a[n + 1] - value, b[n + 1] - value);
+            // A node exactly at the value is the previous pair's crossing.
+            if pa * pb > 0.0 || pa == pb || (pa == 0.0 && i > 0) {
+                continue;
+            }
+            let theta = pa / (pa - pb);
+            let guess: Vec<f64> = a.iter().zip(b).map(|(u, v)| u + theta * (v - u)).collect();
+            let border = Border::Fixed {
+                index: n + 1,
+                value,
+            };
+            if let Some((y, _, _)) = self.correct(&guess, &border) {
+                found.push(BoundaryAt {
+                    param_value: value,
+                    omega: y[n],
+                });
+            }
+        }
+        found
+    }
+
+    /// The orbit at a point of the curve.
+    fn describe(&self, y: &[f64]) -> Option<BoundaryPoint> {
+        let n = self.n();
+        self.with_model(y[n + 1], |model| {
+            let x = &y[..=n];
+            let eval = model.evaluate(x, false)?;
+            let verdicts = model.verdicts(x, &eval);
+            let mut impact_phases = vec![0.0; n];
+            impact_phases[1..n].copy_from_slice(&x[1..n]);
+            Some(BoundaryPoint {
+                param_value: y[n + 1],
+                omega: y[n],
+                alpha: wrap(y[0]),
+                impact_phases,
+                outer_amplitude: verdicts.outer_amplitude,
+                critical_multiplier: critical(self.kind, &verdicts.floquet_multipliers),
+                floquet_multipliers: verdicts.floquet_multipliers,
+                residual: eval.residual.amax() / model.scale(&eval),
+            })
+        })
+    }
+}
+
+/// `det R_x`: the Jacobian's determinant in the state unknowns (all columns but `ω`'s).
+fn fold_test(eval: &CycleEvaluation<U6>) -> f64 {
+    let n = eval.jacobian.nrows();
+    eval.jacobian.columns(0, n).into_owned().determinant()
+}
+
+/// The Neimark–Sacker test `det(M ⊙ M − I) = Π_{i<j} (μ_i μ_j − 1)`, `M ⊙ M` the second
+/// compound of `M` (its 2×2 minors, whose eigenvalues are the products `μ_i μ_j`, `i < j`):
+/// the continuation's pair product, but a polynomial in `M`'s entries, so that its
+/// differences stay accurate where two multipliers nearly coincide (as the complex pair
+/// nears −1), which those of a product over computed eigenvalues do not.
+fn torus_test(m: &Matrix4<f64>) -> f64 {
+    let pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+    let mut compound = Matrix6::zeros();
+    for (a, &(p, q)) in pairs.iter().enumerate() {
+        for (b, &(r, s)) in pairs.iter().enumerate() {
+            compound[(a, b)] = m[(p, r)] * m[(q, s)] - m[(p, s)] * m[(q, r)];
+        }
+    }
+    (compound - Matrix6::identity()).determinant()
+}
+
+/// Whether `multipliers` hold a complex pair on the unit circle (as the continuation's
+/// Neimark–Sacker events do, to [`TORUS_TOLERANCE`]): where the curve of zeros of the
+/// Neimark–Sacker test goes on with real multipliers `μ, 1/μ`, it is a neutral saddle.
+fn complex_pair_on_circle(multipliers: &[Complex<f64>]) -> bool {
+    multipliers
+        .iter()
+        .any(|m| m.im.abs() > REAL_MULTIPLIER && (m.norm() - 1.0).abs() < TORUS_TOLERANCE)
+}
+
+/// The multiplier an event of `kind` concerns (see [`BoundaryPoint::critical_multiplier`]).
+fn critical(kind: EventKind, multipliers: &[Complex<f64>]) -> Complex<f64> {
+    let by = |key: &dyn Fn(&Complex<f64>) -> f64| {
+        multipliers
+            .iter()
+            .copied()
+            .min_by(|a, b| key(a).total_cmp(&key(b)))
+            .unwrap_or(Complex::new(f64::NAN, f64::NAN))
+    };
+    match kind {
+        EventKind::Fold | EventKind::BranchPoint => by(&|m| (m - 1.0).norm()),
+        EventKind::PeriodDoubling => by(&|m| (m + 1.0).norm()),
+        EventKind::NeimarkSacker => by(&|m| {
+            if m.im >= 0.0 && m.im.abs() > 0.0 {
+                (m.norm() - 1.0).abs()
+            } else {
+                f64::INFINITY
+            }
+        }),
+        EventKind::Grazing | EventKind::VanishingImpact => by(&|m| -m.norm()),
+    }
+}
+
+/// The unit null vector of a `k × (k + 1)` Jacobian (its smallest right singular vector).
+fn null_vector(jacobian: &DMatrix<f64>) -> Option<Vec<f64>> {
+    let k = jacobian.ncols();
+    let mut m = DMatrix::zeros(k, k);
+    m.view_mut((0, 0), (k - 1, k)).copy_from(jacobian);
+    let svd = m.svd(false, true);
+    let v_t = svd.v_t?;
+    let i = svd
+        .singular_values
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(i, _)| i)?;
+    Some(v_t.row(i).iter().copied().collect())
+}
+
+/// The unit tangent at a point with Jacobian `jacobian`, oriented along `previous`.
+fn tangent(jacobian: &DMatrix<f64>, previous: &[f64]) -> Option<Vec<f64>> {
+    let k = jacobian.ncols();
+    let mut m = DMatrix::zeros(k, k);
+    m.view_mut((0, 0), (k - 1, k)).copy_from(jacobian);
+    for (j, v) in previous.iter().enumerate() {
+        m[(k - 1, j)] = *v;
+    }
+    let mut rhs = DVector::zeros(k);
+    rhs[k - 1] = 1.0;
+    let t = m.lu().solve(&rhs)?;
+    let norm = t.norm();
+    (norm.is_finite() && norm > 0.0).then(|| t.iter().map(|v| v / norm).collect())
+}
+
+/// A point of the curve and its unit tangent.
+#[derive(Debug, Clone)]
+struct Node {
+    y: Vec<f64>,
+    tangent: Vec<f64>,
+}
+
+/// The state of following the curve in one direction.
+struct Walk {
+    nodes: Vec<Node>,
+    last: Node,
+    step: f64,
+}
+
+/// What one step did.
+enum Step {
+    /// A new point, possibly past a range's bound, and the corrector's iterations.
+    Accepted(Node, usize),
+    /// The corrector failed or the curve turned too sharply: retry shorter.
+    Rejected,
+}
+
+impl<F, E> EventCurve<'_, F>
+where
+    F: Fn(f64) -> Result<(Unit, Stops), E>,
+{
+    /// Follows the curve from `start` in `direction` (`±1` along its tangent): the points
+    /// after the start and why it stops.
+    fn follow(
+        &self,
+        start: &Node,
+        direction: f64,
+        settings: &BoundarySettings,
+    ) -> (Vec<Node>, BoundaryEndReason) {
+        let mut walk = Walk {
+            nodes: Vec::new(),
+            last: Node {
+                y: start.y.clone(),
+                tangent: start.tangent.iter().map(|v| direction * v).collect(),
+            },
+            step: settings.initial_step,
+        };
+        loop {
+            match self.next_iter(&walk) {
+                Step::Accepted(node, iterations) => {
+                    let end = self.terminate(&mut walk, node, iterations, start, settings);
+                    if let Some(reason) = end {
+                        return (walk.nodes, reason);
+                    }
+                }
+                Step::Rejected => {
+                    if let Some((end, reason)) = self.beyond(&walk, settings) {
+                        walk.nodes.push(end);
+                        return (walk.nodes, reason);
+                    }
+                    walk.step *= STEP_SHRINK;
+                    if walk.step < settings.min_step {
+                        return (walk.nodes, self.stuck(&walk.last.y));
+                    }
+                }
+            }
+        }
+    }
+
+    /// One predictor–corrector step of `walk.step` from its last point.
+    fn next_iter(&self, walk: &Walk) -> Step {
+        let (y0, t0) = (&walk.last.y, &walk.last.tangent);
+        let predicted: Vec<f64> = y0.iter().zip(t0).map(|(y, t)| y + walk.step * t).collect();
+        let plane = Border::Plane {
+            normal: t0,
+            through: &predicted,
+        };
+        let Some((y, jacobian, iterations)) = self.correct(&predicted, &plane) else {
+            return Step::Rejected;
+        };
+        let Some(t) = tangent(&jacobian, t0) else {
+            return Step::Rejected;
+        };
+        let cosine: f64 = t.iter().zip(t0).map(|(a, b)| a * b).sum();
+        if cosine < MIN_TANGENT_COSINE {
+            return Step::Rejected;
+        }
+        Step::Accepted(Node { y, tangent: t }, iterations)
+    }
+
+    /// Takes the accepted `node` into `walk` and says whether the direction ends: past a
+    /// range's bound (the end then solved exactly on it), back at the start, at the point
+    /// cap. Grows the step after an easy correction.
+    fn terminate(
+        &self,
+        walk: &mut Walk,
+        node: Node,
+        iterations: usize,
+        start: &Node,
+        settings: &BoundarySettings,
+    ) -> Option<BoundaryEndReason> {
+        let n = self.n();
+        if let Some((index, value, reason)) = outside(&node.y, n, settings) {
+            let end = self.end_at(&walk.last, &node, index, value);
+            walk.nodes.extend(end);
+            return Some(reason);
+        }
+        if self.kind == EventKind::NeimarkSacker && !self.on_circle(&node.y) {
+            return Some(BoundaryEndReason::NeutralSaddle);
+        }
+        let back = distance(&node.y, &start.y) < walk.step
+            && walk.nodes.len() >= 3
+            && node
+                .tangent
+                .iter()
+                .zip(&start.tangent)
+                .map(|(a, b)| a * b)
+                .sum::<f64>()
+                > 0.0;
+        walk.last = node.clone();
+        walk.nodes.push(node);
+        if back {
+            return Some(BoundaryEndReason::ClosedLoop);
+        }
+        if walk.nodes.len() >= settings.max_points {
+            return Some(BoundaryEndReason::PointCap);
+        }
+        if iterations <= EASY_ITERATIONS {
+            walk.step = (walk.step * STEP_GROWTH).min(settings.max_step);
+        }
+        None
+    }
+
+    /// After a failed step whose prediction lies beyond a range's bound (where the unit may
+    /// not exist, e.g. restitution above 1): the curve's point on that bound, solved from the
+    /// last point and the prediction, and the end's reason.
+    fn beyond(
+        &self,
+        walk: &Walk,
+        settings: &BoundarySettings,
+    ) -> Option<(Node, BoundaryEndReason)> {
+        let (y0, t0) = (&walk.last.y, &walk.last.tangent);
+        let predicted: Vec<f64> = y0.iter().zip(t0).map(|(y, t)| y + walk.step * t).collect();
+        let (index, value, reason) = outside(&predicted, self.n(), settings)?;
+        let ahead = Node {
+            y: predicted,
+            tangent: t0.clone(),
+        };
+        Some((self.end_at(&walk.last, &ahead, index, value)?, reason))
+    }
+
+    /// Whether the orbit at `Y` has a complex pair of multipliers on the unit circle.
+    fn on_circle(&self, y: &[f64]) -> bool {
+        let n = self.n();
+        self.with_model(y[n + 1], |model| {
+            let eval = model.evaluate(&y[..=n], false)?;
+            let m = model.monodromy_at(&y[..=n], &eval);
+            Some(complex_pair_on_circle(&eigenvalues(&m)?))
+        })
+        .unwrap_or(false)
+    }
+
+    /// The point where the curve crosses `Y[index] = value` between `a` and `b`.
+    fn end_at(&self, a: &Node, b: &Node, index: usize, value: f64) -> Option<Node> {
+        let theta = (value - a.y[index]) / (b.y[index] - a.y[index]);
+        let guess: Vec<f64> =
+            a.y.iter()
+                .zip(&b.y)
+                .map(|(u, v)| u + theta * (v - u))
+                .collect();
+        let (y, _, _) = self.correct(&guess, &Border::Fixed { index, value })?;
+        Some(Node {
+            y,
+            tangent: b.tangent.clone(),
+        })
+    }
+
+    /// Why the curve cannot go on from `y`: merging impacts or a step too small.
+    fn stuck(&self, y: &[f64]) -> BoundaryEndReason {
+        let n = self.n();
+        let mut shortest = 1.0 - y[n - 1].max(0.0);
+        let mut last = 0.0;
+        for &phase in &y[1..n] {
+            shortest = shortest.min(phase - last);
+            last = phase;
+        }
+        if n > 1 && shortest < MERGE_WARNING {
+            BoundaryEndReason::FlightMerged
+        } else {
+            BoundaryEndReason::StepBelowMinimum
+        }
+    }
+}
+
+/// The bound `Y` lies beyond, if any: its index in `Y`, value and end reason.
+fn outside(
+    y: &[f64],
+    n: usize,
+    settings: &BoundarySettings,
+) -> Option<(usize, f64, BoundaryEndReason)> {
+    let (omega, p) = (y[n], y[n + 1]);
+    if p < settings.param_min {
+        Some((n + 1, settings.param_min, BoundaryEndReason::ParamMin))
+    } else if p > settings.param_max {
+        Some((n + 1, settings.param_max, BoundaryEndReason::ParamMax))
+    } else if omega < settings.omega_min {
+        Some((n, settings.omega_min, BoundaryEndReason::OmegaMin))
+    } else if omega > settings.omega_max {
+        Some((n, settings.omega_max, BoundaryEndReason::OmegaMax))
+    } else {
+        None
+    }
+}
+
+/// Euclidean distance.
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(u, v)| (u - v).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}

@@ -1,0 +1,256 @@
+//! `rattle boundary`: one regime boundary of a unit, the curve of one event (fold, period
+//! doubling, Neimark–Sacker, grazing, vanishing impact) of a signature's orbits followed in
+//! (ω, a scene parameter).
+
+use super::{check_omega, load_unit, pretty, RattleError};
+use crate::output::{finite, table_row, writer, Format, Header, OutputError};
+use crate::runs::boundary::{follow, BoundaryRecord, BoundaryRequest, BoundaryRunError};
+use crate::scene::parameter::SceneParameter;
+use clap::Args;
+use rattle_analytic::continuation::{BoundaryError, BoundarySettings, EventKind};
+use rattle_analytic::Signature;
+use std::fmt::Write as _;
+use std::path::PathBuf;
+
+/// Arguments of `rattle boundary`.
+#[derive(Debug, Args)]
+pub struct BoundaryArgs {
+    /// Scene file (JSON), a single unit. Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    pub scene: Option<PathBuf>,
+    /// The impact signature of the orbits: the stops hit over one cycle in time order, `+`
+    /// side 1 (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`).
+    #[arg(long, allow_hyphen_values = true)]
+    pub signature: String,
+    /// Forcing periods per cycle of the signature, in [1, 8].
+    #[arg(long, default_value_t = 1)]
+    pub period: u32,
+    /// The event followed: fold, period-doubling, neimark-sacker, grazing or
+    /// vanishing-impact (branch-point is not supported yet).
+    #[arg(long)]
+    pub event: String,
+    /// The event followed is the one of its kind nearest this frequency (rad/s, finite, > 0)
+    /// on the branches of the signature's orbits found here, continued in ω within
+    /// [omega-min, omega-max] at the scene's own value of the parameter.
+    #[arg(long)]
+    pub omega: f64,
+    /// The scene parameter varied, by its JSON path: stops.gap, stops.restitution,
+    /// unit.inner_stiffness, damping.outer, …
+    #[arg(long)]
+    pub param: String,
+    /// Lowest parameter value followed (within the field's physical range).
+    #[arg(long, allow_hyphen_values = true)]
+    pub min: f64,
+    /// Highest parameter value followed (> min, within the field's physical range).
+    #[arg(long, allow_hyphen_values = true)]
+    pub max: f64,
+    /// Parameter values (comma-separated, in [min, max]) at which the curve's ω is solved
+    /// exactly (one entry per crossing of the curve).
+    #[arg(long, value_delimiter = ',', allow_hyphen_values = true)]
+    pub at: Vec<f64>,
+    /// Lowest frequency, rad/s (finite, > 0): of the event search and of the curve.
+    #[arg(long, default_value_t = BoundarySettings::new(0.0, 1.0).omega_min)]
+    pub omega_min: f64,
+    /// Highest frequency, rad/s (finite, > omega-min): of the event search and of the curve.
+    #[arg(long, default_value_t = BoundarySettings::new(0.0, 1.0).omega_max)]
+    pub omega_max: f64,
+    /// Largest step along the curve (in α, impact phases, ω and the parameter together).
+    #[arg(long, default_value_t = BoundarySettings::new(0.0, 1.0).max_step)]
+    pub max_step: f64,
+    /// Print one JSON document (points, at, special points, ends) instead of a summary.
+    #[arg(long, conflicts_with = "out")]
+    pub json: bool,
+    /// Write the points to a `.csv` file (one row per point) or the whole document to a
+    /// `.json` file.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+table_row! {
+    /// One point of a boundary curve, as a CSV row.
+    pub struct BoundaryRow {
+        /// The parameter's value.
+        pub param_value: Option<f64>,
+        /// Angular frequency, rad/s.
+        pub omega: Option<f64>,
+        /// `X_o`, m.
+        pub outer_amplitude: Option<f64>,
+        /// Real part of the event's multiplier.
+        pub critical_multiplier_re: Option<f64>,
+        /// Imaginary part of the event's multiplier.
+        pub critical_multiplier_im: Option<f64>,
+    }
+}
+
+/// The event kind named `name`.
+///
+/// # Errors
+/// [`RattleError::Argument`] naming `--event` and the kinds allowed.
+fn event_kind(name: &str) -> Result<EventKind, RattleError> {
+    [
+        EventKind::Fold,
+        EventKind::BranchPoint,
+        EventKind::PeriodDoubling,
+        EventKind::NeimarkSacker,
+        EventKind::Grazing,
+        EventKind::VanishingImpact,
+    ]
+    .into_iter()
+    .find(|k| k.name() == name)
+    .ok_or_else(|| {
+        RattleError::Argument(format!(
+            "--event = {name} is not an event: give fold, period-doubling, neimark-sacker, grazing or vanishing-impact"
+        ))
+    })
+}
+
+/// Runs `rattle boundary`.
+///
+/// # Errors
+/// Bad arguments or scene (exit code 2); no orbit or event to follow, or a start that does
+/// not converge (exit code 1).
+pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
+    let omega = check_omega("--omega", args.omega)?;
+    let kind = event_kind(&args.event)?;
+    if kind == EventKind::BranchPoint {
+        return Err(RattleError::Argument(
+            BoundaryError::Unsupported { kind: kind.name() }.to_string(),
+        ));
+    }
+    let signature = Signature::parse(&args.signature, args.period)
+        .map_err(|e| RattleError::Argument(e.to_string()))?;
+    let param: SceneParameter = args
+        .param
+        .parse()
+        .map_err(|e| RattleError::Argument(format!("--param: {e}")))?;
+    let settings = BoundarySettings {
+        omega_min: args.omega_min,
+        omega_max: args.omega_max,
+        max_step: args.max_step,
+        ..BoundarySettings::new(args.min, args.max)
+    };
+    let settings = BoundarySettings {
+        initial_step: settings.initial_step.min(settings.max_step),
+        ..settings
+    };
+    settings
+        .validate()
+        .map_err(|e| RattleError::Argument(e.to_string()))?;
+    if !(args.omega_min..=args.omega_max).contains(&omega) {
+        return Err(RattleError::Argument(format!(
+            "--omega = {omega} is out of range: must be in [--omega-min, --omega-max] = [{}, {}]",
+            args.omega_min, args.omega_max
+        )));
+    }
+    let format = args
+        .out
+        .as_ref()
+        .map(|p| Format::of(p, "--out"))
+        .transpose()?;
+    if format == Some(Format::JsonLines) {
+        return Err(RattleError::Argument(
+            "--out: a boundary is written as .csv (points) or .json (the whole document)".into(),
+        ));
+    }
+    let scene = load_unit(&args.scene, "boundary")?;
+    let request = BoundaryRequest {
+        signature,
+        kind,
+        omega,
+        param,
+        at: args.at.clone(),
+    };
+    let record = follow(&scene, &request, &settings).map_err(run_error)?;
+    write(&args, format, &record)
+}
+
+/// The command's error for a refused boundary: bad input (exit code 2) or a numerical
+/// failure (exit code 1).
+fn run_error(e: BoundaryRunError) -> RattleError {
+    match e {
+        BoundaryRunError::NoStops
+        | BoundaryRunError::Parameter(_)
+        | BoundaryRunError::Range { .. }
+        | BoundaryRunError::Boundary(BoundaryError::Setting { .. })
+        | BoundaryRunError::Boundary(BoundaryError::Unsupported { .. }) => {
+            RattleError::Argument(e.to_string())
+        }
+        _ => RattleError::Numerical(e.to_string()),
+    }
+}
+
+/// The output of a run: `--json` prints the record; `--out` writes it (`.json`) or the points
+/// (`.csv`); the summary is printed otherwise.
+///
+/// # Errors
+/// [`RattleError::Output`] when the file cannot be written.
+fn write(
+    args: &BoundaryArgs,
+    format: Option<Format>,
+    record: &BoundaryRecord,
+) -> Result<String, RattleError> {
+    if args.json {
+        return pretty(record);
+    }
+    if let (Some(path), Some(format)) = (&args.out, format) {
+        let io = |source| {
+            RattleError::Output(OutputError::Io {
+                path: path.clone(),
+                source,
+            })
+        };
+        if format == Format::Json {
+            std::fs::write(path, pretty(record)?).map_err(io)?;
+        } else {
+            let file = std::fs::File::create(path).map_err(io)?;
+            let mut table = writer::<BoundaryRow, _>(
+                format,
+                std::io::BufWriter::new(file),
+                &Header::default(),
+                None,
+            )
+            .map_err(io)?;
+            for p in &record.points {
+                let row = BoundaryRow {
+                    param_value: finite(p.param_value),
+                    omega: finite(p.omega),
+                    outer_amplitude: finite(p.outer_amplitude),
+                    critical_multiplier_re: finite(p.critical_multiplier[0]),
+                    critical_multiplier_im: finite(p.critical_multiplier[1]),
+                };
+                table.row(&row).map_err(io)?;
+            }
+            table.finish().map_err(io)?;
+        }
+    }
+    Ok(summary(record))
+}
+
+/// The summary printed without `--json`.
+fn summary(record: &BoundaryRecord) -> String {
+    let mut out = format!(
+        "scene {}: {} of the {} orbits over {} period(s), from ω = {:.10} at {} = {}; {} points\n",
+        record.scene,
+        record.event,
+        record.signature,
+        record.period,
+        record.omega_start,
+        record.param,
+        record.param_start,
+        record.points.len()
+    );
+    for a in &record.at {
+        let _ = writeln!(
+            out,
+            "at {} = {}: ω = {:.12}",
+            record.param, a.param_value, a.omega
+        );
+    }
+    for e in &record.ends {
+        let _ = writeln!(
+            out,
+            "end at {} = {}, ω = {:.10}: {}",
+            record.param, e.param_value, e.omega, e.reason
+        );
+    }
+    out
+}

@@ -1,0 +1,269 @@
+//! One regime boundary of a unit scene: the event of one kind nearest a frequency on the
+//! branches of a signature's orbits there, followed in (ω, a scene parameter) by
+//! [`rattle_analytic::follow_boundary`].
+
+use crate::scene::analytic::orbits_of_signature;
+use crate::scene::parameter::{ParameterError, SceneParameter};
+use crate::scene::Scene;
+use rattle_analytic::continuation::{
+    continue_orbit, follow_boundary, Boundary, BoundaryError, BoundarySettings, BoundaryStart,
+    ContinuationError, ContinuationSettings, Event, EventKind,
+};
+use rattle_analytic::{Signature, Stops, Unit};
+use serde::Serialize;
+use thiserror::Error;
+
+/// What to follow.
+#[derive(Debug, Clone)]
+pub struct BoundaryRequest {
+    /// The signature of the orbits.
+    pub signature: Signature,
+    /// The event kind.
+    pub kind: EventKind,
+    /// The frequency near which the event is looked for, rad/s.
+    pub omega: f64,
+    /// The scene parameter varied.
+    pub param: SceneParameter,
+    /// Parameter values at which the curve's ω is solved.
+    pub at: Vec<f64>,
+}
+
+/// Why no boundary could be followed.
+#[derive(Debug, Error)]
+pub enum BoundaryRunError {
+    /// The scene has no stops.
+    #[error("the scene has no stops: there is no impacting orbit and no boundary")]
+    NoStops,
+    /// The parameter cannot be read from the scene or set.
+    #[error("--param: {0}")]
+    Parameter(#[from] ParameterError),
+    /// `--min` or `--max` outside the parameter's physical range.
+    #[error("{option}: {source}")]
+    Range {
+        /// `--min` or `--max`.
+        option: &'static str,
+        /// The scene's refusal, naming the path and its range.
+        source: ParameterError,
+    },
+    /// No orbit of the signature at `--omega`.
+    #[error("no {signature} orbit over {period} period(s) at --omega = {omega}: nothing to follow (try `rattle orbit --signature`)")]
+    NoOrbit {
+        /// The signature.
+        signature: String,
+        /// Its period.
+        period: u32,
+        /// The frequency.
+        omega: f64,
+    },
+    /// No event of the kind on the branches through `--omega` within the frequency range.
+    #[error("no {kind} on the branches of the {signature} orbits at --omega = {omega} within [--omega-min, --omega-max] = [{min}, {max}]")]
+    NoEvent {
+        /// The event kind.
+        kind: &'static str,
+        /// The signature.
+        signature: String,
+        /// The frequency.
+        omega: f64,
+        /// Lowest frequency searched.
+        min: f64,
+        /// Highest frequency searched.
+        max: f64,
+    },
+    /// The one-parameter continuation refused its settings.
+    #[error("{0}")]
+    Continuation(#[from] ContinuationError),
+    /// The boundary refused its settings or start.
+    #[error("{0}")]
+    Boundary(#[from] BoundaryError),
+}
+
+/// One point of a boundary, as written.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundaryPointRecord {
+    /// The parameter's value.
+    pub param_value: f64,
+    /// Forcing frequency, rad/s.
+    pub omega: f64,
+    /// `X_o`.
+    pub outer_amplitude: f64,
+    /// The event's multiplier, `[re, im]`.
+    pub critical_multiplier: [f64; 2],
+}
+
+/// The curve's ω at one parameter value, as written.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundaryAtRecord {
+    /// The parameter value.
+    pub param_value: f64,
+    /// The curve's frequency there.
+    pub omega: f64,
+}
+
+/// One end of the curve, as written.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundaryEndRecord {
+    /// The parameter value of the last point.
+    pub param_value: f64,
+    /// Its frequency.
+    pub omega: f64,
+    /// Why the curve stops (`param-min`, `param-max`, `omega-min`, `omega-max`,
+    /// `step-below-minimum`, `flight-merged`, `point-cap`, `closed-loop`, `neutral-saddle`).
+    pub reason: &'static str,
+}
+
+/// A boundary curve, as `rattle boundary --json` prints it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundaryRecord {
+    /// The scene's name.
+    pub scene: String,
+    /// The signature of the orbits, canonical.
+    pub signature: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// The event kind followed.
+    pub event: &'static str,
+    /// The parameter's path.
+    pub param: String,
+    /// The parameter's value in the scene, where the curve starts.
+    pub param_start: f64,
+    /// The event's frequency at `param_start`.
+    pub omega_start: f64,
+    /// The points along the curve.
+    pub points: Vec<BoundaryPointRecord>,
+    /// The curve's ω at each `--at` value (one entry per crossing).
+    pub at: Vec<BoundaryAtRecord>,
+    /// Special points along the curve: none located yet (always empty).
+    pub special_points: Vec<BoundaryAtRecord>,
+    /// The two ends, the first point's then the last point's.
+    pub ends: Vec<BoundaryEndRecord>,
+}
+
+/// The unit and stops of `scene` with `param` set to `value`.
+fn unit_at(
+    scene: &Scene,
+    param: &SceneParameter,
+    value: f64,
+) -> Result<(Unit, Stops), BoundaryRunError> {
+    let scene = param.with_value(scene, value)?;
+    let stops = scene.stops_model().ok_or(BoundaryRunError::NoStops)?;
+    Ok((scene.unit_model(), stops))
+}
+
+/// The event of `request.kind` nearest `request.omega` on the branches through every orbit of
+/// the signature at `request.omega` (each followed within the settings' frequency range,
+/// without switching).
+fn nearest_event(
+    scene: &Scene,
+    request: &BoundaryRequest,
+    settings: &BoundarySettings,
+) -> Result<Event, BoundaryRunError> {
+    let (unit, stops) = (
+        scene.unit_model(),
+        scene.stops_model().ok_or(BoundaryRunError::NoStops)?,
+    );
+    let starts = orbits_of_signature(scene, request.omega, &request.signature);
+    if starts.is_empty() {
+        return Err(BoundaryRunError::NoOrbit {
+            signature: request.signature.to_string(),
+            period: request.signature.period(),
+            omega: request.omega,
+        });
+    }
+    let continuation = ContinuationSettings {
+        follow_switches: false,
+        ..ContinuationSettings::new(settings.omega_min, settings.omega_max)
+    };
+    let mut best: Option<Event> = None;
+    for start in &starts {
+        let c = continue_orbit(&unit, &stops, start, &continuation)?;
+        for e in c.events.into_iter().filter(|e| e.kind == request.kind) {
+            let d = |e: &Event| (e.omega - request.omega).abs();
+            if best.as_ref().is_none_or(|b| d(&e) < d(b)) {
+                best = Some(e);
+            }
+        }
+    }
+    best.ok_or_else(|| BoundaryRunError::NoEvent {
+        kind: request.kind.name(),
+        signature: request.signature.to_string(),
+        omega: request.omega,
+        min: settings.omega_min,
+        max: settings.omega_max,
+    })
+}
+
+/// Follows the boundary of `request` on the unit scene `scene` within `settings`.
+///
+/// # Errors
+/// See [`BoundaryRunError`].
+pub fn follow(
+    scene: &Scene,
+    request: &BoundaryRequest,
+    settings: &BoundarySettings,
+) -> Result<BoundaryRecord, BoundaryRunError> {
+    settings.validate()?;
+    let param_start = request.param.value(scene)?;
+    for (option, value) in [("--min", settings.param_min), ("--max", settings.param_max)] {
+        request
+            .param
+            .with_value(scene, value)
+            .map_err(|e| BoundaryRunError::Range { option, source: e })?;
+    }
+    let event = nearest_event(scene, request, settings)?;
+    let start = BoundaryStart {
+        unit_at: |v: f64| unit_at(scene, &request.param, v),
+        signature: &request.signature,
+        event: &event,
+        param: param_start,
+        at: &request.at,
+    };
+    let boundary = follow_boundary(&start, settings)?;
+    Ok(record(scene, request, param_start, &event, &boundary))
+}
+
+/// The written form of `boundary`.
+fn record(
+    scene: &Scene,
+    request: &BoundaryRequest,
+    param_start: f64,
+    event: &Event,
+    boundary: &Boundary,
+) -> BoundaryRecord {
+    BoundaryRecord {
+        scene: scene.name.clone(),
+        signature: boundary.signature.to_string(),
+        period: boundary.signature.period(),
+        event: boundary.kind.name(),
+        param: request.param.to_string(),
+        param_start,
+        omega_start: event.omega,
+        points: boundary
+            .points
+            .iter()
+            .map(|p| BoundaryPointRecord {
+                param_value: p.param_value,
+                omega: p.omega,
+                outer_amplitude: p.outer_amplitude,
+                critical_multiplier: [p.critical_multiplier.re, p.critical_multiplier.im],
+            })
+            .collect(),
+        at: boundary
+            .at
+            .iter()
+            .map(|a| BoundaryAtRecord {
+                param_value: a.param_value,
+                omega: a.omega,
+            })
+            .collect(),
+        special_points: Vec::new(),
+        ends: boundary
+            .ends
+            .iter()
+            .map(|e| BoundaryEndRecord {
+                param_value: e.param_value,
+                omega: e.omega,
+                reason: e.reason.name(),
+            })
+            .collect(),
+    }
+}

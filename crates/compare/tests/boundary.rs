@@ -1,0 +1,121 @@
+//! `rattle boundary` as a user meets it: the documented JSON fields, the curve through the
+//! event the command started from, the CSV points, and bad input exiting 2 naming the field.
+
+mod common;
+use common::{json, rattle};
+
+/// The period-doubling curve of the paper scene's `+-` orbits near ω = 2.85 over the gap.
+const PERIOD_DOUBLING: [&str; 13] = [
+    "boundary",
+    "--signature",
+    "+-",
+    "--event",
+    "period-doubling",
+    "--omega",
+    "2.85",
+    "--param",
+    "stops.gap",
+    "--min",
+    "0.45",
+    "--max",
+    "0.55",
+];
+
+#[test]
+fn boundary_json_has_the_documented_fields_and_passes_through_its_start() {
+    let mut args = PERIOD_DOUBLING.to_vec();
+    args.extend(["--at", "0.47,0.5,0.53", "--json"]);
+    let doc = json(&args);
+    for key in [
+        "signature",
+        "period",
+        "event",
+        "param",
+        "points",
+        "at",
+        "special_points",
+        "ends",
+    ] {
+        assert!(doc.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(doc["event"], "period-doubling");
+    assert_eq!(doc["param"], "stops.gap");
+    let points = doc["points"].as_array().unwrap();
+    assert!(points.len() > 10, "{} points", points.len());
+    for p in points {
+        let mu = p["critical_multiplier"].as_array().unwrap();
+        let (re, im) = (mu[0].as_f64().unwrap(), mu[1].as_f64().unwrap());
+        // A multiplier at −1 on every point (the doubling test is held to 1e-8).
+        assert!((re + 1.0).hypot(im) < 1e-8, "μ = {re} + {im}i");
+        let gap = p["param_value"].as_f64().unwrap();
+        assert!((0.45..=0.55).contains(&gap));
+        assert!(p["omega"].is_number() && p["outer_amplitude"].is_number());
+    }
+    let at = doc["at"].as_array().unwrap();
+    assert_eq!(at.len(), 3, "{at:?}");
+    // At the scene's own gap the curve's ω is the event the command started from.
+    let start = doc["omega_start"].as_f64().unwrap();
+    let here = at.iter().find(|a| a["param_value"] == 0.5).unwrap();
+    assert!((here["omega"].as_f64().unwrap() - start).abs() < 1e-9);
+    let reasons: Vec<&str> = doc["ends"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|e| e["reason"].as_str().unwrap())
+        .collect();
+    assert_eq!(reasons.len(), 2);
+    assert!(
+        reasons.contains(&"param-min") && reasons.contains(&"param-max"),
+        "{reasons:?}"
+    );
+}
+
+#[test]
+fn boundary_writes_the_points_as_csv() {
+    let path = std::env::temp_dir().join(format!("rattle-boundary-{}.csv", std::process::id()));
+    let mut args = PERIOD_DOUBLING.to_vec();
+    args.extend(["--out", path.to_str().unwrap()]);
+    let out = rattle(&args);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let _ = std::fs::remove_file(&path);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "param_value,omega,outer_amplitude,critical_multiplier_re,critical_multiplier_im"
+    );
+    assert!(lines.count() > 10);
+}
+
+#[test]
+fn bad_boundary_arguments_exit_2_and_name_the_field() {
+    let replace = |option: &str, value: &'static str| {
+        let mut args = PERIOD_DOUBLING.to_vec();
+        let k = args.iter().position(|a| *a == option).unwrap();
+        args[k + 1] = value;
+        args
+    };
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (replace("--event", "cusp"), "--event"),
+        (replace("--event", "branch-point"), "branch-point"),
+        (replace("--param", "stops.width"), "stops.width"),
+        (replace("--min", "0"), "--min"),
+        (replace("--max", "0.4"), "--max"),
+        (replace("--omega", "-1"), "--omega"),
+        (replace("--signature", "+x"), "--signature"),
+        (
+            [PERIOD_DOUBLING.as_slice(), &["--at", "0.6"]].concat(),
+            "--at",
+        ),
+    ];
+    for (args, field) in cases {
+        let out = rattle(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(field), "{args:?}: {stderr}");
+    }
+}
