@@ -35,7 +35,7 @@ pub const PAPER_SCENE: &str = include_str!("../../../../data/scenes/paper.json")
 
 /// The commands that take a chain of cells so far.
 pub const CHAIN_COMMANDS: &str =
-    "`rattle simulate`, `rattle sweep` (`--solver analytic`: the linear chain; `event`; `both`: the verdict of `rattle compare` at every frequency), `rattle map`, `rattle orbit --signature` (a sequence of the pairs' impacts) and `rattle compare` (the simulated cycle beside the analytic orbit of its impact sequence)";
+    "`rattle simulate`, `rattle sweep` (`--solver analytic`: the linear chain; `event`; `both`: the verdict of `rattle compare` at every frequency), `rattle map`, `rattle orbit --signature` (a sequence of the pairs' impacts), `rattle continue --signature` (the same, continued in ω) and `rattle compare` (the simulated cycle beside the analytic orbit of its impact sequence)";
 
 /// A chain scene given to a command that works on a single unit only
 /// ([`Scene::refuse_chain`]).
