@@ -2,8 +2,8 @@
 //! doubling, Neimark–Sacker, grazing, vanishing impact) of a signature's orbits followed in
 //! (ω, a scene parameter).
 
-use super::{check_omega, load_unit, pretty, RattleError};
-use crate::output::{finite, table_row, writer, Format, Header, OutputError};
+use super::{check_omega, load_unit, write_record, RattleError};
+use crate::output::{finite, table_row, Format};
 use crate::runs::boundary::{follow, BoundaryRecord, BoundaryRequest, BoundaryRunError};
 use crate::scene::parameter::SceneParameter;
 use clap::Args;
@@ -188,41 +188,18 @@ fn write(
     format: Option<Format>,
     record: &BoundaryRecord,
 ) -> Result<String, RattleError> {
-    if args.json {
-        return pretty(record);
-    }
-    if let (Some(path), Some(format)) = (&args.out, format) {
-        let io = |source| {
-            RattleError::Output(OutputError::Io {
-                path: path.clone(),
-                source,
-            })
-        };
-        if format == Format::Json {
-            std::fs::write(path, pretty(record)?).map_err(io)?;
-        } else {
-            let file = std::fs::File::create(path).map_err(io)?;
-            let mut table = writer::<BoundaryRow, _>(
-                format,
-                std::io::BufWriter::new(file),
-                &Header::default(),
-                None,
-            )
-            .map_err(io)?;
-            for p in &record.points {
-                let row = BoundaryRow {
-                    param_value: finite(p.param_value),
-                    omega: finite(p.omega),
-                    outer_amplitude: finite(p.outer_amplitude),
-                    critical_multiplier_re: finite(p.critical_multiplier[0]),
-                    critical_multiplier_im: finite(p.critical_multiplier[1]),
-                };
-                table.row(&row).map_err(io)?;
-            }
-            table.finish().map_err(io)?;
-        }
-    }
-    Ok(summary(record))
+    let rows = || {
+        record.points.iter().map(|p| BoundaryRow {
+            param_value: finite(p.param_value),
+            omega: finite(p.omega),
+            outer_amplitude: finite(p.outer_amplitude),
+            critical_multiplier_re: finite(p.critical_multiplier[0]),
+            critical_multiplier_im: finite(p.critical_multiplier[1]),
+        })
+    };
+    write_record(args.json, args.out.as_ref(), format, record, rows, || {
+        summary(record)
+    })
 }
 
 /// The summary printed without `--json`.

@@ -1,9 +1,9 @@
 //! `rattle continue`: the branches through every orbit of a signature (on a chain: an impact
 //! sequence) at one frequency, followed in ω with their bifurcations.
 
-use super::{check_frequency, check_omega, load, pretty, RattleError};
+use super::{check_frequency, check_omega, load, write_record, RattleError};
 use crate::output::records::ContinuationRecord;
-use crate::output::{finite, number_list, table_row, writer, Format, Header, OutputError};
+use crate::output::{finite, number_list, table_row, Format};
 use crate::runs::continuation::{follow, follow_chain, ChainFollowed, FollowError, Followed};
 use crate::verdict::chain::ChainOrbitsError;
 use clap::Args;
@@ -273,34 +273,9 @@ fn write<R: crate::output::Row, I: Iterator<Item = R>>(
     record: &ContinuationRecord,
     rows: impl FnOnce() -> I,
 ) -> Result<String, RattleError> {
-    if args.json {
-        return pretty(record);
-    }
-    if let (Some(path), Some(format)) = (&args.out, format) {
-        let io = |source| {
-            RattleError::Output(OutputError::Io {
-                path: path.clone(),
-                source,
-            })
-        };
-        if format == Format::Json {
-            std::fs::write(path, pretty(record)?).map_err(io)?;
-        } else {
-            let file = std::fs::File::create(path).map_err(io)?;
-            let mut table = writer::<R, _>(
-                format,
-                std::io::BufWriter::new(file),
-                &Header::default(),
-                None,
-            )
-            .map_err(io)?;
-            for row in rows() {
-                table.row(&row).map_err(io)?;
-            }
-            table.finish().map_err(io)?;
-        }
-    }
-    Ok(summary(record))
+    write_record(args.json, args.out.as_ref(), format, record, rows, || {
+        summary(record)
+    })
 }
 
 /// The summary printed without `--json`.

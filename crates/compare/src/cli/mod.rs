@@ -308,3 +308,48 @@ fn pretty(record: &impl serde::Serialize) -> Result<String, RattleError> {
         .map(|s| s + "\n")
         .map_err(|e| RattleError::Numerical(e.to_string()))
 }
+
+/// A one-document command's output: with `json`, the document itself (for stdout); else, with
+/// `out` in `format`, the document (`.json`) or one row per item (`rows()`, as CSV or JSON
+/// lines) written to that file, and `summary()` for stdout.
+///
+/// # Errors
+/// [`RattleError::Output`] when the file cannot be written.
+fn write_record<R: crate::output::Row, I: Iterator<Item = R>>(
+    json: bool,
+    out: Option<&std::path::PathBuf>,
+    format: Option<crate::output::Format>,
+    record: &impl serde::Serialize,
+    rows: impl FnOnce() -> I,
+    summary: impl FnOnce() -> String,
+) -> Result<String, RattleError> {
+    use crate::output::{writer, Format, Header, OutputError};
+    if json {
+        return pretty(record);
+    }
+    if let (Some(path), Some(format)) = (out, format) {
+        let io = |source| {
+            RattleError::Output(OutputError::Io {
+                path: path.clone(),
+                source,
+            })
+        };
+        if format == Format::Json {
+            std::fs::write(path, pretty(record)?).map_err(io)?;
+        } else {
+            let file = std::fs::File::create(path).map_err(io)?;
+            let mut table = writer::<R, _>(
+                format,
+                std::io::BufWriter::new(file),
+                &Header::default(),
+                None,
+            )
+            .map_err(io)?;
+            for row in rows() {
+                table.row(&row).map_err(io)?;
+            }
+            table.finish().map_err(io)?;
+        }
+    }
+    Ok(summary())
+}
