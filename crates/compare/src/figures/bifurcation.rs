@@ -2,7 +2,7 @@
 //! with the final state carried over, and the analytic symmetric orbits' stroboscopic points.
 
 use crate::figures::plot::{axes, err, legend, text, Figure};
-use crate::study::plots::Bifurcation;
+use crate::study::plots::{Bifurcation, BifurcationFrame};
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -12,28 +12,34 @@ impl Figure for Bifurcation {
     }
 
     fn size(&self) -> (u32, u32) {
-        (1500, 900)
+        (1500, 1350)
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), String> {
-        let (wmin, wmax) = self.omega_range;
-        // Scale to the bulk of the points (98th percentile): a few huge excursions near
-        // resonance would otherwise flatten everything else; they are clipped at the frame.
-        let mut mags: Vec<f64> = self
-            .up
-            .iter()
-            .chain(&self.down)
-            .map(|p| p.1.abs())
-            .chain(self.analytic.iter().map(|p| p.1.abs()))
-            .filter(|v| v.is_finite())
-            .collect();
-        mags.sort_by(f64::total_cmp);
-        let bulk = mags.get(mags.len() * 98 / 100).copied().unwrap_or(1.0);
-        let ymax = bulk.max(1e-3) * 1.2;
-        let mut chart = ChartBuilder::on(root)
+        let whole = self.whole_frame();
+        let Some(detail) = self.detail_frame() else {
+            return self.panel(root, whole, "outliers clipped to the frame");
+        };
+        let (top, bottom) = root.split_vertically(750);
+        self.panel(&top, whole, "outliers clipped to the frame")?;
+        self.panel(&bottom, detail, "detail above the primary resonance")
+    }
+}
+
+impl Bifurcation {
+    fn panel<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        frame: BifurcationFrame,
+        what: &str,
+    ) -> Result<(), String> {
+        let (wmin, wmax) = frame.omega_range;
+        let ymax = frame.half_height;
+        let inside = |w: f64| (wmin..=wmax).contains(&w);
+        let mut chart = ChartBuilder::on(area)
             .caption(
                 format!(
-                    "Stroboscopic u_o(kT), sweeping up and down, scene '{}' (outliers clipped to the frame)",
+                    "Stroboscopic u_o(kT), sweeping up and down, scene '{}' ({what})",
                     self.scene_name
                 ),
                 text(22),
@@ -55,6 +61,7 @@ impl Figure for Bifurcation {
             .draw_series(
                 self.up
                     .iter()
+                    .filter(|p| inside(p.0))
                     .map(|&(w, u)| Circle::new((w, u), 2, up_colour.filled())),
             )
             .map_err(err)?
@@ -64,6 +71,7 @@ impl Figure for Bifurcation {
             .draw_series(
                 self.down
                     .iter()
+                    .filter(|p| inside(p.0))
                     .map(|&(w, u)| Cross::new((w, u), 3, down_colour.stroke_width(1))),
             )
             .map_err(err)?
@@ -73,16 +81,21 @@ impl Figure for Bifurcation {
             .draw_series(
                 self.analytic
                     .iter()
-                    .filter(|p| p.2)
+                    .filter(|p| p.2 && inside(p.0))
                     .map(|&(w, u, _)| Circle::new((w, u), 5, BLACK.stroke_width(1))),
             )
             .map_err(err)?
             .label("analytic symmetric orbit, viable and stable")
             .legend(|(x, y)| Circle::new((x + 10, y), 5, BLACK.stroke_width(1)));
         chart
-            .draw_series(self.analytic.iter().filter(|p| !p.2).map(|&(w, u, _)| {
-                TriangleMarker::new((w, u), 4, RGBColor(120, 120, 120).stroke_width(1))
-            }))
+            .draw_series(
+                self.analytic
+                    .iter()
+                    .filter(|p| !p.2 && inside(p.0))
+                    .map(|&(w, u, _)| {
+                        TriangleMarker::new((w, u), 4, RGBColor(120, 120, 120).stroke_width(1))
+                    }),
+            )
             .map_err(err)?
             .label("analytic symmetric orbit, viable but unstable")
             .legend(|(x, y)| {

@@ -294,6 +294,73 @@ pub struct Bifurcation {
     pub analytic: Vec<(f64, f64, bool)>,
 }
 
+/// The frame of one panel of the bifurcation figure: a frequency range and a symmetric
+/// displacement range `[-half_height, half_height]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BifurcationFrame {
+    /// Frequency range shown, rad/s.
+    pub omega_range: (f64, f64),
+    /// Half the height of the displacement axis, m.
+    pub half_height: f64,
+}
+
+/// Frequencies between the largest |u_o(kT)| of the sweeps (the primary resonance) and the
+/// start of the detail panel, rad/s: far enough that the resonance's flanks, which rise as
+/// 1/|ω − ω_r|, do not set the detail's scale.
+const DETAIL_PAST_RESONANCE: f64 = 0.3;
+
+impl Bifurcation {
+    fn magnitudes(&self, omega: impl Fn(f64) -> bool) -> Vec<f64> {
+        let mut mags: Vec<f64> = self
+            .up
+            .iter()
+            .chain(&self.down)
+            .map(|&(w, u)| (w, u))
+            .chain(self.analytic.iter().map(|&(w, u, _)| (w, u)))
+            .filter(|&(w, u)| omega(w) && u.is_finite())
+            .map(|(_, u)| u.abs())
+            .collect();
+        mags.sort_by(f64::total_cmp);
+        mags
+    }
+
+    /// The whole sweep, scaled to the bulk of its points (98th percentile of |u_o(kT)|): a few
+    /// huge excursions at resonance would otherwise flatten everything else; they are clipped
+    /// at the frame.
+    pub fn whole_frame(&self) -> BifurcationFrame {
+        let mags = self.magnitudes(|_| true);
+        let bulk = mags.get(mags.len() * 98 / 100).copied().unwrap_or(1.0);
+        BifurcationFrame {
+            omega_range: self.omega_range,
+            half_height: bulk.max(1e-3) * 1.2,
+        }
+    }
+
+    /// The detail above the primary resonance, where the impacting orbits bifurcate: from
+    /// [`DETAIL_PAST_RESONANCE`] above the frequency of the sweeps' largest |u_o(kT)| to the
+    /// sweep's end, scaled to the largest |u_o(kT)| there. `None` when that leaves less than a
+    /// tenth of the sweep.
+    pub fn detail_frame(&self) -> Option<BifurcationFrame> {
+        let (wmin, wmax) = self.omega_range;
+        let peak = self
+            .up
+            .iter()
+            .chain(&self.down)
+            .filter(|p| p.1.is_finite())
+            .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))?
+            .0;
+        let start = peak + DETAIL_PAST_RESONANCE;
+        if wmax - start < 0.1 * (wmax - wmin) {
+            return None;
+        }
+        let top = self.magnitudes(|w| w >= start).last().copied()?;
+        Some(BifurcationFrame {
+            omega_range: (start, wmax),
+            half_height: top.max(1e-3) * 1.1,
+        })
+    }
+}
+
 /// `u_o(kT)` (base phase 0) of a two-impact orbit.
 pub fn stroboscopic_outer(scene: &crate::scene::Scene, orbit: &rattle_analytic::Orbit) -> f64 {
     let period = std::f64::consts::TAU / orbit.omega;
@@ -510,4 +577,39 @@ pub struct Plots {
     pub bifurcation: Bifurcation,
     /// The maps, when the scene has stops.
     pub maps: Option<(BandwidthMap, RegimeMap)>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sweep(points: &[(f64, f64)]) -> Bifurcation {
+        Bifurcation {
+            scene_name: "test".into(),
+            omega_range: (0.5, 4.0),
+            up: points.to_vec(),
+            down: Vec::new(),
+            analytic: vec![(3.0, -0.25, true)],
+        }
+    }
+
+    /// The detail panel starts `DETAIL_PAST_RESONANCE` above the sweep's largest |u_o(kT)| and
+    /// is scaled to the largest |u_o(kT)| beyond that, the analytic points included (the last
+    /// stop's 200-point sweep put its frame at ±37 m, squashing the 1–2 m detail above 1.7 rad/s).
+    #[test]
+    fn the_detail_frame_starts_past_the_resonance_and_fits_what_is_beyond() {
+        let b = sweep(&[(1.0, 2.0), (1.4, -40.0), (1.6, 9.0), (2.0, 1.5), (3.5, -0.5)]);
+        let detail = b.detail_frame().expect("3.5 rad/s of sweep beyond the resonance");
+        assert_eq!(detail.omega_range, (1.4 + DETAIL_PAST_RESONANCE, 4.0));
+        assert!((detail.half_height - 1.5 * 1.1).abs() < 1e-15);
+        let whole = b.whole_frame();
+        assert_eq!(whole.omega_range, (0.5, 4.0));
+        assert!((whole.half_height - 40.0 * 1.2).abs() < 1e-12);
+    }
+
+    #[test]
+    fn no_detail_frame_when_the_resonance_is_at_the_sweep_end() {
+        let b = sweep(&[(1.0, 2.0), (3.9, 40.0)]);
+        assert_eq!(b.detail_frame(), None);
+    }
 }
