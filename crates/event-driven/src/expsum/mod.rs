@@ -18,7 +18,7 @@ use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
     CACHED_CHUNKS, CHUNK_ROWS, SEED_DIVISIONS,
 };
-use chunk::{inside, quadratic_exit, taylor_clearance, ChunkTest};
+use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
 use polish::{polish, polish_from, Crossing, Exponentials};
 use scan::{CachedChunks, ChunkSource, Chunks, SteppedChunks};
 pub use search::Tolerances;
@@ -142,10 +142,22 @@ impl ExpSum {
     }
 
     /// A bound on `|f''''(s)|` for `s ∈ [0, horizon]`, like [`Self::curvature_bound`].
+    ///
+    /// A term with a constant polynomial (`+0` higher coefficients) and a rate that does not
+    /// grow takes a short path to the same value, `|μ|⁴ |c|` (the general sum's other
+    /// products are exact zeros, its growth factor 1).
     pub fn fourth_derivative_bound(&self, horizon: f64) -> f64 {
         self.terms
             .iter()
             .map(|t| {
+                let zero_bits = t.poly[1..]
+                    .iter()
+                    .fold(0, |bits, c| bits | c.re.to_bits() | c.im.to_bits());
+                let m = l1(t.rate);
+                if zero_bits == 0 && t.rate.re <= 0.0 && horizon.is_finite() && m.is_finite() {
+                    let m2 = m * m;
+                    return m2 * m2 * l1(t.poly[0]);
+                }
                 let ([p0, p1, p2, p3], m, growth) = term_bounds(t, horizon);
                 let m2 = m * m;
                 (m2 * m2 * p0 + 4.0 * m2 * m * p1 + 6.0 * m2 * p2 + 4.0 * m * p3) * growth
