@@ -24,6 +24,14 @@ use scan::{CachedChunks, ChunkSource, Chunks, SteppedChunks};
 pub use search::Tolerances;
 pub(crate) use summary::{summarize_two, ModeTerm, Summary};
 
+/// How far the fixed grid of a search whose fastest rate is at most `fastest` (`|re| + |im|`)
+/// keeps its chunks' exponentials ([`CACHED_CHUNKS`] chunks of `2w`, `w = π/(8 fastest)`): a
+/// search of constant terms with no growing rate up to this horizon evaluates no exponential
+/// afresh after the run's first flights.
+pub(crate) fn fixed_grid_reach(fastest: f64) -> f64 {
+    CACHED_CHUNKS as f64 * std::f64::consts::PI / (search::CHUNKS_PER_OSCILLATION * fastest) * 2.0
+}
+
 /// `e^{μ s}`, skipping the real exponential for purely oscillatory and constant terms.
 #[inline]
 fn cexp(mu: C64, s: f64) -> C64 {
@@ -110,6 +118,23 @@ impl ExpSum {
             d += ((dpoly + poly * t.rate) * e).re;
         }
         (v, d)
+    }
+
+    /// The same function of `s + by` as a function of `s`: each term's coefficients times
+    /// `e^{μ by}` and its polynomial re-expanded about `by`.
+    pub fn shift(&mut self, by: f64) {
+        for t in &mut self.terms {
+            let e = cexp(t.rate, by);
+            let [c0, c1, c2, c3] = t.poly;
+            // p(s + a) = Σ c_k (s + a)^k, by the binomial expansion.
+            let shifted = [
+                c0 + (c1 + (c2 + c3 * by) * by) * by,
+                c1 + (c2 * 2.0 + c3 * (3.0 * by)) * by,
+                c2 + c3 * (3.0 * by),
+                c3,
+            ];
+            t.poly = shifted.map(|c| c * e);
+        }
     }
 
     /// Value and first two derivatives at `s`.

@@ -339,11 +339,7 @@ impl Exponentials {
             }
         } else {
             let from = series_start_fine(largest);
-            for (values, terms) in self
-                .values
-                .chunks_mut(TOGETHER)
-                .zip(terms.chunks(TOGETHER))
-            {
+            for (values, terms) in self.values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
                 let mut z = [C64::default(); TOGETHER];
                 let mut p = [C64::new(INVERSE_FACTORIALS[from], 0.0); TOGETHER];
                 for (z, t) in z.iter_mut().zip(terms) {
