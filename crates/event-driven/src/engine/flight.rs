@@ -394,7 +394,7 @@ impl Engine<'_> {
             for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
                 flight.expand(u, coordinate);
                 if offset != 0.0 {
-                    coordinate.shift(offset);
+                    coordinate.move_origin(offset);
                 }
                 *amp = coordinate.max_abs(span, *amp, AMPLITUDE_TOLERANCE * (1.0 + *amp));
             }

@@ -122,7 +122,7 @@ impl ExpSum {
 
     /// The same function of `s + by` as a function of `s`: each term's coefficients times
     /// `e^{μ by}` and its polynomial re-expanded about `by`.
-    pub fn shift(&mut self, by: f64) {
+    pub fn move_origin(&mut self, by: f64) {
         for t in &mut self.terms {
             let e = cexp(t.rate, by);
             let [c0, c1, c2, c3] = t.poly;
@@ -555,5 +555,74 @@ mod tests {
         // A floor above the maximum is the answer; one below it changes nothing.
         assert_eq!(f.max_abs(5.0, 3.0, 1e-14), 3.0);
         assert!((f.max_abs(5.0, 1.5, 1e-14) - 2.0).abs() < 1e-13);
+    }
+
+    #[test]
+    fn moving_the_origin_is_the_same_function() {
+        // f(s + a) against the moved sum at s, for steady-flight-like sums and one with a full
+        // cubic polynomial: the same values to rounding of the terms' sizes.
+        for k in 0..10 {
+            let mut f = flight_like(k);
+            f.terms.push(Term {
+                poly: [
+                    C64::new(0.2, -0.1),
+                    C64::new(0.05 * k as f64, 0.3),
+                    C64::new(-0.02, 0.01),
+                    C64::new(0.003, -0.004),
+                ],
+                rate: C64::new(-0.1, 0.7),
+            });
+            for a in [0.0, 0.37, 2.9] {
+                let mut g = f.clone();
+                g.move_origin(a);
+                for s in [0.0, 0.5, 1.7] {
+                    let (expected, slope) = f.eval(s + a);
+                    let (value, moved_slope) = g.eval(s);
+                    assert!((value - expected).abs() <= 1e-14, "k {k} a {a} s {s}");
+                    assert!((moved_slope - slope).abs() <= 1e-14, "k {k} a {a} s {s}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_departure_test_clears_only_starts_without_an_exit() {
+        // A start on one edge moving away from it, the other edge from near to far: whenever
+        // `departs` clears `(0, length]`, the search on the horizon's grid finds no exit
+        // there. It must clear most starts whose far edge is out of reach (else the engine's
+        // first-chunk shortcut never fires) and none whose far edge is reached.
+        let tolerances = Tolerances {
+            time: 1e-12,
+            depth: 1e-12,
+        };
+        let mut stack = SearchStack::default();
+        let (mut cleared, mut tried) = (0, 0);
+        for k in 0..60 {
+            let f = flight_like(k);
+            let (f0, d0, dd0) = f.eval2(0.0);
+            for length in [0.05, 0.16, 0.4] {
+                let jerk = f.jerk_bound(length);
+                for reach in [0.01, 0.1, 0.5, 2.0] {
+                    let band = if d0 > 0.0 {
+                        (f0, f0 + reach)
+                    } else {
+                        (f0 - reach, f0)
+                    };
+                    tried += 1;
+                    if !departs((f0, d0, dd0), jerk, band, tolerances.depth, length) {
+                        continue;
+                    }
+                    cleared += 1;
+                    let exit = f
+                        .first_exit_on_horizon_grid(band, length, length, tolerances, &mut stack)
+                        .filter(|&(s, _)| s <= length);
+                    assert_eq!(exit, None, "k {k} length {length} reach {reach}");
+                }
+            }
+        }
+        assert!(
+            cleared >= tried / 3 && cleared < tried,
+            "{cleared} of {tried}"
+        );
     }
 }

@@ -115,7 +115,7 @@ pub(super) fn polish(
     polish_from(g, bracket, start, tol, exps)
 }
 
-/// [`polish`] with `exps` already at `start`.
+/// [`polish()`] with `exps` already at `start`.
 #[inline]
 pub(super) fn polish_from(
     g: &Crossing<'_>,
@@ -216,7 +216,7 @@ impl Local {
     }
 }
 
-/// The iteration of [`polish`]: `g` evaluated on `local` within its radius, else from the
+/// The iteration of [`polish()`]: `g` evaluated on `local` within its radius, else from the
 /// exponentials advanced to each iterate.
 pub(super) fn iterate(
     crossing: &Crossing<'_>,
