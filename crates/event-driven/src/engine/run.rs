@@ -76,8 +76,10 @@ impl Engine<'_> {
         }
     }
 
-    /// The state at the start: free, at `start`, its time carried modulo the period.
-    pub(super) fn init(&self, start: &Start, plan: &Plan) -> RunState {
+    /// The state at the start: free, at `start`, its time carried modulo the period. A run
+    /// starts afresh: a flight left pending by an earlier run of this engine is dropped.
+    pub(super) fn init(&mut self, start: &Start, plan: &Plan) -> RunState {
+        self.drop_pending();
         let mut state = RunState {
             k: 0,
             tau: start.time.rem_euclid(self.period),
