@@ -45,6 +45,40 @@ pub(super) struct Scratch {
     /// The last free flight's storage for its modal deviation, handed to the next
     /// ([`LinearFlow::flight_at_phase`](crate::flow::LinearFlow)).
     pub(super) flight_storage: Vec<nalgebra::Complex<f64>>,
+    /// A free flight searched past the section it reached, to go on after it.
+    pub(super) pending: Pending,
+}
+
+/// A free flight that reached the section `t = (k + 1)T` with its search carried past it
+/// (up to a second section): at the section the run checks its stopping rules, and the next
+/// step goes on with this flight and the contact its search found, rather than starting a
+/// flight and a search at the section ([`Engine::free_flight`]). Valid only for the state
+/// `state` at the section, in free flight. What the run records does not decide it (a flight
+/// that goes on records its part after the section then), so a run takes the same steps
+/// whatever it records; but the final stretch starts afresh at its first section
+/// ([`Engine::drop_pending`] where the window opens), as a run started there does.
+///
+/// A run so differs from one restarted at each section in the last bits of its contact times
+/// (both within the root tolerance), and the state at a section is no longer all that decides
+/// the next period's bits: a run started from a section state (other than the final stretch's
+/// first) agrees with the run it came from to the root tolerance, not bit for bit.
+#[derive(Default)]
+pub(super) struct Pending {
+    /// Whether a flight is pending.
+    pub(super) live: bool,
+    /// Its modal deviation at its start ([`Flight::into_storage`]).
+    pub(super) deviation: Vec<nalgebra::Complex<f64>>,
+    /// Its forcing phase at its start.
+    pub(super) phase: nalgebra::Complex<f64>,
+    /// The section's time after the flight's start.
+    pub(super) section: f64,
+    /// The contact found after the section (its exponentials in
+    /// [`Scratch::event_exponentials`]), or `None` for none up to `end`.
+    pub(super) contact: Option<Contact>,
+    /// The end of the search: the next section, after the flight's start.
+    pub(super) end: f64,
+    /// The state at the section.
+    pub(super) state: Vec<f64>,
 }
 
 impl Scratch {
@@ -222,6 +256,13 @@ impl Engine<'_> {
         state: &mut RunState,
         plan: &Plan,
     ) -> Result<(), SimulationError> {
+        if self.work.pending.live {
+            if self.pending_holds(state) {
+                self.work.pending.live = false;
+                return self.continue_pending(state, plan);
+            }
+            self.drop_pending();
+        }
         let n = self.n;
         let period = self.period;
         let horizon = period - state.tau;
@@ -261,7 +302,14 @@ impl Engine<'_> {
             time: self.time_tolerance,
             depth,
         };
-        let watch = Self::watch(watched, &mut self.work, &flight, horizon, tolerances);
+        // Searched on past the section, up to the next, when it may go on after it.
+        let past_section = self.searches_past_section(state);
+        let reach = if past_section {
+            horizon + period
+        } else {
+            horizon
+        };
+        let watch = Self::watch(watched, &mut self.work, &flight, reach, tolerances);
         if let Watch::Step(step) = watch {
             // Just released (or grazed): step past the stop's edge without an event.
             if let Some(trace) = state.trace.as_mut() {
@@ -279,28 +327,28 @@ impl Engine<'_> {
             Watch::Contact(c) => Some(c),
             _ => None,
         };
-        let span = contact.map_or(horizon, |c| c.s);
-        let tau = state.tau;
-        let k = state.k;
-        if let Some(t) = state.tangent.as_mut() {
-            self.propagate_tangent(t, span);
-        }
-        if let Some(trace) = state.trace.as_mut() {
-            trace.segment(k, period, tau, span, |s| flight.state(s));
-        }
-        if let Some(w) = state.window.as_mut() {
-            for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
-                flight.expand(u, &mut self.work.coordinate);
-                *amp = self
-                    .work
-                    .coordinate
-                    .max_abs(span, *amp, AMPLITUDE_TOLERANCE * (1.0 + *amp));
-            }
-            if plan.record_trajectory {
-                sample(&mut w.trajectory, span, period, |s| {
-                    (k as f64 * period + (tau + s), flight.state(s))
-                });
-            }
+        let beyond = past_section && contact.is_none_or(|c| c.s > horizon);
+        let span = match contact {
+            Some(c) if !beyond => c.s,
+            _ => horizon,
+        };
+        let mut coordinate = std::mem::take(&mut self.work.coordinate);
+        self.record_flight((state, plan), &flight, (0.0, span), &mut coordinate);
+        self.work.coordinate = coordinate;
+        if beyond {
+            // To the section; the flight goes on after it (`continue_pending`).
+            flight.state_into(horizon, &mut state.y);
+            let pending = &mut self.work.pending;
+            pending.live = true;
+            pending.phase = phase;
+            pending.section = horizon;
+            pending.contact = contact;
+            pending.end = reach;
+            pending.state.clear();
+            pending.state.extend_from_slice(state.y.as_slice());
+            pending.deviation = flight.into_storage();
+            state.tau = period;
+            return Ok(());
         }
         match contact {
             None => {
@@ -319,6 +367,108 @@ impl Engine<'_> {
                     self.carry_across(state);
                 }
             }
+        }
+        Ok(())
+    }
+
+    /// What a run records of `flight` over `[offset, offset + span]` (its part in the current
+    /// period, which starts at `state.tau`): the tangent flow, the trace, and in the window of
+    /// the final stretch the amplitudes and the trajectory.
+    /// `coordinate` is scratch storage.
+    fn record_flight(
+        &self,
+        (state, plan): (&mut RunState, &Plan),
+        flight: &Flight<'_>,
+        (offset, span): (f64, f64),
+        coordinate: &mut ExpSum,
+    ) {
+        let period = self.period;
+        let (tau, k) = (state.tau, state.k);
+        if let Some(t) = state.tangent.as_mut() {
+            self.propagate_tangent(t, span);
+        }
+        if let Some(trace) = state.trace.as_mut() {
+            trace.segment(k, period, tau, span, |s| flight.state(offset + s));
+        }
+        if let Some(w) = state.window.as_mut() {
+            for (amp, u) in w.amplitudes.iter_mut().zip(&self.displacements) {
+                flight.expand(u, coordinate);
+                if offset != 0.0 {
+                    coordinate.move_origin(offset);
+                }
+                *amp = coordinate.max_abs(span, *amp, AMPLITUDE_TOLERANCE * (1.0 + *amp));
+            }
+            if plan.record_trajectory {
+                sample(&mut w.trajectory, span, period, |s| {
+                    (k as f64 * period + (tau + s), flight.state(offset + s))
+                });
+            }
+        }
+    }
+
+    /// Whether a free flight from `state` is searched on past the section, up to the next: no
+    /// pair is in its grace time. (What the run records does not matter: a flight carried
+    /// past the section records its part after it when it goes on, so a run takes the same
+    /// steps whatever it records.)
+    fn searches_past_section(&self, state: &RunState) -> bool {
+        self.carries_sections && state.grace.iter().all(|&g| g <= state.tau)
+    }
+
+    /// Forgets the pending flight, if any ([`Pending`]): the next free flight starts afresh.
+    pub(super) fn drop_pending(&mut self) {
+        let pending = &mut self.work.pending;
+        if std::mem::take(&mut pending.live) {
+            self.work.flight_storage = std::mem::take(&mut pending.deviation);
+        }
+    }
+
+    /// Whether the pending flight ([`Pending`]) goes on from `state`: at the section it
+    /// reached, in free flight, from the state the flight left there (bit for bit).
+    fn pending_holds(&self, state: &RunState) -> bool {
+        state.tau == 0.0
+            && matches!(state.mode, Mode::Free)
+            && self.work.pending.state == state.y.as_slice()
+    }
+
+    /// The pending flight after its section: to the contact its search found (resolved as
+    /// any flight's), or to the next section; recorded from the section on.
+    fn continue_pending(
+        &mut self,
+        state: &mut RunState,
+        plan: &Plan,
+    ) -> Result<(), SimulationError> {
+        let pending = &mut self.work.pending;
+        let deviation = std::mem::take(&mut pending.deviation);
+        let (section, contact, end) = (pending.section, pending.contact, pending.end);
+        let flight = match self.free.flight_with_deviation(deviation, pending.phase) {
+            Ok(flight) => flight,
+            Err(deviation) => {
+                // Not a steady-response flow: never kept (`carries_sections`).
+                self.work.flight_storage = deviation;
+                return Ok(());
+            }
+        };
+        let span = contact.map_or(end, |c| c.s) - section;
+        let mut coordinate = std::mem::take(&mut self.work.coordinate);
+        self.record_flight((state, plan), &flight, (section, span), &mut coordinate);
+        self.work.coordinate = coordinate;
+        let Some(c) = contact else {
+            flight.state_into(end, &mut state.y);
+            self.work.flight_storage = flight.into_storage();
+            state.tau = self.period;
+            return Ok(());
+        };
+        flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
+        let carry = self.pairs.len() > 1 && Self::carry_from(&mut self.work, &flight, &state.y);
+        self.work.flight_storage = flight.into_storage();
+        let c = Contact {
+            s: c.s - section,
+            ..c
+        };
+        state.tau = c.s;
+        self.contact(state, c)?;
+        if carry {
+            self.carry_across(state);
         }
         Ok(())
     }

@@ -76,8 +76,10 @@ impl Engine<'_> {
         }
     }
 
-    /// The state at the start: free, at `start`, its time carried modulo the period.
-    pub(super) fn init(&self, start: &Start, plan: &Plan) -> RunState {
+    /// The state at the start: free, at `start`, its time carried modulo the period. A run
+    /// starts afresh: a flight left pending by an earlier run of this engine is dropped.
+    pub(super) fn init(&mut self, start: &Start, plan: &Plan) -> RunState {
+        self.drop_pending();
         let mut state = RunState {
             k: 0,
             tau: start.time.rem_euclid(self.period),
@@ -111,7 +113,11 @@ impl Engine<'_> {
         state: &mut RunState,
         plan: &Plan,
     ) -> Result<bool, SimulationError> {
-        self.open_window(state, plan);
+        if self.open_window(state, plan) {
+            // The final stretch starts afresh at its section, as a run started there does
+            // (a trace of the final cycle): the same steps, to the bit.
+            self.drop_pending();
+        }
         match state.mode {
             Mode::Free => self.free_flight(state, plan)?,
             Mode::Stuck(index) => self.stuck_phase(state, index, plan)?,
@@ -123,8 +129,8 @@ impl Engine<'_> {
         Ok(true)
     }
 
-    /// Starts recording the final stretch when its first period begins.
-    pub(super) fn open_window(&self, state: &mut RunState, plan: &Plan) {
+    /// Starts recording the final stretch when its first period begins; `true` when it does.
+    pub(super) fn open_window(&self, state: &mut RunState, plan: &Plan) -> bool {
         let window_start = match state.observing {
             Some(o) => o.until - o.cycle as u64,
             None => plan.limit.saturating_sub(plan.window_len),
@@ -138,7 +144,9 @@ impl Engine<'_> {
                 w.stroboscopic.push(state.y.clone());
             }
             state.window = Some(w);
+            return true;
         }
+        false
     }
 
     /// The section check at `t = (k + 1)T`: the period is counted, the stroboscopic state

@@ -65,6 +65,41 @@ pub(super) fn taylor_clearance(
     0.0
 }
 
+/// Whether a start that departs from an edge of `(lo, hi)` (or lies inside) provably makes
+/// no exit on `(0, length]`, from `(f, f', f'')` at `0` and `jerk ≥ sup|f'''|`: the edge it
+/// moves away from (`f'(0) > 0`: `lo`) is not reached again when `f(t) − f(0) ≥ t (f'(0) +
+/// ½f''(0)t − ⅙ jerk t²) > 0` on `(0, length]` (a concave quadratic in `t`, positive at `0`,
+/// so checked at `length`) and `f(0)` is no deeper than `depth` beyond it (a start on the
+/// edge moving inside is no exit, [`ExpSum::first_exit`]); the other edge is not reached when
+/// the quadratic model's largest excursion over `[0, length]` plus `⅙ jerk length³` stays
+/// short of it. An impact's flight starts so, on the stop and moving away from it fast: its
+/// first chunk is excluded without a chunk test.
+#[inline]
+pub(super) fn departs(
+    (f, d, dd): (f64, f64, f64),
+    jerk: f64,
+    (lo, hi): (f64, f64),
+    depth: f64,
+    length: f64,
+) -> bool {
+    // Mirrored so that the motion is upward, away from `lower`, towards `upper`.
+    let (f, d, dd, lower, upper) = if d > 0.0 {
+        (f, d, dd, lo, hi)
+    } else if d < 0.0 {
+        (-f, -d, -dd, -hi, -lo)
+    } else {
+        return false;
+    };
+    let cubic = jerk * length * length * length / 6.0;
+    let stays_clear = d + 0.5 * dd * length - jerk * length * length / 6.0 > 0.0;
+    // The largest of `d t + ½dd t²` on `[0, length]`: at `length` or at the vertex.
+    let mut rise = (d + 0.5 * dd * length) * length;
+    if dd < 0.0 && -d / dd < length {
+        rise = rise.max(-0.5 * d * d / dd);
+    }
+    stays_clear && f > lower - depth && f + rise.max(0.0) + cubic < upper
+}
+
 /// Whether `f` stays inside `(lo, hi)` on `[m − w, m + w]`, given `(f, f', f'')` at `m` and
 /// `cubic = M₃ w³/6` (`M₃` a bound on `|f'''|`): `f(m + τ) = f + f'τ + ½f''τ² + R`,
 /// `|R| ≤ cubic`, and the quadratic's extremes over `|τ| ≤ w` are at the ends or at its

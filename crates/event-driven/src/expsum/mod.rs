@@ -18,11 +18,19 @@ use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
     CACHED_CHUNKS, CHUNK_ROWS, SEED_DIVISIONS,
 };
-use chunk::{inside, quadratic_exit, taylor_clearance, ChunkTest};
+use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
 use polish::{polish, polish_from, Crossing, Exponentials};
 use scan::{CachedChunks, ChunkSource, Chunks, SteppedChunks};
 pub use search::Tolerances;
 pub(crate) use summary::{summarize_two, ModeTerm, Summary};
+
+/// How far the fixed grid of a search whose fastest rate is at most `fastest` (`|re| + |im|`)
+/// keeps its chunks' exponentials ([`CACHED_CHUNKS`] chunks of `2w`, `w = π/(8 fastest)`): a
+/// search of constant terms with no growing rate up to this horizon evaluates no exponential
+/// afresh after the run's first flights.
+pub(crate) fn fixed_grid_reach(fastest: f64) -> f64 {
+    CACHED_CHUNKS as f64 * std::f64::consts::PI / (search::CHUNKS_PER_OSCILLATION * fastest) * 2.0
+}
 
 /// `e^{μ s}`, skipping the real exponential for purely oscillatory and constant terms.
 #[inline]
@@ -112,6 +120,23 @@ impl ExpSum {
         (v, d)
     }
 
+    /// The same function of `s + by` as a function of `s`: each term's coefficients times
+    /// `e^{μ by}` and its polynomial re-expanded about `by`.
+    pub fn move_origin(&mut self, by: f64) {
+        for t in &mut self.terms {
+            let e = cexp(t.rate, by);
+            let [c0, c1, c2, c3] = t.poly;
+            // p(s + a) = Σ c_k (s + a)^k, by the binomial expansion.
+            let shifted = [
+                c0 + (c1 + (c2 + c3 * by) * by) * by,
+                c1 + (c2 * 2.0 + c3 * (3.0 * by)) * by,
+                c2 + c3 * (3.0 * by),
+                c3,
+            ];
+            t.poly = shifted.map(|c| c * e);
+        }
+    }
+
     /// Value and first two derivatives at `s`.
     #[inline]
     pub fn eval2(&self, s: f64) -> (f64, f64, f64) {
@@ -142,10 +167,22 @@ impl ExpSum {
     }
 
     /// A bound on `|f''''(s)|` for `s ∈ [0, horizon]`, like [`Self::curvature_bound`].
+    ///
+    /// A term with a constant polynomial (`+0` higher coefficients) and a rate that does not
+    /// grow takes a short path to the same value, `|μ|⁴ |c|` (the general sum's other
+    /// products are exact zeros, its growth factor 1).
     pub fn fourth_derivative_bound(&self, horizon: f64) -> f64 {
         self.terms
             .iter()
             .map(|t| {
+                let zero_bits = t.poly[1..]
+                    .iter()
+                    .fold(0, |bits, c| bits | c.re.to_bits() | c.im.to_bits());
+                let m = l1(t.rate);
+                if zero_bits == 0 && t.rate.re <= 0.0 && horizon.is_finite() && m.is_finite() {
+                    let m2 = m * m;
+                    return m2 * m2 * l1(t.poly[0]);
+                }
                 let ([p0, p1, p2, p3], m, growth) = term_bounds(t, horizon);
                 let m2 = m * m;
                 (m2 * m2 * p0 + 4.0 * m2 * m * p1 + 6.0 * m2 * p2 + 4.0 * m * p3) * growth
@@ -518,5 +555,74 @@ mod tests {
         // A floor above the maximum is the answer; one below it changes nothing.
         assert_eq!(f.max_abs(5.0, 3.0, 1e-14), 3.0);
         assert!((f.max_abs(5.0, 1.5, 1e-14) - 2.0).abs() < 1e-13);
+    }
+
+    #[test]
+    fn moving_the_origin_is_the_same_function() {
+        // f(s + a) against the moved sum at s, for steady-flight-like sums and one with a full
+        // cubic polynomial: the same values to rounding of the terms' sizes.
+        for k in 0..10 {
+            let mut f = flight_like(k);
+            f.terms.push(Term {
+                poly: [
+                    C64::new(0.2, -0.1),
+                    C64::new(0.05 * k as f64, 0.3),
+                    C64::new(-0.02, 0.01),
+                    C64::new(0.003, -0.004),
+                ],
+                rate: C64::new(-0.1, 0.7),
+            });
+            for a in [0.0, 0.37, 2.9] {
+                let mut g = f.clone();
+                g.move_origin(a);
+                for s in [0.0, 0.5, 1.7] {
+                    let (expected, slope) = f.eval(s + a);
+                    let (value, moved_slope) = g.eval(s);
+                    assert!((value - expected).abs() <= 1e-14, "k {k} a {a} s {s}");
+                    assert!((moved_slope - slope).abs() <= 1e-14, "k {k} a {a} s {s}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn the_departure_test_clears_only_starts_without_an_exit() {
+        // A start on one edge moving away from it, the other edge from near to far: whenever
+        // `departs` clears `(0, length]`, the search on the horizon's grid finds no exit
+        // there. It must clear most starts whose far edge is out of reach (else the engine's
+        // first-chunk shortcut never fires) and none whose far edge is reached.
+        let tolerances = Tolerances {
+            time: 1e-12,
+            depth: 1e-12,
+        };
+        let mut stack = SearchStack::default();
+        let (mut cleared, mut tried) = (0, 0);
+        for k in 0..60 {
+            let f = flight_like(k);
+            let (f0, d0, dd0) = f.eval2(0.0);
+            for length in [0.05, 0.16, 0.4] {
+                let jerk = f.jerk_bound(length);
+                for reach in [0.01, 0.1, 0.5, 2.0] {
+                    let band = if d0 > 0.0 {
+                        (f0, f0 + reach)
+                    } else {
+                        (f0 - reach, f0)
+                    };
+                    tried += 1;
+                    if !departs((f0, d0, dd0), jerk, band, tolerances.depth, length) {
+                        continue;
+                    }
+                    cleared += 1;
+                    let exit = f
+                        .first_exit_on_horizon_grid(band, length, length, tolerances, &mut stack)
+                        .filter(|&(s, _)| s <= length);
+                    assert_eq!(exit, None, "k {k} length {length} reach {reach}");
+                }
+            }
+        }
+        assert!(
+            cleared >= tried / 3 && cleared < tried,
+            "{cleared} of {tried}"
+        );
     }
 }

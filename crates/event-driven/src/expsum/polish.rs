@@ -96,9 +96,11 @@ pub(super) struct Crossing<'f> {
 /// estimate `(f''²/(4f'²) + M₃/(6|f'|)) δ³` (`M₃ = jerk`, a bound on `|f'''|`) is below
 /// `10⁻³ tol` while `δ` is well inside the asymptotic regime. `exps` is scratch storage.
 ///
-/// The exponentials are carried from one iterate to the next, `e^{μ(s+δ)} = e^{μs} e^{μδ}`,
-/// with `e^{μδ}` from its Taylor series once the steps are small (converging steps are tiny),
-/// so the polish costs about one transcendental evaluation per term.
+/// When every polynomial is a constant, the iterates within [`LOCAL_REACH`] of the start are
+/// evaluated on `f`'s Taylor polynomial there ([`Local`]); other iterates carry the
+/// exponentials from one to the next, `e^{μ(s+δ)} = e^{μs} e^{μδ}`, with `e^{μδ}` from its
+/// Taylor series once the steps are small (converging steps are tiny), so the polish costs
+/// about one transcendental evaluation per term. The exponentials end at the root.
 pub(super) fn polish(
     g: &Crossing<'_>,
     bracket: (f64, f64),
@@ -113,7 +115,7 @@ pub(super) fn polish(
     polish_from(g, bracket, start, tol, exps)
 }
 
-/// [`polish`] with `exps` already at `start`.
+/// [`polish()`] with `exps` already at `start`.
 #[inline]
 pub(super) fn polish_from(
     g: &Crossing<'_>,
@@ -122,18 +124,107 @@ pub(super) fn polish_from(
     tol: f64,
     exps: &mut Exponentials,
 ) -> f64 {
-    let root = iterate(g, bracket, start, tol, exps);
+    let local = Local::at(g, start, &exps.values);
+    let root = iterate(g, bracket, start, tol, exps, local.as_ref());
     exps.advance(&g.f.terms, root);
     root
 }
 
-/// The iteration of [`polish`].
+/// `|μ δ|` (as `|re| + |im|`, for the fastest term) up to which [`Local`]'s degree-7 Taylor
+/// polynomial stands in for `f`: its remainder is below `|μδ|⁸/8! ≤ 4e-18` of the terms'
+/// sizes there (the exponentials' own series, [`series_start_fine`], take degree 7 up to the
+/// same `2.5e-2`).
+pub(super) const LOCAL_REACH: f64 = 2.5e-2;
+
+/// `f` near the polish's start `at` as its Taylor polynomial of degree 7 in `δ = s − at`,
+/// valid for `|δ| ≤ radius` ([`LOCAL_REACH`] over the fastest rate): the iterates of a polish
+/// (which starts near its guess) are evaluated on it without advancing the exponentials,
+/// which are advanced once, to the root.
+pub(super) struct Local {
+    at: f64,
+    radius: f64,
+    /// `f⁽ᵏ⁾(at)/k!`, `k = 0..=7`.
+    coefficients: [f64; 8],
+}
+
+/// `1/k!`, `k = 0..=7`.
+const LOCAL_FACTORIALS: [f64; 8] = [
+    1.0,
+    1.0,
+    0.5,
+    1.0 / 6.0,
+    1.0 / 24.0,
+    1.0 / 120.0,
+    1.0 / 720.0,
+    1.0 / 5040.0,
+];
+
+impl Local {
+    /// The polynomial at `start`, given `exps[j] = e^{μ_j start}`; `None` unless every
+    /// polynomial of `f` is a constant ([`Derivatives`] formed) and the exponentials are
+    /// there.
+    #[inline]
+    pub(super) fn at(g: &Crossing<'_>, start: f64, exps: &[C64]) -> Option<Self> {
+        let derivatives = &g.derivatives.0;
+        if derivatives.is_empty() || exps.len() != derivatives.len() {
+            return None;
+        }
+        let mut sums = [0.0; 8];
+        let mut fastest: f64 = 0.0;
+        for ((c, &e), t) in derivatives.iter().zip(exps).zip(&g.f.terms) {
+            let re = |a: C64| a.re * e.re - a.im * e.im;
+            sums[0] += re(c[0]);
+            sums[1] += re(c[1]);
+            sums[2] += re(c[2]);
+            sums[3] += re(c[3]);
+            // `c μ^k e^{μ s}` for k = 4..=7.
+            let mut x = c[3] * e;
+            for sum in &mut sums[4..] {
+                x *= t.rate;
+                *sum += x.re;
+            }
+            fastest = fastest.max(l1(t.rate));
+        }
+        let mut coefficients = [0.0; 8];
+        for ((a, s), k) in coefficients.iter_mut().zip(sums).zip(LOCAL_FACTORIALS) {
+            *a = s * k;
+        }
+        Some(Self {
+            at: start,
+            radius: LOCAL_REACH / fastest,
+            coefficients,
+        })
+    }
+
+    /// `(f, f', f'')` at `s`, or `None` beyond the polynomial's radius.
+    #[inline]
+    fn eval(&self, s: f64) -> Option<(f64, f64, f64)> {
+        let d = s - self.at;
+        if d.abs() > self.radius {
+            return None;
+        }
+        let a = &self.coefficients;
+        let (mut v, mut d1, mut d2) = (a[7], 7.0 * a[7], 42.0 * a[7]);
+        for k in (2..7).rev() {
+            v = v * d + a[k];
+            d1 = d1 * d + k as f64 * a[k];
+            d2 = d2 * d + (k * (k - 1)) as f64 * a[k];
+        }
+        v = (v * d + a[1]) * d + a[0];
+        d1 = d1 * d + a[1];
+        Some((v, d1, d2))
+    }
+}
+
+/// The iteration of [`polish()`]: `g` evaluated on `local` within its radius, else from the
+/// exponentials advanced to each iterate.
 pub(super) fn iterate(
     crossing: &Crossing<'_>,
     (mut a, mut b): (f64, f64),
     start: f64,
     tol: f64,
     exps: &mut Exponentials,
+    local: Option<&Local>,
 ) -> f64 {
     let Crossing {
         f,
@@ -143,8 +234,13 @@ pub(super) fn iterate(
         jerk,
     } = *crossing;
     let mut g = |s: f64| {
-        exps.advance(&f.terms, s);
-        let (v, d, dd) = derivatives.at(f, s, &exps.values);
+        let (v, d, dd) = match local.and_then(|local| local.eval(s)) {
+            Some(near) => near,
+            None => {
+                exps.advance(&f.terms, s);
+                derivatives.at(f, s, &exps.values)
+            }
+        };
         (sign * (v - level), sign * d, sign * dd)
     };
     let mut s = start;
@@ -187,6 +283,9 @@ pub(super) fn iterate(
     s
 }
 
+/// Terms whose series [`Exponentials::advance_together`] steps side by side.
+const TOGETHER: usize = 4;
+
 /// `e^{μ_j s}` of every term at one time `s`.
 #[derive(Debug, Clone, Default)]
 pub(super) struct Exponentials {
@@ -196,8 +295,6 @@ pub(super) struct Exponentials {
     /// largest `|μ_j δ|` needs, all terms side by side (the summarised searches); otherwise
     /// each term's series has its own least degree.
     pub(super) together: bool,
-    /// Per term, `(μ_j δ, partial sum)` of a step taken together.
-    pub(super) work: Vec<(C64, C64)>,
 }
 
 impl Exponentials {
@@ -222,18 +319,18 @@ impl Exponentials {
 
     /// [`Self::advance`] by `delta = s − at ≠ 0` with every term's series to the least degree
     /// whose relative remainder is below `1e-17` for the largest `|μ_j δ|` (see
-    /// [`series_start_fine`]), by Horner's rule one coefficient
-    /// at a time across all terms (independent products, where each term's own chain of
-    /// products would wait on the previous one); by term when a step is too large for the
-    /// series.
+    /// [`series_start_fine`]), by Horner's rule one coefficient at a time across a block of up
+    /// to [`TOGETHER`] terms held on the stack (independent products, where each term's own
+    /// chain of products would wait on the previous one); by term when a step is too large
+    /// for the series.
     #[inline(never)]
     pub(super) fn advance_together(&mut self, terms: &[Term], s: f64, delta: f64) {
-        self.work.clear();
-        self.work
-            .extend(terms.iter().map(|t| (t.rate * delta, C64::default())));
-        let largest = self.work.iter().fold(0.0, |m: f64, (z, _)| m.max(l1(*z)));
+        let largest = terms
+            .iter()
+            .fold(0.0, |m: f64, t| m.max(l1(t.rate * delta)));
         if largest > SMALL_STEP {
-            for (e, (t, &(z, _))) in self.values.iter_mut().zip(terms.iter().zip(&self.work)) {
+            for (e, t) in self.values.iter_mut().zip(terms) {
+                let z = t.rate * delta;
                 *e = if l1(z) <= SMALL_STEP {
                     *e * exp_small(z)
                 } else {
@@ -242,16 +339,20 @@ impl Exponentials {
             }
         } else {
             let from = series_start_fine(largest);
-            for (_, p) in self.work.iter_mut() {
-                *p = C64::new(INVERSE_FACTORIALS[from], 0.0);
-            }
-            for c in &INVERSE_FACTORIALS[from + 1..] {
-                for (z, p) in self.work.iter_mut() {
-                    *p = *p * *z + *c;
+            for (values, terms) in self.values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
+                let mut z = [C64::default(); TOGETHER];
+                let mut p = [C64::new(INVERSE_FACTORIALS[from], 0.0); TOGETHER];
+                for (z, t) in z.iter_mut().zip(terms) {
+                    *z = t.rate * delta;
                 }
-            }
-            for (e, (z, p)) in self.values.iter_mut().zip(&self.work) {
-                *e *= *p * *z + 1.0;
+                for c in &INVERSE_FACTORIALS[from + 1..] {
+                    for (p, z) in p.iter_mut().zip(&z) {
+                        *p = *p * *z + *c;
+                    }
+                }
+                for (e, (z, p)) in values.iter_mut().zip(z.iter().zip(&p)) {
+                    *e *= *p * *z + 1.0;
+                }
             }
         }
         self.at = s;

@@ -325,10 +325,15 @@ impl ExpSum {
         // The head, as in `grid_search`.
         let first_end = if chunks == 1 { horizon } else { 2.0 * w };
         let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
-        if slow_on_edge((f0, d0), (lo, hi), first_end) {
-            source.prepare(self, test.derivatives);
-        }
-        let cleared = self.start_clearance(&test, (f0, d0, dd0), first_end);
+        // A flight that departs from a stop (an impact's) clears its first chunk at once.
+        let cleared = if departs((f0, d0, dd0), jerk, (lo, hi), depth_tolerance, first_end) {
+            first_end
+        } else {
+            if slow_on_edge((f0, d0), (lo, hi), first_end) {
+                source.prepare(self, test.derivatives);
+            }
+            self.start_clearance(&test, (f0, d0, dd0), first_end)
+        };
         let head = Head {
             cleared,
             estimate,

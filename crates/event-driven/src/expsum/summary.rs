@@ -62,16 +62,19 @@ pub(crate) fn summarize_two(weights: &[[f64; 4]], modes: &[ModeTerm]) -> [Summar
     let mut jerk = [0.0; 2];
     for (w, m) in weights.iter().zip(modes) {
         let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
-        let d = m.deviation * m.weight;
-        let mu2 = mu * mu;
+        // `d·weight` and `μ²` written out as [`Complex`]'s products form them (the same
+        // operations in the same order), so that the loop calls nothing generic and compiles
+        // the same whatever else the crate holds.
+        let (d_re, d_im) = (m.deviation.re * m.weight, m.deviation.im * m.weight);
+        let (mu2_re, mu2_im) = (mu.re * mu.re - mu.im * mu.im, mu.re * mu.im + mu.im * mu.re);
         let square = rate * rate;
         for l in 0..2 {
             let (a, b) = (w[l], w[2 + l]);
-            let c_re = a * d.re - b * d.im;
-            let c_im = a * d.im + b * d.re;
+            let c_re = a * d_re - b * d_im;
+            let c_im = a * d_im + b * d_re;
             start[l] += c_re;
             slope0[l] += c_re * mu.re - c_im * mu.im;
-            curve0[l] += c_re * mu2.re - c_im * mu2.im;
+            curve0[l] += c_re * mu2_re - c_im * mu2_im;
             let size = c_re.abs() + c_im.abs();
             size0[l] += size;
             speed[l] += rate * size;
