@@ -448,3 +448,185 @@ fn grazing_curve_over_the_restitution_passes_its_turning_point() {
     // branch leaves the symmetric orbit (2.2297 at e = 0.7): the start is taken closer.
     crossings_agree(&boundary, paper_at_restitution, 2e-4);
 }
+
+/// The special point of `kind` on `boundary` (the only one of its name).
+fn special<'a>(boundary: &'a Boundary, name: &str) -> Vec<&'a BoundarySpecialPoint> {
+    boundary
+        .special_points
+        .iter()
+        .filter(|s| s.kind.name() == name)
+        .collect()
+}
+
+/// The first event of `kind` found by the one-parameter continuation at `param` on the orbit
+/// of the curve point `point`, started `offset` above (or below) its ω.
+fn event_at<F>(
+    unit_at: F,
+    signature: &Signature,
+    point: &BoundaryPoint,
+    kind: EventKind,
+    offset: f64,
+) -> Event
+where
+    F: Fn(f64) -> Result<(Unit, Stops), UnitError>,
+{
+    let (unit, stops) = unit_at(point.param_value).unwrap();
+    let guess = guess_of(point.alpha, &point.impact_phases);
+    let start = solve_signature(&unit, &stops, point.omega + offset, signature, &guess)
+        .or_else(|_| solve_signature(&unit, &stops, point.omega - offset, signature, &guess))
+        .unwrap();
+    event_of(
+        &unit,
+        &stops,
+        &start,
+        kind,
+        point.omega - 0.05,
+        point.omega + 0.05,
+    )
+    .unwrap_or_else(|| panic!("no {kind:?} near ω = {}", point.omega))
+}
+
+#[test]
+fn the_grazing_curve_over_the_restitution_turns_at_its_located_turning_point() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = asymmetric_start();
+    let event = event_of(&unit, &stops, &start, EventKind::Grazing, 2.5, 3.0).unwrap();
+    let follow = |at: &[f64]| {
+        follow_boundary(
+            &BoundaryStart {
+                unit_at: paper_at_restitution,
+                signature: &start.signature,
+                event: &event,
+                param: stops.restitution,
+                at,
+            },
+            &BoundarySettings::new(0.5, 0.9),
+        )
+        .unwrap()
+    };
+    let boundary = follow(&[]);
+    // The turn measured by the last stop's `rattle boundary` near e = 0.559, ω = 2.452.
+    let turns = special(&boundary, "turning-point");
+    assert_eq!(turns.len(), 1, "{:?}", boundary.special_points);
+    let turn = turns[0];
+    assert!((turn.param_value - 0.559).abs() < 1e-3, "{turn:?}");
+    // dp/ds of the curve's own unit tangent vanishes there.
+    assert!(turn.value.abs() < 1e-9, "dp/ds = {:e}", turn.value);
+    // It is the curve's lowest restitution: every point lies at or above it.
+    let lowest = boundary
+        .points
+        .iter()
+        .map(|p| p.param_value)
+        .fold(f64::INFINITY, f64::min);
+    assert_eq!(lowest, turn.param_value);
+    // The curve is a point of it too, and crosses e = e* + 1e-4 twice, e* − 1e-4 never.
+    assert!(boundary.points.contains(&turn.point));
+    let delta = 1e-4;
+    let again = follow(&[turn.param_value - delta, turn.param_value + delta]);
+    let below = again.at.iter().filter(|a| a.param_value < turn.param_value);
+    assert_eq!(below.count(), 0, "{:?}", again.at);
+    assert_eq!(again.at.len(), 2, "{:?}", again.at);
+    // Either side of the turn, `√δ`-close to it in ω (a quadratic turn).
+    let (w0, w1) = (again.at[0].omega, again.at[1].omega);
+    assert!(
+        (w0 - turn.omega) * (w1 - turn.omega) < 0.0,
+        "{w0} {w1} {turn:?}"
+    );
+}
+
+#[test]
+fn a_neimark_sacker_curve_over_the_gap_meets_its_one_to_four_resonance() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = asymmetric_start();
+    // The asymmetric branch's Neimark–Sacker points near ω = 1.75 and 1.66 lie on one
+    // curve over the gap, turning at gap 0.4089 (measured: from 1.75 it passes the turn and
+    // meets the 1:4 resonance at gap 0.5574, ω = 1.6339).
+    let event = event_of(&unit, &stops, &start, EventKind::NeimarkSacker, 1.5, 3.0).unwrap();
+    let boundary = follow_boundary(
+        &BoundaryStart {
+            unit_at: paper_at_gap,
+            signature: &start.signature,
+            event: &event,
+            param: stops.gap,
+            at: &[],
+        },
+        &BoundarySettings::new(0.35, 0.65),
+    )
+    .unwrap();
+    assert_eq!(special(&boundary, "turning-point").len(), 1);
+    let resonances = special(&boundary, "resonance-1:4");
+    assert_eq!(resonances.len(), 1, "{:?}", boundary.special_points);
+    let r = resonances[0];
+    // The cycle solver's own multipliers there: the pair at e^{±iπ/2}.
+    let (unit, stops) = paper_at_gap(r.param_value).unwrap();
+    let guess = guess_of(r.point.alpha, &r.point.impact_phases);
+    let orbit = solve_signature(&unit, &stops, r.omega, &boundary.signature, &guess).unwrap();
+    let mu = orbit
+        .floquet_multipliers
+        .iter()
+        .find(|m| m.im > 1e-3)
+        .unwrap();
+    assert!(
+        (mu.arg() - std::f64::consts::FRAC_PI_2).abs() < 1e-9,
+        "arg μ = {}",
+        mu.arg()
+    );
+    assert!((mu.norm() - 1.0).abs() < 1e-8, "|μ| = {}", mu.norm());
+}
+
+#[test]
+fn a_grazing_curve_crosses_the_period_doubling_curve_where_each_locates_the_other() {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = asymmetric_start();
+    let follow = |kind, omega_min, omega_max| {
+        let event = event_of(&unit, &stops, &start, kind, omega_min, omega_max).unwrap();
+        follow_boundary(
+            &BoundaryStart {
+                unit_at: paper_at_gap,
+                signature: &start.signature,
+                event: &event,
+                param: stops.gap,
+                at: &[],
+            },
+            &BoundarySettings::new(0.35, 0.55),
+        )
+        .unwrap()
+    };
+    let grazing = follow(EventKind::Grazing, 2.5, 3.0);
+    let doubling = follow(EventKind::PeriodDoubling, 2.8, 3.0);
+    // Measured: the two cross near gap 0.3839, ω = 2.8701.
+    let crossing: Vec<_> = special(&grazing, "crossing")
+        .into_iter()
+        .filter(|s| {
+            s.kind
+                == SpecialKind::Crossing {
+                    other: EventKind::PeriodDoubling,
+                }
+        })
+        .collect();
+    assert_eq!(crossing.len(), 1, "{:?}", grazing.special_points);
+    let crossing = crossing[0];
+    let graze = special(&doubling, "grazing");
+    assert_eq!(graze.len(), 1, "{:?}", doubling.special_points);
+    // The same point, located from either curve.
+    assert!(
+        (crossing.param_value - graze[0].param_value).abs() < 1e-9
+            && (crossing.omega - graze[0].omega).abs() < 1e-9,
+        "{crossing:?} vs {:?}",
+        graze[0]
+    );
+    // The one-parameter continuation at that gap finds its period doubling at that ω.
+    let event = event_at(
+        paper_at_gap,
+        &grazing.signature,
+        &crossing.point,
+        EventKind::PeriodDoubling,
+        0.01,
+    );
+    assert!(
+        (event.omega - crossing.omega).abs() < 1e-8,
+        "continuation {} vs crossing {}",
+        event.omega,
+        crossing.omega
+    );
+}

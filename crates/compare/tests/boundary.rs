@@ -71,6 +71,37 @@ fn boundary_json_has_the_documented_fields_and_passes_through_its_start() {
 }
 
 #[test]
+fn boundary_json_lists_the_special_points_among_its_points() {
+    let mut args = PERIOD_DOUBLING.to_vec();
+    let k = args.iter().position(|a| *a == "--min").unwrap();
+    args[k + 1] = "0.35";
+    args.push("--json");
+    let doc = json(&args);
+    let specials = doc["special_points"].as_array().unwrap();
+    // Measured (as in the library's test): going down in gap from 0.5 the doubling curve's
+    // orbit grazes near gap 0.3839, ω = 2.8701, then the curve turns near gap 0.3544.
+    let kinds: Vec<&str> = specials
+        .iter()
+        .map(|s| s["kind"].as_str().unwrap())
+        .collect();
+    assert_eq!(kinds, ["grazing", "turning-point"], "{specials:?}");
+    let graze = &specials[0];
+    assert!(graze["flight"].is_u64() && graze["other"].is_null());
+    assert!((graze["param_value"].as_f64().unwrap() - 0.3839).abs() < 1e-4);
+    assert!((graze["omega"].as_f64().unwrap() - 2.8701).abs() < 1e-4);
+    let points = doc["points"].as_array().unwrap();
+    for s in specials {
+        let p = points
+            .iter()
+            .find(|p| p["param_value"] == s["param_value"] && p["omega"] == s["omega"])
+            .unwrap_or_else(|| panic!("{s:?} is not a point"));
+        assert_eq!(p["special"], s["kind"]);
+    }
+    let marked = points.iter().filter(|p| !p["special"].is_null()).count();
+    assert_eq!(marked, specials.len());
+}
+
+#[test]
 fn boundary_writes_the_points_as_csv() {
     let path = std::env::temp_dir().join(format!("rattle-boundary-{}.csv", std::process::id()));
     let mut args = PERIOD_DOUBLING.to_vec();
@@ -86,7 +117,7 @@ fn boundary_writes_the_points_as_csv() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next().unwrap(),
-        "param_value,omega,outer_amplitude,critical_multiplier_re,critical_multiplier_im"
+        "param_value,omega,outer_amplitude,critical_multiplier_re,critical_multiplier_im,special"
     );
     assert!(lines.count() > 10);
 }

@@ -67,7 +67,7 @@ mod unit;
 
 pub use boundary::{
     follow_boundary, Boundary, BoundaryAt, BoundaryEnd, BoundaryEndReason, BoundaryError,
-    BoundaryPoint, BoundarySettings, BoundaryStart,
+    BoundaryPoint, BoundarySettings, BoundarySpecialPoint, BoundaryStart, SpecialKind,
 };
 pub use corrector::CORRECTOR_ACCEPTANCE;
 pub use result::{Branch, BranchEnd, Continuation, ContinuationPoint, EndReason, Event, EventKind};

@@ -78,6 +78,9 @@ table_row! {
         pub critical_multiplier_re: Option<f64>,
         /// Imaginary part of the event's multiplier.
         pub critical_multiplier_im: Option<f64>,
+        /// The special point's kind where the point is one (`turning-point`, `grazing`,
+        /// `vanishing-impact`, `resonance-1:q`, `crossing`), empty otherwise.
+        pub special: Option<&'static str>,
     }
 }
 
@@ -195,6 +198,7 @@ fn write(
             outer_amplitude: finite(p.outer_amplitude),
             critical_multiplier_re: finite(p.critical_multiplier[0]),
             critical_multiplier_im: finite(p.critical_multiplier[1]),
+            special: p.special,
         })
     };
     write_record(args.json, args.out.as_ref(), format, record, rows, || {
@@ -220,6 +224,14 @@ fn summary(record: &BoundaryRecord) -> String {
             out,
             "at {} = {}: ω = {:.12}",
             record.param, a.param_value, a.omega
+        );
+    }
+    for s in &record.special_points {
+        let other = s.other.map(|o| format!(" with {o}")).unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "{}{other} at {} = {}, ω = {:.12}",
+            s.kind, record.param, s.param_value, s.omega
         );
     }
     for e in &record.ends {

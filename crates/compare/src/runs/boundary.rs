@@ -6,8 +6,9 @@ use crate::scene::analytic::orbits_of_signature;
 use crate::scene::parameter::{ParameterError, SceneParameter};
 use crate::scene::Scene;
 use rattle_analytic::continuation::{
-    continue_orbit, follow_boundary, Boundary, BoundaryError, BoundarySettings, BoundaryStart,
-    ContinuationError, ContinuationSettings, Event, EventKind,
+    continue_orbit, follow_boundary, Boundary, BoundaryError, BoundarySettings,
+    BoundarySpecialPoint, BoundaryStart, ContinuationError, ContinuationSettings, Event, EventKind,
+    SpecialKind,
 };
 use rattle_analytic::{Signature, Stops, Unit};
 use serde::Serialize;
@@ -88,6 +89,48 @@ pub struct BoundaryPointRecord {
     pub outer_amplitude: f64,
     /// The event's multiplier, `[re, im]`.
     pub critical_multiplier: [f64; 2],
+    /// The kind of the special point this point is (see [`BoundarySpecialRecord::kind`]),
+    /// if it is one.
+    pub special: Option<&'static str>,
+}
+
+/// One special point of the curve, as written.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundarySpecialRecord {
+    /// `turning-point`, `grazing`, `vanishing-impact`, `resonance-1:1`, `resonance-1:2`,
+    /// `resonance-1:3`, `resonance-1:4` or `crossing`.
+    pub kind: &'static str,
+    /// The parameter value.
+    pub param_value: f64,
+    /// The curve's frequency there.
+    pub omega: f64,
+    /// At a crossing, the other event (`fold`, `period-doubling`, `neimark-sacker`).
+    pub other: Option<&'static str>,
+    /// At a grazing, the flight that grazes (from impact `flight` of the signature).
+    pub flight: Option<usize>,
+    /// At a vanishing impact, the impact's index in the signature.
+    pub impact: Option<usize>,
+}
+
+impl BoundarySpecialRecord {
+    /// The written form of `special`.
+    fn of(special: &BoundarySpecialPoint) -> Self {
+        let (mut other, mut flight, mut impact) = (None, None, None);
+        match special.kind {
+            SpecialKind::Crossing { other: o } => other = Some(o.name()),
+            SpecialKind::Grazing { flight: f } => flight = Some(f),
+            SpecialKind::VanishingImpact { impact: j } => impact = Some(j),
+            _ => {}
+        }
+        Self {
+            kind: special.kind.name(),
+            param_value: special.param_value,
+            omega: special.omega,
+            other,
+            flight,
+            impact,
+        }
+    }
 }
 
 /// The curve's ω at one parameter value, as written.
@@ -132,8 +175,11 @@ pub struct BoundaryRecord {
     pub points: Vec<BoundaryPointRecord>,
     /// The curve's ω at each `--at` value (one entry per crossing).
     pub at: Vec<BoundaryAtRecord>,
-    /// Special points along the curve: none located yet (always empty).
-    pub special_points: Vec<BoundaryAtRecord>,
+    /// Special points in order along the curve, each located to rounding (and also one of
+    /// the points): turning points in the parameter, grazings and vanishing impacts of the
+    /// orbit, strong resonances of a Neimark–Sacker curve, crossings with the curves of the
+    /// orbit's other events.
+    pub special_points: Vec<BoundarySpecialRecord>,
     /// The two ends, the first point's then the last point's.
     pub ends: Vec<BoundaryEndRecord>,
 }
@@ -245,6 +291,11 @@ fn record(
                 omega: p.omega,
                 outer_amplitude: p.outer_amplitude,
                 critical_multiplier: [p.critical_multiplier.re, p.critical_multiplier.im],
+                special: boundary
+                    .special_points
+                    .iter()
+                    .find(|s| s.point == *p)
+                    .map(|s| s.kind.name()),
             })
             .collect(),
         at: boundary
@@ -255,7 +306,11 @@ fn record(
                 omega: a.omega,
             })
             .collect(),
-        special_points: Vec::new(),
+        special_points: boundary
+            .special_points
+            .iter()
+            .map(BoundarySpecialRecord::of)
+            .collect(),
         ends: boundary
             .ends
             .iter()

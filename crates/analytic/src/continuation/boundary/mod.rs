@@ -25,8 +25,21 @@
 //! and `[omega_min, omega_max]`; each end carries its reason, and the curve's `ω` at given
 //! parameter values is solved on the same system with `p` fixed.
 //!
+//! Along the curve its special points ([`Boundary::special_points`], [`SpecialKind`]) are
+//! located to rounding, each as the zero of a function that changes sign between two
+//! consecutive points (regula falsi on the chord, each trial corrected onto the curve) and
+//! inserted among the points: turning points in `p`, a grazing or vanishing impact of the
+//! event's orbit (viability lost or gained), the strong resonances 1:3 and 1:4 of a
+//! Neimark–Sacker curve (1:1 and 1:2 end it, where the pair reaches the real axis), and the
+//! crossings with the curves of the orbit's other events (fold, period doubling,
+//! Neimark–Sacker).
+//!
 //! Branch points are not followed yet ([`BoundaryError::Unsupported`]): their test function
 //! is singular at the event and needs [`crate::branch_point`]'s extended system with `p` free.
+
+mod special;
+
+pub use special::{BoundarySpecialPoint, SpecialKind};
 
 use super::corrector::rounding_floor;
 use super::events::TORUS_TOLERANCE;
@@ -294,8 +307,9 @@ pub enum BoundaryEndReason {
     ClosedLoop,
     /// A Neimark–Sacker curve whose complex pair meets on the real axis (at a strong
     /// resonance, `μ = ±1` double): beyond, the zeros of its test are neutral saddles
-    /// (real `μ, 1/μ`), not Neimark–Sacker points. The last point is the last one with the
-    /// pair on the unit circle.
+    /// (real `μ, 1/μ`), not Neimark–Sacker points. The last point is that 1:1 or 1:2
+    /// resonance, located (and listed among the special points); failing that, the last
+    /// point with the pair on the unit circle.
     NeutralSaddle,
 }
 
@@ -339,6 +353,11 @@ pub struct Boundary {
     pub points: Vec<BoundaryPoint>,
     /// The curve's `ω` at each value asked for, in the order asked and along the curve.
     pub at: Vec<BoundaryAt>,
+    /// The special points in order along the curve, each located to rounding and also one
+    /// of [`Boundary::points`]: turning points in the parameter, grazings and vanishing
+    /// impacts of the event's orbit (viability lost or gained), strong resonances of a
+    /// Neimark–Sacker curve, crossings with the curves of the orbit's other events.
+    pub special_points: Vec<BoundarySpecialPoint>,
     /// The two ends: the first point's, then the last point's.
     pub ends: [BoundaryEnd; 2],
 }
@@ -662,7 +681,8 @@ where
                 .unwrap_or(false)
     }
 
-    /// The curve both ways from `(y, tangent)`, the `ω` at the values `at`, and the ends.
+    /// The curve both ways from `(y, tangent)`, its special points, the `ω` at the values
+    /// `at`, and the ends.
     fn trace(
         &self,
         y: Vec<f64>,
@@ -671,15 +691,20 @@ where
         settings: &BoundarySettings,
     ) -> Boundary {
         let start = Node { y, tangent };
-        let (forward, forward_end) = self.follow(&start, 1.0, settings);
-        let (mut nodes, backward_end) = if forward_end == BoundaryEndReason::ClosedLoop {
-            (Vec::new(), BoundaryEndReason::ClosedLoop)
+        let forward = self.follow(&start, 1.0, settings);
+        let backward = if forward.reason == BoundaryEndReason::ClosedLoop {
+            Leg {
+                nodes: Vec::new(),
+                reason: BoundaryEndReason::ClosedLoop,
+                resonance: None,
+            }
         } else {
             self.follow(&start, -1.0, settings)
         };
+        let mut nodes = backward.nodes;
         nodes.reverse();
         nodes.push(start);
-        nodes.extend(forward);
+        nodes.extend(forward.nodes);
         let n = self.n();
         let end = |node: &Node, reason| BoundaryEnd {
             param_value: node.y[n + 1],
@@ -687,10 +712,25 @@ where
             reason,
         };
         let ends = [
-            end(&nodes[0], backward_end),
-            end(&nodes[nodes.len() - 1], forward_end),
+            end(&nodes[0], backward.reason),
+            end(&nodes[nodes.len() - 1], forward.reason),
         ];
+        let (nodes, specials) =
+            self.with_special_points(nodes, backward.resonance, forward.resonance);
         let at = at.iter().flat_map(|&v| self.solve_at(&nodes, v)).collect();
+        let special_points = specials
+            .into_iter()
+            .filter_map(|(node, kind, value)| {
+                let point = self.describe(&node.y)?;
+                Some(BoundarySpecialPoint {
+                    kind,
+                    param_value: point.param_value,
+                    omega: point.omega,
+                    value,
+                    point,
+                })
+            })
+            .collect();
         Boundary {
             signature: self.signature.clone(),
             kind: self.kind,
@@ -699,8 +739,38 @@ where
                 .filter_map(|node| self.describe(&node.y))
                 .collect(),
             at,
+            special_points,
             ends,
         }
+    }
+
+    /// `nodes` with the special points between them inserted in order, and the special
+    /// points (node, kind, value); `first` and `last` say that the first or last node is a
+    /// resonance ending the curve.
+    fn with_special_points(
+        &self,
+        nodes: Vec<Node>,
+        first: Option<(SpecialKind, f64)>,
+        last: Option<(SpecialKind, f64)>,
+    ) -> (Vec<Node>, Vec<(Node, SpecialKind, f64)>) {
+        let found = self.special_points(&nodes);
+        let mut specials = Vec::with_capacity(found.len() + 2);
+        if let Some((kind, value)) = first {
+            specials.push((nodes[0].clone(), kind, value));
+        }
+        let mut out = Vec::with_capacity(nodes.len() + found.len());
+        let mut found = found.into_iter().peekable();
+        for (i, node) in nodes.into_iter().enumerate() {
+            out.push(node);
+            while let Some((_, special, kind, value)) = found.next_if(|f| f.0 == i) {
+                out.push(special.clone());
+                specials.push((special, kind, value));
+            }
+        }
+        if let Some((kind, value)) = last {
+            specials.push((out[out.len() - 1].clone(), kind, value));
+        }
+        (out, specials)
     }
 
     /// The curve's points at parameter value `value`: each crossing of `p = value` between
@@ -851,6 +921,16 @@ struct Walk {
     nodes: Vec<Node>,
     last: Node,
     step: f64,
+    /// The last node is a strong resonance ending a Neimark–Sacker curve.
+    resonance: Option<(SpecialKind, f64)>,
+}
+
+/// The curve followed in one direction: the points after the start, why it stops, and
+/// whether its last point is a strong resonance (kind and value of its function).
+struct Leg {
+    nodes: Vec<Node>,
+    reason: BoundaryEndReason,
+    resonance: Option<(SpecialKind, f64)>,
 }
 
 /// What one step did.
@@ -867,12 +947,7 @@ where
 {
     /// Follows the curve from `start` in `direction` (`±1` along its tangent): the points
     /// after the start and why it stops.
-    fn follow(
-        &self,
-        start: &Node,
-        direction: f64,
-        settings: &BoundarySettings,
-    ) -> (Vec<Node>, BoundaryEndReason) {
+    fn follow(&self, start: &Node, direction: f64, settings: &BoundarySettings) -> Leg {
         let mut walk = Walk {
             nodes: Vec::new(),
             last: Node {
@@ -880,26 +955,32 @@ where
                 tangent: start.tangent.iter().map(|v| direction * v).collect(),
             },
             step: settings.initial_step,
+            resonance: None,
         };
-        loop {
+        let reason = loop {
             match self.next_iter(&walk) {
                 Step::Accepted(node, iterations) => {
                     let end = self.terminate(&mut walk, node, iterations, start, settings);
                     if let Some(reason) = end {
-                        return (walk.nodes, reason);
+                        break reason;
                     }
                 }
                 Step::Rejected => {
                     if let Some((end, reason)) = self.beyond(&walk, settings) {
                         walk.nodes.push(end);
-                        return (walk.nodes, reason);
+                        break reason;
                     }
                     walk.step *= STEP_SHRINK;
                     if walk.step < settings.min_step {
-                        return (walk.nodes, self.stuck(&walk.last.y));
+                        break self.stuck(&walk.last.y);
                     }
                 }
             }
+        };
+        Leg {
+            nodes: walk.nodes,
+            reason,
+            resonance: walk.resonance,
         }
     }
 
@@ -942,6 +1023,12 @@ where
             return Some(reason);
         }
         if self.kind == EventKind::NeimarkSacker && !self.on_circle(&node.y) {
+            // The pair left the circle for the real axis at μ = 1 or −1: the last point is
+            // that resonance, when located.
+            if let Some((resonance, kind, value)) = self.resonance_end(&walk.last, &node) {
+                walk.nodes.push(resonance);
+                walk.resonance = Some((kind, value));
+            }
             return Some(BoundaryEndReason::NeutralSaddle);
         }
         let back = distance(&node.y, &start.y) < walk.step
@@ -983,6 +1070,24 @@ where
             tangent: t0.clone(),
         };
         Some((self.end_at(&walk.last, &ahead, index, value)?, reason))
+    }
+
+    /// The 1:1 or 1:2 resonance between the last point `a` with its complex pair on the
+    /// unit circle and the next one `b`, where the pair is real: located as the zero of
+    /// `c ∓ 1` ([`SpecialKind::Resonance`]), with its kind and the function's value.
+    fn resonance_end(&self, a: &Node, b: &Node) -> Option<(Node, SpecialKind, f64)> {
+        let n = self.n();
+        let cosine = |y: &[f64]| {
+            self.with_model(y[n + 1], |model| {
+                let eval = model.evaluate(&y[..=n], false)?;
+                special::pair_cosine(&model.monodromy_at(&y[..=n], &eval))
+            })
+        };
+        let (ca, cb) = (cosine(&a.y)?, cosine(&b.y)?);
+        let (q, target) = if cb > 1.0 { (1, 1.0) } else { (2, -1.0) };
+        let kind = SpecialKind::Resonance { q };
+        let (_, node, value) = self.locate(a, b, kind, ca - target, cb - target)?;
+        Some((node, kind, value))
     }
 
     /// Whether the orbit at `Y` has a complex pair of multipliers on the unit circle.
