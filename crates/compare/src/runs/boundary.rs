@@ -118,7 +118,7 @@ impl BoundarySpecialRecord {
         let (mut other, mut flight, mut impact) = (None, None, None);
         match special.kind {
             SpecialKind::Crossing { other: o } => other = Some(o.name()),
-            SpecialKind::Grazing { flight: f } => flight = Some(f),
+            SpecialKind::Grazing { flight: f, .. } => flight = Some(f),
             SpecialKind::VanishingImpact { impact: j } => impact = Some(j),
             _ => {}
         }

@@ -1,18 +1,21 @@
-//! Exact regime boundaries: one codimension-one event of the unit's orbits of one signature
+//! Exact regime boundaries: one codimension-one event of the orbits of one signature
 //! (fold, period doubling, Neimark–Sacker, grazing, vanishing impact) followed in the plane of
-//! the forcing frequency `ω` and one parameter `p` of the unit or its stops
-//! ([`follow_boundary`]).
+//! the forcing frequency `ω` and one parameter `p`: of the unit or its stops
+//! ([`follow_boundary`]), or of any [`LinearModel`] such as a chain, its orbits of one
+//! impact sequence ([`follow_sequence_boundary`]; grazing and vanishing impact per contact
+//! pair).
 //!
 //! The unknowns are `Y = (X, p)`, `X = (α, φ₂ … φₙ, ω)` the branch's unknowns of
-//! continuation in `ω`; the equations are `R(X; p) = 0`, the cycle equations of the unit built
-//! at `p`, and `T(X; p) = 0`, the event's test function:
+//! continuation in `ω`; the equations are `R(X; p) = 0`, the cycle equations of the unit (or
+//! model) built at `p`, and `T(X; p) = 0`, the event's test function (`M` the monodromy
+//! matrix with saltations, from the same model side as the continuation's):
 //!
 //! | event | `T` |
 //! |---|---|
 //! | fold | `det R_x`, `R_x` the Jacobian in the state unknowns `(α, φ₂ … φₙ)` (the numerator of the continuation's `dω/ds` by Cramer's rule: regular at a fold, where `dω/ds` changes sign) |
 //! | period doubling | `det(M + I)` |
 //! | Neimark–Sacker | `Π_{i<j} (μ_i μ_j − 1)`, as `det(M ⊙ M − I)` (second compound: smooth in `M`); the curve ends where the complex pair leaves the unit circle for the real axis |
-//! | grazing | the clearance of the grazing flight: the gap less the largest `|r|` at the flight's interior critical points |
+//! | grazing | the clearance of the grazing flight (and pair): the gap less the largest `|r|` at the flight's interior critical points |
 //! | vanishing impact | `s_j ṙ⁻_j` of the impact |
 //!
 //! `R_X` is the exact Jacobian of the cycle equations; `R_p`, `T_X` and `T_p` are central
@@ -37,6 +40,7 @@
 //! Branch points are not followed yet ([`BoundaryError::Unsupported`]): their test function
 //! is singular at the event and needs [`crate::branch_point`]'s extended system with `p` free.
 
+mod family;
 mod special;
 
 pub use special::{BoundarySpecialPoint, SpecialKind};
@@ -45,13 +49,16 @@ use super::corrector::rounding_floor;
 use super::events::TORUS_TOLERANCE;
 use super::result::{Event, EventKind};
 use super::system::BranchModel;
+use super::system::Label;
 use super::test_functions::Test;
-use super::unit::UnitBranch;
-use crate::cycle_equations::{CycleEvaluation, MIN_FLIGHT};
-use crate::orbit::{eigenvalues, wrap};
+use crate::cycle_equations::MIN_FLIGHT;
+use crate::model::LinearModel;
+use crate::orbit::wrap;
+use crate::sequence::ImpactSequence;
 use crate::signature::Signature;
 use crate::unit::{Stops, Unit};
-use nalgebra::{Complex, DMatrix, DVector, Matrix4, Matrix6, U6};
+use family::{Family, ModelFamily, UnitFamily};
+use nalgebra::{Complex, DMatrix, DVector, Matrix4};
 use thiserror::Error;
 
 /// Relative step of the central differences: `ε^{1/3}`, balancing truncation (`h²`) against
@@ -342,11 +349,12 @@ pub struct BoundaryEnd {
     pub reason: BoundaryEndReason,
 }
 
-/// A followed boundary curve.
+/// A followed boundary curve: of a unit's orbits (`L` a [`Signature`]) or of a model's
+/// ([`ImpactSequence`], [`follow_sequence_boundary`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Boundary {
-    /// The signature of the orbits.
-    pub signature: Signature,
+pub struct Boundary<L = Signature> {
+    /// The signature (a model's: impact sequence) of the orbits.
+    pub signature: L,
     /// The event followed.
     pub kind: EventKind,
     /// The points in order along the curve, the start somewhere inside.
@@ -399,29 +407,103 @@ where
     F: Fn(f64) -> Result<(Unit, Stops), E>,
     E: std::fmt::Display,
 {
+    let family = UnitFamily {
+        unit_at: &start.unit_at,
+    };
+    follow_family(
+        family,
+        start.signature,
+        start.event,
+        start.param,
+        start.at,
+        settings,
+    )
+}
+
+/// What to follow on a [`LinearModel`] (a chain): the model as a function of the parameter,
+/// the orbits' impact sequence, the event on their branch (from
+/// [`crate::continue_sequence`] on the model at `param`), the parameter's own value there
+/// and the values at which to solve the curve's `ω`.
+pub struct SequenceBoundaryStart<'a, F> {
+    /// The model at a parameter value; an `Err` (with its message) where the value gives
+    /// no valid model.
+    pub model_at: F,
+    /// The impact sequence of the branch the event lies on.
+    pub sequence: &'a ImpactSequence,
+    /// The event to follow.
+    pub event: &'a Event<ImpactSequence>,
+    /// The parameter's value at which the event was found.
+    pub param: f64,
+    /// Parameter values at which the curve's `ω` is solved.
+    pub at: &'a [f64],
+}
+
+/// [`follow_boundary`] on a [`LinearModel`] such as a chain: the curve of `start.event` of
+/// the orbits of `start.sequence` in `(ω, p)`, a grazing or vanishing impact of the event's
+/// contact pair, special points per pair (a grazing of every pair over every flight).
+///
+/// # Errors
+/// As [`follow_boundary`]; [`BoundaryError::EventMismatch`] also when the sequence names a
+/// pair the model lacks.
+pub fn follow_sequence_boundary<F, E>(
+    start: &SequenceBoundaryStart<'_, F>,
+    settings: &BoundarySettings,
+) -> Result<Boundary<ImpactSequence>, BoundaryError>
+where
+    F: Fn(f64) -> Result<LinearModel, E>,
+    E: std::fmt::Display,
+{
+    let family = ModelFamily {
+        model_at: &start.model_at,
+    };
+    follow_family(
+        family,
+        start.sequence,
+        start.event,
+        start.param,
+        start.at,
+        settings,
+    )
+}
+
+/// The curve of `event` of the orbits of `label` on `family`, from `param`.
+fn follow_family<Fam: Family>(
+    family: Fam,
+    label: &Fam::Label,
+    event: &Event<Fam::Label>,
+    param: f64,
+    at: &[f64],
+    settings: &BoundarySettings,
+) -> Result<Boundary<Fam::Label>, BoundaryError> {
     settings.validate()?;
-    check_inside("param", start.param, settings)?;
-    for &value in start.at {
+    check_inside("param", param, settings)?;
+    for &value in at {
         check_inside("--at", value, settings)?;
     }
-    if let Err(e) = (start.unit_at)(start.param) {
-        return Err(BoundaryError::Parameter {
-            value: start.param,
-            message: e.to_string(),
-        });
-    }
-    let event = start.event;
-    let n = start.signature.impacts();
+    let owned = family
+        .build(param)
+        .map_err(|message| BoundaryError::Parameter {
+            value: param,
+            message,
+        })?;
+    let n = label.impact_list().len();
+    let mismatch = || BoundaryError::EventMismatch {
+        kind: event.kind.name(),
+        omega: event.omega,
+        signature: label.to_string(),
+    };
+    let pairs = Fam::model(&owned, label).ok_or_else(mismatch)?.pairs();
     let curve = EventCurve {
-        unit_at: &start.unit_at,
-        signature: start.signature.clone(),
-        test: test_of(event, n, start.signature)?,
+        test: test_of(event, n, pairs, label)?,
+        family,
+        label: label.clone(),
+        pairs,
         kind: event.kind,
     };
     let not_converged = || BoundaryError::StartNotConverged {
         kind: event.kind.name(),
         omega: event.omega,
-        param: start.param,
+        param,
     };
     let mut guess = vec![event.point.alpha];
     guess.extend_from_slice(
@@ -431,14 +513,14 @@ where
             .get(1..n)
             .ok_or_else(not_converged)?,
     );
-    guess.extend([event.omega, start.param]);
+    guess.extend([event.omega, param]);
     let fixed = Border::Fixed {
         index: n + 1,
-        value: start.param,
+        value: param,
     };
     let (y, jacobian, _) = curve.correct(&guess, &fixed).ok_or_else(not_converged)?;
     let tangent = null_vector(&jacobian).ok_or_else(not_converged)?;
-    Ok(curve.trace(y, tangent, start.at, settings))
+    Ok(curve.trace(y, tangent, at, settings))
 }
 
 /// `Err` naming `field` when `value` is outside `[param_min, param_max]`.
@@ -461,8 +543,14 @@ fn check_inside(
     }
 }
 
-/// The test function of `event` on orbits of `n` impacts.
-fn test_of(event: &Event, n: usize, signature: &Signature) -> Result<Test, BoundaryError> {
+/// The test function of `event` on orbits of `n` impacts of a model with `pairs` contact
+/// pairs (a grazing's clearance is indexed by flight and pair).
+fn test_of<L: Label>(
+    event: &Event<L>,
+    n: usize,
+    pairs: usize,
+    signature: &L,
+) -> Result<Test, BoundaryError> {
     let mismatch = || BoundaryError::EventMismatch {
         kind: event.kind.name(),
         omega: event.omega,
@@ -482,7 +570,11 @@ fn test_of(event: &Event, n: usize, signature: &Signature) -> Result<Test, Bound
                 .rev()
                 .find(|&f| phases.get(f).is_some_and(|&p| p <= phase))
                 .ok_or_else(mismatch)?;
-            Ok(Test::Clearance(f))
+            let pair = event.pair.unwrap_or(0);
+            if pair >= pairs {
+                return Err(mismatch());
+            }
+            Ok(Test::Clearance(f * pairs + pair))
         }
         EventKind::VanishingImpact => {
             let phase = event.phase.ok_or_else(mismatch)?;
@@ -526,9 +618,11 @@ impl Border<'_> {
 }
 
 /// The defining system of one event's curve.
-struct EventCurve<'a, F> {
-    unit_at: &'a F,
-    signature: Signature,
+struct EventCurve<Fam: Family> {
+    family: Fam,
+    label: Fam::Label,
+    /// Contact pairs of the model (1 on the unit).
+    pairs: usize,
     test: Test,
     kind: EventKind,
 }
@@ -539,19 +633,16 @@ struct Values {
     test: f64,
 }
 
-impl<F, E> EventCurve<'_, F>
-where
-    F: Fn(f64) -> Result<(Unit, Stops), E>,
-{
+impl<Fam: Family> EventCurve<Fam> {
     /// Number of impacts.
     fn n(&self) -> usize {
-        self.signature.impacts()
+        self.label.impact_list().len()
     }
 
-    /// `f` of the unit's branch model at parameter value `p`; `None` where `p` gives no unit.
-    fn with_model<R>(&self, p: f64, f: impl FnOnce(&UnitBranch<'_>) -> Option<R>) -> Option<R> {
-        let (unit, stops) = (self.unit_at)(p).ok()?;
-        let model = UnitBranch::new(&unit, &stops, self.signature.clone());
+    /// `f` of the branch model at parameter value `p`; `None` where `p` gives no model.
+    fn with_model<R>(&self, p: f64, f: impl FnOnce(&Fam::Model<'_>) -> Option<R>) -> Option<R> {
+        let owned = self.family.build(p).ok()?;
+        let model = Fam::model(&owned, &self.label)?;
         f(&model)
     }
 
@@ -569,16 +660,16 @@ where
     }
 
     /// `R` and `T` at `X` on `model`.
-    fn values(&self, model: &UnitBranch<'_>, x: &[f64]) -> Option<Values> {
+    fn values<M: BranchModel>(&self, model: &M, x: &[f64]) -> Option<Values> {
         let fold = matches!(self.test, Test::Fold);
         let eval = model.evaluate(x, fold)?;
         let test = match self.test {
-            Test::Fold => fold_test(&eval),
-            Test::Torus => torus_test(&model.monodromy_at(x, &eval)),
+            Test::Fold => fold_test(M::jacobian(&eval)),
+            Test::Torus => torus_test(&model.monodromy(x, &eval)?),
             test => model.test_value(test, x, &eval)?,
         };
         Some(Values {
-            residual: eval.residual.clone(),
+            residual: M::residual(&eval).clone(),
             test,
         })
     }
@@ -593,7 +684,7 @@ where
             let eval = model.evaluate(x, true)?;
             jacobian
                 .view_mut((0, 0), (n, n + 1))
-                .copy_from(&eval.jacobian);
+                .copy_from(jacobian_of(model, &eval));
             let values = self.values(model, x)?;
             for k in 0..=n {
                 let h = DIFFERENCE_STEP * x[k].abs().max(1.0);
@@ -676,7 +767,7 @@ where
                 .with_model(y[n + 1], |model| {
                     let eval = model.evaluate(&y[..=n], false)?;
                     let floor = rounding_floor(model.conditioning(&y[..=n], &eval));
-                    Some(eval.residual.amax() <= floor * model.scale(&eval))
+                    Some(residual_of(model, &eval).amax() <= floor * model.scale(&eval))
                 })
                 .unwrap_or(false)
     }
@@ -689,7 +780,7 @@ where
         tangent: Vec<f64>,
         at: &[f64],
         settings: &BoundarySettings,
-    ) -> Boundary {
+    ) -> Boundary<Fam::Label> {
         let start = Node { y, tangent };
         let forward = self.follow(&start, 1.0, settings);
         let backward = if forward.reason == BoundaryEndReason::ClosedLoop {
@@ -732,7 +823,7 @@ where
             })
             .collect();
         Boundary {
-            signature: self.signature.clone(),
+            signature: self.label.clone(),
             kind: self.kind,
             points: nodes
                 .iter()
@@ -818,16 +909,38 @@ where
                 outer_amplitude: verdicts.outer_amplitude,
                 critical_multiplier: critical(self.kind, &verdicts.floquet_multipliers),
                 floquet_multipliers: verdicts.floquet_multipliers,
-                residual: eval.residual.amax() / model.scale(&eval),
+                residual: residual_of(model, &eval).amax() / model.scale(&eval),
             })
         })
     }
 }
 
-/// `det R_x`: the Jacobian's determinant in the state unknowns (all columns but `ω`'s).
-fn fold_test(eval: &CycleEvaluation<U6>) -> f64 {
-    let n = eval.jacobian.nrows();
-    eval.jacobian.columns(0, n).into_owned().determinant()
+/// `det R_x`: the determinant of the Jacobian `R_X` in the state unknowns (all columns but
+/// `ω`'s).
+fn fold_test(jacobian: &DMatrix<f64>) -> f64 {
+    let n = jacobian.nrows();
+    jacobian.columns(0, n).into_owned().determinant()
+}
+
+/// `R` of an evaluation on `model`.
+fn residual_of<'e, M: BranchModel>(_model: &M, eval: &'e M::Evaluation) -> &'e DVector<f64> {
+    M::residual(eval)
+}
+
+/// `R_X` of an evaluation on `model`.
+fn jacobian_of<'e, M: BranchModel>(_model: &M, eval: &'e M::Evaluation) -> &'e DMatrix<f64> {
+    M::jacobian(eval)
+}
+
+/// The eigenvalues of a monodromy matrix: the unit's (4 × 4) by the closed-form orbit's
+/// routine, a model's by the model flight's.
+fn multipliers(m: &DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
+    if m.shape() == (4, 4) {
+        let fixed: Matrix4<f64> = m.fixed_view::<4, 4>(0, 0).into_owned();
+        crate::orbit::eigenvalues(&fixed).map(|e| e.to_vec())
+    } else {
+        crate::model_flight::eigenvalues(m)
+    }
 }
 
 /// The Neimark–Sacker test `det(M ⊙ M − I) = Π_{i<j} (μ_i μ_j − 1)`, `M ⊙ M` the second
@@ -835,15 +948,19 @@ fn fold_test(eval: &CycleEvaluation<U6>) -> f64 {
 /// the continuation's pair product, but a polynomial in `M`'s entries, so that its
 /// differences stay accurate where two multipliers nearly coincide (as the complex pair
 /// nears −1), which those of a product over computed eigenvalues do not.
-fn torus_test(m: &Matrix4<f64>) -> f64 {
-    let pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
-    let mut compound = Matrix6::zeros();
+fn torus_test(m: &DMatrix<f64>) -> f64 {
+    let size = m.nrows();
+    let pairs: Vec<(usize, usize)> = (0..size)
+        .flat_map(|i| (i + 1..size).map(move |j| (i, j)))
+        .collect();
+    let k = pairs.len();
+    let mut compound = DMatrix::zeros(k, k);
     for (a, &(p, q)) in pairs.iter().enumerate() {
         for (b, &(r, s)) in pairs.iter().enumerate() {
             compound[(a, b)] = m[(p, r)] * m[(q, s)] - m[(p, s)] * m[(q, r)];
         }
     }
-    (compound - Matrix6::identity()).determinant()
+    (compound - DMatrix::identity(k, k)).determinant()
 }
 
 /// Whether `multipliers` hold a complex pair on the unit circle (as the continuation's
@@ -941,10 +1058,7 @@ enum Step {
     Rejected,
 }
 
-impl<F, E> EventCurve<'_, F>
-where
-    F: Fn(f64) -> Result<(Unit, Stops), E>,
-{
+impl<Fam: Family> EventCurve<Fam> {
     /// Follows the curve from `start` in `direction` (`±1` along its tangent): the points
     /// after the start and why it stops.
     fn follow(&self, start: &Node, direction: f64, settings: &BoundarySettings) -> Leg {
@@ -1080,7 +1194,7 @@ where
         let cosine = |y: &[f64]| {
             self.with_model(y[n + 1], |model| {
                 let eval = model.evaluate(&y[..=n], false)?;
-                special::pair_cosine(&model.monodromy_at(&y[..=n], &eval))
+                special::pair_cosine(&model.monodromy(&y[..=n], &eval)?)
             })
         };
         let (ca, cb) = (cosine(&a.y)?, cosine(&b.y)?);
@@ -1095,8 +1209,8 @@ where
         let n = self.n();
         self.with_model(y[n + 1], |model| {
             let eval = model.evaluate(&y[..=n], false)?;
-            let m = model.monodromy_at(&y[..=n], &eval);
-            Some(complex_pair_on_circle(&eigenvalues(&m)?))
+            let m = model.monodromy(&y[..=n], &eval)?;
+            Some(complex_pair_on_circle(&multipliers(&m)?))
         })
         .unwrap_or(false)
     }

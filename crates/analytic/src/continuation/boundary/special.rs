@@ -12,14 +12,13 @@
 //! | strong resonance `1:q` (Neimark–Sacker curves) | `c − cos(2π/q)`, `c = (μ + μ')/2` of the pair with `μ μ' = 1` |
 //! | crossing | the fold (`det R_x`), period-doubling (`det(M + I)`) or Neimark–Sacker (`det(M ⊙ M − I)`) test of another event |
 
-use super::{fold_test, tangent, torus_test, EventCurve, Node};
-use super::{Border, BoundaryPoint};
+use super::family::Family;
+use super::{fold_test, multipliers, tangent, torus_test, EventCurve, Node};
+use super::{jacobian_of, Border, BoundaryPoint};
 use crate::continuation::result::EventKind;
 use crate::continuation::system::BranchModel;
 use crate::continuation::test_functions::Test;
-use crate::orbit::eigenvalues;
-use crate::unit::{Stops, Unit};
-use nalgebra::{Complex, Matrix4};
+use nalgebra::{Complex, DMatrix};
 
 /// Chord fraction to which a special point is bracketed.
 const LOCATE_TOLERANCE: f64 = 1e-13;
@@ -37,10 +36,13 @@ const JUMP_FRACTION: f64 = 1e-6;
 pub enum SpecialKind {
     /// The curve turns back in the parameter (`dp/ds = 0`): on a fold curve, a cusp.
     TurningPoint,
-    /// Another flight of the event's orbit grazes a stop: viability is lost or gained there.
+    /// Another flight of the event's orbit grazes a stop (or the event's flight grazes with
+    /// another pair): viability is lost or gained there.
     Grazing {
         /// The flight (from impact `flight` to the next).
         flight: usize,
+        /// The contact pair (0 on the unit).
+        pair: usize,
     },
     /// Another impact of the event's orbit arrives with zero relative velocity.
     VanishingImpact {
@@ -97,8 +99,8 @@ pub struct BoundarySpecialPoint {
 /// Neimark–Sacker curve the complex pair `e^{±iθ}`, `c = cos θ`; past a 1:1 or 1:2
 /// resonance the real pair `μ, 1/μ`, `|c| > 1`); the pair's sum is smooth where its members
 /// are not.
-pub(super) fn pair_cosine(m: &Matrix4<f64>) -> Option<f64> {
-    let mu = eigenvalues(m)?;
+pub(super) fn pair_cosine(m: &DMatrix<f64>) -> Option<f64> {
+    let mu = multipliers(m)?;
     let mut best: Option<(f64, Complex<f64>)> = None;
     for i in 0..mu.len() {
         for j in i + 1..mu.len() {
@@ -111,18 +113,19 @@ pub(super) fn pair_cosine(m: &Matrix4<f64>) -> Option<f64> {
     best.map(|(_, sum)| 0.5 * sum.re)
 }
 
-impl<F, E> EventCurve<'_, F>
-where
-    F: Fn(f64) -> Result<(Unit, Stops), E>,
-{
+impl<Fam: Family> EventCurve<Fam> {
     /// The special points looked for on this curve.
     pub(super) fn special_kinds(&self) -> Vec<SpecialKind> {
         let n = self.n();
         let mut kinds = vec![SpecialKind::TurningPoint];
+        let pairs = self.pairs;
         kinds.extend(
-            (0..n)
-                .filter(|&f| !matches!(self.test, Test::Clearance(c) if c == f))
-                .map(|flight| SpecialKind::Grazing { flight }),
+            (0..n * pairs)
+                .filter(|&c| !matches!(self.test, Test::Clearance(own) if own == c))
+                .map(|c| SpecialKind::Grazing {
+                    flight: c / pairs,
+                    pair: c % pairs,
+                }),
         );
         kinds.extend(
             (0..n)
@@ -157,13 +160,14 @@ where
         self.with_model(y[n + 1], |model| {
             let x = &y[..=n];
             let eval = model.evaluate(x, true)?;
-            let m = model.monodromy_at(x, &eval);
+            let m = model.monodromy(x, &eval)?;
+            let size = m.nrows();
             kinds
                 .iter()
                 .map(|kind| match *kind {
                     SpecialKind::TurningPoint => Some(t[n + 1]),
-                    SpecialKind::Grazing { flight } => {
-                        model.test_value(Test::Clearance(flight), x, &eval)
+                    SpecialKind::Grazing { flight, pair } => {
+                        model.test_value(Test::Clearance(flight * self.pairs + pair), x, &eval)
                     }
                     SpecialKind::VanishingImpact { impact } => {
                         model.test_value(Test::Approach(impact), x, &eval)
@@ -173,8 +177,10 @@ where
                         Some(pair_cosine(&m)? - angle.cos())
                     }
                     SpecialKind::Crossing { other } => Some(match other {
-                        EventKind::Fold => fold_test(&eval),
-                        EventKind::PeriodDoubling => (m + Matrix4::identity()).determinant(),
+                        EventKind::Fold => fold_test(jacobian_of(model, &eval)),
+                        EventKind::PeriodDoubling => {
+                            (&m + DMatrix::identity(size, size)).determinant()
+                        }
                         _ => torus_test(&m),
                     }),
                 })
