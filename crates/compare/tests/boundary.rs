@@ -150,3 +150,70 @@ fn bad_boundary_arguments_exit_2_and_name_the_field() {
         assert!(stderr.contains(field), "{args:?}: {stderr}");
     }
 }
+
+/// The damped 2-cell chain of the paper's cell (the analytic crate's
+/// `tests/boundary_chain.rs`): its `0+ 1- 0- 1+` orbits at ω = 3.3 have a Neimark–Sacker
+/// point on their branch.
+const DAMPED_CHAIN: &str = r#"{"name": "damped-two", "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+    "base": {"amplitude": 1.0}, "stops": {"gap": 0.5, "restitution": 0.8},
+    "damping": {"outer": 0.1, "inner": 0.05}, "cells": 2}"#;
+
+#[test]
+fn boundary_on_a_chain_follows_a_whole_chain_field_or_one_cells() {
+    let path = common::scene_file("boundary", "damped-two.json", DAMPED_CHAIN);
+    let path = path.to_str().unwrap();
+    let run = |param: &str| {
+        json(&[
+            "boundary",
+            path,
+            "--signature",
+            "0+ 1- 0- 1+",
+            "--event",
+            "neimark-sacker",
+            "--omega",
+            "3.3",
+            "--param",
+            param,
+            "--min",
+            "0.76",
+            "--max",
+            "0.84",
+            "--at",
+            "0.78,0.8",
+            "--omega-min",
+            "2.8",
+            "--omega-max",
+            "4.0",
+            "--json",
+        ])
+    };
+    let whole = run("stops.restitution");
+    let cell = run("chain[1].stops.restitution");
+    assert_eq!(whole["signature"], "0+ 1- 0- 1+");
+    assert_eq!(cell["param"], "chain[1].stops.restitution");
+    let at = |doc: &serde_json::Value, value: f64| {
+        doc["at"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|a| a["param_value"] == value)
+            .unwrap_or_else(|| panic!("no at {value}: {doc}"))["omega"]
+            .as_f64()
+            .unwrap()
+    };
+    // Both start from the same event at the scene's own restitution, and pass through it.
+    assert_eq!(whole["omega_start"], cell["omega_start"]);
+    let start = whole["omega_start"].as_f64().unwrap();
+    assert!((at(&whole, 0.8) - start).abs() < 1e-9);
+    assert!((at(&cell, 0.8) - start).abs() < 1e-9);
+    // Away from it, one cell's restitution moves the event less than both cells' do.
+    let (w, c) = (at(&whole, 0.78) - start, at(&cell, 0.78) - start);
+    assert!(w.abs() > c.abs() && c != 0.0, "whole {w}, cell {c}");
+    for doc in [&whole, &cell] {
+        for p in doc["points"].as_array().unwrap() {
+            let mu = p["critical_multiplier"].as_array().unwrap();
+            let modulus = mu[0].as_f64().unwrap().hypot(mu[1].as_f64().unwrap());
+            assert!((modulus - 1.0).abs() < 1e-8, "|μ| = {modulus}");
+        }
+    }
+}

@@ -2,23 +2,28 @@
 //! doubling, Neimark–Sacker, grazing, vanishing impact) of a signature's orbits followed in
 //! (ω, a scene parameter).
 
-use super::{check_omega, load_unit, write_record, RattleError};
+use super::{check_omega, load, write_record, RattleError};
 use crate::output::{finite, table_row, Format};
-use crate::runs::boundary::{follow, BoundaryRecord, BoundaryRequest, BoundaryRunError};
+use crate::runs::boundary::{
+    follow, follow_chain, BoundaryRecord, BoundaryRequest, BoundaryRunError, ChainBoundaryRequest,
+};
 use crate::scene::parameter::SceneParameter;
 use clap::Args;
 use rattle_analytic::continuation::{BoundaryError, BoundarySettings, EventKind};
-use rattle_analytic::Signature;
+use rattle_analytic::{ImpactSequence, Signature};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// Arguments of `rattle boundary`.
 #[derive(Debug, Args)]
 pub struct BoundaryArgs {
-    /// Scene file (JSON), a single unit. Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    /// Scene file (JSON), a single unit or a chain of cells. Omit for the built-in paper
+    /// scene (Δ = 0.5, e = 0.8).
     pub scene: Option<PathBuf>,
     /// The impact signature of the orbits: the stops hit over one cycle in time order, `+`
-    /// side 1 (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`).
+    /// side 1 (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`). On a chain: the
+    /// impacts of every pair in time order as `<pair><side>` tokens, pairs (cells) numbered
+    /// from 0 (e.g. "0+ 1- 0- 1+").
     #[arg(long, allow_hyphen_values = true)]
     pub signature: String,
     /// Forcing periods per cycle of the signature, in [1, 8].
@@ -34,7 +39,8 @@ pub struct BoundaryArgs {
     #[arg(long)]
     pub omega: f64,
     /// The scene parameter varied, by its JSON path: stops.gap, stops.restitution,
-    /// unit.inner_stiffness, damping.outer, …
+    /// unit.inner_stiffness, damping.outer, … (on a chain the whole chain's field, or one
+    /// cell's: chain[K].stops.gap, …)
     #[arg(long)]
     pub param: String,
     /// Lowest parameter value followed (within the field's physical range).
@@ -119,8 +125,6 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
             BoundaryError::Unsupported { kind: kind.name() }.to_string(),
         ));
     }
-    let signature = Signature::parse(&args.signature, args.period)
-        .map_err(|e| RattleError::Argument(e.to_string()))?;
     let param: SceneParameter = args
         .param
         .parse()
@@ -154,16 +158,31 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
             "--out: a boundary is written as .csv (points) or .json (the whole document)".into(),
         ));
     }
-    let scene = load_unit(&args.scene, "boundary")?;
-    let request = BoundaryRequest {
-        signature,
-        kind,
-        omega,
-        param,
-        at: args.at.clone(),
+    let scene = load(&args.scene)?;
+    let record = if scene.is_chain() {
+        let sequence = ImpactSequence::parse(&args.signature, args.period)
+            .map_err(|e| RattleError::Argument(format!("--signature: {e}")))?;
+        let request = ChainBoundaryRequest {
+            sequence,
+            kind,
+            omega,
+            param,
+            at: args.at.clone(),
+        };
+        follow_chain(&scene, &request, &settings)
+    } else {
+        let signature = Signature::parse(&args.signature, args.period)
+            .map_err(|e| RattleError::Argument(e.to_string()))?;
+        let request = BoundaryRequest {
+            signature,
+            kind,
+            omega,
+            param,
+            at: args.at.clone(),
+        };
+        follow(&scene, &request, &settings)
     };
-    let record = follow(&scene, &request, &settings).map_err(run_error)?;
-    write(&args, format, &record)
+    write(&args, format, &record.map_err(run_error)?)
 }
 
 /// The command's error for a refused boundary: bad input (exit code 2) or a numerical
@@ -171,6 +190,8 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
 fn run_error(e: BoundaryRunError) -> RattleError {
     match e {
         BoundaryRunError::NoStops
+        | BoundaryRunError::CellWithoutStops { .. }
+        | BoundaryRunError::Sequence(_)
         | BoundaryRunError::Parameter(_)
         | BoundaryRunError::Range { .. }
         | BoundaryRunError::Boundary(BoundaryError::Setting { .. })
