@@ -40,7 +40,7 @@ pub struct BoundaryArgs {
     pub omega: f64,
     /// The scene parameter varied, by its JSON path: stops.gap, stops.restitution,
     /// unit.inner_stiffness, damping.outer, … (on a chain the whole chain's field, or one
-    /// cell's: chain[K].stops.gap, …)
+    /// cell's, e.g. `chain[2].stops.gap`)
     #[arg(long)]
     pub param: String,
     /// Lowest parameter value followed (within the field's physical range).
