@@ -300,14 +300,10 @@ fn graze(unit: &Unit, stops: &Stops, orbit: &SignatureOrbit, f: usize) -> (f64, 
 }
 
 #[test]
-fn branch_points_are_refused_and_bad_settings_name_the_field() {
+fn bad_settings_name_the_field() {
     let (unit, stops) = (paper_unit(), paper_stops());
     let start = asymmetric_start();
     let event = event_of(&unit, &stops, &start, EventKind::PeriodDoubling, 2.8, 3.0).unwrap();
-    let branch_point = Event {
-        kind: EventKind::BranchPoint,
-        ..event.clone()
-    };
     let mut request = BoundaryStart {
         unit_at: paper_at_gap,
         signature: &start.signature,
@@ -320,15 +316,68 @@ fn branch_points_are_refused_and_bad_settings_name_the_field() {
     request.at = &[0.7];
     let bad = follow_boundary(&request, &BoundarySettings::new(0.45, 0.55)).unwrap_err();
     assert!(bad.to_string().starts_with("--at = 0.7"), "{bad}");
-    request.event = &branch_point;
-    request.at = &[];
-    let bad = follow_boundary(&request, &BoundarySettings::new(0.45, 0.55)).unwrap_err();
-    assert_eq!(
-        bad,
-        BoundaryError::Unsupported {
-            kind: "branch-point"
+}
+
+/// The viable symmetric `+-` orbit of the paper unit at ω = 2.9 and the branch point on its
+/// branch near 2.922, where the asymmetric orbits leave it.
+fn symmetric_branch_point() -> (SignatureOrbit, Event) {
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let signature = Signature::parse("+-", 1).unwrap();
+    let start = signature_orbits(&unit, &stops, 2.9, &signature)
+        .into_iter()
+        .find(|o| (o.impact_phases[1] - 0.5).abs() < 1e-9 && o.viable)
+        .expect("the viable symmetric orbit at 2.9");
+    let event = event_of(&unit, &stops, &start, EventKind::BranchPoint, 2.85, 3.0).unwrap();
+    (start, event)
+}
+
+#[test]
+fn branch_point_curves_over_the_gap_and_the_restitution_are_where_continuation_finds_them() {
+    let (start, event) = symmetric_branch_point();
+    let stops = paper_stops();
+    type UnitAt = fn(f64) -> Result<(Unit, Stops), UnitError>;
+    let cases: [(UnitAt, f64, [f64; 3], f64, f64); 2] = [
+        (paper_at_gap, stops.gap, [0.47, 0.5, 0.53], 0.45, 0.55),
+        (
+            paper_at_restitution,
+            stops.restitution,
+            [0.78, 0.8, 0.82],
+            0.76,
+            0.84,
+        ),
+    ];
+    for (unit_at, param, at, min, max) in cases {
+        let boundary = follow_boundary(
+            &BoundaryStart {
+                unit_at,
+                signature: &start.signature,
+                event: &event,
+                param,
+                at: &at,
+            },
+            &BoundarySettings::new(min, max),
+        )
+        .unwrap();
+        assert!(
+            boundary.points.len() > 5,
+            "{} points",
+            boundary.points.len()
+        );
+        // At the start's own value the curve passes through the event itself, located to
+        // rounding by the one-parameter continuation's own extended system.
+        let here = boundary.at.iter().find(|a| a.param_value == param).unwrap();
+        assert!(
+            (here.omega - event.omega).abs() < 1e-9,
+            "{here:?} vs {}",
+            event.omega
+        );
+        one_parameter_agrees(&boundary, unit_at, 0.01);
+        // Every point: a multiplier at +1 by the cycle solver's own multipliers.
+        for p in boundary.points.iter().step_by(3) {
+            let d = multiplier_distance(&unit_at, &boundary.signature, p, 1.0);
+            assert!(d < 1e-8, "|μ − 1| = {d:e} at {}", p.param_value);
         }
-    );
+    }
 }
 
 #[test]

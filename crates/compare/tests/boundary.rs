@@ -132,7 +132,6 @@ fn bad_boundary_arguments_exit_2_and_name_the_field() {
     };
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (replace("--event", "cusp"), "--event"),
-        (replace("--event", "branch-point"), "branch-point"),
         (replace("--param", "stops.width"), "stops.width"),
         (replace("--min", "0"), "--min"),
         (replace("--max", "0.4"), "--max"),
@@ -215,5 +214,44 @@ fn boundary_on_a_chain_follows_a_whole_chain_field_or_one_cells() {
             let modulus = mu[0].as_f64().unwrap().hypot(mu[1].as_f64().unwrap());
             assert!((modulus - 1.0).abs() < 1e-8, "|μ| = {modulus}");
         }
+    }
+}
+
+/// The branch point of the paper scene's symmetric `+-` orbits near ω = 2.922 (the analytic
+/// crate's `tests/boundary.rs`), followed over the gap.
+#[test]
+fn boundary_follows_a_branch_point_over_the_gap() {
+    let doc = json(&[
+        "boundary",
+        "--signature",
+        "+-",
+        "--event",
+        "branch-point",
+        "--omega",
+        "2.92",
+        "--param",
+        "stops.gap",
+        "--min",
+        "0.45",
+        "--max",
+        "0.55",
+        "--at",
+        "0.5",
+        "--omega-min",
+        "2.8",
+        "--omega-max",
+        "3.0",
+        "--json",
+    ]);
+    assert_eq!(doc["event"], "branch-point");
+    let start = doc["omega_start"].as_f64().unwrap();
+    assert!((start - 2.922).abs() < 1e-3, "{start}");
+    let at = doc["at"].as_array().unwrap();
+    assert_eq!(at.len(), 1, "{at:?}");
+    assert!((at[0]["omega"].as_f64().unwrap() - start).abs() < 1e-9);
+    for p in doc["points"].as_array().unwrap() {
+        let mu = p["critical_multiplier"].as_array().unwrap();
+        let (re, im) = (mu[0].as_f64().unwrap(), mu[1].as_f64().unwrap());
+        assert!((re - 1.0).hypot(im) < 1e-8, "μ = {re} + {im}i");
     }
 }

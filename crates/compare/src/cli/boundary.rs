@@ -30,7 +30,8 @@ pub struct BoundaryArgs {
     #[arg(long, default_value_t = 1)]
     pub period: u32,
     /// The event followed: fold, period-doubling, neimark-sacker, grazing or
-    /// vanishing-impact (branch-point is not supported yet).
+    /// vanishing-impact, or branch-point (where the asymmetric orbits leave a symmetric one,
+    /// followed on Moore's extended system).
     #[arg(long)]
     pub event: String,
     /// The event followed is the one of its kind nearest this frequency (rad/s, finite, > 0)
@@ -107,7 +108,7 @@ fn event_kind(name: &str) -> Result<EventKind, RattleError> {
     .find(|k| k.name() == name)
     .ok_or_else(|| {
         RattleError::Argument(format!(
-            "--event = {name} is not an event: give fold, period-doubling, neimark-sacker, grazing or vanishing-impact"
+            "--event = {name} is not an event: give fold, branch-point, period-doubling, neimark-sacker, grazing or vanishing-impact"
         ))
     })
 }
@@ -120,11 +121,6 @@ fn event_kind(name: &str) -> Result<EventKind, RattleError> {
 pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.omega)?;
     let kind = event_kind(&args.event)?;
-    if kind == EventKind::BranchPoint {
-        return Err(RattleError::Argument(
-            BoundaryError::Unsupported { kind: kind.name() }.to_string(),
-        ));
-    }
     let param: SceneParameter = args
         .param
         .parse()

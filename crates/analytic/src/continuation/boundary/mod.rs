@@ -37,9 +37,11 @@
 //! crossings with the curves of the orbit's other events (fold, period doubling,
 //! Neimark–Sacker).
 //!
-//! Branch points are not followed yet ([`BoundaryError::Unsupported`]): their test function
-//! is singular at the event and needs [`crate::branch_point`]'s extended system with `p` free.
+//! A branch point has no regular test function (`R_X` loses rank there, and the set
+//! `R = 0` crosses itself): its curve is followed on Moore's extended system with `p` free
+//! (unknowns `(X, p, β, ψ)`, see the `branch` module), regular at a simple branch point.
 
+mod branch;
 mod family;
 mod special;
 
@@ -221,7 +223,8 @@ pub enum BoundaryError {
         /// The allowed range, in words.
         allowed: String,
     },
-    /// An event kind whose curve is not followed yet.
+    /// An event kind whose curve is not followed (none at present: kept for callers that
+    /// refuse a kind themselves).
     #[error("--event {kind} is not supported yet: supported are fold, period-doubling, neimark-sacker, grazing, vanishing-impact")]
     Unsupported {
         /// The event kind's name.
@@ -394,7 +397,7 @@ pub struct BoundaryStart<'a, F> {
 /// # Errors
 /// [`BoundaryError::Setting`] for a bad setting, or (field `--at`) a value of `at` outside
 /// `[param_min, param_max]`, or (field `param`) a start outside it;
-/// [`BoundaryError::Unsupported`] for a branch point; [`BoundaryError::EventMismatch`] when
+/// [`BoundaryError::EventMismatch`] when
 /// a grazing or vanishing impact names no flight or impact of the signature;
 /// [`BoundaryError::Parameter`] when `unit_at(param)` fails;
 /// [`BoundaryError::StartNotConverged`] when Newton on the defining system at `param` does
@@ -514,6 +517,9 @@ fn follow_family<Fam: Family>(
             .ok_or_else(not_converged)?,
     );
     guess.extend([event.omega, param]);
+    if event.kind == EventKind::BranchPoint {
+        guess = curve.branch_guess(guess).ok_or_else(not_converged)?;
+    }
     let fixed = Border::Fixed {
         index: n + 1,
         value: param,
@@ -561,9 +567,7 @@ fn test_of<L: Label>(
         EventKind::Fold => Ok(Test::Fold),
         EventKind::PeriodDoubling => Ok(Test::Doubling),
         EventKind::NeimarkSacker => Ok(Test::Torus),
-        EventKind::BranchPoint => Err(BoundaryError::Unsupported {
-            kind: event.kind.name(),
-        }),
+        EventKind::BranchPoint => Ok(Test::Branch),
         EventKind::Grazing => {
             let phase = event.phase.ok_or_else(mismatch)?;
             let f = (0..n)
@@ -674,9 +678,20 @@ impl<Fam: Family> EventCurve<Fam> {
         })
     }
 
+    /// The defining system's residual at `Y` and its Jacobian in `Y` (one row fewer than
+    /// columns): `[R; T]` for an event with a test function, Moore's extended system with `p`
+    /// free for a branch point.
+    fn linearise(&self, y: &[f64]) -> Option<(DVector<f64>, DMatrix<f64>)> {
+        if matches!(self.test, Test::Branch) {
+            self.linearise_branch(y)
+        } else {
+            self.linearise_event(y)
+        }
+    }
+
     /// The residual `[R; T]` at `Y` and its Jacobian in `Y` (`n + 1` rows, `n + 2` columns):
     /// `R_X` exact, the rest by central differences.
-    fn linearise(&self, y: &[f64]) -> Option<(Values, DMatrix<f64>)> {
+    fn linearise_event(&self, y: &[f64]) -> Option<(DVector<f64>, DMatrix<f64>)> {
         let n = self.n();
         let x = &y[..=n];
         let mut jacobian = DMatrix::zeros(n + 1, n + 2);
@@ -713,32 +728,34 @@ impl<Fam: Family> EventCurve<Fam> {
             jacobian[(i, n + 1)] = (high.residual[i] - low.residual[i]) / width;
         }
         jacobian[(n, n + 1)] = (high.test - low.test) / width;
-        Some((values, jacobian))
+        let mut residual = DVector::zeros(n + 1);
+        residual.rows_mut(0, n).copy_from(&values.residual);
+        residual[n] = values.test;
+        Some((residual, jacobian))
     }
 
-    /// Newton on `[R; T; border] = 0` from `guess`: the converged `Y`, the Jacobian of
-    /// `[R; T]` at the last iterate, and the iterations taken. `None` when it leaves the
-    /// admissible set, does not converge within [`NEWTON_ITERATIONS`], or stops with contact
-    /// residuals above [`CORRECTOR_ACCEPTANCE`] of the motion's size.
+    /// Newton on `[defining system; border] = 0` from `guess`: the converged `Y`, the
+    /// Jacobian of the defining system at the last iterate, and the iterations taken. `None`
+    /// when it leaves the admissible set, does not converge within [`NEWTON_ITERATIONS`], or
+    /// stops with contact residuals above [`CORRECTOR_ACCEPTANCE`] of the motion's size.
     fn correct(&self, guess: &[f64], border: &Border) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
-        let n = self.n();
+        let k = guess.len();
         let mut y = guess.to_vec();
         let mut last = f64::INFINITY;
         for iteration in 1..=NEWTON_ITERATIONS {
             if !self.admissible(&y) {
                 return None;
             }
-            let (values, jacobian) = self.linearise(&y)?;
+            let (residual, jacobian) = self.linearise(&y)?;
             let (row, constraint) = border.row(&y);
-            let mut m = DMatrix::zeros(n + 2, n + 2);
-            m.view_mut((0, 0), (n + 1, n + 2)).copy_from(&jacobian);
-            for (k, v) in row.iter().enumerate() {
-                m[(n + 1, k)] = *v;
+            let mut m = DMatrix::zeros(k, k);
+            m.view_mut((0, 0), (k - 1, k)).copy_from(&jacobian);
+            for (j, v) in row.iter().enumerate() {
+                m[(k - 1, j)] = *v;
             }
-            let mut rhs = DVector::zeros(n + 2);
-            rhs.rows_mut(0, n).copy_from(&(-&values.residual));
-            rhs[n] = -values.test;
-            rhs[n + 1] = -constraint;
+            let mut rhs = DVector::zeros(k);
+            rhs.rows_mut(0, k - 1).copy_from(&(-&residual));
+            rhs[k - 1] = -constraint;
             let step = m.lu().solve(&rhs)?;
             for (v, s) in y.iter_mut().zip(step.iter()) {
                 *v += s;

@@ -143,7 +143,11 @@ impl<Fam: Family> EventCurve<Fam> {
                 EventKind::NeimarkSacker,
             ]
             .into_iter()
-            .filter(|&other| other != self.kind)
+            // On a branch-point curve `R_x` is singular throughout: no fold test there.
+            .filter(|&other| {
+                other != self.kind
+                    && !(self.kind == EventKind::BranchPoint && other == EventKind::Fold)
+            })
             .map(|other| SpecialKind::Crossing { other }),
         );
         kinds
