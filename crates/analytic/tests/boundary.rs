@@ -318,22 +318,42 @@ fn bad_settings_name_the_field() {
     assert!(bad.to_string().starts_with("--at = 0.7"), "{bad}");
 }
 
-/// The viable symmetric `+-` orbit of the paper unit at ω = 2.9 and the branch point on its
-/// branch near 2.922, where the asymmetric orbits leave it.
-fn symmetric_branch_point() -> (SignatureOrbit, Event) {
+/// The viable symmetric `+-` orbit of the paper unit at `omega` and the branch point on its
+/// branch within `[omega_min, omega_max]`, where the asymmetric orbits leave it.
+fn symmetric_branch_point(omega: f64, omega_min: f64, omega_max: f64) -> (SignatureOrbit, Event) {
     let (unit, stops) = (paper_unit(), paper_stops());
     let signature = Signature::parse("+-", 1).unwrap();
-    let start = signature_orbits(&unit, &stops, 2.9, &signature)
+    let start = signature_orbits(&unit, &stops, omega, &signature)
         .into_iter()
         .find(|o| (o.impact_phases[1] - 0.5).abs() < 1e-9 && o.viable)
-        .expect("the viable symmetric orbit at 2.9");
-    let event = event_of(&unit, &stops, &start, EventKind::BranchPoint, 2.85, 3.0).unwrap();
+        .expect("a viable symmetric orbit");
+    let event = event_of(
+        &unit,
+        &stops,
+        &start,
+        EventKind::BranchPoint,
+        omega_min,
+        omega_max,
+    )
+    .unwrap();
     (start, event)
 }
 
+/// The branch points near ω = 2.922 (from the viable symmetric orbit at 2.9) and 2.1925686
+/// (the one `solve_branch_point` locates to 2.2e-15, issue #22; from the viable symmetric
+/// orbit at 2.2), each followed over the gap and over the restitution.
 #[test]
 fn branch_point_curves_over_the_gap_and_the_restitution_are_where_continuation_finds_them() {
-    let (start, event) = symmetric_branch_point();
+    for (omega, omega_min, omega_max) in [(2.9, 2.85, 3.0), (2.2, 2.1, 2.3)] {
+        let (start, event) = symmetric_branch_point(omega, omega_min, omega_max);
+        branch_point_curves_agree(&start, &event);
+    }
+}
+
+/// The curves of the branch point `event` on the branch of `start` over the gap and over the
+/// restitution: through the event, where the one-parameter continuation finds it at three
+/// values, a multiplier at +1 on the points.
+fn branch_point_curves_agree(start: &SignatureOrbit, event: &Event) {
     let stops = paper_stops();
     type UnitAt = fn(f64) -> Result<(Unit, Stops), UnitError>;
     let cases: [(UnitAt, f64, [f64; 3], f64, f64); 2] = [
@@ -351,7 +371,7 @@ fn branch_point_curves_over_the_gap_and_the_restitution_are_where_continuation_f
             &BoundaryStart {
                 unit_at,
                 signature: &start.signature,
-                event: &event,
+                event,
                 param,
                 at: &at,
             },
