@@ -75,9 +75,10 @@ pub use verdicts::sequence_verdicts;
 pub use chain::{chain_response, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
     continue_orbit, continue_orbit_after, continue_sequence, continue_sequence_after,
-    follow_boundary, Boundary, BoundaryAt, BoundaryEnd, BoundaryEndReason, BoundaryError,
-    BoundaryPoint, BoundarySettings, BoundaryStart, Branch, BranchEnd, Continuation,
-    ContinuationError, ContinuationPoint, ContinuationSettings, EndReason, Event, EventKind,
+    follow_boundary, follow_sequence_boundary, Boundary, BoundaryAt, BoundaryEnd,
+    BoundaryEndReason, BoundaryError, BoundaryPoint, BoundarySettings, BoundarySpecialPoint,
+    BoundaryStart, Branch, BranchEnd, Continuation, ContinuationError, ContinuationPoint,
+    ContinuationSettings, EndReason, Event, EventKind, SequenceBoundaryStart, SpecialKind,
 };
 pub use cycle::{signature_orbits, signature_orbits_on_grid, solve_signature, SignatureOrbit};
 pub use cycle_equations::{CycleEquations, CycleEvaluation, ImpactCondition};

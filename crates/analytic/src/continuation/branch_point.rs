@@ -86,7 +86,7 @@ where
 
 /// The unit left singular vector of `jacobian` (`n × (n + 1)`) of its smallest singular
 /// value: `ψ` with `ψᵀ H_u ≈ 0` near a branch point.
-fn left_null_vector(jacobian: &DMatrix<f64>) -> Option<DVector<f64>> {
+pub(crate) fn left_null_vector(jacobian: &DMatrix<f64>) -> Option<DVector<f64>> {
     let svd = jacobian.clone().svd(true, false);
     let u = svd.u?;
     let k = svd.singular_values.imin();
@@ -94,7 +94,7 @@ fn left_null_vector(jacobian: &DMatrix<f64>) -> Option<DVector<f64>> {
 }
 
 /// The extended system's residual and Jacobian at `z = (u, β, ψ)`.
-fn extended<F>(h: &F, z: &DVector<f64>, n: usize) -> Option<(DVector<f64>, DMatrix<f64>)>
+pub(crate) fn extended<F>(h: &F, z: &DVector<f64>, n: usize) -> Option<(DVector<f64>, DMatrix<f64>)>
 where
     F: Fn(&[f64]) -> Option<(DVector<f64>, DMatrix<f64>)>,
 {

@@ -66,8 +66,9 @@ mod test_functions;
 mod unit;
 
 pub use boundary::{
-    follow_boundary, Boundary, BoundaryAt, BoundaryEnd, BoundaryEndReason, BoundaryError,
-    BoundaryPoint, BoundarySettings, BoundaryStart,
+    follow_boundary, follow_sequence_boundary, Boundary, BoundaryAt, BoundaryEnd,
+    BoundaryEndReason, BoundaryError, BoundaryPoint, BoundarySettings, BoundarySpecialPoint,
+    BoundaryStart, SequenceBoundaryStart, SpecialKind,
 };
 pub use corrector::CORRECTOR_ACCEPTANCE;
 pub use result::{Branch, BranchEnd, Continuation, ContinuationPoint, EndReason, Event, EventKind};

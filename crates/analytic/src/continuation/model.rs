@@ -212,6 +212,10 @@ impl BranchModel for ModelBranch<'_> {
         }
     }
 
+    fn monodromy(&self, x: &[f64], _eval: &CycleEvaluation<Dyn>) -> Option<DMatrix<f64>> {
+        Some(self.orbit(x)?.monodromy)
+    }
+
     fn test_value(&self, test: Test, x: &[f64], eval: &CycleEvaluation<Dyn>) -> Option<f64> {
         match test {
             Test::Fold => None,

@@ -133,6 +133,9 @@ pub(crate) trait BranchModel: Sized {
     /// One test function other than the fold's at a converged `X`, computing only what it
     /// needs.
     fn test_value(&self, test: Test, x: &[f64], e: &Self::Evaluation) -> Option<f64>;
+    /// The monodromy matrix (saltations included) at `X` from an evaluation there; `None`
+    /// when it cannot be assembled.
+    fn monodromy(&self, x: &[f64], e: &Self::Evaluation) -> Option<DMatrix<f64>>;
 }
 
 /// The shared part of every [`BranchModel`]: the label's cycle equations in augmented

@@ -219,6 +219,11 @@ impl BranchModel for UnitBranch<'_> {
         }
     }
 
+    fn monodromy(&self, x: &[f64], eval: &CycleEvaluation<U6>) -> Option<DMatrix<f64>> {
+        let m = self.monodromy_at(x, eval);
+        Some(DMatrix::from_column_slice(4, 4, m.as_slice()))
+    }
+
     fn test_value(&self, test: Test, x: &[f64], eval: &CycleEvaluation<U6>) -> Option<f64> {
         let n = x.len() - 1;
         let omega = x[n];

@@ -2,30 +2,36 @@
 //! doubling, Neimark–Sacker, grazing, vanishing impact) of a signature's orbits followed in
 //! (ω, a scene parameter).
 
-use super::{check_omega, load_unit, write_record, RattleError};
+use super::{check_omega, load, write_record, RattleError};
 use crate::output::{finite, table_row, Format};
-use crate::runs::boundary::{follow, BoundaryRecord, BoundaryRequest, BoundaryRunError};
+use crate::runs::boundary::{
+    follow, follow_chain, BoundaryRecord, BoundaryRequest, BoundaryRunError, ChainBoundaryRequest,
+};
 use crate::scene::parameter::SceneParameter;
 use clap::Args;
 use rattle_analytic::continuation::{BoundaryError, BoundarySettings, EventKind};
-use rattle_analytic::Signature;
+use rattle_analytic::{ImpactSequence, Signature};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
 /// Arguments of `rattle boundary`.
 #[derive(Debug, Args)]
 pub struct BoundaryArgs {
-    /// Scene file (JSON), a single unit. Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    /// Scene file (JSON), a single unit or a chain of cells. Omit for the built-in paper
+    /// scene (Δ = 0.5, e = 0.8).
     pub scene: Option<PathBuf>,
     /// The impact signature of the orbits: the stops hit over one cycle in time order, `+`
-    /// side 1 (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`).
+    /// side 1 (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`). On a chain: the
+    /// impacts of every pair in time order as `<pair><side>` tokens, pairs (cells) numbered
+    /// from 0 (e.g. "0+ 1- 0- 1+").
     #[arg(long, allow_hyphen_values = true)]
     pub signature: String,
     /// Forcing periods per cycle of the signature, in [1, 8].
     #[arg(long, default_value_t = 1)]
     pub period: u32,
     /// The event followed: fold, period-doubling, neimark-sacker, grazing or
-    /// vanishing-impact (branch-point is not supported yet).
+    /// vanishing-impact, or branch-point (where the asymmetric orbits leave a symmetric one,
+    /// followed on Moore's extended system).
     #[arg(long)]
     pub event: String,
     /// The event followed is the one of its kind nearest this frequency (rad/s, finite, > 0)
@@ -34,7 +40,8 @@ pub struct BoundaryArgs {
     #[arg(long)]
     pub omega: f64,
     /// The scene parameter varied, by its JSON path: stops.gap, stops.restitution,
-    /// unit.inner_stiffness, damping.outer, …
+    /// unit.inner_stiffness, damping.outer, … (on a chain the whole chain's field, or one
+    /// cell's, e.g. `chain[2].stops.gap`)
     #[arg(long)]
     pub param: String,
     /// Lowest parameter value followed (within the field's physical range).
@@ -78,6 +85,9 @@ table_row! {
         pub critical_multiplier_re: Option<f64>,
         /// Imaginary part of the event's multiplier.
         pub critical_multiplier_im: Option<f64>,
+        /// The special point's kind where the point is one (`turning-point`, `grazing`,
+        /// `vanishing-impact`, `resonance-1:q`, `crossing`), empty otherwise.
+        pub special: Option<&'static str>,
     }
 }
 
@@ -98,7 +108,7 @@ fn event_kind(name: &str) -> Result<EventKind, RattleError> {
     .find(|k| k.name() == name)
     .ok_or_else(|| {
         RattleError::Argument(format!(
-            "--event = {name} is not an event: give fold, period-doubling, neimark-sacker, grazing or vanishing-impact"
+            "--event = {name} is not an event: give fold, branch-point, period-doubling, neimark-sacker, grazing or vanishing-impact"
         ))
     })
 }
@@ -111,13 +121,6 @@ fn event_kind(name: &str) -> Result<EventKind, RattleError> {
 pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.omega)?;
     let kind = event_kind(&args.event)?;
-    if kind == EventKind::BranchPoint {
-        return Err(RattleError::Argument(
-            BoundaryError::Unsupported { kind: kind.name() }.to_string(),
-        ));
-    }
-    let signature = Signature::parse(&args.signature, args.period)
-        .map_err(|e| RattleError::Argument(e.to_string()))?;
     let param: SceneParameter = args
         .param
         .parse()
@@ -151,16 +154,31 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
             "--out: a boundary is written as .csv (points) or .json (the whole document)".into(),
         ));
     }
-    let scene = load_unit(&args.scene, "boundary")?;
-    let request = BoundaryRequest {
-        signature,
-        kind,
-        omega,
-        param,
-        at: args.at.clone(),
+    let scene = load(&args.scene)?;
+    let record = if scene.is_chain() {
+        let sequence = ImpactSequence::parse(&args.signature, args.period)
+            .map_err(|e| RattleError::Argument(format!("--signature: {e}")))?;
+        let request = ChainBoundaryRequest {
+            sequence,
+            kind,
+            omega,
+            param,
+            at: args.at.clone(),
+        };
+        follow_chain(&scene, &request, &settings)
+    } else {
+        let signature = Signature::parse(&args.signature, args.period)
+            .map_err(|e| RattleError::Argument(e.to_string()))?;
+        let request = BoundaryRequest {
+            signature,
+            kind,
+            omega,
+            param,
+            at: args.at.clone(),
+        };
+        follow(&scene, &request, &settings)
     };
-    let record = follow(&scene, &request, &settings).map_err(run_error)?;
-    write(&args, format, &record)
+    write(&args, format, &record.map_err(run_error)?)
 }
 
 /// The command's error for a refused boundary: bad input (exit code 2) or a numerical
@@ -168,6 +186,8 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
 fn run_error(e: BoundaryRunError) -> RattleError {
     match e {
         BoundaryRunError::NoStops
+        | BoundaryRunError::CellWithoutStops { .. }
+        | BoundaryRunError::Sequence(_)
         | BoundaryRunError::Parameter(_)
         | BoundaryRunError::Range { .. }
         | BoundaryRunError::Boundary(BoundaryError::Setting { .. })
@@ -195,6 +215,7 @@ fn write(
             outer_amplitude: finite(p.outer_amplitude),
             critical_multiplier_re: finite(p.critical_multiplier[0]),
             critical_multiplier_im: finite(p.critical_multiplier[1]),
+            special: p.special,
         })
     };
     write_record(args.json, args.out.as_ref(), format, record, rows, || {
@@ -220,6 +241,14 @@ fn summary(record: &BoundaryRecord) -> String {
             out,
             "at {} = {}: ω = {:.12}",
             record.param, a.param_value, a.omega
+        );
+    }
+    for s in &record.special_points {
+        let other = s.other.map(|o| format!(" with {o}")).unwrap_or_default();
+        let _ = writeln!(
+            out,
+            "{}{other} at {} = {}, ω = {:.12}",
+            s.kind, record.param, s.param_value, s.omega
         );
     }
     for e in &record.ends {

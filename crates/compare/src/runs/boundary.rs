@@ -1,16 +1,19 @@
-//! One regime boundary of a unit scene: the event of one kind nearest a frequency on the
+//! One regime boundary of a scene: the event of one kind nearest a frequency on the
 //! branches of a signature's orbits there, followed in (ω, a scene parameter) by
-//! [`rattle_analytic::follow_boundary`].
+//! [`rattle_analytic::follow_boundary`] on a unit ([`follow`]), by
+//! [`rattle_analytic::follow_sequence_boundary`] on a chain ([`follow_chain`]).
 
-use crate::scene::analytic::orbits_of_signature;
+use crate::scene::analytic::{chain_model, orbits_of_signature};
 use crate::scene::parameter::{ParameterError, SceneParameter};
 use crate::scene::Scene;
 use rattle_analytic::continuation::{
-    continue_orbit, follow_boundary, Boundary, BoundaryError, BoundarySettings, BoundaryStart,
-    ContinuationError, ContinuationSettings, Event, EventKind,
+    continue_orbit, continue_sequence, follow_boundary, follow_sequence_boundary, Boundary,
+    BoundaryError, BoundarySettings, BoundarySpecialPoint, BoundaryStart, ContinuationError,
+    ContinuationSettings, Event, EventKind, SequenceBoundaryStart, SpecialKind,
 };
-use rattle_analytic::{Signature, Stops, Unit};
+use rattle_analytic::{sequence_orbits, ImpactSequence, LinearModel, Signature, Stops, Unit};
 use serde::Serialize;
+use std::fmt::Display;
 use thiserror::Error;
 
 /// What to follow.
@@ -28,12 +31,36 @@ pub struct BoundaryRequest {
     pub at: Vec<f64>,
 }
 
+/// What to follow on a chain scene.
+#[derive(Debug, Clone)]
+pub struct ChainBoundaryRequest {
+    /// The impact sequence of the orbits (pairs numbered from the base).
+    pub sequence: ImpactSequence,
+    /// The event kind.
+    pub kind: EventKind,
+    /// The frequency near which the event is looked for, rad/s.
+    pub omega: f64,
+    /// The scene parameter varied (the chain's own field, or a cell's: `chain[K].…`).
+    pub param: SceneParameter,
+    /// Parameter values at which the curve's ω is solved.
+    pub at: Vec<f64>,
+}
+
 /// Why no boundary could be followed.
 #[derive(Debug, Error)]
 pub enum BoundaryRunError {
     /// The scene has no stops.
     #[error("the scene has no stops: there is no impacting orbit and no boundary")]
     NoStops,
+    /// A cell of a chain scene has no stops.
+    #[error("cell {cell} of the chain has no `stops`: a chain's orbits need stops in every cell")]
+    CellWithoutStops {
+        /// The cell, numbered from 0 at the base.
+        cell: usize,
+    },
+    /// The impact sequence names a pair the chain lacks.
+    #[error("--signature: {0}")]
+    Sequence(String),
     /// The parameter cannot be read from the scene or set.
     #[error("--param: {0}")]
     Parameter(#[from] ParameterError),
@@ -88,6 +115,48 @@ pub struct BoundaryPointRecord {
     pub outer_amplitude: f64,
     /// The event's multiplier, `[re, im]`.
     pub critical_multiplier: [f64; 2],
+    /// The kind of the special point this point is (see [`BoundarySpecialRecord::kind`]),
+    /// if it is one.
+    pub special: Option<&'static str>,
+}
+
+/// One special point of the curve, as written.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct BoundarySpecialRecord {
+    /// `turning-point`, `grazing`, `vanishing-impact`, `resonance-1:1`, `resonance-1:2`,
+    /// `resonance-1:3`, `resonance-1:4` or `crossing`.
+    pub kind: &'static str,
+    /// The parameter value.
+    pub param_value: f64,
+    /// The curve's frequency there.
+    pub omega: f64,
+    /// At a crossing, the other event (`fold`, `period-doubling`, `neimark-sacker`).
+    pub other: Option<&'static str>,
+    /// At a grazing, the flight that grazes (from impact `flight` of the signature).
+    pub flight: Option<usize>,
+    /// At a vanishing impact, the impact's index in the signature.
+    pub impact: Option<usize>,
+}
+
+impl BoundarySpecialRecord {
+    /// The written form of `special`.
+    fn of(special: &BoundarySpecialPoint) -> Self {
+        let (mut other, mut flight, mut impact) = (None, None, None);
+        match special.kind {
+            SpecialKind::Crossing { other: o } => other = Some(o.name()),
+            SpecialKind::Grazing { flight: f, .. } => flight = Some(f),
+            SpecialKind::VanishingImpact { impact: j } => impact = Some(j),
+            _ => {}
+        }
+        Self {
+            kind: special.kind.name(),
+            param_value: special.param_value,
+            omega: special.omega,
+            other,
+            flight,
+            impact,
+        }
+    }
 }
 
 /// The curve's ω at one parameter value, as written.
@@ -132,8 +201,11 @@ pub struct BoundaryRecord {
     pub points: Vec<BoundaryPointRecord>,
     /// The curve's ω at each `--at` value (one entry per crossing).
     pub at: Vec<BoundaryAtRecord>,
-    /// Special points along the curve: none located yet (always empty).
-    pub special_points: Vec<BoundaryAtRecord>,
+    /// Special points in order along the curve, each located to rounding (and also one of
+    /// the points): turning points in the parameter, grazings and vanishing impacts of the
+    /// orbit, strong resonances of a Neimark–Sacker curve, crossings with the curves of the
+    /// orbit's other events.
+    pub special_points: Vec<BoundarySpecialRecord>,
     /// The two ends, the first point's then the last point's.
     pub ends: Vec<BoundaryEndRecord>,
 }
@@ -201,14 +273,7 @@ pub fn follow(
     request: &BoundaryRequest,
     settings: &BoundarySettings,
 ) -> Result<BoundaryRecord, BoundaryRunError> {
-    settings.validate()?;
-    let param_start = request.param.value(scene)?;
-    for (option, value) in [("--min", settings.param_min), ("--max", settings.param_max)] {
-        request
-            .param
-            .with_value(scene, value)
-            .map_err(|e| BoundaryRunError::Range { option, source: e })?;
-    }
+    let param_start = param_start(scene, &request.param, settings)?;
     let event = nearest_event(scene, request, settings)?;
     let start = BoundaryStart {
         unit_at: |v: f64| unit_at(scene, &request.param, v),
@@ -218,25 +283,130 @@ pub fn follow(
         at: &request.at,
     };
     let boundary = follow_boundary(&start, settings)?;
-    Ok(record(scene, request, param_start, &event, &boundary))
+    Ok(record(
+        scene,
+        &request.param,
+        (param_start, event.omega),
+        boundary.signature.period(),
+        &boundary,
+    ))
 }
 
-/// The written form of `boundary`.
-fn record(
+/// The parameter's value in `scene`, after checking that `--min` and `--max` are within its
+/// physical range.
+fn param_start(
     scene: &Scene,
-    request: &BoundaryRequest,
-    param_start: f64,
-    event: &Event,
-    boundary: &Boundary,
+    param: &SceneParameter,
+    settings: &BoundarySettings,
+) -> Result<f64, BoundaryRunError> {
+    settings.validate()?;
+    let start = param.value(scene)?;
+    for (option, value) in [("--min", settings.param_min), ("--max", settings.param_max)] {
+        param
+            .with_value(scene, value)
+            .map_err(|e| BoundaryRunError::Range { option, source: e })?;
+    }
+    Ok(start)
+}
+
+/// The chain model of `scene` with `param` set to `value`.
+fn model_at(
+    scene: &Scene,
+    param: &SceneParameter,
+    value: f64,
+) -> Result<LinearModel, BoundaryRunError> {
+    let scene = param.with_value(scene, value)?;
+    chain_model(&scene).map_err(|cell| BoundaryRunError::CellWithoutStops { cell })
+}
+
+/// The event of `request.kind` nearest `request.omega` on the branches through every orbit of
+/// the sequence at `request.omega` on the chain `model`.
+fn nearest_chain_event(
+    model: &LinearModel,
+    request: &ChainBoundaryRequest,
+    settings: &BoundarySettings,
+) -> Result<Event<ImpactSequence>, BoundaryRunError> {
+    let starts = sequence_orbits(model, request.omega, &request.sequence)
+        .map_err(|e| BoundaryRunError::Sequence(e.to_string()))?;
+    if starts.is_empty() {
+        return Err(BoundaryRunError::NoOrbit {
+            signature: request.sequence.to_string(),
+            period: request.sequence.period(),
+            omega: request.omega,
+        });
+    }
+    let continuation = ContinuationSettings {
+        follow_switches: false,
+        ..ContinuationSettings::new(settings.omega_min, settings.omega_max)
+    };
+    let mut best: Option<Event<ImpactSequence>> = None;
+    for start in &starts {
+        let c = continue_sequence(model, start, &continuation)?;
+        for e in c.events.into_iter().filter(|e| e.kind == request.kind) {
+            let d = |e: &Event<ImpactSequence>| (e.omega - request.omega).abs();
+            if best.as_ref().is_none_or(|b| d(&e) < d(b)) {
+                best = Some(e);
+            }
+        }
+    }
+    best.ok_or_else(|| BoundaryRunError::NoEvent {
+        kind: request.kind.name(),
+        signature: request.sequence.to_string(),
+        omega: request.omega,
+        min: settings.omega_min,
+        max: settings.omega_max,
+    })
+}
+
+/// Follows the boundary of `request` on the chain scene `scene` within `settings`: as
+/// [`follow`], on the chain's orbits of an impact sequence (grazing and vanishing impact of
+/// any contact pair), the parameter a field of the whole chain or of one cell.
+///
+/// # Errors
+/// See [`BoundaryRunError`]; [`BoundaryRunError::CellWithoutStops`] for a cell without
+/// stops, [`BoundaryRunError::Sequence`] for a sequence naming a pair the chain lacks.
+pub fn follow_chain(
+    scene: &Scene,
+    request: &ChainBoundaryRequest,
+    settings: &BoundarySettings,
+) -> Result<BoundaryRecord, BoundaryRunError> {
+    let param_start = param_start(scene, &request.param, settings)?;
+    let model = model_at(scene, &request.param, param_start)?;
+    let event = nearest_chain_event(&model, request, settings)?;
+    let start = SequenceBoundaryStart {
+        model_at: |v: f64| model_at(scene, &request.param, v),
+        sequence: &request.sequence,
+        event: &event,
+        param: param_start,
+        at: &request.at,
+    };
+    let boundary = follow_sequence_boundary(&start, settings)?;
+    Ok(record(
+        scene,
+        &request.param,
+        (param_start, event.omega),
+        request.sequence.period(),
+        &boundary,
+    ))
+}
+
+/// The written form of `boundary` (of orbits over `period` forcing periods), started at
+/// `param_start` from the event at `omega_start`.
+fn record<L: Display>(
+    scene: &Scene,
+    param: &SceneParameter,
+    (param_start, omega_start): (f64, f64),
+    period: u32,
+    boundary: &Boundary<L>,
 ) -> BoundaryRecord {
     BoundaryRecord {
         scene: scene.name.clone(),
         signature: boundary.signature.to_string(),
-        period: boundary.signature.period(),
+        period,
         event: boundary.kind.name(),
-        param: request.param.to_string(),
+        param: param.to_string(),
         param_start,
-        omega_start: event.omega,
+        omega_start,
         points: boundary
             .points
             .iter()
@@ -245,6 +415,11 @@ fn record(
                 omega: p.omega,
                 outer_amplitude: p.outer_amplitude,
                 critical_multiplier: [p.critical_multiplier.re, p.critical_multiplier.im],
+                special: boundary
+                    .special_points
+                    .iter()
+                    .find(|s| s.point == *p)
+                    .map(|s| s.kind.name()),
             })
             .collect(),
         at: boundary
@@ -255,7 +430,11 @@ fn record(
                 omega: a.omega,
             })
             .collect(),
-        special_points: Vec::new(),
+        special_points: boundary
+            .special_points
+            .iter()
+            .map(BoundarySpecialRecord::of)
+            .collect(),
         ends: boundary
             .ends
             .iter()

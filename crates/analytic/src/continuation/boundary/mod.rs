@@ -1,18 +1,21 @@
-//! Exact regime boundaries: one codimension-one event of the unit's orbits of one signature
+//! Exact regime boundaries: one codimension-one event of the orbits of one signature
 //! (fold, period doubling, Neimark–Sacker, grazing, vanishing impact) followed in the plane of
-//! the forcing frequency `ω` and one parameter `p` of the unit or its stops
-//! ([`follow_boundary`]).
+//! the forcing frequency `ω` and one parameter `p`: of the unit or its stops
+//! ([`follow_boundary`]), or of any [`LinearModel`] such as a chain, its orbits of one
+//! impact sequence ([`follow_sequence_boundary`]; grazing and vanishing impact per contact
+//! pair).
 //!
 //! The unknowns are `Y = (X, p)`, `X = (α, φ₂ … φₙ, ω)` the branch's unknowns of
-//! continuation in `ω`; the equations are `R(X; p) = 0`, the cycle equations of the unit built
-//! at `p`, and `T(X; p) = 0`, the event's test function:
+//! continuation in `ω`; the equations are `R(X; p) = 0`, the cycle equations of the unit (or
+//! model) built at `p`, and `T(X; p) = 0`, the event's test function (`M` the monodromy
+//! matrix with saltations, from the same model side as the continuation's):
 //!
 //! | event | `T` |
 //! |---|---|
 //! | fold | `det R_x`, `R_x` the Jacobian in the state unknowns `(α, φ₂ … φₙ)` (the numerator of the continuation's `dω/ds` by Cramer's rule: regular at a fold, where `dω/ds` changes sign) |
 //! | period doubling | `det(M + I)` |
 //! | Neimark–Sacker | `Π_{i<j} (μ_i μ_j − 1)`, as `det(M ⊙ M − I)` (second compound: smooth in `M`); the curve ends where the complex pair leaves the unit circle for the real axis |
-//! | grazing | the clearance of the grazing flight: the gap less the largest `|r|` at the flight's interior critical points |
+//! | grazing | the clearance of the grazing flight (and pair): the gap less the largest `|r|` at the flight's interior critical points |
 //! | vanishing impact | `s_j ṙ⁻_j` of the impact |
 //!
 //! `R_X` is the exact Jacobian of the cycle equations; `R_p`, `T_X` and `T_p` are central
@@ -25,20 +28,39 @@
 //! and `[omega_min, omega_max]`; each end carries its reason, and the curve's `ω` at given
 //! parameter values is solved on the same system with `p` fixed.
 //!
-//! Branch points are not followed yet ([`BoundaryError::Unsupported`]): their test function
-//! is singular at the event and needs [`crate::branch_point`]'s extended system with `p` free.
+//! Along the curve its special points ([`Boundary::special_points`], [`SpecialKind`]) are
+//! located to rounding, each as the zero of a function that changes sign between two
+//! consecutive points (regula falsi on the chord, each trial corrected onto the curve) and
+//! inserted among the points: turning points in `p`, a grazing or vanishing impact of the
+//! event's orbit (viability lost or gained), the strong resonances 1:3 and 1:4 of a
+//! Neimark–Sacker curve (1:1 and 1:2 end it, where the pair reaches the real axis), and the
+//! crossings with the curves of the orbit's other events (fold, period doubling,
+//! Neimark–Sacker).
+//!
+//! A branch point has no regular test function (`R_X` loses rank there, and the set
+//! `R = 0` crosses itself): its curve is followed on Moore's extended system with `p` free
+//! (unknowns `(X, p, β, ψ)`, see the `branch` module), regular at a simple branch point.
+
+mod branch;
+mod family;
+mod special;
+
+pub use special::{BoundarySpecialPoint, SpecialKind};
 
 use super::corrector::rounding_floor;
 use super::events::TORUS_TOLERANCE;
 use super::result::{Event, EventKind};
 use super::system::BranchModel;
+use super::system::Label;
 use super::test_functions::Test;
-use super::unit::UnitBranch;
-use crate::cycle_equations::{CycleEvaluation, MIN_FLIGHT};
-use crate::orbit::{eigenvalues, wrap};
+use crate::cycle_equations::MIN_FLIGHT;
+use crate::model::LinearModel;
+use crate::orbit::wrap;
+use crate::sequence::ImpactSequence;
 use crate::signature::Signature;
 use crate::unit::{Stops, Unit};
-use nalgebra::{Complex, DMatrix, DVector, Matrix4, Matrix6, U6};
+use family::{Family, ModelFamily, UnitFamily};
+use nalgebra::{Complex, DMatrix, DVector, Matrix4};
 use thiserror::Error;
 
 /// Relative step of the central differences: `ε^{1/3}`, balancing truncation (`h²`) against
@@ -201,7 +223,8 @@ pub enum BoundaryError {
         /// The allowed range, in words.
         allowed: String,
     },
-    /// An event kind whose curve is not followed yet.
+    /// An event kind whose curve is not followed (none at present: kept for callers that
+    /// refuse a kind themselves).
     #[error("--event {kind} is not supported yet: supported are fold, period-doubling, neimark-sacker, grazing, vanishing-impact")]
     Unsupported {
         /// The event kind's name.
@@ -294,8 +317,9 @@ pub enum BoundaryEndReason {
     ClosedLoop,
     /// A Neimark–Sacker curve whose complex pair meets on the real axis (at a strong
     /// resonance, `μ = ±1` double): beyond, the zeros of its test are neutral saddles
-    /// (real `μ, 1/μ`), not Neimark–Sacker points. The last point is the last one with the
-    /// pair on the unit circle.
+    /// (real `μ, 1/μ`), not Neimark–Sacker points. The last point is that 1:1 or 1:2
+    /// resonance, located (and listed among the special points); failing that, the last
+    /// point with the pair on the unit circle.
     NeutralSaddle,
 }
 
@@ -328,17 +352,23 @@ pub struct BoundaryEnd {
     pub reason: BoundaryEndReason,
 }
 
-/// A followed boundary curve.
+/// A followed boundary curve: of a unit's orbits (`L` a [`Signature`]) or of a model's
+/// ([`ImpactSequence`], [`follow_sequence_boundary`]).
 #[derive(Debug, Clone, PartialEq)]
-pub struct Boundary {
-    /// The signature of the orbits.
-    pub signature: Signature,
+pub struct Boundary<L = Signature> {
+    /// The signature (a model's: impact sequence) of the orbits.
+    pub signature: L,
     /// The event followed.
     pub kind: EventKind,
     /// The points in order along the curve, the start somewhere inside.
     pub points: Vec<BoundaryPoint>,
     /// The curve's `ω` at each value asked for, in the order asked and along the curve.
     pub at: Vec<BoundaryAt>,
+    /// The special points in order along the curve, each located to rounding and also one
+    /// of [`Boundary::points`]: turning points in the parameter, grazings and vanishing
+    /// impacts of the event's orbit (viability lost or gained), strong resonances of a
+    /// Neimark–Sacker curve, crossings with the curves of the orbit's other events.
+    pub special_points: Vec<BoundarySpecialPoint>,
     /// The two ends: the first point's, then the last point's.
     pub ends: [BoundaryEnd; 2],
 }
@@ -367,7 +397,7 @@ pub struct BoundaryStart<'a, F> {
 /// # Errors
 /// [`BoundaryError::Setting`] for a bad setting, or (field `--at`) a value of `at` outside
 /// `[param_min, param_max]`, or (field `param`) a start outside it;
-/// [`BoundaryError::Unsupported`] for a branch point; [`BoundaryError::EventMismatch`] when
+/// [`BoundaryError::EventMismatch`] when
 /// a grazing or vanishing impact names no flight or impact of the signature;
 /// [`BoundaryError::Parameter`] when `unit_at(param)` fails;
 /// [`BoundaryError::StartNotConverged`] when Newton on the defining system at `param` does
@@ -380,29 +410,103 @@ where
     F: Fn(f64) -> Result<(Unit, Stops), E>,
     E: std::fmt::Display,
 {
+    let family = UnitFamily {
+        unit_at: &start.unit_at,
+    };
+    follow_family(
+        family,
+        start.signature,
+        start.event,
+        start.param,
+        start.at,
+        settings,
+    )
+}
+
+/// What to follow on a [`LinearModel`] (a chain): the model as a function of the parameter,
+/// the orbits' impact sequence, the event on their branch (from
+/// [`crate::continue_sequence`] on the model at `param`), the parameter's own value there
+/// and the values at which to solve the curve's `ω`.
+pub struct SequenceBoundaryStart<'a, F> {
+    /// The model at a parameter value; an `Err` (with its message) where the value gives
+    /// no valid model.
+    pub model_at: F,
+    /// The impact sequence of the branch the event lies on.
+    pub sequence: &'a ImpactSequence,
+    /// The event to follow.
+    pub event: &'a Event<ImpactSequence>,
+    /// The parameter's value at which the event was found.
+    pub param: f64,
+    /// Parameter values at which the curve's `ω` is solved.
+    pub at: &'a [f64],
+}
+
+/// [`follow_boundary`] on a [`LinearModel`] such as a chain: the curve of `start.event` of
+/// the orbits of `start.sequence` in `(ω, p)`, a grazing or vanishing impact of the event's
+/// contact pair, special points per pair (a grazing of every pair over every flight).
+///
+/// # Errors
+/// As [`follow_boundary`]; [`BoundaryError::EventMismatch`] also when the sequence names a
+/// pair the model lacks.
+pub fn follow_sequence_boundary<F, E>(
+    start: &SequenceBoundaryStart<'_, F>,
+    settings: &BoundarySettings,
+) -> Result<Boundary<ImpactSequence>, BoundaryError>
+where
+    F: Fn(f64) -> Result<LinearModel, E>,
+    E: std::fmt::Display,
+{
+    let family = ModelFamily {
+        model_at: &start.model_at,
+    };
+    follow_family(
+        family,
+        start.sequence,
+        start.event,
+        start.param,
+        start.at,
+        settings,
+    )
+}
+
+/// The curve of `event` of the orbits of `label` on `family`, from `param`.
+fn follow_family<Fam: Family>(
+    family: Fam,
+    label: &Fam::Label,
+    event: &Event<Fam::Label>,
+    param: f64,
+    at: &[f64],
+    settings: &BoundarySettings,
+) -> Result<Boundary<Fam::Label>, BoundaryError> {
     settings.validate()?;
-    check_inside("param", start.param, settings)?;
-    for &value in start.at {
+    check_inside("param", param, settings)?;
+    for &value in at {
         check_inside("--at", value, settings)?;
     }
-    if let Err(e) = (start.unit_at)(start.param) {
-        return Err(BoundaryError::Parameter {
-            value: start.param,
-            message: e.to_string(),
-        });
-    }
-    let event = start.event;
-    let n = start.signature.impacts();
+    let owned = family
+        .build(param)
+        .map_err(|message| BoundaryError::Parameter {
+            value: param,
+            message,
+        })?;
+    let n = label.impact_list().len();
+    let mismatch = || BoundaryError::EventMismatch {
+        kind: event.kind.name(),
+        omega: event.omega,
+        signature: label.to_string(),
+    };
+    let pairs = Fam::model(&owned, label).ok_or_else(mismatch)?.pairs();
     let curve = EventCurve {
-        unit_at: &start.unit_at,
-        signature: start.signature.clone(),
-        test: test_of(event, n, start.signature)?,
+        test: test_of(event, n, pairs, label)?,
+        family,
+        label: label.clone(),
+        pairs,
         kind: event.kind,
     };
     let not_converged = || BoundaryError::StartNotConverged {
         kind: event.kind.name(),
         omega: event.omega,
-        param: start.param,
+        param,
     };
     let mut guess = vec![event.point.alpha];
     guess.extend_from_slice(
@@ -412,14 +516,17 @@ where
             .get(1..n)
             .ok_or_else(not_converged)?,
     );
-    guess.extend([event.omega, start.param]);
+    guess.extend([event.omega, param]);
+    if event.kind == EventKind::BranchPoint {
+        guess = curve.branch_guess(guess).ok_or_else(not_converged)?;
+    }
     let fixed = Border::Fixed {
         index: n + 1,
-        value: start.param,
+        value: param,
     };
     let (y, jacobian, _) = curve.correct(&guess, &fixed).ok_or_else(not_converged)?;
     let tangent = null_vector(&jacobian).ok_or_else(not_converged)?;
-    Ok(curve.trace(y, tangent, start.at, settings))
+    Ok(curve.trace(y, tangent, at, settings))
 }
 
 /// `Err` naming `field` when `value` is outside `[param_min, param_max]`.
@@ -442,8 +549,14 @@ fn check_inside(
     }
 }
 
-/// The test function of `event` on orbits of `n` impacts.
-fn test_of(event: &Event, n: usize, signature: &Signature) -> Result<Test, BoundaryError> {
+/// The test function of `event` on orbits of `n` impacts of a model with `pairs` contact
+/// pairs (a grazing's clearance is indexed by flight and pair).
+fn test_of<L: Label>(
+    event: &Event<L>,
+    n: usize,
+    pairs: usize,
+    signature: &L,
+) -> Result<Test, BoundaryError> {
     let mismatch = || BoundaryError::EventMismatch {
         kind: event.kind.name(),
         omega: event.omega,
@@ -454,16 +567,18 @@ fn test_of(event: &Event, n: usize, signature: &Signature) -> Result<Test, Bound
         EventKind::Fold => Ok(Test::Fold),
         EventKind::PeriodDoubling => Ok(Test::Doubling),
         EventKind::NeimarkSacker => Ok(Test::Torus),
-        EventKind::BranchPoint => Err(BoundaryError::Unsupported {
-            kind: event.kind.name(),
-        }),
+        EventKind::BranchPoint => Ok(Test::Branch),
         EventKind::Grazing => {
             let phase = event.phase.ok_or_else(mismatch)?;
             let f = (0..n)
                 .rev()
                 .find(|&f| phases.get(f).is_some_and(|&p| p <= phase))
                 .ok_or_else(mismatch)?;
-            Ok(Test::Clearance(f))
+            let pair = event.pair.unwrap_or(0);
+            if pair >= pairs {
+                return Err(mismatch());
+            }
+            Ok(Test::Clearance(f * pairs + pair))
         }
         EventKind::VanishingImpact => {
             let phase = event.phase.ok_or_else(mismatch)?;
@@ -507,9 +622,11 @@ impl Border<'_> {
 }
 
 /// The defining system of one event's curve.
-struct EventCurve<'a, F> {
-    unit_at: &'a F,
-    signature: Signature,
+struct EventCurve<Fam: Family> {
+    family: Fam,
+    label: Fam::Label,
+    /// Contact pairs of the model (1 on the unit).
+    pairs: usize,
     test: Test,
     kind: EventKind,
 }
@@ -520,19 +637,16 @@ struct Values {
     test: f64,
 }
 
-impl<F, E> EventCurve<'_, F>
-where
-    F: Fn(f64) -> Result<(Unit, Stops), E>,
-{
+impl<Fam: Family> EventCurve<Fam> {
     /// Number of impacts.
     fn n(&self) -> usize {
-        self.signature.impacts()
+        self.label.impact_list().len()
     }
 
-    /// `f` of the unit's branch model at parameter value `p`; `None` where `p` gives no unit.
-    fn with_model<R>(&self, p: f64, f: impl FnOnce(&UnitBranch<'_>) -> Option<R>) -> Option<R> {
-        let (unit, stops) = (self.unit_at)(p).ok()?;
-        let model = UnitBranch::new(&unit, &stops, self.signature.clone());
+    /// `f` of the branch model at parameter value `p`; `None` where `p` gives no model.
+    fn with_model<R>(&self, p: f64, f: impl FnOnce(&Fam::Model<'_>) -> Option<R>) -> Option<R> {
+        let owned = self.family.build(p).ok()?;
+        let model = Fam::model(&owned, &self.label)?;
         f(&model)
     }
 
@@ -550,23 +664,34 @@ where
     }
 
     /// `R` and `T` at `X` on `model`.
-    fn values(&self, model: &UnitBranch<'_>, x: &[f64]) -> Option<Values> {
+    fn values<M: BranchModel>(&self, model: &M, x: &[f64]) -> Option<Values> {
         let fold = matches!(self.test, Test::Fold);
         let eval = model.evaluate(x, fold)?;
         let test = match self.test {
-            Test::Fold => fold_test(&eval),
-            Test::Torus => torus_test(&model.monodromy_at(x, &eval)),
+            Test::Fold => fold_test(M::jacobian(&eval)),
+            Test::Torus => torus_test(&model.monodromy(x, &eval)?),
             test => model.test_value(test, x, &eval)?,
         };
         Some(Values {
-            residual: eval.residual.clone(),
+            residual: M::residual(&eval).clone(),
             test,
         })
     }
 
+    /// The defining system's residual at `Y` and its Jacobian in `Y` (one row fewer than
+    /// columns): `[R; T]` for an event with a test function, Moore's extended system with `p`
+    /// free for a branch point.
+    fn linearise(&self, y: &[f64]) -> Option<(DVector<f64>, DMatrix<f64>)> {
+        if matches!(self.test, Test::Branch) {
+            self.linearise_branch(y)
+        } else {
+            self.linearise_event(y)
+        }
+    }
+
     /// The residual `[R; T]` at `Y` and its Jacobian in `Y` (`n + 1` rows, `n + 2` columns):
     /// `R_X` exact, the rest by central differences.
-    fn linearise(&self, y: &[f64]) -> Option<(Values, DMatrix<f64>)> {
+    fn linearise_event(&self, y: &[f64]) -> Option<(DVector<f64>, DMatrix<f64>)> {
         let n = self.n();
         let x = &y[..=n];
         let mut jacobian = DMatrix::zeros(n + 1, n + 2);
@@ -574,7 +699,7 @@ where
             let eval = model.evaluate(x, true)?;
             jacobian
                 .view_mut((0, 0), (n, n + 1))
-                .copy_from(&eval.jacobian);
+                .copy_from(jacobian_of(model, &eval));
             let values = self.values(model, x)?;
             for k in 0..=n {
                 let h = DIFFERENCE_STEP * x[k].abs().max(1.0);
@@ -603,32 +728,34 @@ where
             jacobian[(i, n + 1)] = (high.residual[i] - low.residual[i]) / width;
         }
         jacobian[(n, n + 1)] = (high.test - low.test) / width;
-        Some((values, jacobian))
+        let mut residual = DVector::zeros(n + 1);
+        residual.rows_mut(0, n).copy_from(&values.residual);
+        residual[n] = values.test;
+        Some((residual, jacobian))
     }
 
-    /// Newton on `[R; T; border] = 0` from `guess`: the converged `Y`, the Jacobian of
-    /// `[R; T]` at the last iterate, and the iterations taken. `None` when it leaves the
-    /// admissible set, does not converge within [`NEWTON_ITERATIONS`], or stops with contact
-    /// residuals above [`CORRECTOR_ACCEPTANCE`] of the motion's size.
+    /// Newton on `[defining system; border] = 0` from `guess`: the converged `Y`, the
+    /// Jacobian of the defining system at the last iterate, and the iterations taken. `None`
+    /// when it leaves the admissible set, does not converge within [`NEWTON_ITERATIONS`], or
+    /// stops with contact residuals above [`CORRECTOR_ACCEPTANCE`] of the motion's size.
     fn correct(&self, guess: &[f64], border: &Border) -> Option<(Vec<f64>, DMatrix<f64>, usize)> {
-        let n = self.n();
+        let k = guess.len();
         let mut y = guess.to_vec();
         let mut last = f64::INFINITY;
         for iteration in 1..=NEWTON_ITERATIONS {
             if !self.admissible(&y) {
                 return None;
             }
-            let (values, jacobian) = self.linearise(&y)?;
+            let (residual, jacobian) = self.linearise(&y)?;
             let (row, constraint) = border.row(&y);
-            let mut m = DMatrix::zeros(n + 2, n + 2);
-            m.view_mut((0, 0), (n + 1, n + 2)).copy_from(&jacobian);
-            for (k, v) in row.iter().enumerate() {
-                m[(n + 1, k)] = *v;
+            let mut m = DMatrix::zeros(k, k);
+            m.view_mut((0, 0), (k - 1, k)).copy_from(&jacobian);
+            for (j, v) in row.iter().enumerate() {
+                m[(k - 1, j)] = *v;
             }
-            let mut rhs = DVector::zeros(n + 2);
-            rhs.rows_mut(0, n).copy_from(&(-&values.residual));
-            rhs[n] = -values.test;
-            rhs[n + 1] = -constraint;
+            let mut rhs = DVector::zeros(k);
+            rhs.rows_mut(0, k - 1).copy_from(&(-&residual));
+            rhs[k - 1] = -constraint;
             let step = m.lu().solve(&rhs)?;
             for (v, s) in y.iter_mut().zip(step.iter()) {
                 *v += s;
@@ -657,29 +784,35 @@ where
                 .with_model(y[n + 1], |model| {
                     let eval = model.evaluate(&y[..=n], false)?;
                     let floor = rounding_floor(model.conditioning(&y[..=n], &eval));
-                    Some(eval.residual.amax() <= floor * model.scale(&eval))
+                    Some(residual_of(model, &eval).amax() <= floor * model.scale(&eval))
                 })
                 .unwrap_or(false)
     }
 
-    /// The curve both ways from `(y, tangent)`, the `ω` at the values `at`, and the ends.
+    /// The curve both ways from `(y, tangent)`, its special points, the `ω` at the values
+    /// `at`, and the ends.
     fn trace(
         &self,
         y: Vec<f64>,
         tangent: Vec<f64>,
         at: &[f64],
         settings: &BoundarySettings,
-    ) -> Boundary {
+    ) -> Boundary<Fam::Label> {
         let start = Node { y, tangent };
-        let (forward, forward_end) = self.follow(&start, 1.0, settings);
-        let (mut nodes, backward_end) = if forward_end == BoundaryEndReason::ClosedLoop {
-            (Vec::new(), BoundaryEndReason::ClosedLoop)
+        let forward = self.follow(&start, 1.0, settings);
+        let backward = if forward.reason == BoundaryEndReason::ClosedLoop {
+            Leg {
+                nodes: Vec::new(),
+                reason: BoundaryEndReason::ClosedLoop,
+                resonance: None,
+            }
         } else {
             self.follow(&start, -1.0, settings)
         };
+        let mut nodes = backward.nodes;
         nodes.reverse();
         nodes.push(start);
-        nodes.extend(forward);
+        nodes.extend(forward.nodes);
         let n = self.n();
         let end = |node: &Node, reason| BoundaryEnd {
             param_value: node.y[n + 1],
@@ -687,20 +820,65 @@ where
             reason,
         };
         let ends = [
-            end(&nodes[0], backward_end),
-            end(&nodes[nodes.len() - 1], forward_end),
+            end(&nodes[0], backward.reason),
+            end(&nodes[nodes.len() - 1], forward.reason),
         ];
+        let (nodes, specials) =
+            self.with_special_points(nodes, backward.resonance, forward.resonance);
         let at = at.iter().flat_map(|&v| self.solve_at(&nodes, v)).collect();
+        let special_points = specials
+            .into_iter()
+            .filter_map(|(node, kind, value)| {
+                let point = self.describe(&node.y)?;
+                Some(BoundarySpecialPoint {
+                    kind,
+                    param_value: point.param_value,
+                    omega: point.omega,
+                    value,
+                    point,
+                })
+            })
+            .collect();
         Boundary {
-            signature: self.signature.clone(),
+            signature: self.label.clone(),
             kind: self.kind,
             points: nodes
                 .iter()
                 .filter_map(|node| self.describe(&node.y))
                 .collect(),
             at,
+            special_points,
             ends,
         }
+    }
+
+    /// `nodes` with the special points between them inserted in order, and the special
+    /// points (node, kind, value); `first` and `last` say that the first or last node is a
+    /// resonance ending the curve.
+    fn with_special_points(
+        &self,
+        nodes: Vec<Node>,
+        first: Option<(SpecialKind, f64)>,
+        last: Option<(SpecialKind, f64)>,
+    ) -> (Vec<Node>, Vec<(Node, SpecialKind, f64)>) {
+        let found = self.special_points(&nodes);
+        let mut specials = Vec::with_capacity(found.len() + 2);
+        if let Some((kind, value)) = first {
+            specials.push((nodes[0].clone(), kind, value));
+        }
+        let mut out = Vec::with_capacity(nodes.len() + found.len());
+        let mut found = found.into_iter().peekable();
+        for (i, node) in nodes.into_iter().enumerate() {
+            out.push(node);
+            while let Some((_, special, kind, value)) = found.next_if(|f| f.0 == i) {
+                out.push(special.clone());
+                specials.push((special, kind, value));
+            }
+        }
+        if let Some((kind, value)) = last {
+            specials.push((out[out.len() - 1].clone(), kind, value));
+        }
+        (out, specials)
     }
 
     /// The curve's points at parameter value `value`: each crossing of `p = value` between
@@ -748,16 +926,38 @@ where
                 outer_amplitude: verdicts.outer_amplitude,
                 critical_multiplier: critical(self.kind, &verdicts.floquet_multipliers),
                 floquet_multipliers: verdicts.floquet_multipliers,
-                residual: eval.residual.amax() / model.scale(&eval),
+                residual: residual_of(model, &eval).amax() / model.scale(&eval),
             })
         })
     }
 }
 
-/// `det R_x`: the Jacobian's determinant in the state unknowns (all columns but `ω`'s).
-fn fold_test(eval: &CycleEvaluation<U6>) -> f64 {
-    let n = eval.jacobian.nrows();
-    eval.jacobian.columns(0, n).into_owned().determinant()
+/// `det R_x`: the determinant of the Jacobian `R_X` in the state unknowns (all columns but
+/// `ω`'s).
+fn fold_test(jacobian: &DMatrix<f64>) -> f64 {
+    let n = jacobian.nrows();
+    jacobian.columns(0, n).into_owned().determinant()
+}
+
+/// `R` of an evaluation on `model`.
+fn residual_of<'e, M: BranchModel>(_model: &M, eval: &'e M::Evaluation) -> &'e DVector<f64> {
+    M::residual(eval)
+}
+
+/// `R_X` of an evaluation on `model`.
+fn jacobian_of<'e, M: BranchModel>(_model: &M, eval: &'e M::Evaluation) -> &'e DMatrix<f64> {
+    M::jacobian(eval)
+}
+
+/// The eigenvalues of a monodromy matrix: the unit's (4 × 4) by the closed-form orbit's
+/// routine, a model's by the model flight's.
+fn multipliers(m: &DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
+    if m.shape() == (4, 4) {
+        let fixed: Matrix4<f64> = m.fixed_view::<4, 4>(0, 0).into_owned();
+        crate::orbit::eigenvalues(&fixed).map(|e| e.to_vec())
+    } else {
+        crate::model_flight::eigenvalues(m)
+    }
 }
 
 /// The Neimark–Sacker test `det(M ⊙ M − I) = Π_{i<j} (μ_i μ_j − 1)`, `M ⊙ M` the second
@@ -765,15 +965,19 @@ fn fold_test(eval: &CycleEvaluation<U6>) -> f64 {
 /// the continuation's pair product, but a polynomial in `M`'s entries, so that its
 /// differences stay accurate where two multipliers nearly coincide (as the complex pair
 /// nears −1), which those of a product over computed eigenvalues do not.
-fn torus_test(m: &Matrix4<f64>) -> f64 {
-    let pairs = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
-    let mut compound = Matrix6::zeros();
+fn torus_test(m: &DMatrix<f64>) -> f64 {
+    let size = m.nrows();
+    let pairs: Vec<(usize, usize)> = (0..size)
+        .flat_map(|i| (i + 1..size).map(move |j| (i, j)))
+        .collect();
+    let k = pairs.len();
+    let mut compound = DMatrix::zeros(k, k);
     for (a, &(p, q)) in pairs.iter().enumerate() {
         for (b, &(r, s)) in pairs.iter().enumerate() {
             compound[(a, b)] = m[(p, r)] * m[(q, s)] - m[(p, s)] * m[(q, r)];
         }
     }
-    (compound - Matrix6::identity()).determinant()
+    (compound - DMatrix::identity(k, k)).determinant()
 }
 
 /// Whether `multipliers` hold a complex pair on the unit circle (as the continuation's
@@ -851,6 +1055,16 @@ struct Walk {
     nodes: Vec<Node>,
     last: Node,
     step: f64,
+    /// The last node is a strong resonance ending a Neimark–Sacker curve.
+    resonance: Option<(SpecialKind, f64)>,
+}
+
+/// The curve followed in one direction: the points after the start, why it stops, and
+/// whether its last point is a strong resonance (kind and value of its function).
+struct Leg {
+    nodes: Vec<Node>,
+    reason: BoundaryEndReason,
+    resonance: Option<(SpecialKind, f64)>,
 }
 
 /// What one step did.
@@ -861,18 +1075,10 @@ enum Step {
     Rejected,
 }
 
-impl<F, E> EventCurve<'_, F>
-where
-    F: Fn(f64) -> Result<(Unit, Stops), E>,
-{
+impl<Fam: Family> EventCurve<Fam> {
     /// Follows the curve from `start` in `direction` (`±1` along its tangent): the points
     /// after the start and why it stops.
-    fn follow(
-        &self,
-        start: &Node,
-        direction: f64,
-        settings: &BoundarySettings,
-    ) -> (Vec<Node>, BoundaryEndReason) {
+    fn follow(&self, start: &Node, direction: f64, settings: &BoundarySettings) -> Leg {
         let mut walk = Walk {
             nodes: Vec::new(),
             last: Node {
@@ -880,26 +1086,32 @@ where
                 tangent: start.tangent.iter().map(|v| direction * v).collect(),
             },
             step: settings.initial_step,
+            resonance: None,
         };
-        loop {
+        let reason = loop {
             match self.next_iter(&walk) {
                 Step::Accepted(node, iterations) => {
                     let end = self.terminate(&mut walk, node, iterations, start, settings);
                     if let Some(reason) = end {
-                        return (walk.nodes, reason);
+                        break reason;
                     }
                 }
                 Step::Rejected => {
                     if let Some((end, reason)) = self.beyond(&walk, settings) {
                         walk.nodes.push(end);
-                        return (walk.nodes, reason);
+                        break reason;
                     }
                     walk.step *= STEP_SHRINK;
                     if walk.step < settings.min_step {
-                        return (walk.nodes, self.stuck(&walk.last.y));
+                        break self.stuck(&walk.last.y);
                     }
                 }
             }
+        };
+        Leg {
+            nodes: walk.nodes,
+            reason,
+            resonance: walk.resonance,
         }
     }
 
@@ -942,6 +1154,12 @@ where
             return Some(reason);
         }
         if self.kind == EventKind::NeimarkSacker && !self.on_circle(&node.y) {
+            // The pair left the circle for the real axis at μ = 1 or −1: the last point is
+            // that resonance, when located.
+            if let Some((resonance, kind, value)) = self.resonance_end(&walk.last, &node) {
+                walk.nodes.push(resonance);
+                walk.resonance = Some((kind, value));
+            }
             return Some(BoundaryEndReason::NeutralSaddle);
         }
         let back = distance(&node.y, &start.y) < walk.step
@@ -985,13 +1203,31 @@ where
         Some((self.end_at(&walk.last, &ahead, index, value)?, reason))
     }
 
+    /// The 1:1 or 1:2 resonance between the last point `a` with its complex pair on the
+    /// unit circle and the next one `b`, where the pair is real: located as the zero of
+    /// `c ∓ 1` ([`SpecialKind::Resonance`]), with its kind and the function's value.
+    fn resonance_end(&self, a: &Node, b: &Node) -> Option<(Node, SpecialKind, f64)> {
+        let n = self.n();
+        let cosine = |y: &[f64]| {
+            self.with_model(y[n + 1], |model| {
+                let eval = model.evaluate(&y[..=n], false)?;
+                special::pair_cosine(&model.monodromy(&y[..=n], &eval)?)
+            })
+        };
+        let (ca, cb) = (cosine(&a.y)?, cosine(&b.y)?);
+        let (q, target) = if cb > 1.0 { (1, 1.0) } else { (2, -1.0) };
+        let kind = SpecialKind::Resonance { q };
+        let (_, node, value) = self.locate(a, b, kind, ca - target, cb - target)?;
+        Some((node, kind, value))
+    }
+
     /// Whether the orbit at `Y` has a complex pair of multipliers on the unit circle.
     fn on_circle(&self, y: &[f64]) -> bool {
         let n = self.n();
         self.with_model(y[n + 1], |model| {
             let eval = model.evaluate(&y[..=n], false)?;
-            let m = model.monodromy_at(&y[..=n], &eval);
-            Some(complex_pair_on_circle(&eigenvalues(&m)?))
+            let m = model.monodromy(&y[..=n], &eval)?;
+            Some(complex_pair_on_circle(&multipliers(&m)?))
         })
         .unwrap_or(false)
     }
