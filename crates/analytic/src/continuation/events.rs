@@ -31,7 +31,8 @@ pub(crate) const EVENT_ACCEPTANCE: f64 = 1e-3;
 /// multiplier tests through their pole as an impact's velocity `ṙ⁻` vanishes (the saltation
 /// matrix grows as `1/ṙ⁻`): measured on the study's continuation of the paper unit (114 seeds,
 /// 2288 locations), 296 locations were poles, stopped here after 19–30 iterations instead of
-/// 60–100 (a quarter of the continuation's time); each grew past this bound at a width of
+/// 60–100 (by callgrind, 14 % of the instructions of the continuation from the three `+-`
+/// seeds, whose branches came out the same); each grew past this bound at a width of
 /// `4e-5`–`7e-4`. Run on, 11 of them ended on a trial point where the monodromy matrix,
 /// dominated by the saltation's `1/ṙ⁻` term, had lost rank in floating point (the test
 /// exactly 0) and were listed as period doublings or a branch point at the `ω` of a
