@@ -598,8 +598,16 @@ mod tests {
     /// stop's 200-point sweep put its frame at ±37 m, squashing the 1–2 m detail above 1.7 rad/s).
     #[test]
     fn the_detail_frame_starts_past_the_resonance_and_fits_what_is_beyond() {
-        let b = sweep(&[(1.0, 2.0), (1.4, -40.0), (1.6, 9.0), (2.0, 1.5), (3.5, -0.5)]);
-        let detail = b.detail_frame().expect("3.5 rad/s of sweep beyond the resonance");
+        let b = sweep(&[
+            (1.0, 2.0),
+            (1.4, -40.0),
+            (1.6, 9.0),
+            (2.0, 1.5),
+            (3.5, -0.5),
+        ]);
+        let detail = b
+            .detail_frame()
+            .expect("3.5 rad/s of sweep beyond the resonance");
         assert_eq!(detail.omega_range, (1.4 + DETAIL_PAST_RESONANCE, 4.0));
         assert!((detail.half_height - 1.5 * 1.1).abs() < 1e-15);
         let whole = b.whole_frame();
