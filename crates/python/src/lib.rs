@@ -57,6 +57,8 @@ use serde::Serialize;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::PathBuf;
 
+mod boundary;
+
 /// The origin a scene built from a Python dictionary is named by in error messages (the
 /// command names the file, or `built-in`).
 const DICT_ORIGIN: &str = "dict";
@@ -1359,5 +1361,7 @@ fn _rattle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(map_defaults, m)?)?;
     m.add_function(wrap_pyfunction!(table_columns, m)?)?;
     m.add_function(wrap_pyfunction!(_boundary_check, m)?)?;
+    m.add_function(wrap_pyfunction!(boundary::boundary_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(boundary::boundary, m)?)?;
     Ok(())
 }

@@ -7,7 +7,8 @@ base moves as ``u_g cos(ωt)``. Two solvers that share no numerics describe it:
 - the exact event-driven simulator: :func:`simulate`;
 
 and :func:`compare` and :func:`sweep` put them side by side; :func:`continue_branch` follows the
-orbits of a signature in frequency. ``simulate(..., trajectory=True)`` and
+orbits of a signature in frequency, :func:`boundary` one of their events (a regime boundary) in
+frequency and a scene parameter. ``simulate(..., trajectory=True)`` and
 :func:`orbit_trajectory` give a cycle's time history, sampled from the closed form, as the
 command's ``--trajectory`` and ``--impacts`` tables. Each function does what the
 ``rattle`` command of the same name does, on the same library calls, and its result's
@@ -27,9 +28,9 @@ sweep runs on the Rust thread pool (``RAYON_NUM_THREADS`` sets its size).
 Chains of cells (a scene with ``"cells": N`` or ``"chain": [...]``) go through
 :func:`simulate`, :func:`sweep` (every solver), :func:`orbit` with a signature (an impact
 sequence of the chain's pairs, ``"0+ 1- 0- 1+"``: :class:`ChainOrbits`),
-:func:`orbit_trajectory` (one row per cell) and :func:`compare` (:class:`ChainComparison`),
-each as the command on the same chain; :func:`orbit` without a signature and
-:func:`continue_branch` take a single unit and refuse a chain with a :class:`ValueError`
+:func:`orbit_trajectory` (one row per cell), :func:`compare` (:class:`ChainComparison`) and
+:func:`continue_branch`, each as the command on the same chain; :func:`orbit` without a signature and
+:func:`boundary` take a single unit and refuse a chain with a :class:`ValueError`
 naming it.
 """
 
@@ -60,6 +61,8 @@ __all__ = [
     "sweep",
     "frequencies",
     "continue_branch",
+    "boundary",
+    "Boundary",
     "map",
     "basins",
     "merge",
@@ -67,6 +70,7 @@ __all__ = [
     "Basins",
     "DEFAULTS",
     "CONTINUATION_DEFAULTS",
+    "BOUNDARY_DEFAULTS",
     "SAMPLES_PER_PERIOD",
     "LYAPUNOV_PERIODS",
 ]
@@ -87,6 +91,11 @@ _MAX_OSCILLATIONS = DEFAULTS["max_oscillations"]
 #: branch, in α, impact phases and ω together), ``max_branches`` (cap on the branches
 #: followed per start orbit) and ``max_depth`` (switching depth).
 CONTINUATION_DEFAULTS = dict(_rattle.continuation_defaults())
+
+#: The boundary's default settings, as the command's: ``omega_min`` and ``omega_max`` (the
+#: frequency range of the event search and of the curve) and ``max_step`` (largest step along
+#: the curve, in α, impact phases, ω and the parameter together).
+BOUNDARY_DEFAULTS = dict(_rattle.boundary_defaults())
 
 #: Uniform samples per forcing period of a trajectory by default, as the command's
 #: ``--samples-per-period``.
@@ -392,6 +401,73 @@ class Continuation(Record):
             "stable": _np.array([p["stable"] for p in points], dtype=bool),
             "viable": _np.array([p["viable"] for p in points], dtype=bool),
         }
+
+
+def _columns(rows):
+    """A list of records (decoded JSON objects) as a dict of numpy arrays, one per field in the
+    records' order, read generically: numbers ``float64`` (NaN for ``null``), ``true``/``false``
+    ``bool``, ``[re, im]`` pairs ``complex128``, anything else (words, lists) an ``object``
+    array."""
+    names = []
+    for row in rows:
+        names.extend(k for k in row if k not in names)
+
+    def column(values):
+        present = [v for v in values if v is not None]
+        if present and all(isinstance(v, bool) for v in present) and len(present) == len(values):
+            return _np.array(values, dtype=bool)
+        if all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in present):
+            return _np.array(
+                [_np.nan if v is None else v for v in values], dtype=_np.float64
+            )
+        if present and all(
+            isinstance(v, list) and len(v) == 2 and all(isinstance(x, (int, float)) for x in v)
+            for v in present
+        ):
+            return _np.array(
+                [_np.nan if v is None else complex(v[0], v[1]) for v in values],
+                dtype=_np.complex128,
+            )
+        out = _np.empty(len(values), dtype=object)
+        out[:] = values
+        return out
+
+    return {name: column([row.get(name) for row in rows]) for name in names}
+
+
+class Boundary(Record):
+    """``rattle boundary --json``: ``scene``, ``signature`` (canonical), ``period``, ``event``
+    (the kind followed), ``param`` (the scene parameter's path), ``param_start`` and
+    ``omega_start`` (where the curve starts: the scene's own value and the event there),
+    ``points`` (along the curve: ``param_value``, ``omega``, ``outer_amplitude``,
+    ``critical_multiplier`` as ``[re, im]``), ``at`` (the curve's ``omega`` solved at each
+    value asked for: ``param_value``, ``omega``; one entry per crossing), ``special_points``
+    (points of note along the curve, each with its ``kind``, as the command lists them) and
+    ``ends`` (the first point's end, then the last point's: ``param_value``, ``omega``,
+    ``reason``).
+
+    :meth:`points_columns`, :meth:`at_columns`, :meth:`special_points_columns` and
+    :meth:`ends_columns` give each list as numpy columns."""
+
+    def points_columns(self):
+        """The points as a dict of numpy arrays in the command's field order:
+        ``param_value``, ``omega``, ``outer_amplitude`` (``float64``) and
+        ``critical_multiplier`` (``complex128``)."""
+        return _columns(self._data["points"])
+
+    def at_columns(self):
+        """The ``at`` entries as numpy arrays: ``param_value`` and ``omega`` (``float64``)."""
+        return _columns(self._data["at"])
+
+    def special_points_columns(self):
+        """The special points as numpy arrays, one per field the command writes (``kind``
+        an ``object`` array of ``str``, numbers ``float64``)."""
+        return _columns(self._data["special_points"])
+
+    def ends_columns(self):
+        """The two ends as numpy arrays: ``param_value``, ``omega`` (``float64``) and
+        ``reason`` (``object`` array of ``str``)."""
+        return _columns(self._data["ends"])
 
 
 class Comparison(Record):
@@ -741,6 +817,62 @@ def continue_branch(
         max_depth,
     )
     return Continuation(_json.loads(text))
+
+
+def boundary(
+    scene,
+    signature,
+    event,
+    omega,
+    param,
+    min,
+    max,
+    period=1,
+    at=None,
+    omega_min=BOUNDARY_DEFAULTS["omega_min"],
+    omega_max=BOUNDARY_DEFAULTS["omega_max"],
+    max_step=BOUNDARY_DEFAULTS["max_step"],
+):
+    """A regime boundary: the curve of one event of a signature's orbits in (frequency, a
+    scene parameter), as ``rattle boundary --json``.
+
+    The event of kind ``event`` (``"fold"``, ``"period-doubling"``, ``"neimark-sacker"``,
+    ``"grazing"`` or ``"vanishing-impact"``; ``"branch-point"`` is refused for now, as by the
+    command) nearest ``omega`` on the branches of the ``signature`` orbits (over ``period``
+    forcing periods, as in :func:`orbit`) found at ``omega``, continued in frequency within
+    ``[omega_min, omega_max]`` at the scene's own value of ``param``, is followed in
+    (ω, ``param``) both ways within ``[min, max]``, through turning points. ``param`` is a
+    scene field by its JSON path (``"stops.gap"``, ``"stops.restitution"``,
+    ``"unit.inner_stiffness"``, ``"damping.outer"``…); ``min`` and ``max`` lie in its physical
+    range. ``at`` (values in ``[min, max]``) asks for the curve's ω solved exactly at those
+    parameter values (one entry per crossing). ``max_step`` is the largest step along the
+    curve. Returns a :class:`Boundary` (numpy columns from its ``*_columns`` methods).
+
+    The scene is a single unit: a chain is refused with a :class:`ValueError` naming it. A bad
+    argument is a :class:`ValueError` with the command's message naming it as this
+    function's parameter (``event``, ``param``, ``min``, ``max``, ``at``, ``omega``,
+    ``omega_min``, ``signature``, ``period``…, or the scene field out of its range); no orbit
+    of the signature at ``omega``, no event of the kind on its branches, or a start that does
+    not converge a :class:`RuntimeError` (``numerical failure: …``, the command's words). The
+    computation releases the GIL.
+    """
+    text = _rattle.boundary(
+        _native_scene(scene),
+        {
+            "signature": signature,
+            "period": period,
+            "event": event,
+            "omega": float(omega),
+            "param": param,
+            "min": float(min),
+            "max": float(max),
+            "at": [] if at is None else [float(v) for v in at],
+            "omega_min": float(omega_min),
+            "omega_max": float(omega_max),
+            "max_step": float(max_step),
+        },
+    )
+    return Boundary(_json.loads(text))
 
 
 # Maps and basins, whole, in parts or on a Dask cluster (``_grids``); defined last, since
