@@ -2,14 +2,17 @@
 //! [`rattle_compare::runs::boundary::follow`] with the command's checks in the command's order
 //! and its messages, the options named as the Python parameters.
 
-use super::{check_omega, compute, json, python_names, unit_only, NativeScene};
+use super::{check_omega, compute, json, python_names, NativeScene};
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rattle_analytic::continuation::{BoundaryError, BoundarySettings, EventKind};
-use rattle_analytic::Signature;
-use rattle_compare::runs::boundary::{follow, BoundaryRequest, BoundaryRunError};
+use rattle_analytic::{ImpactSequence, Signature};
+use rattle_compare::runs::boundary::{
+    follow, follow_chain, BoundaryRecord, BoundaryRequest, BoundaryRunError, ChainBoundaryRequest,
+};
 use rattle_compare::scene::parameter::SceneParameter;
+use rattle_compare::scene::Scene;
 
 /// The event kinds, in the command's order.
 const KINDS: [EventKind; 6] = [
@@ -77,25 +80,28 @@ pub(crate) fn boundary_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     Ok(out)
 }
 
-/// The request and settings of `input`, checked as the command checks its arguments, in its
-/// order (the frequency, the event, the signature, the parameter, the settings, `omega` within
-/// them).
-fn request(input: BoundaryInput) -> PyResult<(BoundaryRequest, BoundarySettings)> {
+/// What to follow: on a unit a signature's orbits, on a chain an impact sequence's.
+enum Request {
+    /// A unit scene's request.
+    Unit(BoundaryRequest),
+    /// A chain scene's request.
+    Chain(ChainBoundaryRequest),
+}
+
+/// The request and settings of `input` on `scene`, checked as the command checks its
+/// arguments, in its order (the frequency, the event, the parameter, the settings, `omega`
+/// within them, then the signature: a unit's, or on a chain an impact sequence of its pairs).
+fn request(input: BoundaryInput, scene: &Scene) -> PyResult<(Request, BoundarySettings)> {
     let omega = check_omega("omega", input.omega)?;
     let kind = KINDS
         .into_iter()
         .find(|k| k.name() == input.event)
         .ok_or_else(|| {
             bad(format!(
-                "--event = {} is not an event: give fold, period-doubling, neimark-sacker, grazing or vanishing-impact",
+                "--event = {} is not an event: give fold, branch-point, period-doubling, neimark-sacker, grazing or vanishing-impact",
                 input.event
             ))
         })?;
-    if kind == EventKind::BranchPoint {
-        return Err(bad(BoundaryError::Unsupported { kind: kind.name() }));
-    }
-    let period = u32::try_from(input.period).unwrap_or(0);
-    let signature = Signature::parse(&input.signature, period).map_err(bad)?;
     let param: SceneParameter = input
         .param
         .parse()
@@ -117,12 +123,26 @@ fn request(input: BoundaryInput) -> PyResult<(BoundaryRequest, BoundarySettings)
             input.omega_min, input.omega_max
         )));
     }
-    let request = BoundaryRequest {
-        signature,
-        kind,
-        omega,
-        param,
-        at: input.at,
+    let period = u32::try_from(input.period).unwrap_or(0);
+    let request = if scene.is_chain() {
+        let sequence = ImpactSequence::parse(&input.signature, period)
+            .map_err(|e| bad(format!("--signature: {e}")))?;
+        Request::Chain(ChainBoundaryRequest {
+            sequence,
+            kind,
+            omega,
+            param,
+            at: input.at,
+        })
+    } else {
+        let signature = Signature::parse(&input.signature, period).map_err(bad)?;
+        Request::Unit(BoundaryRequest {
+            signature,
+            kind,
+            omega,
+            param,
+            at: input.at,
+        })
     };
     Ok((request, settings))
 }
@@ -132,6 +152,8 @@ fn request(input: BoundaryInput) -> PyResult<(BoundaryRequest, BoundarySettings)
 fn run_error(e: BoundaryRunError) -> PyErr {
     match e {
         BoundaryRunError::NoStops
+        | BoundaryRunError::CellWithoutStops { .. }
+        | BoundaryRunError::Sequence(_)
         | BoundaryRunError::Parameter(_)
         | BoundaryRunError::Range { .. }
         | BoundaryRunError::Boundary(BoundaryError::Setting { .. })
@@ -141,17 +163,21 @@ fn run_error(e: BoundaryRunError) -> PyErr {
 }
 
 /// `rattle boundary --json`: the event of one kind nearest `omega` on the branches of the
-/// signature's orbits there, followed in (ω, the scene parameter) within `[min, max]`; the
-/// command's record as JSON text.
+/// signature's orbits there (on a chain: of an impact sequence of its pairs), followed in
+/// (ω, the scene parameter) within `[min, max]`; the command's record as JSON text.
 #[pyfunction]
 pub(crate) fn boundary(
     py: Python<'_>,
     scene: &NativeScene,
     input: BoundaryInput,
 ) -> PyResult<String> {
-    let (request, settings) = request(input)?;
-    unit_only(&scene.scene, "boundary")?;
     let scene = &scene.scene;
-    let record = compute(py, || Ok(follow(scene, &request, &settings)))?.map_err(run_error)?;
-    json(&record)
+    let (request, settings) = request(input, scene)?;
+    let record: Result<BoundaryRecord, BoundaryRunError> = compute(py, || {
+        Ok(match &request {
+            Request::Unit(r) => follow(scene, r, &settings),
+            Request::Chain(r) => follow_chain(scene, r, &settings),
+        })
+    })?;
+    json(&record.map_err(run_error)?)
 }

@@ -92,7 +92,6 @@ def test_columns_are_the_documents_lists(followed):
     "change, options",
     [
         (dict(event="cusp"), ["--event", "cusp"]),
-        (dict(event="branch-point"), ["--event", "branch-point"]),
         (dict(param="stops.width"), ["--param", "stops.width"]),
         (dict(min=0.0), ["--min", 0.0]),
         (dict(max=0.4), ["--max", 0.4]),
@@ -116,11 +115,39 @@ def test_bad_arguments_are_the_commands_messages(rattle_cli, change, options):
     assert next(iter(change)) in str(e.value)
 
 
-def test_a_chain_and_a_free_unit_are_refused_by_name():
+#: The damped 2-cell chain of compare's `tests/boundary.rs`: its `0+ 1- 0- 1+` orbits at
+#: ω = 3.3 have a Neimark–Sacker point on their branch.
+DAMPED_CHAIN = {
+    "name": "damped-two",
+    "unit": {"outer_mass": 2.0, "inner_mass": 1.0, "outer_stiffness": 6.0, "inner_stiffness": 3.0},
+    "base": {"amplitude": 1.0},
+    "stops": {"gap": 0.5, "restitution": 0.8},
+    "damping": {"outer": 0.1, "inner": 0.05},
+    "cells": 2,
+}
+
+
+def test_a_chain_is_the_commands(rattle_cli, tmp_path):
+    """A chain's Neimark–Sacker curve over one cell's restitution, as the command's."""
+    path = tmp_path / "damped-two.json"
+    path.write_text(__import__("json").dumps(DAMPED_CHAIN))
+    ours = rattle.boundary(
+        rattle.Scene.from_dict(DAMPED_CHAIN), "0+ 1- 0- 1+", "neimark-sacker", 3.3,
+        "chain[1].stops.restitution", 0.76, 0.84, at=[0.78, 0.8], omega_min=2.8, omega_max=4.0,
+    )
+    theirs = rattle_cli.json(
+        "boundary", str(path), "--signature", "0+ 1- 0- 1+", "--event", "neimark-sacker",
+        "--omega", 3.3, "--param", "chain[1].stops.restitution", "--min", 0.76, "--max", 0.84,
+        "--at", "0.78,0.8", "--omega-min", 2.8, "--omega-max", 4.0,
+    )
+    assert ours.to_dict() == theirs
+    assert ours.param == "chain[1].stops.restitution" and len(ours.points) > 2
+    mu = ours.points_columns()["critical_multiplier"]
+    assert np.all(np.abs(np.abs(mu) - 1.0) < 1e-8)
+
+
+def test_a_free_unit_is_refused_by_name():
     scene = rattle.Scene.paper()
-    chain = rattle.Scene.from_dict({**scene.to_dict(), "cells": 2})
-    with pytest.raises(ValueError, match="cells"):
-        rattle.boundary(chain, **ARGS)
     free = rattle.Scene.from_dict({k: v for k, v in scene.to_dict().items() if k != "stops"})
     with pytest.raises(ValueError, match="stops"):
         rattle.boundary(free, **ARGS)

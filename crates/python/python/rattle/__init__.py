@@ -29,9 +29,9 @@ Chains of cells (a scene with ``"cells": N`` or ``"chain": [...]``) go through
 :func:`simulate`, :func:`sweep` (every solver), :func:`orbit` with a signature (an impact
 sequence of the chain's pairs, ``"0+ 1- 0- 1+"``: :class:`ChainOrbits`),
 :func:`orbit_trajectory` (one row per cell), :func:`compare` (:class:`ChainComparison`) and
-:func:`continue_branch`, each as the command on the same chain; :func:`orbit` without a signature and
-:func:`boundary` take a single unit and refuse a chain with a :class:`ValueError`
-naming it.
+:func:`continue_branch` and :func:`boundary`, each as the command on the same chain;
+:func:`orbit` without a signature takes a single unit and refuses a chain with a
+:class:`ValueError` naming it.
 """
 
 import json as _json
@@ -836,21 +836,24 @@ def boundary(
     """A regime boundary: the curve of one event of a signature's orbits in (frequency, a
     scene parameter), as ``rattle boundary --json``.
 
-    The event of kind ``event`` (``"fold"``, ``"period-doubling"``, ``"neimark-sacker"``,
-    ``"grazing"`` or ``"vanishing-impact"``; ``"branch-point"`` is refused for now, as by the
-    command) nearest ``omega`` on the branches of the ``signature`` orbits (over ``period``
-    forcing periods, as in :func:`orbit`) found at ``omega``, continued in frequency within
+    The event of kind ``event`` (``"fold"``, ``"branch-point"``, ``"period-doubling"``,
+    ``"neimark-sacker"``, ``"grazing"`` or ``"vanishing-impact"``) nearest ``omega`` on the
+    branches of the ``signature`` orbits (over ``period`` forcing periods, as in
+    :func:`orbit`; on a chain an impact sequence of its pairs, ``"0+ 1- 0- 1+"``) found at
+    ``omega``, continued in frequency within
     ``[omega_min, omega_max]`` at the scene's own value of ``param``, is followed in
     (ω, ``param``) both ways within ``[min, max]``, through turning points. ``param`` is a
     scene field by its JSON path (``"stops.gap"``, ``"stops.restitution"``,
-    ``"unit.inner_stiffness"``, ``"damping.outer"``…); ``min`` and ``max`` lie in its physical
+    ``"unit.inner_stiffness"``, ``"damping.outer"``…; on a chain the whole chain's field or
+    one cell's, ``"chain[1].stops.gap"``); ``min`` and ``max`` lie in its physical
     range. ``at`` (values in ``[min, max]``) asks for the curve's ω solved exactly at those
     parameter values (one entry per crossing). ``max_step`` is the largest step along the
     curve. Returns a :class:`Boundary` (numpy columns from its ``*_columns`` methods).
 
-    The scene is a single unit: a chain is refused with a :class:`ValueError` naming it. A bad
-    argument is a :class:`ValueError` with the command's message naming it as this
-    function's parameter (``event``, ``param``, ``min``, ``max``, ``at``, ``omega``,
+    The record holds the points, the ``at`` entries, the ends and the special points (turning
+    points, grazing and vanishing impact of the curve's orbit, strong resonances, crossings
+    of other event curves), as the command's document. A bad argument is a
+    :class:`ValueError` with the command's message naming it as this function's parameter (``event``, ``param``, ``min``, ``max``, ``at``, ``omega``,
     ``omega_min``, ``signature``, ``period``…, or the scene field out of its range); no orbit
     of the signature at ``omega``, no event of the kind on its branches, or a start that does
     not converge a :class:`RuntimeError` (``numerical failure: …``, the command's words). The
