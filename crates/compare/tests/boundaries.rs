@@ -176,3 +176,78 @@ fn bad_boundaries_arguments_exit_2_and_name_the_field() {
         assert!(stderr.contains(field), "{args:?}: {stderr}");
     }
 }
+
+/// The stage of `cargo xtask figures` (`study::boundaries`) on the quick study: every curve
+/// starts at an event of the study's own continuation and passes through it at the scene's
+/// value to 1e-8; the data files load and agree; the curves are the same on one thread as on
+/// two; the figure is drawn.
+#[cfg(feature = "figures")]
+#[test]
+fn the_figures_stage_follows_the_study_events() {
+    use rattle_compare::scene::Scene;
+    use rattle_compare::study::boundaries::study_boundaries;
+    use rattle_compare::study::{Study, StudySize};
+    use rattle_event_driven::SimulationOptions;
+    let options = SimulationOptions {
+        max_periods: 4000,
+        ..SimulationOptions::default()
+    };
+    let study = Study::run(&Scene::paper(), StudySize::quick(), &options, false);
+    let in_pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| study_boundaries(&study, true))
+    };
+    let bounds = in_pool(1);
+    assert_eq!(format!("{bounds:?}"), format!("{:?}", in_pool(2)));
+    let events = &study.branches.events;
+    for b in [&bounds.gap, &bounds.restitution] {
+        let record = b.record.as_ref().expect("followed");
+        assert_eq!(record.events, events.len());
+        assert!(!record.curves.is_empty(), "no curve over {}", record.param);
+        for c in &record.curves {
+            let event = &events[c.from_event];
+            assert_eq!(c.boundary.event, event.kind.name());
+            assert_eq!(c.boundary.omega_start, event.omega);
+            let nearest = c
+                .boundary
+                .at
+                .iter()
+                .map(|a| (a.omega - event.omega).abs())
+                .fold(f64::INFINITY, f64::min);
+            assert!(nearest < 1e-8, "{}: {nearest:e}", c.boundary.event);
+        }
+        // Every event is a curve, on a curve, or skipped.
+        let on_curves: usize = record
+            .curves
+            .iter()
+            .map(|c| 1 + c.same_as_events.len())
+            .sum();
+        assert_eq!(on_curves + record.skipped.len(), events.len());
+    }
+    let dir = std::env::temp_dir().join(format!("rattle-boundaries-stage-{}", std::process::id()));
+    let written = bounds.write(&dir).unwrap();
+    assert_eq!(written.len(), 4);
+    for stem in ["gap", "restitution"] {
+        let doc: Value = serde_json::from_str(
+            &std::fs::read_to_string(dir.join(format!("{stem}.json"))).unwrap(),
+        )
+        .unwrap();
+        let points: usize = doc["curves"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["points"].as_array().unwrap().len())
+            .sum();
+        let csv = std::fs::read_to_string(dir.join(format!("{stem}.csv"))).unwrap();
+        assert_eq!(csv.lines().count(), points + 1, "{stem}");
+    }
+    let figure = bounds.figure(&study, None);
+    let drawn = rattle_compare::figures::draw_boundaries(&figure, &dir).unwrap();
+    for path in &drawn {
+        assert!(std::fs::metadata(path).unwrap().len() > 1000, "{path:?}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -3,15 +3,26 @@
 //! parameter).
 
 use super::{check_frequency, load_unit, write_record, RattleError};
-use crate::output::{finite, table_row, Format};
-use crate::runs::boundaries::{follow_events, sweep_branches, BoundariesError, BoundariesRecord};
-use crate::runs::parallel::Progress;
+use crate::output::Format;
+use crate::runs::boundaries::{
+    follow_events, rows, BoundariesError, BoundariesRecord, EventFilter,
+};
+use crate::runs::continuation::Branches;
+use crate::runs::parallel::{parallel_map, Grain, Progress};
 use crate::scene::parameter::SceneParameter;
+use crate::scene::Scene;
+use crate::study::{compared_seeds, study_continuation, two_impact_seeds, StudySize};
+use crate::verdict::{compare, Starts};
 use clap::Args;
 use rattle_analytic::continuation::BoundarySettings;
+use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::PathBuf;
+
+/// Cap on the forcing periods of each simulation of the seeding sweep, as in the study of
+/// `cargo xtask figures`: points that need longer to settle give no seed.
+pub const SWEEP_MAX_PERIODS: u64 = 4000;
 
 /// Arguments of `rattle boundaries`.
 #[derive(Debug, Args)]
@@ -47,6 +58,14 @@ pub struct BoundariesArgs {
     /// Cap on the points of each curve in each direction, ≥ 1.
     #[arg(long, default_value_t = BoundarySettings::new(0.0, 1.0).max_points)]
     pub max_points: usize,
+    /// Follow only the events of orbits with at most this many impacts per cycle (≥ 2); the
+    /// others are listed as skipped. By default every event.
+    #[arg(long)]
+    pub max_impacts: Option<usize>,
+    /// Follow only the events that bound a stable motion (no Floquet multiplier outside the
+    /// unit circle at the event but the critical ones); the others are listed as skipped.
+    #[arg(long)]
+    pub stable_only: bool,
     /// Print one JSON document (every curve, the events skipped) instead of a summary.
     #[arg(long, conflicts_with = "out")]
     pub json: bool,
@@ -56,48 +75,48 @@ pub struct BoundariesArgs {
     pub out: Option<PathBuf>,
 }
 
-table_row! {
-    /// One point of one curve of `rattle boundaries`, as a CSV row.
-    pub struct BoundariesRow {
-        /// Index of the curve in the document's `curves`.
-        pub curve: usize,
-        /// Index of the event the curve was followed from.
-        pub from_event: usize,
-        /// The event kind followed.
-        pub event: &'static str,
-        /// The orbits' canonical signature.
-        pub signature: String,
-        /// Forcing periods per cycle.
-        pub period: u32,
-        /// The parameter's value.
-        pub param_value: Option<f64>,
-        /// Angular frequency, rad/s.
-        pub omega: Option<f64>,
-        /// `X_o`, m.
-        pub outer_amplitude: Option<f64>,
-        /// Real part of the event's multiplier.
-        pub critical_multiplier_re: Option<f64>,
-        /// Imaginary part of the event's multiplier.
-        pub critical_multiplier_im: Option<f64>,
-    }
-}
-
-/// The rows of every point of every curve of `record`.
-pub fn rows(record: &BoundariesRecord) -> impl Iterator<Item = BoundariesRow> + '_ {
-    record.curves.iter().enumerate().flat_map(|(k, c)| {
-        c.boundary.points.iter().map(move |p| BoundariesRow {
-            curve: k,
-            from_event: c.from_event,
-            event: c.boundary.event,
-            signature: c.boundary.signature.clone(),
-            period: c.boundary.period,
-            param_value: finite(p.param_value),
-            omega: finite(p.omega),
-            outer_amplitude: finite(p.outer_amplitude),
-            critical_multiplier_re: finite(p.critical_multiplier[0]),
-            critical_multiplier_im: finite(p.critical_multiplier[1]),
-        })
+/// The branches of the one-parameter continuation in ω of `scene` over `[omega_min,
+/// omega_max]`, seeded as the study of `cargo xtask figures` seeds its own (with the same
+/// settings, [`study_continuation`]): the viable `+-` orbits at the study's four seed
+/// frequencies in the range, then the analytic orbit of every periodic motion the simulator
+/// settles on from rest at `points` frequencies (both solvers, [`compare`], each run capped
+/// at [`SWEEP_MAX_PERIODS`] periods), in the order of the frequencies; each seed skipped when
+/// a branch already followed passes through it. The sweep runs in parallel, the
+/// continuation serially: the branches do not depend on the thread count. `progress` ticks
+/// once per frequency of the sweep.
+fn sweep_branches(
+    scene: &Scene,
+    omega_min: f64,
+    omega_max: f64,
+    points: usize,
+    progress: &Progress,
+) -> Branches {
+    let mut out = Branches::default();
+    let Some(stops) = scene.stops_model() else {
+        return out;
+    };
+    let size = StudySize {
+        omega_min,
+        omega_max,
+        ..StudySize::full()
+    };
+    let options = SimulationOptions {
+        max_periods: SWEEP_MAX_PERIODS,
+        ..SimulationOptions::default()
+    };
+    let grid = crate::runs::axis::Axis::new(omega_min, omega_max, points).values();
+    let compared: Vec<_> = parallel_map(&grid, Grain::Uneven, progress, |&w| {
+        compare(scene, w, &options, Starts::Rest).ok()
     })
+    .into_iter()
+    .flatten()
+    .collect();
+    let mut seeds = two_impact_seeds(scene, &size);
+    seeds.extend(compared_seeds(&compared));
+    let settings = study_continuation(omega_min, omega_max);
+    // A seed the continuation refuses leaves the others' branches.
+    let _ = out.extend_all(&scene.unit_model(), &stops, &seeds, &settings);
+    out
 }
 
 /// The curves' settings of the arguments.
@@ -123,6 +142,11 @@ fn settings(args: &BoundariesArgs) -> Result<BoundarySettings, RattleError> {
                 .replace("boundary.max_points", "--max-points"),
         )
     })?;
+    if let Some(cap) = args.max_impacts.filter(|&cap| cap < 2) {
+        return Err(RattleError::Argument(format!(
+            "--max-impacts = {cap} is out of range: must be ≥ 2"
+        )));
+    }
     if !(1..=100_000).contains(&args.points) {
         return Err(RattleError::Argument(format!(
             "--points = {} is out of range: must be in [1, 100000]",
@@ -155,12 +179,17 @@ pub fn run(args: BoundariesArgs) -> Result<String, RattleError> {
     let scene = load_unit(&args.scene, "boundaries")?;
     check_frequency(&scene, "--omega-min", args.omega_min)?;
     check_frequency(&scene, "--omega-max", args.omega_max)?;
+    let filter = EventFilter {
+        max_impacts: args.max_impacts,
+        stable_only: args.stable_only,
+    };
     // The arguments are checked against the scene before the sweep runs.
     let checked = follow_events(
         &scene,
         &Default::default(),
         &param,
         &settings,
+        filter,
         &Progress::hidden(),
     );
     checked.map_err(run_error)?;
@@ -187,6 +216,7 @@ pub fn run(args: BoundariesArgs) -> Result<String, RattleError> {
         &branches,
         &param,
         &settings,
+        filter,
         &Progress::new("curves", branches.events.len(), show),
     )
     .map_err(run_error)?;

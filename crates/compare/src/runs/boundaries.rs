@@ -10,6 +10,7 @@
 //! asymmetric orbit have the same events at the same ω, so they share their curves too.) A
 //! curve that ends before it comes back to `p₀` does not absorb the events beyond its end.
 
+use crate::output::{finite, table_row};
 use crate::runs::boundary::{
     BoundaryAtRecord, BoundaryEndRecord, BoundaryPointRecord, BoundaryRecord,
 };
@@ -17,13 +18,10 @@ use crate::runs::continuation::Branches;
 use crate::runs::parallel::{parallel_map, Grain, Progress};
 use crate::scene::parameter::{ParameterError, SceneParameter};
 use crate::scene::Scene;
-use crate::study::{compared_seeds, study_continuation, two_impact_seeds, StudySize};
-use crate::verdict::{compare, Starts};
 use rattle_analytic::continuation::{
     follow_boundary, Boundary, BoundaryError, BoundarySettings, BoundaryStart, Event,
 };
 use rattle_analytic::{Signature, Stops, Unit};
-use rattle_event_driven::SimulationOptions;
 use serde::Serialize;
 use thiserror::Error;
 
@@ -33,10 +31,6 @@ use thiserror::Error;
 /// curve's Newton on its defining system), distinct events of a branch lie orders of
 /// magnitude further apart.
 pub const SAME_CURVE: f64 = 1e-7;
-
-/// Cap on the forcing periods of each simulation of the seeding sweep, as in the study of
-/// `cargo xtask figures`: points that need longer to settle give no seed.
-pub const SWEEP_MAX_PERIODS: u64 = 4000;
 
 /// Why the boundaries cannot be followed.
 #[derive(Debug, Error)]
@@ -201,9 +195,47 @@ fn same_curve(curve: &BoundaryRecord, other: &BoundaryRecord) -> bool {
             .any(|a| (a.omega - other.omega_start).abs() <= SAME_CURVE * (1.0 + a.omega.abs()))
 }
 
-/// Follows every event of `branches` (found on `scene` at its own value of `param`) in (ω,
-/// `param`) within `settings`, in parallel; the result is in the events' order and does not
-/// depend on the thread count. `progress` ticks once per event.
+/// Which events [`follow_events`] follows; the others are listed as skipped, with the reason.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct EventFilter {
+    /// Only the events of orbits with at most this many impacts per cycle (the long orbits of
+    /// a doubling cascade cost the most and lie in the thinnest slivers of a map).
+    pub max_impacts: Option<usize>,
+    /// Only the events that bound a stable motion: at the event no Floquet multiplier lies
+    /// outside the unit circle by more than [`STABLE_MARGIN`] (the critical ones lie on it).
+    /// Events between unstable orbits border nothing a simulation from rest can show.
+    pub stable_only: bool,
+}
+
+/// A multiplier of an event's orbit counts as outside the unit circle beyond `1 +` this: far
+/// above the event's location error on the critical multipliers, far below the distance of
+/// an unstable orbit's multiplier from the circle away from an event.
+pub const STABLE_MARGIN: f64 = 1e-6;
+
+impl EventFilter {
+    /// Why `event` (of orbits of `signature`) is not followed, if it is not.
+    fn refuses(&self, event: &Event, signature: &Signature) -> Option<String> {
+        if let Some(cap) = self.max_impacts.filter(|&cap| signature.impacts() > cap) {
+            return Some(format!(
+                "{} impacts per cycle: beyond the cap of {cap}, not followed",
+                signature.impacts()
+            ));
+        }
+        let outside = event
+            .point
+            .floquet_multipliers
+            .iter()
+            .filter(|m| m.norm() > 1.0 + STABLE_MARGIN)
+            .count();
+        (self.stable_only && outside > 0).then(|| {
+            format!("bounds no stable motion ({outside} multiplier(s) outside the unit circle there), not followed")
+        })
+    }
+}
+
+/// Follows every event of `branches` (found on `scene` at its own value of `param`) that
+/// `filter` lets through in (ω, `param`) within `settings`, in parallel; the result is in the
+/// events' order and does not depend on the thread count. `progress` ticks once per event.
 ///
 /// # Errors
 /// [`BoundariesError`] for a scene without stops, a parameter the scene lacks, `--min`/`--max`
@@ -214,6 +246,7 @@ pub fn follow_events(
     branches: &Branches,
     param: &SceneParameter,
     settings: &BoundarySettings,
+    filter: EventFilter,
     progress: &Progress,
 ) -> Result<BoundariesRecord, BoundariesError> {
     settings.validate()?;
@@ -236,6 +269,9 @@ pub fn follow_events(
     let at = [param_start];
     let outcomes = parallel_map(&branches.events, Grain::Uneven, progress, |event| {
         let signature = signature_of(event);
+        if let Some(reason) = filter.refuses(event, &signature) {
+            return Err(reason);
+        }
         let start = BoundaryStart {
             unit_at: |v: f64| unit_at(scene, param, v),
             signature: &signature,
@@ -289,46 +325,46 @@ pub fn follow_events(
     Ok(record)
 }
 
-/// The branches of the one-parameter continuation in ω of `scene` over `[omega_min,
-/// omega_max]`, seeded as the study of `cargo xtask figures` seeds its own (with the same
-/// settings, [`study_continuation`]): the viable `+-` orbits at the study's four seed
-/// frequencies in the range, then the analytic orbit of every periodic motion the simulator
-/// settles on from rest at `points` frequencies (both solvers, [`compare`], each run capped
-/// at [`SWEEP_MAX_PERIODS`] periods), in the order of the frequencies; each seed skipped when
-/// a branch already followed passes through it. The sweep runs in parallel, the
-/// continuation serially: the branches do not depend on the thread count. `progress` ticks
-/// once per frequency of the sweep.
-pub fn sweep_branches(
-    scene: &Scene,
-    omega_min: f64,
-    omega_max: f64,
-    points: usize,
-    progress: &Progress,
-) -> Branches {
-    let mut out = Branches::default();
-    let Some(stops) = scene.stops_model() else {
-        return out;
-    };
-    let size = StudySize {
-        omega_min,
-        omega_max,
-        ..StudySize::full()
-    };
-    let options = SimulationOptions {
-        max_periods: SWEEP_MAX_PERIODS,
-        ..SimulationOptions::default()
-    };
-    let grid = crate::runs::axis::Axis::new(omega_min, omega_max, points).values();
-    let compared: Vec<_> = parallel_map(&grid, Grain::Uneven, progress, |&w| {
-        compare(scene, w, &options, Starts::Rest).ok()
+table_row! {
+    /// One point of one curve of `rattle boundaries`, as a CSV row.
+    pub struct BoundariesRow {
+        /// Index of the curve in the document's `curves`.
+        pub curve: usize,
+        /// Index of the event the curve was followed from.
+        pub from_event: usize,
+        /// The event kind followed.
+        pub event: &'static str,
+        /// The orbits' canonical signature.
+        pub signature: String,
+        /// Forcing periods per cycle.
+        pub period: u32,
+        /// The parameter's value.
+        pub param_value: Option<f64>,
+        /// Angular frequency, rad/s.
+        pub omega: Option<f64>,
+        /// `X_o`, m.
+        pub outer_amplitude: Option<f64>,
+        /// Real part of the event's multiplier.
+        pub critical_multiplier_re: Option<f64>,
+        /// Imaginary part of the event's multiplier.
+        pub critical_multiplier_im: Option<f64>,
+    }
+}
+
+/// The rows of every point of every curve of `record`.
+pub fn rows(record: &BoundariesRecord) -> impl Iterator<Item = BoundariesRow> + '_ {
+    record.curves.iter().enumerate().flat_map(|(k, c)| {
+        c.boundary.points.iter().map(move |p| BoundariesRow {
+            curve: k,
+            from_event: c.from_event,
+            event: c.boundary.event,
+            signature: c.boundary.signature.clone(),
+            period: c.boundary.period,
+            param_value: finite(p.param_value),
+            omega: finite(p.omega),
+            outer_amplitude: finite(p.outer_amplitude),
+            critical_multiplier_re: finite(p.critical_multiplier[0]),
+            critical_multiplier_im: finite(p.critical_multiplier[1]),
+        })
     })
-    .into_iter()
-    .flatten()
-    .collect();
-    let mut seeds = two_impact_seeds(scene, &size);
-    seeds.extend(compared_seeds(&compared));
-    let settings = study_continuation(omega_min, omega_max);
-    // A seed the continuation refuses leaves the others' branches.
-    let _ = out.extend_all(&scene.unit_model(), &stops, &seeds, &settings);
-    out
 }

@@ -2,6 +2,7 @@
 //! show, computed once from one scene. [`plots`] holds each figure's data, [`paper`] the
 //! paper's claims and numbers, [`report`] the validation outputs.
 
+pub mod boundaries;
 pub mod chain;
 pub mod chaos;
 pub mod paper;
