@@ -426,6 +426,9 @@ impl StudyBoundaries {
             "| line | first band (rad/s) | lower edge | upper edge |\n| --- | --- | --- | --- |"
         );
         let (mut followed, mut edges) = (0, 0);
+        // Lines whose first band opens above the paper's start, and those where it closes.
+        let (mut late, mut closed, mut lines) = (0, 0, 0);
+        let claimed = super::paper::IMPACTING_BAND;
         for line in &bandwidth.lines {
             let (g, e) = (line.gap_over_base_amplitude, line.restitution);
             let (curves, v, label) = if e == e_scene {
@@ -446,6 +449,9 @@ impl StudyBoundaries {
             let (low, a) = edge_words(curves, v, lo, step);
             let (high, b) = edge_words(curves, v, hi, step);
             followed += usize::from(a) + usize::from(b);
+            lines += 1;
+            late += usize::from(lo > claimed.0 + super::paper::read_off::BAND_START);
+            closed += usize::from(hi.is_finite());
             edges += 1 + usize::from(hi.is_finite());
             let _ = writeln!(out, "| {label} | {lo:.3}–{hi:.3} | {low} | {high} |");
         }
@@ -453,5 +459,15 @@ impl StudyBoundaries {
             out,
             "\n{followed} of the {edges} finite edges follow a curve within the map's step.\n"
         );
+        if late + closed > 0 {
+            let _ = writeln!(
+                out,
+                "**A finding against the paper** (\"attenuation from {} rad/s to ∞ with no \
+                 transmission band inside\"): on {late} of these {lines} lines the first band opens \
+                 later than {} rad/s, and on {closed} it closes at a finite frequency, the unit \
+                 transmitting again above it.\n",
+                claimed.0, claimed.0
+            );
+        }
     }
 }
