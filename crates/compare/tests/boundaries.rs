@@ -168,6 +168,10 @@ fn bad_boundaries_arguments_exit_2_and_name_the_field() {
         (replace("--points", "0"), "--points"),
         (replace("--max-points", "0"), "--max-points"),
         ([ARGS.as_slice(), &["--out", "b.jsonl"]].concat(), "--out"),
+        (
+            [ARGS.as_slice(), &["--max-impacts", "1"]].concat(),
+            "--max-impacts",
+        ),
     ];
     for (args, field) in cases {
         let out = rattle(&args);
