@@ -12,6 +12,7 @@ use rattle_compare::runs::map::Map;
 use rattle_compare::runs::parallel::Progress;
 use rattle_compare::scene::simulator::run as simulate;
 use rattle_compare::scene::{Scene, StopsSpec};
+use rattle_compare::study::boundaries::{study_boundaries, StudyBoundaries};
 use rattle_compare::study::chain::{chain_section, chain_study, ChainStudy};
 use rattle_compare::study::chaos::{
     chaos_samples, poincare_sections, ChaosSample, PoincareSections, POINCARE_OMEGA,
@@ -136,6 +137,7 @@ struct Computed {
     samples: Vec<ChaosSample>,
     poincare: Result<PoincareSections, String>,
     chains: ChainStudy,
+    boundaries: StudyBoundaries,
 }
 
 /// The scene's copy with the gap of the study's second reading.
@@ -164,14 +166,19 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
     };
     let (mut main, mut other, mut elastic, mut maps_done) = (None, None, None, None);
     let (mut basins, mut samples, mut poincare, mut chains) = (None, None, None, None);
+    let mut boundaries = None;
     // Stages handed out longest first: another thread takes the earliest spawned, this one
     // the latest.
     rayon::scope(|s| {
         s.spawn(|_| {
             // Its parts' times printed (indented) as they end.
-            main = Some(clock.stage("study, reading A", || {
+            let study = clock.stage("study, reading A", || {
                 Study::run(scene, size, &options, true)
-            }))
+            });
+            // The events of the study's own continuation, each followed over the gap and the
+            // restitution.
+            boundaries = Some(clock.stage("boundaries", || study_boundaries(&study, quick)));
+            main = Some(study);
         });
         s.spawn(|_| maps_done = Some(clock.stage("maps", || maps(scene, map_sizes, false))));
         s.spawn(|_| basins = Some(clock.stage("basins", || basins_of(scene, quick))));
@@ -196,6 +203,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
         samples: samples.expect(filled),
         poincare: poincare.expect(filled),
         chains: chains.expect(filled),
+        boundaries: boundaries.expect(filled),
     }
 }
 
@@ -329,6 +337,10 @@ fn draw_all(c: &Computed, precision: &WorkPrecision, dir: &Path) -> Result<Vec<P
         .map_err(|e| e.to_string())?,
     );
     written.extend(figures::draw_chains(&c.chains, dir).map_err(|e| e.to_string())?);
+    written.extend(
+        figures::draw_boundaries(&c.boundaries.figure(&c.main, c.maps.as_ref()), dir)
+            .map_err(|e| e.to_string())?,
+    );
     Ok(written)
 }
 
@@ -362,13 +374,14 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
         precision_study(&damped, siconos.as_ref())
     })?;
     let written = clock.stage("figures drawn, tables and report written", || {
-        let written = draw_all(&c, &precision, &out.join("figures"))?;
+        let mut written = draw_all(&c, &precision, &out.join("figures"))?;
         match &c.maps {
             Some(maps) => write_maps(maps, &out.join("data/maps"))?,
             None => eprintln!(
                 "no maps: the scene has no stops (a map varies their gap and restitution)"
             ),
         }
+        written.extend(c.boundaries.write(&out.join("data/boundaries"))?);
         let validation = out.join("validation");
         let doc = serde_json::to_string_pretty(&agreement(&c.main)).map_err(|e| e.to_string())?;
         write(&validation.join("agreement.json"), &(doc + "\n"))?;
@@ -376,6 +389,7 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
             &validation.join("report.md"),
             &(report(&c.main, &c.other, &c.elastic_note, &c.samples)
                 + &chain_section(&c.chains)
+                + &c.boundaries.section(&c.main, c.maps.as_ref())
                 + &siconos_section(siconos.as_ref(), &precision)),
         )?;
         Ok::<_, String>(written)

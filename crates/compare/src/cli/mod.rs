@@ -4,6 +4,7 @@
 //! explanation, 2 bad input (arguments or scene).
 
 pub mod basins;
+pub mod boundaries;
 pub mod boundary;
 pub mod compare;
 pub mod continuation;
@@ -61,6 +62,10 @@ pub enum Command {
     /// grazing, vanishing impact) nearest a frequency on the branches of a signature's orbits,
     /// followed in (ω, a scene parameter) through turning points, exact to rounding.
     Boundary(boundary::BoundaryArgs),
+    /// Every regime boundary at once: each event of the continuation in ω of the motions a
+    /// sweep settles on (and of the `+-` orbits), followed in (ω, a scene parameter); the same
+    /// curve reached from two events listed once, branch points listed as skipped.
+    Boundaries(boundaries::BoundariesArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
     /// JSON Lines file as it runs; on a chain, every solver (`both`: the verdict of `compare`
     /// at every frequency).
@@ -123,6 +128,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Compare(args) => compare::run(args),
         Command::Continue(args) => continuation::run(args),
         Command::Boundary(args) => boundary::run(args),
+        Command::Boundaries(args) => boundaries::run(args),
         Command::Sweep(args) => sweep::run(args),
         Command::Merge(args) => merge::run(args),
         Command::Map(args) => map::run(args),

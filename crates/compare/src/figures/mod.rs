@@ -6,6 +6,7 @@ pub mod bandwidth_map;
 pub mod basins;
 pub mod beta_family;
 pub mod bifurcation;
+pub mod boundaries;
 pub mod chain;
 pub mod frequency_response;
 pub mod impact_time_response;
@@ -102,6 +103,17 @@ pub fn draw_chains(
 /// The figure cannot be drawn or written, with its path.
 pub fn draw_poincare(
     figure: &poincare::PoincareFigure,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    save(figure, dir)
+}
+
+/// Draws the regime boundaries figure (`boundaries`) into `dir`; returns the files written.
+///
+/// # Errors
+/// The figure cannot be drawn or written, with its path.
+pub fn draw_boundaries(
+    figure: &crate::study::boundaries::BoundariesFigure,
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     save(figure, dir)

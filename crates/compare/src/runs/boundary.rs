@@ -211,7 +211,7 @@ pub struct BoundaryRecord {
 }
 
 /// The unit and stops of `scene` with `param` set to `value`.
-fn unit_at(
+pub(crate) fn unit_at(
     scene: &Scene,
     param: &SceneParameter,
     value: f64,
@@ -392,7 +392,7 @@ pub fn follow_chain(
 
 /// The written form of `boundary` (of orbits over `period` forcing periods), started at
 /// `param_start` from the event at `omega_start`.
-fn record<L: Display>(
+pub(crate) fn record<L: Display>(
     scene: &Scene,
     param: &SceneParameter,
     (param_start, omega_start): (f64, f64),

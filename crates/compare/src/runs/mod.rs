@@ -8,6 +8,7 @@
 pub mod axis;
 pub mod bands;
 pub mod basins;
+pub mod boundaries;
 pub mod boundary;
 pub mod continuation;
 pub mod map;

@@ -2,6 +2,7 @@
 //! show, computed once from one scene. [`plots`] holds each figure's data, [`paper`] the
 //! paper's claims and numbers, [`report`] the validation outputs.
 
+pub mod boundaries;
 pub mod chain;
 pub mod chaos;
 pub mod paper;
@@ -152,7 +153,7 @@ pub const STUDY_BRANCH_POINTS: usize = 1500;
 
 /// The viable `+-` orbits at [`TWO_IMPACT_SEEDS`] within the study's frequencies: the first
 /// seeds of the study's continuation.
-fn two_impact_seeds(scene: &Scene, size: &StudySize) -> Vec<SignatureOrbit> {
+pub fn two_impact_seeds(scene: &Scene, size: &StudySize) -> Vec<SignatureOrbit> {
     let Ok(two_impact) = Signature::parse("+-", 1) else {
         return Vec::new();
     };
@@ -166,7 +167,7 @@ fn two_impact_seeds(scene: &Scene, size: &StudySize) -> Vec<SignatureOrbit> {
 
 /// The viable analytic orbit of each periodic simulated motion of `compared`, in the compared
 /// grid's order: the seeds of the study's continuation after the `+-` orbits.
-fn compared_seeds(compared: &[ComparedPoint]) -> Vec<SignatureOrbit> {
+pub fn compared_seeds(compared: &[ComparedPoint]) -> Vec<SignatureOrbit> {
     compared
         .iter()
         .filter_map(|p| p.cross.analytic.clone())
