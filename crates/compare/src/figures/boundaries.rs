@@ -12,8 +12,9 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 /// The event kinds drawn, in legend order, with their colours.
-const KINDS: [(&str, RGBColor); 5] = [
+const KINDS: [(&str, RGBColor); 6] = [
     ("fold", RGBColor(0, 0, 0)),
+    ("branch-point", RGBColor(230, 140, 0)),
     ("period-doubling", RGBColor(20, 40, 200)),
     ("neimark-sacker", RGBColor(200, 0, 200)),
     ("grazing", RGBColor(190, 0, 0)),
