@@ -337,7 +337,7 @@ impl Bifurcation {
     }
 
     /// The detail above the primary resonance, where the impacting orbits bifurcate: from
-    /// [`DETAIL_PAST_RESONANCE`] above the frequency of the sweeps' largest |u_o(kT)| to the
+    /// `DETAIL_PAST_RESONANCE` (0.3 rad/s) above the frequency of the sweeps' largest |u_o(kT)| to the
     /// sweep's end, scaled to the largest |u_o(kT)| there. `None` when that leaves less than a
     /// tenth of the sweep.
     pub fn detail_frame(&self) -> Option<BifurcationFrame> {
