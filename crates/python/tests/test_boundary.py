@@ -64,7 +64,13 @@ def test_options_are_the_commands(rattle_cli):
 def test_columns_are_the_documents_lists(followed):
     doc = followed.to_dict()
     points = followed.points_columns()
-    assert list(points) == ["param_value", "omega", "outer_amplitude", "critical_multiplier"]
+    assert list(points) == [
+        "param_value", "omega", "outer_amplitude", "critical_multiplier", "special"
+    ]
+    # Which special point a point is, if any (the document's `special`, null elsewhere).
+    assert [None if isinstance(k, float) else k for k in points["special"]] == [
+        p["special"] for p in doc["points"]
+    ]
     for name in ["param_value", "omega", "outer_amplitude"]:
         assert points[name].dtype == np.float64
         np.testing.assert_array_equal(points[name], [p[name] for p in doc["points"]])

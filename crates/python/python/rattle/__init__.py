@@ -451,8 +451,9 @@ class Boundary(Record):
 
     def points_columns(self):
         """The points as a dict of numpy arrays in the command's field order:
-        ``param_value``, ``omega``, ``outer_amplitude`` (``float64``) and
-        ``critical_multiplier`` (``complex128``)."""
+        ``param_value``, ``omega``, ``outer_amplitude`` (``float64``),
+        ``critical_multiplier`` (``complex128``) and ``special`` (the kind of special point a
+        point is, ``None`` elsewhere; ``float64`` NaN throughout when the curve has none)."""
         return _columns(self._data["points"])
 
     def at_columns(self):
