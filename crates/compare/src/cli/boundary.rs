@@ -1,16 +1,12 @@
-//! `rattle boundary`: one regime boundary of a unit, the curve of one event (fold, period
-//! doubling, Neimark–Sacker, grazing, vanishing impact) of a signature's orbits followed in
-//! (ω, a scene parameter).
+//! `rattle boundary`: one regime boundary of a unit or a chain, the curve of one event (fold,
+//! branch point, period doubling, Neimark–Sacker, grazing, vanishing impact) of a signature's
+//! orbits followed in (ω, a scene parameter).
 
-use super::{check_omega, load, write_record, RattleError};
+use super::{load, write_record, RattleError};
 use crate::output::{finite, table_row, Format};
-use crate::runs::boundary::{
-    follow, follow_chain, BoundaryRecord, BoundaryRequest, BoundaryRunError, ChainBoundaryRequest,
-};
-use crate::scene::parameter::SceneParameter;
+use crate::runs::boundary::{follow_any, BoundaryOptions, BoundaryRecord};
 use clap::Args;
-use rattle_analytic::continuation::{BoundaryError, BoundarySettings, EventKind};
-use rattle_analytic::{ImpactSequence, Signature};
+use rattle_analytic::continuation::BoundarySettings;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -91,59 +87,26 @@ table_row! {
     }
 }
 
-/// The event kind named `name`.
-///
-/// # Errors
-/// [`RattleError::Argument`] naming `--event` and the kinds allowed.
-fn event_kind(name: &str) -> Result<EventKind, RattleError> {
-    [
-        EventKind::Fold,
-        EventKind::BranchPoint,
-        EventKind::PeriodDoubling,
-        EventKind::NeimarkSacker,
-        EventKind::Grazing,
-        EventKind::VanishingImpact,
-    ]
-    .into_iter()
-    .find(|k| k.name() == name)
-    .ok_or_else(|| {
-        RattleError::Argument(format!(
-            "--event = {name} is not an event: give fold, branch-point, period-doubling, neimark-sacker, grazing or vanishing-impact"
-        ))
-    })
-}
-
 /// Runs `rattle boundary`.
 ///
 /// # Errors
 /// Bad arguments or scene (exit code 2); no orbit or event to follow, or a start that does
 /// not converge (exit code 1).
 pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
-    let omega = check_omega("--omega", args.omega)?;
-    let kind = event_kind(&args.event)?;
-    let param: SceneParameter = args
-        .param
-        .parse()
-        .map_err(|e| RattleError::Argument(format!("--param: {e}")))?;
-    let settings = BoundarySettings {
+    let options = BoundaryOptions {
+        signature: args.signature.clone(),
+        period: args.period,
+        event: args.event.clone(),
+        omega: args.omega,
+        param: args.param.clone(),
+        min: args.min,
+        max: args.max,
+        at: args.at.clone(),
         omega_min: args.omega_min,
         omega_max: args.omega_max,
         max_step: args.max_step,
-        ..BoundarySettings::new(args.min, args.max)
     };
-    let settings = BoundarySettings {
-        initial_step: settings.initial_step.min(settings.max_step),
-        ..settings
-    };
-    settings
-        .validate()
-        .map_err(|e| RattleError::Argument(e.to_string()))?;
-    if !(args.omega_min..=args.omega_max).contains(&omega) {
-        return Err(RattleError::Argument(format!(
-            "--omega = {omega} is out of range: must be in [--omega-min, --omega-max] = [{}, {}]",
-            args.omega_min, args.omega_max
-        )));
-    }
+    let checked = options.checked().map_err(RattleError::Argument)?;
     let format = args
         .out
         .as_ref()
@@ -155,47 +118,17 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
         ));
     }
     let scene = load(&args.scene)?;
-    let record = if scene.is_chain() {
-        let sequence = ImpactSequence::parse(&args.signature, args.period)
-            .map_err(|e| RattleError::Argument(format!("--signature: {e}")))?;
-        let request = ChainBoundaryRequest {
-            sequence,
-            kind,
-            omega,
-            param,
-            at: args.at.clone(),
-        };
-        follow_chain(&scene, &request, &settings)
-    } else {
-        let signature = Signature::parse(&args.signature, args.period)
-            .map_err(|e| RattleError::Argument(e.to_string()))?;
-        let request = BoundaryRequest {
-            signature,
-            kind,
-            omega,
-            param,
-            at: args.at.clone(),
-        };
-        follow(&scene, &request, &settings)
-    };
-    write(&args, format, &record.map_err(run_error)?)
-}
-
-/// The command's error for a refused boundary: bad input (exit code 2) or a numerical
-/// failure (exit code 1).
-fn run_error(e: BoundaryRunError) -> RattleError {
-    match e {
-        BoundaryRunError::NoStops
-        | BoundaryRunError::CellWithoutStops { .. }
-        | BoundaryRunError::Sequence(_)
-        | BoundaryRunError::Parameter(_)
-        | BoundaryRunError::Range { .. }
-        | BoundaryRunError::Boundary(BoundaryError::Setting { .. })
-        | BoundaryRunError::Boundary(BoundaryError::Unsupported { .. }) => {
+    let request = options
+        .request(&checked, scene.is_chain())
+        .map_err(RattleError::Argument)?;
+    let record = follow_any(&scene, &request, &checked.settings).map_err(|e| {
+        if e.is_bad_input() {
             RattleError::Argument(e.to_string())
+        } else {
+            RattleError::Numerical(e.to_string())
         }
-        _ => RattleError::Numerical(e.to_string()),
-    }
+    })?;
+    write(&args, format, &record)
 }
 
 /// The output of a run: `--json` prints the record; `--out` writes it (`.json`) or the points

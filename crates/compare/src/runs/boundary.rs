@@ -264,6 +264,185 @@ fn nearest_event(
     })
 }
 
+/// The options of one boundary as a user gives them (the command's flags, Python's
+/// arguments), before they are checked. Error messages name the command's flags (`--event`,
+/// `--min`, …); Python renames them to its parameters.
+#[derive(Debug, Clone)]
+pub struct BoundaryOptions {
+    /// The signature (on a chain: an impact sequence of its pairs), as typed.
+    pub signature: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// The event kind's name.
+    pub event: String,
+    /// The frequency near which the event is looked for, rad/s.
+    pub omega: f64,
+    /// The scene parameter's JSON path.
+    pub param: String,
+    /// Lowest parameter value.
+    pub min: f64,
+    /// Highest parameter value.
+    pub max: f64,
+    /// Parameter values at which the curve's ω is solved.
+    pub at: Vec<f64>,
+    /// Lowest frequency, rad/s.
+    pub omega_min: f64,
+    /// Highest frequency, rad/s.
+    pub omega_max: f64,
+    /// Largest step along the curve.
+    pub max_step: f64,
+}
+
+/// The options of a boundary that do not depend on the scene, checked.
+#[derive(Debug, Clone)]
+pub struct CheckedOptions {
+    /// The event kind.
+    pub kind: EventKind,
+    /// The frequency near which the event is looked for, rad/s.
+    pub omega: f64,
+    /// The scene parameter.
+    pub param: SceneParameter,
+    /// The curve's settings.
+    pub settings: BoundarySettings,
+}
+
+/// What to follow on a scene: a unit's signature or a chain's impact sequence.
+#[derive(Debug, Clone)]
+pub enum AnyBoundaryRequest {
+    /// On a unit scene.
+    Unit(BoundaryRequest),
+    /// On a chain scene.
+    Chain(ChainBoundaryRequest),
+}
+
+/// The event kinds, in the order the command lists them.
+const KINDS: [EventKind; 6] = [
+    EventKind::Fold,
+    EventKind::BranchPoint,
+    EventKind::PeriodDoubling,
+    EventKind::NeimarkSacker,
+    EventKind::Grazing,
+    EventKind::VanishingImpact,
+];
+
+impl BoundaryOptions {
+    /// The options that do not depend on the scene, checked in the command's order: the
+    /// frequency, the event, the parameter's path, the settings, then the frequency within
+    /// `[omega_min, omega_max]`.
+    ///
+    /// # Errors
+    /// A message naming the flag and what it allows.
+    pub fn checked(&self) -> Result<CheckedOptions, String> {
+        let omega = self.omega;
+        if !(omega.is_finite() && omega > 0.0) {
+            return Err(format!(
+                "--omega = {omega} is out of range: must be finite and > 0 (rad/s)"
+            ));
+        }
+        let kind = KINDS
+            .into_iter()
+            .find(|k| k.name() == self.event)
+            .ok_or_else(|| {
+                format!(
+                    "--event = {} is not an event: give fold, branch-point, period-doubling, neimark-sacker, grazing or vanishing-impact",
+                    self.event
+                )
+            })?;
+        let param: SceneParameter = self.param.parse().map_err(|e| format!("--param: {e}"))?;
+        let settings = BoundarySettings {
+            omega_min: self.omega_min,
+            omega_max: self.omega_max,
+            max_step: self.max_step,
+            ..BoundarySettings::new(self.min, self.max)
+        };
+        let settings = BoundarySettings {
+            initial_step: settings.initial_step.min(settings.max_step),
+            ..settings
+        };
+        settings.validate().map_err(|e| e.to_string())?;
+        if !(self.omega_min..=self.omega_max).contains(&omega) {
+            return Err(format!(
+                "--omega = {omega} is out of range: must be in [--omega-min, --omega-max] = [{}, {}]",
+                self.omega_min, self.omega_max
+            ));
+        }
+        Ok(CheckedOptions {
+            kind,
+            omega,
+            param,
+            settings,
+        })
+    }
+
+    /// The request on a unit scene, or on a chain scene when `chain` (the signature then an
+    /// impact sequence of the chain's pairs).
+    ///
+    /// # Errors
+    /// A message naming `--signature` or `--period` when the signature does not parse.
+    pub fn request(
+        &self,
+        checked: &CheckedOptions,
+        chain: bool,
+    ) -> Result<AnyBoundaryRequest, String> {
+        let (kind, omega, param, at) =
+            (checked.kind, checked.omega, checked.param, self.at.clone());
+        Ok(if chain {
+            let sequence = ImpactSequence::parse(&self.signature, self.period)
+                .map_err(|e| format!("--signature: {e}"))?;
+            AnyBoundaryRequest::Chain(ChainBoundaryRequest {
+                sequence,
+                kind,
+                omega,
+                param,
+                at,
+            })
+        } else {
+            let signature =
+                Signature::parse(&self.signature, self.period).map_err(|e| e.to_string())?;
+            AnyBoundaryRequest::Unit(BoundaryRequest {
+                signature,
+                kind,
+                omega,
+                param,
+                at,
+            })
+        })
+    }
+}
+
+impl BoundaryRunError {
+    /// Whether the caller is at fault (bad input: the command's exit code 2, Python's
+    /// `ValueError`) rather than the numerics (no orbit, no event, no convergence).
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            BoundaryRunError::NoStops
+                | BoundaryRunError::CellWithoutStops { .. }
+                | BoundaryRunError::Sequence(_)
+                | BoundaryRunError::Parameter(_)
+                | BoundaryRunError::Range { .. }
+                | BoundaryRunError::Boundary(BoundaryError::Setting { .. })
+                | BoundaryRunError::Boundary(BoundaryError::Unsupported { .. })
+        )
+    }
+}
+
+/// Follows the boundary of `request` on `scene` ([`follow`] on a unit, [`follow_chain`] on
+/// a chain) within `settings`.
+///
+/// # Errors
+/// See [`BoundaryRunError`].
+pub fn follow_any(
+    scene: &Scene,
+    request: &AnyBoundaryRequest,
+    settings: &BoundarySettings,
+) -> Result<BoundaryRecord, BoundaryRunError> {
+    match request {
+        AnyBoundaryRequest::Unit(r) => follow(scene, r, settings),
+        AnyBoundaryRequest::Chain(r) => follow_chain(scene, r, settings),
+    }
+}
+
 /// Follows the boundary of `request` on the unit scene `scene` within `settings`.
 ///
 /// # Errors
