@@ -88,38 +88,14 @@ impl ContinuationSettings {
                 })
             }
         };
-        check(
-            "--omega-min",
-            self.omega_min,
-            self.omega_min > 0.0,
-            "finite and > 0".into(),
-        )?;
-        check(
-            "--omega-max",
-            self.omega_max,
-            self.omega_max > self.omega_min,
-            format!("finite and > --omega-min = {}", self.omega_min),
-        )?;
-        check(
-            "continuation.min_step",
-            self.min_step,
-            self.min_step > 0.0,
-            "finite and > 0".into(),
-        )?;
-        check(
-            "continuation.max_step",
-            self.max_step,
-            self.max_step >= self.min_step,
-            format!("finite and >= continuation.min_step = {}", self.min_step),
-        )?;
-        check(
-            "continuation.initial_step",
-            self.initial_step,
-            self.initial_step >= self.min_step && self.initial_step <= self.max_step,
-            format!(
-                "in [{}, {}] (min_step, max_step)",
-                self.min_step, self.max_step
-            ),
+        check_range_and_steps(
+            (self.omega_min, self.omega_max),
+            [
+                ("continuation.min_step", self.min_step),
+                ("continuation.max_step", self.max_step),
+                ("continuation.initial_step", self.initial_step),
+            ],
+            check,
         )?;
         check(
             "continuation.max_points_per_branch",
@@ -176,4 +152,45 @@ pub enum ContinuationError {
         /// Its frequency.
         omega: f64,
     },
+}
+
+/// The checks a continuation's and a boundary's settings share: the frequency range
+/// (`--omega-min` finite and > 0, `--omega-max` > it) and the steps (`min_step` > 0,
+/// `max_step` ≥ it, `initial_step` between them; each named by its field in `names`), each
+/// through `check` (field, value, whether it is allowed besides finite, what is allowed),
+/// which makes the caller's error.
+///
+/// # Errors
+/// The first of `check`'s errors.
+pub(crate) fn check_range_and_steps<E>(
+    (omega_min, omega_max): (f64, f64),
+    steps: [(&'static str, f64); 3],
+    check: impl Fn(&'static str, f64, bool, String) -> Result<(), E>,
+) -> Result<(), E> {
+    let [(min_name, min_step), (max_name, max_step), (initial_name, initial_step)] = steps;
+    check(
+        "--omega-min",
+        omega_min,
+        omega_min > 0.0,
+        "finite and > 0".into(),
+    )?;
+    check(
+        "--omega-max",
+        omega_max,
+        omega_max > omega_min,
+        format!("finite and > --omega-min = {omega_min}"),
+    )?;
+    check(min_name, min_step, min_step > 0.0, "finite and > 0".into())?;
+    check(
+        max_name,
+        max_step,
+        max_step >= min_step,
+        format!("finite and >= {min_name} = {min_step}"),
+    )?;
+    check(
+        initial_name,
+        initial_step,
+        initial_step >= min_step && initial_step <= max_step,
+        format!("in [{min_step}, {max_step}] (min_step, max_step)"),
+    )
 }

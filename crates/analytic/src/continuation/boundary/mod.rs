@@ -50,6 +50,7 @@ pub use special::{BoundarySpecialPoint, SpecialKind};
 use super::corrector::rounding_floor;
 use super::events::TORUS_TOLERANCE;
 use super::result::{Event, EventKind};
+use super::settings::check_range_and_steps;
 use super::system::BranchModel;
 use super::system::Label;
 use super::test_functions::Test;
@@ -168,38 +169,14 @@ impl BoundarySettings {
             self.param_max > self.param_min,
             format!("finite and > --min = {}", self.param_min),
         )?;
-        check(
-            "--omega-min",
-            self.omega_min,
-            self.omega_min > 0.0,
-            "finite and > 0".into(),
-        )?;
-        check(
-            "--omega-max",
-            self.omega_max,
-            self.omega_max > self.omega_min,
-            format!("finite and > --omega-min = {}", self.omega_min),
-        )?;
-        check(
-            "boundary.min_step",
-            self.min_step,
-            self.min_step > 0.0,
-            "finite and > 0".into(),
-        )?;
-        check(
-            "boundary.max_step",
-            self.max_step,
-            self.max_step >= self.min_step,
-            format!("finite and >= boundary.min_step = {}", self.min_step),
-        )?;
-        check(
-            "boundary.initial_step",
-            self.initial_step,
-            self.initial_step >= self.min_step && self.initial_step <= self.max_step,
-            format!(
-                "in [{}, {}] (min_step, max_step)",
-                self.min_step, self.max_step
-            ),
+        check_range_and_steps(
+            (self.omega_min, self.omega_max),
+            [
+                ("boundary.min_step", self.min_step),
+                ("boundary.max_step", self.max_step),
+                ("boundary.initial_step", self.initial_step),
+            ],
+            check,
         )?;
         check(
             "boundary.max_points",
