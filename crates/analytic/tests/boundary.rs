@@ -35,6 +35,29 @@ fn guess_of(alpha: f64, phases: &[f64]) -> Vec<f64> {
     guess
 }
 
+/// The curve of `event` on the orbits of `signature`, followed from `param` over the parameter
+/// `unit_at` varies within `range` with the default settings, its ω solved at `at`.
+fn curve(
+    unit_at: fn(f64) -> Result<(Unit, Stops), UnitError>,
+    signature: &Signature,
+    event: &continuation::Event,
+    param: f64,
+    at: &[f64],
+    range: (f64, f64),
+) -> Boundary {
+    follow_boundary(
+        &BoundaryStart {
+            unit_at,
+            signature,
+            event,
+            param,
+            at,
+        },
+        &BoundarySettings::new(range.0, range.1),
+    )
+    .unwrap()
+}
+
 /// The first event of `kind` on the branch of `start` within `[omega_min, omega_max]`.
 fn event_of(
     unit: &Unit,
@@ -176,17 +199,14 @@ fn period_doubling_curve_over_the_gap_is_where_continuation_finds_it() {
     let (unit, stops) = (paper_unit(), paper_stops());
     let start = asymmetric_start();
     let event = event_of(&unit, &stops, &start, EventKind::PeriodDoubling, 2.8, 3.0).unwrap();
-    let boundary = follow_boundary(
-        &BoundaryStart {
-            unit_at: paper_at_gap,
-            signature: &start.signature,
-            event: &event,
-            param: stops.gap,
-            at: &[0.47, 0.5, 0.53],
-        },
-        &BoundarySettings::new(0.45, 0.55),
-    )
-    .unwrap();
+    let boundary = curve(
+        paper_at_gap,
+        &start.signature,
+        &event,
+        stops.gap,
+        &[0.47, 0.5, 0.53],
+        (0.45, 0.55),
+    );
     assert!(
         boundary.points.len() > 5,
         "{} points",
@@ -215,17 +235,14 @@ fn fold_curve_over_the_restitution_is_where_continuation_finds_it() {
     let (unit, stops) = (paper_unit(), paper_stops());
     let start = symmetric_start();
     let event = event_of(&unit, &stops, &start, EventKind::Fold, 0.6, 0.8).unwrap();
-    let boundary = follow_boundary(
-        &BoundaryStart {
-            unit_at: paper_at_restitution,
-            signature: &start.signature,
-            event: &event,
-            param: stops.restitution,
-            at: &[0.75, 0.8, 0.85],
-        },
-        &BoundarySettings::new(0.7, 0.9),
-    )
-    .unwrap();
+    let boundary = curve(
+        paper_at_restitution,
+        &start.signature,
+        &event,
+        stops.restitution,
+        &[0.75, 0.8, 0.85],
+        (0.7, 0.9),
+    );
     one_parameter_agrees(&boundary, paper_at_restitution, 0.01);
     for p in boundary.points.iter().step_by(5) {
         let d = multiplier_distance(&paper_at_restitution, &boundary.signature, p, 1.0);
@@ -238,17 +255,14 @@ fn grazing_curve_over_the_gap_touches_the_stop_with_zero_relative_velocity() {
     let (unit, stops) = (paper_unit(), paper_stops());
     let start = asymmetric_start();
     let event = event_of(&unit, &stops, &start, EventKind::Grazing, 2.5, 3.0).unwrap();
-    let boundary = follow_boundary(
-        &BoundaryStart {
-            unit_at: paper_at_gap,
-            signature: &start.signature,
-            event: &event,
-            param: stops.gap,
-            at: &[0.48, 0.5, 0.52],
-        },
-        &BoundarySettings::new(0.46, 0.54),
-    )
-    .unwrap();
+    let boundary = curve(
+        paper_at_gap,
+        &start.signature,
+        &event,
+        stops.gap,
+        &[0.48, 0.5, 0.52],
+        (0.46, 0.54),
+    );
     one_parameter_agrees(&boundary, paper_at_gap, 0.01);
     let phase = event.phase.unwrap();
     let f = (0..2)
@@ -409,17 +423,14 @@ fn neimark_sacker_curve_over_the_restitution_keeps_a_complex_pair_on_the_unit_ci
         .find(|o| (o.impact_phases[1] - 0.5).abs() < 1e-9 && o.viable)
         .expect("the viable symmetric orbit at 2.9");
     let event = event_of(&unit, &stops, &start, EventKind::NeimarkSacker, 2.9, 3.5).unwrap();
-    let boundary = follow_boundary(
-        &BoundaryStart {
-            unit_at: paper_at_restitution,
-            signature: &start.signature,
-            event: &event,
-            param: stops.restitution,
-            at: &[0.78, 0.8, 0.82],
-        },
-        &BoundarySettings::new(0.76, 0.84),
-    )
-    .unwrap();
+    let boundary = curve(
+        paper_at_restitution,
+        &start.signature,
+        &event,
+        stops.restitution,
+        &[0.78, 0.8, 0.82],
+        (0.76, 0.84),
+    );
     one_parameter_agrees(&boundary, paper_at_restitution, 0.01);
     for p in boundary.points.iter().step_by(3) {
         let (unit, stops) = paper_at_restitution(p.param_value).unwrap();
@@ -449,17 +460,14 @@ fn vanishing_impact_curve_over_the_gap_has_zero_relative_velocity() {
         .find(|o| (o.impact_phases[1] - 0.5).abs() < 1e-9 && !o.viable)
         .expect("a non-viable symmetric orbit at 3.5");
     let event = event_of(&unit, &stops, &start, EventKind::VanishingImpact, 3.0, 3.7).unwrap();
-    let boundary = follow_boundary(
-        &BoundaryStart {
-            unit_at: paper_at_gap,
-            signature: &start.signature,
-            event: &event,
-            param: stops.gap,
-            at: &[0.48, 0.5, 0.52],
-        },
-        &BoundarySettings::new(0.46, 0.54),
-    )
-    .unwrap();
+    let boundary = curve(
+        paper_at_gap,
+        &start.signature,
+        &event,
+        stops.gap,
+        &[0.48, 0.5, 0.52],
+        (0.46, 0.54),
+    );
     one_parameter_agrees(&boundary, paper_at_gap, 0.01);
     let phase = event.phase.unwrap();
     let j = event
@@ -490,17 +498,14 @@ fn grazing_curve_over_the_restitution_passes_its_turning_point() {
     let event = event_of(&unit, &stops, &start, EventKind::Grazing, 2.5, 3.0).unwrap();
     // Measured with `rattle boundary` (this curve): it turns back in e near e = 0.559,
     // ω = 2.452, so that e = 0.7 is crossed twice, once on either side of the turn.
-    let boundary = follow_boundary(
-        &BoundaryStart {
-            unit_at: paper_at_restitution,
-            signature: &start.signature,
-            event: &event,
-            param: stops.restitution,
-            at: &[0.7],
-        },
-        &BoundarySettings::new(0.5, 0.9),
-    )
-    .unwrap();
+    let boundary = curve(
+        paper_at_restitution,
+        &start.signature,
+        &event,
+        stops.restitution,
+        &[0.7],
+        (0.5, 0.9),
+    );
     let e: Vec<f64> = boundary.points.iter().map(|p| p.param_value).collect();
     let turns = e
         .windows(3)
@@ -611,17 +616,14 @@ fn a_neimark_sacker_curve_over_the_gap_meets_its_one_to_four_resonance() {
     // curve over the gap, turning at gap 0.4089 (measured: from 1.75 it passes the turn and
     // meets the 1:4 resonance at gap 0.5574, ω = 1.6339).
     let event = event_of(&unit, &stops, &start, EventKind::NeimarkSacker, 1.5, 3.0).unwrap();
-    let boundary = follow_boundary(
-        &BoundaryStart {
-            unit_at: paper_at_gap,
-            signature: &start.signature,
-            event: &event,
-            param: stops.gap,
-            at: &[],
-        },
-        &BoundarySettings::new(0.35, 0.65),
-    )
-    .unwrap();
+    let boundary = curve(
+        paper_at_gap,
+        &start.signature,
+        &event,
+        stops.gap,
+        &[],
+        (0.35, 0.65),
+    );
     assert_eq!(special(&boundary, "turning-point").len(), 1);
     let resonances = special(&boundary, "resonance-1:4");
     assert_eq!(resonances.len(), 1, "{:?}", boundary.special_points);
@@ -649,17 +651,14 @@ fn a_grazing_curve_crosses_the_period_doubling_curve_where_each_locates_the_othe
     let start = asymmetric_start();
     let follow = |kind, omega_min, omega_max| {
         let event = event_of(&unit, &stops, &start, kind, omega_min, omega_max).unwrap();
-        follow_boundary(
-            &BoundaryStart {
-                unit_at: paper_at_gap,
-                signature: &start.signature,
-                event: &event,
-                param: stops.gap,
-                at: &[],
-            },
-            &BoundarySettings::new(0.35, 0.55),
+        curve(
+            paper_at_gap,
+            &start.signature,
+            &event,
+            stops.gap,
+            &[],
+            (0.35, 0.55),
         )
-        .unwrap()
     };
     let grazing = follow(EventKind::Grazing, 2.5, 3.0);
     let doubling = follow(EventKind::PeriodDoubling, 2.8, 3.0);
@@ -715,17 +714,14 @@ fn a_neimark_sacker_curve_ends_at_its_one_to_one_resonance() {
             ((e.omega - 1.94817).abs() < 1e-3).then_some((o, e))
         })
         .expect("the Neimark–Sacker point near 1.94817");
-    let boundary = follow_boundary(
-        &BoundaryStart {
-            unit_at: paper_at_restitution,
-            signature: &start.signature,
-            event: &event,
-            param: stops.restitution,
-            at: &[],
-        },
-        &BoundarySettings::new(0.3, 0.8),
-    )
-    .unwrap();
+    let boundary = curve(
+        paper_at_restitution,
+        &start.signature,
+        &event,
+        stops.restitution,
+        &[],
+        (0.3, 0.8),
+    );
     let resonance = special(&boundary, "resonance-1:1");
     assert_eq!(resonance.len(), 1, "{:?}", boundary.special_points);
     let r = resonance[0];
