@@ -83,6 +83,9 @@ pub(super) fn fixed_grid<'g>(
 }
 
 /// Chunk `i`'s rows of a fixed grid (see [`GridSteps::chunk_exps`]), computed on first use.
+/// Inlined: a scan asks for some five chunks a flight, all but the run's first few already
+/// filled, so the lookup is one flag test (the filling is out of line, [`fill_chunk_rows`]).
+#[inline]
 pub(super) fn chunk_rows<'c>(
     exps: &'c mut Vec<C64>,
     filled: &mut Vec<bool>,
@@ -90,6 +93,17 @@ pub(super) fn chunk_rows<'c>(
     w: f64,
     terms: &[Term],
 ) -> &'c [C64] {
+    let rows = CHUNK_ROWS * terms.len();
+    if !filled.get(i).copied().unwrap_or(false) {
+        fill_chunk_rows(exps, filled, i, w, terms);
+    }
+    &exps[i * rows..(i + 1) * rows]
+}
+
+/// Fills chunk `i`'s rows (see [`chunk_rows`]), growing the cache to hold them.
+#[cold]
+#[inline(never)]
+fn fill_chunk_rows(exps: &mut Vec<C64>, filled: &mut Vec<bool>, i: usize, w: f64, terms: &[Term]) {
     let n = terms.len();
     let rows = CHUNK_ROWS * n;
     if filled.len() <= i {
@@ -97,22 +111,19 @@ pub(super) fn chunk_rows<'c>(
         exps.resize((i + 1) * rows, C64::default());
     }
     let slot = &mut exps[i * rows..(i + 1) * rows];
-    if !filled[i] {
-        let m = 2.0 * w * i as f64 + w;
-        let end = 2.0 * w * (i + 1) as f64;
-        for (j, t) in terms.iter().enumerate() {
-            let e = cexp(t.rate, m);
-            let e1 = e * t.rate;
-            let e2 = e1 * t.rate;
-            slot[j] = e;
-            slot[n + j] = e1;
-            slot[2 * n + j] = e2;
-            slot[3 * n + j] = e2 * t.rate;
-            slot[4 * n + j] = cexp(t.rate, end);
-        }
-        filled[i] = true;
+    let m = 2.0 * w * i as f64 + w;
+    let end = 2.0 * w * (i + 1) as f64;
+    for (j, t) in terms.iter().enumerate() {
+        let e = cexp(t.rate, m);
+        let e1 = e * t.rate;
+        let e2 = e1 * t.rate;
+        slot[j] = e;
+        slot[n + j] = e1;
+        slot[2 * n + j] = e2;
+        slot[3 * n + j] = e2 * t.rate;
+        slot[4 * n + j] = cexp(t.rate, end);
     }
-    slot
+    filled[i] = true;
 }
 
 /// `Σ_j Re(c_j x_j)`, the terms' constant coefficients `c_j` against `x`.
