@@ -69,6 +69,10 @@ pub(super) fn fixed_grid<'g>(
     terms: &[Term],
     w: f64,
 ) -> &'g mut GridSteps {
+    // The most recent grid first, without the rotation (a free flight after a free flight).
+    if grids.first().is_some_and(|g| g.matches(terms, w)) {
+        return &mut grids[0];
+    }
     match grids.iter().position(|g| g.matches(terms, w)) {
         Some(i) => grids[..=i].rotate_right(1),
         None => {

@@ -324,9 +324,15 @@ impl ExpSum {
         let mut fa = f0;
         // The head, as in `grid_search`.
         let first_end = if chunks == 1 { horizon } else { 2.0 * w };
-        let estimate = quadratic_exit(f0, d0, dd0, lo, hi);
-        // A flight that departs from a stop (an impact's) clears its first chunk at once.
-        let cleared = if departs((f0, d0, dd0), jerk, (lo, hi), depth_tolerance, first_end) {
+        // A flight that departs from a stop (an impact's) clears its first chunk at once (and
+        // needs no estimate: only the heads below use it).
+        let departing = departs((f0, d0, dd0), jerk, (lo, hi), depth_tolerance, first_end);
+        let estimate = if departing {
+            f64::INFINITY
+        } else {
+            quadratic_exit(f0, d0, dd0, lo, hi)
+        };
+        let cleared = if departing {
             first_end
         } else {
             if slow_on_edge((f0, d0), (lo, hi), first_end) {
