@@ -60,7 +60,21 @@ impl Engine<'_> {
                     y[n + i] -= mc[i] * scale;
                 }
             }
-            _ => self.model.apply_impact(pair, y, e),
+            _ => Self::free_impact(p, y, e),
+        }
+    }
+
+    /// The free impact of pair `p` (restitution `e`, the pair's own if `None`): the arithmetic
+    /// of [`Model::apply_impact`] on the nonzero entries of `d` and `M⁻¹d` only (the terms it
+    /// adds beyond them are exact zeros; `ṙ ≠ 0` at an impact, so no sign of zero differs).
+    fn free_impact(p: &Pair, y: &mut DVector<f64>, e: Option<f64>) {
+        let n = y.len() / 2;
+        let e = e.unwrap_or(p.spec.restitution);
+        let rdot = p.relative_velocity(y);
+        let scale = (1.0 + e) * rdot / p.impact_compliance;
+        let velocities = &mut y.as_mut_slice()[n..];
+        for &(i, m) in &p.impact_mobility {
+            velocities[i] -= m * scale;
         }
     }
 
@@ -95,18 +109,17 @@ impl Engine<'_> {
         state: &mut RunState,
         c: Contact,
     ) -> Result<(), SimulationError> {
-        let n = self.n;
         state.count_event(self.period)?;
         if let Some(t) = state.tangent.as_mut() {
             t.before_impact = false;
         }
         let p = &self.pairs[c.pair];
         let side = c.side as f64;
-        let rdot = p.direction.dot(&state.y.rows(n, n));
+        let rdot = p.relative_velocity(&state.y);
         // Only an approach counts as an impact; a start on the stop moving out of it (rounding)
         // is handled as sticking below. Velocities are known to rounding relative to their size:
         // a slower approach is a graze, not an impact.
-        let velocity_round = VELOCITY_ROUNDING * state.y.rows(n, n).amax();
+        let velocity_round = VELOCITY_ROUNDING * largest_velocity(&state.y);
         let approaching = rdot * side > velocity_round;
         if approaching {
             self.impact(state, c, rdot);
@@ -115,7 +128,7 @@ impl Engine<'_> {
         // stop.
         let p = &self.pairs[c.pair];
         let e = p.spec.restitution;
-        let rdot_after = p.direction.dot(&state.y.rows(n, n));
+        let rdot_after = p.relative_velocity(&state.y);
         let push = self.relative_acceleration(c.pair, &state.y, state.tau, state.mode) * side;
         let accumulation = if push > 0.0 && e < 1.0 {
             2.0 * rdot_after.abs() / (push * (1.0 - e))
@@ -176,4 +189,28 @@ impl Engine<'_> {
         state.impacts += 1;
         state.last_impact_period = Some(state.k);
     }
+}
+
+impl Pair {
+    /// `ṙ = d · u̇` at the state `y` (length `2n`), over the nonzero entries of `d`: the dense
+    /// dot product's value (its other terms are exact zeros, and `d` has two nonzero entries,
+    /// whose sum is the same in any order).
+    #[inline]
+    fn relative_velocity(&self, y: &DVector<f64>) -> f64 {
+        let n = y.len() / 2;
+        let velocities = &y.as_slice()[n..];
+        self.direction_entries
+            .iter()
+            .map(|&(i, d)| d * velocities[i])
+            .sum()
+    }
+}
+
+/// `max |u̇_i|` at the state `y` (length `2n`), as `amax` of the velocities gives it.
+#[inline]
+fn largest_velocity(y: &DVector<f64>) -> f64 {
+    let n = y.len() / 2;
+    y.as_slice()[n..]
+        .iter()
+        .fold(0.0, |largest: f64, v| largest.max(v.abs()))
 }

@@ -157,6 +157,13 @@ struct Pair {
     /// the nonzero `K_ij` (index `j` into the state) and `C_ij` (index `n + j`), in the order
     /// of the dense sum.
     acceleration_rows: Vec<AccelerationRow>,
+    /// The nonzero entries `(i, d_i)` of `d`, `i` rising: `ṙ = d · u̇` over them only (the
+    /// terms left out are exact zeros).
+    direction_entries: Vec<(usize, f64)>,
+    /// The free impact ([`Model::apply_impact`], from the model's own `d` and `M⁻¹d`):
+    /// the nonzero entries `(i, (M⁻¹d)_i)`, `i` rising, and `d · M⁻¹d` as it computes it.
+    impact_mobility: Vec<(usize, f64)>,
+    impact_compliance: f64,
 }
 
 /// One row `i` of [`Pair::acceleration_rows`]: `(M⁻¹d)_i (f_i(τ) − Σ_j (K_ij u_j + C_ij u̇_j))`
@@ -234,7 +241,8 @@ impl<'m> Engine<'m> {
         let pairs: Vec<Pair> = model
             .contacts
             .iter()
-            .map(|c| {
+            .enumerate()
+            .map(|(index, c)| {
                 let mut d = DVector::zeros(n);
                 d[c.plus_dof] = 1.0;
                 d[c.minus_dof] = -1.0;
@@ -262,7 +270,18 @@ impl<'m> Engine<'m> {
                             .collect(),
                     })
                     .collect();
+                let (model_d, model_mobility) = &model.directions[index];
+                let nonzero = |v: &DVector<f64>| -> Vec<(usize, f64)> {
+                    v.iter()
+                        .enumerate()
+                        .filter(|&(_, &x)| x != 0.0)
+                        .map(|(i, &x)| (i, x))
+                        .collect()
+                };
                 Pair {
+                    direction_entries: nonzero(&d),
+                    impact_mobility: nonzero(model_mobility),
+                    impact_compliance: model_d.dot(model_mobility),
                     spec: *c,
                     direction: d,
                     mobility,
