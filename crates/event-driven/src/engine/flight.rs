@@ -77,7 +77,8 @@ pub(super) struct Pending {
     pub(super) contact: Option<Contact>,
     /// The end of the search: the next section, after the flight's start.
     pub(super) end: f64,
-    /// The state at the section.
+    /// The state at the section (or, at a section not formed, `RunState::section_unformed`,
+    /// the state `y` left as it was), which the run must still hold for the flight to go on.
     pub(super) state: Vec<f64>,
 }
 
@@ -336,8 +337,13 @@ impl Engine<'_> {
         self.record_flight((state, plan), &flight, (0.0, span), &mut coordinate);
         self.work.coordinate = coordinate;
         if beyond {
-            // To the section; the flight goes on after it (`continue_pending`).
-            flight.state_into(horizon, &mut state.y);
+            // To the section; the flight goes on after it (`continue_pending`). The state
+            // there is formed only for a section something observes.
+            if Self::unobserved_section(state, plan) {
+                state.section_unformed = true;
+            } else {
+                flight.state_into(horizon, &mut state.y);
+            }
             let pending = &mut self.work.pending;
             pending.live = true;
             pending.phase = phase;

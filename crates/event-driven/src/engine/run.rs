@@ -84,6 +84,7 @@ impl Engine<'_> {
             k: 0,
             tau: start.time.rem_euclid(self.period),
             y: start.state.clone(),
+            section_unformed: false,
             mode: Mode::Free,
             impacts: 0,
             events_this_period: 0,
@@ -161,10 +162,34 @@ impl Engine<'_> {
         state.events_this_period = 0;
         // `grace` is a time within the period just ended.
         state.grace.fill(f64::NEG_INFINITY);
+        if std::mem::take(&mut state.section_unformed) {
+            // A section nothing observes (`Engine::unobserved_section`): its state is neither
+            // formed nor recorded.
+            return;
+        }
         if let Some(w) = state.window.as_mut() {
             w.stroboscopic.push(state.y.clone());
         }
         state.ring.push(&state.y);
+    }
+
+    /// Whether the section that ends the current period is one nothing observes: in a run of
+    /// a fixed number of periods (no stopping rule reads the sections, no watch is called)
+    /// that records nothing (no trace, tangent or final-stretch window yet), more than the
+    /// ring's length (`p_max + 2` sections) before the final stretch opens. Its state would go
+    /// only to the stroboscopic ring, whose states are all replaced by later ones before the
+    /// run reads the ring (in its report), so a flight carried past it need not form it: the
+    /// run's results are bit for bit those of one that does.
+    pub(super) fn unobserved_section(state: &RunState, plan: &Plan) -> bool {
+        let window_start = match state.observing {
+            Some(_) => return false,
+            None => plan.limit.saturating_sub(plan.window_len),
+        };
+        plan.fixed
+            && state.window.is_none()
+            && state.trace.is_none()
+            && state.tangent.is_none()
+            && (state.k + 1).saturating_add(state.ring.capacity as u64) < window_start
     }
 
     /// At a section: applies the stopping rules' decision; `Some` when the run is over.

@@ -104,8 +104,15 @@ pub(super) struct RunState {
     /// Time within the current period, in `[0, T]` (time is carried modulo the period so the
     /// forcing phase stays exact).
     pub(super) tau: f64,
-    /// `(u, u̇)` at `kT + tau`.
+    /// `(u, u̇)` at `kT + tau` (but see `section_unformed`).
     pub(super) y: DVector<f64>,
+    /// Whether `y` is not the state at the section just reached: a section of a fixed run
+    /// that nothing observes ([`Engine::unobserved_section`]), reached by a flight carried
+    /// past it ([`Pending`](super::flight::Pending)), which goes on from its own start, not
+    /// from `y`; `y` then holds the state that flight started from until the flight forms the
+    /// state again (at its contact or at the next section). Cleared by the section's check,
+    /// which then records no state.
+    pub(super) section_unformed: bool,
     /// Free, or held on a stop.
     pub(super) mode: Mode,
     /// Impacts over the whole run.
