@@ -90,9 +90,14 @@ impl Scratch {
         y: &DVector<f64>,
         tau: f64,
     ) -> Option<Vec<nalgebra::Complex<f64>>> {
-        let carried = std::mem::take(&mut self.carried);
-        (!carried.is_empty() && self.carried_tau == tau && self.carried_state == y.as_slice())
-            .then_some(carried)
+        if !self.carried.is_empty() && self.carried_tau == tau && self.carried_state == y.as_slice()
+        {
+            Some(std::mem::take(&mut self.carried))
+        } else {
+            // Used up, its storage kept for the next carry.
+            self.carried.clear();
+            None
+        }
     }
 }
 
@@ -280,7 +285,13 @@ impl Engine<'_> {
         let storage = std::mem::take(&mut self.work.flight_storage);
         let flight = match carried {
             Some(deviation) => match self.free.flight_with_deviation(deviation, phase) {
-                Ok(flight) => flight,
+                Ok(flight) => {
+                    // The last flight's storage holds the next carry (empty: none yet), so
+                    // that a carry allocates nothing.
+                    self.work.carried = storage;
+                    self.work.carried.clear();
+                    flight
+                }
                 Err(_) => self.free.flight_at_phase(&state.y, phase, storage),
             },
             None => self.free.flight_at_phase(&state.y, phase, storage),
