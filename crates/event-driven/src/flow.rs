@@ -451,8 +451,12 @@ impl LinearFlow {
         let m = 2 * self.dofs;
         let form = match &self.steady {
             Some(p) => {
-                storage.clear();
-                storage.resize(m, C64::default());
+                // Only the kept modes' entries are written, and only they are ever read (the
+                // others stay as they were: zero from when the storage was sized).
+                if storage.len() != m {
+                    storage.clear();
+                    storage.resize(m, C64::default());
+                }
                 let mut deviation = storage;
                 let y = y.as_slice();
                 let (rows_re, rows_im) = &self.inverse_rows;

@@ -83,14 +83,12 @@ impl Engine<'_> {
     /// ([`Pair::acceleration_rows`]): the terms left out are exact zeros, so the value is the
     /// dense sum's.
     pub(super) fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
-        let m = self.model;
         let (sin, cos) = self.forcing_at(tau);
         let y = y.as_slice();
         p.acceleration_rows
             .iter()
             .map(|r| {
-                let i = r.row;
-                let mut f = m.forcing_cos[i] * cos + m.forcing_sin[i] * sin;
+                let mut f = r.forcing.0 * cos + r.forcing.1 * sin;
                 for &(j, v) in &r.coefficients {
                     f -= v * y[j];
                 }

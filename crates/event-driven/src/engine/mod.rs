@@ -169,8 +169,9 @@ struct Pair {
 /// One row `i` of [`Pair::acceleration_rows`]: `(M⁻¹d)_i (f_i(τ) − Σ_j (K_ij u_j + C_ij u̇_j))`
 /// with only its nonzero coefficients.
 struct AccelerationRow {
-    row: usize,
     mobility: f64,
+    /// The forcing's amplitudes `f_i` on `cos ωt` and `sin ωt` (the model's, copied).
+    forcing: (f64, f64),
     /// `(index into the state, coefficient)`, `K_ij` at `j` then `C_ij` at `n + j`, `j` rising.
     coefficients: Vec<(usize, f64)>,
 }
@@ -258,8 +259,8 @@ impl<'m> Engine<'m> {
                 let acceleration_rows = (0..n)
                     .filter(|&i| mobility[i] != 0.0)
                     .map(|i| AccelerationRow {
-                        row: i,
                         mobility: mobility[i],
+                        forcing: (model.forcing_cos[i], model.forcing_sin[i]),
                         coefficients: (0..n)
                             .flat_map(|j| {
                                 let k = (j, model.stiffness[(i, j)]);
