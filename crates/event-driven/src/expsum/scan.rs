@@ -203,12 +203,16 @@ impl ChunkSource for SteppedChunks<'_> {
 pub(super) fn mid_values(terms: &[Term], rows: &[C64]) -> (f64, f64, f64) {
     let n = terms.len();
     let (mut fm, mut dm, mut ddm) = (0.0, 0.0, 0.0);
-    for (j, t) in terms.iter().enumerate() {
+    // The three rows as slices of the terms' length: no index checks in the loop.
+    let (value, rows) = rows.split_at(n);
+    let (slope, rows) = rows.split_at(n);
+    let curve = &rows[..n];
+    for (((t, &e0), &e1), &e2) in terms.iter().zip(value).zip(slope).zip(curve) {
         let c = t.poly[0];
         let re = |x: C64| c.re * x.re - c.im * x.im;
-        fm += re(rows[j]);
-        dm += re(rows[n + j]);
-        ddm += re(rows[2 * n + j]);
+        fm += re(e0);
+        dm += re(e1);
+        ddm += re(e2);
     }
     (fm, dm, ddm)
 }
