@@ -350,8 +350,10 @@ impl Engine<'_> {
         if beyond {
             // To the section; the flight goes on after it (`continue_pending`). The state
             // there is formed only for a section something observes.
-            if Self::unobserved_section(state, plan) {
+            if self.unobserved_section(state, plan) {
                 state.section_unformed = true;
+                #[cfg(test)]
+                self.unformed_sections.set(self.unformed_sections.get() + 1);
             } else {
                 flight.state_into(horizon, &mut state.y);
             }

@@ -211,6 +211,12 @@ pub(crate) struct Engine<'m> {
     /// ([`flight::Pending`]): one contact pair, the flow has a steady response, and two
     /// periods of the fixed grid's chunks are cached ([`crate::expsum::fixed_grid_reach`]).
     carries_sections: bool,
+    /// Tests only: form the state at every section, even one nothing observes
+    /// ([`Engine::unobserved_section`]), and count those that are not formed.
+    #[cfg(test)]
+    form_every_section: bool,
+    #[cfg(test)]
+    unformed_sections: Cell<u64>,
 }
 
 impl<'m> Engine<'m> {
@@ -336,6 +342,10 @@ impl<'m> Engine<'m> {
             work: Scratch::default(),
             forcing: Cell::new((f64::NAN, 0.0, 0.0)),
             carries_sections,
+            #[cfg(test)]
+            form_every_section: false,
+            #[cfg(test)]
+            unformed_sections: Cell::new(0),
         })
     }
 
