@@ -72,6 +72,10 @@ pub struct LinearFlow {
     /// `V⁻¹` row by row (row `k` at `k·2n..(k + 1)·2n`), real and imaginary parts apart: the
     /// modal coordinates of a state as contiguous dot products.
     inverse_rows: (Vec<f64>, Vec<f64>),
+    /// `V⁻¹` column by column over the kept modes only (column `j` at
+    /// `j·kept..(j + 1)·kept`, in the order of `kept`): a jump of state entry `j` as one
+    /// contiguous run of products ([`Self::add_jump`]).
+    kept_inverse_columns: Vec<C64>,
     /// The eigenvectors column by column (column `k` at `k·2n..(k + 1)·2n`), real and
     /// imaginary parts apart: a state from its modal coordinates as contiguous sums.
     mode_columns: (Vec<f64>, Vec<f64>),
@@ -350,6 +354,10 @@ impl LinearFlow {
             )
         };
         let inverse_rows = apart(&inverse.transpose());
+        let kept_inverse_columns = (0..2 * n)
+            .flat_map(|j| kept.iter().map(move |&(k, _)| (k, j)))
+            .map(|(k, j)| inverse[(k, j)])
+            .collect();
         let mode_columns = apart(&modes);
         Ok(Self {
             dofs: n,
@@ -359,6 +367,7 @@ impl LinearFlow {
             modes,
             inverse,
             inverse_rows,
+            kept_inverse_columns,
             mode_columns,
             plus,
             minus,
@@ -518,15 +527,21 @@ impl LinearFlow {
     /// `after` (an impact's velocity change): `h += V⁻¹ (after − before)`, over the entries
     /// that changed only.
     pub(crate) fn add_jump(&self, deviation: &mut [C64], before: &[f64], after: &[f64]) {
-        let m = 2 * self.dofs;
-        let (rows_re, rows_im) = &self.inverse_rows;
-        for (j, (&b, &a)) in before.iter().zip(after).enumerate() {
+        let count = self.kept.len();
+        if count == 0 {
+            return;
+        }
+        for (column, (&b, &a)) in self
+            .kept_inverse_columns
+            .chunks_exact(count)
+            .zip(before.iter().zip(after))
+        {
             if a == b {
                 continue;
             }
             let delta = a - b;
-            for &(k, _) in &self.kept {
-                deviation[k] += C64::new(rows_re[k * m + j], rows_im[k * m + j]) * delta;
+            for (&(k, _), &v) in self.kept.iter().zip(column) {
+                deviation[k] += v * delta;
             }
         }
     }
