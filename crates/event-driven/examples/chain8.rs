@@ -85,24 +85,26 @@
 //! summaries 16 %, the chunk tests and polish of the searches 35 %, the contact states 13 %.
 //!
 //! Measured again (branch h24-core3 against b5cf96f's and main's binaries, alternated, five
-//! runs each, medians of CPU time, load average 2.5 to 3.5): 0.91 s of one core at b5cf96f
-//! (368 735 impacts, 405 000 impacts/s), 0.88 s at main (368 712) and 0.84 s after (368 712,
-//! 439 000 impacts/s): ×1.08 over b5cf96f, ×1.05 over main. Callgrind, first 1000 periods:
-//! 774.1e6 instructions at b5cf96f (18 411 impacts), 733.4e6 at main (18 418), 698.8e6 after
-//! (18 418 impacts, 37 900 per impact), −9.7 % and −4.7 %, every result bit for bit main's.
-//! What moved it: the fixed grid's chunk rows looked up inline, a cached chunk's midpoint values
-//! summed without index checks, a contact's relative velocities and free impact over the
-//! nonzero entries of `d` and `M⁻¹d`, and a carried deviation's storage reused (a carry
-//! allocated and freed a vector per impact). The unobserved sections that gain the unit 7 % do
-//! not apply: the chain's flights still restart at each section. Issue 24's ×2 is far from
-//! reached. Where the time goes now (first 1000 periods): the searches 34 % (the chunk tests
-//! and their set-up 20 %, the polish 14 %, of which the exponentials advanced to the root 6 %),
-//! the summaries 17 %, the contact states 13 % (the state from all kept modes, a dense product
-//! already packed two wide), the final stretch's amplitudes 10 % (none in a longer run),
-//! writing the searched pairs' terms 5.6 %, the carried deviation 4.5 %. What is left for ×2 is
-//! structural: a contact's state formed only where it is read (its pair's rows, the largest
-//! position and velocity), summaries updated across an impact rather than formed again,
-//! polishing only the flight's winning contact.
+//! runs each, medians of CPU time, load average 2.5 to 3.5; two such alternations): 0.91 and
+//! 0.96 s of one core at b5cf96f (368 735 impacts, about 395 000 impacts/s), 0.88 and 0.92 s
+//! at main (368 712) and 0.84 and 0.88 s after (368 712, about 430 000 impacts/s): ×1.08 over
+//! b5cf96f, ×1.05 over main. Callgrind, first 1000 periods: 774.1e6 instructions at b5cf96f
+//! (18 411 impacts), 733.4e6 at main (18 418), 693.5e6 after (18 418 impacts, 37 700 per
+//! impact), −10.4 % and −5.4 %, every result bit for bit main's. What moved it: the fixed
+//! grid's chunk rows looked up inline, a cached chunk's midpoint values summed without index
+//! checks, a contact's relative velocities and free impact over the nonzero entries of `d` and
+//! `M⁻¹d`, a carried deviation's storage reused (a carry allocated and freed a vector per
+//! impact) and its jump added over `V⁻¹`'s kept-mode columns laid out contiguously. The
+//! unobserved sections that gain the unit 7 % do not apply: the chain's flights still restart
+//! at each section. Issue 24's ×2 is far from reached. Where the time goes now (first 1000
+//! periods): the searches 35 % (the chunk tests and their set-up 20 %, the polish 14 %, of
+//! which the exponentials advanced to the root 6 %), the summaries 17 %, the contact states
+//! 13 % (the state from all kept modes, a dense product already packed two wide), the final
+//! stretch's amplitudes 10 % (none in a longer run), writing the searched pairs' terms 5.7 %,
+//! the carried deviation 3.6 %. What is left for ×2 is structural: a contact's state formed
+//! only where it is read (its pair's rows, the largest position and velocity), summaries
+//! updated across an impact rather than formed again, polishing only the flight's winning
+//! contact.
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};

@@ -66,7 +66,8 @@
 //! alternated, five runs each, medians of `/usr/bin/time -f "%U %e"`; other agents on the
 //! 2-core machine, load average 2.5 to 3.5, wall times within 2 % of the CPU times): 2 000 009
 //! impacts in 1.28 s of one core at b5cf96f (1.56 M impacts/s), 0.91 s at main (2.20 M/s) and
-//! 0.75 s after (2.67 M/s): ×1.71 over b5cf96f, ×1.21 over main. Callgrind over 20 000 periods
+//! 0.75 s after (2.67 M/s): ×1.71 over b5cf96f, ×1.21 over main (a second alternation, the
+//! machine busier: 1.33, 0.93 and 0.77 s, ×1.73 and ×1.21). Callgrind over 20 000 periods
 //! (40 009 impacts): 436.3e6 instructions at b5cf96f (10 900 per impact), 285.0e6 at main
 //! (7 120), 238.9e6 after (5 970), −45 % and −16 %. Every result is bit for bit main's (a
 //! comparison program printing, in full precision, the impacts of the final cycle, the
