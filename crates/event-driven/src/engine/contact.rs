@@ -208,7 +208,12 @@ impl Pair {
 #[inline]
 fn largest_velocity(y: &DVector<f64>) -> f64 {
     let n = y.len() / 2;
-    y.as_slice()[n..]
-        .iter()
-        .fold(0.0, |largest: f64, v| largest.max(v.abs()))
+    largest_magnitude(&y.as_slice()[n..])
+}
+
+/// `max |x_i|` (`0` for none), as nalgebra's `amax` gives it for finite entries (the largest
+/// magnitude is exact in any order), without its generic iteration.
+#[inline]
+pub(super) fn largest_magnitude(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |largest: f64, v| largest.max(v.abs()))
 }

@@ -298,7 +298,8 @@ impl Engine<'_> {
         };
         // Positions are known to rounding relative to their size, not to the gap: an excursion
         // beyond a stop smaller than that is no contact.
-        let depth = self.contact_depth + POSITION_ROUNDING * state.y.rows(0, n).amax();
+        let depth = self.contact_depth
+            + POSITION_ROUNDING * contact::largest_magnitude(&state.y.as_slice()[..n]);
         let watched = WatchedPairs {
             pairs: &self.pairs,
             functionals: self
