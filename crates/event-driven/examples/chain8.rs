@@ -85,18 +85,19 @@
 //! summaries 16 %, the chunk tests and polish of the searches 35 %, the contact states 13 %.
 //!
 //! Measured again (branch h24-core3 against b5cf96f's and main's binaries, alternated, five
-//! runs each, medians of CPU time, load average 2.5 to 3.5; two such alternations): 0.91 and
-//! 0.96 s of one core at b5cf96f (368 735 impacts, about 395 000 impacts/s), 0.88 and 0.92 s
-//! at main (368 712) and 0.84 and 0.88 s after (368 712, about 430 000 impacts/s): ×1.08 over
-//! b5cf96f, ×1.05 over main. Callgrind, first 1000 periods: 774.1e6 instructions at b5cf96f
-//! (18 411 impacts), 733.4e6 at main (18 418), 693.5e6 after (18 418 impacts, 37 700 per
-//! impact), −10.4 % and −5.4 %, every result bit for bit main's. What moved it: the fixed
+//! runs each, medians of CPU time, load average 2.5 to 3.5): 0.99 s of one core at b5cf96f
+//! (368 735 impacts, 372 000 impacts/s), 0.97 s at main (368 712) and 0.87 s after (368 712,
+//! 424 000 impacts/s): ×1.14 over b5cf96f, ×1.11 over main (two earlier alternations, at the
+//! branch's commits c6664ef and 6bef556: 0.91, 0.88 and 0.84 s; 0.96, 0.92 and 0.88 s; ×1.08
+//! and ×1.09 over b5cf96f). Callgrind, first 1000 periods: 774.1e6 instructions at b5cf96f
+//! (18 411 impacts), 733.4e6 at main (18 418), 690.5e6 after (18 418 impacts, 37 500 per
+//! impact), −10.8 % and −5.8 %, every result bit for bit main's. What moved it: the fixed
 //! grid's chunk rows looked up inline, a cached chunk's midpoint values summed without index
 //! checks, a contact's relative velocities and free impact over the nonzero entries of `d` and
 //! `M⁻¹d`, a carried deviation's storage reused (a carry allocated and freed a vector per
-//! impact) and its jump added over `V⁻¹`'s kept-mode columns laid out contiguously. The
-//! unobserved sections that gain the unit 7 % do not apply: the chain's flights still restart
-//! at each section. Issue 24's ×2 is far from reached. Where the time goes now (first 1000
+//! impact) and its jump added over `V⁻¹`'s kept-mode columns laid out contiguously, the
+//! contact depth's largest position taken on the slice. The unobserved sections that gain the
+//! unit 7 % do not apply: the chain's flights still restart at each section. Issue 24's ×2 is far from reached. Where the time goes now (first 1000
 //! periods): the searches 35 % (the chunk tests and their set-up 20 %, the polish 14 %, of
 //! which the exponentials advanced to the root 6 %), the summaries 17 %, the contact states
 //! 13 % (the state from all kept modes, a dense product already packed two wide), the final

@@ -64,12 +64,13 @@
 //!
 //! Measured again (branch h24-core3 against b5cf96f's and main's binaries, the three builds
 //! alternated, five runs each, medians of `/usr/bin/time -f "%U %e"`; other agents on the
-//! 2-core machine, load average 2.5 to 3.5, wall times within 2 % of the CPU times): 2 000 009
-//! impacts in 1.28 s of one core at b5cf96f (1.56 M impacts/s), 0.91 s at main (2.20 M/s) and
-//! 0.75 s after (2.67 M/s): ×1.71 over b5cf96f, ×1.21 over main (a second alternation, the
-//! machine busier: 1.33, 0.93 and 0.77 s, ×1.73 and ×1.21). Callgrind over 20 000 periods
+//! 2-core machine, load average 2.5 to 3.5, wall times within 3 % of the CPU times): 2 000 009
+//! impacts in 1.33 s of one core at b5cf96f (1.50 M impacts/s), 0.94 s at main (2.13 M/s) and
+//! 0.77 s after (2.60 M/s): ×1.73 over b5cf96f, ×1.22 over main (two earlier alternations, at
+//! the branch's commits c6664ef and 6bef556, whose unit runs the same instructions: 1.28, 0.91
+//! and 0.75 s, ×1.71; 1.33, 0.93 and 0.77 s, ×1.73). Callgrind over 20 000 periods
 //! (40 009 impacts): 436.3e6 instructions at b5cf96f (10 900 per impact), 285.0e6 at main
-//! (7 120), 238.9e6 after (5 970), −45 % and −16 %. Every result is bit for bit main's (a
+//! (7 120), 238.8e6 after (5 970), −45 % and −16 %. Every result is bit for bit main's (a
 //! comparison program printing, in full precision, the impacts of the final cycle, the
 //! stroboscopic states, the final state and the amplitudes of 24 runs of the unit, ω from 0.8
 //! to 5, two dampings, fixed and steady-state runs, and of two 300-period chain runs: all
@@ -81,20 +82,22 @@
 //! most recent fixed grid is taken without a rotation, and a search that departs from a stop
 //! forms no quadratic estimate; a flight's deviation is written over its storage; a cached
 //! chunk's midpoint values are summed without index checks. Issue 24's ×2 is not reached
-//! (×1.71 in CPU time, ×1.83 in instructions). Where the time goes now (callgrind): the search
+//! (×1.73 in CPU time, ×1.83 in instructions). Where the time goes now (callgrind): the search
 //! 60 % (the chunk tests and their set-up, some four chunks a flight, 23 %; the polish 23 %, of
 //! which the exponentials advanced to the root 8.6 %), the contact 10 % (its forcing phase's
 //! `sin`/`cos` 2 %), the glue of the step (watch, pending flight, scratch) 11 %, the state at
 //! the contact 6.5 %, the flight's start 4.5 % and its terms 3.4 %; in time (`perf`) the polish
 //! weighs more (28 %: its Halley steps' divisions and square roots, the exponentials' series).
-//! Measured and not taken: a fat-LTO, one-codegen-unit release profile (233.1e6 instructions,
-//! the same CPU time; on the chain 715.8e6, +2.4 %); the modal deviation carried across the contact as the chain's flights
-//! do (+3.5 % instructions for a two-degree-of-freedom unit, and other last bits); the ends of
-//! excluded chunks left unevaluated until the next chunk is searched (+2 % here, −1 % on the
-//! chain); each term's exponential series stepped on its own rather than four side by side
-//! (no change here, +5.5 % on the chain); inline `ceil`/`round` (fewer calls, no measurable
-//! time); the fourth-derivative bound of a steady search without the tests that choose its
-//! path (no change).
+//! Measured and not taken: a fat-LTO, one-codegen-unit release profile (at c6664ef: 233.1e6
+//! instructions, the same CPU time; on the chain 715.8e6, +2.4 %); the modal deviation carried
+//! across the contact as the chain's flights do (+3.5 % instructions for a two-degree-of-freedom
+//! unit, and other last bits); the ends of excluded chunks left unevaluated until the next
+//! chunk is searched (+2 % here, −1 % on the chain); each term's exponential series stepped on
+//! its own rather than four side by side (no change here, +5.5 % on the chain); inline
+//! `ceil`/`round` (fewer calls, no measurable time); the fourth-derivative bound of a steady
+//! search without the tests that choose its path (no change); a functional's kept weights and
+//! the kept rates read in order when a flight writes its terms (+4 % on the chain, the
+//! compiler inlining otherwise).
 
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, SimulationOptions, Start};
