@@ -84,28 +84,27 @@
 //! first 1000 periods the final stretch's amplitudes are 10 % (none in a longer run); the
 //! summaries 16 %, the chunk tests and polish of the searches 35 %, the contact states 13 %.
 //!
-//! Measured again (branch h24-core3 against b5cf96f's and main's binaries, alternated, five
-//! runs each, medians of CPU time, load average 2.5 to 3.5): 0.99 s of one core at b5cf96f
-//! (368 735 impacts, 372 000 impacts/s), 0.97 s at main (368 712) and 0.87 s after (368 712,
-//! 424 000 impacts/s): ×1.14 over b5cf96f, ×1.11 over main (two earlier alternations, at the
-//! branch's commits c6664ef and 6bef556: 0.91, 0.88 and 0.84 s; 0.96, 0.92 and 0.88 s; ×1.08
-//! and ×1.09 over b5cf96f). Callgrind, first 1000 periods: 774.1e6 instructions at b5cf96f
-//! (18 411 impacts), 733.4e6 at main (18 418), 690.5e6 after (18 418 impacts, 37 500 per
-//! impact), −10.8 % and −5.8 %, every result bit for bit main's. What moved it: the fixed
-//! grid's chunk rows looked up inline, a cached chunk's midpoint values summed without index
-//! checks, a contact's relative velocities and free impact over the nonzero entries of `d` and
-//! `M⁻¹d`, a carried deviation's storage reused (a carry allocated and freed a vector per
-//! impact) and its jump added over `V⁻¹`'s kept-mode columns laid out contiguously, the
-//! contact depth's largest position taken on the slice. The unobserved sections that gain the
-//! unit 7 % do not apply: the chain's flights still restart at each section. Issue 24's ×2 is far from reached. Where the time goes now (first 1000
-//! periods): the searches 35 % (the chunk tests and their set-up 20 %, the polish 14 %, of
-//! which the exponentials advanced to the root 6 %), the summaries 17 %, the contact states
-//! 13 % (the state from all kept modes, a dense product already packed two wide), the final
-//! stretch's amplitudes 10 % (none in a longer run), writing the searched pairs' terms 5.7 %,
-//! the carried deviation 3.6 %. What is left for ×2 is structural: a contact's state formed
-//! only where it is read (its pair's rows, the largest position and velocity), summaries
-//! updated across an impact rather than formed again, polishing only the flight's winning
-//! contact.
+//! Measured again (branch h24-core3 against b5cf96f's and main's binaries, alternated, five runs
+//! each, medians of CPU time, load average 2.5 to 3.5): 0.99 s of one core at b5cf96f (368 735
+//! impacts, 372 000 impacts/s), 0.97 s at main (368 712) and 0.87 s after (368 712, 424 000
+//! impacts/s): ×1.14 over b5cf96f, ×1.11 over main (two earlier alternations, at the branch's
+//! commits c6664ef and 6bef556: 0.91, 0.88 and 0.84 s; 0.96, 0.92 and 0.88 s; ×1.08 and ×1.09 over
+//! b5cf96f). Callgrind, first 1000 periods: 774.1e6 instructions at b5cf96f (18 411 impacts),
+//! 733.4e6 at main (18 418), 690.5e6 after (18 418 impacts, 37 500 per impact), −10.8 % and −5.8 %,
+//! every result bit for bit main's. What moved it: the fixed grid's chunk rows looked up inline, a
+//! cached chunk's midpoint values summed without index checks, a contact's relative velocities and
+//! free impact over the nonzero entries of `d` and `M⁻¹d`, a carried deviation's storage reused (a
+//! carry allocated and freed a vector per impact) and its jump added over `V⁻¹`'s kept-mode columns
+//! laid out contiguously, the contact depth's largest position taken on the slice. The unobserved
+//! sections that gain the unit 7 % do not apply: the chain's flights still restart at each section.
+//! Issue 24's ×2 is far from reached. Where the time goes now (first 1000 periods): the searches
+//! 35 % (the chunk tests and their set-up 20 %, the polish 14 %, of which the exponentials advanced
+//! to the root 6 %), the summaries 17 %, the contact states 13 % (the state from all kept modes, a
+//! dense product already packed two wide), the final stretch's amplitudes 10 % (none in a longer
+//! run), writing the searched pairs' terms 5.7 %, the carried deviation 3.6 %. What is left for ×2
+//! is structural: a contact's state formed only where it is read (its pair's rows, the largest
+//! position and velocity), summaries updated across an impact rather than formed again, polishing
+//! only the flight's winning contact.
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};
