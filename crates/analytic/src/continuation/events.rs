@@ -51,6 +51,13 @@ pub(crate) const POLE_WIDTH: f64 = 1e-6;
 /// 0.026 at a sign change of the test through its pole at a vanishing impact (2.19307 rad/s).
 pub(crate) const BRANCH_RANK_DEFICIENCY: f64 = 1e-5;
 
+/// The unit vector from `a` to `b` (`None` when they coincide).
+fn unit_chord(a: &Node, b: &Node) -> Option<Vec<f64>> {
+    let chord: Vec<f64> = a.x.iter().zip(&b.x).map(|(p, q)| q - p).collect();
+    let norm = chord.iter().map(|v| v * v).sum::<f64>().sqrt();
+    (norm > 0.0 && norm.is_finite()).then(|| chord.iter().map(|v| v / norm).collect())
+}
+
 /// `σ_min / σ_max` of `R_X` (`n × (n + 1)`); 1 when it cannot be formed.
 fn rank_deficiency(jacobian: &DMatrix<f64>) -> f64 {
     let sv = jacobian.singular_values();
@@ -158,9 +165,7 @@ fn event_at<M: BranchModel>(
         // At a branch point R_X has a two-dimensional null space and the bordered tangent
         // solve picks an arbitrary member of it: the branch's own direction there is the
         // chord between the two regular points around it.
-        let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
-        let norm = chord.iter().map(|v| v * v).sum::<f64>().sqrt();
-        node.tangent = chord.iter().map(|v| v / norm).collect();
+        node.tangent = unit_chord(a, b)?;
         node.point.domega_ds = node.tangent[n];
     }
     // The branch test is accepted on its determinant `det(M − I)`, zero at a branch point
@@ -247,7 +252,13 @@ fn locate_branch_point<M: BranchModel>(
         return Some((theta, node));
     };
     let eval = system.evaluate(&x)?;
-    let tangent = system.tangent(M::jacobian(&eval), &a.tangent)?;
+    // Solved to rounding, `R_X` there may have lost rank so far that the bordered tangent
+    // solve breaks down (the modal flow's rounding met it on the paper's `+-` branch point,
+    // issue #22's case); the tangent at a branch point is arbitrary anyway, and
+    // [`event_at`] replaces it by the chord from `a` to `b`, so that chord serves here too.
+    let tangent = system
+        .tangent(M::jacobian(&eval), &a.tangent)
+        .or_else(|| unit_chord(a, b))?;
     Some((theta, system.describe(&x, &eval, &tangent, a.point.branch)))
 }
 

@@ -52,7 +52,8 @@ impl<'a> UnitBranch<'a> {
             impacts,
             signature.symmetries(),
             std::f64::consts::TAU * f64::from(signature.period()),
-        );
+        )
+        .with_modal_flow();
         Self {
             unit,
             stops: *stops,

@@ -21,6 +21,7 @@ pub mod cycle_equations;
 pub mod motion;
 pub mod sequence_orbit;
 pub mod sequence_search;
+pub(crate) mod unit_modes;
 pub(crate) mod verdicts;
 
 use crate::cycle_equations::{CycleEquations, ImpactCondition};
