@@ -22,7 +22,7 @@ use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
 use polish::{polish, polish_from, Crossing, Exponentials};
 use scan::{CachedChunks, ChunkSource, Chunks, SteppedChunks};
 pub use search::Tolerances;
-pub(crate) use summary::{summarize_two, ModeTerm, Summary};
+pub(crate) use summary::{summarize_block, ModeTerm, Summary, LANES};
 
 /// How far the fixed grid of a search whose fastest rate is at most `fastest` (`|re| + |im|`)
 /// keeps its chunks' exponentials ([`CACHED_CHUNKS`] chunks of `2w`, `w = π/(8 fastest)`): a
