@@ -16,11 +16,11 @@ mod summary;
 pub use cache::SearchStack;
 use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
-    CACHED_CHUNKS, CHUNK_ROWS, SEED_DIVISIONS,
+    CACHED_CHUNKS, CHUNK_ROWS, PACKED_ROWS, SEED_DIVISIONS,
 };
 use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
 use polish::{polish, polish_from, Crossing, Exponentials};
-use scan::{CachedChunks, ChunkSource, Chunks, SteppedChunks};
+use scan::{packed_chunks, CachedChunks, ChunkSource, Chunks, SteppedChunks};
 pub use search::Tolerances;
 pub(crate) use summary::{summarize_block, ModeTerm, Summary, LANES};
 
