@@ -339,7 +339,20 @@ impl Exponentials {
             }
         } else {
             let from = series_start_fine(largest);
-            for (values, terms) in self.values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
+            let n = self.values.len().min(terms.len());
+            let (values, terms) = (&mut self.values[..n], &terms[..n]);
+            // Two terms at a time with AVX, the rest (and all without it) below.
+            #[cfg(target_arch = "x86_64")]
+            let done = if std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: the CPU has AVX (checked just above).
+                unsafe { series_pairs_avx(values, terms, delta, from) }
+            } else {
+                0
+            };
+            #[cfg(not(target_arch = "x86_64"))]
+            let done = 0;
+            let (values, terms) = (&mut values[done..], &terms[done..]);
+            for (values, terms) in values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
                 let mut z = [C64::default(); TOGETHER];
                 let mut p = [C64::new(INVERSE_FACTORIALS[from], 0.0); TOGETHER];
                 for (z, t) in z.iter_mut().zip(terms) {
@@ -356,5 +369,102 @@ impl Exponentials {
             }
         }
         self.at = s;
+    }
+}
+
+/// [`Exponentials::advance_together`]'s series for the terms in pairs, two complex numbers to
+/// an AVX register: `e_j ← e_j·(p_j z_j + 1)`, `p_j` by Horner's rule from
+/// `INVERSE_FACTORIALS[from]`, `z_j = μ_j δ`. Each complex product is [`Complex`]'s (`re =
+/// a.re b.re − a.im b.im`, `im = a.re b.im + a.im b.re`, the sum's operands swapped, which
+/// rounds the same) and a real coefficient is added to the real part only (`−0` to the
+/// imaginary part, which leaves it as it is, its sign too): the same bits as term by term.
+/// Returns how many terms it advanced (all but a last odd one).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn series_pairs_avx(values: &mut [C64], terms: &[Term], delta: f64, from: usize) -> usize {
+    use std::arch::x86_64::*;
+    // `a·b` for two complex numbers in each operand.
+    let product = |a: __m256d, b: __m256d| {
+        let straight = _mm256_mul_pd(a, _mm256_movedup_pd(b));
+        let crossed = _mm256_mul_pd(
+            _mm256_permute_pd::<0b0101>(a),
+            _mm256_permute_pd::<0b1111>(b),
+        );
+        _mm256_addsub_pd(straight, crossed)
+    };
+    let real = |c: f64| _mm256_set_pd(-0.0, c, -0.0, c);
+    let step = _mm256_set1_pd(delta);
+    let start = _mm256_set_pd(0.0, INVERSE_FACTORIALS[from], 0.0, INVERSE_FACTORIALS[from]);
+    let pairs = values.len().min(terms.len()) / 2;
+    for (e, t) in values
+        .chunks_exact_mut(2)
+        .zip(terms.chunks_exact(2))
+        .take(pairs)
+    {
+        let (r0, r1) = (t[0].rate, t[1].rate);
+        let z = _mm256_mul_pd(_mm256_set_pd(r1.im, r1.re, r0.im, r0.re), step);
+        let mut p = start;
+        for &c in &INVERSE_FACTORIALS[from + 1..] {
+            p = _mm256_add_pd(product(p, z), real(c));
+        }
+        let factor = _mm256_add_pd(product(p, z), real(1.0));
+        let old = _mm256_set_pd(e[1].im, e[1].re, e[0].im, e[0].re);
+        let mut new = [0.0; 4];
+        // SAFETY: `new` holds four `f64`, the unaligned store's 32 bytes.
+        unsafe { _mm256_storeu_pd(new.as_mut_ptr(), product(old, factor)) };
+        e[0] = C64::new(new[0], new[1]);
+        e[1] = C64::new(new[2], new[3]);
+    }
+    2 * pairs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The series advanced two terms at a time with AVX is bit for bit the series term by
+    /// term, at every degree.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn a_series_advanced_in_pairs_is_the_series_term_by_term() {
+        if !std::arch::is_x86_feature_detected!("avx") {
+            return;
+        }
+        let value = |i: usize, a: f64| (a * i as f64 + 0.3).sin() * 10f64.powi(i as i32 % 5 - 2);
+        for n in [0, 1, 2, 3, 17] {
+            let terms: Vec<Term> = (0..n)
+                .map(|j| Term {
+                    poly: [C64::default(); 4],
+                    rate: C64::new(-value(j, 0.7).abs(), value(j, 3.1)),
+                })
+                .collect();
+            let start: Vec<C64> = (0..n)
+                .map(|j| C64::new(value(j, 1.3), value(j, 2.9)))
+                .collect();
+            for (from, delta) in [(0, 2e-3), (4, -1e-3), (7, 1e-7), (8, 1e-9)] {
+                let expected: Vec<C64> = start
+                    .iter()
+                    .zip(&terms)
+                    .map(|(e, t)| {
+                        let z = t.rate * delta;
+                        let mut p = C64::new(INVERSE_FACTORIALS[from], 0.0);
+                        for c in &INVERSE_FACTORIALS[from + 1..] {
+                            p = p * z + *c;
+                        }
+                        *e * (p * z + 1.0)
+                    })
+                    .collect();
+                let mut values = start.clone();
+                // SAFETY: the CPU has AVX.
+                let done = unsafe { series_pairs_avx(&mut values, &terms, delta, from) };
+                assert_eq!(done, n - n % 2);
+                let bits = |v: &[C64]| {
+                    v.iter()
+                        .map(|c| (c.re.to_bits(), c.im.to_bits()))
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&values[..done]), bits(&expected[..done]), "{n} terms");
+            }
+        }
     }
 }
