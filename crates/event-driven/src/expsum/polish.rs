@@ -159,6 +159,64 @@ const LOCAL_FACTORIALS: [f64; 8] = [
     1.0 / 5040.0,
 ];
 
+/// [`Local::at`]'s sums: `Σ Re(c_k e)` over the terms for `k = 0..=3` (`c_k = cμᵏ`, the
+/// [`Derivatives`]), then `Σ Re(c₃ μ^{k−3} e)` for `k = 4..=7`; and the fastest rate (as
+/// `|re| + |im|`).
+#[inline(always)]
+fn local_sums(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> ([f64; 8], f64) {
+    let mut sums = [0.0; 8];
+    let mut fastest: f64 = 0.0;
+    for ((c, &e), t) in derivatives.iter().zip(exps).zip(terms) {
+        let re = |a: C64| a.re * e.re - a.im * e.im;
+        sums[0] += re(c[0]);
+        sums[1] += re(c[1]);
+        sums[2] += re(c[2]);
+        sums[3] += re(c[3]);
+        // `c μ^k e^{μ s}` for k = 4..=7.
+        let mut x = c[3] * e;
+        for sum in &mut sums[4..] {
+            x *= t.rate;
+            *sum += x.re;
+        }
+        fastest = fastest.max(l1(t.rate));
+    }
+    (sums, fastest)
+}
+
+/// [`local_sums`] with its first four sums side by side in an AVX register (each
+/// `c.re·e.re − c.im·e.im` as there, summed over the terms in order from `+0`), the rest as
+/// there: the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn local_sums_avx(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> ([f64; 8], f64) {
+    use std::arch::x86_64::*;
+    let mut sums = [0.0; 8];
+    let mut fastest: f64 = 0.0;
+    // Lanes `[Σ Re(c₀e), Σ Re(c₂e), Σ Re(c₁e), Σ Re(c₃e)]`, as `_mm256_hsub_pd` leaves them.
+    let mut low = _mm256_setzero_pd();
+    for ((c, &e), t) in derivatives.iter().zip(exps).zip(terms) {
+        let e4 = _mm256_set_pd(e.im, e.re, e.im, e.re);
+        let first = _mm256_set_pd(c[1].im, c[1].re, c[0].im, c[0].re);
+        let second = _mm256_set_pd(c[3].im, c[3].re, c[2].im, c[2].re);
+        low = _mm256_add_pd(
+            low,
+            _mm256_hsub_pd(_mm256_mul_pd(first, e4), _mm256_mul_pd(second, e4)),
+        );
+        // `c μ^k e^{μ s}` for k = 4..=7.
+        let mut x = c[3] * e;
+        for sum in &mut sums[4..] {
+            x *= t.rate;
+            *sum += x.re;
+        }
+        fastest = fastest.max(l1(t.rate));
+    }
+    let mut out = [0.0; 4];
+    // SAFETY: `out` holds four `f64`, the unaligned store's 32 bytes.
+    unsafe { _mm256_storeu_pd(out.as_mut_ptr(), low) };
+    sums[..4].copy_from_slice(&[out[0], out[2], out[1], out[3]]);
+    (sums, fastest)
+}
+
 impl Local {
     /// The polynomial at `start`, given `exps[j] = e^{μ_j start}`; `None` unless every
     /// polynomial of `f` is a constant ([`Derivatives`] formed) and the exponentials are
@@ -169,22 +227,15 @@ impl Local {
         if derivatives.is_empty() || exps.len() != derivatives.len() {
             return None;
         }
-        let mut sums = [0.0; 8];
-        let mut fastest: f64 = 0.0;
-        for ((c, &e), t) in derivatives.iter().zip(exps).zip(&g.f.terms) {
-            let re = |a: C64| a.re * e.re - a.im * e.im;
-            sums[0] += re(c[0]);
-            sums[1] += re(c[1]);
-            sums[2] += re(c[2]);
-            sums[3] += re(c[3]);
-            // `c μ^k e^{μ s}` for k = 4..=7.
-            let mut x = c[3] * e;
-            for sum in &mut sums[4..] {
-                x *= t.rate;
-                *sum += x.re;
-            }
-            fastest = fastest.max(l1(t.rate));
-        }
+        #[cfg(target_arch = "x86_64")]
+        let (sums, fastest) = if std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the CPU has AVX (checked just above).
+            unsafe { local_sums_avx(derivatives, exps, &g.f.terms) }
+        } else {
+            local_sums(derivatives, exps, &g.f.terms)
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let (sums, fastest) = local_sums(derivatives, exps, &g.f.terms);
         let mut coefficients = [0.0; 8];
         for ((a, s), k) in coefficients.iter_mut().zip(sums).zip(LOCAL_FACTORIALS) {
             *a = s * k;
@@ -421,6 +472,41 @@ fn series_pairs_avx(values: &mut [C64], terms: &[Term], delta: f64, from: usize)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A local polynomial's sums with AVX are bit for bit those without.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn a_local_polynomials_sums_with_avx_are_those_without() {
+        if !std::arch::is_x86_feature_detected!("avx") {
+            return;
+        }
+        let value = |i: usize, a: f64| (a * i as f64 + 0.3).sin() * 10f64.powi(i as i32 % 5 - 2);
+        for n in [0, 1, 3, 17] {
+            let terms: Vec<Term> = (0..n)
+                .map(|j| Term {
+                    poly: [C64::default(); 4],
+                    rate: C64::new(-value(j, 0.7).abs(), value(j, 3.1)),
+                })
+                .collect();
+            let derivatives: Vec<[C64; 4]> = (0..n)
+                .map(|j| {
+                    std::array::from_fn(|k| C64::new(value(4 * j + k, 1.1), value(j + k, 2.3)))
+                })
+                .collect();
+            let exps: Vec<C64> = (0..n)
+                .map(|j| C64::new(value(j, 1.3), value(j, 2.9)))
+                .collect();
+            let (sums, fastest) = local_sums(&derivatives, &exps, &terms);
+            // SAFETY: the CPU has AVX.
+            let (packed, packed_fastest) = unsafe { local_sums_avx(&derivatives, &exps, &terms) };
+            assert_eq!(
+                packed.map(f64::to_bits),
+                sums.map(f64::to_bits),
+                "{n} terms"
+            );
+            assert_eq!(packed_fastest.to_bits(), fastest.to_bits());
+        }
+    }
 
     /// The series advanced two terms at a time with AVX is bit for bit the series term by
     /// term, at every degree.
