@@ -630,11 +630,73 @@ fn add_column(re: &[f64], im: &[f64], z: C64, y: &mut [f64]) {
     }
 }
 
+/// [`Flight::state_at`]'s steady form with AVX: each kept mode's
+/// `z_k = (h_k e^{λ_k s} + P⁺_k F + P⁻_k F̄ + P⁰_k)·weight` (`F` the forcing's phase at `s`)
+/// formed two modes to a register, then its column added four entries at once
+/// ([`add_column_avx`]). Complex products as [`Complex`]'s (the imaginary part's sum with
+/// its operands swapped, which rounds the same), the sums in the same order: the same bits
+/// as [`Flight::state_at`]'s loop. `y` is zero on entry.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn steady_state_avx(
+    f: &LinearFlow,
+    (p, deviation, forced): (&SteadyResponse, &[C64], C64),
+    (s, known): (f64, Option<&[C64]>),
+    y: &mut [f64],
+) {
+    use std::arch::x86_64::*;
+    let m = 2 * f.dofs;
+    let (columns_re, columns_im) = &f.mode_columns;
+    let y = &mut y[..m];
+    let product = |a: __m256d, b: __m256d| {
+        let straight = _mm256_mul_pd(a, _mm256_movedup_pd(b));
+        let crossed = _mm256_mul_pd(
+            _mm256_permute_pd::<0b0101>(a),
+            _mm256_permute_pd::<0b1111>(b),
+        );
+        _mm256_addsub_pd(straight, crossed)
+    };
+    let pack = |a: C64, b: C64| _mm256_set_pd(b.im, b.re, a.im, a.re);
+    let (plus, minus) = (pack(forced, forced), pack(forced.conj(), forced.conj()));
+    let el = |j: usize, k: usize| known.map_or_else(|| cexp(f.rates[k], s), |e| e[j]);
+    let mut add = |k: usize, z: C64| {
+        let column = k * m..(k + 1) * m;
+        add_column_avx(&columns_re[column.clone()], &columns_im[column], z, y);
+    };
+    let pairs = f.kept.chunks_exact(2);
+    let last = pairs.remainder();
+    for (i, pair) in pairs.enumerate() {
+        let ((k0, w0), (k1, w1)) = (pair[0], pair[1]);
+        let h = pack(deviation[k0], deviation[k1]);
+        let e = pack(el(2 * i, k0), el(2 * i + 1, k1));
+        let mut z = product(h, e);
+        z = _mm256_add_pd(z, product(pack(p.plus[k0], p.plus[k1]), plus));
+        z = _mm256_add_pd(z, product(pack(p.minus[k0], p.minus[k1]), minus));
+        z = _mm256_add_pd(z, pack(p.constant[k0], p.constant[k1]));
+        z = _mm256_mul_pd(z, _mm256_set_pd(w1, w1, w0, w0));
+        let mut out = [0.0; 4];
+        // SAFETY: `out` holds four `f64`, the unaligned store's 32 bytes.
+        unsafe { _mm256_storeu_pd(out.as_mut_ptr(), z) };
+        add(k0, C64::new(out[0], out[1]));
+        add(k1, C64::new(out[2], out[3]));
+    }
+    if let &[(k, weight)] = last {
+        let j = f.kept.len() - 1;
+        let zk = (deviation[k] * el(j, k)
+            + p.plus[k] * forced
+            + p.minus[k] * forced.conj()
+            + p.constant[k])
+            * weight;
+        add(k, zk);
+    }
+}
+
 /// `y[i] += re[i]·z.re − im[i]·z.im` over equal-length slices ([`LinearFlow::add_mode`]),
 /// four entries at once with AVX: each entry's operations in the same order (no FMA), so the
 /// same bits as entry by entry.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
+#[inline]
 fn add_column_avx(re: &[f64], im: &[f64], z: C64, y: &mut [f64]) {
     use std::arch::x86_64::*;
     let m = y.len();
@@ -704,6 +766,14 @@ impl Flight<'_> {
                 phase,
             } => {
                 let forced = ep * phase;
+                // A chain's state with AVX when the CPU has it (the same bits).
+                #[cfg(target_arch = "x86_64")]
+                if 2 * f.dofs >= AVX_COLUMN && std::arch::is_x86_feature_detected!("avx") {
+                    let at = (s, known);
+                    // SAFETY: the CPU has AVX (checked just above).
+                    unsafe { steady_state_avx(f, (p, deviation, forced), at, y.as_mut_slice()) };
+                    return;
+                }
                 for (j, &(k, weight)) in f.kept.iter().enumerate() {
                     let el = known.map_or_else(|| cexp(f.rates[k], s), |e| e[j]);
                     let zk = (deviation[k] * el
@@ -1084,6 +1154,49 @@ mod tests {
             exits > 1000 && searches > 2000,
             "{exits} exits, {searches} searches"
         );
+    }
+
+    /// A chain's state at a contact (its exponentials known, and not) is bit for bit the
+    /// state formed mode by mode and entry by entry, whether or not it is formed with AVX.
+    #[test]
+    fn a_chains_state_is_its_modes_summed_entry_by_entry() {
+        for cells in [2, 3, 8] {
+            let (flow, _, y) = chain_flow(cells);
+            let flight = flow.flight(&y, 0.7);
+            let Form::Steady {
+                response: p,
+                deviation,
+                phase,
+            } = &flight.form
+            else {
+                panic!("steady response");
+            };
+            let s = 0.45;
+            let exps: Vec<C64> = flow
+                .kept
+                .iter()
+                .map(|&(k, _)| cexp(flow.rates[k], s))
+                .chain([cexp(C64::new(0.0, flow.omega), s)])
+                .collect();
+            let m = 2 * flow.dofs;
+            let mut expected = vec![0.0; m];
+            let forced = exps[flow.kept.len()] * phase;
+            for (j, &(k, weight)) in flow.kept.iter().enumerate() {
+                let z = (deviation[k] * exps[j]
+                    + p.plus[k] * forced
+                    + p.minus[k] * forced.conj()
+                    + p.constant[k])
+                    * weight;
+                for (i, y) in expected.iter_mut().enumerate() {
+                    *y += flow.mode_columns.0[k * m + i] * z.re
+                        - flow.mode_columns.1[k * m + i] * z.im;
+                }
+            }
+            let mut state = DVector::zeros(m);
+            flight.state_at(s, &exps, &mut state);
+            let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(state.as_slice()), bits(&expected), "{cells} cells");
+        }
     }
 
     #[test]
