@@ -20,7 +20,7 @@ use cache::{
 };
 use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
 use polish::{polish, polish_from, Crossing, Exponentials};
-use scan::{packed_chunks, CachedChunks, ChunkSource, Chunks, SteppedChunks};
+use scan::{packed_chunks, CachedChunks, ChunkSource, Chunks, SteppedChunks, PACKED_TERMS};
 pub use search::Tolerances;
 pub(crate) use summary::{summarize_block, ModeTerm, Summary, LANES};
 

@@ -228,12 +228,13 @@ impl Local {
             return None;
         }
         #[cfg(target_arch = "x86_64")]
-        let (sums, fastest) = if std::arch::is_x86_feature_detected!("avx") {
-            // SAFETY: the CPU has AVX (checked just above).
-            unsafe { local_sums_avx(derivatives, exps, &g.f.terms) }
-        } else {
-            local_sums(derivatives, exps, &g.f.terms)
-        };
+        let (sums, fastest) =
+            if derivatives.len() >= PACKED_TERMS && std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: the CPU has AVX (checked just above).
+                unsafe { local_sums_avx(derivatives, exps, &g.f.terms) }
+            } else {
+                local_sums(derivatives, exps, &g.f.terms)
+            };
         #[cfg(not(target_arch = "x86_64"))]
         let (sums, fastest) = local_sums(derivatives, exps, &g.f.terms);
         let mut coefficients = [0.0; 8];
@@ -394,7 +395,7 @@ impl Exponentials {
             let (values, terms) = (&mut self.values[..n], &terms[..n]);
             // Two terms at a time with AVX, the rest (and all without it) below.
             #[cfg(target_arch = "x86_64")]
-            let done = if std::arch::is_x86_feature_detected!("avx") {
+            let done = if n >= PACKED_TERMS && std::arch::is_x86_feature_detected!("avx") {
                 // SAFETY: the CPU has AVX (checked just above).
                 unsafe { series_pairs_avx(values, terms, delta, from) }
             } else {

@@ -317,7 +317,7 @@ impl ExpSum {
             seeds,
             derived: false,
             current: 0,
-            packed: packed_chunks(),
+            packed: n >= PACKED_TERMS && packed_chunks(),
             end_value: f64::NAN,
         };
         test.polish.at = f64::NAN;
