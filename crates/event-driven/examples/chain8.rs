@@ -105,6 +105,40 @@
 //! is structural: a contact's state formed only where it is read (its pair's rows, the largest
 //! position and velocity), summaries updated across an impact rather than formed again, polishing
 //! only the flight's winning contact.
+//!
+//! Measured again (branch h24-core4, the commits after 2dc52fa on h24-core3, against b5cf96f's
+//! binary and the branch's start 2dc52fa, alternated, five runs each, medians of CPU time, load
+//! average 1.8 to 2.7): 0.85 s of one core at b5cf96f (368 735 impacts, 434 000 impacts/s), 0.78 s
+//! at 2dc52fa (368 712) and 0.63 s after (368 712, 585 000 impacts/s): ×1.35 over b5cf96f, ×1.24
+//! over 2dc52fa (a second alternation: 0.84, 0.78 and 0.63 s; two earlier, at 5dc1f0a and 5d83e00:
+//! 0.85, 0.78 and 0.64 s). Issue 24's ×2 (about 0.43 s) is not reached. Callgrind, first 1000
+//! periods: 774.1e6 instructions at b5cf96f (18 411 impacts), 690.5e6 at 2dc52fa (18 418), 536.1e6
+//! after (18 418 impacts, 29 100 per impact), −30.7 % and −22.4 %; first 5000 periods (where the
+//! final stretch's amplitudes weigh less): 3482.2e6 at b5cf96f (92 159 impacts), 3072.5e6 at
+//! 2dc52fa (92 155), 2303.2e6 after (92 155), −33.9 % and −25.0 %. Every result is bit for bit
+//! 2dc52fa's (a throwaway program printing the final cycle's impacts, stroboscopic states and
+//! amplitudes of 32 unit runs and 9 chain runs in full precision: identical output at every
+//! commit). What moved it is width, not structure: the hot sums run four lanes wide with AVX when
+//! the CPU has it (a run-time check; each lane's operations in the scalar order, no FMA, so the
+//! same bits, and each packed routine has a test against its scalar sums bit for bit; without AVX
+//! the scalar code runs as before). By commit, `chain8 1000`: the joint summaries four pairs to a
+//! block with AVX intrinsics and the state's mode columns added four entries at once, 690.5e6 →
+//! 613.8e6; a cached chunk's `f, f', f''` at its midpoint and `f` at its end in one packed pass
+//! over rows laid out term by term (beside the rows by kind), → 580.6e6; the polish's series two
+//! terms to a register, → 567.0e6; its local polynomial's first four sums packed, → 555.0e6; the
+//! contact state's mode coefficients two modes to a register and the columns added in line, →
+//! 545.1e6; the packed sums and series only from eight terms on (`PACKED_TERMS`, for the unit), →
+//! 545.5e6; a known exponential read by a `match` in the packed state (`Option::map_or_else` was
+//! left out of line there), → 536.1e6. Tried and not taken: the summaries' four lanes left to the
+//! compiler under `target_feature` (it packed across the sums rather than the lanes: 73.4e6 →
+//! 84.6e6 instructions in `summarize`, 61.5e6 with the lanes written quantity by quantity, 30e6
+//! with intrinsics); the packed routines for a unit's three terms (fewer instructions, more time);
+//! a unit's chunks without the packed rows' room (243.2e6 instructions, no measurable time). Where
+//! the time goes now (callgrind, first 5000 periods): the searches 39 % (the polish 12 %, its
+//! series 6 %, the packed chunk sums 3.4 %), the summaries 12.9 %, the contact states 12.2 %,
+//! writing the searched pairs' terms 7.9 %, the carried deviation 5.5 %, the final stretch's
+//! amplitudes 3.8 %. The structural levers above are still open, and with them the ×2: none was
+//! attempted in this round.
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};

@@ -98,6 +98,19 @@
 //! search without the tests that choose its path (no change); a functional's kept weights and
 //! the kept rates read in order when a flight writes its terms (+4 % on the chain, the
 //! compiler inlining otherwise).
+//!
+//! Measured again (branch h24-core4, the commits after 2dc52fa on h24-core3, against b5cf96f's
+//! binary and 2dc52fa, alternated, five runs each, medians of CPU time, load average 1.8 to
+//! 2.7): 1.19 s of one core at b5cf96f, 0.69 s at 2dc52fa and 0.70 s after, the same 2 000 009
+//! impacts (three more alternations, the last two at 7ce2255: 1.21, 0.70 and 0.71 s; 1.20,
+//! 0.70 and 0.72 s; 1.19, 0.70 and 0.70 s): the unit did not move, or lost 1 to 3 % (×1.70
+//! over b5cf96f). Callgrind over 20 000 periods:
+//! 238.8e6 instructions at 2dc52fa, 241.0e6 after (+0.9 %, the code around the chain's packed
+//! paths; every result bit for bit 2dc52fa's). The round's AVX routines (see `chain8`) are a
+//! chain's: with the unit's three terms the packed chunk sums, polish series and local sums
+//! cost fewer instructions (231.5e6) but more time (0.72 s → 0.74 s), so they start at eight
+//! terms (`PACKED_TERMS`), and a unit's four-entry mode columns stay on the inlined loop
+//! (`AVX_COLUMN`; out of line they cost 238.8e6 → 241.7e6).
 
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, SimulationOptions, Start};

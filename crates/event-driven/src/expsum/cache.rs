@@ -47,8 +47,10 @@ pub(super) struct GridSteps {
     pub(super) seeds: Seeds,
     /// Per chunk `i < CACHED_CHUNKS` of a fixed grid, `CHUNK_ROWS` rows of one entry per term:
     /// at the chunk's midpoint `m_i = 2wi + w`, `e^{μm}`, `μe^{μm}`, `μ²e^{μm}`, `μ³e^{μm}`, and
-    /// at its end `e^{2μw(i+1)}`, each exponential evaluated afresh; valid where
-    /// `chunk_filled`.
+    /// at its end `e^{2μw(i+1)}`, each exponential evaluated afresh; then the same values
+    /// but the third derivative's ([`PACKED_ROWS`]) term by term, `[e^{μm}, μe^{μm}, μ²e^{μm},
+    /// e^{2μw(i+1)}]` for each term in turn, for the packed chunk test
+    /// ([`chunk_values_avx`](super::scan)); valid where `chunk_filled`.
     pub(super) chunk_exps: Vec<C64>,
     /// Per chunk, whether its rows in `chunk_exps` are computed.
     pub(super) chunk_filled: Vec<bool>,
@@ -58,8 +60,11 @@ pub(super) struct GridSteps {
 /// [`ExpSum::fixed_search`]); a search over more uses the grid's recurrence.
 pub(super) const CACHED_CHUNKS: usize = 256;
 
-/// Rows per chunk in [`GridSteps::chunk_exps`].
-pub(super) const CHUNK_ROWS: usize = 5;
+/// Rows per chunk in [`GridSteps::chunk_exps`]: five by kind, then [`PACKED_ROWS`] by term.
+pub(super) const CHUNK_ROWS: usize = 5 + PACKED_ROWS;
+
+/// The rows of a chunk laid out term by term (four entries per term) after its first five.
+pub(super) const PACKED_ROWS: usize = 4;
 
 /// The fixed grid of `terms`' rates and half-width `w` among `grids` (most recently used first,
 /// at most [`FIXED_GRIDS`]), moved to the front, or made there in place of the least recently
@@ -125,7 +130,10 @@ fn fill_chunk_rows(exps: &mut Vec<C64>, filled: &mut Vec<bool>, i: usize, w: f64
         slot[n + j] = e1;
         slot[2 * n + j] = e2;
         slot[3 * n + j] = e2 * t.rate;
-        slot[4 * n + j] = cexp(t.rate, end);
+        let e_end = cexp(t.rate, end);
+        slot[4 * n + j] = e_end;
+        slot[5 * n + PACKED_ROWS * j..5 * n + PACKED_ROWS * (j + 1)]
+            .copy_from_slice(&[e, e1, e2, e_end]);
     }
     filled[i] = true;
 }

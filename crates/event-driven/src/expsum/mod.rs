@@ -16,13 +16,13 @@ mod summary;
 pub use cache::SearchStack;
 use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
-    CACHED_CHUNKS, CHUNK_ROWS, SEED_DIVISIONS,
+    CACHED_CHUNKS, CHUNK_ROWS, PACKED_ROWS, SEED_DIVISIONS,
 };
 use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
 use polish::{polish, polish_from, Crossing, Exponentials};
-use scan::{CachedChunks, ChunkSource, Chunks, SteppedChunks};
+use scan::{packed_chunks, CachedChunks, ChunkSource, Chunks, SteppedChunks, PACKED_TERMS};
 pub use search::Tolerances;
-pub(crate) use summary::{summarize_two, ModeTerm, Summary};
+pub(crate) use summary::{summarize_block, ModeTerm, Summary, LANES};
 
 /// How far the fixed grid of a search whose fastest rate is at most `fastest` (`|re| + |im|`)
 /// keeps its chunks' exponentials ([`CACHED_CHUNKS`] chunks of `2w`, `w = π/(8 fastest)`): a

@@ -159,6 +159,64 @@ const LOCAL_FACTORIALS: [f64; 8] = [
     1.0 / 5040.0,
 ];
 
+/// [`Local::at`]'s sums: `Σ Re(c_k e)` over the terms for `k = 0..=3` (`c_k = cμᵏ`, the
+/// [`Derivatives`]), then `Σ Re(c₃ μ^{k−3} e)` for `k = 4..=7`; and the fastest rate (as
+/// `|re| + |im|`).
+#[inline(always)]
+fn local_sums(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> ([f64; 8], f64) {
+    let mut sums = [0.0; 8];
+    let mut fastest: f64 = 0.0;
+    for ((c, &e), t) in derivatives.iter().zip(exps).zip(terms) {
+        let re = |a: C64| a.re * e.re - a.im * e.im;
+        sums[0] += re(c[0]);
+        sums[1] += re(c[1]);
+        sums[2] += re(c[2]);
+        sums[3] += re(c[3]);
+        // `c μ^k e^{μ s}` for k = 4..=7.
+        let mut x = c[3] * e;
+        for sum in &mut sums[4..] {
+            x *= t.rate;
+            *sum += x.re;
+        }
+        fastest = fastest.max(l1(t.rate));
+    }
+    (sums, fastest)
+}
+
+/// [`local_sums`] with its first four sums side by side in an AVX register (each
+/// `c.re·e.re − c.im·e.im` as there, summed over the terms in order from `+0`), the rest as
+/// there: the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn local_sums_avx(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> ([f64; 8], f64) {
+    use std::arch::x86_64::*;
+    let mut sums = [0.0; 8];
+    let mut fastest: f64 = 0.0;
+    // Lanes `[Σ Re(c₀e), Σ Re(c₂e), Σ Re(c₁e), Σ Re(c₃e)]`, as `_mm256_hsub_pd` leaves them.
+    let mut low = _mm256_setzero_pd();
+    for ((c, &e), t) in derivatives.iter().zip(exps).zip(terms) {
+        let e4 = _mm256_set_pd(e.im, e.re, e.im, e.re);
+        let first = _mm256_set_pd(c[1].im, c[1].re, c[0].im, c[0].re);
+        let second = _mm256_set_pd(c[3].im, c[3].re, c[2].im, c[2].re);
+        low = _mm256_add_pd(
+            low,
+            _mm256_hsub_pd(_mm256_mul_pd(first, e4), _mm256_mul_pd(second, e4)),
+        );
+        // `c μ^k e^{μ s}` for k = 4..=7.
+        let mut x = c[3] * e;
+        for sum in &mut sums[4..] {
+            x *= t.rate;
+            *sum += x.re;
+        }
+        fastest = fastest.max(l1(t.rate));
+    }
+    let mut out = [0.0; 4];
+    // SAFETY: `out` holds four `f64`, the unaligned store's 32 bytes.
+    unsafe { _mm256_storeu_pd(out.as_mut_ptr(), low) };
+    sums[..4].copy_from_slice(&[out[0], out[2], out[1], out[3]]);
+    (sums, fastest)
+}
+
 impl Local {
     /// The polynomial at `start`, given `exps[j] = e^{μ_j start}`; `None` unless every
     /// polynomial of `f` is a constant ([`Derivatives`] formed) and the exponentials are
@@ -169,22 +227,16 @@ impl Local {
         if derivatives.is_empty() || exps.len() != derivatives.len() {
             return None;
         }
-        let mut sums = [0.0; 8];
-        let mut fastest: f64 = 0.0;
-        for ((c, &e), t) in derivatives.iter().zip(exps).zip(&g.f.terms) {
-            let re = |a: C64| a.re * e.re - a.im * e.im;
-            sums[0] += re(c[0]);
-            sums[1] += re(c[1]);
-            sums[2] += re(c[2]);
-            sums[3] += re(c[3]);
-            // `c μ^k e^{μ s}` for k = 4..=7.
-            let mut x = c[3] * e;
-            for sum in &mut sums[4..] {
-                x *= t.rate;
-                *sum += x.re;
-            }
-            fastest = fastest.max(l1(t.rate));
-        }
+        #[cfg(target_arch = "x86_64")]
+        let (sums, fastest) =
+            if derivatives.len() >= PACKED_TERMS && std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: the CPU has AVX (checked just above).
+                unsafe { local_sums_avx(derivatives, exps, &g.f.terms) }
+            } else {
+                local_sums(derivatives, exps, &g.f.terms)
+            };
+        #[cfg(not(target_arch = "x86_64"))]
+        let (sums, fastest) = local_sums(derivatives, exps, &g.f.terms);
         let mut coefficients = [0.0; 8];
         for ((a, s), k) in coefficients.iter_mut().zip(sums).zip(LOCAL_FACTORIALS) {
             *a = s * k;
@@ -339,7 +391,20 @@ impl Exponentials {
             }
         } else {
             let from = series_start_fine(largest);
-            for (values, terms) in self.values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
+            let n = self.values.len().min(terms.len());
+            let (values, terms) = (&mut self.values[..n], &terms[..n]);
+            // Two terms at a time with AVX, the rest (and all without it) below.
+            #[cfg(target_arch = "x86_64")]
+            let done = if n >= PACKED_TERMS && std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: the CPU has AVX (checked just above).
+                unsafe { series_pairs_avx(values, terms, delta, from) }
+            } else {
+                0
+            };
+            #[cfg(not(target_arch = "x86_64"))]
+            let done = 0;
+            let (values, terms) = (&mut values[done..], &terms[done..]);
+            for (values, terms) in values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
                 let mut z = [C64::default(); TOGETHER];
                 let mut p = [C64::new(INVERSE_FACTORIALS[from], 0.0); TOGETHER];
                 for (z, t) in z.iter_mut().zip(terms) {
@@ -356,5 +421,137 @@ impl Exponentials {
             }
         }
         self.at = s;
+    }
+}
+
+/// [`Exponentials::advance_together`]'s series for the terms in pairs, two complex numbers to
+/// an AVX register: `e_j ← e_j·(p_j z_j + 1)`, `p_j` by Horner's rule from
+/// `INVERSE_FACTORIALS[from]`, `z_j = μ_j δ`. Each complex product is [`Complex`]'s (`re =
+/// a.re b.re − a.im b.im`, `im = a.re b.im + a.im b.re`, the sum's operands swapped, which
+/// rounds the same) and a real coefficient is added to the real part only (`−0` to the
+/// imaginary part, which leaves it as it is, its sign too): the same bits as term by term.
+/// Returns how many terms it advanced (all but a last odd one).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn series_pairs_avx(values: &mut [C64], terms: &[Term], delta: f64, from: usize) -> usize {
+    use std::arch::x86_64::*;
+    // `a·b` for two complex numbers in each operand.
+    let product = |a: __m256d, b: __m256d| {
+        let straight = _mm256_mul_pd(a, _mm256_movedup_pd(b));
+        let crossed = _mm256_mul_pd(
+            _mm256_permute_pd::<0b0101>(a),
+            _mm256_permute_pd::<0b1111>(b),
+        );
+        _mm256_addsub_pd(straight, crossed)
+    };
+    let real = |c: f64| _mm256_set_pd(-0.0, c, -0.0, c);
+    let step = _mm256_set1_pd(delta);
+    let start = _mm256_set_pd(0.0, INVERSE_FACTORIALS[from], 0.0, INVERSE_FACTORIALS[from]);
+    let pairs = values.len().min(terms.len()) / 2;
+    for (e, t) in values
+        .chunks_exact_mut(2)
+        .zip(terms.chunks_exact(2))
+        .take(pairs)
+    {
+        let (r0, r1) = (t[0].rate, t[1].rate);
+        let z = _mm256_mul_pd(_mm256_set_pd(r1.im, r1.re, r0.im, r0.re), step);
+        let mut p = start;
+        for &c in &INVERSE_FACTORIALS[from + 1..] {
+            p = _mm256_add_pd(product(p, z), real(c));
+        }
+        let factor = _mm256_add_pd(product(p, z), real(1.0));
+        let old = _mm256_set_pd(e[1].im, e[1].re, e[0].im, e[0].re);
+        let mut new = [0.0; 4];
+        // SAFETY: `new` holds four `f64`, the unaligned store's 32 bytes.
+        unsafe { _mm256_storeu_pd(new.as_mut_ptr(), product(old, factor)) };
+        e[0] = C64::new(new[0], new[1]);
+        e[1] = C64::new(new[2], new[3]);
+    }
+    2 * pairs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A local polynomial's sums with AVX are bit for bit those without.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn a_local_polynomials_sums_with_avx_are_those_without() {
+        if !std::arch::is_x86_feature_detected!("avx") {
+            return;
+        }
+        let value = |i: usize, a: f64| (a * i as f64 + 0.3).sin() * 10f64.powi(i as i32 % 5 - 2);
+        for n in [0, 1, 3, 17] {
+            let terms: Vec<Term> = (0..n)
+                .map(|j| Term {
+                    poly: [C64::default(); 4],
+                    rate: C64::new(-value(j, 0.7).abs(), value(j, 3.1)),
+                })
+                .collect();
+            let derivatives: Vec<[C64; 4]> = (0..n)
+                .map(|j| {
+                    std::array::from_fn(|k| C64::new(value(4 * j + k, 1.1), value(j + k, 2.3)))
+                })
+                .collect();
+            let exps: Vec<C64> = (0..n)
+                .map(|j| C64::new(value(j, 1.3), value(j, 2.9)))
+                .collect();
+            let (sums, fastest) = local_sums(&derivatives, &exps, &terms);
+            // SAFETY: the CPU has AVX.
+            let (packed, packed_fastest) = unsafe { local_sums_avx(&derivatives, &exps, &terms) };
+            assert_eq!(
+                packed.map(f64::to_bits),
+                sums.map(f64::to_bits),
+                "{n} terms"
+            );
+            assert_eq!(packed_fastest.to_bits(), fastest.to_bits());
+        }
+    }
+
+    /// The series advanced two terms at a time with AVX is bit for bit the series term by
+    /// term, at every degree.
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn a_series_advanced_in_pairs_is_the_series_term_by_term() {
+        if !std::arch::is_x86_feature_detected!("avx") {
+            return;
+        }
+        let value = |i: usize, a: f64| (a * i as f64 + 0.3).sin() * 10f64.powi(i as i32 % 5 - 2);
+        for n in [0, 1, 2, 3, 17] {
+            let terms: Vec<Term> = (0..n)
+                .map(|j| Term {
+                    poly: [C64::default(); 4],
+                    rate: C64::new(-value(j, 0.7).abs(), value(j, 3.1)),
+                })
+                .collect();
+            let start: Vec<C64> = (0..n)
+                .map(|j| C64::new(value(j, 1.3), value(j, 2.9)))
+                .collect();
+            for (from, delta) in [(0, 2e-3), (4, -1e-3), (7, 1e-7), (8, 1e-9)] {
+                let expected: Vec<C64> = start
+                    .iter()
+                    .zip(&terms)
+                    .map(|(e, t)| {
+                        let z = t.rate * delta;
+                        let mut p = C64::new(INVERSE_FACTORIALS[from], 0.0);
+                        for c in &INVERSE_FACTORIALS[from + 1..] {
+                            p = p * z + *c;
+                        }
+                        *e * (p * z + 1.0)
+                    })
+                    .collect();
+                let mut values = start.clone();
+                // SAFETY: the CPU has AVX.
+                let done = unsafe { series_pairs_avx(&mut values, &terms, delta, from) };
+                assert_eq!(done, n - n % 2);
+                let bits = |v: &[C64]| {
+                    v.iter()
+                        .map(|c| (c.re.to_bits(), c.im.to_bits()))
+                        .collect::<Vec<_>>()
+                };
+                assert_eq!(bits(&values[..done]), bits(&expected[..done]), "{n} terms");
+            }
+        }
     }
 }

@@ -317,6 +317,8 @@ impl ExpSum {
             seeds,
             derived: false,
             current: 0,
+            packed: n >= PACKED_TERMS && packed_chunks(),
+            end_value: f64::NAN,
         };
         test.polish.at = f64::NAN;
         test.polish.together = true;
@@ -350,7 +352,7 @@ impl ExpSum {
         if cleared >= first_end {
             first = 1;
             if chunks > 1 {
-                fa = real_dot(&self.terms, &source.rows(0)[4 * n..]);
+                fa = real_dot(&self.terms, &source.rows(0)[4 * n..5 * n]);
             }
         } else if cleared == 0.0
             && chunks > 1
