@@ -308,7 +308,7 @@ impl ExpSum {
             polish: scratch,
             point,
         };
-        // `Derivatives::of`, once, when first needed (`ChunkSource::prepare`).
+        // `Derivatives::of_constants`, once, when first needed (`ChunkSource::prepare`).
         let mut source = CachedChunks {
             terms: &self.terms,
             w,
