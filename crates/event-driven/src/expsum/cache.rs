@@ -156,6 +156,15 @@ impl GridSteps {
             && self.rates.iter().zip(terms).all(|(r, t)| *r == t.rate)
     }
 
+    /// Whether these are the steps of `terms`' rates, whatever the half-width. Every fixed
+    /// grid's half-width is its rates' `π/(8 max|μ|)` ([`fixed_grid`]'s callers form it so),
+    /// so for a fixed grid this is [`Self::matches`] with that half-width.
+    pub(super) fn matches_rates(&self, terms: &[Term]) -> bool {
+        self.w > 0.0
+            && self.rates.len() == terms.len()
+            && self.rates.iter().zip(terms).all(|(r, t)| *r == t.rate)
+    }
+
     /// The steps of `terms`' rates and half-width `w`, computed afresh.
     pub(super) fn refresh(&mut self, terms: &[Term], w: f64) {
         self.steps.clear();
