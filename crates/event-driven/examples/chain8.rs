@@ -139,6 +139,28 @@
 //! writing the searched pairs' terms 7.9 %, the carried deviation 5.5 %, the final stretch's
 //! amplitudes 3.8 %. The structural levers above are still open, and with them the ×2: none was
 //! attempted in this round.
+//!
+//! Measured again (branch h24-core5, from d26cb51, against b5cf96f's binary and the branch's
+//! start, alternated, five runs each, medians of CPU time, load average 1.1 to 2.1): 0.92 s of
+//! one core at b5cf96f, 0.69 s at the start and 0.63 s after, the same 368 712 impacts (a
+//! second alternation: 0.88, 0.66 and 0.60 s): ×1.46 and ×1.47 over b5cf96f, 9 % over the
+//! start. Issue 24's ×2 is not reached. Callgrind, first 1000 periods: 536.1e6 instructions
+//! at the start, 505.2e6 after (−5.8 %, 27 400 per impact), every result bit for bit the
+//! start's. By commit: a fixed-grid search's derivative coefficients formed without testing
+//! its seventeen polynomials for constants (six comparisons a term, some 2.7 % of the time by
+//! `perf`), → 524.4e6; the half-width of the most recent fixed grid of the same rates taken
+//! as it is (no pass over the terms for the fastest rate, no division), → 512.4e6; the state
+//! zeroed as a slice rather than through nalgebra's element iterator (7.1e6 instructions), →
+//! 505.2e6. Tried and not taken: the kept modes' columns added eight modes to a pass over the
+//! state, each block of the state in a register (the same bits; 536.1e6 → 539.0e6, no
+//! measurable time); pairs that their summary excludes on the whole horizon left out of the
+//! order without an estimate (the same bits, but at this chain's full-period horizons no
+//! summary excludes a pair: the test only added, 536.1e6 → 545.0e6); a search's quadratic
+//! estimate passed from the order's instead of formed again (the same bits, 505.2e6 →
+//! 503.4e6, no measurable time: 0.60 s both, seven runs each). The structural levers (a
+//! contact's state formed only where it is read, summaries updated across an impact,
+//! polishing only the flight's winning contact: 24 005 polishes for 18 418 impacts in the
+//! first 1000 periods) are still open.
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};

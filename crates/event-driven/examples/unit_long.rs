@@ -111,6 +111,23 @@
 //! cost fewer instructions (231.5e6) but more time (0.72 s → 0.74 s), so they start at eight
 //! terms (`PACKED_TERMS`), and a unit's four-entry mode columns stay on the inlined loop
 //! (`AVX_COLUMN`; out of line they cost 238.8e6 → 241.7e6).
+//!
+//! Measured again (branch h24-core5, from d26cb51, against b5cf96f's binary and the branch's
+//! start, alternated, five runs each, medians of CPU time, load average 1.1 to 2.1): 1.29 s of
+//! one core at b5cf96f, 0.76 s at the start and 0.72 s after, the same 2 000 009 impacts
+//! (a second alternation: 1.32, 0.79 and 0.73 s): ×1.79 and ×1.81 over b5cf96f, 5 to 8 %
+//! over the start. Issue 24's ×2 (about 0.65 s at these loads) is not reached. Callgrind over
+//! 20 000 periods: 241.0e6 instructions at the start, 232.0e6 after (−3.7 %), every result bit
+//! for bit the start's (the throwaway comparison program of h24-core4: identical output at
+//! every commit). What moved it is work done per search that a run does once: a fixed-grid
+//! search formed its derivative coefficients after testing that every polynomial is a
+//! constant, which the search is made only for (→ 237.4e6); it found the fastest rate and
+//! the half-width from the terms, which the most recent grid of the same rates already holds
+//! (→ 233.9e6); a state was zeroed through nalgebra's element iterator (→ 232.0e6). Tried and
+//! not taken: the polish's stopping test without its division and square root (`step² ×
+//! contraction f'²` against the bounds times `f'²`: the same bits on the comparison program,
+//! the same instructions, no measurable time, 0.71 s both, nine runs each: out-of-order
+//! execution hides them).
 
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, SimulationOptions, Start};

@@ -42,14 +42,14 @@ pub(super) trait ChunkSource {
 }
 
 /// A fixed grid's cached chunk rows ([`GridSteps::chunk_exps`], filled on first use) and its
-/// seed points; [`Derivatives::of`] formed once, when first needed.
+/// seed points; [`Derivatives::of_constants`] formed once, when first needed.
 pub(super) struct CachedChunks<'g> {
     pub(super) terms: &'g [Term],
     pub(super) w: f64,
     pub(super) chunk_exps: &'g mut Vec<C64>,
     pub(super) chunk_filled: &'g mut Vec<bool>,
     pub(super) seeds: &'g mut Seeds,
-    /// Whether [`Derivatives::of`] has been formed for this search.
+    /// Whether [`Derivatives::of_constants`] has been formed for this search.
     pub(super) derived: bool,
     /// The chunk last given by [`ChunkSource::mid`].
     pub(super) current: usize,
@@ -147,7 +147,7 @@ impl ChunkSource for CachedChunks<'_> {
     #[inline]
     fn prepare(&mut self, f: &ExpSum, derivatives: &mut Derivatives) {
         if !self.derived {
-            derivatives.of(f);
+            derivatives.of_constants(f);
             self.derived = true;
         }
     }

@@ -265,9 +265,21 @@ impl ExpSum {
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
         let jerk = summary.jerk_horizon;
-        let fastest = self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max);
-        let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
-        let chunks = if fastest > 0.0 && fastest.is_finite() {
+        // The most recent fixed grid is of these rates in most searches (a run's free flights
+        // all have the flow's): its half-width, formed from them as below, is taken as it is,
+        // without the fastest rate's pass over the terms and its division.
+        let front = stack
+            .fixed
+            .first()
+            .is_some_and(|g| g.matches_rates(&self.terms));
+        let (w, finite) = if front {
+            (stack.fixed[0].w, true)
+        } else {
+            let fastest = self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max);
+            let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
+            (w, fastest > 0.0 && fastest.is_finite())
+        };
+        let chunks = if finite {
             ((0.5 * horizon / w).ceil() as usize).clamp(1, 1 << 30)
         } else {
             usize::MAX
@@ -290,12 +302,17 @@ impl ExpSum {
             point,
             ..
         } = stack;
+        let grid = if front {
+            &mut fixed_grids[0]
+        } else {
+            fixed_grid(fixed_grids, &self.terms, w)
+        };
         let GridSteps {
             seeds,
             chunk_exps,
             chunk_filled,
             ..
-        } = fixed_grid(fixed_grids, &self.terms, w);
+        } = grid;
         let n = self.terms.len();
         let mut test = ChunkTest {
             band: (lo, hi),
@@ -308,7 +325,7 @@ impl ExpSum {
             polish: scratch,
             point,
         };
-        // `Derivatives::of`, once, when first needed (`ChunkSource::prepare`).
+        // `Derivatives::of_constants`, once, when first needed (`ChunkSource::prepare`).
         let mut source = CachedChunks {
             terms: &self.terms,
             w,
