@@ -241,6 +241,25 @@ impl ExpSum {
         )
     }
 
+    /// The half-width `w = π/(8 max|μ|)` of the fixed grid of these terms' rates, and whether
+    /// it is finite (a nonzero, finite fastest rate). The most recent fixed grid is of these
+    /// rates in most searches (a run's free flights all have the flow's): its half-width,
+    /// formed from them in the same way, is taken as it is, without the fastest rate's pass
+    /// over the terms and its division; the first value says whether it was.
+    #[inline(always)]
+    fn fixed_half_width(&self, stack: &SearchStack) -> (bool, f64, bool) {
+        let front = stack
+            .fixed
+            .first()
+            .is_some_and(|g| g.matches_rates(&self.terms));
+        if front {
+            return (true, stack.fixed[0].w, true);
+        }
+        let fastest = self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max);
+        let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
+        (false, w, fastest > 0.0 && fastest.is_finite())
+    }
+
     /// The search of [`Self::first_exit_summarized`]: [`Self::grid_search`] on its fixed grid
     /// (half-width `w = π/(8 max|μ|)`), with each chunk's exponentials taken from the grid's
     /// cache ([`GridSteps::chunk_exps`], evaluated afresh once per run) rather than carried
@@ -265,20 +284,7 @@ impl ExpSum {
         stack: &mut SearchStack,
     ) -> Option<(f64, i8)> {
         let jerk = summary.jerk_horizon;
-        // The most recent fixed grid is of these rates in most searches (a run's free flights
-        // all have the flow's): its half-width, formed from them as below, is taken as it is,
-        // without the fastest rate's pass over the terms and its division.
-        let front = stack
-            .fixed
-            .first()
-            .is_some_and(|g| g.matches_rates(&self.terms));
-        let (w, finite) = if front {
-            (stack.fixed[0].w, true)
-        } else {
-            let fastest = self.terms.iter().map(|t| l1(t.rate)).fold(0.0, f64::max);
-            let w = std::f64::consts::PI / (CHUNKS_PER_OSCILLATION * fastest);
-            (w, fastest > 0.0 && fastest.is_finite())
-        };
+        let (front, w, finite) = self.fixed_half_width(stack);
         let chunks = if finite {
             ((0.5 * horizon / w).ceil() as usize).clamp(1, 1 << 30)
         } else {
