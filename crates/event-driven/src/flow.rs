@@ -1010,6 +1010,16 @@ fn merge(terms: Vec<Term>) -> Vec<Term> {
 mod tests {
     use super::*;
 
+    /// `e^{λ_k s}` of the flow's kept modes in order, then the forcing's `e^{iωs}`: the
+    /// exponentials a flight's state at `s` is formed from.
+    fn kept_exponentials(flow: &LinearFlow, s: f64) -> Vec<C64> {
+        flow.kept
+            .iter()
+            .map(|&(k, _)| cexp(flow.rates[k], s))
+            .chain([cexp(C64::new(0.0, flow.omega), s)])
+            .collect()
+    }
+
     /// The free flow of a lightly damped chain of the paper's cell, its pairs' relative
     /// displacements, and a start state away from rest.
     fn chain_flow(cells: usize) -> (LinearFlow, Vec<Functional>, DVector<f64>) {
@@ -1179,12 +1189,7 @@ mod tests {
                 panic!("steady response");
             };
             let s = 0.45;
-            let exps: Vec<C64> = flow
-                .kept
-                .iter()
-                .map(|&(k, _)| cexp(flow.rates[k], s))
-                .chain([cexp(C64::new(0.0, flow.omega), s)])
-                .collect();
+            let exps = kept_exponentials(&flow, s);
             let m = 2 * flow.dofs;
             let mut expected = vec![0.0; m];
             let forced = exps[flow.kept.len()] * phase;
@@ -1214,12 +1219,7 @@ mod tests {
         let n = 6;
         let flight = flow.flight(&y, 0.7);
         let s = 0.45;
-        let exps: Vec<C64> = flow
-            .kept
-            .iter()
-            .map(|&(k, _)| cexp(flow.rates[k], s))
-            .chain([cexp(C64::new(0.0, flow.omega), s)])
-            .collect();
+        let exps = kept_exponentials(&flow, s);
         let before = flight.state(s);
         let mut after = before.clone();
         after[n + 2] += 0.25;
