@@ -1063,6 +1063,7 @@ mod tests {
     #[test]
     fn a_column_added_with_avx_is_the_entry_by_entry_sum() {
         if !std::arch::is_x86_feature_detected!("avx") {
+            eprintln!("skipped: this CPU has no AVX");
             return;
         }
         let z = C64::new(0.37, -1.91);

@@ -290,8 +290,8 @@ mod tests {
     }
 
     /// The modal flow equals Padé's exponential to rounding, damped and undamped, at exact
-    /// resonance (`ω` a natural frequency) and away from it; its `ω` derivative matches a
-    /// central difference of Padé's.
+    /// resonance (`ω` a natural frequency) and away from it; its `ω` derivative matches the
+    /// block exponential the Padé path takes it from ([`block_rate`]).
     #[test]
     fn modal_flow_equals_pade() {
         for unit in [paper_unit(), damped_paper_unit()] {

@@ -474,21 +474,31 @@ fn series_pairs_avx(values: &mut [C64], terms: &[Term], delta: f64, from: usize)
 mod tests {
     use super::*;
 
+    /// Deterministic test values of mixed sign over five decades.
+    fn value(i: usize, a: f64) -> f64 {
+        (a * i as f64 + 0.3).sin() * 10f64.powi(i as i32 % 5 - 2)
+    }
+
+    /// `n` terms with constant polynomials (zero) and decaying or oscillating rates.
+    fn decaying_terms(n: usize) -> Vec<Term> {
+        (0..n)
+            .map(|j| Term {
+                poly: [C64::default(); 4],
+                rate: C64::new(-value(j, 0.7).abs(), value(j, 3.1)),
+            })
+            .collect()
+    }
+
     /// A local polynomial's sums with AVX are bit for bit those without.
     #[cfg(target_arch = "x86_64")]
     #[test]
     fn a_local_polynomials_sums_with_avx_are_those_without() {
         if !std::arch::is_x86_feature_detected!("avx") {
+            eprintln!("skipped: this CPU has no AVX");
             return;
         }
-        let value = |i: usize, a: f64| (a * i as f64 + 0.3).sin() * 10f64.powi(i as i32 % 5 - 2);
         for n in [0, 1, 3, 17] {
-            let terms: Vec<Term> = (0..n)
-                .map(|j| Term {
-                    poly: [C64::default(); 4],
-                    rate: C64::new(-value(j, 0.7).abs(), value(j, 3.1)),
-                })
-                .collect();
+            let terms = decaying_terms(n);
             let derivatives: Vec<[C64; 4]> = (0..n)
                 .map(|j| {
                     std::array::from_fn(|k| C64::new(value(4 * j + k, 1.1), value(j + k, 2.3)))
@@ -515,16 +525,11 @@ mod tests {
     #[test]
     fn a_series_advanced_in_pairs_is_the_series_term_by_term() {
         if !std::arch::is_x86_feature_detected!("avx") {
+            eprintln!("skipped: this CPU has no AVX");
             return;
         }
-        let value = |i: usize, a: f64| (a * i as f64 + 0.3).sin() * 10f64.powi(i as i32 % 5 - 2);
         for n in [0, 1, 2, 3, 17] {
-            let terms: Vec<Term> = (0..n)
-                .map(|j| Term {
-                    poly: [C64::default(); 4],
-                    rate: C64::new(-value(j, 0.7).abs(), value(j, 3.1)),
-                })
-                .collect();
+            let terms = decaying_terms(n);
             let start: Vec<C64> = (0..n)
                 .map(|j| C64::new(value(j, 1.3), value(j, 2.9)))
                 .collect();
