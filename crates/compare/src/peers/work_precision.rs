@@ -44,6 +44,15 @@ pub const SWEEP_POINTS: [usize; 4] = [10, 20, 40, 80];
 /// (about 10⁵ steps), so only a stalled integration meets it.
 pub const BASELINE_MAX_STEPS: u64 = 50_000_000;
 
+/// Time spent timing one point (after its minimum number of repeats): the minimum of 30 to
+/// 200 repeats for the sub-millisecond event-driven and steady-state points, of 3 for the
+/// baseline's slowest. Measured (`cargo run --release -p rattle-compare --example
+/// work_precision`): with 150 ms per point the study took 4.9 s, alone at the end of `cargo
+/// xtask figures` (a seventh of it); with 40 ms it takes 2.3 s of CPU, most of it the sweeps'
+/// two repeats, and the minima are those of the 150 ms budget within the machine's noise
+/// (the README's stage table has the stage's time).
+pub const POINT_BUDGET: Duration = Duration::from_millis(40);
+
 /// A result whose error is above this (relative) is a failure: another motion.
 pub const FAILURE_ERROR: f64 = 0.1;
 
@@ -289,7 +298,7 @@ pub fn study(
     options: &SimulationOptions,
 ) -> Result<WorkPrecision, StudyError> {
     let orbit = reference(scene, omega)?;
-    let budget = Duration::from_millis(150);
+    let budget = POINT_BUDGET;
     let (analytic_seconds, _) =
         min_time(20, budget, || analyse(scene, omega, OrbitSearch::Symmetric));
     let event_driven = ROOT_TOLERANCES
