@@ -6,6 +6,7 @@ use nalgebra::Complex;
 
 type C64 = Complex<f64>;
 
+mod amplitude;
 mod cache;
 mod chunk;
 mod polish;
@@ -13,6 +14,7 @@ mod scan;
 mod search;
 mod summary;
 
+pub use amplitude::SharedPoints;
 pub use cache::SearchStack;
 use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
