@@ -161,6 +161,33 @@
 //! contact's state formed only where it is read, summaries updated across an impact,
 //! polishing only the flight's winning contact: 24 005 polishes for 18 418 impacts in the
 //! first 1000 periods) are still open.
+//!
+//! Measured again (branch h25-core, from ac8b2d7, against b5cf96f's binary, alternated, five
+//! runs each, medians of CPU time, load average 2.2): 0.91 s of one core at b5cf96f and 0.61 s
+//! after, the same 368 712 impacts (×1.49; an alternation at the branch's fourth commit
+//! b8c3c48: 0.92 s and 0.65 s, ×1.42). Issue 24's
+//! ×2 (about 0.45 s) is not reached. Callgrind, first 1000 periods: 505.0e6 instructions at
+//! the start, 485.6e6 after (−3.8 %), every result bit for bit the start's (the throwaway
+//! program of `unit_long`'s last paragraph: 139 runs, 13 of them chains). What moved it is
+//! the final stretch's amplitudes (14 % of these 1000 periods, none in a longer run): the
+//! sixteen recorded coordinates share their rates, and `max_abs`'s bisection evaluates them
+//! at the same points down to where the coordinates part, so the exponentials at its ends and
+//! first eight levels are kept per rate and time and evaluated once (505.0e6 → 486.0e6; the
+//! same evaluations, so the same bits); and the polish's series in blocks of as many lanes as
+//! terms (the odd seventeenth term no longer stepped in a block of four, → 485.6e6). A long
+//! run gains little from either. Tried and not taken: two blocks of pairs summarised in one
+//! pass over the modes, each mode's scalars and broadcasts formed once (the same bits; 485.6e6
+//! → 496.5e6 written with a per-block helper, 520.9e6 with a const-generic loop: fourteen
+//! accumulators and nine broadcasts spill from AVX's sixteen registers); the state's column
+//! loop by blocks rather than `step_by` (487.2e6 → 487.0e6, nothing). Where the time goes now
+//! (`perf`, 20 000 periods): the contact state 10.4 %, the chunk tests of the searches 10.2 %,
+//! the summaries 10.2 %, the polish's local sums 6.6 %, the run loop 5.9 %, the quadratic
+//! estimates that order the searches 5.5 % (a square root and divisions per pair and flight),
+//! the summaries' exclusion tests 4.5 %, the polish 4.5 %, iterator folds (mostly writing the
+//! searched pairs' terms, and their derivative coefficients) 4.2 %, the exponentials' series 5.5 %, `sin`/`cos` 2.6 %, the order's sort 1.4 %. The
+//! structural levers of the last rounds (a contact's state formed only where it is read,
+//! summaries updated across an impact, polishing only the flight's winning contact) are still
+//! open, and with them the ×2.
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};

@@ -128,6 +128,29 @@
 //! contraction f'²` against the bounds times `f'²`: the same bits on the comparison program,
 //! the same instructions, no measurable time, 0.71 s both, nine runs each: out-of-order
 //! execution hides them).
+//!
+//! Measured again (branch h25-core, from ac8b2d7, against b5cf96f's binary, alternated, five
+//! runs each, medians of CPU time, load average 2.2): 1.27 s of one core at b5cf96f and 0.70 s
+//! after, the same 2 000 009 impacts (×1.81; an alternation at the branch's fourth commit,
+//! b8c3c48, whose unit runs the start's instructions to 0.03 %: 1.31 s and 0.73 s, ×1.79). Issue 24's ×2
+//! is not reached. Callgrind over 20 000 periods: 231.9e6 instructions at the start, 229.6e6
+//! after (−1.0 %), every result bit for bit the start's (a throwaway program printing in full
+//! precision the final cycle's impacts, stroboscopic states and amplitudes of 139 runs: the
+//! four unit scenes of `data/scenes` at nine frequencies from 0.3 to 5, fixed and until
+//! steady, the two chain scenes at four, the previous rounds' 32 unit and 9 chain runs, a
+//! sticking unit (gap 0.25) at four frequencies and a chain with plastic pairs: identical
+//! output at every commit). What moved it: the polish's last step, the exponentials' series
+//! to the root, stepped a fourth, empty lane for the unit's three terms through every degree
+//! (blocks of as many lanes as terms now). The branch's other commits are for the chain's
+//! final stretch and for steady-state runs (`steady_sweep`). Where the time goes now (`perf`,
+//! 300 000 periods): the polish 17 % (its Halley steps' divisions and square root, its local
+//! polynomial's sums), the fixed grid's chunk tests 15 %, the exponentials advanced to the
+//! root 11 % (dependent complex products: latency, not instructions), the contact 7.6 %, the
+//! search's summary 7.3 %, the run loop 6.4 %, the bisection within the contact's chunk 5 %,
+//! the state at the contact 4.9 %, `round`/`ceil` calls 2.2 %, `sin`/`cos` 2.2 %. The search
+//! is one chunk test and one polish per impact already; what remains is arithmetic whose
+//! bits a faster form would move (Estrin's scheme for the series, the forcing phase at the
+//! contact from the search's exponentials, a cheaper polish start).
 
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, SimulationOptions, Start};

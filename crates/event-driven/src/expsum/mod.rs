@@ -6,6 +6,7 @@ use nalgebra::Complex;
 
 type C64 = Complex<f64>;
 
+mod amplitude;
 mod cache;
 mod chunk;
 mod polish;
@@ -13,6 +14,7 @@ mod scan;
 mod search;
 mod summary;
 
+pub use amplitude::SharedPoints;
 pub use cache::SearchStack;
 use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
@@ -32,15 +34,38 @@ pub(crate) fn fixed_grid_reach(fastest: f64) -> f64 {
     CACHED_CHUNKS as f64 * std::f64::consts::PI / (search::CHUNKS_PER_OSCILLATION * fastest) * 2.0
 }
 
-/// `e^{μ s}`, skipping the real exponential for purely oscillatory and constant terms.
+/// `e^{μ s}`, skipping the real exponential for purely oscillatory and constant terms, and
+/// where it is exactly 1 ([`exp_real`]).
 #[inline]
 fn cexp(mu: C64, s: f64) -> C64 {
     if mu.im == 0.0 {
-        C64::new((mu.re * s).exp(), 0.0)
+        C64::new(exp_real(mu.re * s), 0.0)
     } else {
         let (sin, cos) = (mu.im * s).sin_cos();
-        let r = if mu.re == 0.0 { 1.0 } else { (mu.re * s).exp() };
+        let r = if mu.re == 0.0 {
+            1.0
+        } else {
+            exp_real(mu.re * s)
+        };
         C64::new(r * cos, r * sin)
+    }
+}
+
+/// `2⁻⁵⁴`: for `|x|` below it `e^x` lies within `2⁻⁵⁴` of 1, less than half the spacing of
+/// the doubles next to 1 (`2⁻⁵³` below, `2⁻⁵²` above), so it rounds to exactly 1 (glibc's
+/// `exp` returns `1.0 + x` there, which is 1; so does any correctly rounded `exp`).
+const EXP_IS_ONE: f64 = 5.551_115_123_125_783e-17;
+
+/// `e^x`, without the library call where it is exactly 1 (`|x| <` [`EXP_IS_ONE`]): the
+/// same value. An undamped flow's rates have real parts of a few `1e-17` (rounding of the
+/// eigenvalues), whose exponentials over a flight are mostly that; measured on the
+/// `steady_sweep` example (half its runs undamped), half the searches' real exponentials.
+#[inline]
+fn exp_real(x: f64) -> f64 {
+    if x.abs() < EXP_IS_ONE {
+        1.0
+    } else {
+        x.exp()
     }
 }
 
@@ -546,6 +571,29 @@ mod tests {
             exits >= 40 && late >= 20,
             "{exits} exits, {late} past the cached chunks"
         );
+    }
+
+    #[test]
+    fn the_real_exponential_is_the_librarys_near_zero_too() {
+        // Either side of `EXP_IS_ONE`, and the smallest magnitudes, of both signs.
+        let mut x = EXP_IS_ONE * 4.0;
+        while x > 1e-300 {
+            for v in [x, -x, x * 0.999_999, -x * 1.000_001] {
+                assert_eq!(exp_real(v).to_bits(), v.exp().to_bits(), "{v:e}");
+            }
+            x *= 0.7;
+        }
+        for v in [
+            0.0,
+            -0.0,
+            f64::NAN,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            1e-3,
+            -2.0,
+        ] {
+            assert_eq!(exp_real(v).to_bits(), v.exp().to_bits(), "{v:e}");
+        }
     }
 
     #[test]

@@ -405,22 +405,37 @@ impl Exponentials {
             let done = 0;
             let (values, terms) = (&mut values[done..], &terms[done..]);
             for (values, terms) in values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
-                let mut z = [C64::default(); TOGETHER];
-                let mut p = [C64::new(INVERSE_FACTORIALS[from], 0.0); TOGETHER];
-                for (z, t) in z.iter_mut().zip(terms) {
-                    *z = t.rate * delta;
-                }
-                for c in &INVERSE_FACTORIALS[from + 1..] {
-                    for (p, z) in p.iter_mut().zip(&z) {
-                        *p = *p * *z + *c;
-                    }
-                }
-                for (e, (z, p)) in values.iter_mut().zip(z.iter().zip(&p)) {
-                    *e *= *p * *z + 1.0;
+                // As many lanes as terms: a unit's three terms stepped a fourth, empty lane
+                // through every degree (unit_long 20000: see the commit).
+                match terms.len() {
+                    TOGETHER => series_block::<TOGETHER>(values, terms, delta, from),
+                    3 => series_block::<3>(values, terms, delta, from),
+                    2 => series_block::<2>(values, terms, delta, from),
+                    _ => series_block::<1>(values, terms, delta, from),
                 }
             }
         }
         self.at = s;
+    }
+}
+
+/// [`Exponentials::advance_together`]'s series for a block of `N` terms (`values` and
+/// `terms` of `N` entries): `e_j ← e_j·(p_j z_j + 1)`, `p_j` by Horner's rule from
+/// `INVERSE_FACTORIALS[from]`, `z_j = μ_j δ`, one coefficient at a time across the block.
+#[inline(always)]
+fn series_block<const N: usize>(values: &mut [C64], terms: &[Term], delta: f64, from: usize) {
+    let mut z = [C64::default(); N];
+    let mut p = [C64::new(INVERSE_FACTORIALS[from], 0.0); N];
+    for (z, t) in z.iter_mut().zip(terms) {
+        *z = t.rate * delta;
+    }
+    for c in &INVERSE_FACTORIALS[from + 1..] {
+        for (p, z) in p.iter_mut().zip(&z) {
+            *p = *p * *z + *c;
+        }
+    }
+    for (e, (z, p)) in values.iter_mut().zip(z.iter().zip(&p)) {
+        *e *= *p * *z + 1.0;
     }
 }
 
