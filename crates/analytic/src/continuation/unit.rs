@@ -144,6 +144,18 @@ impl BranchModel for UnitBranch<'_> {
             .evaluate(x, self.unit.augmented_matrix(omega), with_jacobian)
     }
 
+    fn evaluate_state(&self, x: &[f64]) -> Option<CycleEvaluation<U6>> {
+        let omega = x[x.len() - 1];
+        self.cycles
+            .evaluate_state(x, self.unit.augmented_matrix(omega))
+    }
+
+    fn with_jacobian(&self, x: &[f64], e: CycleEvaluation<U6>) -> Option<CycleEvaluation<U6>> {
+        let omega = x[x.len() - 1];
+        self.cycles
+            .with_jacobian(x, self.unit.augmented_matrix(omega), e)
+    }
+
     fn residual(e: &CycleEvaluation<U6>) -> &DVector<f64> {
         &e.residual
     }

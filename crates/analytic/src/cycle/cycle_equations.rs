@@ -384,7 +384,24 @@ where
         x: &[f64],
         augmented_rate: &OMatrix<f64, D, D>,
     ) -> Option<CycleEvaluation<D>> {
-        let mut e = self.evaluate_with(x, false)?;
+        let e = self.evaluate_with(x, false)?;
+        self.with_omega_jacobian(x, e, augmented_rate)
+    }
+
+    /// [`Self::evaluate_in_omega`] from the evaluation `e` of the residuals at the same `x`
+    /// ([`Self::evaluate_with`] without derivatives, on these equations): the exact Jacobian
+    /// in `(x, ω)` added to it, the flights and maps reused (the result is the one
+    /// [`Self::evaluate_in_omega`] gives, bit for bit). `None` when the periodicity solve is
+    /// singular.
+    ///
+    /// # Panics
+    /// If `x` does not have one entry per impact or `augmented_rate` is not the size of `Â`.
+    pub fn with_omega_jacobian(
+        &self,
+        x: &[f64],
+        mut e: CycleEvaluation<D>,
+        augmented_rate: &OMatrix<f64, D, D>,
+    ) -> Option<CycleEvaluation<D>> {
         let lu = self.periodicity(&e.pre)?;
         let in_x = self.jacobian(&e, &lu, x[0])?;
         let m = self.impacts();
