@@ -174,6 +174,15 @@ where
         }
     }
 
+    /// The same, the modal flights remembered
+    /// ([`CycleEquations::with_remembered_flights`]).
+    pub(crate) fn with_remembered_flights(self) -> Self {
+        Self {
+            equations: self.equations.with_remembered_flights(),
+            ..self
+        }
+    }
+
     /// The equations at `omega`, `augmented` being `Â(ω)`.
     pub(crate) fn at(&self, omega: f64, augmented: OMatrix<f64, D, D>) -> CycleEquations<D> {
         self.equations

@@ -33,6 +33,19 @@ pub(crate) struct ModalForcing {
     forcing: CVector4,
 }
 
+impl ModalForcing {
+    /// Whether `other` is this forcing bit for bit (a flow from one is the flow from the
+    /// other).
+    pub(crate) fn same_bits(&self, other: &Self) -> bool {
+        self.omega.to_bits() == other.omega.to_bits()
+            && self
+                .forcing
+                .iter()
+                .zip(other.forcing.iter())
+                .all(|(a, b)| a.re.to_bits() == b.re.to_bits() && a.im.to_bits() == b.im.to_bits())
+    }
+}
+
 /// Largest accepted `‖V‖₁ ‖V⁻¹‖₁` of the eigenvector matrix (columns of unit 1-norm). The
 /// modal flow's rounding grows with it; the paper's unit has 6.8 (damped or not), where the
 /// flow came within 9.1e-16 of its size of a 40-digit reference (Padé: 9.3e-16), and 100
