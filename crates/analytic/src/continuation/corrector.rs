@@ -216,8 +216,8 @@ impl<M: BranchModel> System<M> {
         constraint: &Constraint,
         jacobian: &DMatrix<f64>,
     ) -> Option<(Vec<f64>, M::Evaluation, usize)> {
-        if let Some((x, _, iterations)) = self.correct_chord(guess, constraint, jacobian) {
-            if let Some(eval) = self.evaluate(&x) {
+        if let Some((x, residual, iterations)) = self.correct_chord(guess, constraint, jacobian) {
+            if let Some(eval) = self.complete(&x, residual) {
                 return Some((x, eval, iterations));
             }
         }

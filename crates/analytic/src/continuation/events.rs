@@ -275,7 +275,7 @@ fn locate<M: BranchModel>(
     let chord: Vec<f64> = (0..=n).map(|k| b.x[k] - a.x[k]).collect();
     // A trial point on the branch at chord fraction θ, and the test function there: only
     // what the test needs is computed (the full point is built once, at the end).
-    let at = |theta: f64| -> Option<(Vec<f64>, f64)> {
+    let at = |theta: f64| -> Option<(Vec<f64>, M::Evaluation, f64)> {
         let through: Vec<f64> = (0..=n).map(|k| a.x[k] + theta * chord[k]).collect();
         let plane = Constraint::Plane {
             normal: &chord,
@@ -288,21 +288,33 @@ fn locate<M: BranchModel>(
                 let (x, eval, _) = system.correct(&through, &plane)?;
                 system.polish(x, eval, &plane)
             }
-            _ => {
-                let (x, eval, _) = system
-                    .correct_chord(&through, &plane, &a.jacobian)
-                    .or_else(|| system.correct(&through, &plane))?;
-                (x, eval)
-            }
+            _ => match system.correct_chord(&through, &plane, &a.jacobian) {
+                // The fold's test needs the Jacobian: added to the chord's residuals.
+                Some((x, residual, _)) if matches!(test, Test::Fold) => {
+                    let eval = system.complete(&x, residual)?;
+                    (x, eval)
+                }
+                Some((x, residual, _)) => (x, residual),
+                None => {
+                    let (x, eval, _) = system.correct(&through, &plane)?;
+                    (x, eval)
+                }
+            },
         };
         let mut value = system.test_value(test, &x, &eval, &a.tangent)?;
         if let Test::Branch = test {
             value /= system.tangent(M::jacobian(&eval), &a.tangent)?[n];
         }
-        Some((x, value))
+        Some((x, eval, value))
     };
-    let finish = |x: &[f64]| -> Option<Node> {
-        let eval = system.evaluate(x)?;
+    // The point at the zero, from its trial evaluation (the Jacobian added where it has
+    // none).
+    let finish = |x: &[f64], eval: M::Evaluation| -> Option<Node> {
+        let eval = if M::jacobian(&eval).nrows() == n {
+            eval
+        } else {
+            system.complete(x, eval)?
+        };
         let tangent = system.tangent(M::jacobian(&eval), &a.tangent)?;
         Some(system.describe(x, &eval, &tangent, a.point.branch))
     };
@@ -316,7 +328,7 @@ fn locate<M: BranchModel>(
     // values Illinois works with are halved, these are not).
     let ends = f_lo.abs().max(f_hi.abs());
     let (mut size_lo, mut size_hi) = (f_lo.abs(), f_hi.abs());
-    let mut best: Option<(f64, Vec<f64>)> = None;
+    let mut best: Option<(f64, Vec<f64>, M::Evaluation)> = None;
     let mut side = 0i8;
     for _ in 0..LOCATION_ITERATIONS {
         if hi - lo <= LOCATION_FRACTION {
@@ -326,7 +338,7 @@ fn locate<M: BranchModel>(
         if !(theta > lo && theta < hi) {
             theta = 0.5 * (lo + hi);
         }
-        let (x, f) = at(theta)?;
+        let (x, eval, f) = at(theta)?;
         if !f.is_finite() {
             return None;
         }
@@ -348,7 +360,7 @@ fn locate<M: BranchModel>(
             }
             side = 1;
         }
-        best = Some((theta, x));
+        best = Some((theta, x, eval));
         if done {
             break;
         }
@@ -357,6 +369,6 @@ fn locate<M: BranchModel>(
             return None;
         }
     }
-    let (theta, x) = best?;
-    Some((theta, finish(&x)?))
+    let (theta, x, eval) = best?;
+    Some((theta, finish(&x, eval)?))
 }

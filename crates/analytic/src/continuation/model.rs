@@ -150,6 +150,18 @@ impl BranchModel for ModelBranch<'_> {
             .evaluate(x, self.model.augmented_matrix(omega), with_jacobian)
     }
 
+    fn evaluate_state(&self, x: &[f64]) -> Option<CycleEvaluation<Dyn>> {
+        let omega = x[x.len() - 1];
+        self.cycles
+            .evaluate_state(x, self.model.augmented_matrix(omega))
+    }
+
+    fn with_jacobian(&self, x: &[f64], e: CycleEvaluation<Dyn>) -> Option<CycleEvaluation<Dyn>> {
+        let omega = x[x.len() - 1];
+        self.cycles
+            .with_jacobian(x, self.model.augmented_matrix(omega), e)
+    }
+
     fn residual(e: &CycleEvaluation<Dyn>) -> &DVector<f64> {
         &e.residual
     }

@@ -119,6 +119,15 @@ pub(crate) trait BranchModel: Sized {
     /// The residuals, with the exact Jacobian in `X` when `with_jacobian`; `None` when the
     /// periodicity solve is singular.
     fn evaluate(&self, x: &[f64], with_jacobian: bool) -> Option<Self::Evaluation>;
+    /// The residuals with the exact Jacobian in the state unknowns `(α, φ₂ … φₙ)` only
+    /// (`n × n`: [`Self::evaluate`]'s Jacobian without the `ω` column, bit for bit, and
+    /// without the cost of that column); `None` when the periodicity solve is singular.
+    fn evaluate_state(&self, x: &[f64]) -> Option<Self::Evaluation>;
+    /// The evaluation `e` of the residuals at `x` (by [`Self::evaluate`] without the
+    /// Jacobian) with the exact Jacobian in `X` added: what [`Self::evaluate`] with the
+    /// Jacobian gives at `x`, bit for bit, without recomputing the residuals. `None` when the
+    /// periodicity solve is singular.
+    fn with_jacobian(&self, x: &[f64], e: Self::Evaluation) -> Option<Self::Evaluation>;
     /// The contact residuals of an evaluation.
     fn residual(e: &Self::Evaluation) -> &DVector<f64>;
     /// `∂R/∂X` of an evaluation (empty without derivatives).
@@ -165,6 +174,15 @@ where
         }
     }
 
+    /// The same, the modal flights remembered
+    /// ([`CycleEquations::with_remembered_flights`]).
+    pub(crate) fn with_remembered_flights(self) -> Self {
+        Self {
+            equations: self.equations.with_remembered_flights(),
+            ..self
+        }
+    }
+
     /// The equations at `omega`, `augmented` being `Â(ω)`.
     pub(crate) fn at(&self, omega: f64, augmented: OMatrix<f64, D, D>) -> CycleEquations<D> {
         self.equations
@@ -186,6 +204,32 @@ where
         } else {
             equations.evaluate_with(&x[..n], false)
         }
+    }
+
+    /// The evaluation `e` of the residuals at `X` (by [`Self::evaluate`] without the
+    /// Jacobian, `augmented` being `Â(ω)`) with the Jacobian in `X` added: what
+    /// [`Self::evaluate`] with the Jacobian gives, bit for bit, without recomputing the
+    /// flights.
+    pub(crate) fn with_jacobian(
+        &self,
+        x: &[f64],
+        augmented: OMatrix<f64, D, D>,
+        e: CycleEvaluation<D>,
+    ) -> Option<CycleEvaluation<D>> {
+        let n = x.len() - 1;
+        self.at(x[n], augmented)
+            .with_omega_jacobian(&x[..n], e, &self.rate)
+    }
+
+    /// The cycle at `X` (`augmented` being `Â(ω)`) with the Jacobian in the state unknowns
+    /// `x` only (no `ω` column).
+    pub(crate) fn evaluate_state(
+        &self,
+        x: &[f64],
+        augmented: OMatrix<f64, D, D>,
+    ) -> Option<CycleEvaluation<D>> {
+        let n = x.len() - 1;
+        self.at(x[n], augmented).evaluate_with(&x[..n], true)
     }
 
     /// [`CycleEquations::conditioning`] of an evaluation.
@@ -268,13 +312,20 @@ impl<M: BranchModel> System<M> {
         self.model.evaluate(x, true)
     }
 
+    /// The residual evaluation `eval` at `x` ([`Self::evaluate_residual`]) completed with
+    /// the Jacobian: [`Self::evaluate`] at `x`, bit for bit, the flights reused.
+    pub(crate) fn complete(&self, x: &[f64], eval: M::Evaluation) -> Option<M::Evaluation> {
+        self.model.with_jacobian(x, eval)
+    }
+
     /// Residuals only (an empty Jacobian): one exponential per flight, no derivatives.
     pub(crate) fn evaluate_residual(&self, x: &[f64]) -> Option<M::Evaluation> {
         self.model.evaluate(x, false)
     }
 
-    /// One test function at a converged `X` (`eval` with or without Jacobian), computing
-    /// only what it needs. `None` when the fold test's tangent cannot be formed.
+    /// One test function at a converged `X` (`eval` with or without Jacobian; the fold's
+    /// needs it), computing only what it needs. `None` when the fold test's tangent cannot be
+    /// formed or `eval` lacks the Jacobian it needs.
     pub(crate) fn test_value(
         &self,
         test: Test,
@@ -284,8 +335,11 @@ impl<M: BranchModel> System<M> {
     ) -> Option<f64> {
         match test {
             Test::Fold => {
-                let full = self.evaluate(x)?;
-                Some(self.tangent(M::jacobian(&full), previous)?[self.n()])
+                let jacobian = M::jacobian(eval);
+                if jacobian.nrows() != self.n() {
+                    return None;
+                }
+                Some(self.tangent(jacobian, previous)?[self.n()])
             }
             _ => self.model.test_value(test, x, eval),
         }

@@ -64,6 +64,16 @@ impl<'a> UnitBranch<'a> {
         }
     }
 
+    /// The same, the modal flights remembered across evaluations (see
+    /// [`crate::CycleEquations::with_remembered_flights`]): for a boundary curve, whose
+    /// difference steps share most flights.
+    pub(crate) fn with_remembered_flights(self) -> Self {
+        Self {
+            cycles: self.cycles.with_remembered_flights(),
+            ..self
+        }
+    }
+
     /// The mechanical state just before each impact and the forcing phase there.
     fn impact_states(&self, eval: &CycleEvaluation<U6>) -> (Vec<Vector4<f64>>, Vec<Vector2<f64>>) {
         let before: Vec<Augmented> = eval.before_impacts();
@@ -142,6 +152,18 @@ impl BranchModel for UnitBranch<'_> {
         let omega = x[x.len() - 1];
         self.cycles
             .evaluate(x, self.unit.augmented_matrix(omega), with_jacobian)
+    }
+
+    fn evaluate_state(&self, x: &[f64]) -> Option<CycleEvaluation<U6>> {
+        let omega = x[x.len() - 1];
+        self.cycles
+            .evaluate_state(x, self.unit.augmented_matrix(omega))
+    }
+
+    fn with_jacobian(&self, x: &[f64], e: CycleEvaluation<U6>) -> Option<CycleEvaluation<U6>> {
+        let omega = x[x.len() - 1];
+        self.cycles
+            .with_jacobian(x, self.unit.augmented_matrix(omega), e)
     }
 
     fn residual(e: &CycleEvaluation<U6>) -> &DVector<f64> {

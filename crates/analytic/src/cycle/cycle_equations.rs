@@ -63,6 +63,9 @@ where
     /// The unit's modal decomposition of `A` (augmented dimension 6 only, and only where it
     /// is well-conditioned): the fast flow of every flight; `None`: Padé.
     modes: Option<(Arc<UnitModes>, ModalForcing)>,
+    /// Whether the modal flights are looked up among those this thread computed last
+    /// ([`remembered_flow`]): for callers that evaluate the cycle at points sharing flights.
+    remember: bool,
 }
 
 /// The cycle evaluated at one `x = (α, φ₂ … φ_m)`.
@@ -135,6 +138,7 @@ where
             symmetries,
             cycle,
             modes: None,
+            remember: false,
         }
     }
 
@@ -152,6 +156,19 @@ where
     pub fn with_modal_flow(self) -> Self {
         let modes = unit_modes(&self.augmented);
         Self { modes, ..self }
+    }
+
+    /// The same equations, their modal flights looked up among the last
+    /// [`REMEMBERED_FLIGHTS`] this thread computed (the same bits as computing them again):
+    /// for a caller whose evaluations share flights, as a boundary curve's difference steps
+    /// do (the flights that a step leaves unchanged are not recomputed). A continuation in
+    /// `ω`, whose evaluations share none, would only pay for the look-up (it cost its 115
+    /// seeds 6 % more CPU), so it is off by default.
+    pub fn with_remembered_flights(self) -> Self {
+        Self {
+            remember: true,
+            ..self
+        }
     }
 
     /// The same impacts at another frequency: `omega`, its augmented matrix `augmented` and
@@ -269,7 +286,11 @@ where
         if let Some((modes, forcing)) = &self.modes {
             let size = self.augmented.nrows();
             let d = D::from_usize(size);
-            let fast = modes.flow(forcing, tau);
+            let fast = if self.remember {
+                remembered_flow(modes, forcing, tau)
+            } else {
+                modes.flow(forcing, tau)
+            };
             return OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| fast[(i, j)]);
         }
         (&self.augmented * tau).exp()
@@ -280,7 +301,7 @@ where
         let mut pre: Vec<OMatrix<f64, D, D>> = Vec::with_capacity(flights.len());
         pre.push(flights[0].clone());
         for f in 1..flights.len() {
-            let next = flights[f] * (&self.g_hats[f] * &pre[f - 1]);
+            let next = product(flights[f], &product(&self.g_hats[f], &pre[f - 1]));
             pre.push(next);
         }
         pre
@@ -384,7 +405,24 @@ where
         x: &[f64],
         augmented_rate: &OMatrix<f64, D, D>,
     ) -> Option<CycleEvaluation<D>> {
-        let mut e = self.evaluate_with(x, false)?;
+        let e = self.evaluate_with(x, false)?;
+        self.with_omega_jacobian(x, e, augmented_rate)
+    }
+
+    /// [`Self::evaluate_in_omega`] from the evaluation `e` of the residuals at the same `x`
+    /// ([`Self::evaluate_with`] without derivatives, on these equations): the exact Jacobian
+    /// in `(x, ω)` added to it, the flights and maps reused (the result is the one
+    /// [`Self::evaluate_in_omega`] gives, bit for bit). `None` when the periodicity solve is
+    /// singular.
+    ///
+    /// # Panics
+    /// If `x` does not have one entry per impact or `augmented_rate` is not the size of `Â`.
+    pub fn with_omega_jacobian(
+        &self,
+        x: &[f64],
+        mut e: CycleEvaluation<D>,
+        augmented_rate: &OMatrix<f64, D, D>,
+    ) -> Option<CycleEvaluation<D>> {
         let lu = self.periodicity(&e.pre)?;
         let in_x = self.jacobian(&e, &lu, x[0])?;
         let m = self.impacts();
@@ -428,7 +466,7 @@ where
             Some(if f == 0 {
                 rates[0].clone()
             } else {
-                &rates[f] * (&self.g_hats[f] * &e.pre[f - 1])
+                product(&rates[f], &product(&self.g_hats[f], &e.pre[f - 1]))
             })
         };
         let in_omega = self.column(&e, &lu, own, [0.0, 0.0])?;
@@ -456,7 +494,7 @@ where
         for i in 1..m {
             let own = |f: usize| {
                 let c = (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
-                (c != 0.0).then(|| &self.augmented * &e.pre[f] * (c * self.cycle))
+                (c != 0.0).then(|| product(&self.augmented, &e.pre[f]) * (c * self.cycle))
             };
             jacobian.set_column(i, &self.column(e, lu, own, [0.0, 0.0])?);
         }
@@ -475,28 +513,29 @@ where
         dp0: [f64; 2],
     ) -> Option<DVector<f64>> {
         let m = self.impacts();
-        let mut dpre: Vec<Option<OMatrix<f64, D, D>>> = Vec::with_capacity(m);
+        // `∂Pre_f` is carried from flight to flight; only `∂Pre_f z₁` is kept (the same
+        // product, taken as soon as `∂Pre_f` is known).
+        let mut carried: Option<OMatrix<f64, D, D>> = None;
+        let mut moved_z1: Vec<Option<OVector<f64, D>>> = Vec::with_capacity(m);
         for f in 0..m {
-            let carried = f
-                .checked_sub(1)
-                .and_then(|g| dpre[g].as_ref())
-                .map(|previous| &e.flights[f] * (&self.g_hats[f] * previous));
-            dpre.push(match (carried, own(f)) {
+            let through = carried
+                .as_ref()
+                .map(|previous| product(&e.flights[f], &product(&self.g_hats[f], previous)));
+            carried = match (through, own(f)) {
                 (Some(d), Some(o)) => Some(d + o),
                 (d, o) => d.or(o),
-            });
+            };
+            moved_z1.push(carried.as_ref().map(|d| d * &e.z1));
         }
-        let moved_psi = dpre[m - 1]
-            .as_ref()
-            .map(|last| &self.g_hats[0] * (last * &e.z1));
+        let moved_psi = moved_z1[m - 1].as_ref().map(|last| &self.g_hats[0] * last);
         let dz1 = lu.solve(&self.augmented_vector(moved_psi.as_ref(), dp0))?;
         Some(DVector::from_fn(m, |j, _| {
             if j == 0 {
                 return self.contacts[0].dot(&dz1);
             }
             let moved = &e.pre[j - 1] * &dz1;
-            let total = match dpre[j - 1].as_ref() {
-                Some(d) => d * &e.z1 + moved,
+            let total = match moved_z1[j - 1].as_ref() {
+                Some(d) => d + moved,
                 None => moved,
             };
             self.contacts[j].dot(&total)
@@ -506,6 +545,47 @@ where
 
 /// Augmented dimension of the unit (two degrees of freedom and the two forcing phases).
 const UNIT_SIZE: usize = 6;
+
+/// `a b`: for the unit's stack matrices (`D` = 6) by [`unit_product`], bit for bit
+/// nalgebra's product at a fraction of its cost; otherwise nalgebra's (whose heap product of
+/// larger matrices accumulates in another order).
+fn product<D: Dim>(a: &OMatrix<f64, D, D>, b: &OMatrix<f64, D, D>) -> OMatrix<f64, D, D>
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    if D::try_to_usize() == Some(UNIT_SIZE) {
+        if let (Ok(x), Ok(y)) = (
+            <&[f64; 36]>::try_from(a.as_slice()),
+            <&[f64; 36]>::try_from(b.as_slice()),
+        ) {
+            let (rows, columns) = a.shape_generic();
+            return OMatrix::from_column_slice_generic(rows, columns, &unit_product(x, y));
+        }
+    }
+    a * b
+}
+
+/// The product of two 6 × 6 column-major matrices, each entry accumulated as nalgebra's
+/// product of stack matrices does (`c_ij = a_i0 b_0j`, then `c_ij + a_ik b_kj` for
+/// `k = 1 … 5` in order, no fused multiply-add): the same bits, unrolled on the stack. A
+/// column of `c` is the columns of `a` weighted by a column of `b`.
+#[inline]
+fn unit_product(a: &[f64; 36], b: &[f64; 36]) -> [f64; 36] {
+    let mut c = [0.0; 36];
+    for (column, weights) in c.chunks_exact_mut(6).zip(b.chunks_exact(6)) {
+        let mut sum = [0.0; 6];
+        for (s, &v) in sum.iter_mut().zip(&a[0..6]) {
+            *s = v * weights[0];
+        }
+        for k in 1..6 {
+            for (s, &v) in sum.iter_mut().zip(&a[6 * k..6 * k + 6]) {
+                *s += v * weights[k];
+            }
+        }
+        column.copy_from_slice(&sum);
+    }
+    c
+}
 
 /// A unit-sized augmented matrix on the stack (`m` must be 6 × 6).
 fn to_unit<D: Dim>(m: &OMatrix<f64, D, D>) -> Matrix6<f64>
@@ -519,6 +599,60 @@ where
 /// whose allocator bounds hide the fixed-size constructors).
 fn unit_from_columns(columns: &[f64]) -> Matrix6<f64> {
     Matrix6::from_column_slice(columns)
+}
+
+/// How many modal flights a thread remembers ([`remembered_flow`]). A boundary curve's
+/// corrector evaluates, per Newton iteration, the cycle at `Y` and at `Y` moved by its
+/// difference steps: moving `α` or the parameter (the gap, the restitution) leaves every
+/// flight as it was, moving an impact phase leaves all but two; between the evaluation at `Y`
+/// and the parameter's two steps come the phases' and `ω`'s, which add at most
+/// `2 · 2 (n − 1) + 2n = 20` new flights for the `n = 4` impacts the study follows: 32 keep
+/// the flights at `Y` until they are asked again.
+const REMEMBERED_FLIGHTS: usize = 32;
+
+/// One flight of [`REMEMBERED_FLIGHTS`]: its decomposition (held, so that its address names
+/// it), forcing and duration, and its flow.
+struct RememberedFlight {
+    modes: Arc<UnitModes>,
+    forcing: ModalForcing,
+    tau: u64,
+    flow: Matrix6<f64>,
+}
+
+thread_local! {
+    /// The last [`REMEMBERED_FLIGHTS`] modal flights computed on this thread, and where the
+    /// next one goes.
+    static FLIGHTS: std::cell::RefCell<(usize, Vec<RememberedFlight>)> =
+        const { std::cell::RefCell::new((0, Vec::new())) };
+}
+
+/// `modes.flow(forcing, tau)`, or the same flow computed earlier on this thread from the same
+/// decomposition, forcing and duration (bit for bit: the flow is a function of these alone).
+fn remembered_flow(modes: &Arc<UnitModes>, forcing: &ModalForcing, tau: f64) -> Matrix6<f64> {
+    let tau_bits = tau.to_bits();
+    FLIGHTS.with(|cell| {
+        let mut memory = cell.borrow_mut();
+        let (next, flights) = &mut *memory;
+        if let Some(hit) = flights.iter().find(|f| {
+            f.tau == tau_bits && Arc::ptr_eq(&f.modes, modes) && f.forcing.same_bits(forcing)
+        }) {
+            return hit.flow;
+        }
+        let flow = modes.flow(forcing, tau);
+        let entry = RememberedFlight {
+            modes: Arc::clone(modes),
+            forcing: forcing.clone(),
+            tau: tau_bits,
+            flow,
+        };
+        if flights.len() < REMEMBERED_FLIGHTS {
+            flights.push(entry);
+        } else {
+            flights[*next] = entry;
+        }
+        *next = (*next + 1) % REMEMBERED_FLIGHTS;
+        flow
+    })
 }
 
 thread_local! {
@@ -586,4 +720,37 @@ pub(crate) fn smallest_rotation(
         })
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .unwrap_or((wrap(alpha), phases))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`product`] of the unit's stack matrices equals nalgebra's product bit for bit, on
+    /// matrices with entries of every sign and scale (and exact zeros, as the flows' phase
+    /// rows hold).
+    #[test]
+    fn unit_product_is_nalgebras_bit_for_bit() {
+        let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let mantissa = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+            match state % 7 {
+                0 => 0.0,
+                1 => -0.0,
+                _ => mantissa * 10f64.powi((state % 13) as i32 - 6),
+            }
+        };
+        for _ in 0..20_000 {
+            let a = Matrix6::from_fn(|_, _| next());
+            let b = Matrix6::from_fn(|_, _| next());
+            let fast = product(&a, &b);
+            let slow = a * b;
+            for (x, y) in fast.iter().zip(slow.iter()) {
+                assert_eq!(x.to_bits(), y.to_bits(), "{a} {b}");
+            }
+        }
+    }
 }

@@ -44,7 +44,8 @@ where
     }
 
     fn model<'m>(owned: &'m (Unit, Stops), label: &Signature) -> Option<UnitBranch<'m>> {
-        Some(UnitBranch::new(&owned.0, &owned.1, label.clone()))
+        // The difference steps of the curve's corrector share most flights.
+        Some(UnitBranch::new(&owned.0, &owned.1, label.clone()).with_remembered_flights())
     }
 }
 

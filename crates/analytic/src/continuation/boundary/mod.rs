@@ -640,17 +640,32 @@ impl<Fam: Family> EventCurve<Fam> {
         y.iter().all(|v| v.is_finite()) && 1.0 - last > MIN_FLIGHT && y[n] > 0.0
     }
 
-    /// `R` and `T` at `X` on `model`.
+    /// `R` and `T` at `X` on `model` (the fold's test from the Jacobian in the state
+    /// unknowns alone).
     fn values<M: BranchModel>(&self, model: &M, x: &[f64]) -> Option<Values> {
-        let fold = matches!(self.test, Test::Fold);
-        let eval = model.evaluate(x, fold)?;
+        let eval = if matches!(self.test, Test::Fold) {
+            model.evaluate_state(x)?
+        } else {
+            model.evaluate(x, false)?
+        };
+        self.values_of(model, x, &eval)
+    }
+
+    /// `R` and `T` at `X` on `model` from its evaluation `eval` there (with the Jacobian
+    /// when the test is the fold's).
+    fn values_of<M: BranchModel>(
+        &self,
+        model: &M,
+        x: &[f64],
+        eval: &M::Evaluation,
+    ) -> Option<Values> {
         let test = match self.test {
-            Test::Fold => fold_test(M::jacobian(&eval)),
-            Test::Torus => torus_test(&model.monodromy(x, &eval)?),
-            test => model.test_value(test, x, &eval)?,
+            Test::Fold => fold_test(M::jacobian(eval)),
+            Test::Torus => torus_test(&model.monodromy(x, eval)?),
+            test => model.test_value(test, x, eval)?,
         };
         Some(Values {
-            residual: M::residual(&eval).clone(),
+            residual: M::residual(eval).clone(),
             test,
         })
     }
@@ -677,7 +692,7 @@ impl<Fam: Family> EventCurve<Fam> {
             jacobian
                 .view_mut((0, 0), (n, n + 1))
                 .copy_from(jacobian_of(model, &eval));
-            let values = self.values(model, x)?;
+            let values = self.values_of(model, x, &eval)?;
             for k in 0..=n {
                 let h = DIFFERENCE_STEP * x[k].abs().max(1.0);
                 let (mut up, mut down) = (x.to_vec(), x.to_vec());
@@ -910,7 +925,7 @@ impl<Fam: Family> EventCurve<Fam> {
 }
 
 /// `det R_x`: the determinant of the Jacobian `R_X` in the state unknowns (all columns but
-/// `ω`'s).
+/// `ω`'s; `jacobian` may have the `ω` column or not).
 fn fold_test(jacobian: &DMatrix<f64>) -> f64 {
     let n = jacobian.nrows();
     jacobian.columns(0, n).into_owned().determinant()

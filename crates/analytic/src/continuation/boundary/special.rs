@@ -161,9 +161,17 @@ impl<Fam: Family> EventCurve<Fam> {
         t: &[f64],
     ) -> Option<Vec<f64>> {
         let n = self.n();
+        // Only the fold's test needs a Jacobian, and only in the state unknowns.
+        let fold = kinds.contains(&SpecialKind::Crossing {
+            other: EventKind::Fold,
+        });
         self.with_model(y[n + 1], |model| {
             let x = &y[..=n];
-            let eval = model.evaluate(x, true)?;
+            let eval = if fold {
+                model.evaluate_state(x)?
+            } else {
+                model.evaluate(x, false)?
+            };
             let m = model.monodromy(x, &eval)?;
             let size = m.nrows();
             kinds
