@@ -164,10 +164,11 @@
 //!
 //! Measured again (branch h25-core, from ac8b2d7, against b5cf96f's binary, alternated, five
 //! runs each, medians of CPU time, load average 2.2): 0.91 s of one core at b5cf96f and 0.61 s
-//! after, the same 368 712 impacts (×1.49; an alternation at the branch's fourth commit
-//! b8c3c48: 0.92 s and 0.65 s, ×1.42). Issue 24's
+//! after, the same 368 712 impacts (×1.49, at d23b2d4; an alternation at the branch's
+//! fourth commit b8c3c48: 0.92 s and 0.65 s, ×1.42; at 43dc924, the carry's commit, load
+//! average 5 to 6: 0.92 s and 0.62 s, ×1.48). Issue 24's
 //! ×2 (about 0.45 s) is not reached. Callgrind, first 1000 periods: 505.0e6 instructions at
-//! the start, 485.6e6 after (−3.8 %), every result bit for bit the start's (the throwaway
+//! the start, 481.7e6 after (−4.6 %), every result bit for bit the start's (the throwaway
 //! program of `unit_long`'s last paragraph: 139 runs, 13 of them chains). What moved it is
 //! the final stretch's amplitudes (14 % of these 1000 periods, none in a longer run): the
 //! sixteen recorded coordinates share their rates, and `max_abs`'s bisection evaluates them
@@ -175,11 +176,17 @@
 //! first eight levels are kept per rate and time and evaluated once (505.0e6 → 486.0e6; the
 //! same evaluations, so the same bits); and the polish's series in blocks of as many lanes as
 //! terms (the odd seventeenth term no longer stepped in a block of four, → 485.6e6). A long
-//! run gains little from either. Tried and not taken: two blocks of pairs summarised in one
+//! run gains little from either. A contact's jump is added to the carried deviation over the
+//! pair's free-impact velocities only, the entries it can change, rather than by comparing
+//! the whole state (→ 481.7e6; the same additions in the same order). Tried and not taken: two blocks of pairs summarised in one
 //! pass over the modes, each mode's scalars and broadcasts formed once (the same bits; 485.6e6
 //! → 496.5e6 written with a per-block helper, 520.9e6 with a const-generic loop: fourteen
 //! accumulators and nine broadcasts spill from AVX's sixteen registers); the state's column
-//! loop by blocks rather than `step_by` (487.2e6 → 487.0e6, nothing). Where the time goes now
+//! loop by blocks rather than `step_by` (487.2e6 → 487.0e6, nothing); the watch's order
+//! sorted as integer keys and slots rather than five-field entries by `total_cmp` (the same
+//! order: 485.6e6 → 485.2e6, but the unit's one-pair watch 229.6e6 → 230.5e6, and 0.61 s →
+//! 0.60 s, within the noise); the carried deviation's storage not zeroed before its kept
+//! entries are written (481.7e6 → 481.8e6). Where the time goes now
 //! (`perf`, 20 000 periods): the contact state 10.4 %, the chunk tests of the searches 10.2 %,
 //! the summaries 10.2 %, the polish's local sums 6.6 %, the run loop 5.9 %, the quadratic
 //! estimates that order the searches 5.5 % (a square root and divisions per pair and flight),

@@ -388,7 +388,7 @@ impl Engine<'_> {
                 state.tau += c.s;
                 self.contact(state, c)?;
                 if carry {
-                    self.carry_across(state);
+                    self.carry_across(state, c.pair);
                 }
             }
         }
@@ -494,7 +494,7 @@ impl Engine<'_> {
         state.tau = c.s;
         self.contact(state, c)?;
         if carry {
-            self.carry_across(state);
+            self.carry_across(state, c.pair);
         }
         Ok(())
     }
@@ -513,17 +513,24 @@ impl Engine<'_> {
         true
     }
 
-    /// After the contact: the deviation plus the contact's jump of the state, valid for the
-    /// state after it while the pairs fly free (dropped otherwise).
+    /// After the contact of pair `pair`: the deviation plus the contact's jump of the state,
+    /// valid for the state after it while the pairs fly free (dropped otherwise). A contact
+    /// in free flight that leaves the pairs free changes at most the velocities of the pair's
+    /// free impact ([`Pair::impact_mobility`]'s entries), the only entries the jump reads.
     #[inline(never)]
-    pub(super) fn carry_across(&mut self, state: &RunState) {
+    pub(super) fn carry_across(&mut self, state: &RunState, pair: usize) {
         let work = &mut self.work;
         if !matches!(state.mode, Mode::Free) {
             work.carried.clear();
             return;
         }
-        self.free
-            .add_jump(&mut work.carried, &work.before_contact, state.y.as_slice());
+        let n = self.n;
+        let changed = self.pairs[pair].impact_mobility.iter().map(|&(i, _)| n + i);
+        self.free.add_jump(
+            &mut work.carried,
+            (&work.before_contact, state.y.as_slice()),
+            changed,
+        );
         work.carried_state.clear();
         work.carried_state.extend_from_slice(state.y.as_slice());
         work.carried_tau = state.tau;
