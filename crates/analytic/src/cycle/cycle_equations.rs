@@ -158,12 +158,12 @@ where
         Self { modes, ..self }
     }
 
-    /// The same equations, their modal flights looked up among the last
-    /// [`REMEMBERED_FLIGHTS`] this thread computed (the same bits as computing them again):
-    /// for a caller whose evaluations share flights, as a boundary curve's difference steps
-    /// do (the flights that a step leaves unchanged are not recomputed). A continuation in
-    /// `ω`, whose evaluations share none, would only pay for the look-up (it cost its 115
-    /// seeds 6 % more CPU), so it is off by default.
+    /// The same equations, their modal flights looked up among the last 32 this thread
+    /// computed (the same bits as computing them again): for a caller whose evaluations share
+    /// flights, as a boundary curve's difference steps do (the flights that a step leaves
+    /// unchanged are not recomputed). A continuation in `ω`, whose evaluations share none,
+    /// would only pay for the look-up (it cost the study's continuation from 115 seeds 6 %
+    /// more CPU), so it is off by default.
     pub fn with_remembered_flights(self) -> Self {
         Self {
             remember: true,
