@@ -51,14 +51,16 @@ where
 {
     omega: f64,
     augmented: OMatrix<f64, D, D>,
-    /// `Ĝ_j` of each impact, in sequence order.
-    g_hats: Vec<OMatrix<f64, D, D>>,
+    /// `Ĝ_j` of each impact, in sequence order. The per-impact lists are shared (not
+    /// copied) by the equations at other frequencies ([`Self::at_frequency`], once per
+    /// evaluation in continuation).
+    g_hats: Arc<[OMatrix<f64, D, D>]>,
     /// `h_j`: the augmented gradient of impact `j`'s pair coordinate.
-    contacts: Vec<OVector<f64, D>>,
+    contacts: Arc<[OVector<f64, D>]>,
     /// `c_j = s_j gap` of each impact: where its pair coordinate must be.
-    stops: Vec<f64>,
+    stops: Arc<[f64]>,
     /// The rotations of the cycle that map the sequence onto itself.
-    symmetries: Vec<usize>,
+    symmetries: Arc<[usize]>,
     cycle: f64,
     /// The unit's modal decomposition of `A` (augmented dimension 6 only, and only where it
     /// is well-conditioned): the fast flow of every flight; `None`: Padé.
@@ -132,10 +134,10 @@ where
         Self {
             omega,
             augmented,
-            g_hats,
-            contacts,
-            stops,
-            symmetries,
+            g_hats: g_hats.into(),
+            contacts: contacts.into(),
+            stops: stops.into(),
+            symmetries: symmetries.into(),
             cycle,
             modes: None,
             remember: false,
@@ -158,12 +160,12 @@ where
         Self { modes, ..self }
     }
 
-    /// The same equations, their modal flights looked up among the last
-    /// [`REMEMBERED_FLIGHTS`] this thread computed (the same bits as computing them again):
-    /// for a caller whose evaluations share flights, as a boundary curve's difference steps
-    /// do (the flights that a step leaves unchanged are not recomputed). A continuation in
-    /// `ω`, whose evaluations share none, would only pay for the look-up (it cost its 115
-    /// seeds 6 % more CPU), so it is off by default.
+    /// The same equations, their modal flights looked up among the last 32 this thread
+    /// computed (the same bits as computing them again): for a caller whose evaluations share
+    /// flights, as a boundary curve's difference steps do (the flights that a step leaves
+    /// unchanged are not recomputed). A continuation in `ω`, whose evaluations share none,
+    /// would only pay for the look-up (it cost the study's continuation from 115 seeds 6 %
+    /// more CPU), so it is off by default.
     pub fn with_remembered_flights(self) -> Self {
         Self {
             remember: true,
