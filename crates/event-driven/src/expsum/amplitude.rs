@@ -16,8 +16,9 @@ const NODES: usize = 256;
 
 /// The exponentials `e^{μ_j s}` of one flight's rates at the points [`ExpSum::max_abs`]
 /// evaluates, shared by the functions of that flight ([`ExpSum::max_abs_shared`]): every
-/// value is the one [`cexp`] gives for the same rate and time (rates compared bit for bit,
-/// times too), so a shared search returns what [`ExpSum::max_abs`] returns, bit for bit.
+/// value is the one the crate's `cexp` (`e^{μ s}`) gives for the same rate and time (rates
+/// compared bit for bit, times too), so a shared search returns what [`ExpSum::max_abs`]
+/// returns, bit for bit.
 /// Functions of other rates than the last call's start the kept values afresh.
 #[derive(Debug, Clone, Default)]
 pub struct SharedPoints {
