@@ -88,6 +88,18 @@ fn modal_forcing(inverse: &CMatrix4, b: &Matrix4x2<f64>) -> CVector4 {
     inverse * column
 }
 
+/// One step of [`series`]'s lockstep recurrence, `p = p z / d + 1` in complex arithmetic
+/// (as `num_complex` does it) on each of the four lanes `(re, im)`.
+#[inline(always)]
+fn series_step((pr, pi): (&mut [f64; 4], &mut [f64; 4]), (zr, zi): (&[f64; 4], &[f64; 4]), d: f64) {
+    for l in 0..4 {
+        let re = pr[l] * zr[l] - pi[l] * zi[l];
+        let im = pr[l] * zi[l] + pi[l] * zr[l];
+        pr[l] = re / d + 1.0;
+        pi[l] = im / d + 0.0;
+    }
+}
+
 /// `φ₁(z_l)` and, with `RATE`, `φ₂(z_l)` of the four `z_l` by their Taylor series,
 /// `φ₁ = Σ z^k/(k+1)!`, `φ₂ = Σ z^k/(k+2)!`, Horner from the last term: the four lanes in
 /// lockstep (independent chains of divisions the processor overlaps, instead of one long
@@ -101,21 +113,9 @@ fn series<const RATE: bool>(z: &[C; 4]) -> ([C; 4], [C; 4]) {
     for k in (0..SERIES_TERMS - 1).rev() {
         // `p = p z / (k + c) + 1` in complex arithmetic (as `num_complex` does it).
         if RATE {
-            let d = k as f64 + 3.0;
-            for l in 0..4 {
-                let re = p2r[l] * zr[l] - p2i[l] * zi[l];
-                let im = p2r[l] * zi[l] + p2i[l] * zr[l];
-                p2r[l] = re / d + 1.0;
-                p2i[l] = im / d + 0.0;
-            }
+            series_step((&mut p2r, &mut p2i), (&zr, &zi), k as f64 + 3.0);
         }
-        let d = k as f64 + 2.0;
-        for l in 0..4 {
-            let re = p1r[l] * zr[l] - p1i[l] * zi[l];
-            let im = p1r[l] * zi[l] + p1i[l] * zr[l];
-            p1r[l] = re / d + 1.0;
-            p1i[l] = im / d + 0.0;
-        }
+        series_step((&mut p1r, &mut p1i), (&zr, &zi), k as f64 + 2.0);
     }
     (
         std::array::from_fn(|l| C::new(p1r[l], p1i[l])),

@@ -80,11 +80,9 @@ impl ExpSum {
     fn eval_with(&self, s: f64, exps: &[C64]) -> (f64, f64) {
         let (mut v, mut d) = (0.0, 0.0);
         for (t, &e) in self.terms.iter().zip(exps) {
-            let p = t.poly;
-            let poly = p[0] + (p[1] + (p[2] + p[3] * s) * s) * s;
-            let dpoly = p[1] + (p[2] * 2.0 + p[3] * (3.0 * s)) * s;
-            v += (poly * e).re;
-            d += ((dpoly + poly * t.rate) * e).re;
+            let (tv, td) = t.value_at(s, e);
+            v += tv;
+            d += td;
         }
         (v, d)
     }

@@ -122,6 +122,18 @@ pub struct Term {
     pub rate: C64,
 }
 
+impl Term {
+    /// The term's contribution to `f(s)` and `f'(s)` given `e = e^{μ s}` (the sums of
+    /// [`ExpSum::eval`] and of the shared bisection of `max_abs_shared`).
+    #[inline(always)]
+    fn value_at(&self, s: f64, e: C64) -> (f64, f64) {
+        let p = self.poly;
+        let poly = p[0] + (p[1] + (p[2] + p[3] * s) * s) * s;
+        let dpoly = p[1] + (p[2] * 2.0 + p[3] * (3.0 * s)) * s;
+        ((poly * e).re, ((dpoly + poly * self.rate) * e).re)
+    }
+}
+
 /// `f(s) = Re Σ_j term_j(s)`.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct ExpSum {
@@ -135,12 +147,9 @@ impl ExpSum {
     pub fn eval(&self, s: f64) -> (f64, f64) {
         let (mut v, mut d) = (0.0, 0.0);
         for t in &self.terms {
-            let e = cexp(t.rate, s);
-            let p = t.poly;
-            let poly = p[0] + (p[1] + (p[2] + p[3] * s) * s) * s;
-            let dpoly = p[1] + (p[2] * 2.0 + p[3] * (3.0 * s)) * s;
-            v += (poly * e).re;
-            d += ((dpoly + poly * t.rate) * e).re;
+            let (tv, td) = t.value_at(s, cexp(t.rate, s));
+            v += tv;
+            d += td;
         }
         (v, d)
     }
