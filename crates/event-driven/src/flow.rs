@@ -649,18 +649,11 @@ fn steady_state_avx(
     (s, known): (f64, Option<&[C64]>),
     y: &mut [f64],
 ) {
+    use crate::expsum::{complex_pair, complex_pair_product};
     use std::arch::x86_64::*;
     let m = 2 * f.dofs;
     let (columns_re, columns_im) = &f.mode_columns;
     let y = &mut y[..m];
-    let product = |a: __m256d, b: __m256d| {
-        let straight = _mm256_mul_pd(a, _mm256_movedup_pd(b));
-        let crossed = _mm256_mul_pd(
-            _mm256_permute_pd::<0b0101>(a),
-            _mm256_permute_pd::<0b1111>(b),
-        );
-        _mm256_addsub_pd(straight, crossed)
-    };
     let pack = |a: C64, b: C64| _mm256_set_pd(b.im, b.re, a.im, a.re);
     let (plus, minus) = (pack(forced, forced), pack(forced.conj(), forced.conj()));
     // A `match`, not `Option::map_or_else` (which was left out of line here: 68e6
@@ -679,16 +672,17 @@ fn steady_state_avx(
         let ((k0, w0), (k1, w1)) = (pair[0], pair[1]);
         let h = pack(deviation[k0], deviation[k1]);
         let e = pack(el(2 * i, k0), el(2 * i + 1, k1));
-        let mut z = product(h, e);
-        z = _mm256_add_pd(z, product(pack(p.plus[k0], p.plus[k1]), plus));
-        z = _mm256_add_pd(z, product(pack(p.minus[k0], p.minus[k1]), minus));
+        let mut z = complex_pair_product(h, e);
+        z = _mm256_add_pd(z, complex_pair_product(pack(p.plus[k0], p.plus[k1]), plus));
+        z = _mm256_add_pd(
+            z,
+            complex_pair_product(pack(p.minus[k0], p.minus[k1]), minus),
+        );
         z = _mm256_add_pd(z, pack(p.constant[k0], p.constant[k1]));
         z = _mm256_mul_pd(z, _mm256_set_pd(w1, w1, w0, w0));
-        let mut out = [0.0; 4];
-        // SAFETY: `out` holds four `f64`, the unaligned store's 32 bytes.
-        unsafe { _mm256_storeu_pd(out.as_mut_ptr(), z) };
-        add(k0, C64::new(out[0], out[1]));
-        add(k1, C64::new(out[2], out[3]));
+        let (z0, z1) = complex_pair(z);
+        add(k0, z0);
+        add(k1, z1);
     }
     if let &[(k, weight)] = last {
         let j = f.kept.len() - 1;

@@ -9,6 +9,8 @@ type C64 = Complex<f64>;
 mod amplitude;
 mod cache;
 mod chunk;
+#[cfg(target_arch = "x86_64")]
+mod packed;
 mod polish;
 mod scan;
 mod search;
@@ -21,6 +23,8 @@ use cache::{
     CACHED_CHUNKS, CHUNK_ROWS, PACKED_ROWS, SEED_DIVISIONS,
 };
 use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
+#[cfg(target_arch = "x86_64")]
+pub(crate) use packed::{complex_pair, complex_pair_product};
 use polish::{polish, polish_from, Crossing, Exponentials};
 use scan::{packed_chunks, CachedChunks, ChunkSource, Chunks, SteppedChunks, PACKED_TERMS};
 pub use search::Tolerances;

@@ -449,16 +449,8 @@ fn series_block<const N: usize>(values: &mut [C64], terms: &[Term], delta: f64, 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 fn series_pairs_avx(values: &mut [C64], terms: &[Term], delta: f64, from: usize) -> usize {
+    use super::{complex_pair, complex_pair_product as product};
     use std::arch::x86_64::*;
-    // `a·b` for two complex numbers in each operand.
-    let product = |a: __m256d, b: __m256d| {
-        let straight = _mm256_mul_pd(a, _mm256_movedup_pd(b));
-        let crossed = _mm256_mul_pd(
-            _mm256_permute_pd::<0b0101>(a),
-            _mm256_permute_pd::<0b1111>(b),
-        );
-        _mm256_addsub_pd(straight, crossed)
-    };
     let real = |c: f64| _mm256_set_pd(-0.0, c, -0.0, c);
     let step = _mm256_set1_pd(delta);
     let start = _mm256_set_pd(0.0, INVERSE_FACTORIALS[from], 0.0, INVERSE_FACTORIALS[from]);
@@ -476,11 +468,7 @@ fn series_pairs_avx(values: &mut [C64], terms: &[Term], delta: f64, from: usize)
         }
         let factor = _mm256_add_pd(product(p, z), real(1.0));
         let old = _mm256_set_pd(e[1].im, e[1].re, e[0].im, e[0].re);
-        let mut new = [0.0; 4];
-        // SAFETY: `new` holds four `f64`, the unaligned store's 32 bytes.
-        unsafe { _mm256_storeu_pd(new.as_mut_ptr(), product(old, factor)) };
-        e[0] = C64::new(new[0], new[1]);
-        e[1] = C64::new(new[2], new[3]);
+        (e[0], e[1]) = complex_pair(product(old, factor));
     }
     2 * pairs
 }

@@ -117,20 +117,16 @@ fn summarize_block_avx(weights: &[[f64; 2 * LANES]], modes: &[ModeTerm]) -> [Sum
         unsafe { _mm256_storeu_pd(out.as_mut_ptr(), v) };
         out
     };
-    let (start, slope0, curve0, size0) = (lanes(start), lanes(slope0), lanes(curve0), lanes(size0));
-    let (speed, bend, jerk) = (lanes(speed), lanes(bend), lanes(jerk));
-    std::array::from_fn(|l| Summary {
-        start: start[l],
-        slope0: slope0[l],
-        curve0: curve0[l],
-        size0: size0[l],
-        centre: 0.0,
-        spread: size0[l],
-        speed: speed[l],
-        bend: bend[l],
-        jerk_cut: jerk[l],
-        jerk_horizon: jerk[l],
-    })
+    LaneSums {
+        start: lanes(start),
+        slope0: lanes(slope0),
+        curve0: lanes(curve0),
+        size0: lanes(size0),
+        speed: lanes(speed),
+        bend: lanes(bend),
+        jerk: lanes(jerk),
+    }
+    .summaries()
 }
 
 /// The body of [`summarize_block`].
@@ -179,18 +175,47 @@ fn summarize_lanes(weights: &[[f64; 2 * LANES]], modes: &[ModeTerm]) -> [Summary
             jerk[l] += cube * size[l];
         }
     }
-    std::array::from_fn(|l| Summary {
-        start: start[l],
-        slope0: slope0[l],
-        curve0: curve0[l],
-        size0: size0[l],
-        centre: 0.0,
-        spread: size0[l],
-        speed: speed[l],
-        bend: bend[l],
-        jerk_cut: jerk[l],
-        jerk_horizon: jerk[l],
-    })
+    LaneSums {
+        start,
+        slope0,
+        curve0,
+        size0,
+        speed,
+        bend,
+        jerk,
+    }
+    .summaries()
+}
+
+/// The sums of [`summarize_lanes`] (and of its AVX form), lane by lane.
+struct LaneSums {
+    start: [f64; LANES],
+    slope0: [f64; LANES],
+    curve0: [f64; LANES],
+    size0: [f64; LANES],
+    speed: [f64; LANES],
+    bend: [f64; LANES],
+    jerk: [f64; LANES],
+}
+
+impl LaneSums {
+    /// Each lane's [`Summary`] (a summary of constant-polynomial decaying terms: no centre,
+    /// the spread its size, the same third-derivative bound cut or not).
+    #[inline(always)]
+    fn summaries(&self) -> [Summary; LANES] {
+        std::array::from_fn(|l| Summary {
+            start: self.start[l],
+            slope0: self.slope0[l],
+            curve0: self.curve0[l],
+            size0: self.size0[l],
+            centre: 0.0,
+            spread: self.size0[l],
+            speed: self.speed[l],
+            bend: self.bend[l],
+            jerk_cut: self.jerk[l],
+            jerk_horizon: self.jerk[l],
+        })
+    }
 }
 
 impl Summary {
