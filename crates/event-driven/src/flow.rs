@@ -192,7 +192,7 @@ fn phi_shared(lambda: C64, el: C64, mu: C64, em: C64, s: f64, period: f64) -> C6
 /// `e^{μ s}`, skipping the real exponential for purely oscillatory rates.
 #[inline]
 fn cexp(mu: C64, s: f64) -> C64 {
-    let (sin, cos) = (mu.im * s).sin_cos();
+    let (sin, cos) = crate::trig::sin_cos(mu.im * s);
     let r = if mu.re == 0.0 { 1.0 } else { (mu.re * s).exp() };
     C64::new(r * cos, r * sin)
 }
@@ -449,15 +449,15 @@ impl LinearFlow {
     /// The flight from state `y` (length `2n`) at forcing phase time `t0` (the forcing is
     /// evaluated at `t0 + s`).
     pub fn flight(&self, y: &DVector<f64>, t0: f64) -> Flight<'_> {
-        let (sin, cos) = (self.omega * t0).sin_cos();
+        let (sin, cos) = crate::trig::sin_cos(self.omega * t0);
         self.flight_at_phase(y, C64::new(cos, sin), Vec::new())
     }
 
-    /// [`Self::flight`] given its forcing phase `e^{iωt0}` as `(ωt0).sin_cos()` gives it (the
-    /// event loop keeps the last one it computed: a contact's accelerations and the flight
-    /// that follows start at the same time), its modal deviation written into `storage`
-    /// (any contents; the event loop hands back the last flight's, [`Flight::into_storage`],
-    /// so that a flight allocates nothing).
+    /// [`Self::flight`] given its forcing phase `e^{iωt0}` as `crate::trig::sin_cos(ωt0)`
+    /// gives it (the event loop keeps the last one it computed: a contact's accelerations and
+    /// the flight that follows start at the same time), its modal deviation written into
+    /// `storage` (any contents; the event loop hands back the last flight's,
+    /// [`Flight::into_storage`], so that a flight allocates nothing).
     pub(crate) fn flight_at_phase(
         &self,
         y: &DVector<f64>,
@@ -1232,7 +1232,7 @@ mod tests {
             (before.as_slice(), after.as_slice()),
             changed,
         );
-        let (sin, cos) = (flow.omega * (0.7 + s)).sin_cos();
+        let (sin, cos) = crate::trig::sin_cos(flow.omega * (0.7 + s));
         let carried = flow
             .flight_with_deviation(deviation, C64::new(cos, sin))
             .expect("steady response");

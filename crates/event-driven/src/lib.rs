@@ -34,6 +34,7 @@ pub mod newton;
 pub mod simulate;
 pub mod test_models;
 pub mod trajectory;
+mod trig;
 
 pub use lyapunov::{
     lyapunov_after_steady_state, lyapunov_exponents, LyapunovError, LyapunovOptions,

@@ -97,7 +97,7 @@ pub enum NewtonError {
 pub(crate) fn shifted(model: &Model, omega: f64, time: f64) -> Model {
     let mut out = model.clone();
     if time != 0.0 {
-        let (sin, cos) = (omega * time).sin_cos();
+        let (sin, cos) = crate::trig::sin_cos(omega * time);
         out.forcing_cos = &model.forcing_cos * cos + &model.forcing_sin * sin;
         out.forcing_sin = &model.forcing_sin * cos - &model.forcing_cos * sin;
     }

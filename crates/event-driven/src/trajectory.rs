@@ -171,7 +171,7 @@ pub fn sample_trajectory(
         .map(|(t, kind, y)| TrajectoryRow {
             time: *t,
             kind: *kind,
-            base: options.base_amplitude * (omega * (phase + t)).cos(),
+            base: options.base_amplitude * crate::trig::sin_cos(omega * (phase + t)).1,
             displacements: y.rows(0, n).iter().copied().collect(),
             velocities: y.rows(n, n).iter().copied().collect(),
             relative: relative(y),

@@ -356,7 +356,7 @@ impl<'m> Engine<'m> {
         if at == tau {
             return (sin, cos);
         }
-        let (sin, cos) = (self.omega * tau).sin_cos();
+        let (sin, cos) = crate::trig::sin_cos(self.omega * tau);
         self.forcing.set((tau, sin, cos));
         (sin, cos)
     }

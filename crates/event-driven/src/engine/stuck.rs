@@ -277,7 +277,8 @@ impl Engine<'_> {
             .copy_from(&(&tt * (state.y.rows(0, n) - &st.offset)));
         yr.rows_mut(nr, nr).copy_from(&(&tt * state.y.rows(n, n)));
         let flight = st.flow.flight(&yr, tau);
-        let rotation = nalgebra::Complex::new(0.0, self.omega * tau).exp();
+        let (sin, cos) = crate::trig::sin_cos(self.omega * tau);
+        let rotation = nalgebra::Complex::new(cos, sin);
         // The first release: held while side·λ < 0, released at the first root of −side·λ.
         let mut release: Option<(f64, usize)> = None;
         for (position, (force, &(_, side))) in st.forces.iter().zip(&st.held).enumerate() {

@@ -45,7 +45,7 @@ fn cexp(mu: C64, s: f64) -> C64 {
     if mu.im == 0.0 {
         C64::new(exp_real(mu.re * s), 0.0)
     } else {
-        let (sin, cos) = (mu.im * s).sin_cos();
+        let (sin, cos) = crate::trig::sin_cos(mu.im * s);
         let r = if mu.re == 0.0 {
             1.0
         } else {
