@@ -13,6 +13,12 @@
 //! differ by one unit in the last place on about 3 % of arguments (measured on 2·10⁶ of them
 //! in `[−10, 3000]`, the test below checks the bound on its own set). The analytic solver
 //! keeps the platform's: the two solvers derive their numerics independently.
+//!
+//! Measured and not taken (`steady_sweep`, interleaved medians of 5, same session): this
+//! module 0.52 s, glibc's 0.55 s; the same algorithm copied here to be inlined, 0.55 s; and a
+//! flight's terms four at a time in AVX registers (every branch computed, the lane's taken by
+//! masks, bit for bit the scalar copy), 0.64 s: most arguments are below `π/4`, where the
+//! scalar form does no reduction at all.
 
 /// `(sin x, cos x)`, each within one unit in the last place; NaN for an infinite or NaN `x`.
 #[inline]
