@@ -232,6 +232,25 @@ pub(crate) fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<C64>, FlowError> {
     Err(FlowError::NoConvergence)
 }
 
+/// Real parts of an undamped system's oscillating rates at most this many times `ε·|μ|` are
+/// rounding (the Schur form leaves a few `1e-17` where they are zero) and are made exactly 0.
+/// Far above the Schur form's rounding (a few `ε·|μ|`), far below any real damping's share
+/// (a damping ratio of `1e-13`).
+pub(crate) const CONSERVATIVE_ROUNDING: f64 = 1e3;
+
+/// The rates of a system with no damping terms: its oscillating modes (`im μ ≠ 0`) conserve
+/// energy, so a real part at rounding level ([`CONSERVATIVE_ROUNDING`]) is made exactly 0;
+/// conjugate pairs stay exact conjugates. Measured on the `steady_sweep` example (half its
+/// runs undamped): an undamped flight then counts as bounded and is searched on the fixed
+/// grid of cached exponentials, not the horizon grid's fresh ones (see the commit).
+fn conservative_rates(rates: &mut [C64]) {
+    for r in rates.iter_mut() {
+        if r.im != 0.0 && r.re.abs() <= CONSERVATIVE_ROUNDING * f64::EPSILON * r.norm() {
+            r.re = 0.0;
+        }
+    }
+}
+
 impl LinearFlow {
     /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + f₀` (`damping` `None`: no
     /// damping terms at all).
@@ -253,7 +272,10 @@ impl LinearFlow {
         if let Some(c) = damping {
             a.view_mut((n, n), (n, n)).copy_from(&(-(&minv * c)));
         }
-        let rates = eigenvalues(&a)?;
+        let mut rates = eigenvalues(&a)?;
+        if damping.is_none() {
+            conservative_rates(&mut rates);
+        }
         let mut modes = DMatrix::<C64>::zeros(2 * n, 2 * n);
         let mc = mass.map(|v| C64::new(v, 0.0));
         let kc = stiffness.map(|v| C64::new(v, 0.0));
@@ -1017,6 +1039,55 @@ mod tests {
             .map(|&(k, _)| cexp(flow.rates[k], s))
             .chain([cexp(C64::new(0.0, flow.omega), s)])
             .collect()
+    }
+
+    /// An undamped system's rates are `±iω_k` exactly (the exact answer: `M`, `K` symmetric
+    /// positive definite); the Schur form leaves rounding in their real parts, which
+    /// [`conservative_rates`] removes. A damped system's real parts stay as they are.
+    #[test]
+    fn undamped_rates_are_purely_imaginary_and_damped_ones_keep_their_decay() {
+        use crate::test_models::{paper_chain, LIGHT_DAMPING};
+        for cells in [1, 3, 8] {
+            for damping in [None, Some(LIGHT_DAMPING)] {
+                let model = paper_chain(cells, 2.0, damping, None);
+                let flow = LinearFlow::new(
+                    &model.mass,
+                    model.damping.as_ref(),
+                    &model.stiffness,
+                    &model.forcing_cos,
+                    &model.forcing_sin,
+                    &DVector::zeros(2 * cells),
+                    2.0,
+                )
+                .expect("the paper's chain has a flow");
+                let raw = eigenvalues(&flow_matrix(&model)).expect("eigenvalues");
+                for (r, schur) in flow.rates.iter().zip(&raw) {
+                    assert_eq!(r.im, schur.im);
+                    if damping.is_none() {
+                        assert_eq!(r.re, 0.0, "{cells} cells: {r}");
+                        // Only rounding was removed.
+                        assert!(schur.re.abs() <= 1e-14 * schur.norm(), "{schur}");
+                    } else {
+                        assert_eq!(r.re, schur.re);
+                        assert!(r.re < -1e-4, "{cells} cells: {r}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// The first-order system matrix `[0 I; −M⁻¹K −M⁻¹C]` of `model`.
+    fn flow_matrix(model: &crate::Model) -> DMatrix<f64> {
+        let n = model.mass.nrows();
+        let minv = model.mass.clone().try_inverse().expect("mass");
+        let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
+        a.view_mut((0, n), (n, n)).fill_with_identity();
+        a.view_mut((n, 0), (n, n))
+            .copy_from(&(-(&minv * &model.stiffness)));
+        if let Some(c) = &model.damping {
+            a.view_mut((n, n), (n, n)).copy_from(&(-(&minv * c)));
+        }
+        a
     }
 
     /// The free flow of a lightly damped chain of the paper's cell, its pairs' relative
