@@ -145,7 +145,7 @@ impl Engine<'_> {
         } = watched;
         let mut contact: Option<Contact> = None;
         let mut step = f64::INFINITY;
-        // Every pair's gap, then the searches in the order of their quadratic estimates: the
+        // Every pair's gap, then the searches, the earliest quadratic estimate first: the
         // likely first contact is found first and cuts the others' horizons short. With
         // several pairs, each gap is first only summarised (the sums of the summarised
         // search's first tests): a pair those tests exclude up to the earliest contact found is
@@ -191,8 +191,22 @@ impl Engine<'_> {
             };
             work.order.push((estimate, count, i, lo, hi));
         }
-        work.order
-            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // The earliest estimate first, the others after it in their slots' order: the first
+        // search mostly finds the contact, and cuts the others' horizons short, so that most
+        // are decided by their summaries alone; their order decides little more (a full sort
+        // by estimate cost 2 % of `chain8`'s time and saved no search worth it: callgrind,
+        // `chain8 1000`, 481.5e6 → 465.9e6 instructions, the same contacts).
+        if several {
+            let earliest = work
+                .order
+                .iter()
+                .enumerate()
+                .min_by(|(_, a), (_, b)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+                .map(|(at, _)| at);
+            if let Some(at) = earliest {
+                work.order[..=at].rotate_right(1);
+            }
+        }
         let Scratch {
             gaps,
             summaries,
