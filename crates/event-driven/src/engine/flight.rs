@@ -18,6 +18,11 @@ pub(super) enum Watch {
 pub(super) struct Scratch {
     /// Each watched pair's gap in the current flight.
     pub(super) gaps: Vec<ExpSum>,
+    /// Per slot of `gaps`, the pair whose relative displacement it holds as a free flight
+    /// of the joint watch wrote it ([`Flight::expand`] from the engine's free flow), if so:
+    /// the next such flight rewrites only its constant coefficients
+    /// ([`Flight::expand_again`]).
+    pub(super) expanded: Vec<Option<usize>>,
     /// Each watched pair's gap summarised ([`Flight::summarize`]) when several pairs are
     /// watched: its terms are then written out only for a search.
     pub(super) summaries: Vec<Option<Summary>>,
@@ -178,6 +183,7 @@ impl Engine<'_> {
             if work.gaps.len() <= count {
                 work.gaps.push(ExpSum::default());
                 work.summaries.push(None);
+                work.expanded.push(None);
             }
             let spec = &pairs[i].spec;
             let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
@@ -194,6 +200,7 @@ impl Engine<'_> {
                     None => {
                         let gap = &mut work.gaps[count];
                         flight.expand(functional, gap);
+                        work.expanded[count] = None;
                         // One pair has no order to choose: no estimate.
                         if several {
                             gap.estimated_exit(lo, hi)
@@ -223,6 +230,7 @@ impl Engine<'_> {
         }
         let Scratch {
             gaps,
+            expanded,
             summaries,
             joint: joint_summaries,
             order,
@@ -243,7 +251,16 @@ impl Engine<'_> {
                     continue;
                 }
                 if let Some((_, functional, _)) = watched.clone().nth(slot) {
-                    flight.expand(functional, &mut gaps[slot]);
+                    // A joint watch is the free flight's, over the pairs' relative
+                    // displacements: a slot that holds pair `i`'s from an earlier free flight
+                    // needs only its constant coefficients written.
+                    let again = joint && expanded[slot] == Some(i);
+                    if again {
+                        flight.expand_again(functional, &mut gaps[slot]);
+                    } else {
+                        flight.expand(functional, &mut gaps[slot]);
+                    }
+                    expanded[slot] = joint.then_some(i);
                 }
                 // The search's own first tests are this summary's, just made: not made again.
                 gaps[slot].first_exit_summarized(
