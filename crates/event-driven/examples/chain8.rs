@@ -195,6 +195,34 @@
 //! structural levers of the last rounds (a contact's state formed only where it is read,
 //! summaries updated across an impact, polishing only the flight's winning contact) are still
 //! open, and with them the ×2.
+//!
+//! Measured again (branch h26-core, from 40c81f7, against b5cf96f's binary and the start,
+//! alternated, five runs each, medians of CPU time, load average 3 to 4.5): 0.86 s of one core
+//! at b5cf96f, 0.60 s at the start and 0.54 s after, the same 368 712 impacts (×1.59 over
+//! b5cf96f, ×1.11 over the start). Issue 24's ×2 is not reached. Callgrind, first 1000
+//! periods: 481.5e6 instructions at the start, 451.8e6 after (−6.2 %); first 5000 periods
+//! 1962.2e6 after; every result bit for bit the start's (the 139-run program of `unit_long`'s
+//! last paragraph: identical output at every commit). What moved it: the watch searches the
+//! earliest estimate first and the other pairs in their slots' order rather than sorting all
+//! eight by estimate (the order decides only how much is searched; → 465.9e6); the carried
+//! and pending states compared bit for bit without a branch per entry (→ 463.6e6); a pair's
+//! terms, which its slot holds from an earlier free flight, rewritten in their constant
+//! coefficients only (`Flight::expand_again`, → 451.8e6). Tried and not taken: the watch's
+//! quadratic estimates without branches (scalar, both sides' roots always formed: 0.53 s →
+//! 0.55 s; four pairs at once with AVX: −0.7 % instructions, no measurable time); estimates
+//! skipped for pairs whose quadratic provably leaves later than the earliest so far (in the
+//! slots' order the earliest is found late: +0.4 %); every kept mode's column added to a block
+//! of sixteen entries of the state held in registers (the same bits, +2.6 % instructions, no
+//! measurable time); the forcing phase at a contact as the flight's start phase times the
+//! search's `e^{iωs}` (at most four products from a `sin_cos`; it moves the last bits:
+//! `unit_long 20000` 229.6e6 → 227.0e6, −1.1 %); the fixed grid's chunks at 6 or 12 per
+//! oscillation instead of 8 (`unit_long 20000`: 324.9e6, 252.8e6; this chain: 491.6e6,
+//! 480.1e6); a build for `x86-64-v3` (`-C target-cpu`, outside the crate: the same bits on
+//! the 139 runs, 5 to 7 % less CPU time on both examples). Where the time goes now (`perf`,
+//! 20 000 periods): the contact state 12.8 %, the chunk tests of the searches 11.3 %, the
+//! summaries 10.6 %, the run loop 6.3 %, the watch's quadratic estimates 6.3 % (latency of
+//! their square roots and divisions), the polish's local sums 6 %, the term rewrite 3.7 %,
+//! the exclusion tests 3.6 %.
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};

@@ -18,7 +18,7 @@
 //!
 //! **Many contact pairs** (chains of cells, [`Model::chain`]): every pair is watched at all
 //! times with the same first-contact guarantee. In free flight all pairs' gaps are searched
-//! (in the order of their quadratic estimates, each search cut at the earliest contact found
+//! (the earliest quadratic estimate first, each search cut at the earliest contact found
 //! so far; a gap is first only summarised from the flight's modal coordinates, every pair's
 //! in one pass over the modes, and a pair whose evaluation-free bounds keep it inside its
 //! stops up to that contact is decided exactly as its search would decide it, without the
