@@ -22,7 +22,11 @@
 //! same guarantee ([`simulate()`]).
 //!
 //! Only the effects a model has are simulated: no contact pairs, no event search; no damping
-//! matrix, no damping terms.
+//! matrix, no damping terms, and the oscillating rates purely imaginary, as a conservative
+//! system's are (the Schur form's rounding-level real parts removed).
+//!
+//! Its sines and cosines are musl's, not the platform's (`trig`): the event core derives
+//! its numerics on its own, apart from the analytic solver's.
 #![deny(missing_docs)]
 
 mod engine;
