@@ -794,6 +794,68 @@ pub(crate) fn smallest_rotation(
 mod tests {
     use super::*;
 
+    /// The modal evaluation without memory (its flights two at a time, `flow_pair`) equals
+    /// the one with its flights remembered (one at a time, [`remembered_flow`]), bit for bit:
+    /// evaluations that share some flights and not others, of a cycle whose flights include
+    /// equal and short ones (taken by the series).
+    #[test]
+    fn remembered_flights_change_no_bit() {
+        use crate::test_models::{damped_paper_unit, paper_stops};
+        use nalgebra::{Vector2, U6};
+        let (unit, stops) = (damped_paper_unit(), paper_stops());
+        let omega = 1.7;
+        let mut g_hat = Matrix6::identity();
+        g_hat
+            .fixed_view_mut::<2, 2>(2, 2)
+            .copy_from(&stops.impact_map(&unit));
+        let contact = crate::flow::join(
+            &nalgebra::Vector4::new(-1.0, 1.0, 0.0, 0.0),
+            &Vector2::zeros(),
+        );
+        let impacts = [1.0, 1.0, -1.0, -1.0, 1.0]
+            .iter()
+            .map(|&s| ImpactCondition::<U6> {
+                impact_map: g_hat,
+                contact,
+                stop: s * stops.gap,
+            })
+            .collect();
+        let plain = CycleEquations::new(
+            omega,
+            unit.augmented_matrix(omega),
+            impacts,
+            vec![0],
+            std::f64::consts::TAU / omega,
+        )
+        .with_modal_flow();
+        let remembered = plain.clone().with_remembered_flights();
+        let points = [
+            [0.3, 0.2, 0.4, 0.6, 0.8],
+            [0.3, 0.2, 0.4, 0.6, 0.8],
+            [0.3, 0.2, 0.41, 0.6, 0.8],
+            [0.5, 0.001, 0.002, 0.5, 0.501],
+            [0.5, 0.001, 0.002, 0.5, 0.502],
+            [0.1, 0.25, 0.5, 0.75, 0.999],
+        ];
+        for x in &points {
+            let (a, b) = (
+                plain.evaluate_with(x, true),
+                remembered.evaluate_with(x, true),
+            );
+            let (Some(a), Some(b)) = (a, b) else {
+                panic!("both evaluate at {x:?}");
+            };
+            for (fa, fb) in a.flights.iter().zip(&b.flights) {
+                for (u, v) in fa.iter().zip(fb.iter()) {
+                    assert_eq!(u.to_bits(), v.to_bits(), "{x:?}");
+                }
+            }
+            for (u, v) in a.jacobian.iter().zip(b.jacobian.iter()) {
+                assert_eq!(u.to_bits(), v.to_bits(), "{x:?}");
+            }
+        }
+    }
+
     /// [`product`] of the unit's stack matrices (four wide with AVX) and its two-wide form
     /// equal nalgebra's product bit for bit, on matrices with entries of every sign and scale
     /// (and exact zeros, as the flows' phase rows hold).
