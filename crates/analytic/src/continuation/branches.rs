@@ -56,8 +56,10 @@ pub(crate) fn listed<L: Label>(
 
 /// `X = (α, φ₂ … φₙ, ω)` of a point.
 fn point_unknowns(p: &ContinuationPoint) -> Vec<f64> {
-    let mut x = vec![p.alpha];
-    x.extend_from_slice(p.impact_phases.get(1..).unwrap_or(&[]));
+    let phases = p.impact_phases.get(1..).unwrap_or(&[]);
+    let mut x = Vec::with_capacity(phases.len() + 2);
+    x.push(p.alpha);
+    x.extend_from_slice(phases);
     x.push(p.omega);
     x
 }
@@ -176,23 +178,29 @@ impl<L: Label> Curve<L> {
     fn of(branch: &Branch<L>) -> Self {
         let mut curve = Self::new(branch.index, branch.signature.clone());
         let xs: Vec<Vec<f64>> = branch.points.iter().map(point_unknowns).collect();
-        for i in 0..xs.len() {
-            let (a, b) = (&xs[i.saturating_sub(1)], &xs[(i + 1).min(xs.len() - 1)]);
-            let mut t: Vec<f64> = (0..a.len())
-                .map(|k| {
-                    if k == 0 {
-                        wrap(b[0] - a[0])
-                    } else {
-                        b[k] - a[k]
-                    }
-                })
-                .collect();
-            let norm = t.iter().map(|v| v * v).sum::<f64>().sqrt();
-            t.iter_mut().for_each(|v| *v /= norm);
-            let k = curve.push(&xs[i], &t);
-            if k > 0 {
-                curve.link(k - 1, k);
-            }
+        let tangents: Vec<Vec<f64>> = (0..xs.len())
+            .map(|i| {
+                let (a, b) = (&xs[i.saturating_sub(1)], &xs[(i + 1).min(xs.len() - 1)]);
+                let mut t: Vec<f64> = (0..a.len())
+                    .map(|k| {
+                        if k == 0 {
+                            wrap(b[0] - a[0])
+                        } else {
+                            b[k] - a[k]
+                        }
+                    })
+                    .collect();
+                let norm = t.iter().map(|v| v * v).sum::<f64>().sqrt();
+                t.iter_mut().for_each(|v| *v /= norm);
+                t
+            })
+            .collect();
+        // The vertices moved in (not copied by `push`, as this runs for every branch of
+        // every start), then each segment linked in order.
+        curve.x = xs;
+        curve.tangent = tangents;
+        for k in 1..curve.x.len() {
+            curve.link(k - 1, k);
         }
         curve
     }
