@@ -252,6 +252,23 @@ fn conservative_rates(rates: &mut [C64]) {
 }
 
 impl LinearFlow {
+    /// The free flow of `model` (its masses, dampings, stiffnesses and forcing, no constant
+    /// force) at forcing frequency `omega`: the flight between its events.
+    ///
+    /// # Errors
+    /// As [`LinearFlow::new`].
+    pub(crate) fn of_model(model: &crate::Model, omega: f64) -> Result<Self, FlowError> {
+        LinearFlow::new(
+            &model.mass,
+            model.damping.as_ref(),
+            &model.stiffness,
+            &model.forcing_cos,
+            &model.forcing_sin,
+            &DVector::zeros(model.mass.nrows()),
+            omega,
+        )
+    }
+
     /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + f₀` (`damping` `None`: no
     /// damping terms at all).
     pub fn new(
@@ -1074,16 +1091,7 @@ mod tests {
         for cells in [1, 3, 8] {
             for damping in [None, Some(LIGHT_DAMPING)] {
                 let model = paper_chain(cells, 2.0, damping, None);
-                let flow = LinearFlow::new(
-                    &model.mass,
-                    model.damping.as_ref(),
-                    &model.stiffness,
-                    &model.forcing_cos,
-                    &model.forcing_sin,
-                    &DVector::zeros(2 * cells),
-                    2.0,
-                )
-                .expect("the paper's chain has a flow");
+                let flow = LinearFlow::of_model(&model, 2.0).expect("the paper's chain has a flow");
                 let raw = eigenvalues(&flow_matrix(&model)).expect("eigenvalues");
                 for (r, schur) in flow.rates.iter().zip(&raw) {
                     assert_eq!(r.im, schur.im);
@@ -1127,16 +1135,7 @@ mod tests {
             Some(CellStops::symmetric(0.5, 0.8)),
         );
         let n = 2 * cells;
-        let flow = LinearFlow::new(
-            &model.mass,
-            model.damping.as_ref(),
-            &model.stiffness,
-            &model.forcing_cos,
-            &model.forcing_sin,
-            &DVector::zeros(n),
-            omega,
-        )
-        .expect("flow");
+        let flow = LinearFlow::of_model(&model, omega).expect("flow");
         let functionals = model
             .contacts
             .iter()

@@ -231,15 +231,7 @@ impl<'m> Engine<'m> {
     ) -> Result<Self, SimulationError> {
         let n = model.dofs();
         let period = std::f64::consts::TAU / omega;
-        let free = LinearFlow::new(
-            &model.mass,
-            model.damping.as_ref(),
-            &model.stiffness,
-            &model.forcing_cos,
-            &model.forcing_sin,
-            &DVector::zeros(n),
-            omega,
-        )?;
+        let free = LinearFlow::of_model(model, omega)?;
         let minv = model
             .mass
             .clone()
