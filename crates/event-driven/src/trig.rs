@@ -11,7 +11,7 @@
 //! `steady_sweep` example, half that with this one (perf, see the commit). Its error is below
 //! one unit in the last place; glibc's is correctly rounded nearly everywhere, so the two
 //! differ by one unit in the last place on about 3 % of arguments (measured on 2·10⁶ of them
-//! in `[−10, 3000]`; the test below checks the bound from `1e-8` to `2e10` and next to the
+//! in `[−10, 3000]`; the test below checks the bound from `1e-8` to `2e9` and next to the
 //! first 2000 multiples of `π/2`). The analytic solver
 //! keeps the platform's: the two solvers derive their numerics independently.
 //!
