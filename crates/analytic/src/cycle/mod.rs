@@ -24,6 +24,25 @@ pub mod sequence_search;
 pub(crate) mod unit_modes;
 pub(crate) mod verdicts;
 
+/// Matrix entries for the bit-for-bit tests of this module's products, from a xorshift
+/// generator seeded with `seed`: exact zeros of both signs (a seventh each), the rest of
+/// every sign and of sizes from `1e-6` to `1e6`.
+#[cfg(test)]
+pub(crate) fn awkward_entries(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let mantissa = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        match state % 7 {
+            0 => 0.0,
+            1 => -0.0,
+            _ => mantissa * 10f64.powi((state % 13) as i32 - 6),
+        }
+    }
+}
+
 use crate::cycle_equations::{CycleEquations, ImpactCondition};
 use crate::flow::{join, Augmented, Extrema, ForcedFlow};
 use crate::linear::{modes, transmittance_db};

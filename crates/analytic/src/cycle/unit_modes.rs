@@ -480,20 +480,15 @@ mod tests {
     /// and on factors beyond [`REAL_PRODUCT_BOUND`].
     #[test]
     fn real_product_is_nalgebras_bit_for_bit() {
-        let mut state: u64 = 0x2545_F491_4F6C_DD1D;
+        let mut entry = crate::cycle::awkward_entries(0x2545_F491_4F6C_DD1D);
+        let mut count = 0u32;
         let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            let mantissa = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-            // About half the pairs of factors hold an entry beyond the bound.
-            if state % 101 == 0 {
-                return mantissa * 1e120;
-            }
-            match state % 7 {
-                0 => 0.0,
-                1 => -0.0,
-                _ => mantissa * 10f64.powi((state % 13) as i32 - 6),
+            count += 1;
+            // One entry in 101 beyond the bound: about half the pairs of factors hold one.
+            if count % 101 == 0 {
+                entry() * 1e120
+            } else {
+                entry()
             }
         };
         for _ in 0..20_000 {
