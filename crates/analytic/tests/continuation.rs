@@ -761,3 +761,134 @@ fn switching_stops_at_the_depth_and_says_where() {
     }
     assert!(cut > 0, "the depth cut something");
 }
+
+/// The isola of `+++---` orbits of the paper unit near ω = 1.46 (found by the study of
+/// `cargo xtask figures`, whose continuation followed it from a simulated cycle), started at
+/// one of its points.
+fn isola_start() -> SignatureOrbit {
+    let signature = Signature::parse("+++---", 1).unwrap();
+    let guess = [
+        2.724777494928146,
+        0.10241138075153798,
+        0.39196406770200254,
+        0.49999999999999994,
+        0.6024113807515379,
+        0.8919640677020025,
+    ];
+    solve_signature(
+        &paper_unit(),
+        &paper_stops(),
+        1.461986389643092,
+        &signature,
+        &guess,
+    )
+    .expect("the isola's point converges")
+}
+
+/// The length of `branch` in `X = (α, φ₂ … φₙ, ω)` (`α` modulo 2π): the sum of its chords.
+fn arc_length(branch: &Branch) -> f64 {
+    branch
+        .points
+        .windows(2)
+        .map(|w| {
+            let (a, b) = (&w[0], &w[1]);
+            let phases: f64 = a.impact_phases[1..]
+                .iter()
+                .zip(&b.impact_phases[1..])
+                .map(|(p, q)| (q - p).powi(2))
+                .sum();
+            (wrap(b.alpha - a.alpha).powi(2) + phases + (b.omega - a.omega).powi(2)).sqrt()
+        })
+        .sum()
+}
+
+#[test]
+fn a_loop_longer_than_one_direction_is_followed_once_from_both_ways() {
+    // Regression (the study's continuation of `cargo xtask figures`, stop 27): a closed loop
+    // longer than the first direction's half of the points was followed a second time by
+    // the other direction, round the other way, until its own cap: ten branches of the
+    // study retraced 40 to 90 % of their points (9 644 of 53 970 points).
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let start = isola_start();
+    let single = |points: usize| ContinuationSettings {
+        max_branches: 1,
+        max_points_per_branch: points,
+        ..ContinuationSettings::new(0.1, 4.0)
+    };
+    // With room for the whole loop one way, it closes through its seed.
+    let whole = continue_orbit(&unit, &stops, &start, &single(10_000)).unwrap();
+    let loop_points = whole.branches[0].points.len();
+    let reasons = |c: &Continuation| -> Vec<EndReason> {
+        c.ends
+            .iter()
+            .filter(|e| e.branch == 0)
+            .map(|e| e.reason)
+            .collect()
+    };
+    assert_eq!(reasons(&whole), [EndReason::ClosedLoop; 2]);
+    assert!(loop_points > 100, "{loop_points} points");
+    // With a cap of 1.5 loops, each way follows more than half of it before its half of the
+    // points runs out: the second way ends where the first stopped.
+    let halves = continue_orbit(&unit, &stops, &start, &single(loop_points * 3 / 2)).unwrap();
+    let branch = &halves.branches[0];
+    assert_eq!(reasons(&halves), [EndReason::ClosedLoop; 2]);
+    // Once round: the same length to within the step that closes it (it was 1.5 loops).
+    let (once, followed) = (arc_length(&whole.branches[0]), arc_length(branch));
+    assert!(
+        (followed - once).abs() < 0.02 * once,
+        "{followed} followed for a loop of {once} ({} points, {loop_points} one way)",
+        branch.points.len()
+    );
+}
+
+#[test]
+fn a_branch_of_more_impacts_than_the_search_takes_is_recognised_when_run_onto() {
+    // Regression (the study's continuation of `cargo xtask figures`, stop 27): the
+    // representations of a label of more than 16 impacts (a branch seeded from a simulated
+    // cycle) were formed under the search's caps and so did not exist: no point or event on
+    // such a branch was ever recognised, and a branch switched back onto one was followed
+    // again in full (two of the study's branches, 1 500 points each).
+    let (unit, stops) = (paper_unit(), paper_stops());
+    // A period-2 orbit of 40 impacts on an isola near ω = 1.45, as the study found it.
+    let tens = [[1i8; 10], [-1; 10]].concat();
+    let long = Signature::from_cycle(&[&tens[..], &tens[..]].concat(), 2).unwrap();
+    assert!(!long.is_searchable());
+    let quarter = [
+        0.0,
+        0.03850093307865421,
+        0.06581822146542309,
+        0.08742717474634559,
+        0.10537514718938334,
+        0.12074280287672551,
+        0.13422091420805016,
+        0.146326293252703,
+        0.15752626885193363,
+        0.16839223534839093,
+    ];
+    let mut guess = vec![2.096678627599093];
+    for k in 0..4 {
+        guess.extend(quarter.iter().map(|p| p + 0.25 * k as f64));
+    }
+    guess.remove(1); // the first impact's phase is 0, not an unknown
+    let omega = 1.450963320832921;
+    let start = solve_signature(&unit, &stops, omega, &long, &guess)
+        .expect("the 40-impact orbit converges");
+    let settings = ContinuationSettings {
+        max_branches: 1,
+        max_points_per_branch: 200,
+        ..ContinuationSettings::new(0.1, 4.0)
+    };
+    let mut out = Continuation::default();
+    assert!(continue_orbit_after(&unit, &stops, &start, &settings, &mut out).unwrap());
+    let branches = out.branches.len();
+    // Another point of the branch just followed, started again, lies on it.
+    let points = &out.branches[0].points;
+    let again = &points[points.len() / 3];
+    let x: Vec<f64> = [&[again.alpha][..], &again.impact_phases[1..]].concat();
+    let restart = solve_signature(&unit, &stops, again.omega, &long, &x).unwrap();
+    assert!(
+        !continue_orbit_after(&unit, &stops, &restart, &settings, &mut out).unwrap(),
+        "a start on the branch just followed is followed again"
+    );
+    assert_eq!(out.branches.len(), branches);
+}

@@ -243,15 +243,26 @@ impl<M: BranchModel> Follow<'_, M> {
             seed_node.tests = seed_node.tests.unread();
         }
         let cap = self.settings.max_points_per_branch;
-        let (forward, events_forward, end_forward) =
-            self.direction(&seed_node, 1.0, cap / 2, &mut curve);
+        let (forward, events_forward, mut end_forward) =
+            self.direction(&seed_node, 1.0, cap / 2, None, &mut curve);
         let second_cap = cap.saturating_sub(1 + forward.len());
+        // Where the forward way stopped at its share of the points, a loop longer than that
+        // share goes on from there: the backward way, round the loop the other way, ends
+        // when it reaches that point.
+        let meet = forward
+            .last()
+            .filter(|_| end_forward.reason == EndReason::PointCap)
+            .map(|node| (node.x.as_slice(), node.tangent.as_slice()));
         let (backward, mut events, end_backward) = if end_forward.reason == EndReason::ClosedLoop {
             // The whole loop is followed already.
             (Vec::new(), Vec::new(), end_forward)
         } else {
-            self.direction(&seed_node, -1.0, second_cap, &mut curve)
+            self.direction(&seed_node, -1.0, second_cap, meet, &mut curve)
         };
+        if end_backward.reason == EndReason::ClosedLoop {
+            // The two ways met: the loop is followed whole, once.
+            end_forward.reason = EndReason::ClosedLoop;
+        }
         // In the branch's order: backward reversed, seed, forward.
         events.reverse();
         events.extend(events_forward);
@@ -289,12 +300,15 @@ impl<M: BranchModel> Follow<'_, M> {
     }
 
     /// Follows one direction from `seed` (its tangent times `direction`), adding the points
-    /// to `curve` (whose vertex 0 is the seed).
+    /// to `curve` (whose vertex 0 is the seed). With `meet` (the point where the other
+    /// direction stopped at its cap, and its tangent along that direction), the branch is a
+    /// closed loop when a step passes that point travelling against it.
     fn direction(
         &self,
         seed: &Node,
         direction: f64,
         cap: usize,
+        meet: Option<(&[f64], &[f64])>,
         curve: &mut Curve<M::Label>,
     ) -> (Vec<Node>, Vec<Found<M::Label>>, BranchEnd) {
         let (system, settings) = (self.system, self.settings);
@@ -405,6 +419,16 @@ impl<M: BranchModel> Follow<'_, M> {
             {
                 nodes.push(node);
                 return (nodes, events, self.end(EndReason::ClosedLoop, x[n]));
+            }
+            // Closed loop from both ways: the step passes where the other way stopped,
+            // travelling against it (`passes` and the cosine as for the seed).
+            if let Some((end, end_tangent)) = meet {
+                if cosine(&node.tangent, end_tangent) < -LOOP_TANGENT_COSINE
+                    && passes(&prev.x, &node.x, end, h)
+                {
+                    nodes.push(node);
+                    return (nodes, events, self.end(EndReason::ClosedLoop, x[n]));
+                }
             }
             nodes.push(node.clone());
             before = Some(std::mem::replace(&mut prev, node));

@@ -129,7 +129,9 @@ pub enum EndReason {
     VanishingImpact,
     /// The corrector did not converge from a switch point onto the new branch.
     NewtonFailed,
-    /// The branch came back to its seed: a closed loop (isola), followed once.
+    /// The branch closed on itself: it came back to its seed, or its two directions met (a
+    /// loop longer than the first direction's half of `max_points_per_branch`; both ends
+    /// then say so). A closed loop (isola), followed once.
     ClosedLoop,
     /// The branch runs onto one already followed, or onto its image under the unit's
     /// symmetry (half a forcing period later with the stops mirrored), or onto another

@@ -19,8 +19,14 @@ pub(crate) trait Label: Clone + PartialEq + fmt::Display {
     /// The impacts in order (pair 0 throughout for a signature).
     fn impact_list(&self) -> Vec<PairImpact>;
     /// The canonical label of the cycle `impacts` over `period` forcing periods, if within
-    /// the label's limits.
+    /// the label's limits: those of the multi-start search, which bound the labels a switch
+    /// creates (a doubling, an impact gained at a grazing).
     fn from_impacts(impacts: &[PairImpact], period: u32) -> Option<Self>;
+    /// The canonical label of `impacts` over `period` under the caps of a simulated cycle, as
+    /// long as any label a branch is followed on: the rotations and mirror images of a
+    /// followed label (`branches::representations`), which have its length and
+    /// period, are labels whatever that length.
+    fn from_rotated(impacts: &[PairImpact], period: u32) -> Option<Self>;
     /// Forcing periods per cycle.
     fn period(&self) -> u32;
 }
@@ -41,6 +47,14 @@ impl Label for Signature {
         Signature::from_sides(&sides, period).ok()
     }
 
+    fn from_rotated(impacts: &[PairImpact], period: u32) -> Option<Self> {
+        if impacts.iter().any(|i| i.pair != 0) {
+            return None;
+        }
+        let sides: Vec<i8> = impacts.iter().map(|i| i.side).collect();
+        Signature::from_cycle(&sides, period).ok()
+    }
+
     fn period(&self) -> u32 {
         Signature::period(self)
     }
@@ -53,6 +67,10 @@ impl Label for ImpactSequence {
 
     fn from_impacts(impacts: &[PairImpact], period: u32) -> Option<Self> {
         ImpactSequence::new(impacts, period).ok()
+    }
+
+    fn from_rotated(impacts: &[PairImpact], period: u32) -> Option<Self> {
+        ImpactSequence::from_cycle(impacts, period).ok()
     }
 
     fn period(&self) -> u32 {
