@@ -786,3 +786,74 @@ fn a_neimark_sacker_curve_ends_at_its_one_to_one_resonance() {
     let sum = near_one.pop().unwrap() + near_one.pop().unwrap();
     assert!((sum - 2.0).norm() < 1e-9, "μ₁ + μ₂ = {sum}");
 }
+
+/// The length of `boundary` in `(α, φ₂ … φₙ, ω, p)` (`α` modulo 2π): the sum of its chords.
+fn boundary_length(boundary: &Boundary) -> f64 {
+    let wrap = |a: f64| {
+        (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
+    };
+    boundary
+        .points
+        .windows(2)
+        .map(|w| {
+            let (a, b) = (&w[0], &w[1]);
+            let phases: f64 = a.impact_phases[1..]
+                .iter()
+                .zip(&b.impact_phases[1..])
+                .map(|(p, q)| (q - p).powi(2))
+                .sum();
+            (wrap(b.alpha - a.alpha).powi(2)
+                + phases
+                + (b.omega - a.omega).powi(2)
+                + (b.param_value - a.param_value).powi(2))
+            .sqrt()
+        })
+        .sum()
+}
+
+#[test]
+fn a_closed_curve_longer_than_one_direction_is_followed_once_from_both_ways() {
+    // Regression (the boundaries of `cargo xtask figures`, stop 27): the branch-point curve
+    // of the `+-+-` orbits over the gap is closed and longer than one direction's
+    // `max_points` (300 there): each direction went round it, 607 points for a curve of
+    // about 356. The backward way now ends where the forward way stopped.
+    let signature = Signature::parse("+-+-", 2).unwrap();
+    let (unit, stops) = (paper_unit(), paper_stops());
+    let omega = 2.4586286349587962;
+    let event = signature_orbits(&unit, &stops, 2.45, &signature)
+        .iter()
+        .filter_map(|o| event_of(&unit, &stops, o, EventKind::BranchPoint, 2.3, 2.6))
+        .find(|e| (e.omega - omega).abs() < 1e-6)
+        .expect("the study's branch point of `+-+-` near ω = 2.4586");
+    let follow = |max_points: usize| {
+        follow_boundary(
+            &BoundaryStart {
+                unit_at: paper_at_gap,
+                signature: &signature,
+                event: &event,
+                param: stops.gap,
+                at: &[],
+            },
+            &BoundarySettings {
+                max_points,
+                ..BoundarySettings::new(0.1, 1.0)
+            },
+        )
+        .unwrap()
+    };
+    let reasons = |b: &Boundary| b.ends.map(|e| e.reason);
+    // Room for the whole curve one way: it closes through its start.
+    let whole = follow(5_000);
+    assert_eq!(reasons(&whole), [BoundaryEndReason::ClosedLoop; 2]);
+    let points = whole.points.len();
+    assert!(points > 100, "{points} points");
+    // Three quarters of it each way: the second way ends where the first stopped.
+    let halves = follow(points * 3 / 4);
+    assert_eq!(reasons(&halves), [BoundaryEndReason::ClosedLoop; 2]);
+    let (once, followed) = (boundary_length(&whole), boundary_length(&halves));
+    assert!(
+        (followed - once).abs() < 0.02 * once,
+        "{followed} followed for a curve of {once} ({} points, {points} one way)",
+        halves.points.len()
+    );
+}

@@ -259,7 +259,8 @@ impl<M: BranchModel> Follow<'_, M> {
         } else {
             self.direction(&seed_node, -1.0, second_cap, meet, &mut curve)
         };
-        if end_backward.reason == EndReason::ClosedLoop {
+        if end_forward.reason == EndReason::PointCap && end_backward.reason == EndReason::ClosedLoop
+        {
             // The two ways met: the loop is followed whole, once.
             end_forward.reason = EndReason::ClosedLoop;
         }

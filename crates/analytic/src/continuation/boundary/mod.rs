@@ -290,7 +290,9 @@ pub enum BoundaryEndReason {
     FlightMerged,
     /// The direction reached `max_points`.
     PointCap,
-    /// The curve came back to its start: a closed curve, followed once.
+    /// The curve closed on itself: it came back to its start, or its two directions met (a
+    /// closed curve longer than one direction's `max_points`; both ends then say so). A
+    /// closed curve, followed once.
     ClosedLoop,
     /// A Neimark–Sacker curve whose complex pair meets on the real axis (at a strong
     /// resonance, `μ = ±1` double): beyond, the zeros of its test are neutral saddles
@@ -791,7 +793,13 @@ impl<Fam: Family> EventCurve<Fam> {
         settings: &BoundarySettings,
     ) -> Boundary<Fam::Label> {
         let start = Node { y, tangent };
-        let forward = self.follow(&start, 1.0, settings);
+        let mut forward = self.follow(&start, 1.0, settings, None);
+        // Where the forward way stopped at its cap, a closed curve longer than that goes on
+        // from there: the backward way, round it the other way, ends when it gets there.
+        let meet = forward
+            .nodes
+            .last()
+            .filter(|_| forward.reason == BoundaryEndReason::PointCap);
         let backward = if forward.reason == BoundaryEndReason::ClosedLoop {
             Leg {
                 nodes: Vec::new(),
@@ -799,8 +807,14 @@ impl<Fam: Family> EventCurve<Fam> {
                 resonance: None,
             }
         } else {
-            self.follow(&start, -1.0, settings)
+            self.follow(&start, -1.0, settings, meet)
         };
+        if forward.reason == BoundaryEndReason::PointCap
+            && backward.reason == BoundaryEndReason::ClosedLoop
+        {
+            // The two ways met: the curve is followed whole, once.
+            forward.reason = BoundaryEndReason::ClosedLoop;
+        }
         let mut nodes = backward.nodes;
         nodes.reverse();
         nodes.push(start);
@@ -1070,7 +1084,13 @@ enum Step {
 impl<Fam: Family> EventCurve<Fam> {
     /// Follows the curve from `start` in `direction` (`±1` along its tangent): the points
     /// after the start and why it stops.
-    fn follow(&self, start: &Node, direction: f64, settings: &BoundarySettings) -> Leg {
+    fn follow(
+        &self,
+        start: &Node,
+        direction: f64,
+        settings: &BoundarySettings,
+        meet: Option<&Node>,
+    ) -> Leg {
         let mut walk = Walk {
             nodes: Vec::new(),
             last: Node {
@@ -1083,7 +1103,7 @@ impl<Fam: Family> EventCurve<Fam> {
         let reason = loop {
             match self.next_iter(&walk) {
                 Step::Accepted(node, iterations) => {
-                    let end = self.terminate(&mut walk, node, iterations, start, settings);
+                    let end = self.terminate(&mut walk, node, iterations, (start, meet), settings);
                     if let Some(reason) = end {
                         break reason;
                     }
@@ -1129,14 +1149,15 @@ impl<Fam: Family> EventCurve<Fam> {
     }
 
     /// Takes the accepted `node` into `walk` and says whether the direction ends: past a
-    /// range's bound (the end then solved exactly on it), back at the start, at the point
-    /// cap. Grows the step after an easy correction.
+    /// range's bound (the end then solved exactly on it), back at the start, at `meet` (where
+    /// the other direction stopped at its cap) travelling against it, at the point cap.
+    /// Grows the step after an easy correction.
     fn terminate(
         &self,
         walk: &mut Walk,
         node: Node,
         iterations: usize,
-        start: &Node,
+        (start, meet): (&Node, Option<&Node>),
         settings: &BoundarySettings,
     ) -> Option<BoundaryEndReason> {
         let n = self.n();
@@ -1163,9 +1184,19 @@ impl<Fam: Family> EventCurve<Fam> {
                 .map(|(a, b)| a * b)
                 .sum::<f64>()
                 > 0.0;
+        let met = meet.is_some_and(|end| {
+            distance(&node.y, &end.y) < walk.step
+                && node
+                    .tangent
+                    .iter()
+                    .zip(&end.tangent)
+                    .map(|(a, b)| a * b)
+                    .sum::<f64>()
+                    < 0.0
+        });
         walk.last = node.clone();
         walk.nodes.push(node);
-        if back {
+        if back || met {
             return Some(BoundaryEndReason::ClosedLoop);
         }
         if walk.nodes.len() >= settings.max_points {
