@@ -8,6 +8,8 @@ use rattle_analytic::flow::{join, Augmented, ForcedFlow};
 use rattle_analytic::test_models::{paper_stops, paper_unit};
 use rattle_analytic::*;
 
+mod common;
+
 /// The paper unit with its stops' gap set to `gap`.
 fn paper_at_gap(gap: f64) -> Result<(Unit, Stops), UnitError> {
     let stops = Stops {
@@ -789,26 +791,19 @@ fn a_neimark_sacker_curve_ends_at_its_one_to_one_resonance() {
 
 /// The length of `boundary` in `(α, φ₂ … φₙ, ω, p)` (`α` modulo 2π): the sum of its chords.
 fn boundary_length(boundary: &Boundary) -> f64 {
-    let wrap = |a: f64| {
-        (a + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
-    };
-    boundary
+    let xs: Vec<Vec<f64>> = boundary
         .points
-        .windows(2)
-        .map(|w| {
-            let (a, b) = (&w[0], &w[1]);
-            let phases: f64 = a.impact_phases[1..]
-                .iter()
-                .zip(&b.impact_phases[1..])
-                .map(|(p, q)| (q - p).powi(2))
-                .sum();
-            (wrap(b.alpha - a.alpha).powi(2)
-                + phases
-                + (b.omega - a.omega).powi(2)
-                + (b.param_value - a.param_value).powi(2))
-            .sqrt()
+        .iter()
+        .map(|p| {
+            [
+                &[p.alpha][..],
+                &p.impact_phases[1..],
+                &[p.omega, p.param_value],
+            ]
+            .concat()
         })
-        .sum()
+        .collect();
+    common::chord_length(&xs)
 }
 
 #[test]

@@ -9,6 +9,8 @@ use rattle_analytic::flow::{join, Augmented, ForcedFlow};
 use rattle_analytic::test_models::{paper_stops, paper_unit};
 use rattle_analytic::*;
 
+mod common;
+
 fn wrap(a: f64) -> f64 {
     let w = a.rem_euclid(std::f64::consts::TAU);
     if w > std::f64::consts::PI {
@@ -787,19 +789,12 @@ fn isola_start() -> SignatureOrbit {
 
 /// The length of `branch` in `X = (α, φ₂ … φₙ, ω)` (`α` modulo 2π): the sum of its chords.
 fn arc_length(branch: &Branch) -> f64 {
-    branch
+    let xs: Vec<Vec<f64>> = branch
         .points
-        .windows(2)
-        .map(|w| {
-            let (a, b) = (&w[0], &w[1]);
-            let phases: f64 = a.impact_phases[1..]
-                .iter()
-                .zip(&b.impact_phases[1..])
-                .map(|(p, q)| (q - p).powi(2))
-                .sum();
-            (wrap(b.alpha - a.alpha).powi(2) + phases + (b.omega - a.omega).powi(2)).sqrt()
-        })
-        .sum()
+        .iter()
+        .map(|p| [&[p.alpha][..], &p.impact_phases[1..], &[p.omega]].concat())
+        .collect();
+    common::chord_length(&xs)
 }
 
 #[test]

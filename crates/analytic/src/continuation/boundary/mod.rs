@@ -1175,25 +1175,17 @@ impl<Fam: Family> EventCurve<Fam> {
             }
             return Some(BoundaryEndReason::NeutralSaddle);
         }
-        let back = distance(&node.y, &start.y) < walk.step
-            && walk.nodes.len() >= 3
-            && node
-                .tangent
+        // Back at the start travelling the same way, or at `meet` travelling against it.
+        let along = |other: &Node| -> f64 {
+            node.tangent
                 .iter()
-                .zip(&start.tangent)
+                .zip(&other.tangent)
                 .map(|(a, b)| a * b)
-                .sum::<f64>()
-                > 0.0;
-        let met = meet.is_some_and(|end| {
-            distance(&node.y, &end.y) < walk.step
-                && node
-                    .tangent
-                    .iter()
-                    .zip(&end.tangent)
-                    .map(|(a, b)| a * b)
-                    .sum::<f64>()
-                    < 0.0
-        });
+                .sum()
+        };
+        let near = |other: &Node| distance(&node.y, &other.y) < walk.step;
+        let back = near(start) && walk.nodes.len() >= 3 && along(start) > 0.0;
+        let met = meet.is_some_and(|end| near(end) && along(end) < 0.0);
         walk.last = node.clone();
         walk.nodes.push(node);
         if back || met {
