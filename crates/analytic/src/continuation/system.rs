@@ -40,19 +40,11 @@ impl Label for Signature {
     }
 
     fn from_impacts(impacts: &[PairImpact], period: u32) -> Option<Self> {
-        if impacts.iter().any(|i| i.pair != 0) {
-            return None;
-        }
-        let sides: Vec<i8> = impacts.iter().map(|i| i.side).collect();
-        Signature::from_sides(&sides, period).ok()
+        Signature::from_sides(&unit_sides(impacts)?, period).ok()
     }
 
     fn from_rotated(impacts: &[PairImpact], period: u32) -> Option<Self> {
-        if impacts.iter().any(|i| i.pair != 0) {
-            return None;
-        }
-        let sides: Vec<i8> = impacts.iter().map(|i| i.side).collect();
-        Signature::from_cycle(&sides, period).ok()
+        Signature::from_cycle(&unit_sides(impacts)?, period).ok()
     }
 
     fn period(&self) -> u32 {
@@ -76,6 +68,14 @@ impl Label for ImpactSequence {
     fn period(&self) -> u32 {
         ImpactSequence::period(self)
     }
+}
+
+/// The sides of `impacts` when they are all the unit's (pair 0).
+fn unit_sides(impacts: &[PairImpact]) -> Option<Vec<i8>> {
+    impacts
+        .iter()
+        .map(|i| (i.pair == 0).then_some(i.side))
+        .collect()
 }
 
 /// The label repeated over twice the periods, if within its limits.
