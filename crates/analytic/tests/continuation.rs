@@ -802,7 +802,7 @@ fn a_loop_longer_than_one_direction_is_followed_once_from_both_ways() {
     // Regression (the study's continuation of `cargo xtask figures`, stop 27): a closed loop
     // longer than the first direction's half of the points was followed a second time by
     // the other direction, round the other way, until its own cap: ten branches of the
-    // study retraced 40 to 90 % of their points (9 636 of 53 970: the example branch_overlap).
+    // study retraced 36 to 91 % of their points (9 636 of 53 970: the example branch_overlap).
     let (unit, stops) = (paper_unit(), paper_stops());
     let start = isola_start();
     let single = |points: usize| ContinuationSettings {

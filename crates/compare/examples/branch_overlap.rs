@@ -7,8 +7,8 @@
 //! #24's stop 27: `cargo run --release -p rattle-compare --example branch_overlap`.
 //!
 //! Before the fixes of stop 27 (the analytic crate at 49a32b0): 603 branches (70 with points),
-//! 53 970 points, 1 534 events, 9 636 points retracing, eight branches on an earlier one (two
-//! of 1 500 points). After (ce7059e): 578 branches (70 with points), 44 362 points, 1 107
+//! 53 970 points, 1 534 events, 9 636 points retracing (ten branches, 36 to 91 % of their
+//! points), eight branches on an earlier one (two of 1 500 points). After (ce7059e): 578 branches (70 with points), 44 362 points, 1 107
 //! events, 81 retracing (the closing steps of the loops), seven on an earlier one, each of one
 //! to five points, ended at its seed or a few steps on (`joins`).
 
@@ -80,14 +80,21 @@ fn main() {
         .map(|b| b.points.iter().map(unknowns).collect())
         .collect();
     let points: usize = xs.iter().map(Vec::len).sum();
-    let retracing: usize = xs
+    let retraced: Vec<usize> = xs
         .iter()
         .map(|x| {
             (0..x.len())
                 .filter(|&i| on_polyline(x, &x[i], Some((i, 20))))
                 .count()
         })
-        .sum();
+        .collect();
+    let retracing: usize = retraced.iter().sum();
+    let mostly: Vec<(usize, String, usize, usize)> = retraced
+        .iter()
+        .enumerate()
+        .filter(|&(i, &r)| 10 * r > xs[i].len())
+        .map(|(i, &r)| (i, branches[i].signature.to_string(), xs[i].len(), r))
+        .collect();
     let mut on_earlier = Vec::new();
     for (i, b) in branches.iter().enumerate() {
         let earlier: Vec<&Vec<Vec<f64>>> = (0..i)
@@ -109,6 +116,11 @@ fn main() {
         study.branches.events.len()
     );
     println!("{retracing} points retrace their own branch");
+    println!(
+        "{} branches retrace more than a tenth of their points (index, signature, points, \
+         retracing): {mostly:?}",
+        mostly.len()
+    );
     println!(
         "{} branches lie on an earlier one (index, signature, points): {on_earlier:?}",
         on_earlier.len()
