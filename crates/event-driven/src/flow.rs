@@ -251,6 +251,28 @@ fn conservative_rates(rates: &mut [C64]) {
     }
 }
 
+/// `M⁻¹` and the first-order system matrix `A = [0 I; −M⁻¹K −M⁻¹C]` (no `C` block without
+/// `damping`) of `M ü + C u̇ + K u`.
+///
+/// # Errors
+/// [`FlowError::SingularMass`] when `mass` has no inverse.
+fn first_order(
+    mass: &DMatrix<f64>,
+    damping: Option<&DMatrix<f64>>,
+    stiffness: &DMatrix<f64>,
+) -> Result<(DMatrix<f64>, DMatrix<f64>), FlowError> {
+    let n = mass.nrows();
+    let minv = mass.clone().try_inverse().ok_or(FlowError::SingularMass)?;
+    let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
+    a.view_mut((0, n), (n, n)).fill_with_identity();
+    a.view_mut((n, 0), (n, n))
+        .copy_from(&(-(&minv * stiffness)));
+    if let Some(c) = damping {
+        a.view_mut((n, n), (n, n)).copy_from(&(-(&minv * c)));
+    }
+    Ok((minv, a))
+}
+
 impl LinearFlow {
     /// The free flow of `model` (its masses, dampings, stiffnesses and forcing, no constant
     /// force) at forcing frequency `omega`: the flight between its events.
@@ -281,14 +303,7 @@ impl LinearFlow {
         omega: f64,
     ) -> Result<Self, FlowError> {
         let n = mass.nrows();
-        let minv = mass.clone().try_inverse().ok_or(FlowError::SingularMass)?;
-        let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
-        a.view_mut((0, n), (n, n)).fill_with_identity();
-        a.view_mut((n, 0), (n, n))
-            .copy_from(&(-(&minv * stiffness)));
-        if let Some(c) = damping {
-            a.view_mut((n, n), (n, n)).copy_from(&(-(&minv * c)));
-        }
+        let (minv, a) = first_order(mass, damping, stiffness)?;
         let mut rates = eigenvalues(&a)?;
         if damping.is_none() {
             conservative_rates(&mut rates);
@@ -1092,7 +1107,9 @@ mod tests {
             for damping in [None, Some(LIGHT_DAMPING)] {
                 let model = paper_chain(cells, 2.0, damping, None);
                 let flow = LinearFlow::of_model(&model, 2.0).expect("the paper's chain has a flow");
-                let raw = eigenvalues(&flow_matrix(&model)).expect("eigenvalues");
+                let (_, a) = first_order(&model.mass, model.damping.as_ref(), &model.stiffness)
+                    .expect("the paper's chain has a mass inverse");
+                let raw = eigenvalues(&a).expect("eigenvalues");
                 for (r, schur) in flow.rates.iter().zip(&raw) {
                     assert_eq!(r.im, schur.im);
                     if damping.is_none() {
@@ -1106,20 +1123,6 @@ mod tests {
                 }
             }
         }
-    }
-
-    /// The first-order system matrix `[0 I; −M⁻¹K −M⁻¹C]` of `model`.
-    fn flow_matrix(model: &crate::Model) -> DMatrix<f64> {
-        let n = model.mass.nrows();
-        let minv = model.mass.clone().try_inverse().expect("mass");
-        let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
-        a.view_mut((0, n), (n, n)).fill_with_identity();
-        a.view_mut((n, 0), (n, n))
-            .copy_from(&(-(&minv * &model.stiffness)));
-        if let Some(c) = &model.damping {
-            a.view_mut((n, n), (n, n)).copy_from(&(-(&minv * c)));
-        }
-        a
     }
 
     /// The free flow of a lightly damped chain of the paper's cell, its pairs' relative
