@@ -208,6 +208,11 @@ impl Seeds {
 /// first step needs a Taylor series of low degree.
 pub(super) const SEED_DIVISIONS: usize = 64;
 
+/// How many units in the last place a bisection's split point and the seed point taken for
+/// it may differ ([`Seed::index_at`]): `f` and its derivatives there then differ by
+/// `|f'| · 4 ulp(s)` at most, below the rounding of their sums over the terms.
+pub(super) const SPLIT_ULPS: f64 = 4.0;
+
 /// A chunk's midpoint and its exponentials, for [`Seeds`].
 pub(super) struct Seed<'s> {
     pub(super) m: f64,
@@ -241,6 +246,18 @@ impl Seed<'_> {
         self.exponentials_at(k as i64, terms, &mut exps.values);
         exps.at = start;
         Some(start)
+    }
+
+    /// The seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`) at `s`, to within [`SPLIT_ULPS`]
+    /// units in the last place of `s`: a bisection of the chunk splits its intervals at seed
+    /// points for its first `log₂ SEED_DIVISIONS` levels (up to the roundings of `½(a + b)`
+    /// and of `m + kh`), and so does that of a head chunk on the seed points in part.
+    #[inline]
+    pub(super) fn index_at(&self, s: f64) -> Option<i64> {
+        let divisions = SEED_DIVISIONS as f64;
+        let k = ((s - self.m) / (self.w / divisions)).round();
+        let near = (self.point(k as i64) - s).abs() <= SPLIT_ULPS * f64::EPSILON * s.abs();
+        (k.abs() <= divisions && near).then_some(k as i64)
     }
 
     /// The seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`).
@@ -409,5 +426,80 @@ impl Derivatives {
             dd += re(c[2], e);
         }
         (v, d, dd)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bisection of a chunk of the fixed grid (from its ends, halving as
+    /// [`ExpSum::exit_in_chunk`] does) splits at seed points for its first
+    /// `log₂ SEED_DIVISIONS` levels, and there the seed's exponentials are the library's to
+    /// the rounding of the phase; below that level, and between seed points, there is no
+    /// seed point.
+    #[test]
+    fn a_chunks_bisection_splits_at_its_seed_points() {
+        let terms: Vec<Term> = [
+            C64::new(-0.05, 2.4),
+            C64::new(-0.02, 1.2),
+            C64::new(0.0, 2.0),
+        ]
+        .into_iter()
+        .map(|rate| Term {
+            poly: [
+                C64::new(1.0, 0.0),
+                C64::default(),
+                C64::default(),
+                C64::default(),
+            ],
+            rate,
+        })
+        .collect();
+        let w = std::f64::consts::PI / (8.0 * 2.4);
+        let mut seeds = Seeds::default();
+        seeds.reset();
+        let (mut hits, mut out) = (0, Vec::new());
+        for chunk in [0usize, 1, 7, 200] {
+            let (a, b) = (2.0 * w * chunk as f64, 2.0 * w * (chunk + 1) as f64);
+            let m = a + w;
+            let mid: Vec<C64> = terms.iter().map(|t| cexp(t.rate, m)).collect();
+            let mut seed = Seed {
+                m,
+                w,
+                mid: &mid,
+                seeds: &mut seeds,
+            };
+            let mut level = vec![(a, b)];
+            for depth in 1..=8 {
+                let mut next = Vec::new();
+                for (lo, hi) in level {
+                    let s = 0.5 * (lo + hi);
+                    next.extend([(lo, s), (s, hi)]);
+                    if depth == 1 {
+                        continue; // the chunk's own midpoint: known to the scan
+                    }
+                    match seed.index_at(s) {
+                        Some(k) => {
+                            assert!(depth <= 7, "a seed point at depth {depth}");
+                            hits += 1;
+                            seed.exponentials_at(k, &terms, &mut out);
+                            for (x, t) in out.iter().zip(&terms) {
+                                // Both round the phase `μs` (and the product its factors).
+                                let fresh = cexp(t.rate, s);
+                                let rounding = 8.0 * f64::EPSILON * (1.0 + t.rate.norm() * s);
+                                assert!((x - fresh).norm() <= rounding, "{x} against {fresh}");
+                            }
+                        }
+                        None => assert!(depth > 7, "no seed point at depth {depth}, s = {s}"),
+                    }
+                }
+                level = next;
+            }
+            let between = m + 0.3 * w / SEED_DIVISIONS as f64;
+            assert_eq!(seed.index_at(between), None);
+        }
+        // Levels 2 to 7 of the halving: 2 + 4 + … + 64 split points a chunk.
+        assert_eq!(hits, 4 * 126);
     }
 }

@@ -258,9 +258,10 @@ impl ExpSum {
         while let Some((a, b, fa, fb)) = intervals.pop() {
             let m = 0.5 * (a + b);
             let w = 0.5 * (b - a);
-            let (fm, dm, ddm, d3m) = known_m
-                .take()
-                .unwrap_or_else(|| self.eval3(m, derivatives, point));
+            let (fm, dm, ddm, d3m) = match known_m.take() {
+                Some(at_m) => at_m,
+                None => self.eval3_at_split(m, seed.as_mut(), derivatives, point),
+            };
             // f(m + τ) = f(m) + f'(m)τ + ½f''(m)τ² + R, |R| ≤ ⅙ M₃ w³ on [a, b].
             if inside((fm, dm, ddm), w, jerk * w * w * w / 6.0, (lo, hi)) {
                 continue;
@@ -345,6 +346,30 @@ impl ExpSum {
             intervals.push((a, m, fa, fm));
         }
         None
+    }
+
+    /// [`Self::eval3`] at a bisection's split point `s`, the exponentials there taken from the
+    /// seed point at `s` when there is one ([`Seed::index_at`]: one product per term from the
+    /// chunk's midpoint, with the seed's steps kept from one flight to the next), else
+    /// evaluated afresh. On `cargo xtask figures`, 84 of the 142 million split points are seed
+    /// points; every output is bit for bit what fresh exponentials give (maps, boundaries,
+    /// agreement), and the map's search costs 4.5 % fewer instructions (callgrind, `rattle
+    /// map` over 2 gaps × 60 frequencies of `data/scenes/paper-damped.json`: 4.92e9 → 4.70e9).
+    #[inline]
+    fn eval3_at_split(
+        &self,
+        s: f64,
+        seed: Option<&mut Seed<'_>>,
+        derivatives: &Derivatives,
+        point: &mut Vec<C64>,
+    ) -> (f64, f64, f64, f64) {
+        match seed.and_then(|seed| Some((seed.index_at(s)?, seed))) {
+            Some((k, seed)) => {
+                seed.exponentials_at(k, &self.terms, point);
+                derivatives.at3(self, s, point)
+            }
+            None => self.eval3(s, derivatives, point),
+        }
     }
 
     /// `(f, f', f'', f''')` at `s` (`f''' = NaN` unless every polynomial is a constant), with
