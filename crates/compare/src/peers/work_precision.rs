@@ -44,14 +44,16 @@ pub const SWEEP_POINTS: [usize; 4] = [10, 20, 40, 80];
 /// (about 10⁵ steps), so only a stalled integration meets it.
 pub const BASELINE_MAX_STEPS: u64 = 50_000_000;
 
-/// Time spent timing one point (after its minimum number of repeats): the minimum of 30 to
+/// Time spent timing one point (after its minimum number of repeats): the minimum of 40 to
 /// 200 repeats for the sub-millisecond event-driven and steady-state points, of 3 for the
 /// baseline's slowest. Measured (`cargo run --release -p rattle-compare --example
 /// work_precision`): with 150 ms per point the study took 4.9 s, alone at the end of `cargo
-/// xtask figures` (a seventh of it); with 40 ms it takes 2.3 s of CPU, most of it the sweeps'
-/// two repeats, and the minima are those of the 150 ms budget within the machine's noise
-/// (the README's stage table has the stage's time).
-pub const POINT_BUDGET: Duration = Duration::from_millis(40);
+/// xtask figures` (a seventh of it). Issue #24 took it to 40 ms (2.3 s of CPU, the minima
+/// those of 150 ms within the machine's noise), then to 20 ms: three runs of each build,
+/// alternated, 1.82–1.85 s → 1.30–1.31 s of wall time, and every one of the study's 31
+/// minima within the spread of its three runs (1 to 5 %) at either budget, the ratio of the
+/// medians 0.975 to 1.016 with no sign to it.
+pub const POINT_BUDGET: Duration = Duration::from_millis(20);
 
 /// A result whose error is above this (relative) is a failure: another motion.
 pub const FAILURE_ERROR: f64 = 0.1;
