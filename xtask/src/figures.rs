@@ -296,26 +296,39 @@ fn write_maps(maps: &(Map, Map), data_dir: &Path) -> Result<(), String> {
     .map_err(|e| e.to_string())
 }
 
-/// Draws every figure of `c` and `precision` into `dir`; returns the files written.
+/// Draws every figure of `c` and `precision` into `dir`, in two halves on rayon's threads
+/// (the machine's cores are idle once the work-precision study has run); returns the files
+/// written, in the same order whatever the thread count.
 fn draw_all(c: &Computed, precision: &WorkPrecision, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let (first, second) = rayon::join(|| draw_study(c, precision, dir), || draw_the_rest(c, dir));
+    let mut written = first?;
+    written.extend(second?);
+    Ok(written)
+}
+
+/// The study's figures (those of [`Study::plots`]) and the work-precision figure.
+fn draw_study(c: &Computed, precision: &WorkPrecision, dir: &Path) -> Result<Vec<PathBuf>, String> {
     let options = SimulationOptions {
         max_periods: STUDY_MAX_PERIODS,
         ..SimulationOptions::default()
     };
     let plots = c.main.plots(&options, c.maps.as_ref());
-    let name = &c.main.scene.name;
     let mut written = figures::draw(&plots, dir).map_err(|e| e.to_string())?;
     written.extend(figures::draw_work_precision(precision, dir).map_err(|e| e.to_string())?);
-    written.extend(
-        figures::draw_basins(
-            &figures::basins::BasinsFigure {
-                scene_name: name.clone(),
-                basins: c.basins.clone(),
-            },
-            dir,
-        )
-        .map_err(|e| e.to_string())?,
-    );
+    Ok(written)
+}
+
+/// The basins, Lyapunov, Poincaré, chain and boundaries figures.
+fn draw_the_rest(c: &Computed, dir: &Path) -> Result<Vec<PathBuf>, String> {
+    let name = &c.main.scene.name;
+    let mut written = figures::draw_basins(
+        &figures::basins::BasinsFigure {
+            scene_name: name.clone(),
+            basins: c.basins.clone(),
+        },
+        dir,
+    )
+    .map_err(|e| e.to_string())?;
     written.extend(
         figures::draw_lyapunov(
             &figures::lyapunov::LyapunovFigure {
