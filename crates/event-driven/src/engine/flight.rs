@@ -246,6 +246,7 @@ impl Engine<'_> {
             } else {
                 summaries[slot].as_ref()
             };
+            stack.recall_key = i;
             let found = if let Some(summary) = summary {
                 if summary.excludes(lo, hi, within, horizon) {
                     continue;

@@ -27,6 +27,12 @@ pub struct SearchStack {
     /// The exponentials at the midpoint of the chunk being searched, on the fixed grid of a
     /// summarised search (see [`Seeds`]).
     pub(super) mid: Vec<C64>,
+    /// Which function the next search is of, for the exits a grid recalls ([`Seeds::recalled`]):
+    /// the caller's (an engine's pair index); `0` by default.
+    pub(crate) recall_key: usize,
+    /// Whether the searches recall their polished exits as starts for later polishes
+    /// ([`Seeds::recalled`]); off by default (the caller's choice: an engine's fixed runs).
+    pub(crate) recall: bool,
 }
 
 /// Fixed grids kept by a [`SearchStack`] (see [`SearchStack::fixed`]).
@@ -192,11 +198,95 @@ pub(super) struct Seeds {
     pub(super) values: Vec<C64>,
     /// Per `k + SEED_DIVISIONS`, whether its exponentials are computed.
     pub(super) filled: Vec<bool>,
+    /// Per recall key ([`SearchStack::recall_key`]: a pair of stops), the exits of its last
+    /// [`RECALLED`] polished searches on this grid, most recent first, with the exponentials
+    /// there: starts for the polish (see [`ExpSum::exit_in_chunk`]).
+    pub(super) recalled: Vec<Vec<(f64, Vec<C64>)>>,
+    /// The recall key of the search under way.
+    pub(super) key: usize,
+    /// Whether the search under way recalls ([`SearchStack::recall`]).
+    pub(super) enabled: bool,
+    /// Per recall key, the polishes since a recalled exit last started one (see
+    /// [`Self::recall_worth_trying`]).
+    pub(super) misses: Vec<u32>,
 }
 
+/// Polishes of a recall key that try its recalled exits after the last that one started
+/// ([`Seeds::recall_worth_trying`]); then one in [`RECALL_RETRY`].
+pub(super) const RECALL_TRIES: u32 = 4;
+
+/// See [`RECALL_TRIES`].
+pub(super) const RECALL_RETRY: u32 = 32;
+
+/// Whether a polish of a key that has gone `misses` polishes without a recalled exit
+/// starting one tries them ([`Seeds::recall_worth_trying`]).
+fn tries(misses: u32) -> bool {
+    misses < RECALL_TRIES || misses % RECALL_RETRY == 0
+}
+
+/// Exits a grid's [`Seeds`] recall per key: two, the flights to either stop.
+pub(super) const RECALLED: usize = 2;
+
 impl Seeds {
+    /// Whether the polish under way tries the recalled exits of its key: while they start
+    /// polishes (a periodic motion, each flight much like one a period earlier), and else one
+    /// polish in [`RECALL_RETRY`] after [`RECALL_TRIES`] that found none (a motion that does
+    /// not repeat, where each try costs an evaluation of `f` for nothing).
+    pub(super) fn recall_worth_trying(&mut self) -> bool {
+        if !self.enabled {
+            return false;
+        }
+        if self.misses.len() <= self.key {
+            self.misses.resize(self.key + 1, 0);
+        }
+        let misses = self.misses[self.key];
+        let worth = tries(misses);
+        if !worth {
+            self.misses[self.key] += 1;
+        }
+        worth
+    }
+
+    /// Whether the exit of the search under way is worth recalling: whether one of its key's
+    /// next [`RECALLED`] polishes tries the recalled exits ([`Self::recall_worth_trying`]).
+    /// A motion that does not repeat so recalls nothing but before a retry.
+    fn worth_recalling(&self) -> bool {
+        let misses = self.misses.get(self.key).copied().unwrap_or(0);
+        (0..RECALLED as u32).any(|k| tries(misses.saturating_add(k)))
+    }
+
+    /// Counts a try of the recalled exits ([`Self::recall_worth_trying`]): whether one started
+    /// the polish.
+    pub(super) fn recall_tried(&mut self, started: bool) {
+        if let Some(misses) = self.misses.get_mut(self.key) {
+            *misses = if started { 0 } else { misses.saturating_add(1) };
+        }
+    }
+
+    /// Recalls the exit `s` of the search under way with the exponentials there (dropping its
+    /// key's oldest beyond [`RECALLED`]).
+    pub(super) fn recall(&mut self, s: f64, values: &[C64]) {
+        if !self.enabled || !self.worth_recalling() {
+            return;
+        }
+        if self.recalled.len() <= self.key {
+            self.recalled.resize_with(self.key + 1, Vec::new);
+        }
+        let kept = &mut self.recalled[self.key];
+        if kept.len() < RECALLED {
+            kept.push((s, Vec::new()));
+        }
+        kept.rotate_right(1);
+        let first = &mut kept[0];
+        first.0 = s;
+        first.1.clear();
+        first.1.extend_from_slice(values);
+    }
+
     /// Forgets every step (the grid's rates or half-width changed).
     pub(super) fn reset(&mut self) {
+        self.recalled.clear();
+        self.misses.clear();
         self.values.clear();
         self.filled.clear();
         self.filled.resize(2 * SEED_DIVISIONS + 1, false);
@@ -258,6 +348,21 @@ impl Seed<'_> {
         let k = ((s - self.m) / (self.w / divisions)).round();
         let near = (self.point(k as i64) - s).abs() <= SPLIT_ULPS * f64::EPSILON * s.abs();
         (k.abs() <= divisions && near).then_some(k as i64)
+    }
+
+    /// The exits recalled for the search under way ([`Seeds::recalled`]) within `[a, b]`,
+    /// most recent first, with the exponentials there.
+    pub(super) fn recalled_within(
+        &self,
+        (a, b): (f64, f64),
+    ) -> impl Iterator<Item = (f64, &[C64])> {
+        self.seeds
+            .recalled
+            .get(self.seeds.key)
+            .into_iter()
+            .flatten()
+            .filter(move |(s, _)| *s >= a && *s <= b)
+            .map(|(s, values)| (*s, &values[..]))
     }
 
     /// The seed point `m + kh` (`|k| ≤ SEED_DIVISIONS`).

@@ -25,7 +25,7 @@ use cache::{
 use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
 #[cfg(target_arch = "x86_64")]
 pub(crate) use packed::{complex_pair, complex_pair_product};
-use polish::{polish, polish_from, Crossing, Exponentials};
+use polish::{polish, polish_from, Crossing, Exponentials, PolishStart};
 use scan::{packed_chunks, CachedChunks, ChunkSource, Chunks, SteppedChunks, PACKED_TERMS};
 pub use search::Tolerances;
 pub(crate) use summary::{summarize_block, ModeTerm, Summary, LANES};
@@ -516,6 +516,74 @@ mod tests {
             }
         }
         assert!(checked >= 100, "only {checked} exits checked");
+    }
+
+    /// A search on a fixed grid recalls its polished exit; a later search of the same key
+    /// whose function repeats it (coefficients within `1e-13`) starts its polish there and
+    /// finds the exit a fresh search finds, to the time tolerance; one whose function moved
+    /// (`1e-3`) does not start there (its key's polishes without a recalled start count up)
+    /// and finds the fresh search's exit too.
+    #[test]
+    fn a_repeated_flight_starts_its_polish_at_the_recalled_exit() {
+        let tolerances = Tolerances {
+            time: 1e-12,
+            depth: 0.0,
+        };
+        let scaled = |f: &ExpSum, by: f64| ExpSum {
+            terms: f
+                .terms
+                .iter()
+                .map(|t| Term {
+                    poly: [t.poly[0] * by, t.poly[1], t.poly[2], t.poly[3]],
+                    rate: t.rate,
+                })
+                .collect(),
+        };
+        let (mut recalled, mut moved) = (0, 0);
+        for k in 0..40 {
+            let f = flight_like(k);
+            let f0 = f.eval(0.0).0;
+            let (lo, hi) = (f0 - 0.6, f0 + 0.3 + 0.005 * k as f64);
+            let mut stack = SearchStack {
+                recall_key: 3,
+                recall: true,
+                ..SearchStack::default()
+            };
+            let first = f.first_exit_until(lo, hi, 10.0, 10.0, tolerances, &mut stack);
+            let Some((s1, _)) = first else { continue };
+            if stack.exponentials_at(s1).is_none() {
+                continue; // not polished: nothing recalled
+            }
+            for (by, repeats) in [(1.0 + 1e-13, true), (1.0 + 1e-3, false)] {
+                let g = scaled(&f, by);
+                let fresh =
+                    g.first_exit_until(lo, hi, 10.0, 10.0, tolerances, &mut SearchStack::default());
+                let mut again = stack.clone();
+                let found = g.first_exit_until(lo, hi, 10.0, 10.0, tolerances, &mut again);
+                let ((s, side), (e, fresh_side)) =
+                    (found.expect("an exit"), fresh.expect("an exit"));
+                assert_eq!(side, fresh_side, "k {k}");
+                assert!((s - e).abs() <= 2e-12, "k {k} by {by}: {s} vs {e}");
+                let misses = again.fixed[0].seeds.misses[3];
+                if repeats {
+                    assert_eq!(
+                        misses, 0,
+                        "k {k}: the recalled exit did not start the polish"
+                    );
+                    recalled += 1;
+                } else {
+                    assert!(
+                        misses > 0,
+                        "k {k}: a moved flight started at the recalled exit"
+                    );
+                    moved += 1;
+                }
+            }
+        }
+        assert!(
+            recalled >= 10 && moved >= 10,
+            "{recalled} recalled, {moved} moved"
+        );
     }
 
     /// Beats: two undamped oscillations at `2` and `2.05` rad/s (amplitude `1` each, the

@@ -112,7 +112,19 @@ pub(super) fn polish(
     exps.values
         .extend(g.f.terms.iter().map(|t| cexp(t.rate, start)));
     exps.at = start;
-    polish_from(g, bracket, start, tol, exps)
+    polish_from(g, bracket, (start, PolishStart::Near), tol, exps)
+}
+
+/// Where a polish starts: what [`iterate`] expects of its first evaluation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum PolishStart {
+    /// Near the root (a guess, a seed point): `f`'s Taylor polynomial at the start
+    /// ([`Local`]) is formed at once, the first evaluation on it.
+    Near,
+    /// At the root to within a few roundings (a recalled exit whose Newton step is short,
+    /// [`Seeds::recalled`]): the first evaluation from the exponentials, the polynomial
+    /// formed only if a second iterate needs it (the polish mostly stops after one).
+    AtRoot,
 }
 
 /// [`polish()`] with `exps` already at `start`.
@@ -120,12 +132,21 @@ pub(super) fn polish(
 pub(super) fn polish_from(
     g: &Crossing<'_>,
     bracket: (f64, f64),
-    start: f64,
+    (start, kind): (f64, PolishStart),
     tol: f64,
     exps: &mut Exponentials,
 ) -> f64 {
-    let local = Local::at(g, start, &exps.values);
-    let root = iterate(g, bracket, start, tol, exps, local.as_ref());
+    let at_root = match kind {
+        PolishStart::AtRoot => first_at_root(g, bracket, start, tol, exps),
+        PolishStart::Near => None,
+    };
+    let root = match at_root {
+        Some(root) => root,
+        None => {
+            let local = Local::at(g, start, &exps.values);
+            iterate(g, bracket, start, tol, exps, local.as_ref())
+        }
+    };
     exps.advance(&g.f.terms, root);
     root
 }
@@ -268,6 +289,64 @@ impl Local {
     }
 }
 
+/// Halley's step from `s`, where `g = v`, `g' = d`, `g'' = dd`, and whether its result is
+/// the root: inside the bracket `[a, b]`, and no longer than `tol` or in the asymptotic
+/// regime with a predicted next error below [`HALLEY_MARGIN`] of `tol` (`jerk` bounding
+/// `|f'''|`).
+#[inline(always)]
+fn halley_step(
+    (v, d, dd): (f64, f64, f64),
+    s: f64,
+    jerk: f64,
+    tol: f64,
+    (a, b): (f64, f64),
+) -> (f64, bool) {
+    let denominator = 2.0 * d * d - v * dd;
+    let halley = if denominator != 0.0 {
+        s - 2.0 * v * d / denominator
+    } else {
+        s - v / d
+    };
+    let step = (halley - s).abs();
+    let converged = halley >= a && halley <= b && {
+        // Halley's error: e⁺ ≈ (f''²/(4f'²) − f'''/(6f')) e³, with e ≈ the step.
+        let contraction = 0.25 * (dd / d).powi(2) + jerk / (6.0 * d.abs());
+        step <= tol
+            || (step * contraction.sqrt() <= HALLEY_ASYMPTOTIC
+                && contraction * step * step * step <= HALLEY_MARGIN * tol)
+    };
+    (halley, converged)
+}
+
+/// The first iterate of a polish [`PolishStart::AtRoot`] (`exps` there), from the
+/// exponentials: the root when Halley's step from `start` is taken ([`halley_step`]), else
+/// `None` (the polish then iterates from `start` as from any other start, its first
+/// evaluation on [`Local`] the same bits as this one).
+#[inline]
+fn first_at_root(
+    crossing: &Crossing<'_>,
+    (a, b): (f64, f64),
+    start: f64,
+    tol: f64,
+    exps: &Exponentials,
+) -> Option<f64> {
+    let Crossing {
+        f,
+        derivatives,
+        sign,
+        level,
+        jerk,
+    } = *crossing;
+    let (v, d, dd) = derivatives.at(f, start, &exps.values);
+    let (v, d, dd) = (sign * (v - level), sign * d, sign * dd);
+    if v == 0.0 {
+        return Some(start);
+    }
+    let bracket = if v > 0.0 { (start, b) } else { (a, start) };
+    let (halley, converged) = halley_step((v, d, dd), start, jerk, tol, bracket);
+    converged.then_some(halley)
+}
+
 /// The iteration of [`polish()`]: `g` evaluated on `local` within its radius, else from the
 /// exponentials advanced to each iterate.
 pub(super) fn iterate(
@@ -306,22 +385,9 @@ pub(super) fn iterate(
         } else {
             b = s;
         }
-        let denominator = 2.0 * d * d - v * dd;
-        let halley = if denominator != 0.0 {
-            s - 2.0 * v * d / denominator
-        } else {
-            s - v / d
-        };
-        let step = (halley - s).abs();
-        if halley >= a && halley <= b {
-            // Halley's error: e⁺ ≈ (f''²/(4f'²) − f'''/(6f')) e³, with e ≈ the step.
-            let contraction = 0.25 * (dd / d).powi(2) + jerk / (6.0 * d.abs());
-            let converged = step <= tol
-                || (step * contraction.sqrt() <= HALLEY_ASYMPTOTIC
-                    && contraction * step * step * step <= HALLEY_MARGIN * tol);
-            if converged {
-                return halley;
-            }
+        let (halley, converged) = halley_step((v, d, dd), s, jerk, tol, (a, b));
+        if converged {
+            return halley;
         }
         if halley > a && halley < b {
             s = halley;

@@ -306,6 +306,8 @@ impl ExpSum {
             derivatives,
             polish: scratch,
             point,
+            recall_key,
+            recall,
             ..
         } = stack;
         let grid = if front {
@@ -319,6 +321,7 @@ impl ExpSum {
             chunk_filled,
             ..
         } = grid;
+        (seeds.key, seeds.enabled) = (*recall_key, *recall);
         let n = self.terms.len();
         let mut test = ChunkTest {
             band: (lo, hi),
@@ -412,7 +415,12 @@ impl ExpSum {
             cutoff,
             fa,
         };
-        self.scan(&mut test, &mut source, range)
+        let found = self.scan(&mut test, &mut source, range);
+        // A polished exit, recalled as a start for the polish of a later flight of this key.
+        if let Some((s, _)) = found.filter(|&(s, _)| test.polish.at == s) {
+            source.seeds.recall(s, &test.polish.values);
+        }
+        found
     }
 
     /// The search of [`Self::first_exit_until`] past its evaluation-free tests, with `jerk`
@@ -449,6 +457,7 @@ impl ExpSum {
             polish: scratch,
             point,
             mid,
+            ..
         } = stack;
         // A bound on |f''''| over the horizon, computed when a chunk first needs it.
         let mut test = ChunkTest {
