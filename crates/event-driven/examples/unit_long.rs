@@ -151,6 +151,29 @@
 //! is one chunk test and one polish per impact already; what remains is arithmetic whose
 //! bits a faster form would move (Estrin's scheme for the series, the forcing phase at the
 //! contact from the search's exponentials, a cheaper polish start).
+//!
+//! Measured again (stop 28, main 46c371b against b5cf96f's binary and 9a6d237, the three
+//! builds alternated, five runs each, medians of CPU time, load average 1.4 to 1.5): 1.16 s of
+//! one core at b5cf96f, 0.67 s at 9a6d237 and 0.51 s after, the same 2 000 009 impacts:
+//! **×2.27 over b5cf96f** (issue 24's ×2 for the unit; a second alternation 1.20, 0.68 and
+//! 0.52 s, ×2.31). Callgrind over 20 000 periods: 229.2e6 instructions at 9a6d237, 207.8e6
+//! after (b5cf96f 436.3e6: ×2.10). What moved it: a fixed run of 1000 periods or more recalls
+//! each pair's last two polished exits with the exponentials there (`Seeds::recalled`); a
+//! flight whose Newton step from one is within 4e-6 of the chunk's half-width (it repeats the
+//! flight a period earlier) starts its polish there, and the polish stops after one
+//! evaluation, from the exponentials, without forming the degree-7 Taylor polynomial, the
+//! exponentials then advanced to the root by a first-degree step. Before, every polish
+//! started at the seed point nearest the quadratic model's guess, which misses a steady
+//! flight's exit by about w/80, and took two evaluations. Contact times move in their last
+//! bits: `rattle simulate --periods 3000` on the damped and the undamped paper unit at seven
+//! frequencies from 0.8 to 4.5 rad/s, 14 runs: 7 bit for bit (the non-periodic ones, where no
+//! flight repeats), the periodic ones within 3e-13 in amplitude, 1.6e-12 in a Floquet
+//! multiplier and 1e-11 relative in a transmittance of 0.01 dB. Runs until periodic, the
+//! engine's final stretches and the Newton's one-cycle runs do not recall (with recall in
+//! every run a sweep and a map cost 1 to 2 % more and moved their last bits): `cargo xtask
+//! figures` writes the same bits as before. Where the time goes now (callgrind, inclusive):
+//! the search 50 % (the exit's chunk, its test and polish, 14 %), the state at the contact
+//! 7 %, the contact 5.5 %, the flight's start 2.3 %.
 
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, SimulationOptions, Start};
