@@ -330,20 +330,14 @@ fn first_at_root(
     tol: f64,
     exps: &Exponentials,
 ) -> Option<f64> {
-    let Crossing {
-        f,
-        derivatives,
-        sign,
-        level,
-        jerk,
-    } = *crossing;
-    let (v, d, dd) = derivatives.at(f, start, &exps.values);
-    let (v, d, dd) = (sign * (v - level), sign * d, sign * dd);
+    let (v, d, dd) = crossing.derivatives.at(crossing.f, start, &exps.values);
+    let sign = crossing.sign;
+    let (v, d, dd) = (sign * (v - crossing.level), sign * d, sign * dd);
     if v == 0.0 {
         return Some(start);
     }
     let bracket = if v > 0.0 { (start, b) } else { (a, start) };
-    let (halley, converged) = halley_step((v, d, dd), start, jerk, tol, bracket);
+    let (halley, converged) = halley_step((v, d, dd), start, crossing.jerk, tol, bracket);
     converged.then_some(halley)
 }
 
