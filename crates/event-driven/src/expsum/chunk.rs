@@ -390,9 +390,11 @@ impl ExpSum {
     /// seed point at `s` when there is one ([`Seed::index_at`]: one product per term from the
     /// chunk's midpoint, with the seed's steps kept from one flight to the next), else
     /// evaluated afresh. On `cargo xtask figures`, 84 of the 142 million split points are seed
-    /// points; every output is bit for bit what fresh exponentials give (maps, boundaries,
-    /// agreement), and the map's search costs 4.5 % fewer instructions (callgrind, `rattle
-    /// map` over 2 gaps × 60 frequencies of `data/scenes/paper-damped.json`: 4.92e9 → 4.70e9).
+    /// points (stop 28, by a throwaway counter, not kept); every output of the figures is bit
+    /// for bit what fresh exponentials give (maps, boundaries, agreement), and the map's
+    /// search costs 4.5 % fewer instructions (callgrind, `rattle map
+    /// data/scenes/paper-damped.json --restitution-min 0.8 --restitution-max 0.8
+    /// --restitutions 1 --gaps 2 --points 60`: 4.92e9 → 4.70e9).
     #[inline]
     fn eval3_at_split(
         &self,
