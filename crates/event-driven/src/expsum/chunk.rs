@@ -6,10 +6,11 @@ use super::*;
 /// A recalled exit ([`Seeds::recalled`]) starts a polish, as at the root
 /// ([`PolishStart::AtRoot`]), when Newton's step from it is at most this fraction of the
 /// chunk's half-width `w`: the flight repeats the recalled one to a few parts in a million
-/// (a periodic motion's flights repeat to rounding). Looser, a quarter of the seed points'
+/// (a periodic motion's flights repeat to rounding). Measured with the recall in every run
+/// (stop 28, since confined to long fixed runs): looser, a quarter of the seed points'
 /// spacing (`w/256`), moved the simulator's Newton-polished `+-` orbit of the paper's unit at
-/// ω = 3.1496 from 3.2e-15 to 2.7e-12 of the analytic one (`rattle compare`), where this
-/// keeps 3.2e-15; the unit's steady flights need no more (`unit_long`: the same time).
+/// ω = 3.1496 from 3.2e-15 to 2.7e-12 of the analytic one (`rattle compare`), where this kept
+/// 3.2e-15; the unit's steady flights need no more (`unit_long`: the same time).
 pub(super) const RECALL_STEP: f64 = 4e-6;
 
 /// A recalled exit is tried only within this fraction of the chunk's half-width `w` of the
@@ -310,28 +311,10 @@ impl ExpSum {
                 // nearest it when there is one in the bracket, else from fresh exponentials.
                 let mut polish_to = |sign: f64, level: f64| {
                     let guess = guess(level);
-                    // A recalled exit that the flight repeats (Newton's step from it within
-                    // `RECALL_STEP`), the most recent first; else the seed point nearest the
-                    // guess.
+                    // A recalled exit that the flight repeats, else the seed point nearest
+                    // the guess.
                     let recalled = seed.as_mut().and_then(|seed| {
-                        if !seed.seeds.recall_worth_trying() {
-                            return None;
-                        }
-                        let found = seed.recalled_within((a, b)).find(|&(s, values)| {
-                            if (s - guess).abs() > RECALL_REACH * seed.w {
-                                return false;
-                            }
-                            let (v, d, _) = derivatives.at(self, s, values);
-                            ((v - level) / d).abs() <= RECALL_STEP * seed.w
-                        });
-                        if let Some((s, values)) = found {
-                            scratch.values.clear();
-                            scratch.values.extend_from_slice(values);
-                            scratch.at = s;
-                        }
-                        let s = found.map(|(s, _)| s);
-                        seed.seeds.recall_tried(s.is_some());
-                        s
+                        self.recalled_start(seed, derivatives, ((a, b), guess, level), scratch)
                     });
                     let seeded = recalled.map(|s| (s, PolishStart::AtRoot)).or_else(|| {
                         seed.as_mut()
@@ -384,6 +367,38 @@ impl ExpSum {
             intervals.push((a, m, fa, fm));
         }
         None
+    }
+
+    /// A recalled exit in the bracket `[a, b]` ([`Seeds::recalled`], the most recent first)
+    /// that the flight repeats: within [`RECALL_REACH`] of the `guess` and with Newton's step
+    /// to `f = level` from it within [`RECALL_STEP`]; its exponentials written into `scratch`.
+    /// Counts the try ([`Seeds::recall_tried`]); `None` when the key's tries are paused
+    /// ([`Seeds::recall_worth_trying`]) or none qualifies.
+    fn recalled_start(
+        &self,
+        seed: &mut Seed<'_>,
+        derivatives: &Derivatives,
+        ((a, b), guess, level): ((f64, f64), f64, f64),
+        scratch: &mut Exponentials,
+    ) -> Option<f64> {
+        if !seed.seeds.recall_worth_trying() {
+            return None;
+        }
+        let found = seed.recalled_within((a, b)).find(|&(s, values)| {
+            if (s - guess).abs() > RECALL_REACH * seed.w {
+                return false;
+            }
+            let (v, d, _) = derivatives.at(self, s, values);
+            ((v - level) / d).abs() <= RECALL_STEP * seed.w
+        });
+        if let Some((s, values)) = found {
+            scratch.values.clear();
+            scratch.values.extend_from_slice(values);
+            scratch.at = s;
+        }
+        let start = found.map(|(s, _)| s);
+        seed.seeds.recall_tried(start.is_some());
+        start
     }
 
     /// [`Self::eval3`] at a bisection's split point `s`, the exponentials there taken from the
