@@ -7,7 +7,7 @@ use super::*;
 /// ([`PolishStart::AtRoot`]), when Newton's step from it is at most this fraction of the
 /// chunk's half-width `w`: the flight repeats the recalled one to a few parts in a million
 /// (a periodic motion's flights repeat to rounding). Measured with the recall in every run
-/// (stop 28, since confined to long fixed runs): looser, a quarter of the seed points'
+/// (stop 28, throwaway builds not kept: it is now confined to long fixed runs): looser, a quarter of the seed points'
 /// spacing (`w/256`), moved the simulator's Newton-polished `+-` orbit of the paper's unit at
 /// ω = 3.1496 from 3.2e-15 to 2.7e-12 of the analytic one (`rattle compare`), where this kept
 /// 3.2e-15; the unit's steady flights need no more (`unit_long`: the same time).
@@ -316,11 +316,15 @@ impl ExpSum {
                     let recalled = seed.as_mut().and_then(|seed| {
                         self.recalled_start(seed, derivatives, ((a, b), guess, level), scratch)
                     });
-                    let seeded = recalled.map(|s| (s, PolishStart::AtRoot)).or_else(|| {
-                        seed.as_mut()
-                            .and_then(|seed| seed.start_near(guess, (a, b), &self.terms, scratch))
-                            .map(|s| (s, PolishStart::Near))
-                    });
+                    let seeded = recalled
+                        .map(|(s, at_s)| (s, PolishStart::AtRoot(at_s)))
+                        .or_else(|| {
+                            seed.as_mut()
+                                .and_then(|seed| {
+                                    seed.start_near(guess, (a, b), &self.terms, scratch)
+                                })
+                                .map(|s| (s, PolishStart::Near))
+                        });
                     let crossing = Crossing {
                         f: self,
                         derivatives,
@@ -371,7 +375,8 @@ impl ExpSum {
 
     /// A recalled exit in the bracket `[a, b]` ([`Seeds::recalled`], the most recent first)
     /// that the flight repeats: within [`RECALL_REACH`] of the `guess` and with Newton's step
-    /// to `f = level` from it within [`RECALL_STEP`]; its exponentials written into `scratch`.
+    /// to `f = level` from it within [`RECALL_STEP`]; its exponentials written into `scratch`,
+    /// and `(f, f', f'')` there returned with it (the polish's first iterate reads them).
     /// Counts the try ([`Seeds::recall_tried`]); `None` when the key's tries are paused
     /// ([`Seeds::recall_worth_trying`]) or none qualifies.
     fn recalled_start(
@@ -380,23 +385,24 @@ impl ExpSum {
         derivatives: &Derivatives,
         ((a, b), guess, level): ((f64, f64), f64, f64),
         scratch: &mut Exponentials,
-    ) -> Option<f64> {
+    ) -> Option<(f64, (f64, f64, f64))> {
         if !seed.seeds.recall_worth_trying() {
             return None;
         }
-        let found = seed.recalled_within((a, b)).find(|&(s, values)| {
+        let mut start = None;
+        for (s, values) in seed.recalled_within((a, b)) {
             if (s - guess).abs() > RECALL_REACH * seed.w {
-                return false;
+                continue;
             }
-            let (v, d, _) = derivatives.at(self, s, values);
-            ((v - level) / d).abs() <= RECALL_STEP * seed.w
-        });
-        if let Some((s, values)) = found {
-            scratch.values.clear();
-            scratch.values.extend_from_slice(values);
-            scratch.at = s;
+            let (v, d, dd) = derivatives.at(self, s, values);
+            if ((v - level) / d).abs() <= RECALL_STEP * seed.w {
+                scratch.values.clear();
+                scratch.values.extend_from_slice(values);
+                scratch.at = s;
+                start = Some((s, (v, d, dd)));
+                break;
+            }
         }
-        let start = found.map(|(s, _)| s);
         seed.seeds.recall_tried(start.is_some());
         start
     }

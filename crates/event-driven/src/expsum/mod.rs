@@ -520,7 +520,8 @@ mod tests {
 
     /// A search on a fixed grid recalls its polished exit; a later search of the same key
     /// whose function repeats it (coefficients within `1e-13`) starts its polish there and
-    /// finds the exit a fresh search finds, to the time tolerance; one whose function moved
+    /// finds the exit a fresh search finds, to twice the time tolerance (each search is
+    /// within it of the exit); one whose function moved
     /// (`1e-3`) does not start there (its key's polishes without a recalled start count up)
     /// and finds the fresh search's exit too.
     #[test]

@@ -116,15 +116,16 @@ pub(super) fn polish(
 }
 
 /// Where a polish starts: what [`iterate`] expects of its first evaluation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum PolishStart {
     /// Near the root (a guess, a seed point): `f`'s Taylor polynomial at the start
     /// ([`Local`]) is formed at once, the first evaluation on it.
     Near,
     /// At the root to within a few roundings (a recalled exit whose Newton step is short,
-    /// [`Seeds::recalled`]): the first evaluation from the exponentials, the polynomial
-    /// formed only if a second iterate needs it (the polish mostly stops after one).
-    AtRoot,
+    /// [`Seeds::recalled`]), with `(f, f', f'')` there, evaluated from the exponentials when
+    /// the start was chosen: the first iterate from them ([`first_at_root`]), the polynomial
+    /// formed only if a second one is needed (a polish mostly stops after one).
+    AtRoot((f64, f64, f64)),
 }
 
 /// [`polish()`] with `exps` already at `start`.
@@ -137,7 +138,7 @@ pub(super) fn polish_from(
     exps: &mut Exponentials,
 ) -> f64 {
     let at_root = match kind {
-        PolishStart::AtRoot => first_at_root(g, bracket, start, tol, exps),
+        PolishStart::AtRoot(at_start) => first_at_root(g, bracket, (start, at_start), tol),
         PolishStart::Near => None,
     };
     let root = match at_root {
@@ -318,19 +319,17 @@ fn halley_step(
     (halley, converged)
 }
 
-/// The first iterate of a polish [`PolishStart::AtRoot`] (`exps` there), from the
-/// exponentials: the root when Halley's step from `start` is taken ([`halley_step`]), else
-/// `None` (the polish then iterates from `start` as from any other start, its first
-/// evaluation on [`Local`] the same bits as this one).
+/// The first iterate of a polish [`PolishStart::AtRoot`] from `f`, `f'`, `f''` at `start`
+/// (`at_start`, from the exponentials there): the root when Halley's step from `start` is
+/// taken ([`halley_step`]), else `None` (the polish then iterates from `start` as from any
+/// other start, its first evaluation on [`Local`] the same bits as these).
 #[inline]
 fn first_at_root(
     crossing: &Crossing<'_>,
     (a, b): (f64, f64),
-    start: f64,
+    (start, (v, d, dd)): (f64, (f64, f64, f64)),
     tol: f64,
-    exps: &Exponentials,
 ) -> Option<f64> {
-    let (v, d, dd) = crossing.derivatives.at(crossing.f, start, &exps.values);
     let sign = crossing.sign;
     let (v, d, dd) = (sign * (v - crossing.level), sign * d, sign * dd);
     if v == 0.0 {
