@@ -924,11 +924,13 @@ impl Flight<'_> {
     /// pass over the modes (each mode's deviation and rate read once for all functionals);
     /// each summary is bit for bit the one [`Self::summarize`] gives. `false` (nothing
     /// written) where [`Self::summarize`] gives `None`, or a kept mode has rate zero.
+    /// The terms' coefficients are left in `coefficients`, laid out as `joint`'s weights, for
+    /// [`Self::expand_joint`].
     pub(crate) fn summarize_all(
         &self,
         joint: &JointWeights,
         horizon: f64,
-        modes: &mut Vec<ModeTerm>,
+        (modes, coefficients): (&mut Vec<ModeTerm>, &mut Vec<[f64; 2 * LANES]>),
         out: &mut Vec<Summary>,
     ) -> bool {
         let f = self.flow;
@@ -972,8 +974,14 @@ impl Flight<'_> {
             cube: rate * rate * rate,
         });
         out.clear();
-        for block in joint.blocks.chunks_exact(modes.len()) {
-            out.extend(summarize_block(block, modes));
+        coefficients.resize(joint.blocks.len(), [0.0; 2 * LANES]);
+        let per_block = modes.len();
+        for (block, written) in joint
+            .blocks
+            .chunks_exact(per_block)
+            .zip(coefficients.chunks_exact_mut(per_block))
+        {
+            out.extend(summarize_block(block, modes, written));
         }
         out.truncate(count);
         for (sum, &constant) in out.iter_mut().zip(&joint.constant) {
@@ -991,25 +999,32 @@ impl Flight<'_> {
         out
     }
 
-    /// [`Self::expand`] into `out` that holds the expansion of `functional` by an earlier
-    /// flight of the same flow in the steady-response form (its rates, its zero coefficients
-    /// beyond the constant ones, its constant term): only the constant coefficients that
-    /// depend on the flight are written, each as [`Self::expand`] forms it, so `out` ends as
+    /// [`Self::expand`] of the functional in slot `slot` of the joint summaries that
+    /// [`Self::summarize_all`] has just formed for this flight, into `out` that holds the
+    /// expansion of that functional by an earlier flight of the same flow in the
+    /// steady-response form (its rates, its zero coefficients beyond the constant ones, its
+    /// constant term): only the constant coefficients that depend on the flight are written,
+    /// copied from the summaries' `coefficients` (`w (d·weight)` there, `(w d)·weight` in
+    /// [`Self::expand`]: equal, since a weight of 1 or 2 scales exactly), so `out` ends as
     /// [`Self::expand`] would leave it, bit for bit. Otherwise (another form, or `out` not of
     /// that length) it is [`Self::expand`]. Writing the terms out was some 5 % of `chain8`'s
-    /// time (`perf`).
-    pub(crate) fn expand_again(&self, functional: &Functional, out: &mut ExpSum) {
+    /// time (`perf`); forming their coefficients again, 5 % of its instructions (callgrind).
+    pub(crate) fn expand_joint(
+        &self,
+        functional: &Functional,
+        (coefficients, slot): (&[[f64; 2 * LANES]], usize),
+        out: &mut ExpSum,
+    ) {
         let f = self.flow;
-        let count = f.kept.len() + 1 + usize::from(functional.constant != 0.0);
-        match &self.form {
-            Form::Steady {
-                deviation, phase, ..
-            } if out.terms.len() == count => {
-                let weights = functional.weights.as_slice();
-                for (t, &(k, weight)) in out.terms.iter_mut().zip(&f.kept) {
-                    t.poly[0] = weights[k] * deviation[k] * weight;
+        let kept = f.kept.len();
+        let count = kept + 1 + usize::from(functional.constant != 0.0);
+        let (block, lane) = (slot / LANES, slot % LANES);
+        let rows = coefficients.get(block * (kept + 1)..(block + 1) * (kept + 1));
+        match (&self.form, rows) {
+            (Form::Steady { .. }, Some(rows)) if out.terms.len() == count => {
+                for (t, row) in out.terms.iter_mut().zip(rows) {
+                    t.poly[0] = C64::new(row[lane], row[LANES + lane]);
                 }
-                out.terms[f.kept.len()].poly[0] = functional.forced * phase;
             }
             _ => self.expand(functional, out),
         }
@@ -1184,30 +1199,38 @@ mod tests {
     }
 
     #[test]
-    fn a_functional_expanded_again_is_its_expansion_bit_for_bit() {
-        // The watch of several pairs rewrites only the constant coefficients of a pair's terms
-        // written by an earlier flight: the terms must be those a fresh expansion writes.
-        let (flow, functionals, y) = chain_flow(3);
-        let earlier = flow.flight(&y, 0.7);
-        let later = flow.flight(&y.map(|v| 1.3 * v - 0.1), 2.9);
-        for functional in &functionals {
-            let mut again = ExpSum::default();
-            earlier.expand(functional, &mut again);
-            later.expand_again(functional, &mut again);
+    fn a_functional_expanded_from_the_joint_summaries_is_its_expansion_bit_for_bit() {
+        // The watch of several pairs writes only the constant coefficients of a pair's terms
+        // written by an earlier flight, copied from the summaries' coefficients: the terms
+        // must be those a fresh expansion writes, for every slot of odd and even counts.
+        for cells in [3, 8] {
+            let (flow, functionals, y) = chain_flow(cells);
+            let refs: Vec<&Functional> = functionals.iter().collect();
+            let joint = flow.joint_weights(&refs);
+            let earlier = flow.flight(&y, 0.7);
+            let later = flow.flight(&y.map(|v| 1.3 * v - 0.1), 2.9);
+            let (mut modes, mut coefficients, mut sums) = (Vec::new(), Vec::new(), Vec::new());
+            let scratch = (&mut modes, &mut coefficients);
+            assert!(later.summarize_all(&joint, 2.5, scratch, &mut sums));
+            for (slot, functional) in functionals.iter().enumerate() {
+                let mut again = ExpSum::default();
+                earlier.expand(functional, &mut again);
+                later.expand_joint(functional, (&coefficients, slot), &mut again);
+                let mut fresh = ExpSum::default();
+                later.expand(functional, &mut fresh);
+                assert_eq!(format!("{again:?}"), format!("{fresh:?}"), "{cells} cells");
+                // Not what the earlier flight left.
+                let mut first = ExpSum::default();
+                earlier.expand(functional, &mut first);
+                assert_ne!(format!("{first:?}"), format!("{fresh:?}"));
+            }
+            // A gap of another length is expanded afresh.
+            let mut short = ExpSum::default();
+            later.expand_joint(&functionals[0], (&coefficients, 0), &mut short);
             let mut fresh = ExpSum::default();
-            later.expand(functional, &mut fresh);
-            assert_eq!(format!("{again:?}"), format!("{fresh:?}"));
-            // Not what the earlier flight left.
-            let mut first = ExpSum::default();
-            earlier.expand(functional, &mut first);
-            assert_ne!(format!("{first:?}"), format!("{fresh:?}"));
+            later.expand(&functionals[0], &mut fresh);
+            assert_eq!(format!("{short:?}"), format!("{fresh:?}"));
         }
-        // A gap of another length is expanded afresh.
-        let mut short = ExpSum::default();
-        later.expand_again(&functionals[0], &mut short);
-        let mut fresh = ExpSum::default();
-        later.expand(&functionals[0], &mut fresh);
-        assert_eq!(format!("{short:?}"), format!("{fresh:?}"));
     }
 
     #[test]
@@ -1219,8 +1242,9 @@ mod tests {
             let refs: Vec<&Functional> = functionals.iter().collect();
             let joint = flow.joint_weights(&refs);
             let flight = flow.flight(&y, 0.7);
-            let (mut modes, mut out) = (Vec::new(), Vec::new());
-            assert!(flight.summarize_all(&joint, 2.5, &mut modes, &mut out));
+            let (mut modes, mut coefficients, mut out) = (Vec::new(), Vec::new(), Vec::new());
+            let scratch = (&mut modes, &mut coefficients);
+            assert!(flight.summarize_all(&joint, 2.5, scratch, &mut out));
             assert_eq!(out.len(), cells);
             for (sum, functional) in out.iter().zip(&functionals) {
                 let single = flight.summarize(functional, 2.5).expect("summary");

@@ -21,7 +21,7 @@ pub(super) struct Scratch {
     /// Per slot of `gaps`, the pair whose relative displacement it holds as a free flight
     /// of the joint watch wrote it ([`Flight::expand`] from the engine's free flow), if so:
     /// the next such flight rewrites only its constant coefficients
-    /// ([`Flight::expand_again`]).
+    /// ([`Flight::expand_joint`]).
     pub(super) expanded: Vec<Option<usize>>,
     /// Each watched pair's gap summarised ([`Flight::summarize`]) when several pairs are
     /// watched: its terms are then written out only for a search.
@@ -30,6 +30,10 @@ pub(super) struct Scratch {
     pub(super) joint: Vec<Summary>,
     /// The flight's modes, as those summaries add them.
     pub(super) modes: Vec<ModeTerm>,
+    /// The watched pairs' terms' coefficients as those summaries formed them
+    /// ([`Flight::summarize_all`]), copied into a searched pair's terms
+    /// ([`Flight::expand_joint`]).
+    pub(super) coefficients: Vec<[f64; 2 * LANES]>,
     /// The watch's search order: `(estimated exit, slot in gaps, pair, lo, hi)`.
     pub(super) order: Vec<(f64, usize, usize, f64, f64)>,
     pub(super) stack: SearchStack,
@@ -176,7 +180,8 @@ impl Engine<'_> {
         // formed in one pass.
         let joint = several
             && joint.is_some_and(|joint| {
-                flight.summarize_all(joint, horizon, &mut work.modes, &mut work.joint)
+                let scratch = (&mut work.modes, &mut work.coefficients);
+                flight.summarize_all(joint, horizon, scratch, &mut work.joint)
             });
         work.order.clear();
         for (count, (i, functional, shift)) in watched.clone().enumerate() {
@@ -233,6 +238,7 @@ impl Engine<'_> {
             expanded,
             summaries,
             joint: joint_summaries,
+            coefficients,
             order,
             stack,
             event_exponentials,
@@ -254,10 +260,11 @@ impl Engine<'_> {
                 if let Some((_, functional, _)) = watched.clone().nth(slot) {
                     // A joint watch is the free flight's, over the pairs' relative
                     // displacements: a slot that holds pair `i`'s from an earlier free flight
-                    // needs only its constant coefficients written.
+                    // needs only its constant coefficients written, copied from the
+                    // summaries that formed them.
                     let again = joint && expanded[slot] == Some(i);
                     if again {
-                        flight.expand_again(functional, &mut gaps[slot]);
+                        flight.expand_joint(functional, (coefficients, slot), &mut gaps[slot]);
                     } else {
                         flight.expand(functional, &mut gaps[slot]);
                     }

@@ -56,17 +56,29 @@ pub(crate) const LANES: usize = 4;
 /// Im w₃]` for mode `j`. Each lane's sums are bit for bit those of [`Summary::add_mode`] over
 /// the modes in order, `c = w (d·weight)` formed as [`Complex`]'s products. With AVX at run
 /// time the same operations are packed four wide ([`summarize_block_avx`]): the same bits.
+///
+/// Each mode's coefficients `c` are left in `coefficients[j]` (`[Re c₀, …, Re c₃, Im c₀, …,
+/// Im c₃]`; as long as `modes`): a pair that is then searched has its terms' coefficients
+/// copied from there ([`Flight::expand_joint`](crate::flow::Flight)) rather than formed
+/// again.
+///
+/// # Panics
+///
+/// If `coefficients` is shorter than `modes` or `weights`.
 pub(crate) fn summarize_block(
     weights: &[[f64; 2 * LANES]],
     modes: &[ModeTerm],
+    coefficients: &mut [[f64; 2 * LANES]],
 ) -> [Summary; LANES] {
+    let count = weights.len().min(modes.len());
+    let coefficients = &mut coefficients[..count];
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the CPU has AVX (checked just above), the only requirement of the
         // `target_feature` function.
-        return unsafe { summarize_block_avx(weights, modes) };
+        return unsafe { summarize_block_avx(weights, modes, coefficients) };
     }
-    summarize_lanes(weights, modes)
+    summarize_lanes(weights, modes, coefficients)
 }
 
 /// [`summarize_lanes`] with AVX intrinsics: each lane's operations, in the same order, on
@@ -74,13 +86,17 @@ pub(crate) fn summarize_block(
 /// clears the sign bit as [`f64::abs`] does).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
-fn summarize_block_avx(weights: &[[f64; 2 * LANES]], modes: &[ModeTerm]) -> [Summary; LANES] {
+fn summarize_block_avx(
+    weights: &[[f64; 2 * LANES]],
+    modes: &[ModeTerm],
+    coefficients: &mut [[f64; 2 * LANES]],
+) -> [Summary; LANES] {
     use std::arch::x86_64::*;
     let zero = _mm256_setzero_pd();
     let (mut start, mut slope0, mut curve0, mut size0) = (zero, zero, zero, zero);
     let (mut speed, mut bend, mut jerk) = (zero, zero, zero);
     let magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
-    for (w, m) in weights.iter().zip(modes) {
+    for ((w, m), out) in weights.iter().zip(modes).zip(coefficients) {
         let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
         let (d_re, d_im) = (m.deviation.re * m.weight, m.deviation.im * m.weight);
         let (mu2_re, mu2_im) = (mu.re * mu.re - mu.im * mu.im, mu.re * mu.im + mu.im * mu.re);
@@ -91,6 +107,11 @@ fn summarize_block_avx(weights: &[[f64; 2 * LANES]], modes: &[ModeTerm]) -> [Sum
         let (d_re, d_im) = (_mm256_set1_pd(d_re), _mm256_set1_pd(d_im));
         let c_re = _mm256_sub_pd(_mm256_mul_pd(a, d_re), _mm256_mul_pd(b, d_im));
         let c_im = _mm256_add_pd(_mm256_mul_pd(a, d_im), _mm256_mul_pd(b, d_re));
+        // SAFETY: `out` holds eight `f64`: two unaligned stores of four.
+        unsafe {
+            _mm256_storeu_pd(out.as_mut_ptr(), c_re);
+            _mm256_storeu_pd(out.as_mut_ptr().add(LANES), c_im);
+        }
         start = _mm256_add_pd(start, c_re);
         let slope = _mm256_sub_pd(
             _mm256_mul_pd(c_re, _mm256_set1_pd(mu.re)),
@@ -131,7 +152,11 @@ fn summarize_block_avx(weights: &[[f64; 2 * LANES]], modes: &[ModeTerm]) -> [Sum
 
 /// The body of [`summarize_block`].
 #[inline(always)]
-fn summarize_lanes(weights: &[[f64; 2 * LANES]], modes: &[ModeTerm]) -> [Summary; LANES] {
+fn summarize_lanes(
+    weights: &[[f64; 2 * LANES]],
+    modes: &[ModeTerm],
+    coefficients: &mut [[f64; 2 * LANES]],
+) -> [Summary; LANES] {
     let mut start = [0.0; LANES];
     let mut slope0 = [0.0; LANES];
     let mut curve0 = [0.0; LANES];
@@ -139,7 +164,7 @@ fn summarize_lanes(weights: &[[f64; 2 * LANES]], modes: &[ModeTerm]) -> [Summary
     let mut speed = [0.0; LANES];
     let mut bend = [0.0; LANES];
     let mut jerk = [0.0; LANES];
-    for (w, m) in weights.iter().zip(modes) {
+    for ((w, m), out) in weights.iter().zip(modes).zip(coefficients) {
         let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
         // `d·weight` and `μ²` written out as [`Complex`]'s products form them (the same
         // operations in the same order), so that the loop calls nothing generic and compiles
@@ -153,6 +178,9 @@ fn summarize_lanes(weights: &[[f64; 2 * LANES]], modes: &[ModeTerm]) -> [Summary
         let c_re: [f64; LANES] = std::array::from_fn(|l| a[l] * d_re - b[l] * d_im);
         let c_im: [f64; LANES] = std::array::from_fn(|l| a[l] * d_im + b[l] * d_re);
         let size: [f64; LANES] = std::array::from_fn(|l| c_re[l].abs() + c_im[l].abs());
+        let (out_re, out_im) = out.split_at_mut(LANES);
+        out_re.copy_from_slice(&c_re);
+        out_im.copy_from_slice(&c_im);
         for l in 0..LANES {
             start[l] += c_re[l];
         }
@@ -390,7 +418,7 @@ mod tests {
     }
 
     /// Each lane of a block's summaries, with and without AVX, is bit for bit the fold of
-    /// `Summary::add_mode` over the modes.
+    /// `Summary::add_mode` over the modes, and the coefficients left are those it was given.
     #[test]
     fn a_blocks_lanes_are_each_functionals_summary_bit_for_bit() {
         let mut next = numbers(7);
@@ -419,12 +447,41 @@ mod tests {
                 }
                 sum
             });
-            assert_eq!(summarize_lanes(&weights, &modes), expected);
-            assert_eq!(summarize_block(&weights, &modes), expected);
+            // Each lane's coefficients, as `Summary::add_mode` was given them.
+            let expected_coefficients: Vec<[f64; 2 * LANES]> = weights
+                .iter()
+                .zip(&modes)
+                .map(|(w, m)| {
+                    let c: [C64; LANES] = std::array::from_fn(|l| {
+                        C64::new(w[l], w[LANES + l]) * (m.deviation * m.weight)
+                    });
+                    std::array::from_fn(|i| if i < LANES { c[i].re } else { c[i - LANES].im })
+                })
+                .collect();
+            let bits = |c: &[[f64; 2 * LANES]]| {
+                c.iter()
+                    .flat_map(|row| row.map(f64::to_bits))
+                    .collect::<Vec<_>>()
+            };
+            let mut coefficients = vec![[f64::NAN; 2 * LANES]; count];
+            assert_eq!(
+                summarize_lanes(&weights, &modes, &mut coefficients),
+                expected
+            );
+            assert_eq!(bits(&coefficients), bits(&expected_coefficients));
+            let mut coefficients = vec![[f64::NAN; 2 * LANES]; count];
+            assert_eq!(
+                summarize_block(&weights, &modes, &mut coefficients),
+                expected
+            );
+            assert_eq!(bits(&coefficients), bits(&expected_coefficients));
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx") {
+                let mut coefficients = vec![[f64::NAN; 2 * LANES]; count];
                 // SAFETY: the CPU has AVX.
-                assert_eq!(unsafe { summarize_block_avx(&weights, &modes) }, expected);
+                let sums = unsafe { summarize_block_avx(&weights, &modes, &mut coefficients) };
+                assert_eq!(sums, expected);
+                assert_eq!(bits(&coefficients), bits(&expected_coefficients));
             }
         }
     }
