@@ -215,5 +215,7 @@ fn largest_velocity(y: &DVector<f64>) -> f64 {
 /// magnitude is exact in any order), without its generic iteration.
 #[inline]
 pub(super) fn largest_magnitude(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |largest: f64, v| largest.max(v.abs()))
+    x.iter().fold(0.0, |largest: f64, v| {
+        crate::expsum::larger(largest, v.abs())
+    })
 }

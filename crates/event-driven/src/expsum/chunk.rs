@@ -230,6 +230,31 @@ pub(super) fn quadratic_exit(f0: f64, d0: f64, dd0: f64, lo: f64, hi: f64) -> f6
     upper.min(lower)
 }
 
+/// Whether `f0 + d0 t + ½ dd0 t²` stays strictly inside `(lo, hi)` for every `t` in `(0,
+/// until]` (a start on an edge moving inside counts as inside): then [`quadratic_exit`] is
+/// later than `until`. Its largest and smallest values there are at `until` or at its vertex;
+/// no square root, and a division only for a vertex within the interval. `false` for an
+/// `until` that is not finite.
+#[inline]
+pub(super) fn quadratic_stays_inside(
+    (f0, d0, dd0): (f64, f64, f64),
+    (lo, hi): (f64, f64),
+    until: f64,
+) -> bool {
+    if !until.is_finite() {
+        return false;
+    }
+    let end = f0 + until * (d0 + 0.5 * dd0 * until);
+    let (mut top, mut bottom) = (end, end);
+    // The vertex `−d0/dd0` lies in `(0, until)` when the slope turns there.
+    if d0 * dd0 < 0.0 && d0.abs() < dd0.abs() * until {
+        let vertex = f0 - 0.5 * d0 * d0 / dd0;
+        top = top.max(vertex);
+        bottom = bottom.min(vertex);
+    }
+    f0 <= hi && f0 >= lo && top < hi && bottom > lo
+}
+
 /// What one search's chunk tests share: the band `(lo, hi)`, the bounds `jerk ≥ sup|f'''|` and
 /// `fourth ≥ sup|f''''|` on `[0, horizon]` (`NaN` until a test first needs it), the
 /// `(time, depth)` tolerances, and the search's scratch: the bisection's intervals, the

@@ -22,7 +22,7 @@ use cache::{
     chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
     CACHED_CHUNKS, CHUNK_ROWS, PACKED_ROWS, SEED_DIVISIONS,
 };
-use chunk::{departs, inside, quadratic_exit, taylor_clearance, ChunkTest};
+use chunk::{departs, inside, quadratic_exit, quadratic_stays_inside, taylor_clearance, ChunkTest};
 #[cfg(target_arch = "x86_64")]
 pub(crate) use packed::{complex_pair, complex_pair_product};
 use polish::{polish, polish_from, Crossing, Exponentials, PolishStart};
@@ -105,6 +105,20 @@ fn term_bounds(t: &Term, h: f64) -> ([f64; 4], f64, f64) {
         1.0
     };
     (p, l1(t.rate), growth)
+}
+
+/// The larger of `a` (never NaN) and `b`, `a` for a NaN `b`: [`f64::max`]'s value for such
+/// an `a`, as one `maxsd` (`f64::max` adds a NaN fix-up of three dependent instructions,
+/// which a running maximum repeats per element). The running maxima of the polish's sums and
+/// steps and of a contact's largest position and velocity so: callgrind, `chain8 1000`,
+/// 430.3e6 → 425.3e6 instructions, the same bits.
+#[inline(always)]
+pub(crate) fn larger(a: f64, b: f64) -> f64 {
+    if b > a {
+        b
+    } else {
+        a
+    }
 }
 
 /// `|re| + |im|`: an upper bound on the modulus, without a square root.

@@ -200,7 +200,7 @@ fn local_sums(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> ([f64; 
             x *= t.rate;
             *sum += x.re;
         }
-        fastest = fastest.max(l1(t.rate));
+        fastest = larger(fastest, l1(t.rate));
     }
     (sums, fastest)
 }
@@ -230,7 +230,7 @@ fn local_sums_avx(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> ([f
             x *= t.rate;
             *sum += x.re;
         }
-        fastest = fastest.max(l1(t.rate));
+        fastest = larger(fastest, l1(t.rate));
     }
     let mut out = [0.0; 4];
     // SAFETY: `out` holds four `f64`, the unaligned store's 32 bytes.
@@ -438,7 +438,7 @@ impl Exponentials {
     pub(super) fn advance_together(&mut self, terms: &[Term], s: f64, delta: f64) {
         let largest = terms
             .iter()
-            .fold(0.0, |m: f64, t| m.max(l1(t.rate * delta)));
+            .fold(0.0, |m: f64, t| larger(m, l1(t.rate * delta)));
         if largest > SMALL_STEP {
             for (e, t) in self.values.iter_mut().zip(terms) {
                 let z = t.rate * delta;

@@ -344,6 +344,14 @@ impl Summary {
         quadratic_exit(self.start, self.slope0, self.curve0, lo, hi)
     }
 
+    /// Whether that quadratic model stays inside `(lo, hi)` up to `until` (so that
+    /// [`Self::estimated_exit`] is later), without its square root and divisions: a watch
+    /// that wants only the earliest estimate skips the pairs that cannot have it.
+    pub(crate) fn estimate_later_than(&self, lo: f64, hi: f64, until: f64) -> bool {
+        let model = (self.start, self.slope0, self.curve0);
+        quadratic_stays_inside(model, (lo, hi), until)
+    }
+
     /// Whether `f` provably stays inside `(lo, hi)` on `[0, cutoff]` (a start on an edge
     /// moving back inside counts as inside), by bounds alone:
     ///
@@ -415,6 +423,41 @@ mod tests {
             let unit = (x >> 11) as f64 / (1u64 << 53) as f64;
             (unit - 0.5) * 10f64.powi((x % 7) as i32 - 3)
         }
+    }
+
+    /// A pair whose quadratic model stays inside its band past `until` has its estimate later
+    /// than `until`, so the watch may skip it; and the test says so for most models whose
+    /// estimate is well past `until` (it is not vacuous). Over many models of every kind:
+    /// exits on either side, starts on an edge moving in or out, turns short of a stop.
+    #[test]
+    fn an_estimate_skipped_is_later_than_the_earliest() {
+        let mut next = numbers(11);
+        let (mut skipped, mut later) = (0, 0);
+        for _ in 0..20_000 {
+            let (lo, hi) = (-0.5, 0.5);
+            let mut start = 0.4 * next().signum() * next().abs().min(1.0);
+            if next() > 0.3 {
+                start = if next() > 0.0 { hi } else { lo };
+            }
+            let summary = Summary {
+                start,
+                slope0: next(),
+                curve0: next(),
+                ..Summary::default()
+            };
+            let until = next().abs();
+            let estimate = summary.estimated_exit(lo, hi);
+            if summary.estimate_later_than(lo, hi, until) {
+                skipped += 1;
+                assert!(estimate > until, "{summary:?}: {estimate} within {until}");
+            }
+            if estimate > 2.0 * until {
+                later += 1;
+            }
+        }
+        // Most models whose estimate is well past `until` are skipped.
+        assert!(skipped > later / 2, "{skipped} skipped of {later}");
+        assert!(!Summary::default().estimate_later_than(-1.0, 1.0, f64::INFINITY));
     }
 
     /// Each lane of a block's summaries, with and without AVX, is bit for bit the fold of
