@@ -105,6 +105,29 @@ pub(super) struct Pending {
 /// periods, with the search's own estimates, 1.5 a flight).
 const ESTIMATE_MARGIN: f64 = 1e-6;
 
+/// The summary's quadratic estimate ([`Summary::estimated_exit`]) in `(lo, hi)` if it may be
+/// earlier than `earliest` (within [`ESTIMATE_MARGIN`]), else `∞` without forming it.
+fn estimate_if_earliest(summary: &Summary, (lo, hi): (f64, f64), earliest: f64) -> f64 {
+    if summary.estimate_later_than(lo, hi, earliest * (1.0 + ESTIMATE_MARGIN)) {
+        f64::INFINITY
+    } else {
+        summary.estimated_exit(lo, hi)
+    }
+}
+
+/// Moves the watch order's entry of the earliest estimate (the lower slot of equal ones) to
+/// the front, the others after it in their order.
+fn earliest_first(order: &mut [(f64, usize, usize, f64, f64)]) {
+    let earliest = order
+        .iter()
+        .enumerate()
+        .min_by(|(_, a), (_, b)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+        .map(|(at, _)| at);
+    if let Some(at) = earliest {
+        order[..=at].rotate_right(1);
+    }
+}
+
 /// Whether `kept` is `y` bit for bit: every entry's bits compared, without stopping at the
 /// first difference (a comparison of `f64`s entry by entry, branching on each, was some 1 %
 /// of `chain8`'s time, `perf`). Where `==` would differ (`0.0` against `-0.0`, a NaN
@@ -208,12 +231,7 @@ impl Engine<'_> {
             let (lo, hi) = (-spec.gap_minus - shift, spec.gap_plus - shift);
             // The joint summaries are read where they were formed (not copied).
             let estimate = if joint {
-                let summary = &work.joint[count];
-                if summary.estimate_later_than(lo, hi, earliest * (1.0 + ESTIMATE_MARGIN)) {
-                    f64::INFINITY
-                } else {
-                    summary.estimated_exit(lo, hi)
-                }
+                estimate_if_earliest(&work.joint[count], (lo, hi), earliest)
             } else {
                 let summary = several
                     .then(|| flight.summarize(functional, horizon))
@@ -243,15 +261,7 @@ impl Engine<'_> {
         // by estimate cost 2 % of `chain8`'s time and saved no search worth it: callgrind,
         // `chain8 1000`, 481.5e6 → 465.9e6 instructions, the same contacts).
         if several {
-            let earliest = work
-                .order
-                .iter()
-                .enumerate()
-                .min_by(|(_, a), (_, b)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
-                .map(|(at, _)| at);
-            if let Some(at) = earliest {
-                work.order[..=at].rotate_right(1);
-            }
+            earliest_first(&mut work.order);
         }
         let Scratch {
             gaps,
