@@ -693,23 +693,11 @@ fn joint_modes(
     let mut modes: Vec<ModeTerm> = kept
         .iter()
         .zip(kept_sizes)
-        .map(|(&(k, weight), &(rate, cube))| ModeTerm {
-            deviation: C64::default(),
-            weight,
-            rate_complex: rates[k],
-            rate,
-            cube,
-        })
+        .map(|(&(k, weight), &sizes)| ModeTerm::new(rates[k], weight, sizes))
         .collect();
     let forcing = C64::new(0.0, omega);
     let rate = forcing.re.abs() + forcing.im.abs();
-    modes.push(ModeTerm {
-        deviation: C64::default(),
-        weight: 1.0,
-        rate_complex: forcing,
-        rate,
-        cube: rate * rate * rate,
-    });
+    modes.push(ModeTerm::new(forcing, 1.0, (rate, rate * rate * rate)));
     Some(modes)
 }
 
@@ -998,11 +986,11 @@ impl Flight<'_> {
         modes.clear();
         modes.extend_from_slice(template);
         for (mode, &(k, _)) in modes.iter_mut().zip(&f.kept) {
-            mode.deviation = deviation[k];
+            mode.set_deviation(deviation[k]);
         }
-        // The forced part `forced · phase` at `iω`, after the kept modes.
+        // The forced part `forced · phase` at `iω`, after the kept modes (weight 1: exact).
         if let Some(forced) = modes.get_mut(f.kept.len()) {
-            forced.deviation = *phase;
+            forced.set_deviation(*phase);
         }
         out.clear();
         coefficients.resize(joint.blocks.len(), [0.0; 2 * LANES]);

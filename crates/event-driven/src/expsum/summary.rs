@@ -41,11 +41,40 @@ pub(crate) struct Summary {
 /// `w`, with `rate = |Re μ| + |Im μ| > 0` and `cube = (rate · rate) · rate`.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct ModeTerm {
-    pub(crate) deviation: C64,
+    /// The flight's deviation `d` of the mode times its weight, as `(d.re·weight,
+    /// d.im·weight)`.
+    pub(crate) weighted: C64,
     pub(crate) weight: f64,
     pub(crate) rate_complex: C64,
+    /// `μ²` as [`Complex`]'s product forms it (a flow's constant, formed once).
+    pub(crate) rate_square: C64,
     pub(crate) rate: f64,
+    /// `rate · rate`.
+    pub(crate) square: f64,
     pub(crate) cube: f64,
+}
+
+impl ModeTerm {
+    /// The mode of rate `μ` and weight `weight` (`rate = |Re μ| + |Im μ| > 0`, `cube =
+    /// (rate · rate) · rate`), its deviation zero.
+    pub(crate) fn new(rate_complex: C64, weight: f64, (rate, cube): (f64, f64)) -> Self {
+        let mu = rate_complex;
+        Self {
+            weighted: C64::default(),
+            weight,
+            rate_complex,
+            rate_square: C64::new(mu.re * mu.re - mu.im * mu.im, mu.re * mu.im + mu.im * mu.re),
+            rate,
+            square: rate * rate,
+            cube,
+        }
+    }
+
+    /// Writes the flight's deviation `d` of the mode (times its weight).
+    #[inline]
+    pub(crate) fn set_deviation(&mut self, d: C64) {
+        self.weighted = C64::new(d.re * self.weight, d.im * self.weight);
+    }
 }
 
 /// Functionals summarised side by side by [`summarize_block`]: the lanes of one block.
@@ -98,9 +127,9 @@ fn summarize_block_avx(
     let magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
     for ((w, m), out) in weights.iter().zip(modes).zip(coefficients) {
         let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
-        let (d_re, d_im) = (m.deviation.re * m.weight, m.deviation.im * m.weight);
-        let (mu2_re, mu2_im) = (mu.re * mu.re - mu.im * mu.im, mu.re * mu.im + mu.im * mu.re);
-        let square = rate * rate;
+        let (d_re, d_im) = (m.weighted.re, m.weighted.im);
+        let (mu2_re, mu2_im) = (m.rate_square.re, m.rate_square.im);
+        let square = m.square;
         let (wa, wb) = w.split_at(LANES);
         let a = _mm256_set_pd(wa[3], wa[2], wa[1], wa[0]);
         let b = _mm256_set_pd(wb[3], wb[2], wb[1], wb[0]);
@@ -169,9 +198,9 @@ fn summarize_lanes(
         // `d·weight` and `μ²` written out as [`Complex`]'s products form them (the same
         // operations in the same order), so that the loop calls nothing generic and compiles
         // the same whatever else the crate holds.
-        let (d_re, d_im) = (m.deviation.re * m.weight, m.deviation.im * m.weight);
-        let (mu2_re, mu2_im) = (mu.re * mu.re - mu.im * mu.im, mu.re * mu.im + mu.im * mu.re);
-        let square = rate * rate;
+        let (d_re, d_im) = (m.weighted.re, m.weighted.im);
+        let (mu2_re, mu2_im) = (m.rate_square.re, m.rate_square.im);
+        let square = m.square;
         // Quantity by quantity over the lanes (each a packed operation), the same
         // operations per lane as one lane at a time.
         let (a, b) = w.split_at(LANES);
@@ -470,13 +499,11 @@ mod tests {
                 .map(|_| {
                     let rate_complex = C64::new(-next().abs(), next());
                     let rate = rate_complex.re.abs() + rate_complex.im.abs();
-                    ModeTerm {
-                        deviation: C64::new(next(), next()),
-                        weight: if next() > 0.0 { 2.0 } else { 1.0 },
-                        rate_complex,
-                        rate,
-                        cube: rate * rate * rate,
-                    }
+                    let weight = if next() > 0.0 { 2.0 } else { 1.0 };
+                    let mut mode =
+                        ModeTerm::new(rate_complex, weight, (rate, rate * rate * rate));
+                    mode.set_deviation(C64::new(next(), next()));
+                    mode
                 })
                 .collect();
             let weights: Vec<[f64; 2 * LANES]> = (0..count)
@@ -485,7 +512,7 @@ mod tests {
             let expected: [Summary; LANES] = std::array::from_fn(|l| {
                 let mut sum = Summary::default();
                 for (w, m) in weights.iter().zip(&modes) {
-                    let c = C64::new(w[l], w[LANES + l]) * (m.deviation * m.weight);
+                    let c = C64::new(w[l], w[LANES + l]) * m.weighted;
                     sum.add_mode(c, m.rate_complex, m.rate, m.cube);
                 }
                 sum
@@ -496,7 +523,7 @@ mod tests {
                 .zip(&modes)
                 .map(|(w, m)| {
                     let c: [C64; LANES] = std::array::from_fn(|l| {
-                        C64::new(w[l], w[LANES + l]) * (m.deviation * m.weight)
+                        C64::new(w[l], w[LANES + l]) * m.weighted
                     });
                     std::array::from_fn(|i| if i < LANES { c[i].re } else { c[i - LANES].im })
                 })
