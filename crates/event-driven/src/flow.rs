@@ -138,7 +138,9 @@ pub struct Flight<'a> {
 #[derive(Debug, Clone)]
 enum Form<'a> {
     /// `z(s) = e^{λs} ∘ h + z_p(t₀ + s)`: the deviation `h = z(0) − z_p(t₀)` from the steady
-    /// response decays (or persists) mode by mode; `phase = e^{iωt₀}`.
+    /// response decays (or persists) mode by mode; `phase = e^{iωt₀}`. `deviation` holds the
+    /// kept modes' only, in the order of [`LinearFlow::kept`] (contiguous: the loops over
+    /// them read it in order).
     Steady {
         response: &'a SteadyResponse,
         deviation: Vec<C64>,
@@ -529,16 +531,15 @@ impl LinearFlow {
         let m = 2 * self.dofs;
         let form = match &self.steady {
             Some(p) => {
-                // Only the kept modes' entries are written, and only they are ever read (the
-                // others stay as they were: zero from when the storage was sized).
-                if storage.len() != m {
+                // The kept modes' deviations, in their order.
+                if storage.len() != self.kept.len() {
                     storage.clear();
-                    storage.resize(m, C64::default());
+                    storage.resize(self.kept.len(), C64::default());
                 }
                 let mut deviation = storage;
                 let y = y.as_slice();
                 let (rows_re, rows_im) = &self.inverse_rows;
-                for &(k, _) in &self.kept {
+                for (h, &(k, _)) in deviation.iter_mut().zip(&self.kept) {
                     let row = k * m..(k + 1) * m;
                     let (mut re, mut im) = (0.0, 0.0);
                     for ((&vr, &vi), &yj) in rows_re[row.clone()].iter().zip(&rows_im[row]).zip(y) {
@@ -546,8 +547,7 @@ impl LinearFlow {
                         im += vi * yj;
                     }
                     let z = C64::new(re, im);
-                    deviation[k] =
-                        z - (p.plus[k] * phase + p.minus[k] * phase.conj() + p.constant[k]);
+                    *h = z - (p.plus[k] * phase + p.minus[k] * phase.conj() + p.constant[k]);
                 }
                 Form::Steady {
                     response: p,
@@ -565,7 +565,8 @@ impl LinearFlow {
     }
 
     /// The flight at the forcing phase `e^{iωt0}` (as [`Self::flight_at_phase`] takes it) from
-    /// a state whose deviation from the steady response, `h = z(0) − z_p(t0)` per mode (kept modes only, length `2n`), is already
+    /// a state whose deviation from the steady response, `h = z(0) − z_p(t0)` per mode (the
+    /// kept modes', in their order), is already
     /// known, as [`Flight::deviation_at`] and [`Self::add_jump`] carry it across an event;
     /// `None` (the deviation handed back) when the flow has no steady response.
     ///
@@ -579,7 +580,7 @@ impl LinearFlow {
         let Some(p) = &self.steady else {
             return Err(deviation);
         };
-        if deviation.len() != 2 * self.dofs {
+        if deviation.len() != self.kept.len() {
             return Err(deviation);
         }
         Ok(Flight {
@@ -614,8 +615,8 @@ impl LinearFlow {
             }
             let delta = a - b;
             let column = &self.kept_inverse_columns[j * count..(j + 1) * count];
-            for (&(k, _), &v) in self.kept.iter().zip(column) {
-                deviation[k] += v * delta;
+            for (h, &v) in deviation.iter_mut().zip(column) {
+                *h += v * delta;
             }
         }
     }
@@ -758,7 +759,7 @@ fn steady_state_avx(
     let last = pairs.remainder();
     for (i, pair) in pairs.enumerate() {
         let ((k0, w0), (k1, w1)) = (pair[0], pair[1]);
-        let h = pack(deviation[k0], deviation[k1]);
+        let h = pack(deviation[2 * i], deviation[2 * i + 1]);
         let e = pack(el(2 * i, k0), el(2 * i + 1, k1));
         let mut z = complex_pair_product(h, e);
         z = _mm256_add_pd(z, complex_pair_product(pack(p.plus[k0], p.plus[k1]), plus));
@@ -774,7 +775,7 @@ fn steady_state_avx(
     }
     if let &[(k, weight)] = last {
         let j = f.kept.len() - 1;
-        let zk = (deviation[k] * el(j, k)
+        let zk = (deviation[j] * el(j, k)
             + p.plus[k] * forced
             + p.minus[k] * forced.conj()
             + p.constant[k])
@@ -870,7 +871,7 @@ impl Flight<'_> {
                 }
                 for (j, &(k, weight)) in f.kept.iter().enumerate() {
                     let el = known.map_or_else(|| cexp(f.rates[k], s), |e| e[j]);
-                    let zk = (deviation[k] * el
+                    let zk = (deviation[j] * el
                         + p.plus[k] * forced
                         + p.minus[k] * forced.conj()
                         + p.constant[k])
@@ -912,10 +913,7 @@ impl Flight<'_> {
             return false;
         }
         out.clear();
-        out.resize(deviation.len(), C64::default());
-        for (j, &(k, _)) in f.kept.iter().enumerate() {
-            out[k] = deviation[k] * exponentials[j];
-        }
+        out.extend(deviation.iter().zip(exponentials).map(|(&h, &e)| h * e));
         true
     }
 
@@ -937,8 +935,9 @@ impl Flight<'_> {
         }
         let weights = functional.weights.as_slice();
         let mut sum = Summary::default();
-        for (&(k, weight), &(rate, cube)) in f.kept.iter().zip(&f.kept_sizes) {
-            let (c, mu) = (weights[k] * (deviation[k] * weight), f.rates[k]);
+        let modes = f.kept.iter().zip(&f.kept_sizes).zip(deviation);
+        for ((&(k, weight), &(rate, cube)), &h) in modes {
+            let (c, mu) = (weights[k] * (h * weight), f.rates[k]);
             if rate == 0.0 {
                 sum.add_decaying::<true>(c, mu);
             } else {
@@ -985,8 +984,8 @@ impl Flight<'_> {
         let count = joint.count;
         modes.clear();
         modes.extend_from_slice(template);
-        for (mode, &(k, _)) in modes.iter_mut().zip(&f.kept) {
-            mode.set_deviation(deviation[k]);
+        for (mode, &h) in modes.iter_mut().zip(deviation) {
+            mode.set_deviation(h);
         }
         // The forced part `forced · phase` at `iω`, after the kept modes (weight 1: exact).
         if let Some(forced) = modes.get_mut(f.kept.len()) {
@@ -1062,8 +1061,8 @@ impl Flight<'_> {
                 deviation, phase, ..
             } => {
                 let weights = weights.as_slice();
-                out.terms.extend(f.kept.iter().map(|&(k, weight)| Term {
-                    poly: [weights[k] * deviation[k] * weight, zero, zero, zero],
+                out.terms.extend(f.kept.iter().zip(deviation).map(|(&(k, weight), &h)| Term {
+                    poly: [weights[k] * h * weight, zero, zero, zero],
                     rate: f.rates[k],
                 }));
                 out.terms.push(Term {
@@ -1361,7 +1360,7 @@ mod tests {
             let mut expected = vec![0.0; m];
             let forced = exps[flow.kept.len()] * phase;
             for (j, &(k, weight)) in flow.kept.iter().enumerate() {
-                let z = (deviation[k] * exps[j]
+                let z = (deviation[j] * exps[j]
                     + p.plus[k] * forced
                     + p.minus[k] * forced.conj()
                     + p.constant[k])
