@@ -107,6 +107,19 @@ struct SteadyResponse {
     constant: Vec<C64>,
 }
 
+impl SteadyResponse {
+    /// The response of the kept modes only, in the order of `kept` (contiguous, as the
+    /// flights' deviations are).
+    fn of_kept(self, kept: &[(usize, f64)]) -> Self {
+        let pick = |v: &[C64]| kept.iter().map(|&(k, _)| v[k]).collect();
+        Self {
+            plus: pick(&self.plus),
+            minus: pick(&self.minus),
+            constant: pick(&self.constant),
+        }
+    }
+}
+
 /// A linear functional `c · y` of the state, prepared for fast flights: its modal weights
 /// `Vᵀc` and, when the flow has a steady response, that response's contribution
 /// `Re(forced e^{iωt}) + constant`.
@@ -409,7 +422,8 @@ impl LinearFlow {
                     .zip(constant.iter())
                     .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
                     .collect(),
-            });
+            })
+            .map(|response| response.of_kept(&kept));
         let apart = |m: &DMatrix<C64>| {
             (
                 m.as_slice().iter().map(|c| c.re).collect(),
@@ -539,7 +553,7 @@ impl LinearFlow {
                 let mut deviation = storage;
                 let y = y.as_slice();
                 let (rows_re, rows_im) = &self.inverse_rows;
-                for (h, &(k, _)) in deviation.iter_mut().zip(&self.kept) {
+                for (j, (h, &(k, _))) in deviation.iter_mut().zip(&self.kept).enumerate() {
                     let row = k * m..(k + 1) * m;
                     let (mut re, mut im) = (0.0, 0.0);
                     for ((&vr, &vi), &yj) in rows_re[row.clone()].iter().zip(&rows_im[row]).zip(y) {
@@ -547,7 +561,7 @@ impl LinearFlow {
                         im += vi * yj;
                     }
                     let z = C64::new(re, im);
-                    *h = z - (p.plus[k] * phase + p.minus[k] * phase.conj() + p.constant[k]);
+                    *h = z - (p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j]);
                 }
                 Form::Steady {
                     response: p,
@@ -662,10 +676,10 @@ impl LinearFlow {
         let weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
         let (mut forced, mut constant) = (C64::default(), 0.0);
         if let Some(p) = &self.steady {
-            for &(k, weight) in &self.kept {
+            for (j, &(k, weight)) in self.kept.iter().enumerate() {
                 // Re[w P⁻ e^{−iωt}] = Re[conj(w P⁻) e^{iωt}].
-                forced += (weights[k] * p.plus[k] + (weights[k] * p.minus[k]).conj()) * weight;
-                constant += (weights[k] * p.constant[k]).re * weight;
+                forced += (weights[k] * p.plus[j] + (weights[k] * p.minus[j]).conj()) * weight;
+                constant += (weights[k] * p.constant[j]).re * weight;
             }
         }
         Functional {
@@ -744,6 +758,13 @@ fn steady_state_avx(
     let (columns_re, columns_im) = &f.mode_columns;
     let y = &mut y[..m];
     let pack = |a: C64, b: C64| _mm256_set_pd(b.im, b.re, a.im, a.re);
+    // Two neighbouring complex numbers (`C64` is `repr(C)`: `[re₀, im₀, re₁, im₁]`, as `pack`
+    // lays them out).
+    let load = |v: &[C64], i: usize| {
+        let two = &v[i..i + 2];
+        // SAFETY: `two` holds two `C64`, four `f64` in that order: one unaligned load.
+        unsafe { _mm256_loadu_pd(two.as_ptr().cast()) }
+    };
     let (plus, minus) = (pack(forced, forced), pack(forced.conj(), forced.conj()));
     // A `match`, not `Option::map_or_else` (which was left out of line here: 68e6
     // instructions of `chain8 5000`).
@@ -759,15 +780,15 @@ fn steady_state_avx(
     let last = pairs.remainder();
     for (i, pair) in pairs.enumerate() {
         let ((k0, w0), (k1, w1)) = (pair[0], pair[1]);
-        let h = pack(deviation[2 * i], deviation[2 * i + 1]);
-        let e = pack(el(2 * i, k0), el(2 * i + 1, k1));
+        let h = load(deviation, 2 * i);
+        let e = match known {
+            Some(e) => load(e, 2 * i),
+            None => pack(cexp(f.rates[k0], s), cexp(f.rates[k1], s)),
+        };
         let mut z = complex_pair_product(h, e);
-        z = _mm256_add_pd(z, complex_pair_product(pack(p.plus[k0], p.plus[k1]), plus));
-        z = _mm256_add_pd(
-            z,
-            complex_pair_product(pack(p.minus[k0], p.minus[k1]), minus),
-        );
-        z = _mm256_add_pd(z, pack(p.constant[k0], p.constant[k1]));
+        z = _mm256_add_pd(z, complex_pair_product(load(&p.plus, 2 * i), plus));
+        z = _mm256_add_pd(z, complex_pair_product(load(&p.minus, 2 * i), minus));
+        z = _mm256_add_pd(z, load(&p.constant, 2 * i));
         z = _mm256_mul_pd(z, _mm256_set_pd(w1, w1, w0, w0));
         let (z0, z1) = complex_pair(z);
         add(k0, z0);
@@ -776,9 +797,9 @@ fn steady_state_avx(
     if let &[(k, weight)] = last {
         let j = f.kept.len() - 1;
         let zk = (deviation[j] * el(j, k)
-            + p.plus[k] * forced
-            + p.minus[k] * forced.conj()
-            + p.constant[k])
+            + p.plus[j] * forced
+            + p.minus[j] * forced.conj()
+            + p.constant[j])
             * weight;
         add(k, zk);
     }
@@ -872,9 +893,9 @@ impl Flight<'_> {
                 for (j, &(k, weight)) in f.kept.iter().enumerate() {
                     let el = known.map_or_else(|| cexp(f.rates[k], s), |e| e[j]);
                     let zk = (deviation[j] * el
-                        + p.plus[k] * forced
-                        + p.minus[k] * forced.conj()
-                        + p.constant[k])
+                        + p.plus[j] * forced
+                        + p.minus[j] * forced.conj()
+                        + p.constant[j])
                         * weight;
                     f.add_mode(k, zk, y.as_mut_slice());
                 }
@@ -1061,10 +1082,11 @@ impl Flight<'_> {
                 deviation, phase, ..
             } => {
                 let weights = weights.as_slice();
-                out.terms.extend(f.kept.iter().zip(deviation).map(|(&(k, weight), &h)| Term {
-                    poly: [weights[k] * h * weight, zero, zero, zero],
-                    rate: f.rates[k],
-                }));
+                out.terms
+                    .extend(f.kept.iter().zip(deviation).map(|(&(k, weight), &h)| Term {
+                        poly: [weights[k] * h * weight, zero, zero, zero],
+                        rate: f.rates[k],
+                    }));
                 out.terms.push(Term {
                     poly: [functional.forced * phase, zero, zero, zero],
                     rate: w,
@@ -1361,9 +1383,9 @@ mod tests {
             let forced = exps[flow.kept.len()] * phase;
             for (j, &(k, weight)) in flow.kept.iter().enumerate() {
                 let z = (deviation[j] * exps[j]
-                    + p.plus[k] * forced
-                    + p.minus[k] * forced.conj()
-                    + p.constant[k])
+                    + p.plus[j] * forced
+                    + p.minus[j] * forced.conj()
+                    + p.constant[j])
                     * weight;
                 for (i, y) in expected.iter_mut().enumerate() {
                     *y += flow.mode_columns.0[k * m + i] * z.re

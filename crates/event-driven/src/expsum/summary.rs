@@ -500,8 +500,7 @@ mod tests {
                     let rate_complex = C64::new(-next().abs(), next());
                     let rate = rate_complex.re.abs() + rate_complex.im.abs();
                     let weight = if next() > 0.0 { 2.0 } else { 1.0 };
-                    let mut mode =
-                        ModeTerm::new(rate_complex, weight, (rate, rate * rate * rate));
+                    let mut mode = ModeTerm::new(rate_complex, weight, (rate, rate * rate * rate));
                     mode.set_deviation(C64::new(next(), next()));
                     mode
                 })
@@ -522,9 +521,8 @@ mod tests {
                 .iter()
                 .zip(&modes)
                 .map(|(w, m)| {
-                    let c: [C64; LANES] = std::array::from_fn(|l| {
-                        C64::new(w[l], w[LANES + l]) * m.weighted
-                    });
+                    let c: [C64; LANES] =
+                        std::array::from_fn(|l| C64::new(w[l], w[LANES + l]) * m.weighted);
                     std::array::from_fn(|i| if i < LANES { c[i].re } else { c[i - LANES].im })
                 })
                 .collect();
