@@ -1053,7 +1053,7 @@ impl Flight<'_> {
         &self,
         joint: &JointWeights,
         horizon: f64,
-        (modes, coefficients): (&mut Vec<ModeTerm>, &mut Vec<[f64; 2 * LANES]>),
+        (deviations, coefficients): (&mut Vec<C64>, &mut Vec<[f64; 2 * LANES]>),
         out: &mut Vec<Summary>,
     ) -> bool {
         let f = self.flow;
@@ -1072,15 +1072,12 @@ impl Flight<'_> {
             return false;
         }
         let count = joint.count;
-        modes.clear();
-        modes.extend_from_slice(template);
-        for (mode, &h) in modes.iter_mut().zip(deviation) {
-            mode.set_deviation(h);
-        }
-        // The forced part `forced · phase` at `iω`, after the kept modes (weight 1: exact).
-        if let Some(forced) = modes.get_mut(f.kept.len()) {
-            forced.set_deviation(*phase);
-        }
+        let modes = &template[..];
+        // Each kept mode's deviation times its weight, then the forced part `forced · phase`
+        // at `iω` (weight 1: exact).
+        deviations.clear();
+        deviations.extend(modes.iter().zip(deviation).map(|(m, &h)| m.weighted(h)));
+        deviations.push(modes[f.kept.len()].weighted(*phase));
         out.clear();
         coefficients.resize(joint.blocks.len(), [0.0; 2 * LANES]);
         let per_block = modes.len();
@@ -1089,7 +1086,7 @@ impl Flight<'_> {
             .chunks_exact(per_block)
             .zip(coefficients.chunks_exact_mut(per_block))
         {
-            out.extend(summarize_block(block, modes, written));
+            out.extend(summarize_block(block, (modes, deviations), written));
         }
         out.truncate(count);
         for (sum, &constant) in out.iter_mut().zip(&joint.constant) {

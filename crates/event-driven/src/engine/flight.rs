@@ -28,8 +28,9 @@ pub(super) struct Scratch {
     pub(super) summaries: Vec<Option<Summary>>,
     /// The watched pairs' summaries formed in one pass ([`Flight::summarize_all`]).
     pub(super) joint: Vec<Summary>,
-    /// The flight's modes, as those summaries add them.
-    pub(super) modes: Vec<ModeTerm>,
+    /// The flight's deviation of each mode times its weight, as those summaries add them
+    /// ([`ModeTerm::weighted`](crate::expsum::ModeTerm)).
+    pub(super) deviations: Vec<nalgebra::Complex<f64>>,
     /// The watched pairs' terms' coefficients as those summaries formed them
     /// ([`Flight::summarize_all`]), copied into a searched pair's terms
     /// ([`Flight::expand_joint`]).
@@ -213,7 +214,7 @@ impl Engine<'_> {
         // formed in one pass.
         let joint = several
             && joint.is_some_and(|joint| {
-                let scratch = (&mut work.modes, &mut work.coefficients);
+                let scratch = (&mut work.deviations, &mut work.coefficients);
                 flight.summarize_all(joint, horizon, scratch, &mut work.joint)
             });
         work.order.clear();

@@ -38,7 +38,7 @@
 //! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
 //! exact in any case); [`crate::newton`] refuses sticking runs anyway.
 
-use crate::expsum::{ExpSum, ModeTerm, SearchStack, SharedPoints, Summary, Tolerances, LANES};
+use crate::expsum::{ExpSum, SearchStack, SharedPoints, Summary, Tolerances, LANES};
 use crate::flow::{Flight, FlowError, Functional, JointWeights, LinearFlow};
 use crate::model::{ContactPair, Model};
 use nalgebra::{DMatrix, DVector};

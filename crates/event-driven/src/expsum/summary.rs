@@ -41,9 +41,6 @@ pub(crate) struct Summary {
 /// `w`, with `rate = |Re μ| + |Im μ| > 0` and `cube = (rate · rate) · rate`.
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct ModeTerm {
-    /// The flight's deviation `d` of the mode times its weight, as `(d.re·weight,
-    /// d.im·weight)`.
-    pub(crate) weighted: C64,
     pub(crate) weight: f64,
     pub(crate) rate_complex: C64,
     /// `μ²` as [`Complex`]'s product forms it (a flow's constant, formed once).
@@ -56,11 +53,10 @@ pub(crate) struct ModeTerm {
 
 impl ModeTerm {
     /// The mode of rate `μ` and weight `weight` (`rate = |Re μ| + |Im μ| > 0`, `cube =
-    /// (rate · rate) · rate`), its deviation zero.
+    /// (rate · rate) · rate`).
     pub(crate) fn new(rate_complex: C64, weight: f64, (rate, cube): (f64, f64)) -> Self {
         let mu = rate_complex;
         Self {
-            weighted: C64::default(),
             weight,
             rate_complex,
             rate_square: C64::new(mu.re * mu.re - mu.im * mu.im, mu.re * mu.im + mu.im * mu.re),
@@ -70,10 +66,11 @@ impl ModeTerm {
         }
     }
 
-    /// Writes the flight's deviation `d` of the mode (times its weight).
+    /// A flight's deviation `d` of the mode times its weight, `(d.re·weight, d.im·weight)`,
+    /// as the summaries take it.
     #[inline]
-    pub(crate) fn set_deviation(&mut self, d: C64) {
-        self.weighted = C64::new(d.re * self.weight, d.im * self.weight);
+    pub(crate) fn weighted(&self, d: C64) -> C64 {
+        C64::new(d.re * self.weight, d.im * self.weight)
     }
 }
 
@@ -93,21 +90,22 @@ pub(crate) const LANES: usize = 4;
 ///
 /// # Panics
 ///
-/// If `coefficients` is shorter than `modes` or `weights`.
+/// If `coefficients` is shorter than `weights`, `modes` and `deviations` (the flight's
+/// deviation of each mode times its weight, [`ModeTerm::weighted`]).
 pub(crate) fn summarize_block(
     weights: &[[f64; 2 * LANES]],
-    modes: &[ModeTerm],
+    (modes, deviations): (&[ModeTerm], &[C64]),
     coefficients: &mut [[f64; 2 * LANES]],
 ) -> [Summary; LANES] {
-    let count = weights.len().min(modes.len());
+    let count = weights.len().min(modes.len()).min(deviations.len());
     let coefficients = &mut coefficients[..count];
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx") {
         // SAFETY: the CPU has AVX (checked just above), the only requirement of the
         // `target_feature` function.
-        return unsafe { summarize_block_avx(weights, modes, coefficients) };
+        return unsafe { summarize_block_avx(weights, (modes, deviations), coefficients) };
     }
-    summarize_lanes(weights, modes, coefficients)
+    summarize_lanes(weights, (modes, deviations), coefficients)
 }
 
 /// [`summarize_lanes`] with AVX intrinsics: each lane's operations, in the same order, on
@@ -117,7 +115,7 @@ pub(crate) fn summarize_block(
 #[target_feature(enable = "avx")]
 fn summarize_block_avx(
     weights: &[[f64; 2 * LANES]],
-    modes: &[ModeTerm],
+    (modes, deviations): (&[ModeTerm], &[C64]),
     coefficients: &mut [[f64; 2 * LANES]],
 ) -> [Summary; LANES] {
     use std::arch::x86_64::*;
@@ -125,9 +123,10 @@ fn summarize_block_avx(
     let (mut start, mut slope0, mut curve0, mut size0) = (zero, zero, zero, zero);
     let (mut speed, mut bend, mut jerk) = (zero, zero, zero);
     let magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
-    for ((w, m), out) in weights.iter().zip(modes).zip(coefficients) {
+    let modes = modes.iter().zip(deviations);
+    for ((w, (m, d)), out) in weights.iter().zip(modes).zip(coefficients) {
         let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
-        let (d_re, d_im) = (m.weighted.re, m.weighted.im);
+        let (d_re, d_im) = (d.re, d.im);
         let (mu2_re, mu2_im) = (m.rate_square.re, m.rate_square.im);
         let square = m.square;
         let (wa, wb) = w.split_at(LANES);
@@ -183,7 +182,7 @@ fn summarize_block_avx(
 #[inline(always)]
 fn summarize_lanes(
     weights: &[[f64; 2 * LANES]],
-    modes: &[ModeTerm],
+    (modes, deviations): (&[ModeTerm], &[C64]),
     coefficients: &mut [[f64; 2 * LANES]],
 ) -> [Summary; LANES] {
     let mut start = [0.0; LANES];
@@ -193,12 +192,10 @@ fn summarize_lanes(
     let mut speed = [0.0; LANES];
     let mut bend = [0.0; LANES];
     let mut jerk = [0.0; LANES];
-    for ((w, m), out) in weights.iter().zip(modes).zip(coefficients) {
+    let modes = modes.iter().zip(deviations);
+    for ((w, (m, d)), out) in weights.iter().zip(modes).zip(coefficients) {
         let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
-        // `d·weight` and `μ²` written out as [`Complex`]'s products form them (the same
-        // operations in the same order), so that the loop calls nothing generic and compiles
-        // the same whatever else the crate holds.
-        let (d_re, d_im) = (m.weighted.re, m.weighted.im);
+        let (d_re, d_im) = (d.re, d.im);
         let (mu2_re, mu2_im) = (m.rate_square.re, m.rate_square.im);
         let square = m.square;
         // Quantity by quantity over the lanes (each a packed operation), the same
@@ -495,23 +492,22 @@ mod tests {
     fn a_blocks_lanes_are_each_functionals_summary_bit_for_bit() {
         let mut next = numbers(7);
         for count in [0, 1, 5, 17] {
-            let modes: Vec<ModeTerm> = (0..count)
+            let (modes, deviations): (Vec<ModeTerm>, Vec<C64>) = (0..count)
                 .map(|_| {
                     let rate_complex = C64::new(-next().abs(), next());
                     let rate = rate_complex.re.abs() + rate_complex.im.abs();
                     let weight = if next() > 0.0 { 2.0 } else { 1.0 };
-                    let mut mode = ModeTerm::new(rate_complex, weight, (rate, rate * rate * rate));
-                    mode.set_deviation(C64::new(next(), next()));
-                    mode
+                    let mode = ModeTerm::new(rate_complex, weight, (rate, rate * rate * rate));
+                    (mode, mode.weighted(C64::new(next(), next())))
                 })
-                .collect();
+                .unzip();
             let weights: Vec<[f64; 2 * LANES]> = (0..count)
                 .map(|_| std::array::from_fn(|_| next()))
                 .collect();
             let expected: [Summary; LANES] = std::array::from_fn(|l| {
                 let mut sum = Summary::default();
-                for (w, m) in weights.iter().zip(&modes) {
-                    let c = C64::new(w[l], w[LANES + l]) * m.weighted;
+                for ((w, m), &d) in weights.iter().zip(&modes).zip(&deviations) {
+                    let c = C64::new(w[l], w[LANES + l]) * d;
                     sum.add_mode(c, m.rate_complex, m.rate, m.cube);
                 }
                 sum
@@ -519,10 +515,9 @@ mod tests {
             // Each lane's coefficients, as `Summary::add_mode` was given them.
             let expected_coefficients: Vec<[f64; 2 * LANES]> = weights
                 .iter()
-                .zip(&modes)
-                .map(|(w, m)| {
-                    let c: [C64; LANES] =
-                        std::array::from_fn(|l| C64::new(w[l], w[LANES + l]) * m.weighted);
+                .zip(&deviations)
+                .map(|(w, &d)| {
+                    let c: [C64; LANES] = std::array::from_fn(|l| C64::new(w[l], w[LANES + l]) * d);
                     std::array::from_fn(|i| if i < LANES { c[i].re } else { c[i - LANES].im })
                 })
                 .collect();
@@ -533,13 +528,13 @@ mod tests {
             };
             let mut coefficients = vec![[f64::NAN; 2 * LANES]; count];
             assert_eq!(
-                summarize_lanes(&weights, &modes, &mut coefficients),
+                summarize_lanes(&weights, (&modes, &deviations), &mut coefficients),
                 expected
             );
             assert_eq!(bits(&coefficients), bits(&expected_coefficients));
             let mut coefficients = vec![[f64::NAN; 2 * LANES]; count];
             assert_eq!(
-                summarize_block(&weights, &modes, &mut coefficients),
+                summarize_block(&weights, (&modes, &deviations), &mut coefficients),
                 expected
             );
             assert_eq!(bits(&coefficients), bits(&expected_coefficients));
@@ -547,7 +542,9 @@ mod tests {
             if std::arch::is_x86_feature_detected!("avx") {
                 let mut coefficients = vec![[f64::NAN; 2 * LANES]; count];
                 // SAFETY: the CPU has AVX.
-                let sums = unsafe { summarize_block_avx(&weights, &modes, &mut coefficients) };
+                let sums = unsafe {
+                    summarize_block_avx(&weights, (&modes, &deviations), &mut coefficients)
+                };
                 assert_eq!(sums, expected);
                 assert_eq!(bits(&coefficients), bits(&expected_coefficients));
             }
