@@ -49,6 +49,10 @@ pub(crate) struct ModeTerm {
     /// `rate · rate`.
     pub(crate) square: f64,
     pub(crate) cube: f64,
+    /// `Re μ`, `Im μ`, `Re μ²`, `Im μ²`, `rate`, `square` and `cube`, each in all four lanes
+    /// of a register ([`summarize_block_avx`] loads them rather than broadcasting seven
+    /// scalars per mode and block: `chain8 5000` 1691.3e6 → 1671.0e6 instructions).
+    pub(crate) lanes: [[f64; LANES]; 7],
 }
 
 impl ModeTerm {
@@ -56,13 +60,26 @@ impl ModeTerm {
     /// (rate · rate) · rate`).
     pub(crate) fn new(rate_complex: C64, weight: f64, (rate, cube): (f64, f64)) -> Self {
         let mu = rate_complex;
+        let rate_square = C64::new(mu.re * mu.re - mu.im * mu.im, mu.re * mu.im + mu.im * mu.re);
+        let square = rate * rate;
+        let lanes = [
+            mu.re,
+            mu.im,
+            rate_square.re,
+            rate_square.im,
+            rate,
+            square,
+            cube,
+        ]
+        .map(|x| [x; LANES]);
         Self {
             weight,
             rate_complex,
-            rate_square: C64::new(mu.re * mu.re - mu.im * mu.im, mu.re * mu.im + mu.im * mu.re),
+            rate_square,
             rate,
-            square: rate * rate,
+            square,
             cube,
+            lanes,
         }
     }
 
@@ -125,10 +142,12 @@ fn summarize_block_avx(
     let magnitude = _mm256_castsi256_pd(_mm256_set1_epi64x(i64::MAX));
     let modes = modes.iter().zip(deviations);
     for ((w, (m, d)), out) in weights.iter().zip(modes).zip(coefficients) {
-        let (mu, rate, cube) = (m.rate_complex, m.rate, m.cube);
+        // SAFETY: each of `m.lanes` holds four `f64`: one unaligned load.
+        let [mu_re, mu_im, mu2_re, mu2_im, rate, square, cube] = m
+            .lanes
+            .each_ref()
+            .map(|x| unsafe { _mm256_loadu_pd(x.as_ptr()) });
         let (d_re, d_im) = (d.re, d.im);
-        let (mu2_re, mu2_im) = (m.rate_square.re, m.rate_square.im);
-        let square = m.square;
         let (wa, wb) = w.split_at(LANES);
         let a = _mm256_set_pd(wa[3], wa[2], wa[1], wa[0]);
         let b = _mm256_set_pd(wb[3], wb[2], wb[1], wb[0]);
@@ -141,24 +160,18 @@ fn summarize_block_avx(
             _mm256_storeu_pd(out.as_mut_ptr().add(LANES), c_im);
         }
         start = _mm256_add_pd(start, c_re);
-        let slope = _mm256_sub_pd(
-            _mm256_mul_pd(c_re, _mm256_set1_pd(mu.re)),
-            _mm256_mul_pd(c_im, _mm256_set1_pd(mu.im)),
-        );
+        let slope = _mm256_sub_pd(_mm256_mul_pd(c_re, mu_re), _mm256_mul_pd(c_im, mu_im));
         slope0 = _mm256_add_pd(slope0, slope);
-        let curve = _mm256_sub_pd(
-            _mm256_mul_pd(c_re, _mm256_set1_pd(mu2_re)),
-            _mm256_mul_pd(c_im, _mm256_set1_pd(mu2_im)),
-        );
+        let curve = _mm256_sub_pd(_mm256_mul_pd(c_re, mu2_re), _mm256_mul_pd(c_im, mu2_im));
         curve0 = _mm256_add_pd(curve0, curve);
         let size = _mm256_add_pd(
             _mm256_and_pd(c_re, magnitude),
             _mm256_and_pd(c_im, magnitude),
         );
         size0 = _mm256_add_pd(size0, size);
-        speed = _mm256_add_pd(speed, _mm256_mul_pd(_mm256_set1_pd(rate), size));
-        bend = _mm256_add_pd(bend, _mm256_mul_pd(_mm256_set1_pd(square), size));
-        jerk = _mm256_add_pd(jerk, _mm256_mul_pd(_mm256_set1_pd(cube), size));
+        speed = _mm256_add_pd(speed, _mm256_mul_pd(rate, size));
+        bend = _mm256_add_pd(bend, _mm256_mul_pd(square, size));
+        jerk = _mm256_add_pd(jerk, _mm256_mul_pd(cube, size));
     }
     let lanes = |v: __m256d| {
         let mut out = [0.0; LANES];
