@@ -16,6 +16,22 @@ pub(super) const HALLEY_ASYMPTOTIC: f64 = 1e-2;
 /// tolerance: the next step could not change the contact time by a visible amount.
 pub(super) const HALLEY_MARGIN: f64 = 1e-3;
 
+/// [`INVERSE_FACTORIALS`] as the real parts of two complex numbers, `[c, −0, c, −0]`, for
+/// [`series_pairs_avx`] (adding `−0` leaves an imaginary part as it is, its sign too).
+const PACKED_FACTORIALS: [[f64; 4]; 9] = {
+    let mut packed = [[0.0; 4]; 9];
+    let mut i = 0;
+    while i < 9 {
+        let c = INVERSE_FACTORIALS[i];
+        packed[i] = [c, -0.0, c, -0.0];
+        i += 1;
+    }
+    packed
+};
+
+/// `1` as [`PACKED_FACTORIALS`] lays its coefficients out.
+const PACKED_ONE: [f64; 4] = [1.0, -0.0, 1.0, -0.0];
+
 /// `|z|` up to which a degree-3 Taylor series of `e^z` is exact to `1e-17` (see [`exp_small`]).
 pub(super) const TAYLOR_DEGREE_3: f64 = 1e-4;
 
@@ -508,9 +524,14 @@ fn series_block<const N: usize>(values: &mut [C64], terms: &[Term], delta: f64, 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 fn series_pairs_avx(values: &mut [C64], terms: &[Term], delta: f64, from: usize) -> usize {
-    use super::{complex_pair, complex_pair_product as product};
+    use super::complex_pair_product as product;
     use std::arch::x86_64::*;
-    let real = |c: f64| _mm256_set_pd(-0.0, c, -0.0, c);
+    // The series' coefficients as real parts of two complex numbers (`−0` imaginary parts),
+    // loaded rather than formed per step.
+    let real = |c: &[f64; 4]| {
+        // SAFETY: `c` holds four `f64`: one unaligned load.
+        unsafe { _mm256_loadu_pd(c.as_ptr()) }
+    };
     let step = _mm256_set1_pd(delta);
     let start = _mm256_set_pd(0.0, INVERSE_FACTORIALS[from], 0.0, INVERSE_FACTORIALS[from]);
     let pairs = values.len().min(terms.len()) / 2;
@@ -522,12 +543,16 @@ fn series_pairs_avx(values: &mut [C64], terms: &[Term], delta: f64, from: usize)
         let (r0, r1) = (t[0].rate, t[1].rate);
         let z = _mm256_mul_pd(_mm256_set_pd(r1.im, r1.re, r0.im, r0.re), step);
         let mut p = start;
-        for &c in &INVERSE_FACTORIALS[from + 1..] {
+        for c in &PACKED_FACTORIALS[from + 1..] {
             p = _mm256_add_pd(product(p, z), real(c));
         }
-        let factor = _mm256_add_pd(product(p, z), real(1.0));
-        let old = _mm256_set_pd(e[1].im, e[1].re, e[0].im, e[0].re);
-        (e[0], e[1]) = complex_pair(product(old, factor));
+        let factor = _mm256_add_pd(product(p, z), real(&PACKED_ONE));
+        // SAFETY: `e` holds two `C64` (`repr(C)`: four `f64`, `[re₀, im₀, re₁, im₁]`): one
+        // unaligned load and one store.
+        unsafe {
+            let old = _mm256_loadu_pd(e.as_ptr().cast());
+            _mm256_storeu_pd(e.as_mut_ptr().cast(), product(old, factor));
+        }
     }
     2 * pairs
 }
