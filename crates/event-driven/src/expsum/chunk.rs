@@ -258,9 +258,12 @@ pub(super) fn quadratic_stays_inside(
 /// What one search's chunk tests share: the band `(lo, hi)`, the bounds `jerk ≥ sup|f'''|` and
 /// `fourth ≥ sup|f''''|` on `[0, horizon]` (`NaN` until a test first needs it), the
 /// `(time, depth)` tolerances, and the search's scratch: the bisection's intervals, the
-/// derivative coefficients, the polish's exponentials and those at one bisection point.
+/// derivative coefficients, the polish's exponentials and those at one bisection point;
+/// `fastest`, the largest `|Re μ| + |Im μ|` of the terms where the grid knows it (`NaN` where
+/// not: the polish then forms it).
 pub(super) struct ChunkTest<'s> {
     pub(super) band: (f64, f64),
+    pub(super) fastest: f64,
     pub(super) jerk: f64,
     pub(super) fourth: f64,
     pub(super) horizon: f64,
@@ -284,7 +287,7 @@ impl ExpSum {
         mut seed: Option<Seed<'_>>,
     ) -> Option<(f64, i8)> {
         let (lo, hi) = test.band;
-        let (jerk, horizon) = (test.jerk, test.horizon);
+        let (jerk, horizon, fastest) = (test.jerk, test.horizon, test.fastest);
         let (time_tolerance, depth_tolerance) = test.tolerances;
         let fourth = &mut test.fourth;
         let intervals = &mut *test.intervals;
@@ -351,6 +354,7 @@ impl ExpSum {
                                 .map(|s| (s, PolishStart::Near))
                         });
                     let crossing = Crossing {
+                        fastest,
                         f: self,
                         derivatives,
                         sign,

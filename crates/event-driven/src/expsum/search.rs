@@ -319,12 +319,14 @@ impl ExpSum {
             seeds,
             chunk_exps,
             chunk_filled,
+            fastest,
             ..
         } = grid;
         (seeds.key, seeds.enabled) = (*recall_key, *recall);
         let n = self.terms.len();
         let mut test = ChunkTest {
             band: (lo, hi),
+            fastest: *fastest,
             jerk,
             fourth: f64::NAN,
             horizon,
@@ -462,6 +464,7 @@ impl ExpSum {
         // A bound on |f''''| over the horizon, computed when a chunk first needs it.
         let mut test = ChunkTest {
             band: (lo, hi),
+            fastest: f64::NAN,
             jerk,
             fourth: f64::NAN,
             horizon,
@@ -488,8 +491,10 @@ impl ExpSum {
             steps,
             doubled,
             seeds,
+            fastest,
             ..
         } = grid;
+        test.fastest = *fastest;
         let (f0, d0, dd0) = test.derivatives.at(self, 0.0, exps);
         let mut fa = f0;
         // Head: when the flight may leave the band long before the first chunk ends (a bounce
