@@ -746,8 +746,8 @@ fn add_column(re: &[f64], im: &[f64], z: C64, y: &mut [f64]) {
 
 /// [`Flight::state_at`]'s steady form with AVX: each kept mode's
 /// `z_k = (h_k e^{λ_k s} + P⁺_k F + P⁻_k F̄ + P⁰_k)·weight` (`F` the forcing's phase at `s`)
-/// formed two modes to a register, then its column added four entries at once
-/// ([`add_column_avx`]). Complex products as [`Complex`]'s (the imaginary part's sum with
+/// formed two modes to a register, then the two modes' columns added four entries at once in
+/// one pass ([`add_two_columns_avx`]; an odd last mode's by [`add_column_avx`]). Complex products as [`Complex`]'s (the imaginary part's sum with
 /// its operands swapped, which rounds the same), the sums in the same order: the same bits
 /// as [`Flight::state_at`]'s loop. `y` is zero on entry.
 #[cfg(target_arch = "x86_64")]
@@ -778,10 +778,6 @@ fn steady_state_avx(
         Some(e) => e[j],
         None => cexp(f.rates[k], s),
     };
-    let mut add = |k: usize, z: C64| {
-        let column = k * m..(k + 1) * m;
-        add_column_avx(&columns_re[column.clone()], &columns_im[column], z, y);
-    };
     let pairs = f.kept.chunks_exact(2);
     let last = pairs.remainder();
     for (i, pair) in pairs.enumerate() {
@@ -797,8 +793,12 @@ fn steady_state_avx(
         z = _mm256_add_pd(z, load(&p.constant, 2 * i));
         z = _mm256_mul_pd(z, _mm256_set_pd(w1, w1, w0, w0));
         let (z0, z1) = complex_pair(z);
-        add(k0, z0);
-        add(k1, z1);
+        let (c0, c1) = (k0 * m..(k0 + 1) * m, k1 * m..(k1 + 1) * m);
+        add_two_columns_avx(
+            (&columns_re[c0.clone()], &columns_im[c0], z0),
+            (&columns_re[c1.clone()], &columns_im[c1], z1),
+            y,
+        );
     }
     if let &[(k, weight)] = last {
         let j = f.kept.len() - 1;
@@ -807,7 +807,8 @@ fn steady_state_avx(
             + p.minus[j] * forced.conj()
             + p.constant[j])
             * weight;
-        add(k, zk);
+        let column = k * m..(k + 1) * m;
+        add_column_avx(&columns_re[column.clone()], &columns_im[column], zk, y);
     }
 }
 
@@ -864,6 +865,42 @@ fn add_scaled_avx(h: &mut [C64], v: &[C64], delta: f64) {
     }
     if j < n {
         h[j] += v[j] * delta;
+    }
+}
+
+/// Two modes' columns `(re, im, z)` added in one pass over `y` (each column as long as `y`):
+/// each entry gets the first mode's term and then the second's, the operations of
+/// [`add_column_avx`] twice (so the same bits), `y` loaded and stored once for both rather
+/// than once per mode (`chain8 5000` 1656.9e6 → 1626.3e6 instructions, 460 → 444 ms).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+fn add_two_columns_avx(
+    (re0, im0, z0): (&[f64], &[f64], C64),
+    (re1, im1, z1): (&[f64], &[f64], C64),
+    y: &mut [f64],
+) {
+    use std::arch::x86_64::*;
+    let m = y.len();
+    let (re0, im0, re1, im1) = (&re0[..m], &im0[..m], &re1[..m], &im1[..m]);
+    let (zr0, zi0) = (_mm256_set1_pd(z0.re), _mm256_set1_pd(z0.im));
+    let (zr1, zi1) = (_mm256_set1_pd(z1.re), _mm256_set1_pd(z1.im));
+    let whole = m - m % 4;
+    for i in (0..whole).step_by(4) {
+        // SAFETY: `i + 4 ≤ m`, the length of all five slices: each load and store stays
+        // within its slice.
+        unsafe {
+            let load = |v: &[f64]| _mm256_loadu_pd(v.as_ptr().add(i));
+            let first = _mm256_sub_pd(_mm256_mul_pd(load(re0), zr0), _mm256_mul_pd(load(im0), zi0));
+            let second =
+                _mm256_sub_pd(_mm256_mul_pd(load(re1), zr1), _mm256_mul_pd(load(im1), zi1));
+            let sum = _mm256_add_pd(_mm256_add_pd(load(y), first), second);
+            _mm256_storeu_pd(y.as_mut_ptr().add(i), sum);
+        }
+    }
+    for i in whole..m {
+        y[i] += re0[i] * z0.re - im0[i] * z0.im;
+        y[i] += re1[i] * z1.re - im1[i] * z1.im;
     }
 }
 
