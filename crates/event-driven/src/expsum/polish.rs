@@ -227,11 +227,12 @@ fn local_sums(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> [f64; 8
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 fn local_sums_avx(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> [f64; 8] {
+    use super::complex_pair_product;
     use std::arch::x86_64::*;
     let mut sums = [0.0; 8];
     // Lanes `[Σ Re(c₀e), Σ Re(c₂e), Σ Re(c₁e), Σ Re(c₃e)]`, as `_mm256_hsub_pd` leaves them.
     let mut low = _mm256_setzero_pd();
-    for ((c, &e), t) in derivatives.iter().zip(exps).zip(terms) {
+    for (c, &e) in derivatives.iter().zip(exps) {
         let e4 = _mm256_set_pd(e.im, e.re, e.im, e.re);
         let first = _mm256_set_pd(c[1].im, c[1].re, c[0].im, c[0].re);
         let second = _mm256_set_pd(c[3].im, c[3].re, c[2].im, c[2].re);
@@ -239,10 +240,29 @@ fn local_sums_avx(derivatives: &[[C64; 4]], exps: &[C64], terms: &[Term]) -> [f6
             low,
             _mm256_hsub_pd(_mm256_mul_pd(first, e4), _mm256_mul_pd(second, e4)),
         );
-        // `c μ^k e^{μ s}` for k = 4..=7.
-        let mut x = c[3] * e;
+    }
+    // `c μ^k e^{μ s}` for k = 4..=7, two terms to a register ([`complex_pair_product`]: `C64`'s
+    // products), each term's real part added in the terms' order.
+    let pack = |a: C64, b: C64| _mm256_set_pd(b.im, b.re, a.im, a.re);
+    let n = derivatives.len().min(exps.len()).min(terms.len());
+    let mut j = 0;
+    while j + 2 <= n {
+        let c3 = pack(derivatives[j][3], derivatives[j + 1][3]);
+        let rate = pack(terms[j].rate, terms[j + 1].rate);
+        let mut x = complex_pair_product(c3, pack(exps[j], exps[j + 1]));
         for sum in &mut sums[4..] {
-            x *= t.rate;
+            x = complex_pair_product(x, rate);
+            let first = _mm256_cvtsd_f64(x);
+            let second = _mm_cvtsd_f64(_mm256_extractf128_pd::<1>(x));
+            *sum += first;
+            *sum += second;
+        }
+        j += 2;
+    }
+    if j < n {
+        let mut x = derivatives[j][3] * exps[j];
+        for sum in &mut sums[4..] {
+            x *= terms[j].rate;
             *sum += x.re;
         }
     }
