@@ -813,35 +813,10 @@ fn steady_state_avx(
 }
 
 /// Kept modes from which a flight's deviation is carried across an event two modes to an AVX
-/// register ([`products_avx`], [`add_scaled_avx`]): a chain's 16 (`chain8 5000` 1720.3e6 →
+/// register ([`products_avx`](crate::expsum::products_avx), [`add_scaled_avx`]): a chain's 16 (`chain8 5000` 1720.3e6 →
 /// 1703.9e6 instructions); a unit's two stay scalar.
 #[cfg(target_arch = "x86_64")]
 const PACKED_MODES: usize = 8;
-
-/// `out[j] = a[j]·b[j]` over `out`'s length (`a` and `b` at least as long), two products to
-/// an AVX register ([`complex_pair_product`]: `C64`'s, so the same bits).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn products_avx(a: &[C64], b: &[C64], out: &mut [C64]) {
-    use crate::expsum::complex_pair_product;
-    use std::arch::x86_64::*;
-    let n = out.len();
-    let (a, b) = (&a[..n], &b[..n]);
-    let mut j = 0;
-    while j + 2 <= n {
-        // SAFETY: `j + 2 ≤ n`, the length of all three slices: two `C64` (`repr(C)`, four
-        // `f64`) loaded from each operand and stored into `out`.
-        unsafe {
-            let x = _mm256_loadu_pd(a.as_ptr().add(j).cast());
-            let y = _mm256_loadu_pd(b.as_ptr().add(j).cast());
-            _mm256_storeu_pd(out.as_mut_ptr().add(j).cast(), complex_pair_product(x, y));
-        }
-        j += 2;
-    }
-    if j < n {
-        out[j] = a[j] * b[j];
-    }
-}
 
 /// `h[j] += v[j]·delta` over `h`'s length (`v` at least as long), two entries to an AVX
 /// register: `C64 · f64` is `(re·delta, im·delta)`, so the same bits.
@@ -1037,7 +1012,7 @@ impl Flight<'_> {
         if deviation.len() >= PACKED_MODES && std::arch::is_x86_feature_detected!("avx") {
             out.resize(deviation.len(), C64::default());
             // SAFETY: the CPU has AVX (checked just above).
-            unsafe { products_avx(deviation, exponentials, out) };
+            unsafe { crate::expsum::products_avx(deviation, exponentials, out) };
             return true;
         }
         out.extend(deviation.iter().zip(exponentials).map(|(&h, &e)| h * e));
@@ -1525,7 +1500,7 @@ mod tests {
             let b: Vec<C64> = (0..n).map(|_| C64::new(next(), next())).collect();
             let mut packed = vec![C64::default(); n];
             // SAFETY: the CPU has AVX.
-            unsafe { products_avx(&a, &b, &mut packed) };
+            unsafe { crate::expsum::products_avx(&a, &b, &mut packed) };
             let scalar: Vec<C64> = a.iter().zip(&b).map(|(&x, &y)| x * y).collect();
             assert_eq!(bits(&packed), bits(&scalar), "products, {n}");
             let delta = next();

@@ -405,6 +405,14 @@ impl Seed<'_> {
             self.seeds.filled[index] = true;
         }
         out.clear();
+        #[cfg(target_arch = "x86_64")]
+        if n >= PACKED_TERMS && packed_chunks() {
+            out.resize(self.mid.len().min(n), C64::default());
+            // SAFETY: the CPU has AVX (`packed_chunks`), the only requirement of the
+            // `target_feature` function.
+            unsafe { products_avx(self.mid, steps, out) };
+            return;
+        }
         out.extend(self.mid.iter().zip(steps.iter()).map(|(x, y)| x * y));
     }
 }

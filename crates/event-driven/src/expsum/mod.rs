@@ -24,7 +24,7 @@ use cache::{
 };
 use chunk::{departs, inside, quadratic_exit, quadratic_stays_inside, taylor_clearance, ChunkTest};
 #[cfg(target_arch = "x86_64")]
-pub(crate) use packed::{complex_pair, complex_pair_product};
+pub(crate) use packed::{complex_pair, complex_pair_product, products_avx};
 use polish::{polish, polish_from, Crossing, Exponentials, PolishStart};
 use scan::{packed_chunks, CachedChunks, ChunkSource, Chunks, SteppedChunks, PACKED_TERMS};
 pub use search::Tolerances;
