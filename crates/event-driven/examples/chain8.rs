@@ -225,42 +225,62 @@
 //! the exclusion tests 3.6 %.
 //!
 //! Measured again (stop 29, from 80a8452, against b5cf96f's binary and the start, alternated,
-//! nine runs each, medians of `perf stat`'s task clock, load average 0.5 to 1.2): 852 ms at
-//! b5cf96f, 560 ms at the start and 529 ms after, the same 368 652 impacts (×1.61 over
-//! b5cf96f, −5.5 % against the start; `/usr/bin/time`, seven runs each: 0.82, 0.52, 0.51 s).
-//! Issue 24's ×2 is not reached. Callgrind: first 1000 periods 442.9e6 → 423.0e6 instructions
-//! (−4.5 %), first 5000 1955.5e6 → 1854.6e6 (3482.2e6 at b5cf96f: ×1.88 in instructions);
-//! every result bit for bit the start's (`rattle simulate` on both chain scenes at six
-//! frequencies, until periodic and 1500 fixed periods with their impacts, and the paper and
-//! damped unit: identical output). By commit: the joint summaries leave each term's
-//! coefficient where they formed it and a searched pair's terms are copied from there
-//! (`Flight::expand_joint`, → 431.5e6); the watch forms a pair's quadratic estimate only when
-//! its model may leave the band before the earliest estimate so far, tested without a square
-//! root or division (`Summary::estimate_later_than`: 8 → 2.9 estimates a flight, 431.5e6 →
-//! 430.3e6, `quadratic_exit` 6.3 → 4.5 % of the time by `perf`; stop 26's version of the same
-//! skip formed the test from the roots and cost more than it saved); running maxima without
-//! `f64::max`'s NaN fix-up and a grid's rates compared without a branch per rate (→ 423.0e6).
-//! Tried and not taken: a fourth-order exclusion test in the summaries (`f'''(0)` and
-//! `Σ|c| rate⁴` formed with the others: it excluded 107 103 of the 416 826 pairs the third
-//! order leaves after the first contact, but 442.9e6 → 460.3e6 instructions); the two blocks
-//! of summaries side by side in AVX-512's eight lanes (the same bits; 544 → 576 ms: slower on
-//! this Xeon); the contact state formed only at the entries the contact reads (a throwaway
-//! build with the rounding scales left stale: 560 → 556 ms, within the noise; scalar entries
-//! cost as much as the whole state four wide, and the next flight's depth needs every
-//! position); fat LTO with one codegen unit (within the noise); the watch's estimate handed to
-//! the search (−0.1 %); Halley's stopping test with its division and square root multiplied
-//! out (within the noise, and its decisions may move the last bits); the column additions by
-//! `chunks_exact` instead of `step_by` (+1.0 % instructions). The core runs at about 14e9
-//! instructions a second on this 2.6 GHz machine (7.18e9 for the 20 000 periods in 0.51 s:
-//! four to five a cycle), so its time follows its instruction count (cachegrind: 2.5 % of
-//! data reads miss the first-level cache, all of them hits further out). Where the time goes
-//! now (`perf`, 20 000 periods): the summaries 13 %, the contact state 11 %, the polish 17 %
-//! (its local sums 6.3 %, iterations 4.2 %, series 3.9 %, exponentials advanced 2.9 %), the
-//! search's own loop 9.7 %, the run loop 9.2 %, the exclusion tests 4.6 %, the estimates
-//! 4.5 %. Per flight (a throwaway counter): 8 pairs, 5.6 excluded by their summaries, 2.4
-//! searched (1.4 before the first contact is found, of which 0.4 find none; 1.1 after it),
-//! 4.5 chunk midpoints and 1.0 chunk bisection, 1.1 polishes (14 % of them of a contact a
-//! later search beats).
+//! nine runs each, medians of `perf stat`'s task clock, load average 1.2 to 1.4): 829 ms at
+//! b5cf96f, 526 ms at the start and 450 ms after, the same 368 652 impacts (×1.84 over
+//! b5cf96f, −14 % against the start; `/usr/bin/time`, seven runs each: 0.81, 0.52, 0.44 s).
+//! Issue 24's ×2 is not reached in time; in instructions it is: callgrind, first 1000
+//! periods 442.9e6 → 377.7e6 (774.1e6 at b5cf96f: ×2.05), first 5000 1955.5e6 → 1628.9e6
+//! (3482.2e6 at b5cf96f: ×2.14). Every result bit for bit the start's (`rattle simulate` on
+//! both chain scenes at six frequencies, until periodic and 1500 fixed periods with their
+//! impacts, and the paper and damped unit: identical output after every commit). By commit
+//! (first 5000 periods unless said): the joint summaries leave each term's coefficient
+//! where they formed it and a searched pair's terms are copied from there
+//! (`Flight::expand_joint`; first 1000 periods 442.9e6 → 431.5e6); the watch forms a pair's
+//! quadratic estimate only when its model may leave the band before the earliest estimate so
+//! far, tested without a square root or division (`Summary::estimate_later_than`: 8 → 2.9
+//! estimates a flight, `quadratic_exit` 6.3 → 4.5 % of the time by `perf`; stop 26's version
+//! of the same skip formed the test from the roots and cost more than it saved), running
+//! maxima without `f64::max`'s NaN fix-up, a grid's rates compared without a branch per rate
+//! (→ 423.0e6; 1853.3e6 for 5000); the joint summaries' modes formed once for the flow
+//! (`LinearFlow::joint_modes`, → 1810.3e6), with `μ²` and `rate²` (→ 1776.4e6); a flight's
+//! deviation kept for the kept modes only, in their order (→ 1741.1e6), and the steady
+//! response too, so that the packed state loads each pair of modes in one load
+//! (`SteadyResponse::of_kept`, → 1720.3e6); the carry's products and jump two modes to a
+//! register (→ 1703.9e6); the summaries reading the flow's modes in place (→ 1691.3e6), their
+//! seven per-mode factors in all four lanes (`ModeTerm::lanes`, → 1671.0e6); the polish's
+//! series coefficients from a packed table (→ 1662.6e6), its radius from the grid's fastest
+//! rate (`GridSteps::fastest`, → 1656.9e6); a pair of modes' columns added in one pass over
+//! the state (`add_two_columns_avx`, → 1626.3e6, 460 → 444 ms); the polish's higher local
+//! sums two terms to a register (→ 1637.2e6, more instructions but 453 → 447 ms: its chains
+//! of dependent complex products halved); a polish start's exponentials two terms to a
+//! register (→ 1628.9e6). Tried and not taken: a fourth-order exclusion test in the summaries
+//! (`f'''(0)` and `Σ|c| rate⁴` formed with the others: it excluded 107 103 of the 416 826
+//! pairs the third order leaves after the first contact, but first 1000 periods 442.9e6 →
+//! 460.3e6); the two blocks of summaries side by side in AVX-512's eight lanes (the same bits;
+//! 544 → 576 ms: slower on this Xeon); the contact state formed only at the entries the
+//! contact reads (a throwaway build with the rounding scales left stale: 560 → 556 ms, within
+//! the noise; scalar entries cost as much as the whole state four wide, and the next flight's
+//! depth needs every position); every mode's column added to sixteen entries of the state
+//! held in registers (1720.3e6 → 1735.9e6, 466 → 467 ms); four modes' columns to a pass
+//! (1626.3e6 → 1646.9e6, no faster than two); the carry's product and jump fused in one pass
+//! (1810.3e6 → 1817.2e6); the derivative coefficients two terms to a register (1810.3e6 →
+//! 1814.4e6: packing cost more than it saved); `excludes` inlined (1691.3e6 → 1699.4e6); fat
+//! LTO with one codegen unit (within the noise); the watch's estimate handed to the search
+//! (−0.1 %); Halley's stopping test with its division and square root multiplied out, or
+//! formed only past the step test (within the noise); the search's estimate formed only when
+//! the first chunk is not cleared (no fewer); the column additions by `chunks_exact` instead
+//! of `step_by` (+1.0 %); the largest velocity as four running maxima (within the noise). The
+//! core runs at about 14e9 instructions a second on this 2.6 GHz machine (7.18e9 for the
+//! 20 000 periods in 0.51 s at the first commits: four to five a cycle), so its time follows
+//! its instruction count, except where chains of dependent products or divisions set the pace
+//! (cachegrind: 2.5 % of data reads miss the first-level cache, all of them hits further
+//! out). Where the time goes now (`perf`, 20 000 periods): the search's own loop 11.6 %, the
+//! run loop 10.9 %, the contact state 10.1 %, the summaries 8.7 %, the polish's local sums
+//! 5.8 %, the exclusion tests 4.8 %, Halley's iterations 4.6 %, the contact 4.3 %, the series
+//! 4.2 %, the chunk sums 4.2 %. Per flight (a throwaway counter, at the start): 8 pairs, 5.6
+//! excluded by their summaries, 2.4 searched (1.4 before the first contact is found, of which
+//! 0.4 find none; 1.1 after it), 4.5 chunk midpoints and 1.0 chunk bisection, 1.1 polishes
+//! (14 % of them of a contact a later search beats).
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};
