@@ -747,9 +747,10 @@ fn add_column(re: &[f64], im: &[f64], z: C64, y: &mut [f64]) {
 /// [`Flight::state_at`]'s steady form with AVX: each kept mode's
 /// `z_k = (h_k e^{λ_k s} + P⁺_k F + P⁻_k F̄ + P⁰_k)·weight` (`F` the forcing's phase at `s`)
 /// formed two modes to a register, then the two modes' columns added four entries at once in
-/// one pass ([`add_two_columns_avx`]; an odd last mode's by [`add_column_avx`]). Complex products as [`Complex`]'s (the imaginary part's sum with
-/// its operands swapped, which rounds the same), the sums in the same order: the same bits
-/// as [`Flight::state_at`]'s loop. `y` is zero on entry.
+/// one pass ([`add_two_columns_avx`]; an odd last mode's by [`add_column_avx`]). Complex
+/// products as [`Complex`]'s (the imaginary part's sum with its operands swapped, which
+/// rounds the same), the sums in the same order: the same bits as [`Flight::state_at`]'s
+/// loop. `y` is zero on entry.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 fn steady_state_avx(
@@ -813,8 +814,8 @@ fn steady_state_avx(
 }
 
 /// Kept modes from which a flight's deviation is carried across an event two modes to an AVX
-/// register ([`products_avx`](crate::expsum::products_avx), [`add_scaled_avx`]): a chain's 16 (`chain8 5000` 1720.3e6 →
-/// 1703.9e6 instructions); a unit's two stay scalar.
+/// register ([`products_avx`](crate::expsum::products_avx), [`add_scaled_avx`]): a chain's
+/// 16 (`chain8 5000` 1720.3e6 → 1703.9e6 instructions); a unit's two stay scalar.
 #[cfg(target_arch = "x86_64")]
 const PACKED_MODES: usize = 8;
 
@@ -996,7 +997,7 @@ impl Flight<'_> {
     }
 
     /// The deviation from the steady response at `s` into the flight, `h e^{λs}` per kept
-    /// mode, written into `out` (length `2n`), given `exponentials` as for
+    /// mode, written into `out` (the kept modes', in their order), given `exponentials` as for
     /// [`Self::state_at`]: the start of the next flight without recomputing it from the
     /// state. `false` (nothing written) for the general form or without those exponentials.
     pub(crate) fn deviation_at(&self, exponentials: &[C64], out: &mut Vec<C64>) -> bool {

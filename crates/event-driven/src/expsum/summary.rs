@@ -36,9 +36,11 @@ pub(crate) struct Summary {
     pub(super) jerk_horizon: f64,
 }
 
-/// One mode of a flight as [`Flight::summarize_all`](crate::flow::Flight) adds it to every
+/// One mode of a flow as [`Flight::summarize_all`](crate::flow::Flight) adds it to every
 /// functional's [`Summary`]: the term `(w d)·weight e^{μs}` of a functional of modal weight
-/// `w`, with `rate = |Re μ| + |Im μ| > 0` and `cube = (rate · rate) · rate`.
+/// `w`, with `rate = |Re μ| + |Im μ| > 0` and `cube = (rate · rate) · rate`; the flight's
+/// deviation `d` comes apart, times the weight ([`Self::weighted`]). Formed once per flow
+/// ([`ModeTerm::new`]).
 #[derive(Debug, Clone, Copy, Default)]
 pub(crate) struct ModeTerm {
     pub(crate) weight: f64,
