@@ -1,6 +1,7 @@
 //! Two complex numbers packed in one AVX register (`[re₀, im₀, re₁, im₁]`), shared by the
-//! packed polish series ([`super::polish`]) and the flow's packed steady state
-//! (`crate::flow`): each operation the scalar `C64` one, without FMA, so the same bits.
+//! packed polish ([`super::polish`](mod@super::polish)), the seed points' exponentials
+//! ([`super::cache`]) and the flow's packed steady state and carry (`crate::flow`): each
+//! operation the scalar `C64` one, without FMA, so the same bits.
 
 use super::C64;
 

@@ -362,7 +362,7 @@ impl Summary {
     /// Adds a flight's term `c e^{μs}` for a rate `μ ≠ 0` that does not grow, given
     /// `rate = |Re μ| + |Im μ|` and `cube = (rate · rate) · rate`: the sums of
     /// [`Self::add_moving`] with `CUT` (the same bounds), with `f''(0)` formed as
-    /// `Re(c · μ²)` and `sup|f''|` as `(rate · rate)·|c|`, so that [`summarize_two`] forms
+    /// `Re(c · μ²)` and `sup|f''|` as `(rate · rate)·|c|`, so that [`summarize_block`] forms
     /// them with fewer products.
     #[inline]
     pub(crate) fn add_mode(&mut self, c: C64, mu: C64, rate: f64, cube: f64) {
