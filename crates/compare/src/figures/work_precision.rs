@@ -11,6 +11,7 @@ use crate::runs::sweep::Solver;
 use plotters::coord::combinators::LogCoord;
 use plotters::coord::Shift;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 /// Errors below this are drawn on it (the plot's floor).
 const FLOOR: f64 = 1e-16;
@@ -244,25 +245,26 @@ fn draw_ours<DB: DrawingBackend>(
             )
             .map_err(err)?;
         // Labels: the knob at each point; when the points crowd (the event-driven errors all
-        // sit at rounding level), one stacked list beside them.
+        // sit at rounding level), one stacked list to their left, where the plot is empty
+        // (to their right it ran under the legend).
         let (t_lo, t_hi) = ok.iter().fold((f64::INFINITY, 0.0_f64), |(lo, hi), p| {
             (lo.min(p.0), hi.max(p.0))
         });
         let crowded = (t_hi / t_lo).log10() < 0.5;
         let e_lo = ok.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+        let right_aligned = Pos::new(HPos::Right, VPos::Center);
         chart
             .draw_series(ok.iter().enumerate().map(|(k, &(t, e, tol))| {
-                let at = if crowded {
-                    (t_hi * 1.3, e_lo * 10f64.powf(1.0 + 0.4 * k as f64))
+                let (at, words, style) = if crowded {
+                    (
+                        (t_lo / 1.3, e_lo * 10f64.powf(1.0 + 0.4 * k as f64)),
+                        format!("{tol:.0e}: error {e:.1e}"),
+                        text(13).color(&colour).pos(right_aligned),
+                    )
                 } else {
-                    (t, e * 2.2)
+                    ((t, e * 2.2), format!("{tol:.0e}"), text(13).color(&colour))
                 };
-                let words = if crowded {
-                    format!("{tol:.0e}: error {e:.1e}")
-                } else {
-                    format!("{tol:.0e}")
-                };
-                Text::new(words, at, text(13).color(&colour))
+                Text::new(words, at, style)
             }))
             .map_err(err)?;
         chart
