@@ -259,8 +259,8 @@ pub(super) fn quadratic_stays_inside(
 /// `fourth ≥ sup|f''''|` on `[0, horizon]` (`NaN` until a test first needs it), the
 /// `(time, depth)` tolerances, and the search's scratch: the bisection's intervals, the
 /// derivative coefficients, the polish's exponentials and those at one bisection point;
-/// `fastest`, the largest `|Re μ| + |Im μ|` of the terms where the grid knows it (`NaN` where
-/// not: the polish then forms it).
+/// `fastest`, the largest `|Re μ| + |Im μ|` of the terms, the search's grid's
+/// ([`GridSteps::fastest`](super::cache::GridSteps)), for the polish.
 pub(super) struct ChunkTest<'s> {
     pub(super) band: (f64, f64),
     pub(super) fastest: f64,

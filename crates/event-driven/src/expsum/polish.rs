@@ -98,7 +98,8 @@ pub(super) fn exp_small(z: C64) -> C64 {
 /// The function whose root a polish finds, `g = sign·(f − level)`, with what its stopping rule
 /// needs: `f`'s derivative coefficients and `jerk`, a bound on `|f'''|`.
 pub(super) struct Crossing<'f> {
-    /// The largest `|Re μ| + |Im μ|` of `f`'s terms, or `NaN` (then formed where needed).
+    /// The largest `|Re μ| + |Im μ|` of `f`'s terms, as the search's grid formed it
+    /// ([`GridSteps::fastest`](super::cache::GridSteps)).
     pub(super) fastest: f64,
     pub(super) f: &'f ExpSum,
     pub(super) derivatives: &'f Derivatives,
@@ -293,12 +294,14 @@ impl Local {
             };
         #[cfg(not(target_arch = "x86_64"))]
         let sums = local_sums(derivatives, exps, &g.f.terms);
-        // The grid's, where it knows it: the same maximum.
-        let fastest = if g.fastest.is_nan() {
-            g.f.terms.iter().fold(0.0, |m, t| larger(m, l1(t.rate)))
-        } else {
-            g.fastest
-        };
+        let fastest = g.fastest;
+        debug_assert_eq!(
+            fastest.to_bits(),
+            g.f.terms
+                .iter()
+                .fold(0.0, |m, t| larger(m, l1(t.rate)))
+                .to_bits()
+        );
         let mut coefficients = [0.0; 8];
         for ((a, s), k) in coefficients.iter_mut().zip(sums).zip(LOCAL_FACTORIALS) {
             *a = s * k;

@@ -461,7 +461,8 @@ impl ExpSum {
             mid,
             ..
         } = stack;
-        // A bound on |f''''| over the horizon, computed when a chunk first needs it.
+        // A bound on |f''''| over the horizon, computed when a chunk first needs it; the
+        // fastest rate the grid's, set below once the grid is found.
         let mut test = ChunkTest {
             band: (lo, hi),
             fastest: f64::NAN,
