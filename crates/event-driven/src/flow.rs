@@ -88,6 +88,8 @@ pub struct LinearFlow {
     kept: Vec<(usize, f64)>,
     /// Per kept mode, `|Re λ| + |Im λ|` and its cube `(r · r) · r`, for [`Flight::summarize`].
     kept_sizes: Vec<(f64, f64)>,
+    /// Per kept mode, [`LinearFlow::kept_peaks`].
+    kept_peaks: Vec<(f64, f64)>,
     /// The modes as [`Flight::summarize_all`] adds them, every kept mode then the forcing
     /// (their deviations zero: a flight writes its own), formed once for the flow; `None`
     /// where it gives no joint summaries (a rate grows, no mode is kept, or a kept mode has
@@ -436,6 +438,14 @@ impl LinearFlow {
             .map(|(k, j)| inverse[(k, j)])
             .collect();
         let mode_columns = apart(&modes);
+        let peak = |k: usize, rows: std::ops::Range<usize>| {
+            rows.map(|i| modes[(i, k)])
+                .fold(0.0, |m: f64, v| m.max(v.re.abs()).max(v.im.abs()))
+        };
+        let kept_peaks = kept
+            .iter()
+            .map(|&(k, _)| (peak(k, 0..n), peak(k, n..2 * n)))
+            .collect();
         let joint_modes = joint_modes(&rates, &kept, &kept_sizes, omega);
         Ok(Self {
             dofs: n,
@@ -452,9 +462,60 @@ impl LinearFlow {
             constant,
             kept,
             kept_sizes,
+            kept_peaks,
             joint_modes,
             steady,
         })
+    }
+
+    /// Per kept mode, in their order, `(Re v_ik, Im v_ik)`: entry `i` of its eigenvector, as
+    /// [`Flight::state_at`] adds it into the state (`y_i = Σ_k Re v_ik Re z_k − Im v_ik Im
+    /// z_k`, mode by mode from `0`).
+    ///
+    /// # Panics
+    ///
+    /// If `i ≥ 2n`.
+    pub(crate) fn kept_entry(&self, i: usize) -> Vec<(f64, f64)> {
+        let m = 2 * self.dofs;
+        assert!(i < m, "state entry {i} of {m}");
+        let (columns_re, columns_im) = &self.mode_columns;
+        self.kept
+            .iter()
+            .map(|&(k, _)| (columns_re[k * m + i], columns_im[k * m + i]))
+            .collect()
+    }
+
+    /// Per kept mode, in their order, the largest `max(|Re v_ik|, |Im v_ik|)` of its
+    /// eigenvector's position entries (`i < n`) and of its velocity entries: with the
+    /// modes' coordinates `z` they bound the state's entries, `|y_i| ≤ Σ_k peak_k (|Re z_k| +
+    /// |Im z_k|)`, up to rounding.
+    pub(crate) fn kept_peaks(&self) -> &[(f64, f64)] {
+        &self.kept_peaks
+    }
+
+    /// Per kept mode `k`, `Σ_i w_i max(|Re v_ik|, |Im v_ik|)` for nonnegative weights `w` of
+    /// the state's entries (length `2n`): `Σ_i w_i |y_i| ≤ Σ_k size_k (|Re z_k| + |Im z_k|)`
+    /// for the state of coordinates `z`, with no cancellation between entries, so the bound
+    /// holds for the entries as [`Flight::state_at`] rounds them to within a few roundings
+    /// of its size.
+    ///
+    /// # Panics
+    ///
+    /// If `weights` is not of length `2n`.
+    pub(crate) fn kept_entry_sizes(&self, weights: &[f64]) -> Vec<f64> {
+        let m = 2 * self.dofs;
+        assert_eq!(weights.len(), m, "weights of the state's entries");
+        self.kept
+            .iter()
+            .map(|&(k, _)| {
+                let column = self.modes.column(k);
+                weights
+                    .iter()
+                    .zip(column.iter())
+                    .map(|(&w, v)| w * v.re.abs().max(v.im.abs()))
+                    .sum()
+            })
+            .collect()
     }
 
     /// `y += Re(v_k z)`, `v_k` the `k`-th eigenvector: one mode's part of a state.
@@ -813,6 +874,47 @@ fn steady_state_avx(
     }
 }
 
+/// [`Flight::modal_state`] with AVX and the exponentials known: [`steady_state_avx`]'s
+/// coordinates (the same operations, so the same bits), written to `z` (as long as the kept
+/// modes) rather than added into a state.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn modal_state_avx(
+    f: &LinearFlow,
+    (p, deviation, forced): (&SteadyResponse, &[C64], C64),
+    e: &[C64],
+    z: &mut [C64],
+) {
+    use crate::expsum::complex_pair_product;
+    use std::arch::x86_64::*;
+    let pack = |a: C64, b: C64| _mm256_set_pd(b.im, b.re, a.im, a.re);
+    let load = |v: &[C64], i: usize| {
+        let two = &v[i..i + 2];
+        // SAFETY: `two` holds two `C64`, four `f64` in that order: one unaligned load.
+        unsafe { _mm256_loadu_pd(two.as_ptr().cast()) }
+    };
+    let (plus, minus) = (pack(forced, forced), pack(forced.conj(), forced.conj()));
+    let pairs = f.kept.chunks_exact(2);
+    let last = pairs.remainder();
+    for (i, pair) in pairs.enumerate() {
+        let (w0, w1) = (pair[0].1, pair[1].1);
+        let mut v = complex_pair_product(load(deviation, 2 * i), load(e, 2 * i));
+        v = _mm256_add_pd(v, complex_pair_product(load(&p.plus, 2 * i), plus));
+        v = _mm256_add_pd(v, complex_pair_product(load(&p.minus, 2 * i), minus));
+        v = _mm256_add_pd(v, load(&p.constant, 2 * i));
+        v = _mm256_mul_pd(v, _mm256_set_pd(w1, w1, w0, w0));
+        let out = &mut z[2 * i..2 * i + 2];
+        // SAFETY: `out` holds two `C64`, four `f64`: one unaligned store.
+        unsafe { _mm256_storeu_pd(out.as_mut_ptr().cast(), v) };
+    }
+    if let &[(_, weight)] = last {
+        let j = f.kept.len() - 1;
+        z[j] =
+            (deviation[j] * e[j] + p.plus[j] * forced + p.minus[j] * forced.conj() + p.constant[j])
+                * weight;
+    }
+}
+
 /// Kept modes from which a flight's deviation is carried across an event two modes to an AVX
 /// register ([`products_avx`](crate::expsum::products_avx), [`add_scaled_avx`]): a chain's
 /// 16 (`chain8 5000` 1720.3e6 → 1703.9e6 instructions); a unit's two stay scalar.
@@ -994,6 +1096,48 @@ impl Flight<'_> {
                 }
             }
         }
+    }
+
+    /// The kept modes' coordinates `z_k` (their weights included, `y = Σ_k Re(v_k z_k)`) of
+    /// the state at `s` into the flight, into `z` (the kept modes', in their order), given
+    /// `exponentials` as for [`Self::state_at`], which forms the state from the same
+    /// coordinates, the same bits: `(h_k e^{λ_k s} + P⁺_k F + P⁻_k F̄ + P⁰_k)·weight`, `F`
+    /// the forcing's phase at `s`. `false` (nothing written) for the general form.
+    pub(crate) fn modal_state(&self, s: f64, exponentials: &[C64], z: &mut Vec<C64>) -> bool {
+        let f = self.flow;
+        let Form::Steady {
+            response: p,
+            deviation,
+            phase,
+        } = &self.form
+        else {
+            return false;
+        };
+        let known = (exponentials.len() > f.kept.len()).then_some(exponentials);
+        let ep = match known {
+            Some(e) => e[f.kept.len()],
+            None => cexp(C64::new(0.0, f.omega), s),
+        };
+        let forced = ep * phase;
+        z.clear();
+        #[cfg(target_arch = "x86_64")]
+        if let Some(e) = known {
+            if f.kept.len() >= PACKED_MODES && std::arch::is_x86_feature_detected!("avx") {
+                z.resize(f.kept.len(), C64::default());
+                // SAFETY: the CPU has AVX (checked just above).
+                unsafe { modal_state_avx(f, (p, deviation, forced), e, z) };
+                return true;
+            }
+        }
+        z.extend(f.kept.iter().enumerate().map(|(j, &(k, weight))| {
+            let el = match known {
+                Some(e) => e[j],
+                None => cexp(f.rates[k], s),
+            };
+            (deviation[j] * el + p.plus[j] * forced + p.minus[j] * forced.conj() + p.constant[j])
+                * weight
+        }));
+        true
     }
 
     /// The deviation from the steady response at `s` into the flight, `h e^{λs}` per kept

@@ -102,10 +102,15 @@ impl Engine<'_> {
     /// within [`CHATTER`] of a period); otherwise a graze, stepped past. In a stuck phase the
     /// impact keeps the held pairs' constraints and the stop's push is the constrained
     /// acceleration's; a stick adds the pair to the held set.
+    ///
+    /// `before` says what [`Self::before_contact`] found: the velocities' size where the
+    /// state was not formed from itself, and whether the contact can stick at all (if not,
+    /// the state need hold only [`Pair::contact_entries`]).
     pub(super) fn contact(
         &mut self,
         state: &mut RunState,
         c: Contact,
+        before: BeforeContact,
     ) -> Result<(), SimulationError> {
         state.count_event(self.period)?;
         if let Some(t) = state.tangent.as_mut() {
@@ -117,10 +122,18 @@ impl Engine<'_> {
         // Only an approach counts as an impact; a start on the stop moving out of it (rounding)
         // is handled as sticking below. Velocities are known to rounding relative to their size:
         // a slower approach is a graze, not an impact.
-        let velocity_round = VELOCITY_ROUNDING * largest_velocity(&state.y);
+        let velocity_size = before
+            .velocity_size
+            .unwrap_or_else(|| largest_velocity(&state.y));
+        let velocity_round = VELOCITY_ROUNDING * velocity_size;
         let approaching = rdot * side > velocity_round;
         if approaching {
             self.impact(state, c, rdot);
+        }
+        if before.cannot_stick {
+            // An impact that bounces off (`Self::cannot_stick`): nothing more to decide.
+            debug_assert!(approaching);
+            return Ok(());
         }
         // Stick? Post-impact relative speed, and the relative acceleration pushing into the
         // stop.
@@ -186,6 +199,76 @@ impl Engine<'_> {
         }
         state.impacts += 1;
         state.last_impact_period = Some(state.k);
+    }
+}
+
+/// What [`Engine::before_contact`] found before a contact, for [`Engine::contact`].
+#[derive(Debug, Clone, Copy, Default)]
+pub(super) struct BeforeContact {
+    /// Whether the flight's modal deviation is carried across the contact
+    /// ([`Engine::carry_across`]).
+    pub(super) carry: bool,
+    /// The velocities' size for their rounding, where it comes from the modal coordinates
+    /// ([`ContactMode`]) rather than from the state's largest velocity.
+    pub(super) velocity_size: Option<f64>,
+    /// Whether the contact is an impact that cannot stick ([`Engine::cannot_stick`]).
+    pub(super) cannot_stick: bool,
+    /// Whether the whole state was formed (else [`Pair::contact_entries`] only): read by
+    /// the tests' count.
+    #[cfg_attr(not(test), allow(dead_code))]
+    pub(super) formed: bool,
+}
+
+/// The margin by which [`Engine::cannot_stick`] asks a bounce to clear the chatter test: far
+/// above the rounding of that test's products and of the bound on `|r̈|`.
+const BOUNCE_MARGIN: f64 = 1.0 + 1e-6;
+
+/// What [`Engine::cannot_stick`] reads of the engine besides the pair: its resting velocity
+/// and period.
+pub(super) struct BounceTest {
+    pub(super) resting_velocity: f64,
+    pub(super) period: f64,
+}
+
+impl Engine<'_> {
+    /// Whether a contact of `p` on `side` at the state `y` (of which only
+    /// [`Pair::contact_entries`] are read) is an impact that [`Self::contact`] would not
+    /// stick: an approach faster than the velocities' rounding (`velocity_size`), a rebound
+    /// faster than the resting velocity, and (`e < 1`) too fast for the chatter to
+    /// accumulate within [`CHATTER`] of a period under any push up to `push`, a bound on
+    /// `|r̈|` ([`Pair::contact_modes`], [`Pair::forcing_size`]). The same decisions as
+    /// [`Self::contact`]'s, which then need not form the rest of the state. `y` is left as
+    /// it was.
+    pub(super) fn cannot_stick(
+        test: BounceTest,
+        (p, side): (&Pair, i8),
+        y: &mut DVector<f64>,
+        (velocity_size, push): (f64, f64),
+    ) -> bool {
+        let rdot = p.relative_velocity(y);
+        let velocity_round = VELOCITY_ROUNDING * velocity_size;
+        if rdot * side as f64 <= velocity_round || p.impact_mobility.len() > 4 {
+            return false;
+        }
+        // The impact on the entries it changes, undone after.
+        let n = y.len() / 2;
+        let mut kept = [0.0; 4];
+        for (k, &(i, _)) in kept.iter_mut().zip(&p.impact_mobility) {
+            *k = y[n + i];
+        }
+        Self::free_impact(p, y, None);
+        let rdot_after = p.relative_velocity(y);
+        for (k, &(i, _)) in kept.iter().zip(&p.impact_mobility) {
+            y[n + i] = *k;
+        }
+        if rdot_after.abs() <= test.resting_velocity + velocity_round {
+            return false;
+        }
+        let e = p.spec.restitution;
+        if e >= 1.0 {
+            return true;
+        }
+        2.0 * rdot_after.abs() > BOUNCE_MARGIN * push * (1.0 - e) * CHATTER * test.period
     }
 }
 

@@ -55,6 +55,12 @@ pub(super) struct Scratch {
     pub(super) carried_state: Vec<f64>,
     /// The time within the period it belongs to.
     pub(super) carried_tau: f64,
+    /// The positions' size at the contact the deviation is carried across, from its modal
+    /// coordinates ([`ContactMode`]: [`LinearFlow::kept_peaks`](crate::flow::LinearFlow)): the scale of the
+    /// next flight's depth, where the state's own positions may not be formed.
+    pub(super) carried_position_size: f64,
+    /// The modal coordinates of the state at the last contact ([`Engine::before_contact`]).
+    pub(super) modal: Vec<nalgebra::Complex<f64>>,
     /// The state just before the contact the deviation is carried across.
     pub(super) before_contact: Vec<f64>,
     /// The last free flight's storage for its modal deviation, handed to the next
@@ -371,6 +377,7 @@ impl Engine<'_> {
         let (sin, cos) = self.forcing_at(state.tau);
         let phase = nalgebra::Complex::new(cos, sin);
         let storage = std::mem::take(&mut self.work.flight_storage);
+        let carried_flight = carried.is_some();
         let flight = match carried {
             Some(deviation) => match self.free.flight_with_deviation(deviation, phase) {
                 Ok(flight) => {
@@ -385,9 +392,15 @@ impl Engine<'_> {
             None => self.free.flight_at_phase(&state.y, phase, storage),
         };
         // Positions are known to rounding relative to their size, not to the gap: an excursion
-        // beyond a stop smaller than that is no contact.
-        let depth = self.contact_depth
-            + POSITION_ROUNDING * contact::largest_magnitude(&state.y.as_slice()[..n]);
+        // beyond a stop smaller than that is no contact. After a contact the flight starts from
+        // the deviation carried across it, and the size is the one taken there from the modal
+        // coordinates (the state's positions may not be formed).
+        let position_size = if carried_flight {
+            self.work.carried_position_size
+        } else {
+            contact::largest_magnitude(&state.y.as_slice()[..n])
+        };
+        let depth = self.contact_depth + POSITION_ROUNDING * position_size;
         let watched = WatchedPairs {
             pairs: &self.pairs,
             functionals: self
@@ -466,12 +479,19 @@ impl Engine<'_> {
             }
             Some(c) => {
                 // Just before the contact.
-                flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
-                let carry = several && Self::carry_from(&mut self.work, &flight, &state.y);
+                let tau = state.tau + c.s;
+                let forms = self.forms_contact_state(state);
+                let before = Self::before_contact(
+                    (&self.pairs, self.bounce_test()),
+                    &mut self.work,
+                    state,
+                    (&flight, c, tau, forms),
+                );
+                self.count_unformed(before);
                 self.work.flight_storage = flight.into_storage();
                 state.tau += c.s;
-                self.contact(state, c)?;
-                if carry {
+                self.contact(state, c, before)?;
+                if before.carry {
                     self.carry_across(state, c.pair);
                 }
             }
@@ -568,19 +588,110 @@ impl Engine<'_> {
             state.tau = self.period;
             return Ok(());
         };
-        flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
-        let carry = self.pairs.len() > 1 && Self::carry_from(&mut self.work, &flight, &state.y);
+        let forms = self.forms_contact_state(state);
+        let before = Self::before_contact(
+            (&self.pairs, self.bounce_test()),
+            &mut self.work,
+            state,
+            (&flight, c, c.s - section, forms),
+        );
+        self.count_unformed(before);
         self.work.flight_storage = flight.into_storage();
         let c = Contact {
             s: c.s - section,
             ..c
         };
         state.tau = c.s;
-        self.contact(state, c)?;
-        if carry {
+        self.contact(state, c, before)?;
+        if before.carry {
             self.carry_across(state, c.pair);
         }
         Ok(())
+    }
+
+    /// Whether the run records what a contact's state would go to (a trace, the final
+    /// stretch's window, a tangent flow), so that [`Self::before_contact`] forms it whole.
+    fn forms_contact_state(&self, state: &RunState) -> bool {
+        #[cfg(test)]
+        if self.form_every_contact {
+            return true;
+        }
+        state.trace.is_some() || state.window.is_some() || state.tangent.is_some()
+    }
+
+    /// Tests only: counts a contact whose state was not formed whole.
+    #[inline]
+    fn count_unformed(&self, _before: contact::BeforeContact) {
+        #[cfg(test)]
+        if !_before.formed {
+            self.unformed_contacts.set(self.unformed_contacts.get() + 1);
+        }
+    }
+
+    /// The state just before contact `c` at the end of `flight`, as [`Self::contact`] needs
+    /// it, and with several pairs the deviation carried across it ([`Self::carry_from`]).
+    ///
+    /// With several pairs on a steady-response flight, the state's modal coordinates there
+    /// give the positions' and velocities' sizes ([`ContactMode`]), the scales of the
+    /// contact's and the next flight's rounding whether or not the state is formed, so that
+    /// a run decides the same whatever it records. An impact that cannot stick
+    /// ([`Self::cannot_stick`]) reads and changes only [`Pair::contact_entries`] of the
+    /// state. Those are formed alone (the same bits as in the whole state) unless `records`
+    /// ([`Self::forms_contact_state`]), the contact is at a section (`tau`, its time in the
+    /// period, is `0`: the final stretch's window may open there) or it may stick. The rest of
+    /// `state.y` is then stale until a flight writes the state again: the next flight starts
+    /// from the carried deviation, and every free flight ends by writing the state or by
+    /// carrying a contact on.
+    fn before_contact(
+        (pairs, test): (&[Pair], contact::BounceTest),
+        work: &mut Scratch,
+        state: &mut RunState,
+        (flight, c, tau, records): (&Flight<'_>, Contact, f64, bool),
+    ) -> contact::BeforeContact {
+        let several = pairs.len() > 1;
+        let p = &pairs[c.pair];
+        let modal = several
+            && p.contact_modes.is_some()
+            && flight.modal_state(c.s, &work.event_exponentials, &mut work.modal);
+        let Some(modes) = p.contact_modes.as_deref().filter(|_| modal) else {
+            flight.state_at(c.s, &work.event_exponentials, &mut state.y);
+            let carry = several && Self::carry_from(work, flight, &state.y);
+            // The positions' size from the state itself, as for a flight not carried on.
+            let n = state.y.len() / 2;
+            work.carried_position_size = contact::largest_magnitude(&state.y.as_slice()[..n]);
+            return contact::BeforeContact {
+                carry,
+                formed: true,
+                ..Default::default()
+            };
+        };
+        let (sizes, entries) = contact_sums(modes, &work.modal);
+        let [position_size, velocity_size, push] = sizes;
+        for (&i, y) in p.contact_entries.iter().zip(entries) {
+            state.y[i] = y;
+        }
+        let push = push + p.forcing_size;
+        let cannot_stick =
+            Self::cannot_stick(test, (p, c.side), &mut state.y, (velocity_size, push));
+        // A contact at a section (`τ = 0`) forms the state: the final stretch's window may open
+        // there and record it.
+        let formed = records || !cannot_stick || tau <= 0.0;
+        if formed {
+            flight.state_at(c.s, &work.event_exponentials, &mut state.y);
+            debug_assert!(p
+                .contact_entries
+                .iter()
+                .zip(entries)
+                .all(|(&i, y)| state.y[i].to_bits() == y.to_bits()));
+        }
+        let carry = Self::carry_from(work, flight, &state.y);
+        work.carried_position_size = position_size;
+        contact::BeforeContact {
+            carry,
+            velocity_size: Some(velocity_size),
+            cannot_stick,
+            formed,
+        }
     }
 
     /// With several pairs, before a contact at the end of `flight`: its modal deviation there
@@ -619,4 +730,25 @@ impl Engine<'_> {
         work.carried_state.extend_from_slice(state.y.as_slice());
         work.carried_tau = state.tau;
     }
+}
+
+/// One pass of [`Engine::before_contact`] over the modes' coordinates `z`: the bounds
+/// `Σ_k sizes_k (|Re z_k| + |Im z_k|)` ([`ContactMode`]: the positions', the velocities', `r̈`'s
+/// part in the state) and the contact entries, each summed as [`Flight::state_at`] sums it.
+fn contact_sums(
+    modes: &[ContactMode],
+    z: &[nalgebra::Complex<f64>],
+) -> ([f64; 3], [f64; CONTACT_ENTRIES]) {
+    let mut sizes = [0.0; 3];
+    let mut entries = [0.0; CONTACT_ENTRIES];
+    for (mode, z) in modes.iter().zip(z) {
+        let size = z.re.abs() + z.im.abs();
+        for (sum, s) in sizes.iter_mut().zip(mode.sizes) {
+            *sum += s * size;
+        }
+        for (y, (re, im)) in entries.iter_mut().zip(mode.entries) {
+            *y += re * z.re - im * z.im;
+        }
+    }
+    (sizes, entries)
 }

@@ -164,6 +164,31 @@ struct Pair {
     /// the nonzero entries `(i, (M⁻¹d)_i)`, `i` rising, and `d · M⁻¹d` as it computes it.
     impact_mobility: Vec<(usize, f64)>,
     impact_compliance: f64,
+    /// The state's entries a free impact of this pair reads or writes (the velocities of
+    /// [`Self::direction_entries`] and [`Self::impact_mobility`], rising): all a contact
+    /// with no chance of sticking needs of the state ([`Engine::before_contact`]).
+    contact_entries: Vec<usize>,
+    /// Per kept mode of the free flow, what a contact reads of it (`None` for more than
+    /// [`CONTACT_ENTRIES`] contact entries): see [`ContactMode`].
+    contact_modes: Option<Vec<ContactMode>>,
+    /// A bound on the forcing's part of `r̈`, `Σ_rows |(M⁻¹d)_i| (|f_ci| + |f_si|)`
+    /// ([`acceleration_bound`]).
+    forcing_size: f64,
+}
+
+/// Contact entries ([`Pair::contact_entries`]) up to which a contact may form only them.
+const CONTACT_ENTRIES: usize = 4;
+
+/// One kept mode `k` of the free flow as a contact of a pair reads it ([`Engine::before_contact`]),
+/// all of it in one pass over the modes' coordinates `z`: `sizes`, the largest position and
+/// velocity entry of its eigenvector ([`LinearFlow::kept_peaks`]) and its size in `r̈`'s part
+/// in the state ([`acceleration_bound`]), each times `|Re z_k| + |Im z_k|` a bound; and
+/// `entries`, `(Re v_ik, Im v_ik)` of the pair's contact entries `i` in order (zeros past
+/// them), each contact entry `Σ_k Re v_ik Re z_k − Im v_ik Im z_k`.
+#[derive(Debug, Clone, Copy)]
+struct ContactMode {
+    sizes: [f64; 3],
+    entries: [(f64, f64); CONTACT_ENTRIES],
 }
 
 /// One row `i` of [`Pair::acceleration_rows`]: `(M⁻¹d)_i (f_i(τ) − Σ_j (K_ij u_j + C_ij u̇_j))`
@@ -217,6 +242,12 @@ pub(crate) struct Engine<'m> {
     form_every_section: bool,
     #[cfg(test)]
     unformed_sections: Cell<u64>,
+    /// Tests only: form the whole state at every contact ([`Engine::before_contact`]), and
+    /// count the contacts whose state is not formed whole.
+    #[cfg(test)]
+    form_every_contact: bool,
+    #[cfg(test)]
+    unformed_contacts: Cell<u64>,
 }
 
 impl<'m> Engine<'m> {
@@ -254,7 +285,7 @@ impl<'m> Engine<'m> {
                     Some(damping) => &minv * (damping * &mobility),
                     None => DVector::zeros(n),
                 };
-                let acceleration_rows = (0..n)
+                let acceleration_rows: Vec<AccelerationRow> = (0..n)
                     .filter(|&i| mobility[i] != 0.0)
                     .map(|i| AccelerationRow {
                         mobility: mobility[i],
@@ -277,9 +308,23 @@ impl<'m> Engine<'m> {
                         .map(|(i, &x)| (i, x))
                         .collect()
                 };
+                let (direction_entries, impact_mobility) = (nonzero(&d), nonzero(model_mobility));
+                let mut contact_entries: Vec<usize> = direction_entries
+                    .iter()
+                    .chain(&impact_mobility)
+                    .map(|&(i, _)| n + i)
+                    .collect();
+                contact_entries.sort_unstable();
+                contact_entries.dedup();
+                let (acceleration_sizes, forcing_size) =
+                    acceleration_bound(&free, &acceleration_rows);
+                let contact_modes = contact_modes(&free, &contact_entries, &acceleration_sizes);
                 Pair {
-                    direction_entries: nonzero(&d),
-                    impact_mobility: nonzero(model_mobility),
+                    direction_entries,
+                    impact_mobility,
+                    contact_entries,
+                    contact_modes,
+                    forcing_size,
                     impact_compliance: model_d.dot(model_mobility),
                     spec: *c,
                     direction: d,
@@ -338,7 +383,19 @@ impl<'m> Engine<'m> {
             form_every_section: false,
             #[cfg(test)]
             unformed_sections: Cell::new(0),
+            #[cfg(test)]
+            form_every_contact: false,
+            #[cfg(test)]
+            unformed_contacts: Cell::new(0),
         })
+    }
+
+    /// What [`Engine::cannot_stick`] reads of the engine.
+    fn bounce_test(&self) -> contact::BounceTest {
+        contact::BounceTest {
+            resting_velocity: self.resting_velocity,
+            period: self.period,
+        }
     }
 
     /// `(sin ωτ, cos ωτ)`, kept for the last `τ` asked: a contact's accelerations and the flight
@@ -352,4 +409,53 @@ impl<'m> Engine<'m> {
         self.forcing.set((tau, sin, cos));
         (sin, cos)
     }
+}
+
+/// The sizes of a pair's rows of `r̈` for [`ContactMode`] and [`Pair::forcing_size`]: each
+/// entry's weight `Σ_i |(M⁻¹d)_i| |c_ij|` over the rows' coefficients, sized mode by mode, and
+/// `Σ_i |(M⁻¹d)_i| (|f_ci| + |f_si|)`. With no cancellation anywhere, `|r̈|` as
+/// [`Engine::free_relative_acceleration`] rounds it is within a few roundings of
+/// `Σ_k size_k (|Re z_k| + |Im z_k|) + forcing`.
+fn acceleration_bound(free: &LinearFlow, rows: &[AccelerationRow]) -> (Vec<f64>, f64) {
+    let mut weights = vec![0.0; 2 * free.dofs()];
+    let mut forcing = 0.0;
+    for row in rows {
+        for &(j, c) in &row.coefficients {
+            weights[j] += row.mobility.abs() * c.abs();
+        }
+        forcing += row.mobility.abs() * (row.forcing.0.abs() + row.forcing.1.abs());
+    }
+    (free.kept_entry_sizes(&weights), forcing)
+}
+
+/// [`Pair::contact_modes`] of a pair's contact entries, given its modes' sizes in `r̈`.
+fn contact_modes(
+    free: &LinearFlow,
+    contact_entries: &[usize],
+    acceleration_sizes: &[f64],
+) -> Option<Vec<ContactMode>> {
+    if contact_entries.len() > CONTACT_ENTRIES {
+        return None;
+    }
+    let columns: Vec<Vec<(f64, f64)>> = contact_entries
+        .iter()
+        .map(|&i| free.kept_entry(i))
+        .collect();
+    let modes = free
+        .kept_peaks()
+        .iter()
+        .zip(acceleration_sizes)
+        .enumerate()
+        .map(|(k, (&(position, velocity), &acceleration))| {
+            let mut entries = [(0.0, 0.0); CONTACT_ENTRIES];
+            for (entry, column) in entries.iter_mut().zip(&columns) {
+                *entry = column[k];
+            }
+            ContactMode {
+                sizes: [position, velocity, acceleration],
+                entries,
+            }
+        })
+        .collect();
+    Some(modes)
 }

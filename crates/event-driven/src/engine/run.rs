@@ -406,4 +406,56 @@ mod tests {
             assert_eq!(lazy, formed, "omega {omega}");
         }
     }
+
+    /// A chain's run that forms at its contacts only the entries an impact that cannot stick
+    /// reads ([`Engine::before_contact`]) against the same run forming the whole state at
+    /// every contact: the same report, bit for bit (the same impacts, stroboscopic states and
+    /// final state). Over runs that bounce, in which most contacts are not formed whole, and
+    /// one that sticks (restitution 0.3 at 1 rad/s), in which the contacts that may stick are
+    /// formed whole and the others not.
+    #[test]
+    fn unformed_contact_states_change_no_result() {
+        use crate::test_models::paper_chain;
+        use crate::CellStops;
+        for (cells, omega, restitution, sticks) in [
+            (3, 2.0, 0.8, false),
+            (4, 1.3, 0.8, false),
+            (2, 1.0, 0.3, true),
+        ] {
+            let stops = CellStops::symmetric(0.5, restitution);
+            let model = paper_chain(cells, omega, Some(LIGHT_DAMPING), Some(stops));
+            let options = SimulationOptions {
+                fixed_periods: Some(200),
+                ..SimulationOptions::default()
+            };
+            let run = |form_every_contact: bool| {
+                let mut engine = Engine::new(&model, omega, &options).unwrap();
+                engine.form_every_contact = form_every_contact;
+                let report = engine
+                    .run(&Start::rest(2 * cells), &options, &mut |_, _| false)
+                    .unwrap();
+                (report, engine.unformed_contacts.get())
+            };
+            let (lazy, unformed) = run(false);
+            let (formed, none) = run(true);
+            assert_eq!(none, 0);
+            let impacts = lazy.impacts;
+            let case =
+                format!("{cells} cells at {omega}: {unformed} of {impacts} impacts unformed");
+            assert!(unformed > impacts / 4, "{case}");
+            assert_eq!(lazy.sticking, sticks, "{case}");
+            if sticks {
+                assert!(unformed < impacts, "{case}");
+            }
+            let bits = |y: &DVector<f64>| y.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(
+                bits(&lazy.final_state.state),
+                bits(&formed.final_state.state)
+            );
+            for (a, b) in lazy.stroboscopic.iter().zip(&formed.stroboscopic) {
+                assert_eq!(bits(a), bits(b));
+            }
+            assert_eq!(lazy, formed, "{case}");
+        }
+    }
 }
