@@ -438,14 +438,7 @@ impl LinearFlow {
             .map(|(k, j)| inverse[(k, j)])
             .collect();
         let mode_columns = apart(&modes);
-        let peak = |k: usize, rows: std::ops::Range<usize>| {
-            rows.map(|i| modes[(i, k)])
-                .fold(0.0, |m: f64, v| m.max(v.re.abs()).max(v.im.abs()))
-        };
-        let kept_peaks = kept
-            .iter()
-            .map(|&(k, _)| (peak(k, 0..n), peak(k, n..2 * n)))
-            .collect();
+        let kept_peaks = kept_peaks(&modes, &kept);
         let joint_modes = joint_modes(&rates, &kept, &kept_sizes, omega);
         Ok(Self {
             dofs: n,
@@ -872,6 +865,18 @@ fn steady_state_avx(
         let column = k * m..(k + 1) * m;
         add_column_avx(&columns_re[column.clone()], &columns_im[column], zk, y);
     }
+}
+
+/// [`LinearFlow::kept_peaks`] of the eigenvectors `modes` (as columns, `2n` rows).
+fn kept_peaks(modes: &DMatrix<C64>, kept: &[(usize, f64)]) -> Vec<(f64, f64)> {
+    let n = modes.nrows() / 2;
+    let peak = |k: usize, rows: std::ops::Range<usize>| {
+        rows.map(|i| modes[(i, k)])
+            .fold(0.0, |m: f64, v| m.max(v.re.abs()).max(v.im.abs()))
+    };
+    kept.iter()
+        .map(|&(k, _)| (peak(k, 0..n), peak(k, n..2 * n)))
+        .collect()
 }
 
 /// [`Flight::modal_state`] with AVX and the exponentials known: [`steady_state_avx`]'s
