@@ -881,14 +881,15 @@ fn kept_peaks(modes: &DMatrix<C64>, kept: &[(usize, f64)]) -> Vec<(f64, f64)> {
 
 /// [`Flight::modal_state`] with AVX and the exponentials known: [`steady_state_avx`]'s
 /// coordinates (the same operations, so the same bits), written to `z` (as long as the kept
-/// modes) rather than added into a state.
+/// modes) rather than added into a state, and their first products `h_k e^{λ_k s}` to
+/// `carried` (as long).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 fn modal_state_avx(
     f: &LinearFlow,
     (p, deviation, forced): (&SteadyResponse, &[C64], C64),
     e: &[C64],
-    z: &mut [C64],
+    (z, carried): (&mut [C64], &mut [C64]),
 ) {
     use crate::expsum::complex_pair_product;
     use std::arch::x86_64::*;
@@ -904,6 +905,9 @@ fn modal_state_avx(
     for (i, pair) in pairs.enumerate() {
         let (w0, w1) = (pair[0].1, pair[1].1);
         let mut v = complex_pair_product(load(deviation, 2 * i), load(e, 2 * i));
+        let first = &mut carried[2 * i..2 * i + 2];
+        // SAFETY: `first` holds two `C64`, four `f64`: one unaligned store.
+        unsafe { _mm256_storeu_pd(first.as_mut_ptr().cast(), v) };
         v = _mm256_add_pd(v, complex_pair_product(load(&p.plus, 2 * i), plus));
         v = _mm256_add_pd(v, complex_pair_product(load(&p.minus, 2 * i), minus));
         v = _mm256_add_pd(v, load(&p.constant, 2 * i));
@@ -914,9 +918,9 @@ fn modal_state_avx(
     }
     if let &[(_, weight)] = last {
         let j = f.kept.len() - 1;
+        carried[j] = deviation[j] * e[j];
         z[j] =
-            (deviation[j] * e[j] + p.plus[j] * forced + p.minus[j] * forced.conj() + p.constant[j])
-                * weight;
+            (carried[j] + p.plus[j] * forced + p.minus[j] * forced.conj() + p.constant[j]) * weight;
     }
 }
 
@@ -1107,8 +1111,15 @@ impl Flight<'_> {
     /// the state at `s` into the flight, into `z` (the kept modes', in their order), given
     /// `exponentials` as for [`Self::state_at`], which forms the state from the same
     /// coordinates, the same bits: `(h_k e^{λ_k s} + P⁺_k F + P⁻_k F̄ + P⁰_k)·weight`, `F`
-    /// the forcing's phase at `s`. `false` (nothing written) for the general form.
-    pub(crate) fn modal_state(&self, s: f64, exponentials: &[C64], z: &mut Vec<C64>) -> bool {
+    /// the forcing's phase at `s`. With AVX and the exponentials there given, `h_k e^{λ_k
+    /// s}` too, into `carried`, bit for bit [`Self::deviation_at`]'s (else `carried` is
+    /// left empty). `false` (nothing written) for the general form.
+    pub(crate) fn modal_state(
+        &self,
+        s: f64,
+        exponentials: &[C64],
+        (z, carried): (&mut Vec<C64>, &mut Vec<C64>),
+    ) -> bool {
         let f = self.flow;
         let Form::Steady {
             response: p,
@@ -1125,12 +1136,14 @@ impl Flight<'_> {
         };
         let forced = ep * phase;
         z.clear();
+        carried.clear();
         #[cfg(target_arch = "x86_64")]
         if let Some(e) = known {
             if f.kept.len() >= PACKED_MODES && std::arch::is_x86_feature_detected!("avx") {
                 z.resize(f.kept.len(), C64::default());
+                carried.resize(f.kept.len(), C64::default());
                 // SAFETY: the CPU has AVX (checked just above).
-                unsafe { modal_state_avx(f, (p, deviation, forced), e, z) };
+                unsafe { modal_state_avx(f, (p, deviation, forced), e, (z, carried)) };
                 return true;
             }
         }

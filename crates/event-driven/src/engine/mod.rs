@@ -182,13 +182,15 @@ const CONTACT_ENTRIES: usize = 4;
 /// One kept mode `k` of the free flow as a contact of a pair reads it ([`Engine::before_contact`]),
 /// all of it in one pass over the modes' coordinates `z`: `sizes`, the largest position and
 /// velocity entry of its eigenvector ([`LinearFlow::kept_peaks`]) and its size in `r̈`'s part
-/// in the state ([`acceleration_bound`]), each times `|Re z_k| + |Im z_k|` a bound; and
-/// `entries`, `(Re v_ik, Im v_ik)` of the pair's contact entries `i` in order (zeros past
-/// them), each contact entry `Σ_k Re v_ik Re z_k − Im v_ik Im z_k`.
+/// in the state ([`acceleration_bound`]), then `0`, each times `|Re z_k| + |Im z_k|` a bound;
+/// and `re`, `im`, `Re v_ik` and `Im v_ik` of the pair's contact entries `i` in order (zeros
+/// past them), each contact entry `Σ_k Re v_ik Re z_k − Im v_ik Im z_k`. Four lanes each,
+/// as one AVX register holds them.
 #[derive(Debug, Clone, Copy)]
 struct ContactMode {
-    sizes: [f64; 3],
-    entries: [(f64, f64); CONTACT_ENTRIES],
+    sizes: [f64; 4],
+    re: [f64; CONTACT_ENTRIES],
+    im: [f64; CONTACT_ENTRIES],
 }
 
 /// One row `i` of [`Pair::acceleration_rows`]: `(M⁻¹d)_i (f_i(τ) − Σ_j (K_ij u_j + C_ij u̇_j))`
@@ -447,13 +449,14 @@ fn contact_modes(
         .zip(acceleration_sizes)
         .enumerate()
         .map(|(k, (&(position, velocity), &acceleration))| {
-            let mut entries = [(0.0, 0.0); CONTACT_ENTRIES];
-            for (entry, column) in entries.iter_mut().zip(&columns) {
-                *entry = column[k];
+            let (mut re, mut im) = ([0.0; CONTACT_ENTRIES], [0.0; CONTACT_ENTRIES]);
+            for ((re, im), column) in re.iter_mut().zip(&mut im).zip(&columns) {
+                (*re, *im) = column[k];
             }
             ContactMode {
-                sizes: [position, velocity, acceleration],
-                entries,
+                sizes: [position, velocity, acceleration, 0.0],
+                re,
+                im,
             }
         })
         .collect();
