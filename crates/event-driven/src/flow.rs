@@ -607,15 +607,30 @@ impl LinearFlow {
                 let mut deviation = storage;
                 let y = y.as_slice();
                 let (rows_re, rows_im) = &self.inverse_rows;
-                for (j, (h, &(k, _))) in deviation.iter_mut().zip(&self.kept).enumerate() {
+                // The modal coordinates `V⁻¹y` with AVX, two modes to a register, but for a last
+                // odd one (the same sums, so the same bits).
+                #[cfg(target_arch = "x86_64")]
+                let done = if self.kept.len() >= PACKED_MODES
+                    && std::arch::is_x86_feature_detected!("avx")
+                {
+                    // SAFETY: the CPU has AVX (checked just above).
+                    unsafe { modal_coordinates_avx(&self.kept_inverse_columns, y, &mut deviation) }
+                } else {
+                    0
+                };
+                #[cfg(not(target_arch = "x86_64"))]
+                let done = 0;
+                for (h, &(k, _)) in deviation.iter_mut().zip(&self.kept).skip(done) {
                     let row = k * m..(k + 1) * m;
                     let (mut re, mut im) = (0.0, 0.0);
                     for ((&vr, &vi), &yj) in rows_re[row.clone()].iter().zip(&rows_im[row]).zip(y) {
                         re += vr * yj;
                         im += vi * yj;
                     }
-                    let z = C64::new(re, im);
-                    *h = z - (p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j]);
+                    *h = C64::new(re, im);
+                }
+                for (j, h) in deviation.iter_mut().enumerate() {
+                    *h -= p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j];
                 }
                 Form::Steady {
                     response: p,
@@ -865,6 +880,44 @@ fn steady_state_avx(
         let column = k * m..(k + 1) * m;
         add_column_avx(&columns_re[column.clone()], &columns_im[column], zk, y);
     }
+}
+
+/// The kept modes' coordinates `(V⁻¹y)_k` of the state `y` into `out` (as long as the kept
+/// modes), from `columns` ([`LinearFlow::kept_inverse_columns`]), two modes to an AVX
+/// register and four registers at a time: each coordinate's real and imaginary parts summed
+/// over the state's entries in order from `0`, `re += Re v·y_i` and `im += Im v·y_i`, as
+/// [`LinearFlow::flight_at_phase`] sums them entry by entry (no FMA: the same bits). Returns
+/// how many modes it formed (all but a last odd one).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+fn modal_coordinates_avx(columns: &[C64], y: &[f64], out: &mut [C64]) -> usize {
+    use std::arch::x86_64::*;
+    /// Registers summed side by side: four chains of additions in flight at once.
+    const BLOCK: usize = 4;
+    let count = out.len();
+    let columns = &columns[..count * y.len()];
+    let pairs = count / 2;
+    let mut p = 0;
+    while p < pairs {
+        let block = (pairs - p).min(BLOCK);
+        let mut sums = [_mm256_setzero_pd(); BLOCK];
+        for (i, &yi) in y.iter().enumerate() {
+            let yi = _mm256_set1_pd(yi);
+            let column = &columns[i * count + 2 * p..i * count + 2 * (p + block)];
+            for (sum, two) in sums.iter_mut().zip(column.chunks_exact(2)) {
+                // SAFETY: `two` holds two `C64`, four `f64`: one unaligned load.
+                let v = unsafe { _mm256_loadu_pd(two.as_ptr().cast()) };
+                *sum = _mm256_add_pd(*sum, _mm256_mul_pd(v, yi));
+            }
+        }
+        for (q, sum) in sums.iter().take(block).enumerate() {
+            let two = &mut out[2 * (p + q)..2 * (p + q) + 2];
+            // SAFETY: `two` holds two `C64`, four `f64`: one unaligned store.
+            unsafe { _mm256_storeu_pd(two.as_mut_ptr().cast(), *sum) };
+        }
+        p += block;
+    }
+    2 * pairs
 }
 
 /// [`LinearFlow::kept_peaks`] of the eigenvectors `modes` (as columns, `2n` rows).
@@ -1447,6 +1500,52 @@ mod tests {
             .collect();
         let y = DVector::from_fn(2 * n, |i, _| 0.3 * (1.7 * i as f64 + 0.4).sin());
         (flow, functionals, y)
+    }
+
+    /// A chain's modal coordinates `V⁻¹y` with AVX, two modes to a register, are bit for bit
+    /// the row-by-row sums (an even and an odd number of kept modes: 8 cells keep 16, and a
+    /// flow's kept modes as long less one).
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn modal_coordinates_with_avx_are_the_row_by_row_sums() {
+        if !std::arch::is_x86_feature_detected!("avx") {
+            eprintln!("skipped: this CPU has no AVX");
+            return;
+        }
+        let (flow, _, y) = chain_flow(8);
+        let y = y.as_slice();
+        let m = y.len();
+        let (rows_re, rows_im) = &flow.inverse_rows;
+        let expected: Vec<C64> = flow
+            .kept
+            .iter()
+            .map(|&(k, _)| {
+                let (mut re, mut im) = (0.0, 0.0);
+                for i in 0..m {
+                    re += rows_re[k * m + i] * y[i];
+                    im += rows_im[k * m + i] * y[i];
+                }
+                C64::new(re, im)
+            })
+            .collect();
+        let count = flow.kept.len();
+        assert_eq!(count, 16);
+        for modes in [count, count - 1] {
+            // The first `modes` kept modes' columns, as `kept_inverse_columns` lays them out.
+            let columns: Vec<C64> = (0..m)
+                .flat_map(|i| flow.kept_inverse_columns[i * count..i * count + modes].to_vec())
+                .collect();
+            let mut out = vec![C64::default(); modes];
+            // SAFETY: the CPU has AVX.
+            let done = unsafe { modal_coordinates_avx(&columns, y, &mut out) };
+            assert_eq!(done, modes - modes % 2);
+            for (a, b) in out[..done].iter().zip(&expected) {
+                assert_eq!(
+                    (a.re.to_bits(), a.im.to_bits()),
+                    (b.re.to_bits(), b.im.to_bits())
+                );
+            }
+        }
     }
 
     /// A mode's column added to a state with AVX, four entries at once, is bit for bit the

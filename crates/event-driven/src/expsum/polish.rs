@@ -63,10 +63,12 @@ pub(super) const INVERSE_FACTORIALS: [f64; 9] = [
 /// below `1e-4`.
 #[inline]
 pub(super) fn series_start_fine(size: f64) -> usize {
-    pub(super) const BOUNDS: [f64; 7] = [4e-9, 3e-6, 1e-4, 1e-3, 4e-3, 1e-2, 2.5e-2];
-    let degree = 1 + BOUNDS.iter().filter(|&&b| size > b).count();
+    let degree = 1 + SERIES_BOUNDS.iter().filter(|&&b| size > b).count();
     INVERSE_FACTORIALS.len() - degree
 }
+
+/// The bounds of [`series_start_fine`]'s degrees.
+const SERIES_BOUNDS: [f64; 7] = [4e-9, 3e-6, 1e-4, 1e-3, 4e-3, 1e-2, 2.5e-2];
 
 /// Where in [`INVERSE_FACTORIALS`] the series of [`exp_small`] starts for `|z| ≤ size`: degree
 /// 3, 5 or 9.
@@ -442,7 +444,7 @@ pub(super) fn iterate(
 const TOGETHER: usize = 4;
 
 /// `e^{μ_j s}` of every term at one time `s`.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub(super) struct Exponentials {
     pub(super) at: f64,
     pub(super) values: Vec<C64>,
@@ -450,9 +452,63 @@ pub(super) struct Exponentials {
     /// largest `|μ_j δ|` needs, all terms side by side (the summarised searches); otherwise
     /// each term's series has its own least degree.
     pub(super) together: bool,
+    /// The terms' largest `|Re μ| + |Im μ|` as their grid formed it
+    /// ([`GridSteps::fastest`](super::cache::GridSteps)), or `NaN`: then the largest `|μ_j
+    /// δ|` of a step is that times `|δ|` to within a few roundings ([`largest_step`]).
+    pub(super) fastest: f64,
+}
+
+/// Relative distance from a bound of [`series_start_fine`] (or [`SMALL_STEP`]) beyond which
+/// the largest `|μ_j δ|` (as `|Re μ_j δ| + |Im μ_j δ|`) and `|δ|` times the largest `|Re μ_j|
+/// + |Im μ_j|` fall on the same side of it: each is within two roundings (`4.4e-16`) of the
+/// exact `|δ| max_j (|Re μ_j| + |Im μ_j|)`.
+const STEP_SIDE: f64 = 1e-14;
+
+/// The degree [`Exponentials::advance_together`] takes for a step `δ` of `terms` whose largest
+/// `|Re μ| + |Im μ|` is `fastest` (`NaN` if not known): as a place in [`INVERSE_FACTORIALS`]
+/// ([`series_start_fine`]), or `None` beyond [`SMALL_STEP`]. From `|δ|·fastest` alone when
+/// no bound lies within [`STEP_SIDE`] of it (the decisions of the largest `|μ_j δ|`, which
+/// then need not be formed: a pass over the terms per step), else from the largest itself.
+#[inline]
+fn largest_step(terms: &[Term], delta: f64, fastest: f64) -> Option<usize> {
+    let exact = || {
+        terms
+            .iter()
+            .fold(0.0, |m: f64, t| larger(m, l1(t.rate * delta)))
+    };
+    let estimate = delta.abs() * fastest;
+    let clear = |b: f64| (estimate - b).abs() > STEP_SIDE * b;
+    let shortcut =
+        estimate.is_finite() && clear(SMALL_STEP) && SERIES_BOUNDS.iter().all(|&b| clear(b));
+    let degree = |largest: f64| (largest <= SMALL_STEP).then(|| series_start_fine(largest));
+    if !shortcut {
+        return degree(exact());
+    }
+    debug_assert_eq!(degree(estimate), degree(exact()), "δ = {delta}");
+    degree(estimate)
+}
+
+impl Default for Exponentials {
+    fn default() -> Self {
+        Self {
+            at: 0.0,
+            values: Vec::new(),
+            together: false,
+            fastest: f64::NAN,
+        }
+    }
 }
 
 impl Exponentials {
+    /// For a new search: at no time yet, stepping its terms `together` or not, their largest
+    /// `|Re μ| + |Im μ|` `fastest` as their grid formed it (`NaN` until known).
+    #[inline]
+    pub(super) fn restart(&mut self, together: bool, fastest: f64) {
+        self.at = f64::NAN;
+        self.together = together;
+        self.fastest = fastest;
+    }
+
     /// Moves to `s`, from the current time by Taylor series for small steps.
     #[inline]
     pub(super) fn advance(&mut self, terms: &[Term], s: f64) {
@@ -480,10 +536,10 @@ impl Exponentials {
     /// for the series.
     #[inline(never)]
     pub(super) fn advance_together(&mut self, terms: &[Term], s: f64, delta: f64) {
-        let largest = terms
-            .iter()
-            .fold(0.0, |m: f64, t| larger(m, l1(t.rate * delta)));
-        if largest > SMALL_STEP {
+        let step = largest_step(terms, delta, self.fastest);
+        if let Some(from) = step {
+            self.series_together(terms, delta, from);
+        } else {
             for (e, t) in self.values.iter_mut().zip(terms) {
                 let z = t.rate * delta;
                 *e = if l1(z) <= SMALL_STEP {
@@ -492,33 +548,36 @@ impl Exponentials {
                     cexp(t.rate, s)
                 };
             }
-        } else {
-            let from = series_start_fine(largest);
-            let n = self.values.len().min(terms.len());
-            let (values, terms) = (&mut self.values[..n], &terms[..n]);
-            // Two terms at a time with AVX, the rest (and all without it) below.
-            #[cfg(target_arch = "x86_64")]
-            let done = if n >= PACKED_TERMS && std::arch::is_x86_feature_detected!("avx") {
-                // SAFETY: the CPU has AVX (checked just above).
-                unsafe { series_pairs_avx(values, terms, delta, from) }
-            } else {
-                0
-            };
-            #[cfg(not(target_arch = "x86_64"))]
-            let done = 0;
-            let (values, terms) = (&mut values[done..], &terms[done..]);
-            for (values, terms) in values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
-                // As many lanes as terms: a unit's three terms stepped a fourth, empty lane
-                // through every degree (unit_long 20000: see the commit).
-                match terms.len() {
-                    TOGETHER => series_block::<TOGETHER>(values, terms, delta, from),
-                    3 => series_block::<3>(values, terms, delta, from),
-                    2 => series_block::<2>(values, terms, delta, from),
-                    _ => series_block::<1>(values, terms, delta, from),
-                }
-            }
         }
         self.at = s;
+    }
+
+    /// [`Self::advance_together`]'s series, every term to the degree `from` gives.
+    #[inline]
+    fn series_together(&mut self, terms: &[Term], delta: f64, from: usize) {
+        let n = self.values.len().min(terms.len());
+        let (values, terms) = (&mut self.values[..n], &terms[..n]);
+        // Two terms at a time with AVX, the rest (and all without it) below.
+        #[cfg(target_arch = "x86_64")]
+        let done = if n >= PACKED_TERMS && std::arch::is_x86_feature_detected!("avx") {
+            // SAFETY: the CPU has AVX (checked just above).
+            unsafe { series_pairs_avx(values, terms, delta, from) }
+        } else {
+            0
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let done = 0;
+        let (values, terms) = (&mut values[done..], &terms[done..]);
+        for (values, terms) in values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
+            // As many lanes as terms: a unit's three terms stepped a fourth, empty lane
+            // through every degree (unit_long 20000: see the commit).
+            match terms.len() {
+                TOGETHER => series_block::<TOGETHER>(values, terms, delta, from),
+                3 => series_block::<3>(values, terms, delta, from),
+                2 => series_block::<2>(values, terms, delta, from),
+                _ => series_block::<1>(values, terms, delta, from),
+            }
+        }
     }
 }
 

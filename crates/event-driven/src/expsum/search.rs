@@ -348,8 +348,7 @@ impl ExpSum {
             packed: n >= PACKED_TERMS && packed_chunks(),
             end_value: f64::NAN,
         };
-        test.polish.at = f64::NAN;
-        test.polish.together = true;
+        test.polish.restart(true, *fastest);
         let (f0, d0, dd0) = (summary.start, summary.slope0, summary.curve0);
         let mut fa = f0;
         // The head, as in `grid_search`.
@@ -476,8 +475,7 @@ impl ExpSum {
             point,
         };
         test.derivatives.of(self);
-        test.polish.at = f64::NAN;
-        test.polish.together = FIXED;
+        test.polish.restart(FIXED, f64::NAN);
         exps.clear();
         exps.resize(self.terms.len(), C64::new(1.0, 0.0));
         let grid = if fixed {
@@ -496,6 +494,7 @@ impl ExpSum {
             ..
         } = grid;
         test.fastest = *fastest;
+        test.polish.fastest = *fastest;
         let (f0, d0, dd0) = test.derivatives.at(self, 0.0, exps);
         let mut fa = f0;
         // Head: when the flight may leave the band long before the first chunk ends (a bounce
