@@ -1306,15 +1306,17 @@ impl Flight<'_> {
         deviations.clear();
         deviations.extend(modes.iter().zip(deviation).map(|(m, &h)| m.weighted(h)));
         deviations.push(modes[f.kept.len()].weighted(*phase));
-        out.clear();
         coefficients.resize(joint.blocks.len(), [0.0; 2 * LANES]);
         let per_block = modes.len();
-        for (block, written) in joint
+        // Every summary is written below: storage of the right length is only kept.
+        out.resize(joint.blocks.len() / per_block * LANES, Summary::default());
+        for ((block, written), sums) in joint
             .blocks
             .chunks_exact(per_block)
             .zip(coefficients.chunks_exact_mut(per_block))
+            .zip(out.chunks_exact_mut(LANES))
         {
-            out.extend(summarize_block(block, (modes, deviations), written));
+            summarize_block(block, (modes, deviations), written, sums);
         }
         out.truncate(count);
         for (sum, &constant) in out.iter_mut().zip(&joint.constant) {
