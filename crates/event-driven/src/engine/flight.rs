@@ -131,7 +131,13 @@ fn earliest_first(order: &mut [(f64, usize, usize, f64, f64)]) {
         .min_by(|(_, a), (_, b)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
         .map(|(at, _)| at);
     if let Some(at) = earliest {
-        order[..=at].rotate_right(1);
+        // Moved entry by entry (`rotate_right` called `memmove`: 0.26 % of `chain8`'s
+        // instructions).
+        let first = order[at];
+        for i in (0..at).rev() {
+            order[i + 1] = order[i];
+        }
+        order[0] = first;
     }
 }
 
