@@ -511,6 +511,18 @@ impl LinearFlow {
             .collect()
     }
 
+    /// One mode's coordinate `(V⁻¹y)_k` from its row of `V⁻¹` (real and imaginary parts
+    /// apart): `re += Re v·y_i`, `im += Im v·y_i` over the entries in order from `0`.
+    #[inline(always)]
+    fn modal_coordinate(&self, (row_re, row_im): (&[f64], &[f64]), y: &[f64]) -> C64 {
+        let (mut re, mut im) = (0.0, 0.0);
+        for ((&vr, &vi), &yj) in row_re.iter().zip(row_im).zip(y) {
+            re += vr * yj;
+            im += vi * yj;
+        }
+        C64::new(re, im)
+    }
+
     /// `y += Re(v_k z)`, `v_k` the `k`-th eigenvector: one mode's part of a state.
     #[inline]
     fn add_mode(&self, k: usize, z: C64, y: &mut [f64]) {
@@ -607,30 +619,37 @@ impl LinearFlow {
                 let mut deviation = storage;
                 let y = y.as_slice();
                 let (rows_re, rows_im) = &self.inverse_rows;
-                // The modal coordinates `V⁻¹y` with AVX, two modes to a register, but for a last
-                // odd one (the same sums, so the same bits).
+                // A chain's modal coordinates `V⁻¹y` with AVX, two modes to a register, but for
+                // a last odd one (the same sums, so the same bits); a unit's as they were.
                 #[cfg(target_arch = "x86_64")]
-                let done = if self.kept.len() >= PACKED_MODES
-                    && std::arch::is_x86_feature_detected!("avx")
-                {
+                if self.kept.len() >= PACKED_MODES && std::arch::is_x86_feature_detected!("avx") {
                     // SAFETY: the CPU has AVX (checked just above).
-                    unsafe { modal_coordinates_avx(&self.kept_inverse_columns, y, &mut deviation) }
-                } else {
-                    0
-                };
-                #[cfg(not(target_arch = "x86_64"))]
-                let done = 0;
-                for (h, &(k, _)) in deviation.iter_mut().zip(&self.kept).skip(done) {
-                    let row = k * m..(k + 1) * m;
-                    let (mut re, mut im) = (0.0, 0.0);
-                    for ((&vr, &vi), &yj) in rows_re[row.clone()].iter().zip(&rows_im[row]).zip(y) {
-                        re += vr * yj;
-                        im += vi * yj;
+                    let done = unsafe {
+                        modal_coordinates_avx(&self.kept_inverse_columns, y, &mut deviation)
+                    };
+                    let modes = deviation.iter_mut().zip(&self.kept).enumerate();
+                    for (j, (h, &(k, _))) in modes {
+                        let z = if j < done {
+                            *h
+                        } else {
+                            let row = k * m..(k + 1) * m;
+                            self.modal_coordinate((&rows_re[row.clone()], &rows_im[row]), y)
+                        };
+                        *h = z - (p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j]);
                     }
-                    *h = C64::new(re, im);
+                    return Flight {
+                        flow: self,
+                        form: Form::Steady {
+                            response: p,
+                            deviation,
+                            phase,
+                        },
+                    };
                 }
-                for (j, h) in deviation.iter_mut().enumerate() {
-                    *h -= p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j];
+                for (j, (h, &(k, _))) in deviation.iter_mut().zip(&self.kept).enumerate() {
+                    let row = k * m..(k + 1) * m;
+                    let z = self.modal_coordinate((&rows_re[row.clone()], &rows_im[row]), y);
+                    *h = z - (p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j]);
                 }
                 Form::Steady {
                     response: p,

@@ -67,6 +67,7 @@ impl Engine<'_> {
     /// The free impact of pair `p` (restitution `e`, the pair's own if `None`): the arithmetic
     /// of [`Model::apply_impact`] on the nonzero entries of `d` and `M⁻¹d` only (the terms it
     /// adds beyond them are exact zeros; `ṙ ≠ 0` at an impact, so no sign of zero differs).
+    #[inline]
     fn free_impact(p: &Pair, y: &mut DVector<f64>, e: Option<f64>) {
         let n = y.len() / 2;
         let e = e.unwrap_or(p.spec.restitution);
@@ -217,6 +218,17 @@ pub(super) struct BeforeContact {
     /// the tests' count.
     #[cfg_attr(not(test), allow(dead_code))]
     pub(super) formed: bool,
+}
+
+impl BeforeContact {
+    /// The whole state formed, nothing carried, the contact decided from the state alone
+    /// (one pair).
+    pub(super) fn formed() -> Self {
+        Self {
+            formed: true,
+            ..Self::default()
+        }
+    }
 }
 
 /// The margin by which [`Engine::cannot_stick`] asks a bounce to clear the chatter test: far

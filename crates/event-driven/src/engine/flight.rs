@@ -484,15 +484,12 @@ impl Engine<'_> {
                 state.tau = period;
             }
             Some(c) => {
-                // Just before the contact.
-                let tau = state.tau + c.s;
-                let forms = self.forms_contact_state(state);
-                let before = Self::before_contact(
-                    (&self.pairs, self.bounce_test()),
-                    &mut self.work,
-                    state,
-                    (&flight, c, tau, forms),
+                let parts = (
+                    &self.pairs[..],
+                    self.bounce_test(),
+                    self.forms_contact_state(state),
                 );
+                let before = Self::state_before_contact(parts, &mut self.work, state, (&flight, c));
                 self.count_unformed(before);
                 self.work.flight_storage = flight.into_storage();
                 state.tau += c.s;
@@ -503,6 +500,24 @@ impl Engine<'_> {
             }
         }
         Ok(())
+    }
+
+    /// The state just before contact `c` at the end of the free flight `flight`: with
+    /// several pairs [`Self::before_contact`]'s (`forms`: [`Self::forms_contact_state`]),
+    /// with one the whole state, nothing carried (the one-pair path as it was).
+    #[inline]
+    fn state_before_contact(
+        (pairs, test, forms): (&[Pair], contact::BounceTest, bool),
+        work: &mut Scratch,
+        state: &mut RunState,
+        (flight, c): (&Flight<'_>, Contact),
+    ) -> contact::BeforeContact {
+        if pairs.len() == 1 {
+            flight.state_at(c.s, &work.event_exponentials, &mut state.y);
+            return contact::BeforeContact::formed();
+        }
+        let tau = state.tau + c.s;
+        Self::before_contact((pairs, test), work, state, (flight, c, tau, forms))
     }
 
     /// What a run records of `flight` over `[offset, offset + span]` (its part in the current
@@ -594,14 +609,10 @@ impl Engine<'_> {
             state.tau = self.period;
             return Ok(());
         };
-        let forms = self.forms_contact_state(state);
-        let before = Self::before_contact(
-            (&self.pairs, self.bounce_test()),
-            &mut self.work,
-            state,
-            (&flight, c, c.s - section, forms),
-        );
-        self.count_unformed(before);
+        // A pending flight has one pair ([`Engine::carries_sections`]): the state, nothing
+        // carried.
+        flight.state_at(c.s, &self.work.event_exponentials, &mut state.y);
+        let before = contact::BeforeContact::formed();
         self.work.flight_storage = flight.into_storage();
         let c = Contact {
             s: c.s - section,
@@ -648,6 +659,7 @@ impl Engine<'_> {
     /// `state.y` is then stale until a flight writes the state again: the next flight starts
     /// from the carried deviation, and every free flight ends by writing the state or by
     /// carrying a contact on.
+    #[inline(never)]
     fn before_contact(
         (pairs, test): (&[Pair], contact::BounceTest),
         work: &mut Scratch,
@@ -666,9 +678,11 @@ impl Engine<'_> {
         let Some(modes) = p.contact_modes.as_deref().filter(|_| modal) else {
             flight.state_at(c.s, &work.event_exponentials, &mut state.y);
             let carry = several && Self::carry_from(work, flight, &state.y);
-            // The positions' size from the state itself, as for a flight not carried on.
-            let n = state.y.len() / 2;
-            work.carried_position_size = contact::largest_magnitude(&state.y.as_slice()[..n]);
+            if carry {
+                // The positions' size from the state itself, as for a flight not carried on.
+                let n = state.y.len() / 2;
+                work.carried_position_size = contact::largest_magnitude(&state.y.as_slice()[..n]);
+            }
             return contact::BeforeContact {
                 carry,
                 formed: true,

@@ -364,7 +364,7 @@ impl Engine<'_> {
         match (watch, release) {
             (Watch::Contact(c), _) => {
                 state.tau += span;
-                self.contact(state, c, contact::BeforeContact::default())?;
+                self.contact(state, c, contact::BeforeContact::formed())?;
             }
             (Watch::Step(_), _) => state.tau += span,
             (Watch::Clear, Some((s, position))) => self.release(state, index, position, s)?,

@@ -478,8 +478,11 @@ fn largest_step(terms: &[Term], delta: f64, fastest: f64) -> Option<usize> {
     };
     let estimate = delta.abs() * fastest;
     let clear = |b: f64| (estimate - b).abs() > STEP_SIDE * b;
-    let shortcut =
-        estimate.is_finite() && clear(SMALL_STEP) && SERIES_BOUNDS.iter().all(|&b| clear(b));
+    // A unit's three terms cost fewer instructions than the bounds' tests.
+    let shortcut = terms.len() >= PACKED_TERMS
+        && estimate.is_finite()
+        && clear(SMALL_STEP)
+        && SERIES_BOUNDS.iter().all(|&b| clear(b));
     let degree = |largest: f64| (largest <= SMALL_STEP).then(|| series_start_fine(largest));
     if !shortcut {
         return degree(exact());
