@@ -132,25 +132,17 @@ impl Engine<'_> {
             self.impact(state, c, rdot);
         }
         if before.cannot_stick {
-            // An impact that bounces off (`Self::cannot_stick`): nothing more to decide.
+            // An impact that bounces off (`Self::cannot_stick`): nothing more to decide. Where
+            // the whole state is formed, the decision below agrees.
             debug_assert!(approaching);
+            debug_assert!(
+                !before.formed || !self.sticks(state, c, (approaching, velocity_round)),
+                "a contact found unable to stick sticks at t = {}",
+                state.tau
+            );
             return Ok(());
         }
-        // Stick? Post-impact relative speed, and the relative acceleration pushing into the
-        // stop.
-        let p = &self.pairs[c.pair];
-        let e = p.spec.restitution;
-        let rdot_after = p.relative_velocity(&state.y);
-        let push = self.relative_acceleration(c.pair, &state.y, state.tau, state.mode) * side;
-        let accumulation = if push > 0.0 && e < 1.0 {
-            2.0 * rdot_after.abs() / (push * (1.0 - e))
-        } else {
-            f64::INFINITY
-        };
-        let stick = push > 0.0
-            && (rdot_after.abs() <= self.resting_velocity + velocity_round
-                || accumulation < CHATTER * self.period
-                || !approaching);
+        let stick = self.sticks(state, c, (approaching, velocity_round));
         if stick {
             self.stick(state, c)?;
         } else if !approaching {
@@ -159,6 +151,32 @@ impl Engine<'_> {
             state.grace[c.pair] = state.tau + self.release_grace;
         }
         Ok(())
+    }
+
+    /// Whether the stop holds pair `c.pair` after the contact (the state `state.y` after
+    /// the impact, if any): the relative acceleration pushes into the stop, and the relative
+    /// speed after it is below the resting velocity, or the chatter would accumulate within
+    /// [`CHATTER`] of a period, or the pair was not approaching.
+    fn sticks(
+        &self,
+        state: &RunState,
+        c: Contact,
+        (approaching, velocity_round): (bool, f64),
+    ) -> bool {
+        let p = &self.pairs[c.pair];
+        let e = p.spec.restitution;
+        let rdot_after = p.relative_velocity(&state.y);
+        let push =
+            self.relative_acceleration(c.pair, &state.y, state.tau, state.mode) * c.side as f64;
+        let accumulation = if push > 0.0 && e < 1.0 {
+            2.0 * rdot_after.abs() / (push * (1.0 - e))
+        } else {
+            f64::INFINITY
+        };
+        push > 0.0
+            && (rdot_after.abs() <= self.resting_velocity + velocity_round
+                || accumulation < CHATTER * self.period
+                || !approaching)
     }
 
     /// Event: impact of pair `c.pair` on side `c.side`, approaching at `rdot`. Newton
@@ -248,7 +266,8 @@ impl Engine<'_> {
     /// stick: an approach faster than the velocities' rounding (`velocity_size`), a rebound
     /// faster than the resting velocity, and (`e < 1`) too fast for the chatter to
     /// accumulate within [`CHATTER`] of a period under any push up to `push`, a bound on
-    /// `|r̈|` ([`Pair::contact_modes`], [`Pair::forcing_size`]). The same decisions as
+    /// `|r̈|` before the impact ([`Pair::contact_modes`], [`Pair::forcing_size`]), plus the
+    /// impact's velocity jumps times their weights in it ([`Pair::impact_weights`]). The same decisions as
     /// [`Self::contact`]'s, which then need not form the rest of the state. `y` is left as
     /// it was.
     pub(super) fn cannot_stick(
@@ -262,7 +281,8 @@ impl Engine<'_> {
         if rdot * side as f64 <= velocity_round || p.impact_mobility.len() > 4 {
             return false;
         }
-        // The impact on the entries it changes, undone after.
+        // The impact on the entries it changes, undone after; the push grows by at most its
+        // part in the velocities' jumps.
         let n = y.len() / 2;
         let mut kept = [0.0; 4];
         for (k, &(i, _)) in kept.iter_mut().zip(&p.impact_mobility) {
@@ -270,7 +290,9 @@ impl Engine<'_> {
         }
         Self::free_impact(p, y, None);
         let rdot_after = p.relative_velocity(y);
-        for (k, &(i, _)) in kept.iter().zip(&p.impact_mobility) {
+        let mut push = push;
+        for ((k, &(i, _)), &weight) in kept.iter().zip(&p.impact_mobility).zip(&p.impact_weights) {
+            push += weight * (y[n + i] - *k).abs();
             y[n + i] = *k;
         }
         if rdot_after.abs() <= test.resting_velocity + velocity_round {

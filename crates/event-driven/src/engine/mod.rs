@@ -171,6 +171,10 @@ struct Pair {
     /// Per kept mode of the free flow, what a contact reads of it (`None` for more than
     /// [`CONTACT_ENTRIES`] contact entries): see [`ContactMode`].
     contact_modes: Option<Vec<ContactMode>>,
+    /// Per entry of [`Self::impact_mobility`] (the velocity `u̇_i` an impact changes), its
+    /// weight in a bound on `|r̈|`, `Σ_rows |(M⁻¹d)_r| |C_ri|` ([`acceleration_bound`]): the
+    /// bound grows by it times `|Δu̇_i|` across the impact.
+    impact_weights: Vec<f64>,
     /// A bound on the forcing's part of `r̈`, `Σ_rows |(M⁻¹d)_i| (|f_ci| + |f_si|)`
     /// ([`acceleration_bound`]).
     forcing_size: f64,
@@ -318,14 +322,19 @@ impl<'m> Engine<'m> {
                     .collect();
                 contact_entries.sort_unstable();
                 contact_entries.dedup();
-                let (acceleration_sizes, forcing_size) =
-                    acceleration_bound(&free, &acceleration_rows);
+                let (weights, forcing_size) = acceleration_bound(&acceleration_rows, 2 * n);
+                let acceleration_sizes = free.kept_entry_sizes(&weights);
+                let impact_weights = impact_mobility
+                    .iter()
+                    .map(|&(i, _)| weights[n + i])
+                    .collect();
                 let contact_modes = contact_modes(&free, &contact_entries, &acceleration_sizes);
                 Pair {
                     direction_entries,
                     impact_mobility,
                     contact_entries,
                     contact_modes,
+                    impact_weights,
                     forcing_size,
                     impact_compliance: model_d.dot(model_mobility),
                     spec: *c,
@@ -413,13 +422,14 @@ impl<'m> Engine<'m> {
     }
 }
 
-/// The sizes of a pair's rows of `r̈` for [`ContactMode`] and [`Pair::forcing_size`]: each
-/// entry's weight `Σ_i |(M⁻¹d)_i| |c_ij|` over the rows' coefficients, sized mode by mode, and
-/// `Σ_i |(M⁻¹d)_i| (|f_ci| + |f_si|)`. With no cancellation anywhere, `|r̈|` as
-/// [`Engine::free_relative_acceleration`] rounds it is within a few roundings of
-/// `Σ_k size_k (|Re z_k| + |Im z_k|) + forcing`.
-fn acceleration_bound(free: &LinearFlow, rows: &[AccelerationRow]) -> (Vec<f64>, f64) {
-    let mut weights = vec![0.0; 2 * free.dofs()];
+/// The weights of the state's entries in a bound on a pair's `r̈` from its rows
+/// ([`Pair::acceleration_rows`]), each `Σ_i |(M⁻¹d)_i| |c_ij|` over the rows' coefficients
+/// (`m` entries), and `Σ_i |(M⁻¹d)_i| (|f_ci| + |f_si|)`: with no cancellation anywhere,
+/// `|r̈|` as [`Engine::free_relative_acceleration`] rounds it is within a few roundings of
+/// `Σ_j weight_j |y_j| + forcing`, and so of `Σ_k size_k (|Re z_k| + |Im z_k|) + forcing` with
+/// the modes' sizes of those weights ([`LinearFlow::kept_entry_sizes`], [`ContactMode`]).
+fn acceleration_bound(rows: &[AccelerationRow], m: usize) -> (Vec<f64>, f64) {
+    let mut weights = vec![0.0; m];
     let mut forcing = 0.0;
     for row in rows {
         for &(j, c) in &row.coefficients {
@@ -427,7 +437,7 @@ fn acceleration_bound(free: &LinearFlow, rows: &[AccelerationRow]) -> (Vec<f64>,
         }
         forcing += row.mobility.abs() * (row.forcing.0.abs() + row.forcing.1.abs());
     }
-    (free.kept_entry_sizes(&weights), forcing)
+    (weights, forcing)
 }
 
 /// [`Pair::contact_modes`] of a pair's contact entries, given its modes' sizes in `r̈`.
