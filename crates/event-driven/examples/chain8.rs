@@ -281,6 +281,40 @@
 //! excluded by their summaries, 2.4 searched (1.4 before the first contact is found, of which
 //! 0.4 find none; 1.1 after it), 4.5 chunk midpoints and 1.0 chunk bisection, 1.1 polishes
 //! (14 % of them of a contact a later search beats).
+//!
+//! Measured again (stop 30, from 04bc88c, against b5cf96f's binary and the start, alternated,
+//! eleven runs each, medians of `perf stat`'s task clock, load average 0.9 to 1.9): 793 ms at
+//! b5cf96f, 433 ms at the start and 381 ms after, the same 368 652 impacts (**×2.08** over
+//! b5cf96f, −12 % against the start; `/usr/bin/time`, nine runs each: 0.80, 0.44, 0.39 s,
+//! ×2.05). Issue 24's ×2 is reached. Callgrind, first 1000 periods 377.7e6 → 343.8e6 (774.1e6
+//! at b5cf96f: ×2.25), first 5000 1628.2e6 → 1456.2e6 (3482.2e6: ×2.39). Every result bit for
+//! bit the start's (the same runs as at stop 29, with `--trajectory` beside `--impacts` as the
+//! command now asks: 54 outputs identical after every commit). By commit (first 5000 periods):
+//! - a contact forms only the state's entries an impact that cannot stick reads and changes
+//!   (its pair's two velocities), from the state's modal coordinates there
+//!   (`Flight::modal_state`), which also give the positions' and velocities' rounding scales and
+//!   a bound on the push (`ContactMode`), so that a contact that may stick, one at a section and
+//!   one a run records form the whole state and decide alike (→ 1567.1e6, 453 → 421 ms; a
+//!   first form with scalar coordinates and scale sums took more instructions than the state it
+//!   saved: 377.6e6 → 383.4e6 for 1000 periods, though 16 ms faster);
+//! - the contact's bounds and entries four lanes at once, the carried deviation's products
+//!   taken from the coordinates', the constant terms' derivative coefficients two terms to a
+//!   register with their storage kept rather than zeroed (stop 29's packed form zeroed it and
+//!   cost more than it saved) (→ 1500.3e6, 415 → 407 ms);
+//! - a flight's modal coordinates `V⁻¹y` two modes to a register, and the polish's series degree
+//!   from the grid's fastest rate times the step where no bound is within 1e-14 of it
+//!   (→ 1475.1e6); the summaries written in place rather than returned (a `memcpy` call per
+//!   block, → 1461.9e6, 403 → 389 ms); the watch's earliest estimate moved to the front entry
+//!   by entry (→ 1457.0e6).
+//!
+//! The unit's path is kept as it was (no call of the contact's modal path; `unit_long 20000`
+//! 206.98e6 at the start, 208.0e6 after: the pairs carry the new bounds). Stop 29's reading of
+//! the partial contact state ("as slow") was of scalar entries with stale scales: packed, with
+//! scales from the coordinates, it is the largest gain of this stop. Where the time goes now
+//! (`perf`, 20 000 periods): the search's own loop 13.5 %, the summaries 11.1 %, the run loop
+//! 9.5 %, the polish's local sums 7.8 %, its series 5.9 %, the exclusion tests 5.2 %, the
+//! quadratic estimates 5.1 %, Halley's iterations 4.8 %, the chunk sums 4.7 %, the derivative
+//! coefficients 3.1 %, the contact's coordinates 2.8 %.
 
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};
