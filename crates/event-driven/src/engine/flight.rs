@@ -645,10 +645,10 @@ impl Engine<'_> {
         }
     }
 
-    /// The state just before contact `c` at the end of `flight`, as [`Self::contact`] needs
-    /// it, and with several pairs the deviation carried across it ([`Self::carry_from`]).
+    /// With several pairs, the state just before contact `c` at the end of `flight`, as
+    /// [`Self::contact`] needs it, and the deviation carried across it ([`Self::carry_from`]).
     ///
-    /// With several pairs on a steady-response flight, the state's modal coordinates there
+    /// On a steady-response flight, the state's modal coordinates there
     /// give the positions' and velocities' sizes ([`ContactMode`]), the scales of the
     /// contact's and the next flight's rounding whether or not the state is formed, so that
     /// a run decides the same whatever it records. An impact that cannot stick
@@ -666,10 +666,8 @@ impl Engine<'_> {
         state: &mut RunState,
         (flight, c, tau, records): (&Flight<'_>, Contact, f64, bool),
     ) -> contact::BeforeContact {
-        let several = pairs.len() > 1;
         let p = &pairs[c.pair];
-        let modal = several
-            && p.contact_modes.is_some()
+        let modal = p.contact_modes.is_some()
             && flight.modal_state(
                 c.s,
                 &work.event_exponentials,
@@ -677,7 +675,7 @@ impl Engine<'_> {
             );
         let Some(modes) = p.contact_modes.as_deref().filter(|_| modal) else {
             flight.state_at(c.s, &work.event_exponentials, &mut state.y);
-            let carry = several && Self::carry_from(work, flight, &state.y);
+            let carry = Self::carry_from(work, flight, &state.y);
             if carry {
                 // The positions' size from the state itself, as for a flight not carried on.
                 let n = state.y.len() / 2;

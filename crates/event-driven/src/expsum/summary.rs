@@ -298,18 +298,9 @@ impl LaneSums {
     /// [`Self::write`] as an array.
     #[inline(always)]
     fn summaries(&self) -> [Summary; LANES] {
-        std::array::from_fn(|l| Summary {
-            start: self.start[l],
-            slope0: self.slope0[l],
-            curve0: self.curve0[l],
-            size0: self.size0[l],
-            centre: 0.0,
-            spread: self.size0[l],
-            speed: self.speed[l],
-            bend: self.bend[l],
-            jerk_cut: self.jerk[l],
-            jerk_horizon: self.jerk[l],
-        })
+        let mut out = [Summary::default(); LANES];
+        self.write(&mut out);
+        out
     }
 }
 
