@@ -110,6 +110,16 @@ struct SteadyResponse {
 }
 
 impl SteadyResponse {
+    /// Kept mode `j`'s coordinate `(h_j e^{λ_j s} + P⁺_j F + P⁻_j F̄ + P⁰_j)·weight` from its
+    /// decayed deviation `h_j e^{λ_j s}` and the forcing's phase `F` at `s`: the one form
+    /// of it ([`Flight::state_at`] adds the state from these, [`Flight::modal_state`] hands
+    /// them out; [`pair_coordinates_avx`] packs the same operations two modes at a time).
+    #[inline(always)]
+    fn coordinate(&self, j: usize, decayed: C64, forced: C64, weight: f64) -> C64 {
+        (decayed + self.plus[j] * forced + self.minus[j] * forced.conj() + self.constant[j])
+            * weight
+    }
+
     /// The response of the kept modes only, in the order of `kept` (contiguous, as the
     /// flights' deviations are).
     fn of_kept(self, kept: &[(usize, f64)]) -> Self {
@@ -860,7 +870,6 @@ fn steady_state_avx(
         // SAFETY: `two` holds two `C64`, four `f64` in that order: one unaligned load.
         unsafe { _mm256_loadu_pd(two.as_ptr().cast()) }
     };
-    let (plus, minus) = (pack(forced, forced), pack(forced.conj(), forced.conj()));
     // A `match`, not `Option::map_or_else` (which was left out of line here: 68e6
     // instructions of `chain8 5000`).
     let el = |j: usize, k: usize| match known {
@@ -876,11 +885,7 @@ fn steady_state_avx(
             Some(e) => load(e, 2 * i),
             None => pack(cexp(f.rates[k0], s), cexp(f.rates[k1], s)),
         };
-        let mut z = complex_pair_product(h, e);
-        z = _mm256_add_pd(z, complex_pair_product(load(&p.plus, 2 * i), plus));
-        z = _mm256_add_pd(z, complex_pair_product(load(&p.minus, 2 * i), minus));
-        z = _mm256_add_pd(z, load(&p.constant, 2 * i));
-        z = _mm256_mul_pd(z, _mm256_set_pd(w1, w1, w0, w0));
+        let z = pair_coordinates_avx(p, 2 * i, complex_pair_product(h, e), forced, (w0, w1));
         let (z0, z1) = complex_pair(z);
         let (c0, c1) = (k0 * m..(k0 + 1) * m, k1 * m..(k1 + 1) * m);
         add_two_columns_avx(
@@ -891,11 +896,7 @@ fn steady_state_avx(
     }
     if let &[(k, weight)] = last {
         let j = f.kept.len() - 1;
-        let zk = (deviation[j] * el(j, k)
-            + p.plus[j] * forced
-            + p.minus[j] * forced.conj()
-            + p.constant[j])
-            * weight;
+        let zk = p.coordinate(j, deviation[j] * el(j, k), forced, weight);
         let column = k * m..(k + 1) * m;
         add_column_avx(&columns_re[column.clone()], &columns_im[column], zk, y);
     }
@@ -951,6 +952,35 @@ fn kept_peaks(modes: &DMatrix<C64>, kept: &[(usize, f64)]) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// [`SteadyResponse::coordinate`] of kept modes `j` and `j + 1` (their decayed deviations
+/// packed in `decayed`, weights `w0`, `w1`), two to an AVX register: the same operations in
+/// the same order ([`complex_pair_product`](crate::expsum::complex_pair_product): [`Complex`]'s
+/// products), so the same bits.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx")]
+#[inline]
+fn pair_coordinates_avx(
+    p: &SteadyResponse,
+    j: usize,
+    decayed: std::arch::x86_64::__m256d,
+    forced: C64,
+    (w0, w1): (f64, f64),
+) -> std::arch::x86_64::__m256d {
+    use crate::expsum::complex_pair_product;
+    use std::arch::x86_64::*;
+    let pack = |a: C64, b: C64| _mm256_set_pd(b.im, b.re, a.im, a.re);
+    let load = |v: &[C64]| {
+        let two = &v[j..j + 2];
+        // SAFETY: `two` holds two `C64`, four `f64` in that order: one unaligned load.
+        unsafe { _mm256_loadu_pd(two.as_ptr().cast()) }
+    };
+    let (plus, minus) = (pack(forced, forced), pack(forced.conj(), forced.conj()));
+    let mut z = _mm256_add_pd(decayed, complex_pair_product(load(&p.plus), plus));
+    z = _mm256_add_pd(z, complex_pair_product(load(&p.minus), minus));
+    z = _mm256_add_pd(z, load(&p.constant));
+    _mm256_mul_pd(z, _mm256_set_pd(w1, w1, w0, w0))
+}
+
 /// [`Flight::modal_state`] with AVX and the exponentials known: [`steady_state_avx`]'s
 /// coordinates (the same operations, so the same bits), written to `z` (as long as the kept
 /// modes) rather than added into a state, and their first products `h_k e^{λ_k s}` to
@@ -965,25 +995,20 @@ fn modal_state_avx(
 ) {
     use crate::expsum::complex_pair_product;
     use std::arch::x86_64::*;
-    let pack = |a: C64, b: C64| _mm256_set_pd(b.im, b.re, a.im, a.re);
     let load = |v: &[C64], i: usize| {
         let two = &v[i..i + 2];
         // SAFETY: `two` holds two `C64`, four `f64` in that order: one unaligned load.
         unsafe { _mm256_loadu_pd(two.as_ptr().cast()) }
     };
-    let (plus, minus) = (pack(forced, forced), pack(forced.conj(), forced.conj()));
     let pairs = f.kept.chunks_exact(2);
     let last = pairs.remainder();
     for (i, pair) in pairs.enumerate() {
         let (w0, w1) = (pair[0].1, pair[1].1);
-        let mut v = complex_pair_product(load(deviation, 2 * i), load(e, 2 * i));
+        let decayed = complex_pair_product(load(deviation, 2 * i), load(e, 2 * i));
         let first = &mut carried[2 * i..2 * i + 2];
         // SAFETY: `first` holds two `C64`, four `f64`: one unaligned store.
-        unsafe { _mm256_storeu_pd(first.as_mut_ptr().cast(), v) };
-        v = _mm256_add_pd(v, complex_pair_product(load(&p.plus, 2 * i), plus));
-        v = _mm256_add_pd(v, complex_pair_product(load(&p.minus, 2 * i), minus));
-        v = _mm256_add_pd(v, load(&p.constant, 2 * i));
-        v = _mm256_mul_pd(v, _mm256_set_pd(w1, w1, w0, w0));
+        unsafe { _mm256_storeu_pd(first.as_mut_ptr().cast(), decayed) };
+        let v = pair_coordinates_avx(p, 2 * i, decayed, forced, (w0, w1));
         let out = &mut z[2 * i..2 * i + 2];
         // SAFETY: `out` holds two `C64`, four `f64`: one unaligned store.
         unsafe { _mm256_storeu_pd(out.as_mut_ptr().cast(), v) };
@@ -991,8 +1016,7 @@ fn modal_state_avx(
     if let &[(_, weight)] = last {
         let j = f.kept.len() - 1;
         carried[j] = deviation[j] * e[j];
-        z[j] =
-            (carried[j] + p.plus[j] * forced + p.minus[j] * forced.conj() + p.constant[j]) * weight;
+        z[j] = p.coordinate(j, carried[j], forced, weight);
     }
 }
 
@@ -1150,11 +1174,7 @@ impl Flight<'_> {
                 }
                 for (j, &(k, weight)) in f.kept.iter().enumerate() {
                     let el = known.map_or_else(|| cexp(f.rates[k], s), |e| e[j]);
-                    let zk = (deviation[j] * el
-                        + p.plus[j] * forced
-                        + p.minus[j] * forced.conj()
-                        + p.constant[j])
-                        * weight;
+                    let zk = p.coordinate(j, deviation[j] * el, forced, weight);
                     f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
@@ -1224,8 +1244,7 @@ impl Flight<'_> {
                 Some(e) => e[j],
                 None => cexp(f.rates[k], s),
             };
-            (deviation[j] * el + p.plus[j] * forced + p.minus[j] * forced.conj() + p.constant[j])
-                * weight
+            p.coordinate(j, deviation[j] * el, forced, weight)
         }));
         true
     }

@@ -577,8 +577,8 @@ mod tests {
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx") {
                 let mut coefficients = vec![[f64::NAN; 2 * LANES]; count];
-                // SAFETY: the CPU has AVX.
                 let mut sums = [Summary::default(); LANES];
+                // SAFETY: the CPU has AVX.
                 unsafe {
                     summarize_block_avx(
                         &weights,
