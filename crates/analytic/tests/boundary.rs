@@ -356,7 +356,7 @@ fn symmetric_branch_point(omega: f64, omega_min: f64, omega_max: f64) -> (Signat
 }
 
 /// The branch points near ω = 2.922 (from the viable symmetric orbit at 2.9) and 2.1925686
-/// (the one `solve_branch_point` locates to 2.2e-15, issue #22; from the viable symmetric
+/// (the one `solve_branch_point` locates to 2.2e-15; from the viable symmetric
 /// orbit at 2.2), each followed over the gap and over the restitution.
 #[test]
 fn branch_point_curves_over_the_gap_and_the_restitution_are_where_continuation_finds_them() {
@@ -581,7 +581,7 @@ fn the_grazing_curve_over_the_restitution_turns_at_its_located_turning_point() {
         .unwrap()
     };
     let boundary = follow(&[]);
-    // The turn measured by the last stop's `rattle boundary` near e = 0.559, ω = 2.452.
+    // The turn that `rattle boundary` finds near e = 0.559, ω = 2.452.
     let turns = special(&boundary, "turning-point");
     assert_eq!(turns.len(), 1, "{:?}", boundary.special_points);
     let turn = turns[0];
@@ -701,7 +701,7 @@ fn a_grazing_curve_crosses_the_period_doubling_curve_where_each_locates_the_othe
     );
 }
 
-/// Measured by the special points' own search (this stop): a Neimark–Sacker curve of the
+/// As the special points' own search finds it: a Neimark–Sacker curve of the
 /// paper unit's `++--` orbits, from its event near ω = 1.94817 at e = 0.8, followed down
 /// the restitution, ends where its complex pair meets at +1 (e ≈ 0.368, ω ≈ 1.312): a 1:1
 /// resonance, where the fold curve meets it.
@@ -808,10 +808,10 @@ fn boundary_length(boundary: &Boundary) -> f64 {
 
 #[test]
 fn a_closed_curve_longer_than_one_direction_is_followed_once_from_both_ways() {
-    // Regression (the boundaries of `cargo xtask figures`, stop 27): the branch-point curve
-    // of the `+-+-` orbits over the gap is closed and longer than one direction's
-    // `max_points` (300 there): each direction went round it, 607 points for a curve of
-    // about 356. The backward way now ends where the forward way stopped.
+    // The branch-point curve of the `+-+-` orbits over the gap (a boundary of `cargo xtask
+    // figures`) is closed and longer than one direction's `max_points` (300 there): the
+    // backward way ends where the forward way stopped, rather than each going round it (607
+    // points for a curve of about 356).
     let signature = Signature::parse("+-+-", 2).unwrap();
     let (unit, stops) = (paper_unit(), paper_stops());
     let omega = 2.4586286349587962;

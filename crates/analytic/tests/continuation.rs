@@ -455,8 +455,8 @@ fn event_and_end_names() {
     assert_eq!(EndReason::FlightMerged.name(), "flight-merged");
 }
 
-/// Issue #22: the branch cap used to drop the seeds still queued without a word. With one
-/// branch allowed, the symmetric branch through ω = 2.9 is followed and every branch it would
+/// The branch cap lists the seeds still queued rather than dropping them without a word. With
+/// one branch allowed, the symmetric branch through ω = 2.9 is followed and every branch it would
 /// switch onto is listed, without points, both ends `branch-cap`: as many as leave it when
 /// the cap allows them.
 #[test]
@@ -601,17 +601,17 @@ fn symmetric_branch_point(a: f64, b: f64) -> f64 {
     0.5 * (a + b)
 }
 
-/// Issue #22: started 0.02 below the symmetric orbit's branch point at 2.1925686 rad/s (the
-/// paper scene, README), the continuation reported grazings, a Neimark–Sacker, a vanishing
-/// impact, a period doubling and a fold within 1e-3 of it, but not the branch point (a fold
-/// in the same step masked it). From either side it is found, to 1e-13 of `Δ*(½) = Δ`.
+/// Started 0.02 below the symmetric orbit's branch point at 2.1925686 rad/s (the paper
+/// scene), the continuation meets grazings, a Neimark–Sacker, a vanishing impact, a period
+/// doubling and a fold within 1e-3 of it, and a fold in the same step could mask the branch
+/// point. From either side it is found, to 1e-13 of `Δ*(½) = Δ`.
 #[test]
 fn branch_point_among_crowded_events_is_found_from_either_side() {
     let (unit, stops) = (paper_unit(), paper_stops());
     let reference = symmetric_branch_point(2.19, 2.195);
     let signature = Signature::parse("+-", 1).unwrap();
-    // Below, the asymmetric orbit that reaches the symmetric one there (β ≈ 0.666, the
-    // `rattle continue` start of the issue); above, the symmetric orbit it reaches (α ≈ 3.12).
+    // Below, the asymmetric orbit that reaches the symmetric one there (β ≈ 0.666); above,
+    // the symmetric orbit it reaches (α ≈ 3.12).
     let below = signature_orbits(&unit, &stops, reference - 0.02, &signature)
         .into_iter()
         .find(|o| (o.impact_phases[1] - 0.666).abs() < 0.01)
@@ -663,8 +663,8 @@ fn depths(c: &Continuation) -> Vec<usize> {
     depth
 }
 
-/// Issue #22: each branch followed once (a branch and its half-period mirror image were
-/// followed as two, the period-doubled branches went round twice), each event listed once.
+/// Each branch followed once (not a branch and its half-period mirror image as two, nor a
+/// period-doubled branch round twice), each event listed once.
 /// An event and its image have the same kind, frequency and amplitude: no two events may.
 #[test]
 fn each_event_is_listed_once_and_images_are_not_followed() {
@@ -799,10 +799,10 @@ fn arc_length(branch: &Branch) -> f64 {
 
 #[test]
 fn a_loop_longer_than_one_direction_is_followed_once_from_both_ways() {
-    // Regression (the study's continuation of `cargo xtask figures`, stop 27): a closed loop
-    // longer than the first direction's half of the points was followed a second time by
-    // the other direction, round the other way, until its own cap: ten branches of the
-    // study retraced 36 to 91 % of their points (9 636 of 53 970: the example branch_overlap).
+    // A closed loop longer than the first direction's half of the points (the study's
+    // continuation in `cargo xtask figures` has such loops; the example `branch_overlap`
+    // checks the study) is followed once: the other direction stops where the first stopped
+    // rather than going round the other way until its own cap.
     let (unit, stops) = (paper_unit(), paper_stops());
     let start = isola_start();
     let single = |points: usize| ContinuationSettings {
@@ -827,7 +827,8 @@ fn a_loop_longer_than_one_direction_is_followed_once_from_both_ways() {
     let halves = continue_orbit(&unit, &stops, &start, &single(loop_points * 3 / 2)).unwrap();
     let branch = &halves.branches[0];
     assert_eq!(reasons(&halves), [EndReason::ClosedLoop; 2]);
-    // Once round: the same length to within the step that closes it (it was 1.5 loops).
+    // Once round: the same length to within the step that closes it (not the cap's 1.5
+    // loops).
     let (once, followed) = (arc_length(&whole.branches[0]), arc_length(branch));
     assert!(
         (followed - once).abs() < 0.02 * once,
@@ -838,11 +839,11 @@ fn a_loop_longer_than_one_direction_is_followed_once_from_both_ways() {
 
 #[test]
 fn a_branch_of_more_impacts_than_the_search_takes_is_recognised_when_run_onto() {
-    // Regression (the study's continuation of `cargo xtask figures`, stop 27): the
-    // representations of a label of more than 16 impacts (a branch seeded from a simulated
-    // cycle) were formed under the search's caps and so did not exist: no point or event on
-    // such a branch was ever recognised, and a branch switched back onto one was followed
-    // again in full (two of the study's branches, 1 500 points each).
+    // The representations of a label of more than 16 impacts (a branch seeded from a
+    // simulated cycle, as in the study's continuation of `cargo xtask figures`) are formed
+    // under a simulated cycle's caps: under the search's they would not exist, no point or
+    // event on such a branch would be recognised, and a branch switched back onto one would
+    // be followed again in full.
     let (unit, stops) = (paper_unit(), paper_stops());
     // A period-2 orbit of 40 impacts on an isola near ω = 1.45, as the study found it.
     let tens = [[1i8; 10], [-1; 10]].concat();

@@ -269,8 +269,8 @@ fn detour(step: &[ContinuationPoint], p: &ContinuationPoint) -> f64 {
 fn a_grazing_and_a_vanishing_impact_of_the_chain_are_where_the_solvers_verdict_on_the_pair_changes()
 {
     // The branch that leaves the 2-cell branch's branch point at 3.33878 rad/s (switched onto
-    // at depth 1) has, within [2.5, 4.0], a vanishing impact and a grazing of pair 0 (found
-    // by `rattle continue` when this test was written; the test follows it again).
+    // at depth 1) has, within [2.5, 4.0], a vanishing impact and a grazing of pair 0 (as
+    // `rattle continue` finds them; the test follows the branch itself).
     let model = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2).unwrap();
     let sequence = ImpactSequence::parse("0+ 1- 0- 1+", 1).unwrap();
     let orbits = sequence_orbits(&model, 3.3, &sequence).unwrap();

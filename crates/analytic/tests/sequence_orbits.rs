@@ -257,8 +257,7 @@ fn two_cells() -> LinearModel {
 
 /// Each pair `+-` in the order pair 0 on side 1, pair 1 on side 2, pair 0 on side 2, pair 1
 /// on side 1: at `ω = 3.3` the multi-start finds viable orbits of this sequence on the damped
-/// 2-cell chain (found by `sequence_orbits` when this test was written; the test searches
-/// again rather than storing them).
+/// 2-cell chain (the test searches for them rather than storing them).
 const CHAIN_SEQUENCE: &str = "0+ 1- 0- 1+";
 const CHAIN_OMEGA: f64 = 3.3;
 
@@ -544,8 +543,8 @@ fn orbit_serialises_with_the_units_field_names() {
 
 /// Other signatures of the unit, searched on the same grid by both paths: the same orbits.
 /// A coarse explicit grid (12 intervals) keeps the four-impact searches short; the default
-/// grids agree too (checked by hand when this test was written: `++--` at `ω = 1.5`, 7
-/// orbits each, `+-+-` over 2 periods, 61 and 53 orbits, undamped and damped).
+/// grids agree too (checked by hand: `++--` at `ω = 1.5`, 7 orbits each, `+-+-` over 2
+/// periods, 61 and 53 orbits, undamped and damped).
 #[test]
 fn other_signatures_of_the_unit_equal_the_fixed_size_search() {
     let stops = paper_stops();

@@ -3,14 +3,16 @@
 //! points and events, the points that retrace their own branch (within a tenth of a segment's
 //! length of a segment at least 20 points away: a loop's closing step puts one or two there),
 //! and the branches that lie on an earlier branch of the same signature for nine tenths of their
-//! points or more (a branch of one point that joins at its seed counts). The counts of issue
-//! #24's stop 27: `cargo run --release -p rattle-compare --example branch_overlap`.
+//! points or more (a branch of one point that joins at its seed counts).
 //!
-//! Before the fixes of stop 27 (the analytic crate at 49a32b0): 603 branches (70 with points),
-//! 53 970 points, 1 534 events, 9 636 points retracing (ten branches, 36 to 91 % of their
-//! points), eight branches on an earlier one (two of 1 500 points). After (ce7059e): 578 branches (70 with points), 44 362 points, 1 107
-//! events, 81 retracing (the closing steps of the loops), seven on an earlier one, each of one
-//! to five points, ended at its seed or a few steps on (`joins`).
+//! ```text
+//! cargo run --release -p rattle-compare --example branch_overlap
+//! ```
+//!
+//! A branch followed once leaves only the loops' closing steps among the retracing points, and
+//! only short branches (a few points, ended at their seed or a few steps on: `joins`) on an
+//! earlier one; many retracing points, or long branches on an earlier one, are a branch
+//! followed twice.
 
 use rattle_analytic::continuation::{Branch, ContinuationPoint};
 use rattle_compare::scene::Scene;

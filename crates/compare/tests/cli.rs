@@ -102,8 +102,8 @@ fn bad_input_exits_2_and_names_the_problem() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--beta"));
 }
 
-/// Issue #22: `rattle orbit --omega 1e-300`, `rattle simulate --omega 1e-6` and `rattle sweep
-/// --omega-min 1e-300 …` printed nothing for more than 20 s. Every command now refuses a
+/// `rattle orbit --omega 1e-300`, `rattle simulate --omega 1e-6` and `rattle sweep
+/// --omega-min 1e-300 …` would run for a very long time: every command refuses a
 /// frequency outside the scene's bounds (at most 1e3 free oscillations of the fastest mode per
 /// forcing period, at most 1e6 forcing periods per free oscillation of the slowest mode) with
 /// the field and the range, at once.
@@ -239,10 +239,10 @@ fn frequencies_that_would_not_end_are_refused_at_once_with_the_range() {
     .exists());
 }
 
-/// Issue #22: on the paper's unit from rest, `rattle sweep --solver both --omega-min 0.5
-/// --omega-max 4 --points 200` left these two periodic motions `beyond` ("--signature has 20
-/// impacts: at most 16 are allowed", and 34 impacts over 12 periods). A simulated cycle is now
-/// solved from its own phases whatever its length: both agree with the analytic orbit.
+/// On the paper's unit from rest, `rattle sweep --solver both --omega-min 0.5 --omega-max 4
+/// --points 200` meets these two periodic motions of 20 impacts, and of 34 impacts over 12
+/// periods: longer than a signature may be (16 impacts). A simulated cycle is solved from its
+/// own phases whatever its length: both agree with the analytic orbit.
 #[test]
 fn long_simulated_cycles_are_compared_with_their_analytic_orbit() {
     for (omega, impacts, period) in [
@@ -264,10 +264,10 @@ fn long_simulated_cycles_are_compared_with_their_analytic_orbit() {
     }
 }
 
-/// The one contradiction of the study's 400-frequency sweep of the paper's unit (stop 21): at
-/// ω = 1.4586466165413536 the simulator stopped on a 28-impact cycle that both solvers find
-/// unstable (a multiplier 1.0039), where its sections first repeated. It now runs past a
-/// cycle its own Newton finds unstable, and both solvers agree on the stable cycle beside it,
+/// A hard point of the study's 400-frequency sweep of the paper's unit: at
+/// ω = 1.4586466165413536 the sections from rest first repeat on a 28-impact cycle that both
+/// solvers find unstable (a multiplier 1.0039). The simulator runs past a cycle its own Newton
+/// finds unstable, and both solvers agree on the stable cycle beside it,
 /// to the simulator's Newton tolerance at its rounding floor, times ten (1e-8, as
 /// `compare_chain.rs`).
 #[test]
@@ -592,7 +592,7 @@ fn continue_json_follows_the_branches_and_locates_the_branch_point() {
 
 #[test]
 fn continue_lists_each_event_once_and_says_where_branches_join_or_the_depth_cuts() {
-    // Issue #22: a branch and its mirror image were followed as two and events listed twice.
+    // A branch and its mirror image are one branch, each event listed once.
     let doc = json(&[
         "continue",
         "--signature",

@@ -165,9 +165,8 @@ fn motions_outside_exact_comparison_are_beyond_with_their_reason() {
     }
 }
 
-/// Issue #22: the two-cell chain at ω = 1.5 settles on a cycle of 9 forcing periods, which was
-/// `beyond` as `period-too-long` (a sequence held at most 8). A simulated cycle is now solved
-/// from its own phases up to 64 periods: it agrees.
+/// The two-cell chain at ω = 1.5 settles on a cycle of 9 forcing periods. A simulated cycle is
+/// solved from its own phases up to 64 periods: it agrees.
 #[test]
 fn a_long_cycle_of_a_chain_agrees() {
     let doc = compare(&chain_scene(2), 1.5);

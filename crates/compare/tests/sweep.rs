@@ -235,7 +235,7 @@ fn the_figures_pipeline_runs_end_to_end() {
 
 /// The study runs its parts at once (the continuation on a thread of its own, fed the compared
 /// sweep's seeds when that is done): its every number, the agreement and the report are the
-/// same on one thread as on two (issue #24, the figures' stages made concurrent).
+/// same on one thread as on two.
 #[cfg(feature = "figures")]
 #[test]
 fn the_study_is_the_same_on_one_and_two_threads() {

@@ -93,8 +93,8 @@ pub struct LinearFlow {
     /// The modes as [`Flight::summarize_all`] adds them, every kept mode then the forcing
     /// (their deviations zero: a flight writes its own), formed once for the flow; `None`
     /// where it gives no joint summaries (a rate grows, no mode is kept, or a kept mode has
-    /// rate zero). Building them and checking the rates at every flight was 3 % of
-    /// `chain8`'s instructions.
+    /// rate zero). Formed once: building them and checking the rates at every flight would
+    /// cost a chain some 3 % of its instructions.
     joint_modes: Option<Vec<ModeTerm>>,
     /// The forced steady response, when no mode is resonant with the forcing.
     steady: Option<SteadyResponse>,
@@ -273,9 +273,10 @@ pub(crate) const CONSERVATIVE_ROUNDING: f64 = 1e3;
 
 /// The rates of a system with no damping terms: its oscillating modes (`im μ ≠ 0`) conserve
 /// energy, so a real part at rounding level ([`CONSERVATIVE_ROUNDING`]) is made exactly 0;
-/// conjugate pairs stay exact conjugates. Measured on the `steady_sweep` example (half its
-/// runs undamped): an undamped flight then counts as bounded and is searched on the fixed
-/// grid of cached exponentials, not the horizon grid's fresh ones (see the commit).
+/// conjugate pairs stay exact conjugates. An undamped flight then counts as bounded and is
+/// searched on the fixed grid of cached exponentials, not the horizon grid's fresh ones (the
+/// `steady_sweep` example, half its runs undamped, shows the gain: see the performance page,
+/// `docs/performance.md`).
 fn conservative_rates(rates: &mut [C64]) {
     for r in rates.iter_mut() {
         if r.im != 0.0 && r.re.abs() <= CONSERVATIVE_ROUNDING * f64::EPSILON * r.norm() {
@@ -544,7 +545,7 @@ impl LinearFlow {
         let (re, im) = (&columns_re[column.clone()], &columns_im[column]);
         let y = &mut y[..m];
         // A short column (a unit's four entries) gains nothing from the packed call, which
-        // is kept out of line so that this loop stays inlined as before.
+        // is kept out of line so that this loop stays inlined.
         #[cfg(target_arch = "x86_64")]
         if m >= AVX_COLUMN {
             return add_column(re, im, z, y);
@@ -708,8 +709,8 @@ impl LinearFlow {
     /// Adds to a modal deviation (of the kept modes) the jump of the state from `before` to
     /// `after` (an impact's velocity change): `h += V⁻¹ (after − before)`, over the entries
     /// that changed only, among `changed` (rising), the only entries that can differ (an
-    /// impact's: the velocities along `M⁻¹d`; comparing every entry of the state was a third
-    /// of the carry's instructions on a chain of eight cells).
+    /// impact's: the velocities along `M⁻¹d`; comparing every entry of the state would be a
+    /// third of the carry's instructions on a chain of eight cells).
     pub(crate) fn add_jump(
         &self,
         deviation: &mut [C64],
@@ -821,9 +822,9 @@ fn joint_modes(
 }
 
 /// The shortest state (`2n` entries) whose modes [`LinearFlow::add_mode`] adds out of line,
-/// with AVX when the CPU has it: a unit's four entries took more instructions so (callgrind,
-/// `unit_long 20000`: 238.8e6 → 241.7e6, the loop no longer inlined), a chain's 32 fewer
-/// (`chain8 1000`: 629.0e6 → 613.8e6 once the loads were unchecked and the call out of line).
+/// with AVX when the CPU has it: a unit's four entries cost more instructions so (a call
+/// where the inlined loop is cheaper), a chain's 32 fewer (see the performance page,
+/// `docs/performance.md`).
 #[cfg(target_arch = "x86_64")]
 const AVX_COLUMN: usize = 8;
 
@@ -870,8 +871,8 @@ fn steady_state_avx(
         // SAFETY: `two` holds two `C64`, four `f64` in that order: one unaligned load.
         unsafe { _mm256_loadu_pd(two.as_ptr().cast()) }
     };
-    // A `match`, not `Option::map_or_else` (which was left out of line here: 68e6
-    // instructions of `chain8 5000`).
+    // A `match`, not `Option::map_or_else`, which the compiler leaves out of line here (a
+    // call per entry).
     let el = |j: usize, k: usize| match known {
         Some(e) => e[j],
         None => cexp(f.rates[k], s),
@@ -1022,7 +1023,8 @@ fn modal_state_avx(
 
 /// Kept modes from which a flight's deviation is carried across an event two modes to an AVX
 /// register ([`products_avx`](crate::expsum::products_avx), [`add_scaled_avx`]): a chain's
-/// 16 (`chain8 5000` 1720.3e6 → 1703.9e6 instructions); a unit's two stay scalar.
+/// 16 take fewer instructions so (see the performance page, `docs/performance.md`); a unit's
+/// two stay scalar.
 #[cfg(target_arch = "x86_64")]
 const PACKED_MODES: usize = 8;
 
@@ -1054,7 +1056,8 @@ fn add_scaled_avx(h: &mut [C64], v: &[C64], delta: f64) {
 /// Two modes' columns `(re, im, z)` added in one pass over `y` (each column as long as `y`):
 /// each entry gets the first mode's term and then the second's, the operations of
 /// [`add_column_avx`] twice (so the same bits), `y` loaded and stored once for both rather
-/// than once per mode (`chain8 5000` 1656.9e6 → 1626.3e6 instructions, 460 → 444 ms).
+/// than once per mode (fewer instructions and less time on a chain: see the performance
+/// page, `docs/performance.md`).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx")]
 #[inline]
@@ -1147,8 +1150,8 @@ impl Flight<'_> {
 
     fn state_with(&self, s: f64, exponentials: Option<&[C64]>, y: &mut DVector<f64>) {
         let f = self.flow;
-        // Zeroed as a slice: nalgebra's element iterator took some 360 instructions for a
-        // chain's 32 entries (`chain8 1000`: 7.1e6 in all).
+        // Zeroed as a slice: nalgebra's element iterator takes some 360 instructions for a
+        // chain's 32 entries.
         y.as_mut_slice().fill(0.0);
         // `expand` lists the kept modes, then the forcing.
         let known = exponentials.filter(|e| e.len() > f.kept.len());
@@ -1380,8 +1383,9 @@ impl Flight<'_> {
     /// copied from the summaries' `coefficients` (`w (d·weight)` there, `(w d)·weight` in
     /// [`Self::expand`]: equal, since a weight of 1 or 2 scales exactly), so `out` ends as
     /// [`Self::expand`] would leave it, bit for bit. Otherwise (another form, or `out` not of
-    /// that length) it is [`Self::expand`]. Writing the terms out was some 5 % of `chain8`'s
-    /// time (`perf`); forming their coefficients again, 5 % of its instructions (callgrind).
+    /// that length) it is [`Self::expand`]. Writing the terms out is some 5 % of a chain's
+    /// time, and forming their coefficients again would be 5 % of its instructions (see the
+    /// performance page, `docs/performance.md`).
     pub(crate) fn expand_joint(
         &self,
         functional: &Functional,

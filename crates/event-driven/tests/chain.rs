@@ -1,4 +1,4 @@
-//! Chains of impacting cells (issue 16, event-driven part), each test against an exact answer:
+//! Chains of impacting cells (the event-driven solver), each test against an exact answer:
 //! the linear chain's steady state from an independent complex solve written here, today's
 //! unit bit for bit, the impact law (momentum, `ṙ⁺ = −e ṙ⁻`, energy loss `½μ(1 − e²)ṙ⁻²`) at
 //! every impact, no penetration of any pair, two pairs reaching their stops `1e-12 T` apart at

@@ -311,12 +311,12 @@ fn a_guess_with_another_impact_sequence_is_refused() {
     );
 }
 
-/// The one contradiction of the study's 400-frequency sweep of the paper's unit (stop 21): at
+/// A hard point of the study's 400-frequency sweep of the paper's unit: at
 /// ω = 1.4586466165413536 the sections from rest repeat to 1e-9 after 1 172 periods on a
 /// 28-impact cycle whose multipliers (from this simulator's Newton and from the analytic
 /// solver alike) include 1.0039: a transient passing near an unstable cycle along its stable
-/// manifold, which the run took for the steady state. The run now goes on past a cycle its
-/// Newton finds unstable, and settles on the stable 28-impact cycle beside it.
+/// manifold, not the steady state. The run goes on past a cycle its Newton finds unstable,
+/// and settles on the stable 28-impact cycle beside it.
 #[test]
 fn a_cycle_newton_finds_unstable_is_not_the_steady_state() {
     let omega = 1.4586466165413536;

@@ -1,4 +1,4 @@
-"""The overhead of running a map on Dask against the bare command (issue #25): a 40 000-point
+"""The overhead of running a map on Dask against the bare command: a 40 000-point
 map (`paper-damped.json`, 10 restitutions x 10 gaps x 400 frequencies) by `rattle map` on 2
 threads, by `rattle.map` without a client, and on a `LocalCluster` of 2 workers x 1 thread
 with 4 and 100 parts, in turn; wall and CPU seconds (user + system of every process

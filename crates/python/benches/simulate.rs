@@ -12,7 +12,7 @@ use std::hint::black_box;
 
 /// Forcing frequency of the benchmark, rad/s: the paper scene's two-impact regime.
 const OMEGA: f64 = 2.0;
-/// Forcing periods simulated: the overhead benchmark of the package's issue.
+/// Forcing periods simulated: as many as the Python call it is compared with.
 const PERIODS: u64 = 100;
 
 fn simulate_100_periods(c: &mut Criterion) {

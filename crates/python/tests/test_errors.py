@@ -203,8 +203,8 @@ def test_failures_inside_rust_are_runtime_errors():
 @pytest.mark.parametrize("omega", [1e-300, 1e-6, 1e300])
 @pytest.mark.parametrize("function", [rattle.orbit, rattle.simulate, rattle.compare])
 def test_a_frequency_that_would_not_end_is_the_commands_message(rattle_cli, function, omega):
-    """Issue #22: far below or above the scene's modes a run does not end in bounded time; it
-    is refused at once with the scene's range, as the command refuses it."""
+    """Far below or above the scene's modes a run does not end in bounded time; it is refused
+    at once with the scene's range, as the command refuses it."""
     with pytest.raises(ValueError) as e:
         function(rattle.Scene.paper(), omega)
     theirs = rattle_cli.error(function.__name__, "--omega", omega)

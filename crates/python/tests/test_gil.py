@@ -1,10 +1,8 @@
 """The computations release the GIL: another Python thread keeps running during a call.
 
-This was also checked by timing (two simulations on two threads against the same two in a row,
-beside a GIL-free control), but a timing test fails on a busy machine whatever the code does:
-a clean-clone CI run of stop 22 failed it (simulations 0.74 of their serial time, control
-0.55) while every run before had passed. Speed claims live in benchmarks, not in tests; the
-check below needs no timing."""
+A timing check (two simulations on two threads against the same two in a row, beside a
+GIL-free control) fails on a busy machine whatever the code does: speed claims live in
+benchmarks, not in tests. The check below needs no timing."""
 
 import threading
 import time

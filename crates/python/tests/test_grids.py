@@ -1,5 +1,5 @@
 """Maps and basins from Python: the command's files byte for byte, whole, in parts merged, and
-on a Dask cluster of 1, 2 and 3 workers, also when a worker is killed mid-run (issue #25).
+on a Dask cluster of 1, 2 and 3 workers, also when a worker is killed mid-run.
 
 The Dask tests need `dask` and `distributed` and are skipped without them.
 """

@@ -49,7 +49,7 @@ const ROOT_BRACKET: f64 = 1e-15;
 /// Cap on the implicit QR sweeps of the half-period system's SVD. An 8 × 8 decomposition of
 /// finite entries converges in a few dozen; nalgebra's uncapped `svd` never returns on entries
 /// that are not finite (a flow over `T = 2π/ω` with `ω = 1e-300` overflows), so the cap turns
-/// that into [`FamilyError::Singular`] instead of a hang (issue #22).
+/// that into [`FamilyError::Singular`] instead of a hang.
 const SVD_MAX_ITERATIONS: usize = 10_000;
 
 /// A root is an orbit of the given gap when `|Δ*(β) − Δ| < GAP_ACCEPTANCE · Δ`. `Δ*(β)` comes
@@ -365,8 +365,8 @@ pub fn asymmetric_orbits(unit: &Unit, stops: &Stops, omega: f64, samples: usize)
 mod tests {
     use super::*;
 
-    /// Issue #22: `rattle orbit --omega 1e-300` never returned, inside this SVD. The flow over
-    /// a period of `2π/1e-300` overflows; the family solve must end with an error instead.
+    /// `rattle orbit --omega 1e-300` hangs in an uncapped SVD: the flow over a period of
+    /// `2π/1e-300` overflows. The family solve ends with an error instead.
     #[test]
     fn an_overflowing_flow_ends_in_an_error_not_a_hang() {
         let unit = crate::test_models::paper_unit();

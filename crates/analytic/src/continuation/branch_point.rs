@@ -3,7 +3,7 @@
 //! At a branch point `H_u` loses rank: the corrector of a continuation converges only linearly
 //! there, and the points it returns near one carry errors of about `√ε`, so that a bracket of a
 //! test function pins the branch point to about 1e-8 and no better (measured on the paper's
-//! `+-` orbit, issue #22). Moore's extended system (G. Moore, *The numerical treatment of
+//! `+-` orbit near 2.1925686 rad/s). Moore's extended system (G. Moore, *The numerical treatment of
 //! non-trivial bifurcation points*, Numer. Funct. Anal. Optim. 2, 1980) is regular at a simple
 //! branch point, where two branches cross transversally:
 //!

@@ -121,8 +121,8 @@ fn representations<L: Label>(
                 .collect();
             // The label's own length and period: under the caps of a simulated cycle, not
             // those of the search (a branch of more than 16 impacts, seeded from a simulated
-            // cycle, otherwise had no representation at all, and so was never recognised:
-            // neither its events listed already nor the branches running onto it).
+            // cycle, would otherwise have no representation at all, and so never be
+            // recognised: neither its events listed already nor the branches running onto it).
             let Some(canonical) = L::from_rotated(&rotated, period) else {
                 continue;
             };

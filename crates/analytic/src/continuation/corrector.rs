@@ -13,8 +13,8 @@ use nalgebra::{DMatrix, DVector};
 pub(crate) const CORRECTOR_ITERATIONS: usize = 8;
 
 /// Fallback acceptance of the corrector, relative to the motion's size, once Newton has
-/// stalled at the rounding floor of the residual evaluation (an iteration that no longer divides it by 4). Measured: on
-/// the paper unit's symmetric branch near `ω = 2.465` (close to the second natural frequency
+/// stalled at the rounding floor of the residual evaluation (an iteration that no longer
+/// divides it by 4). Measured: on the paper unit's symmetric branch near `ω = 2.465` (close to the second natural frequency
 /// `√6`, where the periodicity solve is ill-conditioned) the evaluation of the residuals
 /// scatters by up to `4e-11` of the motion's size from one rounding to the next, above
 /// [`crate::cycle::NEWTON_ACCEPTANCE`]; this bound is a factor 2.5 above that scatter.

@@ -2,10 +2,11 @@
 //! Illinois variant of regula falsi on the chord between the two points (each trial point
 //! corrected onto the branch), and accepted or not as an event of its kind.
 
+use super::branches::distance;
 use super::corrector::Constraint;
 use super::result::Event;
 use super::system::{doubled, grazed, BranchModel, Label, Node, System};
-use super::test_functions::{hidden_pair, sign_changes, Test, Tests};
+use super::test_functions::{all_tests, sign_changes, Test, Tests};
 use nalgebra::DMatrix;
 
 /// An event is located when the chord fraction `θ ∈ [0, 1]` between two points is bracketed
@@ -29,14 +30,14 @@ pub(crate) const EVENT_ACCEPTANCE: f64 = 1e-3;
 /// test the values at the bracket's ends are of the order of `w` times that size, at a pole
 /// they grow as `1/w`. The location stops there without an event. Such sign changes are the
 /// multiplier tests through their pole as an impact's velocity `ṙ⁻` vanishes (the saltation
-/// matrix grows as `1/ṙ⁻`): measured on the study's continuation of the paper unit (114 seeds,
-/// 2288 locations), 296 locations were poles, stopped here after 19–30 iterations instead of
-/// 60–100 (by callgrind, 14 % of the instructions of the continuation from the three `+-`
-/// seeds, whose branches came out the same); each grew past this bound at a width of
-/// `4e-5`–`7e-4`. Run on, 11 of them ended on a trial point where the monodromy matrix,
-/// dominated by the saltation's `1/ṙ⁻` term, had lost rank in floating point (the test
-/// exactly 0) and were listed as period doublings or a branch point at the `ω` of a
-/// vanishing impact (to `1e-14`); no event of any other kind moved.
+/// matrix grows as `1/ṙ⁻`). On the study's continuation of the paper unit (114 seeds, 2288
+/// locations) 296 locations are poles, each past this bound at a width of `4e-5`–`7e-4`, and
+/// stop here after 19–30 iterations instead of 60–100 (14 % of the instructions of the
+/// continuation from the three `+-` seeds, whose branches are the same either way). Run on,
+/// 11 of them would end on a trial point where the monodromy matrix, dominated by the
+/// saltation's `1/ṙ⁻` term, has lost rank in floating point (the test exactly 0), and be
+/// listed as period doublings or a branch point at the `ω` of a vanishing impact (to
+/// `1e-14`); no event of any other kind depends on this bound.
 pub(crate) const POLE_GROWTH: f64 = 1e6;
 
 /// The narrowest bracket on which [`POLE_GROWTH`] is tested: far above the width (about
@@ -110,6 +111,36 @@ impl<M: BranchModel> System<M> {
 pub(crate) struct Found<L> {
     pub(crate) event: Event<L>,
     pub(crate) node: Node,
+}
+
+/// A pair of zeros of one test function within the step from `a` to `b`, which the signs at
+/// `a` and `b` do not show: the quadratic in arclength through the function's values at
+/// `before`, `a` and `b` has its extremum inside the step, of the other sign. Returns the
+/// chord fraction of that extremum (for the first test where it happens).
+fn hidden_pair(before: &Node, a: &Node, b: &Node) -> Option<f64> {
+    let s0 = -distance(&before.x, &a.x);
+    let s2 = distance(&a.x, &b.x);
+    if !(s0 < 0.0 && s2 > 0.0) {
+        return None;
+    }
+    all_tests(&a.tests).into_iter().find_map(|test| {
+        let v0 = test.value(&before.tests);
+        let v1 = test.value(&a.tests);
+        let v2 = test.value(&b.tests);
+        if !(v0.is_finite() && v1.is_finite() && v2.is_finite()) || v1 * v2 <= 0.0 {
+            return None;
+        }
+        // Newton's form: q(s) = v0 + d01 (s − s0) + c2 (s − s0) s.
+        let d01 = (v1 - v0) / -s0;
+        let d12 = (v2 - v1) / s2;
+        let c2 = (d12 - d01) / (s2 - s0);
+        if c2 == 0.0 || !c2.is_finite() {
+            return None;
+        }
+        let vertex = 0.5 * (s0 - d01 / c2);
+        let q = v0 + d01 * (vertex - s0) + c2 * (vertex - s0) * vertex;
+        (vertex > 0.0 && vertex < s2 && q * v1 < 0.0).then_some(vertex / s2)
+    })
 }
 
 /// The events between two consecutive points `a`, `b` (`before`: the point before `a`): the
@@ -253,8 +284,8 @@ fn locate_branch_point<M: BranchModel>(
     };
     let eval = system.evaluate(&x)?;
     // Solved to rounding, `R_X` there may have lost rank so far that the bordered tangent
-    // solve breaks down (the modal flow's rounding met it on the paper's `+-` branch point,
-    // issue #22's case); the tangent at a branch point is arbitrary anyway, and
+    // solve breaks down (the modal flow's rounding meets it on the paper's `+-` branch point
+    // near 2.1925686 rad/s); the tangent at a branch point is arbitrary anyway, and
     // [`event_at`] replaces it by the chord from `a` to `b`, so that chord serves here too.
     let tangent = system
         .tangent(M::jacobian(&eval), &a.tangent)

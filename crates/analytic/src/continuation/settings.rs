@@ -5,12 +5,11 @@ use crate::sequence::SequenceError;
 use crate::unit::UnitError;
 use thiserror::Error;
 
-/// Default switching depth ([`ContinuationSettings::max_depth`]). Measured on the issue #22
-/// run (`+-` from ω = 2.1725686 over 1.8925686–2.4925686 rad/s, paper scene, one thread):
-/// depth 2 follows 15 branches, 7 183 points, 85 events in 1.4 s of CPU; depth 3 (the depth
-/// the former cap of 16 branches per start reached there) 27 branches, 27 524 points, 323
-/// events in 24 s, the third level being period-8 orbits of the doubling cascade (20 341 of
-/// the points, 16 impacts per cycle each).
+/// Default switching depth ([`ContinuationSettings::max_depth`]). Measured on the run of `+-`
+/// from ω = 2.1725686 over 1.8925686–2.4925686 rad/s (paper scene, one thread): depth 2
+/// follows 15 branches, 7 183 points, 85 events in 1.4 s of CPU; depth 3 27 branches,
+/// 27 524 points, 323 events in 24 s, the third level being period-8 orbits of the doubling
+/// cascade (20 341 of the points, 16 impacts per cycle each).
 pub const DEFAULT_MAX_DEPTH: usize = 2;
 
 /// Settings of a continuation.

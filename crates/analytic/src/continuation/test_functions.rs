@@ -2,9 +2,7 @@
 //! events: fold, branch point, period doubling and Neimark–Sacker from the tangent and the
 //! monodromy matrix, grazing per flight and contact pair, vanishing impact per impact.
 
-use super::branches::distance;
 use super::result::EventKind;
-use super::system::Node;
 use crate::sequence::PairImpact;
 use nalgebra::Complex;
 
@@ -96,7 +94,7 @@ impl Test {
 
 /// Every test function of points with the tests `t`: per flight its clearances (one per
 /// contact pair), then its first impact's approach.
-fn all_tests(t: &Tests) -> Vec<Test> {
+pub(crate) fn all_tests(t: &Tests) -> Vec<Test> {
     let mut tests = vec![Test::Fold, Test::Branch, Test::Doubling, Test::Torus];
     let n = t.approach.len();
     let pairs = t.clearance.len() / n.max(1);
@@ -112,34 +110,4 @@ pub(crate) fn sign_changes(a: &Tests, b: &Tests) -> Vec<Test> {
     let mut tests = all_tests(a);
     tests.retain(|t| t.value(a) * t.value(b) < 0.0);
     tests
-}
-
-/// A pair of zeros of one test function within the step from `a` to `b`, which the signs at
-/// `a` and `b` do not show: the quadratic in arclength through the function's values at
-/// `before`, `a` and `b` has its extremum inside the step, of the other sign. Returns the
-/// chord fraction of that extremum (for the first test where it happens).
-pub(crate) fn hidden_pair(before: &Node, a: &Node, b: &Node) -> Option<f64> {
-    let s0 = -distance(&before.x, &a.x);
-    let s2 = distance(&a.x, &b.x);
-    if !(s0 < 0.0 && s2 > 0.0) {
-        return None;
-    }
-    all_tests(&a.tests).into_iter().find_map(|test| {
-        let v0 = test.value(&before.tests);
-        let v1 = test.value(&a.tests);
-        let v2 = test.value(&b.tests);
-        if !(v0.is_finite() && v1.is_finite() && v2.is_finite()) || v1 * v2 <= 0.0 {
-            return None;
-        }
-        // Newton's form: q(s) = v0 + d01 (s − s0) + c2 (s − s0) s.
-        let d01 = (v1 - v0) / -s0;
-        let d12 = (v2 - v1) / s2;
-        let c2 = (d12 - d01) / (s2 - s0);
-        if c2 == 0.0 || !c2.is_finite() {
-            return None;
-        }
-        let vertex = 0.5 * (s0 - d01 / c2);
-        let q = v0 + d01 * (vertex - s0) + c2 * (vertex - s0) * vertex;
-        (vertex > 0.0 && vertex < s2 && q * v1 < 0.0).then_some(vertex / s2)
-    })
 }

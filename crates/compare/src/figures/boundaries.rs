@@ -1,4 +1,4 @@
-//! The regime boundaries (issue #23): panel 1, the regime map over (ω, Δ/u_g) with every
+//! The regime boundaries: panel 1, the regime map over (ω, Δ/u_g) with every
 //! boundary curve over the gap and the linear unit's attenuation band edges; panel 2, the
 //! bandwidth map's regimes on its gap line nearest the scene's gap over (ω, e) with every
 //! curve over the restitution. Colour by event kind, line style by signature.

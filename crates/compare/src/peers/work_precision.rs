@@ -36,8 +36,8 @@ pub const RELATIVE_TOLERANCES: [f64; 11] = [
 pub const PERIODICITY_TOLERANCES: [f64; 6] = [1e-3, 1e-5, 1e-7, 1e-9, 1e-11, 1e-13];
 
 /// The sweep sizes of the sweep cost study: enough to show how the cost grows with the size;
-/// a 160-point event sweep (1.6 s with its repeats) was dropped to keep `cargo xtask figures`
-/// within a minute.
+/// a 160-point event sweep (1.6 s with its repeats) would take `cargo xtask figures` past a
+/// minute.
 pub const SWEEP_POINTS: [usize; 4] = [10, 20, 40, 80];
 
 /// Step cap of a baseline run: far above the 300-period study's need at `rtol = 1e-12`
@@ -47,12 +47,11 @@ pub const BASELINE_MAX_STEPS: u64 = 50_000_000;
 /// Time spent timing one point (after its minimum number of repeats): the minimum of 40 to
 /// 200 repeats for the sub-millisecond event-driven and steady-state points, of 3 for the
 /// baseline's slowest. Measured (`cargo run --release -p rattle-compare --example
-/// work_precision`): with 150 ms per point the study took 4.9 s, alone at the end of `cargo
-/// xtask figures` (a seventh of it). Issue #24 took it to 40 ms (2.3 s of CPU, the minima
-/// those of 150 ms within the machine's noise), then to 20 ms: three runs of each build,
-/// alternated, 1.82–1.85 s → 1.30–1.31 s of wall time, and every one of the study's 31
-/// minima within the spread of its three runs (1 to 5 %) at either budget, the ratio of the
-/// medians 0.975 to 1.016 with no sign to it.
+/// work_precision`): at 20 ms per point every one of the study's 31 minima is the one a
+/// larger budget (40 or 150 ms) gives, within the spread of repeated runs (1 to 5 %, the
+/// ratio of the medians 0.975 to 1.016 with no sign to it), at a fraction of the time: at
+/// 150 ms the study alone is a seventh of `cargo xtask figures` (see the performance page,
+/// `docs/performance.md`).
 pub const POINT_BUDGET: Duration = Duration::from_millis(20);
 
 /// A result whose error is above this (relative) is a failure: another motion.

@@ -49,19 +49,17 @@ impl Shard {
     }
 }
 
-/// Joins the parts of a sharded sweep, map (its points or its bandwidth table) or basins (all
-/// JSON or all CSV, in any order) into exactly the text the unsharded run writes.
+/// The merge of every sharded run's parts (sweeps', maps' and basins'), which the runs' module
+/// holds: it hands basins' parts to [`super::basins`] and the others to `merge_tables`.
+pub use super::merge;
+
+/// Joins the parts of a sharded sweep or map (its points or its bandwidth table; all JSON or
+/// all CSV, in any order, at least one) into exactly the text the unsharded run writes.
 ///
 /// # Errors
 /// A message when a part is not a shard, when parts are missing, repeated or from different
 /// sweeps, or when the rows do not add up to the sweep's points.
-pub fn merge(parts: &[String]) -> Result<String, String> {
-    if parts.is_empty() {
-        return Err("no parts to merge".into());
-    }
-    if crate::runs::basins::is_basins_part(&parts[0]) {
-        return crate::runs::basins::merge_parts(parts);
-    }
+pub(crate) fn merge_tables(parts: &[String]) -> Result<String, String> {
     if parts[0].trim_start().starts_with('{') {
         merge_json(parts)
     } else {

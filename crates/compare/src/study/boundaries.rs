@@ -1,4 +1,4 @@
-//! The regime boundaries of the study's scene (issue #23): every event of the study's own
+//! The regime boundaries of the study's scene: every event of the study's own
 //! continuation in ω ([`Study::branches`], no second continuation) followed over the gap and
 //! over the restitution by [`follow_events`], the data files they are written to
 //! (`data/boundaries/`), and the data of the `boundaries` figure.
@@ -18,8 +18,7 @@ use crate::study::plots::{RegimeClass, RegimeMap};
 use rattle_analytic::continuation::BoundarySettings;
 use std::path::{Path, PathBuf};
 
-/// The gaps the curves are followed over, m (the note of issue #23 asks for 0.1–1 on the
-/// paper's unit, `u_g = 1`).
+/// The gaps the curves are followed over, m: 0.1–1 on the paper's unit (`u_g = 1`).
 pub const GAP_RANGE: (f64, f64) = (0.1, 1.0);
 
 /// The restitutions the curves are followed over (the note asks for 0.3–1).

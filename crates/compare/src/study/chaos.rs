@@ -131,7 +131,7 @@ pub fn chaotic_bands_text(samples: &[ChaosSample]) -> String {
     out
 }
 
-/// Points of each panel of `figures/poincare` (issue #14): 20 000 sections and as many impacts.
+/// Points of each panel of `figures/poincare`: 20 000 sections and as many impacts.
 pub const POINCARE_POINTS: usize = 20_000;
 
 /// The chaotic motion of `figures/poincare`: the paper's unit at 1.25 rad/s (the paper's first

@@ -493,9 +493,8 @@ pub struct MapSizes {
 impl MapSizes {
     /// The grids of `cargo xtask figures` (`rattle map` runs finer grids): the bandwidth map
     /// 11 × 16 × 80 (steps 0.1 in e, the paper's 0.8 included, 0.063 in Δ/u_g, 0.049 rad/s),
-    /// the regime map 16 × 300 (0.013 rad/s). The bandwidth map was 21 × 16 × 160 before the
-    /// basins, Poincaré and chain figures were added; at that size it alone would cost about
-    /// 50 s of CPU (3.8 times its 13 s, measured with `perf` in issue #24), more than the whole
+    /// the regime map 16 × 300 (0.013 rad/s). A bandwidth map twice as fine (21 × 16 × 160)
+    /// would alone cost about 50 s of CPU (3.8 times this one's 13 s), more than the whole
     /// command's 30 s on two cores.
     pub fn full() -> MapSizes {
         MapSizes {

@@ -10,9 +10,8 @@ use std::process::{Command, Output};
 ///
 /// Tests of one process run on several threads and several of them write the same scene: the
 /// file is written under a name of this thread and renamed into place, so a reader never sees
-/// it half written. (A plain `std::fs::write` truncates the file first: CI of stop 26 saw
-/// `rattle` read an empty `paper-chain-2.json` while a neighbouring test rewrote it, "EOF
-/// while parsing a value".)
+/// it half written. (A plain `std::fs::write` truncates the file first: `rattle` could read
+/// an empty scene while a neighbouring test rewrites it, "EOF while parsing a value".)
 pub fn scene_file(tag: &str, name: &str, text: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("rattle-{tag}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a temporary directory");

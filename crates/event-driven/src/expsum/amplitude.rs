@@ -8,10 +8,9 @@ use super::*;
 /// Bisection nodes of [`ExpSum::max_abs`] whose exponentials are kept: the heap-numbered
 /// nodes `1..NODES` (the root interval `[0, horizon]` is `1`, the halves of node `i` are
 /// `2i` and `2i + 1`), eight levels, and two more slots for `s = 0` and `s = horizon`.
-/// Measured on `chain8 1000` (16 coordinates of 17 terms; its final stretch's amplitudes were
-/// 14 % of its instructions): 505.0e6 instructions with no sharing, 500.5e6 sharing the ends
-/// only, 486.5e6 with 64 nodes, 486.0e6 with 256, 485.6e6 with 1024 (the bisections part
-/// early; deeper points are each one coordinate's).
+/// The bisections of a flight's coordinates part early, so deeper points are each one
+/// coordinate's: on a chain (16 coordinates of 17 terms) 256 nodes keep nearly all that
+/// sharing saves, and more save little (see the performance page, `docs/performance.md`).
 const NODES: usize = 256;
 
 /// The exponentials `e^{μ_j s}` of one flight's rates at the points [`ExpSum::max_abs`]

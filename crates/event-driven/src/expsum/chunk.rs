@@ -6,11 +6,11 @@ use super::*;
 /// A recalled exit ([`Seeds::recalled`]) starts a polish, as at the root
 /// ([`PolishStart::AtRoot`]), when Newton's step from it is at most this fraction of the
 /// chunk's half-width `w`: the flight repeats the recalled one to a few parts in a million
-/// (a periodic motion's flights repeat to rounding). Measured with the recall in every run
-/// (stop 28, throwaway builds not kept: it is now confined to long fixed runs): looser, a quarter of the seed points'
-/// spacing (`w/256`), moved the simulator's Newton-polished `+-` orbit of the paper's unit at
-/// ω = 3.1496 from 3.2e-15 to 2.7e-12 of the analytic one (`rattle compare`), where this kept
-/// 3.2e-15; the unit's steady flights need no more (`unit_long`: the same time).
+/// (a periodic motion's flights repeat to rounding). A looser threshold, a quarter of the seed
+/// points' spacing (`w/256`), with the recall in every run, moves the simulator's
+/// Newton-polished `+-` orbit of the paper's unit at ω = 3.1496 from 3.2e-15 to 2.7e-12 of the
+/// analytic one (`rattle compare`), where this one keeps 3.2e-15; the unit's steady flights
+/// need no more (`unit_long` takes the same time).
 pub(super) const RECALL_STEP: f64 = 4e-6;
 
 /// A recalled exit is tried only within this fraction of the chunk's half-width `w` of the
@@ -440,11 +440,9 @@ impl ExpSum {
     /// seed point at `s` when there is one ([`Seed::index_at`]: one product per term from the
     /// chunk's midpoint, with the seed's steps kept from one flight to the next), else
     /// evaluated afresh. On `cargo xtask figures`, 84 of the 142 million split points are seed
-    /// points (stop 28, by a throwaway counter, not kept); every output of the figures is bit
-    /// for bit what fresh exponentials give (maps, boundaries, agreement), and the map's
-    /// search costs 4.5 % fewer instructions (callgrind, `rattle map
-    /// data/scenes/paper-damped.json --restitution-min 0.8 --restitution-max 0.8
-    /// --restitutions 1 --gaps 2 --points 60`: 4.92e9 → 4.70e9).
+    /// points; every output of the figures is bit for bit what fresh exponentials give (maps,
+    /// boundaries, agreement), and a map's search costs some 4.5 % fewer instructions so (see
+    /// the performance page, `docs/performance.md`).
     #[inline]
     fn eval3_at_split(
         &self,

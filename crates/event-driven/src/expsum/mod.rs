@@ -9,6 +9,7 @@ type C64 = Complex<f64>;
 mod amplitude;
 mod cache;
 mod chunk;
+mod derivatives;
 #[cfg(target_arch = "x86_64")]
 mod packed;
 mod polish;
@@ -19,16 +20,37 @@ mod summary;
 pub use amplitude::SharedPoints;
 pub use cache::SearchStack;
 use cache::{
-    chunk_rows, fixed_grid, real_dot, set_exponentials, Derivatives, GridSteps, Seed, Seeds,
-    CACHED_CHUNKS, CHUNK_ROWS, PACKED_ROWS, SEED_DIVISIONS,
+    chunk_rows, fixed_grid, real_dot, set_exponentials, GridSteps, Seed, Seeds, CACHED_CHUNKS,
+    CHUNK_ROWS, PACKED_ROWS, SEED_DIVISIONS,
 };
 use chunk::{departs, inside, quadratic_exit, quadratic_stays_inside, taylor_clearance, ChunkTest};
+use derivatives::Derivatives;
 #[cfg(target_arch = "x86_64")]
 pub(crate) use packed::{complex_pair, complex_pair_product, products_avx};
 use polish::{polish, polish_from, Crossing, Exponentials, PolishStart};
-use scan::{packed_chunks, CachedChunks, ChunkSource, Chunks, SteppedChunks, PACKED_TERMS};
+use scan::{CachedChunks, ChunkSource, Chunks, SteppedChunks};
 pub use search::Tolerances;
 pub(crate) use summary::{summarize_block, ModeTerm, Summary, LANES};
+
+/// The fewest terms whose sums and series the searches form with AVX
+/// ([`CachedChunks::packed`], a polish's local sums and series): a unit's three take more
+/// time so, though fewer instructions (the packed sums' shuffles and calls outweigh three
+/// terms' products); a chain's seventeen gain in both (see the performance page,
+/// `docs/performance.md`).
+const PACKED_TERMS: usize = 8;
+
+/// Whether the CPU has AVX, for [`CachedChunks::packed`].
+#[inline]
+fn packed_chunks() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
 
 /// How far the fixed grid of a search whose fastest rate is at most `fastest` (`|re| + |im|`)
 /// keeps its chunks' exponentials ([`CACHED_CHUNKS`] chunks of `2w`, `w = π/(8 fastest)`): a
@@ -109,9 +131,9 @@ fn term_bounds(t: &Term, h: f64) -> ([f64; 4], f64, f64) {
 
 /// The larger of `a` (never NaN) and `b`, `a` for a NaN `b`: [`f64::max`]'s value for such
 /// an `a`, as one `maxsd` (`f64::max` adds a NaN fix-up of three dependent instructions,
-/// which a running maximum repeats per element). The running maxima of the polish's sums and
-/// steps and of a contact's largest position and velocity so: callgrind, `chain8 1000`,
-/// 430.3e6 → 425.3e6 instructions, the same bits.
+/// which a running maximum repeats per element): the running maxima of the polish's sums and
+/// steps and of a contact's largest position and velocity, the same bits in fewer
+/// instructions.
 #[inline(always)]
 pub(crate) fn larger(a: f64, b: f64) -> f64 {
     if b > a {

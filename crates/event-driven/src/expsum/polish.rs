@@ -572,8 +572,8 @@ impl Exponentials {
         let done = 0;
         let (values, terms) = (&mut values[done..], &terms[done..]);
         for (values, terms) in values.chunks_mut(TOGETHER).zip(terms.chunks(TOGETHER)) {
-            // As many lanes as terms: a unit's three terms stepped a fourth, empty lane
-            // through every degree (unit_long 20000: see the commit).
+            // As many lanes as terms: a block of four would step a unit's three terms and a
+            // fourth, empty lane through every degree.
             match terms.len() {
                 TOGETHER => series_block::<TOGETHER>(values, terms, delta, from),
                 3 => series_block::<3>(values, terms, delta, from),

@@ -60,27 +60,6 @@ pub(super) struct CachedChunks<'g> {
     pub(super) end_value: f64,
 }
 
-/// The fewest terms whose sums and series the searches form with AVX
-/// ([`CachedChunks::packed`], a polish's local sums and series): a unit's three took more
-/// time so (`unit_long` 10⁶ periods, five alternated runs, medians of CPU time: 0.72 s →
-/// 0.74 s, though callgrind counted 238.8e6 → 231.5e6 instructions in `unit_long 20000`, the
-/// series alone 4.7e6 more; the packed sums' shuffles and calls outweigh three terms'
-/// products); a chain's seventeen gain in both.
-pub(super) const PACKED_TERMS: usize = 8;
-
-/// Whether the CPU has AVX, for [`CachedChunks::packed`].
-#[inline]
-pub(super) fn packed_chunks() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
-
 impl<'g> CachedChunks<'g> {
     /// Chunk `i`'s rows (see [`GridSteps::chunk_exps`]), computed on first use.
     #[inline]

@@ -53,7 +53,7 @@ pub(crate) struct ModeTerm {
     pub(crate) cube: f64,
     /// `Re μ`, `Im μ`, `Re μ²`, `Im μ²`, `rate`, `square` and `cube`, each in all four lanes
     /// of a register ([`summarize_block_avx`] loads them rather than broadcasting seven
-    /// scalars per mode and block: `chain8 5000` 1691.3e6 → 1671.0e6 instructions).
+    /// scalars per mode and block: fewer instructions).
     pub(crate) lanes: [[f64; LANES]; 7],
 }
 
@@ -107,8 +107,8 @@ pub(crate) const LANES: usize = 4;
 /// copied from there ([`Flight::expand_joint`](crate::flow::Flight)) rather than formed
 /// again.
 ///
-/// The summaries are written to `out`, lane by lane (written in place: returned, they were
-/// copied by a call of `memcpy` per block, 0.8 % of `chain8`'s instructions).
+/// The summaries are written to `out`, lane by lane (in place: returned, they would be
+/// copied by a call of `memcpy` per block, 0.8 % of a chain's instructions).
 ///
 /// # Panics
 ///
