@@ -2,22 +2,16 @@
 //! 8-cell chain of the paper's cell (`m_i = 1, m_o = 2, k_i = 3, k_o = 6, u_g = 1`), lightly
 //! damped (`c_o = 0.1, c_i = 0.05`), `e = 0.8`, for the two readings of the paper's gap
 //! (`Δ = 0.5` and `Δ = 0.25`), whole process (`simulate` with a fixed number of periods from a
-//! settled state, model and flows built in each iteration). Issue 16's target is 300 000
-//! impacts/s.
+//! settled state, model and flows built in each iteration). The target is 300 000 impacts/s.
 //!
-//! Measured (branch h-speed2, the previous build's bench and this one run back to back on a
-//! quiet moment of the shared 2-core machine, criterion's medians): gap 0.5, 113.7 ms
-//! (18 449 impacts, 162 000 impacts/s) before, 88.4 ms (18 454 impacts, 209 000 impacts/s)
-//! after, ×1.29; gap 0.25, 236.6 ms (44 584 impacts, 188 000 impacts/s) before, 193.6 ms
-//! (44 614 impacts, 230 000 impacts/s) after, ×1.22. The impact counts differ because a
-//! chain's flights now start from the modal deviation carried across each contact (last
-//! bits); see `examples/chain8.rs` for where the time goes.
+//! The measured throughput is on the performance page (`docs/performance.md`), with the
+//! command that reproduces it.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use rattle_event_driven::test_models::{paper_chain, LIGHT_DAMPING};
 use rattle_event_driven::{simulate, CellStops, SimulationOptions, Start};
 
-/// Cells of the benchmarked chain (the issue's target chain).
+/// Cells of the benchmarked chain (the target chain of the throughput figure).
 const CELLS: usize = 8;
 
 /// Periods per iteration: enough impacts (tens of thousands) that the set-up and the final

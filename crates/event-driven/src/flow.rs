@@ -238,6 +238,11 @@ pub(crate) fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<C64>, FlowError> {
         return Err(FlowError::NotFinite);
     }
     let n = a.nrows();
+    // A system of no coordinates (a structure held on its stops in every direction) has no
+    // rates.
+    if n == 0 {
+        return Ok(Vec::new());
+    }
     let scale = a.amax().max(f64::MIN_POSITIVE);
     let identity = DMatrix::<f64>::identity(n, n);
     for (matrix, shift) in [
@@ -1537,8 +1542,7 @@ mod tests {
             .iter()
             .map(|c| {
                 let mut position = DVector::zeros(2 * n);
-                position[c.plus_dof] = 1.0;
-                position[c.minus_dof] = -1.0;
+                position.rows_mut(0, n).copy_from(&c.direction(n));
                 flow.functional(&position)
             })
             .collect();

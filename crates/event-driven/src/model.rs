@@ -33,17 +33,19 @@ fn check(field: &str, value: f64, ok: bool, allowed: &'static str) -> Result<(),
     }
 }
 
-/// Two degrees of freedom that impact: `r = u[plus_dof] − u[minus_dof]` is confined to
+/// Two degrees of freedom that impact, or one against the fixed frame: `r = u[plus_dof] −
+/// u[minus_dof]` (an end that is `None` is the frame, `u = 0`) is confined to
 /// `[−gap_minus, gap_plus]`. Side 1 is the stop at `r = +gap_plus`, side 2 at `r = −gap_minus`.
+/// A side whose gap is `+∞` has no stop (a one-sided stop); at least one side has one.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ContactPair {
-    /// The degree of freedom counted positive in `r`.
-    pub plus_dof: usize,
-    /// The degree of freedom counted negative in `r`.
-    pub minus_dof: usize,
-    /// Distance to side 1, `> 0`.
+    /// The degree of freedom counted positive in `r`; `None`: the frame.
+    pub plus_dof: Option<usize>,
+    /// The degree of freedom counted negative in `r`; `None`: the frame.
+    pub minus_dof: Option<usize>,
+    /// Distance to side 1, `> 0`; `+∞`: no stop on side 1.
     pub gap_plus: f64,
-    /// Distance to side 2, `> 0`.
+    /// Distance to side 2, `> 0`; `+∞`: no stop on side 2.
     pub gap_minus: f64,
     /// Newton restitution `e ∈ [0, 1]`: `ṙ⁺ = −e ṙ⁻`.
     pub restitution: f64,
@@ -79,6 +81,27 @@ impl CellStops {
             gap_minus: gap,
             restitution,
         }
+    }
+}
+
+impl ContactPair {
+    /// The contact direction `d` (length `n`): `r = d·u`, `+1` at `plus_dof`, `−1` at
+    /// `minus_dof`.
+    pub fn direction(&self, n: usize) -> DVector<f64> {
+        let mut d = DVector::zeros(n);
+        if let Some(i) = self.plus_dof {
+            d[i] = 1.0;
+        }
+        if let Some(i) = self.minus_dof {
+            d[i] = -1.0;
+        }
+        d
+    }
+
+    /// The relative displacement `r = u[plus_dof] − u[minus_dof]` of the displacements (or
+    /// velocities) `u`: the frame's entries are 0.
+    pub fn relative(&self, u: &[f64]) -> f64 {
+        self.plus_dof.map_or(0.0, |i| u[i]) - self.minus_dof.map_or(0.0, |i| u[i])
     }
 }
 
@@ -159,23 +182,32 @@ impl Model {
             check("matrix entry", v, true, "finite")?;
         }
         for (k, c) in contacts.iter().enumerate() {
-            if c.plus_dof >= n || c.minus_dof >= n || c.plus_dof == c.minus_dof {
+            let out = |dof: Option<usize>| dof.is_some_and(|i| i >= n);
+            if out(c.plus_dof)
+                || out(c.minus_dof)
+                || c.plus_dof == c.minus_dof
+                || (c.plus_dof.is_none() && c.minus_dof.is_none())
+            {
                 return Err(ModelError::Size(format!(
-                    "contact {k}: degrees of freedom out of range or equal"
+                    "contact {k}: degrees of freedom out of range, equal, or both the frame"
                 )));
             }
-            check(
-                &format!("contacts[{k}].gap_plus"),
-                c.gap_plus,
-                c.gap_plus > 0.0,
-                "> 0",
-            )?;
-            check(
-                &format!("contacts[{k}].gap_minus"),
-                c.gap_minus,
-                c.gap_minus > 0.0,
-                "> 0",
-            )?;
+            for (side, gap) in [("gap_plus", c.gap_plus), ("gap_minus", c.gap_minus)] {
+                if gap.is_nan() || gap <= 0.0 {
+                    return Err(ModelError::OutOfRange {
+                        field: format!("contacts[{k}].{side}"),
+                        value: gap,
+                        allowed: "> 0 (+inf: no stop on that side)",
+                    });
+                }
+            }
+            if !(c.gap_plus.is_finite() || c.gap_minus.is_finite()) {
+                return Err(ModelError::OutOfRange {
+                    field: format!("contacts[{k}].gap_plus"),
+                    value: c.gap_plus,
+                    allowed: "finite on at least one side",
+                });
+            }
             check(
                 &format!("contacts[{k}].restitution"),
                 c.restitution,
@@ -190,9 +222,7 @@ impl Model {
         let directions = contacts
             .iter()
             .map(|c| {
-                let mut d = DVector::zeros(n);
-                d[c.plus_dof] = 1.0;
-                d[c.minus_dof] = -1.0;
+                let d = c.direction(n);
                 let mobility = &minv * &d;
                 (d, mobility)
             })
@@ -266,8 +296,8 @@ impl Model {
         let forcing_sin = DVector::from_vec(vec![-co * base_amplitude * omega, 0.0]);
         let contacts = match stops {
             Some(stops) => vec![ContactPair {
-                plus_dof: 1,
-                minus_dof: 0,
+                plus_dof: Some(1),
+                minus_dof: Some(0),
                 gap_plus: stops.gap_plus,
                 gap_minus: stops.gap_minus,
                 restitution: stops.restitution,
@@ -403,8 +433,8 @@ impl Model {
             }
             if let Some(stops) = c.stops {
                 contacts.push(ContactPair {
-                    plus_dof: i,
-                    minus_dof: o,
+                    plus_dof: Some(i),
+                    minus_dof: Some(o),
                     gap_plus: stops.gap_plus,
                     gap_minus: stops.gap_minus,
                     restitution: stops.restitution,

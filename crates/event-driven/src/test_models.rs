@@ -245,8 +245,8 @@ pub fn free_flight_to_a_stop(restitution: f64) -> Reference<FirstContact> {
         DVector::zeros(2),
         DVector::zeros(2),
         vec![ContactPair {
-            plus_dof: 1,
-            minus_dof: 0,
+            plus_dof: Some(1),
+            minus_dof: Some(0),
             gap_plus: gap,
             gap_minus: gap,
             restitution,

@@ -162,7 +162,7 @@ pub fn sample_trajectory(
     let relative = |y: &nalgebra::DVector<f64>| -> Vec<f64> {
         pairs
             .iter()
-            .map(|c| y[c.plus_dof] - y[c.minus_dof])
+            .map(|c| c.relative(&y.as_slice()[..n]))
             .collect()
     };
     let rows = trace

@@ -225,7 +225,7 @@ fn check_within_stops(trajectory: &Trajectory, model: &Model) {
         .flat_map(|r| {
             pairs
                 .iter()
-                .map(|p| (r.velocities[p.plus_dof] - r.velocities[p.minus_dof]).abs())
+                .map(|p| p.relative(r.velocities.as_slice()).abs())
         })
         .fold(0.0, f64::max);
     let scale = pairs

@@ -93,14 +93,16 @@ impl HarmonicForcing {
 }
 
 /// One contact pair: the relative coordinate `r = wᵀu`, stops at `r = +gap_side1` (side 1,
-/// `+` in a signature) and `r = −gap_side2` (side 2, `-`), Newton restitution along `w`.
+/// `+` in a signature) and `r = −gap_side2` (side 2, `-`), Newton restitution along `w`. A gap
+/// of `+∞` is a side without a stop (a one-sided pair); at least one side has one. A stop
+/// against the fixed frame is a direction with one entry (`w = e_k`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ContactPair {
     /// The direction `w` (length `n`, not zero).
     pub direction: DVector<f64>,
-    /// Distance `> 0` from `r = 0` to the side-1 stop.
+    /// Distance `> 0` from `r = 0` to the side-1 stop; `+∞`: no stop on side 1.
     pub gap_side1: f64,
-    /// Distance `> 0` from `r = 0` to the side-2 stop.
+    /// Distance `> 0` from `r = 0` to the side-2 stop; `+∞`: no stop on side 2.
     pub gap_side2: f64,
     /// Newton coefficient of restitution `e ∈ [0, 1]`: `ṙ⁺ = −e ṙ⁻`.
     pub restitution: f64,
@@ -248,9 +250,20 @@ impl LinearModel {
                 });
             }
             for (name, gap) in [("gap_side1", pair.gap_side1), ("gap_side2", pair.gap_side2)] {
-                if !(gap.is_finite() && gap > 0.0) {
-                    return Err(out_of_range(format!("pairs[{p}].{name}"), gap, "> 0"));
+                if gap.is_nan() || gap <= 0.0 {
+                    return Err(out_of_range(
+                        format!("pairs[{p}].{name}"),
+                        gap,
+                        "> 0 (+inf: no stop on that side)",
+                    ));
                 }
+            }
+            if !(pair.gap_side1.is_finite() || pair.gap_side2.is_finite()) {
+                return Err(out_of_range(
+                    format!("pairs[{p}].gap_side1"),
+                    pair.gap_side1,
+                    "finite on at least one side",
+                ));
             }
             if !(0.0..=1.0).contains(&pair.restitution) {
                 return Err(out_of_range(

@@ -40,6 +40,14 @@ pub enum SequenceError {
         /// The cap, [`MAX_SEQUENCE_IMPACTS`].
         max: usize,
     },
+    /// An impact names a side of a pair that has no stop (a one-sided pair).
+    #[error("--signature names side {side} of pair {pair}, which has no stop on that side")]
+    NoStop {
+        /// The pair.
+        pair: usize,
+        /// The side without a stop: `+` or `-`.
+        side: char,
+    },
     /// An impact names a pair the model does not have.
     #[error("--signature names pair {pair}: the model has pairs 0..{pairs}")]
     Pair {
@@ -213,16 +221,32 @@ impl ImpactSequence {
         Signature::from_cycle(&sides, self.period).ok()
     }
 
-    /// Checks that every impact names a pair of `model`.
+    /// Checks that every impact names a pair of `model`, on a side that has a stop.
     ///
     /// # Errors
-    /// [`SequenceError::Pair`] for the first impact on a pair the model lacks.
+    /// [`SequenceError::Pair`] for the first impact on a pair the model lacks;
+    /// [`SequenceError::NoStop`] for the first impact on a side without a stop.
     pub fn check(&self, model: &LinearModel) -> Result<(), SequenceError> {
-        let pairs = model.pairs().len();
-        match self.impacts.iter().find(|i| i.pair >= pairs) {
-            Some(bad) => Err(SequenceError::Pair {
+        let pairs = model.pairs();
+        if let Some(bad) = self.impacts.iter().find(|i| i.pair >= pairs.len()) {
+            return Err(SequenceError::Pair {
                 pair: bad.pair,
-                pairs,
+                pairs: pairs.len(),
+            });
+        }
+        let absent = |i: &&PairImpact| {
+            let pair = &pairs[i.pair];
+            let gap = if i.side == 1 {
+                pair.gap_side1
+            } else {
+                pair.gap_side2
+            };
+            !gap.is_finite()
+        };
+        match self.impacts.iter().find(absent) {
+            Some(bad) => Err(SequenceError::NoStop {
+                pair: bad.pair,
+                side: if bad.side == 1 { '+' } else { '-' },
             }),
             None => Ok(()),
         }

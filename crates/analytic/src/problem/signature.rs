@@ -25,7 +25,8 @@ pub const MAX_IMPACTS: usize = 16;
 /// Largest number of impacts in a signature read from a simulated cycle
 /// ([`Signature::from_cycle`]). Such a signature is solved by Newton from the cycle's own
 /// impact phases, with no search: its cost grows like `n` flights and one `n × n` solve per
-/// iteration, so the cap only bounds the work on absurd input. Issue #22 asks for at least 128.
+/// iteration, so the cap only bounds the work on absurd input; it is at least 128, so that the long
+/// cycles simulations settle on are compared rather than refused.
 pub const MAX_CYCLE_IMPACTS: usize = 256;
 
 /// Largest number of forcing periods of a signature read from a simulated cycle
@@ -258,8 +259,8 @@ mod tests {
         assert!(message(Signature::from_sides(&[], 1)).contains("--signature"));
     }
 
-    /// Issue #22: a simulated cycle of 17–40 impacts read as "at most 16 are allowed" and was
-    /// never compared. A cycle's signature is capped only by [`MAX_CYCLE_IMPACTS`] (≥ 128), a
+    /// A simulated cycle of 17–40 impacts is a signature, not refused by the search's cap:
+    /// a cycle's signature is capped only by [`MAX_CYCLE_IMPACTS`] (≥ 128), a
     /// searched one by the search's [`MAX_IMPACTS`], whose message says why.
     #[test]
     fn a_simulated_cycle_is_capped_apart_from_the_search() {

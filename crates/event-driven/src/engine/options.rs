@@ -57,7 +57,7 @@ pub const DEFAULT_MAX_EVENTS: u64 = 2_000_000;
 /// Default [`SimulationOptions::max_oscillations`]: 20 000 periods near the natural frequencies
 /// hold some 1e4 free oscillations, so transients get as many natural oscillations as there
 /// at any forcing frequency, while a forcing far below them stays bounded (e = 0 undamped at
-/// ω = 0.001, ~2400 oscillations per period: 816 periods, 1.4 s; commit e44174c).
+/// ω = 0.001, ~2400 oscillations per period: 816 periods, 1.4 s).
 pub const DEFAULT_MAX_OSCILLATIONS: f64 = 2e6;
 
 /// Default [`SimulationOptions::max_period_multiplicity`]: `rattle simulate` reports least

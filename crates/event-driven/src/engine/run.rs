@@ -9,8 +9,8 @@ use super::*;
 /// period earlier takes one evaluation (`unit_long`, 10⁶ periods: 0.67 → 0.51 s of CPU). A run
 /// until periodic stops soon after its flights start repeating, and the engine's own fixed
 /// stretches (a run's final stretch, a Newton evaluation of one cycle) last a few periods:
-/// there the bookkeeping costs more than it saves (a sweep and a map 1 to 2 % slower, measured
-/// at stop 28 on a throwaway build with recall in every run, not kept), and the contact times' last bits would move.
+/// there the bookkeeping costs more than it saves (a sweep and a map 1 to 2 % slower with
+/// recall in every run), and the contact times' last bits would move.
 pub(crate) const RECALL_PERIODS: u64 = 1000;
 
 impl Engine<'_> {

@@ -41,10 +41,13 @@ impl Engine<'_> {
     /// The constrained flow of the pairs `held` (`(pair, side)`, in pair order) on their
     /// stops, built on first use (see [`Stuck`]). One held pair gives the same numbers as the
     /// one-pair construction it generalises (same Gram–Schmidt, offset and force weights).
+    /// Held directions that span every coordinate (a body held on a stop against the frame)
+    /// leave a reduced flow of no coordinates: the structure rests on its stops, and only the
+    /// contact forces move, with the forcing.
     ///
     /// # Errors
-    /// [`SimulationError::DependentHolds`] when the held directions are dependent or leave no
-    /// free direction, and [`SimulationError::Flow`] when the reduced flow does not exist.
+    /// [`SimulationError::DependentHolds`] when the held directions are dependent, and
+    /// [`SimulationError::Flow`] when the reduced flow does not exist.
     pub(super) fn stuck_index(&mut self, held: &[(usize, i8)]) -> Result<usize, SimulationError> {
         if let Some(i) = self.stuck.iter().position(|s| s.held == held) {
             return Ok(i);
@@ -52,7 +55,7 @@ impl Engine<'_> {
         let n = self.n;
         let h = held.len();
         let dependent = || SimulationError::DependentHolds(held.iter().map(|h| h.0).collect());
-        if h == 0 || h >= n {
+        if h == 0 || h > n {
             return Err(dependent());
         }
         // Orthonormal basis of span D, then of its complement by Gram–Schmidt on the unit
@@ -83,7 +86,11 @@ impl Engine<'_> {
             }
         }
         let nr = n - h;
-        let t = DMatrix::from_columns(&basis);
+        let t = if basis.is_empty() {
+            DMatrix::zeros(n, 0)
+        } else {
+            DMatrix::from_columns(&basis)
+        };
         let gaps = DVector::from_iterator(
             h,
             held.iter().map(|&(pair, side)| {
