@@ -18,6 +18,9 @@ use rattle_compare::study::chaos::{
     chaos_samples, poincare_sections, ChaosSample, PoincareSections, POINCARE_OMEGA,
     POINCARE_POINTS,
 };
+use rattle_compare::study::gallery::{
+    oscillator_study, OscillatorStudy, BRANCH_POINTS, OSCILLATOR_POINTS,
+};
 use rattle_compare::study::paper::READING_B_GAP_FACTOR;
 use rattle_compare::study::report::{agreement, report, siconos_section};
 use rattle_compare::study::{maps, MapSizes, Study, StudySize};
@@ -138,6 +141,7 @@ struct Computed {
     poincare: Result<PoincareSections, String>,
     chains: ChainStudy,
     boundaries: StudyBoundaries,
+    oscillator: OscillatorStudy,
 }
 
 /// The scene's copy with the gap of the study's second reading.
@@ -166,7 +170,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
     };
     let (mut main, mut other, mut elastic, mut maps_done) = (None, None, None, None);
     let (mut basins, mut samples, mut poincare, mut chains) = (None, None, None, None);
-    let mut boundaries = None;
+    let (mut boundaries, mut oscillator) = (None, None);
     // Stages handed out longest first: another thread takes the earliest spawned, this one
     // the latest.
     rayon::scope(|s| {
@@ -191,6 +195,16 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
         s.spawn(|_| chains = Some(clock.stage("chains", || chain_study(scene, quick, false))));
         s.spawn(|_| poincare = Some(clock.stage("poincare", || poincare_of(scene, quick))));
         s.spawn(|_| elastic = Some(clock.stage("elastic note", || elastic_note(scene, &options))));
+        s.spawn(|_| {
+            oscillator = Some(clock.stage("impact oscillator", || {
+                let (points, branch) = if quick {
+                    (12, 200)
+                } else {
+                    (OSCILLATOR_POINTS, BRANCH_POINTS)
+                };
+                oscillator_study(points, branch)
+            }))
+        });
     });
     // Every slot is filled once the scope has ended (a stage's panic is carried on by it).
     let filled = "every stage has run";
@@ -204,6 +218,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
         poincare: poincare.expect(filled),
         chains: chains.expect(filled),
         boundaries: boundaries.expect(filled),
+        oscillator: oscillator.expect(filled),
     }
 }
 
@@ -354,6 +369,7 @@ fn draw_the_rest(c: &Computed, dir: &Path) -> Result<Vec<PathBuf>, String> {
         figures::draw_boundaries(&c.boundaries.figure(&c.main, c.maps.as_ref()), dir)
             .map_err(|e| e.to_string())?,
     );
+    written.extend(figures::draw_impact_oscillator(&c.oscillator, dir).map_err(|e| e.to_string())?);
     Ok(written)
 }
 

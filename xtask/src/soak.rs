@@ -12,6 +12,8 @@
 //!   size), and no impact gains energy or changes momentum (1e-12);
 //! - every stable viable symmetric orbit that decays fast enough to be decided within 6000
 //!   periods (largest multiplier below 0.99) is held by the simulator started on it.
+//!
+//! Random structures (`--structures`) run through both solvers as well ([`structures`]).
 
 use crate::root;
 use clap::Args;
@@ -26,6 +28,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 mod bad_input;
+mod structures;
 
 /// The seed of `properties.rs`.
 const DEFAULT_SEED: u64 = 0x007a_771e;
@@ -39,6 +42,10 @@ pub struct SoakArgs {
     /// Random bad scenes to refuse (in-process; the first 200 also through `rattle simulate`).
     #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
     bad_scenes: u64,
+    /// Random structures (bodies, springs, dashpots, one-sided and asymmetric stops, forces)
+    /// to run through both solvers.
+    #[arg(long, default_value_t = 2_000, value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
+    structures: u64,
     /// Seed of the random scenes (scene `k` is drawn from `seed` and `k` alone).
     #[arg(long, default_value_t = DEFAULT_SEED)]
     seed: u64,
@@ -285,6 +292,7 @@ pub fn run(args: SoakArgs) -> Result<(), String> {
     let rattle = crate::rattle_binary(&root)?;
     let mut failures = bad_input::soak(&rattle, &root, args.seed, args.bad_scenes);
     failures.extend(soak_scenes(args.seed, args.scenes));
+    failures.extend(structures::soak_structures(args.seed, args.structures));
     if failures.is_empty() {
         eprintln!("soak: every check passed");
         Ok(())

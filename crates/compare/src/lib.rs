@@ -14,6 +14,7 @@
 //! | [`verdict`] | the analytic candidates and how the two solvers relate at one frequency |
 //! | [`output`] | typed rows and records, one writer per format |
 //! | [`scene`] | the scene format, its validation, and the adapters to each solver |
+//! | [`references`] | closed-form answers computed apart from both solvers, to check them against |
 #![deny(missing_docs)]
 
 pub mod cli;
@@ -21,6 +22,7 @@ pub mod cli;
 pub mod figures;
 pub mod output;
 pub mod peers;
+pub mod references;
 pub mod runs;
 pub mod scene;
 pub mod study;

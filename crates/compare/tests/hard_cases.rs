@@ -203,7 +203,7 @@ fn a_unit_far_from_its_stops_is_judged_on_its_own_scale() {
 fn extreme_scenes_finish_with_an_honest_status() {
     // `validation/extreme-scenes/`: e = 0 and e = 1 undamped, gap 1e-9 and 1e6, base amplitude
     // 1e6, at very low, moderate and very high ω. Smaller caps than the defaults keep the test
-    // short; the command-line defaults are timed in the README.
+    // short; the command-line defaults are timed on the performance page (docs/performance.md).
     let options = SimulationOptions {
         max_periods: 2000,
         max_events: Some(200_000),

@@ -39,7 +39,7 @@ from rattle import _rattle
 scene = rattle.Scene.paper()
 native = scene._native
 d = rattle.DEFAULTS
-text = _rattle.simulate(native, 2.0, 100, d["tol"], d["steady_tol"], d["max_periods"], d["max_oscillations"])
+text, _ = _rattle.simulate(native, 2.0, 100, d["tol"], d["steady_tol"], d["max_periods"], d["max_oscillations"], None, None)
 """
 for label, module, before in [
     ("import numpy", "numpy", "pass"),
@@ -49,7 +49,7 @@ for label, module, before in [
     print("%-45s best %8.1f ms, median %8.1f ms" % ((label,) + import_time(module, before)))
 for label, statement in [
     ("rattle.simulate(scene, 2.0, periods=100)", "rattle.simulate(scene, 2.0, periods=100)"),
-    ("native call (JSON text out)", "_rattle.simulate(native, 2.0, 100, d['tol'], d['steady_tol'], d['max_periods'], d['max_oscillations'])"),
+    ("native call (JSON text out)", "_rattle.simulate(native, 2.0, 100, d['tol'], d['steady_tol'], d['max_periods'], d['max_oscillations'], None, None)"),
     ("json.loads + Simulation(...)", "rattle.Simulation(json.loads(text))"),
     ("boundary alone (GIL release, panic guard)", "_rattle._boundary_check('none')"),
 ]:

@@ -91,7 +91,9 @@ fn scene_error(error: SceneError) -> PyErr {
         SceneError::Format { .. }
         | SceneError::Value { .. }
         | SceneError::CellValue { .. }
-        | SceneError::Chain { .. } => PyValueError::new_err(error.to_string()),
+        | SceneError::Chain { .. }
+        | SceneError::Structure { .. }
+        | SceneError::StructureForm { .. } => PyValueError::new_err(error.to_string()),
     }
 }
 

@@ -1,7 +1,9 @@
 //! `rattle compare`: both solvers on the motion the unit settles on, whatever its signature.
 
-use super::{check_frequency, check_omega, heading, load, pretty, Accuracy, Common, RattleError};
-use crate::scene::Scene;
+use super::{
+    check_frequency, check_omega, heading, load_any, pretty, Accuracy, Common, RattleError,
+};
+use crate::scene::{AnyScene, Scene};
 use crate::verdict::chain::chain_cross_check;
 use crate::verdict::cross_check;
 use clap::Args;
@@ -26,7 +28,12 @@ pub struct CompareArgs {
 pub fn run(args: CompareArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.common.omega)?;
     let options = args.accuracy.options()?;
-    let scene = load(&args.common.scene)?;
+    let scene = match load_any(&args.common.scene)? {
+        AnyScene::Cells(scene) => scene,
+        AnyScene::Structure(form) => {
+            return super::structure::compare(&form, omega, &options, args.common.json);
+        }
+    };
     check_frequency(&scene, "--omega", omega)?;
     if scene.is_chain() {
         return chain_run(&scene, omega, &options, args.common.json);

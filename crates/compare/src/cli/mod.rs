@@ -13,23 +13,24 @@ pub mod map;
 pub mod merge;
 pub mod orbit;
 pub mod simulate;
+pub mod structure;
 pub mod sweep;
 
 use crate::output::trajectory::{ImpactRow, TrajectoryRow, MAX_SAMPLES_PER_PERIOD};
 use crate::output::{write_table, Format, Header, OutputError};
 use crate::scene::frequency::{FrequencyBounds, FrequencyError};
-use crate::scene::{Scene, SceneError};
+use crate::scene::{AnyScene, Scene, SceneError};
 use clap::{Args, Parser, Subcommand};
 use rattle_event_driven::SimulationOptions;
 use std::path::PathBuf;
 use thiserror::Error;
 
-/// Steady states of an impacting mass-in-mass unit, two independent ways.
+/// Steady states of vibro-impact structures, two independent ways.
 #[derive(Debug, Parser)]
 #[command(
     name = "rattle",
     version,
-    about = "Steady states of an impacting mass-in-mass unit, two independent ways: closed-form orbits (Nigm–Shabana) and exact event-driven simulation"
+    about = "Steady states of vibro-impact structures (the impacting mass-in-mass unit, chains of it, any structure with stops), two independent ways: closed-form orbits (Nigm–Shabana) and exact event-driven simulation"
 )]
 pub struct Cli {
     /// What to compute.
@@ -283,6 +284,14 @@ fn load(path: &Option<PathBuf>) -> Result<Scene, RattleError> {
     Ok(match path {
         Some(path) => Scene::load(path)?,
         None => Scene::paper(),
+    })
+}
+
+/// The scene at `path` in either form, or the built-in paper scene.
+fn load_any(path: &Option<PathBuf>) -> Result<AnyScene, RattleError> {
+    Ok(match path {
+        Some(path) => AnyScene::load(path)?,
+        None => AnyScene::Cells(Scene::paper()),
     })
 }
 

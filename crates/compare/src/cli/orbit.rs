@@ -1,7 +1,7 @@
 //! `rattle orbit`: the analytic picture at one frequency.
 
 use super::{
-    check_frequency, check_omega, heading, load, load_unit, pretty, Common, RattleError,
+    check_frequency, check_omega, heading, load_any, load_unit, pretty, Common, RattleError,
     TrajectoryArgs,
 };
 use crate::output::records::{
@@ -13,7 +13,7 @@ use crate::scene::analytic::{
     analyse, chain_linear_model, orbits_of_signature, sample_sequence_orbit,
     sample_signature_orbit, OrbitImpact, OrbitSample, OrbitSearch,
 };
-use crate::scene::Scene;
+use crate::scene::{AnyScene, Scene};
 use crate::verdict::chain::{chain_orbits, ChainOrbitsError};
 use clap::Args;
 use rattle_analytic::Signature;
@@ -55,7 +55,19 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.common.omega)?;
     args.trajectory.check()?;
     if let Some(text) = &args.signature {
-        let scene = load(&args.common.scene)?;
+        let scene = match load_any(&args.common.scene)? {
+            AnyScene::Cells(scene) => scene,
+            AnyScene::Structure(form) => {
+                if args.trajectory.trajectory.is_some() {
+                    return Err(RattleError::Argument(
+                        "--trajectory is not taken on a scene in the structure form yet: it is \
+                         taken on the unit and chain forms"
+                            .into(),
+                    ));
+                }
+                return super::structure::orbits(&form, omega, text, args.period, args.common.json);
+            }
+        };
         check_frequency(&scene, "--omega", omega)?;
         if scene.is_chain() {
             return chain_run(&scene, omega, text, &args);

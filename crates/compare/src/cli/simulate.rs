@@ -1,14 +1,14 @@
 //! `rattle simulate`: the event-driven simulator from rest.
 
 use super::{
-    check_frequency, check_omega, heading, load, pretty, Accuracy, Common, RattleError,
+    check_frequency, check_omega, heading, load_any, pretty, Accuracy, Common, RattleError,
     TrajectoryArgs,
 };
 use crate::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
 use crate::output::trajectory::simulated_rows;
 use crate::scene::lyapunov::{check_periods, spectrum};
 use crate::scene::simulator::{model, run as simulate, SimulatedPoint};
-use crate::scene::Scene;
+use crate::scene::{AnyScene, Scene};
 use clap::Args;
 use rattle_event_driven::lyapunov::DEFAULT_LYAPUNOV_PERIODS;
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
@@ -89,7 +89,13 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
     }
     args.trajectory.check()?;
     args.lyapunov.check()?;
-    let scene = load(&args.common.scene)?;
+    let scene = match load_any(&args.common.scene)? {
+        AnyScene::Cells(scene) => scene,
+        AnyScene::Structure(form) => {
+            refuse_for_structure(&args)?;
+            return super::structure::simulate(&form, omega, &options, args.common.json);
+        }
+    };
     check_frequency(&scene, "--omega", omega)?;
     let sim = simulate(
         &scene,
@@ -163,6 +169,24 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         write_lyapunov(&mut out, l);
     }
     Ok(out)
+}
+
+/// The options `rattle simulate` does not take on a structure scene yet, refused by name.
+fn refuse_for_structure(args: &SimulateArgs) -> Result<(), RattleError> {
+    let refused = if args.trajectory.trajectory.is_some() {
+        Some("--trajectory")
+    } else if args.lyapunov.lyapunov {
+        Some("--lyapunov")
+    } else {
+        None
+    };
+    match refused {
+        Some(option) => Err(RattleError::Argument(format!(
+            "{option} is not taken on a scene in the structure form yet: it is taken on the \
+             unit and chain forms"
+        ))),
+        None => Ok(()),
+    }
 }
 
 impl LyapunovArgs {

@@ -9,6 +9,7 @@ pub mod bifurcation;
 pub mod boundaries;
 pub mod chain;
 pub mod frequency_response;
+pub mod impact_oscillator;
 pub mod impact_time_response;
 pub mod linear_time_response;
 pub mod lyapunov;
@@ -117,4 +118,16 @@ pub fn draw_boundaries(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     save(figure, dir)
+}
+
+/// Draws the impact oscillator's bifurcation diagram (`impact-oscillator`) into `dir`; returns
+/// the files written.
+///
+/// # Errors
+/// The figure cannot be drawn or written, with its path.
+pub fn draw_impact_oscillator(
+    study: &crate::study::gallery::OscillatorStudy,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    save(study, dir)
 }

@@ -13,6 +13,7 @@ mod csv;
 mod json;
 mod jsonl;
 pub mod records;
+pub mod structure;
 pub mod trajectory;
 
 pub use self::csv::CsvWriter;

@@ -1,5 +1,5 @@
 //! Runs over many points: the parallel, ordered machinery ([`parallel`]), frequency sweeps
-//! ([`sweep`]) and their shards ([`shard`], whose parts [`merge`] joins), maps over
+//! ([`sweep`]; of a structure, [`structure_sweep`]) and their shards ([`shard`], whose parts [`merge`] joins), maps over
 //! restitution, gap and frequency ([`map`]), and the attenuation bands of a run ([`bands`]).
 //!
 //! Every run hands its points out in parallel and returns (or writes) them in input order, so
@@ -14,6 +14,7 @@ pub mod continuation;
 pub mod map;
 pub mod parallel;
 pub mod shard;
+pub mod structure_sweep;
 pub mod sweep;
 
 /// Joins the parts of a sharded sweep, map (its points or its bandwidth table) or basins (all

@@ -36,7 +36,7 @@ impl Solver {
         }
     }
 
-    fn grain(self) -> Grain {
+    pub(crate) fn grain(self) -> Grain {
         match self {
             Solver::Analytic => Grain::Even,
             Solver::Event | Solver::Both => Grain::Uneven,

@@ -5,13 +5,14 @@
 //! flight, and a run needs a number of forcing periods for its transients to decay. Forced far
 //! below its fastest mode, one period of the unit holds `ω_fastest/ω` free oscillations; forced
 //! far above its slowest mode, one free oscillation holds `ω/ω_slowest` forcing periods. Both
-//! ratios are bounded here, so that every command ends in bounded time on any finite input
-//! (issue #22), and a frequency outside the bounds is refused with the reason and the range.
+//! ratios are bounded here, so that every command ends in bounded time on any finite input,
+//! and a frequency outside the bounds is refused with the reason and the range.
 //!
 //! The natural frequencies are those of the scene's linear model without stops and without
-//! damping (the chain of cells in series for a chain), from the symmetric eigenproblem
-//! `M^{-1/2} K M^{-1/2}`.
+//! damping (the chain of cells in series for a chain, the structure's own `M` and `K` for a
+//! structure), from the symmetric eigenproblem `M^{-1/2} K M^{-1/2}`.
 
+use super::structure::Structure;
 use super::Scene;
 use nalgebra::{DMatrix, SymmetricEigen};
 use thiserror::Error;
@@ -81,7 +82,16 @@ pub struct FrequencyBounds {
 impl FrequencyBounds {
     /// The bounds of `scene`, from its natural frequencies.
     pub fn of(scene: &Scene) -> Self {
-        let rates = natural_frequencies(scene);
+        Self::of_rates(&natural_frequencies(scene))
+    }
+
+    /// The bounds of `structure`, from the natural frequencies of its `M` and `K`.
+    pub fn of_structure(structure: &Structure) -> Self {
+        let mass: Vec<f64> = structure.mass.diagonal().iter().copied().collect();
+        Self::of_rates(&eigenfrequencies(&mass, &structure.stiffness))
+    }
+
+    fn of_rates(rates: &[f64]) -> Self {
         Self {
             slowest: rates.iter().copied().fold(f64::INFINITY, f64::min),
             fastest: rates.iter().copied().fold(0.0, f64::max),
@@ -150,6 +160,12 @@ fn natural_frequencies(scene: &Scene) -> Vec<f64> {
         );
         tie(Some(outer), inner, cell.unit.inner_stiffness);
     }
+    eigenfrequencies(&mass, &stiffness)
+}
+
+/// The undamped natural frequencies (rad/s) of a diagonal `mass` on `stiffness`.
+fn eigenfrequencies(mass: &[f64], stiffness: &DMatrix<f64>) -> Vec<f64> {
+    let n = mass.len();
     let scaled = DMatrix::from_fn(n, n, |r, c| stiffness[(r, c)] / (mass[r] * mass[c]).sqrt());
     SymmetricEigen::new(scaled)
         .eigenvalues

@@ -24,6 +24,7 @@ pub mod lyapunov;
 pub mod parameter;
 pub mod phase;
 pub mod simulator;
+pub mod structure;
 
 use rattle_analytic::{Damping, Stops, Unit, UnitError};
 use serde::{Deserialize, Serialize};
@@ -36,6 +37,89 @@ pub const PAPER_SCENE: &str = include_str!("../../../../data/scenes/paper.json")
 /// The commands that take a chain of cells so far.
 pub const CHAIN_COMMANDS: &str =
     "`rattle simulate`, `rattle sweep` (`--solver analytic`: the linear chain; `event`; `both`: the verdict of `rattle compare` at every frequency), `rattle map`, `rattle orbit --signature` (a sequence of the pairs' impacts), `rattle continue --signature` (the same, continued in ω) and `rattle compare` (the simulated cycle beside the analytic orbit of its impact sequence)";
+
+/// The commands that take a scene in the structure form so far.
+pub const STRUCTURE_COMMANDS: &str =
+    "`rattle simulate`, `rattle orbit --signature`, `rattle compare` and `rattle sweep`";
+
+/// A scene of any form: the unit and chain forms ([`Scene`]), or the structure form
+/// ([`structure::StructureScene`]) with its checked [`structure::Structure`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum AnyScene {
+    /// The unit form, with `cells` or `chain` for a chain.
+    Cells(Scene),
+    /// The structure form.
+    Structure(Box<structure::StructureForm>),
+}
+
+impl AnyScene {
+    /// Parses and validates a scene of either form (the structure form when the document
+    /// has a `structure` field); `origin` names it in error messages.
+    ///
+    /// # Errors
+    /// As [`Scene::parse`]; [`SceneError::Structure`] naming the field of a structure scene
+    /// that does not exist or has no bounded motion.
+    pub fn parse(text: &str, origin: &str) -> Result<AnyScene, SceneError> {
+        if !is_structure(text) {
+            return Scene::parse(text, origin).map(AnyScene::Cells);
+        }
+        let scene: structure::StructureScene = deserialize(text, origin)?;
+        let structure = scene.structure().map_err(|source| SceneError::Structure {
+            origin: origin.to_owned(),
+            source,
+        })?;
+        Ok(AnyScene::Structure(Box::new(structure::StructureForm {
+            scene,
+            structure,
+        })))
+    }
+
+    /// Reads, parses and validates the scene file at `path`.
+    ///
+    /// # Errors
+    /// [`SceneError::Read`] when the file cannot be read, else as [`AnyScene::parse`].
+    pub fn load(path: &Path) -> Result<AnyScene, SceneError> {
+        let text = std::fs::read_to_string(path).map_err(|source| SceneError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        AnyScene::parse(&text, &path.display().to_string())
+    }
+
+    /// The scene's name.
+    pub fn name(&self) -> &str {
+        match self {
+            AnyScene::Cells(scene) => &scene.name,
+            AnyScene::Structure(form) => &form.scene.name,
+        }
+    }
+}
+
+/// Whether a scene's text is in the structure form: a JSON object with a `structure` field.
+fn is_structure(text: &str) -> bool {
+    #[derive(Deserialize)]
+    struct Probe {
+        #[serde(default)]
+        structure: Option<serde::de::IgnoredAny>,
+    }
+    serde_json::from_str::<Probe>(text).is_ok_and(|p| p.structure.is_some())
+}
+
+/// `T` from `text`, or the error naming the field's path, line and column.
+fn deserialize<T: serde::de::DeserializeOwned>(text: &str, origin: &str) -> Result<T, SceneError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|e| {
+        let path = e.path().to_string();
+        let inner = e.into_inner();
+        SceneError::Format {
+            origin: origin.to_owned(),
+            path_in_scene: path,
+            message: strip_position(&inner.to_string()),
+            line: inner.line(),
+            column: inner.column(),
+        }
+    })
+}
 
 /// A chain scene given to a command that works on a single unit only
 /// ([`Scene::refuse_chain`]).
@@ -98,6 +182,24 @@ pub enum SceneError {
         cell: usize,
         /// The field within the cell, the value and the allowed range.
         source: UnitError,
+    },
+    /// A structure scene's field names what does not exist, or what has no bounded motion.
+    #[error("{origin}: {source}")]
+    Structure {
+        /// The file, or `built-in`.
+        origin: String,
+        /// The field's JSON path and the reason.
+        source: structure::StructureError,
+    },
+    /// A structure scene given where only the unit and chain forms are taken.
+    #[error(
+        "{origin}: structure: the structure form is taken by {commands} so far; this command \
+         takes the unit form (`unit`, `base`, with `cells` or `chain` for a chain)",
+        commands = STRUCTURE_COMMANDS
+    )]
+    StructureForm {
+        /// The file, or `built-in`.
+        origin: String,
     },
     /// The chain's length is out of range, or given twice.
     #[error("{origin}: {field}: {message}")]
@@ -229,20 +331,16 @@ impl Scene {
     ///
     /// # Errors
     /// [`SceneError::Format`] for malformed JSON, an unknown field or a wrong type (with the
-    /// field's path, line and column); [`SceneError::Value`] for a value out of its range.
+    /// field's path, line and column); [`SceneError::Value`] for a value out of its range;
+    /// [`SceneError::StructureForm`] for a scene in the structure form ([`AnyScene::parse`]
+    /// takes it).
     pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
-        let de = &mut serde_json::Deserializer::from_str(text);
-        let scene: Scene = serde_path_to_error::deserialize(de).map_err(|e| {
-            let path = e.path().to_string();
-            let inner = e.into_inner();
-            SceneError::Format {
+        if is_structure(text) {
+            return Err(SceneError::StructureForm {
                 origin: origin.to_owned(),
-                path_in_scene: path,
-                message: strip_position(&inner.to_string()),
-                line: inner.line(),
-                column: inner.column(),
-            }
-        })?;
+            });
+        }
+        let scene: Scene = deserialize(text, origin)?;
         scene.validated(origin)
     }
 

@@ -2,13 +2,14 @@
 //! starting it from rest or on an analytic orbit, and naming the regime it settles in.
 
 use crate::scene::analytic::orbit_state;
+use crate::scene::structure::Structure;
 use crate::scene::{phase, Scene};
 use nalgebra::{DVector, Vector4};
 use rattle_analytic::linear::transmittance_db;
 use rattle_analytic::{Orbit, Signature};
 use rattle_event_driven::{
-    simulate_watched, CellParameters, CellStops, Model, ModelError, SimulationError,
-    SimulationOptions, Start, Status, SteadyState, Stop,
+    simulate, simulate_watched, CellParameters, CellStops, ImpactRecord, Model, ModelError,
+    PeriodicOrbit, SimulationError, SimulationOptions, Start, Status, SteadyState, Stop,
 };
 use thiserror::Error;
 
@@ -174,8 +175,10 @@ pub struct SimulatedPoint {
     pub outer_amplitude: f64,
     /// `20 log10(X_o/u_g)`, `None` when no steady state was reached.
     pub transmittance_db: Option<f64>,
-    /// Cells of the scene (1 for a single unit).
+    /// Cells of the scene (1 for a single unit and for a structure).
     pub cells: usize,
+    /// Contact pairs of the scene's model.
+    pub pairs: usize,
     /// For a two-impact motion: the state just before the side-1 impact and the base phase
     /// `α ∈ (−π, π]` there, to compare with an analytic orbit.
     pub side1_impact: Option<(Vector4<f64>, f64)>,
@@ -320,7 +323,98 @@ pub fn run_watched(
         outer_amplitude,
         transmittance_db: transmittance,
         cells: scene.cell_count(),
+        pairs: scene.pair_count(),
         side1_impact,
+    })
+}
+
+/// Runs the simulator on `structure` at `omega` from `start` and names the regime as a
+/// chain's ([`chain_regime`]: the two-impact motion is the unit's); the outer amplitude is
+/// the observed body's, the transmittance against `u_g` when the base moves. A periodic
+/// motion that the simulator's Newton polishes (with `options.polish`) is reported from its
+/// polished cycle: the amplitudes are those of one cycle run from the polished orbit, which
+/// is returned beside the point.
+///
+/// # Errors
+/// As [`run`].
+pub fn run_structure(
+    structure: &Structure,
+    omega: f64,
+    start: &Start,
+    options: &SimulationOptions,
+) -> Result<(SimulatedPoint, Option<PolishedCycle>), SimulateError> {
+    let model = structure.event_model(omega)?;
+    let mut steady = simulate_watched(&model, omega, start, options, &mut |_, _| false)?;
+    let polished = match steady.orbit.as_deref() {
+        Some(orbit) => Some(polished_cycle(&model, omega, orbit, options)?),
+        None => None,
+    };
+    if let Some(cycle) = &polished {
+        steady.amplitudes.clone_from(&cycle.amplitudes);
+    }
+    let outer_amplitude = steady
+        .amplitudes
+        .get(structure.observe)
+        .copied()
+        .unwrap_or(f64::NAN);
+    let settled = !matches!(steady.status, Status::NoDissipation);
+    let transmittance_db = structure
+        .base_amplitude
+        .filter(|_| settled && outer_amplitude.is_finite())
+        .map(|ug| transmittance_db(outer_amplitude, ug));
+    let point = SimulatedPoint {
+        omega,
+        regime: chain_regime(&steady),
+        steady,
+        outer_amplitude,
+        transmittance_db,
+        cells: 1,
+        pairs: structure.stops.len(),
+        side1_impact: None,
+    };
+    Ok((point, polished))
+}
+
+/// The simulator's polished cycle, read from the simulator alone.
+#[derive(Debug, Clone)]
+pub struct PolishedCycle {
+    /// The simulator's Newton-polished orbit (state at its section, multipliers).
+    pub orbit: PeriodicOrbit,
+    /// The impacts of one cycle run from the polished state at the section, in time order,
+    /// each with its pair, side, absolute time and state just before.
+    pub impacts: Vec<ImpactRecord>,
+    /// `max_t |u_k(t)|` of every coordinate over that cycle, from the simulator's closed-form
+    /// extrema.
+    pub amplitudes: Vec<f64>,
+}
+
+/// One cycle of the simulator on `model` run from the polished `orbit`'s section (`p` periods
+/// exactly, no polish): its impacts and amplitudes are those of the polished cycle.
+///
+/// # Errors
+/// A failure of the simulator.
+pub fn polished_cycle(
+    model: &Model,
+    omega: f64,
+    orbit: &PeriodicOrbit,
+    options: &SimulationOptions,
+) -> Result<PolishedCycle, SimulateError> {
+    let start = Start {
+        state: orbit.state.clone(),
+        time: orbit.time,
+    };
+    let once = SimulationOptions {
+        fixed_periods: Some(u64::from(orbit.periods)),
+        max_period_multiplicity: options.max_period_multiplicity.max(orbit.periods),
+        polish: false,
+        record_trajectory: false,
+        ..*options
+    };
+    let steady = simulate(model, omega, &start, &once)?;
+    Ok(PolishedCycle {
+        orbit: orbit.clone(),
+        impacts: steady.cycle_impacts,
+        amplitudes: steady.amplitudes,
     })
 }
 
@@ -423,10 +517,10 @@ impl SimulatedPoint {
     }
 
     /// The canonical impact signature of the periodic cycle, from the simulator's own Newton
-    /// polish of it (`None` when there is none, and for a chain, whose pairs each have their
-    /// own: [`Self::pair_signatures`]).
+    /// polish of it (`None` when there is none, and for a chain or a structure of several
+    /// pairs, whose pairs each have their own: [`Self::pair_signatures`]).
     pub fn signature(&self) -> Option<Signature> {
-        if self.cells > 1 {
+        if self.cells > 1 || self.pairs > 1 {
             return None;
         }
         let orbit = self.steady.orbit.as_ref()?;

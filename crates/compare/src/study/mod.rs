@@ -5,6 +5,7 @@
 pub mod boundaries;
 pub mod chain;
 pub mod chaos;
+pub mod gallery;
 pub mod paper;
 pub mod plots;
 pub mod report;

@@ -15,7 +15,9 @@ use crate::output::records::{
     ChainOrbitsRecord, ChainSimulatedRecord,
 };
 use crate::scene::analytic::{chain_linear_model, chain_model, MissingStops};
-use crate::scene::simulator::{model, rest, run, SimulateError, SimulatedPoint};
+use crate::scene::simulator::{
+    model, polished_cycle, rest, run, PolishedCycle, SimulateError, SimulatedPoint,
+};
 use crate::scene::{phase, Scene};
 use crate::verdict::{Class, MATCH_TOLERANCE};
 use nalgebra::{Complex, DVector};
@@ -24,8 +26,7 @@ use rattle_analytic::{
     SequenceError, SequenceOrbit, SequenceOrbitError,
 };
 use rattle_event_driven::{
-    periodic_orbit, simulate, ImpactRecord, PeriodicOrbit, SimulationOptions, Start, Status,
-    SteadyState,
+    periodic_orbit, Model, PeriodicOrbit, SimulationOptions, Start, Status, SteadyState,
 };
 use thiserror::Error;
 
@@ -81,19 +82,6 @@ impl ChainReason {
             ChainReason::NotLinear => "not-linear",
         }
     }
-}
-
-/// The simulator's polished cycle of a chain, read from the simulator alone.
-#[derive(Debug, Clone)]
-pub struct PolishedCycle {
-    /// The simulator's Newton-polished orbit (state at its section, multipliers).
-    pub orbit: PeriodicOrbit,
-    /// The impacts of one cycle run from the polished state at the section, in time order,
-    /// each with its pair, side, absolute time and state just before.
-    pub impacts: Vec<ImpactRecord>,
-    /// `max_t |u_k(t)|` of every coordinate over that cycle, from the simulator's closed-form
-    /// extrema.
-    pub amplitudes: Vec<f64>,
 }
 
 /// A chain's simulated periodic motion beside the analytic orbit of its impact sequence.
@@ -153,6 +141,20 @@ pub struct ChainConfirmation {
     pub error: Option<String>,
 }
 
+impl ChainConfirmation {
+    /// The record of this confirmation, as `rattle compare --json` prints it.
+    pub fn record(&self) -> ChainConfirmationRecord {
+        ChainConfirmationRecord {
+            confirmed: self.confirmed,
+            state_difference: self.state_difference.and_then(finite),
+            map_residual: self.map_residual.and_then(finite),
+            newton_iterations: self.newton_iterations,
+            multiplier_difference: self.multiplier_difference.and_then(finite),
+            error: self.error.clone(),
+        }
+    }
+}
+
 impl ChainCheck {
     /// The record of this check on the chain `scene`: what `rattle compare --json` prints, and
     /// the Python package's `compare` returns.
@@ -202,21 +204,14 @@ impl ChainCheck {
             class_detail: self.class.detail().to_owned(),
             relative_difference: self.relative_difference.and_then(finite),
             multiplier_difference: self.multiplier_difference.and_then(finite),
-            confirmation: self.confirmation.as_ref().map(|k| ChainConfirmationRecord {
-                confirmed: k.confirmed,
-                state_difference: k.state_difference.and_then(finite),
-                map_residual: k.map_residual.and_then(finite),
-                newton_iterations: k.newton_iterations,
-                multiplier_difference: k.multiplier_difference.and_then(finite),
-                error: k.error.clone(),
-            }),
+            confirmation: self.confirmation.as_ref().map(ChainConfirmation::record),
         }
     }
 
-    fn new(scene: &Scene, omega: f64, simulated: SimulatedPoint) -> Self {
+    pub(crate) fn new(cells: usize, omega: f64, simulated: SimulatedPoint) -> Self {
         Self {
             omega,
-            cells: scene.cell_count(),
+            cells,
             simulated,
             polished: None,
             sequence: None,
@@ -231,16 +226,16 @@ impl ChainCheck {
     }
 
     /// Records the verdict `class` for `reason`.
-    fn decide(&mut self, reason: Option<ChainReason>, class: Class) {
+    pub(crate) fn decide(&mut self, reason: Option<ChainReason>, class: Class) {
         self.reason = reason;
         self.class = class;
     }
 
-    fn beyond(&mut self, reason: ChainReason, words: String) {
+    pub(crate) fn beyond(&mut self, reason: ChainReason, words: String) {
         self.decide(Some(reason), Class::Beyond(words));
     }
 
-    fn contradiction(&mut self, reason: ChainReason, words: String) {
+    pub(crate) fn contradiction(&mut self, reason: ChainReason, words: String) {
         self.decide(Some(reason), Class::Contradiction(words));
     }
 }
@@ -269,7 +264,26 @@ pub fn chain_cross_check(
         ..*options
     };
     let simulated = run(scene, omega, &rest(scene), &options)?;
-    let mut check = ChainCheck::new(scene, omega, simulated);
+    let check = ChainCheck::new(scene.cell_count(), omega, simulated);
+    judge(
+        check,
+        |check| linear_check(scene, check),
+        |check, orbit, steady| seeded_check(scene, omega, orbit, steady, &options, check),
+    )
+}
+
+/// The verdict of a check whose simulated run is in: `beyond` for a sticking, non-periodic or
+/// undecaying motion and for a cycle the simulator could not polish; `linear` for a periodic
+/// motion without impacts; `seeded` (the analytic orbit of the polished cycle's sequence)
+/// otherwise.
+///
+/// # Errors
+/// A failure of the simulator in `seeded`.
+pub(crate) fn judge(
+    mut check: ChainCheck,
+    linear: impl FnOnce(&mut ChainCheck),
+    seeded: impl FnOnce(&mut ChainCheck, &PeriodicOrbit, &SteadyState) -> Result<(), SimulateError>,
+) -> Result<ChainCheck, SimulateError> {
     let steady = check.simulated.steady.clone();
     match (steady.status, steady.sticking) {
         (_, true) => check.beyond(
@@ -284,7 +298,7 @@ pub fn chain_cross_check(
             ChainReason::NoDissipation,
             "no dissipation: transients never decay".into(),
         ),
-        (Status::Periodic, _) if steady.cycle_impacts.is_empty() => linear_check(scene, &mut check),
+        (Status::Periodic, _) if steady.cycle_impacts.is_empty() => linear(&mut check),
         (Status::Periodic, _) => match steady.orbit.as_deref() {
             None => check.beyond(
                 ChainReason::NotPolished,
@@ -295,7 +309,7 @@ pub fn chain_cross_check(
             ),
             Some(orbit) => {
                 let orbit = orbit.clone();
-                seeded_check(scene, omega, &orbit, &steady, &options, &mut check)?;
+                seeded(&mut check, &orbit, &steady)?;
             }
         },
     }
@@ -343,7 +357,7 @@ fn linear_check(scene: &Scene, check: &mut ChainCheck) {
 }
 
 /// `max_k |a_k − b_k| / |b_k|` (infinite when the lengths differ).
-fn largest_relative(a: &[f64], b: &[f64]) -> f64 {
+pub(crate) fn largest_relative(a: &[f64], b: &[f64]) -> f64 {
     if a.len() != b.len() {
         return f64::INFINITY;
     }
@@ -351,37 +365,6 @@ fn largest_relative(a: &[f64], b: &[f64]) -> f64 {
         .zip(b)
         .map(|(x, y)| (x - y).abs() / y.abs().max(f64::MIN_POSITIVE))
         .fold(0.0, f64::max)
-}
-
-/// One cycle of the simulator run from the polished orbit's section (`p` periods exactly,
-/// no polish): its impacts and amplitudes are those of the polished cycle.
-///
-/// # Errors
-/// A failure of the simulator.
-fn polished_cycle(
-    scene: &Scene,
-    omega: f64,
-    orbit: &PeriodicOrbit,
-    options: &SimulationOptions,
-) -> Result<PolishedCycle, SimulateError> {
-    let model = model(scene, omega)?;
-    let start = Start {
-        state: orbit.state.clone(),
-        time: orbit.time,
-    };
-    let once = SimulationOptions {
-        fixed_periods: Some(u64::from(orbit.periods)),
-        max_period_multiplicity: options.max_period_multiplicity.max(orbit.periods),
-        polish: false,
-        record_trajectory: false,
-        ..*options
-    };
-    let steady: SteadyState = simulate(&model, omega, &start, &once)?;
-    Ok(PolishedCycle {
-        orbit: orbit.clone(),
-        impacts: steady.cycle_impacts,
-        amplitudes: steady.amplitudes,
-    })
 }
 
 /// The analytic orbit of the polished cycle's sequence, its differences and the class.
@@ -393,14 +376,49 @@ fn seeded_check(
     options: &SimulationOptions,
     check: &mut ChainCheck,
 ) -> Result<(), SimulateError> {
-    let Ok(analytic_model) = chain_model(scene) else {
+    let Ok(analytic) = chain_model(scene) else {
         check.beyond(
             ChainReason::CellWithoutStops,
             "a cell without stops: the analytic chain needs a contact pair in every cell".into(),
         );
         return Ok(());
     };
-    let cycle = polished_cycle(scene, omega, orbit, options)?;
+    let models = CheckModels {
+        event: model(scene, omega)?,
+        analytic,
+        compared: (0..scene.cell_count()).map(|j| 2 * j).collect(),
+    };
+    seeded_models(&models, omega, orbit, steady, options, check)
+}
+
+/// Each solver's own model of one scene at one frequency, and the coordinates whose
+/// amplitudes a cross-check compares: what a seeded check needs of a scene, whatever its form.
+#[derive(Debug, Clone)]
+pub struct CheckModels {
+    /// The simulator's model at the frequency.
+    pub event: Model,
+    /// The analytic solver's model.
+    pub analytic: rattle_analytic::LinearModel,
+    /// The coordinates whose amplitudes are compared (a chain's outer masses, a structure's
+    /// bodies).
+    pub compared: Vec<usize>,
+}
+
+/// The analytic orbit of the polished cycle's sequence on `models`, its differences from the
+/// simulated cycle and the class.
+///
+/// # Errors
+/// A failure of the simulator.
+pub(crate) fn seeded_models(
+    models: &CheckModels,
+    omega: f64,
+    orbit: &PeriodicOrbit,
+    steady: &SteadyState,
+    options: &SimulationOptions,
+    check: &mut ChainCheck,
+) -> Result<(), SimulateError> {
+    let analytic_model = &models.analytic;
+    let cycle = polished_cycle(&models.event, omega, orbit, options)?;
     let impacts: Vec<PairImpact> = cycle
         .impacts
         .iter()
@@ -463,7 +481,7 @@ fn seeded_check(
     let mut guess = vec![alpha_at(first)];
     guess.extend_from_slice(&phases_from(first)[1..]);
     check.sequence = Some(sequence.clone());
-    let analytic = match solve_sequence(&analytic_model, omega, &sequence, &guess) {
+    let analytic = match solve_sequence(analytic_model, omega, &sequence, &guess) {
         Ok(o) => o,
         Err(e) => {
             check.analytic_error = Some(e.to_string());
@@ -475,9 +493,10 @@ fn seeded_check(
             return Ok(());
         }
     };
-    let cells = scene.cell_count();
-    let outer: Vec<f64> = (0..cells).map(|j| cycle.amplitudes[2 * j]).collect();
-    let amplitude = largest_relative(&outer, &analytic.cell_outer_amplitudes);
+    let pick = |amplitudes: &[f64]| -> Vec<f64> {
+        models.compared.iter().map(|&k| amplitudes[k]).collect()
+    };
+    let amplitude = largest_relative(&pick(&cycle.amplitudes), &pick(&analytic.amplitudes));
     // The analytic orbit starts at one of the equivalent rotations: compare with the closest.
     let before = DVector::from_column_slice(&analytic.states_before_impacts[0]);
     let difference = rotations
@@ -504,12 +523,12 @@ fn seeded_check(
     classify(check, &sequence, &analytic, difference);
     if analytic.viable {
         check.confirmation = Some(confirm(
-            scene,
-            &analytic_model,
+            &models.event,
+            analytic_model,
             &analytic,
             &cycle.orbit,
             options,
-        )?);
+        ));
     }
     check.polished = Some(cycle);
     check.analytic = Some(analytic);
@@ -553,16 +572,13 @@ fn classify(
 /// `model` mid-way through the orbit's first flight (`orbit.impact_phases[1] / 2` of the
 /// cycle after its first impact, base phase `α + ω t` there); its impacts compared with the
 /// `polished` cycle's, its state with the analytic one.
-///
-/// # Errors
-/// The simulator's model of the scene cannot be built.
 fn confirm(
-    scene: &Scene,
+    event: &Model,
     model_of_chain: &rattle_analytic::LinearModel,
     orbit: &SequenceOrbit,
     polished: &PeriodicOrbit,
     options: &SimulationOptions,
-) -> Result<ChainConfirmation, SimulateError> {
+) -> ChainConfirmation {
     let omega = orbit.omega;
     let length = f64::from(orbit.period) * std::f64::consts::TAU / omega;
     let t = 0.5 * orbit.impact_phases.get(1).copied().unwrap_or(1.0) * length;
@@ -584,7 +600,7 @@ fn confirm(
         multiplier_difference: None,
         error: None,
     };
-    match periodic_orbit(&model(scene, omega)?, omega, &start, orbit.period, options) {
+    match periodic_orbit(event, omega, &start, orbit.period, options) {
         Ok(found) => {
             let d = (&found.state - &x).norm() / x.norm().max(f64::MIN_POSITIVE);
             // The same impacts: a rotation of the polished cycle's sides (Newton's start lies
@@ -605,7 +621,7 @@ fn confirm(
         }
         Err(e) => out.error = Some(e.to_string()),
     }
-    Ok(out)
+    out
 }
 
 /// Two sets of multipliers matched one to one, closest pairs first: the largest distance of a

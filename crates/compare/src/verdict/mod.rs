@@ -4,7 +4,8 @@
 //!
 //! [`candidates`] is the one definition of "the analytic prediction": sweeps, maps and the
 //! report all call it, and each names the [`Choice`] it makes among the candidates.
-//! [`chain`] relates the two on a chain of cells.
+//! [`chain`] relates the two on a chain of cells, [`structure`] on a structure scene (through
+//! the same seeded check on each solver's own model).
 
 use crate::output::finite;
 use crate::output::records::{
@@ -23,6 +24,7 @@ use rattle_event_driven::{periodic_orbit, PeriodicOrbit, SimulationOptions, Star
 use thiserror::Error;
 
 pub mod chain;
+pub mod structure;
 
 /// Two results agree when they differ by less than this, relatively: 1000 × the simulator's
 /// default periodicity tolerance (1e-9), because a motion that repeats to `ε` can still be

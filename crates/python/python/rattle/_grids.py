@@ -18,11 +18,11 @@ import numpy as _np
 from . import _rattle
 
 #: Seconds of one core per map point, as measured on this project's 2-core machine (the
-#: repository README: 640 000 points of the lightly damped paper unit in 390 s on 2 threads):
+#: performance page, docs/performance.md: 640 000 points of the lightly damped paper unit in 390 s on 2 threads):
 #: used only to choose how many parts a study is cut into.
 MAP_SECONDS_PER_POINT = 0.0012
 
-#: Seconds of one core per basins start (the README: 200 × 200 starts of the paper's unit at
+#: Seconds of one core per basins start (docs/performance.md: 200 × 200 starts of the paper's unit at
 #: ω = 1.9 rad/s in 10.7 s on 2 threads), for the same purpose.
 BASINS_SECONDS_PER_START = 0.0005
 

@@ -1,0 +1,270 @@
+//! The records of a structure scene: what `rattle simulate --json`, `rattle compare --json`
+//! and `rattle orbit --signature --json` print for a scene in the structure form. Every body
+//! is named by the scene's own name for it.
+
+use crate::output::finite;
+use crate::output::records::{multipliers, ChainConfirmationRecord};
+use crate::scene::simulator::SimulatedPoint;
+use crate::scene::structure::{Structure, StructureScene};
+use rattle_analytic::linear::transmittance_db;
+use rattle_analytic::SequenceOrbit;
+use serde::ser::{Serialize, SerializeMap, Serializer};
+
+/// Each body's value by its name, in the scene's order (a JSON object).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ByBody(pub Vec<(String, Option<f64>)>);
+
+impl ByBody {
+    /// `values[k]` for every body `k` of `structure` (non-finite values `null`).
+    pub fn new(structure: &Structure, values: &[f64]) -> Self {
+        Self(
+            structure
+                .names
+                .iter()
+                .enumerate()
+                .map(|(k, name)| (name.clone(), values.get(k).copied().and_then(finite)))
+                .collect(),
+        )
+    }
+}
+
+impl Serialize for ByBody {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (name, value) in &self.0 {
+            map.serialize_entry(name, value)?;
+        }
+        map.end()
+    }
+}
+
+/// Where a structure's result was computed.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureAt {
+    /// Scene name.
+    pub scene: String,
+    /// The scene's form: `structure`.
+    pub form: &'static str,
+    /// Angular frequency, rad/s.
+    pub omega: Option<f64>,
+    /// The structure's active effects: `stops`, `damping`.
+    pub effects: Vec<&'static str>,
+    /// The observed body: the one behind `outer_amplitude` and `transmittance_db`.
+    pub observed: String,
+}
+
+impl StructureAt {
+    /// `scene` at `omega`.
+    pub fn new(scene: &StructureScene, structure: &Structure, omega: f64) -> Self {
+        let mut effects = Vec::new();
+        if !structure.stops.is_empty() {
+            effects.push("stops");
+        }
+        if structure.is_damped() {
+            effects.push("damping");
+        }
+        Self {
+            scene: scene.name.clone(),
+            form: "structure",
+            omega: finite(omega),
+            effects,
+            observed: structure.names[structure.observe].clone(),
+        }
+    }
+}
+
+/// The transmittance `20 log10(X / u_g)` of the observed body's amplitude `X`, when the base
+/// moves.
+fn transmittance(structure: &Structure, amplitudes: &[f64]) -> Option<f64> {
+    let x = *amplitudes.get(structure.observe)?;
+    structure
+        .base_amplitude
+        .and_then(|ug| finite(transmittance_db(x, ug)))
+}
+
+/// What `rattle simulate --json` prints for a structure.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureSimulationRecord {
+    /// The scene and the frequency.
+    #[serde(flatten)]
+    pub at: StructureAt,
+    /// `periodic`, `non-periodic` or `no-dissipation`, `, sticking` appended when the final
+    /// cycle sticks.
+    pub status: String,
+    /// The regime's name.
+    pub regime: &'static str,
+    /// Least period in forcing periods, when periodic.
+    pub period: Option<u32>,
+    /// Impacts per forcing period over the final cycle.
+    pub impacts_per_period: Option<f64>,
+    /// Impacts per forcing period of each stop (contact pair, in file order).
+    pub pair_impacts_per_period: Vec<Option<f64>>,
+    /// Each stop's canonical impact signature over the final cycle (`""` for a stop without
+    /// impacts, `null` for one beyond what a signature holds; the list `null` when not
+    /// periodic or sticking).
+    pub pair_signatures: Option<Vec<Option<String>>>,
+    /// `max |u|` of the observed body over the steady cycle, m.
+    pub outer_amplitude: Option<f64>,
+    /// `20 log10(outer_amplitude / u_g)`; `null` without a moving base or a steady state.
+    pub transmittance_db: Option<f64>,
+    /// `max |u|` of every body over the steady cycle, m, by name.
+    pub body_amplitudes: ByBody,
+    /// Which cycle the amplitudes are of: `polished` (one cycle run from the simulator's own
+    /// Newton-polished periodic orbit) or `final` (the last simulated cycle, when there is no
+    /// polished orbit).
+    pub amplitudes_of: &'static str,
+    /// Whether the final cycle sticks.
+    pub sticking: bool,
+    /// Why the run ended.
+    pub stopped_by: &'static str,
+    /// Forcing periods simulated.
+    pub periods_run: u64,
+    /// Impacts over the run.
+    pub impacts: u64,
+    /// The simulator's own Floquet multipliers `[re, im]` of the polished cycle.
+    pub floquet_multipliers: Option<Vec<[Option<f64>; 2]>>,
+    /// Why the cycle could not be polished, when it could not.
+    pub orbit_error: Option<String>,
+}
+
+impl StructureSimulationRecord {
+    /// The record of `sim` on `structure`; `polished` says whether its amplitudes are those
+    /// of the polished cycle.
+    pub fn new(
+        scene: &StructureScene,
+        structure: &Structure,
+        sim: &SimulatedPoint,
+        polished: bool,
+    ) -> Self {
+        let s = &sim.steady;
+        let pairs = structure.stops.len();
+        Self {
+            at: StructureAt::new(scene, structure, sim.omega),
+            status: sim.status_name(),
+            regime: sim.regime.name(),
+            period: s.period,
+            impacts_per_period: finite(s.impacts_per_period),
+            pair_impacts_per_period: sim
+                .pair_impacts_per_period(pairs)
+                .into_iter()
+                .map(finite)
+                .collect(),
+            pair_signatures: signatures(sim, pairs),
+            outer_amplitude: finite(sim.outer_amplitude),
+            transmittance_db: sim.transmittance_db.and_then(finite),
+            body_amplitudes: ByBody::new(structure, &s.amplitudes),
+            amplitudes_of: if polished { "polished" } else { "final" },
+            sticking: s.sticking,
+            stopped_by: sim.stopped_by(),
+            periods_run: s.periods_run,
+            impacts: s.impacts,
+            floquet_multipliers: s
+                .orbit
+                .as_ref()
+                .map(|o| multipliers(&o.floquet_multipliers)),
+            orbit_error: s.orbit_error.clone(),
+        }
+    }
+}
+
+/// Each pair's signature as text (`""` without impacts, `null` beyond a signature).
+pub fn signatures(sim: &SimulatedPoint, pairs: usize) -> Option<Vec<Option<String>>> {
+    sim.pair_signatures(pairs).map(|list| {
+        list.into_iter()
+            .map(|r| r.ok().map(|s| s.map(|s| s.to_string()).unwrap_or_default()))
+            .collect()
+    })
+}
+
+/// The simulated side of a structure's cross-check.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureSimulatedRecord {
+    /// As [`StructureSimulationRecord::status`].
+    pub status: String,
+    /// Least period, when periodic.
+    pub period: Option<u32>,
+    /// Each stop's signature, as [`StructureSimulationRecord::pair_signatures`].
+    pub pair_signatures: Option<Vec<Option<String>>>,
+    /// Impacts per forcing period.
+    pub impacts_per_period: Option<f64>,
+    /// The observed body's amplitude, m.
+    pub outer_amplitude: Option<f64>,
+    /// Every body's amplitude over the polished cycle (the final cycle without one), m.
+    pub body_amplitudes: ByBody,
+    /// The simulator's own Floquet multipliers.
+    pub floquet_multipliers: Option<Vec<[Option<f64>; 2]>>,
+}
+
+/// The analytic side of a structure's cross-check: the orbit of the simulated sequence.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureAnalyticRecord {
+    /// The impact sequence, canonical (`0+ 1- …`).
+    pub sequence: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// The observed body's amplitude, m.
+    pub outer_amplitude: Option<f64>,
+    /// `20 log10(outer_amplitude / u_g)`, when the base moves.
+    pub transmittance_db: Option<f64>,
+    /// Every body's amplitude, m, from rigorous extrema.
+    pub body_amplitudes: ByBody,
+    /// No contact condition violated.
+    pub viable: bool,
+    /// Every multiplier inside the unit circle.
+    pub stable: bool,
+    /// The analytic Floquet multipliers.
+    pub floquet_multipliers: Vec<[Option<f64>; 2]>,
+    /// The cycle's energy residual, relative.
+    pub energy_residual: Option<f64>,
+}
+
+impl StructureAnalyticRecord {
+    /// The record of the analytic `orbit` on `structure`.
+    pub fn new(structure: &Structure, orbit: &SequenceOrbit) -> Self {
+        Self {
+            sequence: orbit.sequence.to_string(),
+            period: orbit.period,
+            outer_amplitude: orbit
+                .amplitudes
+                .get(structure.observe)
+                .copied()
+                .and_then(finite),
+            transmittance_db: transmittance(structure, &orbit.amplitudes),
+            body_amplitudes: ByBody::new(structure, &orbit.amplitudes),
+            viable: orbit.viable,
+            stable: orbit.stable,
+            floquet_multipliers: multipliers(&orbit.floquet_multipliers),
+            energy_residual: finite(orbit.energy_residual),
+        }
+    }
+}
+
+/// What `rattle compare --json` prints for a structure scene.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureCompareRecord {
+    /// The scene and the frequency.
+    #[serde(flatten)]
+    pub at: StructureAt,
+    /// The simulator from rest.
+    pub simulated: StructureSimulatedRecord,
+    /// The analytic orbit of the simulated impact sequence; `null` when there is none to look
+    /// for or the analytic solver finds none (`analytic_error`).
+    pub analytic: Option<StructureAnalyticRecord>,
+    /// Why the analytic solver found no orbit of the simulated sequence.
+    pub analytic_error: Option<String>,
+    /// `agreement`, `contradiction` or `beyond`.
+    pub class: &'static str,
+    /// Why the class is not `agreement`, one word (as for a chain); `null` for an agreement.
+    pub reason: Option<&'static str>,
+    /// The reason in words.
+    pub class_detail: String,
+    /// The largest relative difference of the two solvers' orbits: the state before the first
+    /// impact of the sequence, every body's amplitude, the impact phases and the forcing phase
+    /// at the first impact over π (without impacts: every body's amplitude against the linear
+    /// steady state's).
+    pub relative_difference: Option<f64>,
+    /// The largest distance between the two solvers' Floquet multipliers, matched one to one.
+    pub multiplier_difference: Option<f64>,
+    /// The viable analytic orbit confirmed by the simulator's Newton started on it.
+    pub confirmation: Option<ChainConfirmationRecord>,
+}

@@ -1,0 +1,4 @@
+//! Answers computed here in closed form, apart from both solvers, that the solvers are checked
+//! against: the impact oscillator's period-1 orbit ([`impact_oscillator`]).
+
+pub mod impact_oscillator;

@@ -1,0 +1,145 @@
+//! How the two solvers relate at one frequency on a structure scene: the chain's seeded check
+//! ([`crate::verdict::chain`]) on each solver's own model of the structure, with every body's
+//! amplitude compared, and the linear steady state for a motion without impacts.
+
+use crate::output::finite;
+use crate::output::records::multipliers;
+use crate::output::structure::{
+    signatures, ByBody, StructureAnalyticRecord, StructureAt, StructureCompareRecord,
+    StructureSimulatedRecord,
+};
+use crate::scene::simulator::{run_structure, SimulateError};
+use crate::scene::structure::{Structure, StructureScene};
+use crate::verdict::chain::{
+    judge, largest_relative, seeded_models, ChainCheck, ChainConfirmation, ChainReason, CheckModels,
+};
+use crate::verdict::{Class, MATCH_TOLERANCE};
+use rattle_event_driven::SimulationOptions;
+
+/// Both solvers on the motion `structure` settles on from rest at `omega`, classed as a
+/// chain's ([`crate::verdict::chain::chain_cross_check`]): the simulator runs from rest and
+/// polishes its cycle; the analytic solver solves the cycle's impact sequence of the stops,
+/// seeded from the simulated impact times; every body's amplitude, the states and the phases
+/// are compared. A periodic motion without impacts is compared with the linear steady state,
+/// which must stay clear of every stop.
+///
+/// # Errors
+/// A failure of the simulator.
+pub fn structure_cross_check(
+    structure: &Structure,
+    omega: f64,
+    options: &SimulationOptions,
+) -> Result<ChainCheck, SimulateError> {
+    let options = SimulationOptions {
+        polish: true,
+        ..*options
+    };
+    let (simulated, _) = run_structure(structure, omega, &structure.rest(), &options)?;
+    let check = ChainCheck::new(1, omega, simulated);
+    let analytic = structure.analytic_model();
+    judge(
+        check,
+        |check| linear_check(structure, check),
+        |check, orbit, steady| match analytic {
+            Ok(analytic) => {
+                let models = CheckModels {
+                    event: structure.event_model(omega)?,
+                    analytic,
+                    compared: (0..structure.dofs()).collect(),
+                };
+                seeded_models(&models, omega, orbit, steady, &options, check)
+            }
+            Err(e) => {
+                check.contradiction(
+                    ChainReason::NoAnalyticOrbit,
+                    format!("the analytic solver refuses the structure: {e}"),
+                );
+                Ok(())
+            }
+        },
+    )
+}
+
+/// A periodic motion without impacts beside the structure's linear steady state.
+fn linear_check(structure: &Structure, check: &mut ChainCheck) {
+    let linear = structure
+        .analytic_model()
+        .map_err(|e| e.to_string())
+        .and_then(|m| {
+            m.linear_steady_state(check.omega)
+                .map(|state| (m, state))
+                .map_err(|e| e.to_string())
+        });
+    let (model, state) = match linear {
+        Ok(pair) => pair,
+        Err(e) => {
+            return check.contradiction(
+                ChainReason::NotLinear,
+                format!(
+                    "periodic without impacts, but the linear structure has no bounded motion: {e}"
+                ),
+            )
+        }
+    };
+    let reaches = model
+        .pairs()
+        .iter()
+        .any(|pair| state.relative_amplitude(pair) > pair.gap_side1.min(pair.gap_side2));
+    let linear_amplitudes: Vec<f64> = state.amplitudes().iter().copied().collect();
+    let d = largest_relative(&check.simulated.steady.amplitudes, &linear_amplitudes);
+    check.relative_difference = Some(d);
+    if reaches {
+        check.contradiction(
+            ChainReason::NotLinear,
+            "periodic without impacts, but the linear motion reaches a stop".into(),
+        );
+    } else if d < MATCH_TOLERANCE {
+        check.decide(None, Class::Agreement);
+    } else {
+        check.contradiction(
+            ChainReason::NotLinear,
+            format!("periodic without impacts, {d:.1e} from the linear steady state"),
+        );
+    }
+}
+
+/// The record of `check` on `structure` (`scene` as written): what `rattle compare --json`
+/// prints for a structure.
+pub fn record(
+    scene: &StructureScene,
+    structure: &Structure,
+    check: &ChainCheck,
+) -> StructureCompareRecord {
+    let s = &check.simulated;
+    let amplitudes = check
+        .polished
+        .as_ref()
+        .map_or(&s.steady.amplitudes, |p| &p.amplitudes);
+    StructureCompareRecord {
+        at: StructureAt::new(scene, structure, check.omega),
+        simulated: StructureSimulatedRecord {
+            status: s.status_name(),
+            period: s.steady.period,
+            pair_signatures: signatures(s, structure.stops.len()),
+            impacts_per_period: finite(s.steady.impacts_per_period),
+            outer_amplitude: amplitudes.get(structure.observe).copied().and_then(finite),
+            body_amplitudes: ByBody::new(structure, amplitudes),
+            floquet_multipliers: s
+                .steady
+                .orbit
+                .as_ref()
+                .map(|o| multipliers(&o.floquet_multipliers)),
+        },
+        analytic: check
+            .analytic
+            .as_ref()
+            .map(|o| StructureAnalyticRecord::new(structure, o)),
+        analytic_error: check.analytic_error.clone(),
+        class: check.class.name(),
+        reason: check.reason.map(|r| r.name()),
+        class_detail: check.class.detail().to_owned(),
+        relative_difference: check.relative_difference.and_then(finite),
+        multiplier_difference: check.multiplier_difference.and_then(finite),
+        confirmation: check.confirmation.as_ref().map(ChainConfirmation::record),
+    }
+}

@@ -1,0 +1,188 @@
+//! The `rattle` command on scenes in the structure form: what it prints, and what it refuses
+//! with the field's JSON path or the command's name.
+
+mod common;
+
+use common::{json, rattle, scene_file};
+use rattle_compare::references::impact_oscillator::ImpactOscillator;
+
+const OSCILLATOR: &str = "data/scenes/impact-oscillator.json";
+
+/// The gallery's impact oscillator (`data/scenes/impact-oscillator.json`) in closed form.
+fn reference() -> ImpactOscillator {
+    ImpactOscillator {
+        mass: 1.0,
+        damping: 0.1,
+        stiffness: 1.0,
+        force: 1.0,
+        phase: 0.0,
+        gap: 0.5,
+        restitution: 0.8,
+    }
+}
+
+/// `simulate --json` reports every body by name, from the polished cycle: here the stable
+/// closed-form orbit's amplitude.
+#[test]
+fn simulate_reports_the_bodies_from_the_polished_cycle() {
+    let omega = 1.8;
+    let doc = json(&["simulate", OSCILLATOR, "--omega", "1.8", "--json"]);
+    assert_eq!(doc["form"], "structure");
+    assert_eq!(doc["observed"], "x");
+    assert_eq!(doc["amplitudes_of"], "polished");
+    assert_eq!(doc["pair_signatures"], serde_json::json!(["+"]));
+    assert!(doc["transmittance_db"].is_null(), "no base: {doc}");
+    let x = doc["body_amplitudes"]["x"].as_f64().unwrap();
+    let stable = reference()
+        .period_one_orbits(omega)
+        .unwrap()
+        .into_iter()
+        .find(|o| o.viable && o.stable)
+        .unwrap();
+    assert!((x - stable.amplitude).abs() < 1e-8 * x, "{x} {stable:?}");
+    assert_eq!(doc["outer_amplitude"], doc["body_amplitudes"]["x"]);
+}
+
+/// `orbit --signature +` lists both closed-form orbits, one stable and one unstable; with one
+/// stop `+` reads as `0+`.
+#[test]
+fn orbit_lists_the_stable_and_the_unstable_orbit() {
+    let doc = json(&[
+        "orbit",
+        OSCILLATOR,
+        "--omega",
+        "1.8",
+        "--signature",
+        "+",
+        "--json",
+    ]);
+    assert_eq!(doc["sequence"], "0+");
+    let orbits = doc["orbits"].as_array().unwrap();
+    assert_eq!(orbits.len(), 2);
+    let stable: Vec<bool> = orbits
+        .iter()
+        .map(|o| o["stable"].as_bool().unwrap())
+        .collect();
+    assert!(stable.contains(&true) && stable.contains(&false), "{doc}");
+    assert!(orbits.iter().all(|o| o["viable"] == true), "{doc}");
+    for o in orbits {
+        let v = o["relative_velocities_before"][0].as_f64().unwrap();
+        let matched = reference()
+            .period_one_orbits(1.8)
+            .unwrap()
+            .into_iter()
+            .any(|r| (r.velocity_before - v).abs() < 1e-10 * v);
+        assert!(matched, "{o}");
+    }
+    let err = rattle(&["orbit", OSCILLATOR, "--omega", "1.8", "--signature", "-"]);
+    assert_eq!(err.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&err.stderr);
+    assert!(
+        message.contains("which has no stop on that side"),
+        "{message}"
+    );
+}
+
+/// `compare` agrees on the gallery's asymmetric unit, with every body named.
+#[test]
+fn compare_agrees_on_the_asymmetric_unit() {
+    let doc = json(&[
+        "compare",
+        "data/scenes/asymmetric-unit.json",
+        "--omega",
+        "3.0",
+        "--json",
+    ]);
+    assert_eq!(doc["class"], "agreement", "{doc}");
+    assert!(doc["relative_difference"].as_f64().unwrap() < 1e-9);
+    assert_eq!(doc["analytic"]["sequence"], "0+ 0-");
+    let bodies = doc["analytic"]["body_amplitudes"].as_object().unwrap();
+    assert_eq!(bodies.len(), 2);
+    // The bodies in the scene's order in the printed document.
+    let out = rattle(&[
+        "compare",
+        "data/scenes/asymmetric-unit.json",
+        "--omega",
+        "3.0",
+        "--json",
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    let at = text.find("\"body_amplitudes\"").unwrap();
+    let (outer, inner) = (
+        text[at..].find("\"outer\"").unwrap(),
+        text[at..].find("\"inner\"").unwrap(),
+    );
+    assert!(outer < inner, "{text}");
+    assert!(doc["analytic"]["transmittance_db"].is_number());
+}
+
+/// A structure that names a body it lacks is refused with the field's path; the commands
+/// that take only the unit form refuse a structure by name; options not taken on a
+/// structure are named.
+#[test]
+fn bad_structures_and_unsupported_uses_are_refused_by_name() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../".to_owned() + OSCILLATOR),
+    )
+    .unwrap()
+    .replace(r#""on": "x""#, r#""on": "y""#);
+    let path = scene_file("structure", "bad.json", &text);
+    let out = rattle(&["simulate", path.to_str().unwrap(), "--omega", "1.0"]);
+    assert_eq!(out.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        message.contains("bad.json: forcing.forces[0].on: no body named \"y\" (bodies: x)"),
+        "{message}"
+    );
+    let out = rattle(&["orbit", OSCILLATOR, "--omega", "1.0"]);
+    assert_eq!(out.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        message.contains("structure: the structure form is taken by"),
+        "{message}"
+    );
+    let out = rattle(&["simulate", OSCILLATOR, "--omega", "1.0", "--lyapunov"]);
+    assert_eq!(out.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert!(message.contains("--lyapunov is not taken"), "{message}");
+}
+
+/// `sweep --solver both` on a structure: a row per frequency with every body's amplitude and
+/// a verdict, no contradiction, the impacting rows in agreement.
+#[test]
+fn a_structure_sweep_gives_every_frequency_a_verdict() {
+    let path = scene_file("structure", "sweep.json", "{}").with_file_name("oscillator-sweep.json");
+    let out = rattle(&[
+        "sweep",
+        OSCILLATOR,
+        "--omega-min",
+        "0.9",
+        "--omega-max",
+        "1.7",
+        "--points",
+        "5",
+        "--out",
+        path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    assert_eq!(doc["form"], "structure");
+    assert_eq!(doc["bodies"], serde_json::json!(["x"]));
+    let rows = doc["results"].as_array().unwrap();
+    assert_eq!(rows.len(), 5);
+    for row in rows {
+        assert_eq!(row["class"], "agreement", "{row}");
+        assert_eq!(row["simulated_pair_signatures"], "+", "{row}");
+        let x: f64 = row["simulated_body_amplitudes"]
+            .as_str()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(Some(x), row["simulated_outer_amplitude"].as_f64());
+    }
+}
