@@ -12,7 +12,7 @@ pub use crate::engine::{
     EVENT_STORM, MIN_OSCILLATION_PERIODS, SAMPLES_PER_PERIOD,
 };
 use crate::model::Model;
-use crate::newton::periodic_orbit;
+use crate::newton::{periodic_orbit, PeriodicOrbit};
 use nalgebra::DVector;
 
 /// Simulates `model` at `omega` from `start` until steady (or for a fixed number of periods).
@@ -99,16 +99,48 @@ fn unstable_hold(steady: &SteadyState, options: &SimulationOptions) -> Option<u6
 }
 
 /// For a periodic motion, when asked: the final cycle polished by the simulator's Newton (or
-/// why not).
+/// why not), and the amplitudes read from one cycle run from the polished orbit, so that they
+/// are the periodic orbit's to rounding rather than the last simulated cycle's (which is
+/// within the periodicity tolerance of it). The cycle runs on an engine of its own, so the
+/// run's engine (its caches) is left as the run left it.
 fn polish(model: &Model, omega: f64, options: &SimulationOptions, steady: &mut SteadyState) {
     if let (true, Status::Periodic, Some(p)) = (options.polish, steady.status, steady.period) {
         if steady.sticking {
             steady.orbit_error = Some("the final cycle sticks".into());
         } else {
             match periodic_orbit(model, omega, &steady.final_state, p, options) {
-                Ok(orbit) => steady.orbit = Some(Box::new(orbit)),
+                Ok(orbit) => {
+                    if let Some(amplitudes) = polished_amplitudes(model, omega, options, &orbit) {
+                        steady.amplitudes = amplitudes;
+                    }
+                    steady.orbit = Some(Box::new(orbit));
+                }
                 Err(e) => steady.orbit_error = Some(e.to_string()),
             }
         }
     }
+}
+
+/// `max_t |u_k(t)|` of every coordinate over one cycle run from the polished `orbit` (its
+/// `p` periods exactly, from its section); `None` when that run fails.
+fn polished_amplitudes(
+    model: &Model,
+    omega: f64,
+    options: &SimulationOptions,
+    orbit: &PeriodicOrbit,
+) -> Option<Vec<f64>> {
+    let once = SimulationOptions {
+        fixed_periods: Some(u64::from(orbit.periods)),
+        max_period_multiplicity: options.max_period_multiplicity.max(orbit.periods),
+        polish: false,
+        record_trajectory: false,
+        ..*options
+    };
+    let start = Start {
+        state: orbit.state.clone(),
+        time: orbit.time,
+    };
+    let mut engine = Engine::new(model, omega, &once).ok()?;
+    let cycle = engine.run(&start, &once, &mut |_, _| false).ok()?;
+    Some(cycle.amplitudes)
 }

@@ -122,7 +122,7 @@ fn the_determinant_over_a_cycle_counts_the_impacts() {
 }
 
 #[test]
-fn a_periodic_run_is_polished_and_nothing_else_changes() {
+fn a_periodic_run_is_polished_and_only_its_amplitudes_change() {
     let omega = 2.0;
     let model = paper_unit(omega, Some(LIGHT_DAMPING), Some((0.5, 0.8)));
     let on = SimulationOptions::default();
@@ -138,8 +138,29 @@ fn a_periodic_run_is_polished_and_nothing_else_changes() {
         orbit.iterations, orbit.residual
     );
     assert!(b.orbit.is_none() && a.orbit_error.is_none() && b.orbit_error.is_none());
+    // The amplitudes are read from one cycle run from the polished orbit: within the run's
+    // periodicity tolerance of the last simulated cycle's, and exactly a fixed run's from the
+    // orbit's section.
+    for (p, q) in a.amplitudes.iter().zip(&b.amplitudes) {
+        assert!((p - q).abs() <= 1e-7 * q.abs(), "{p} {q}");
+    }
+    let once = SimulationOptions {
+        fixed_periods: Some(u64::from(orbit.periods)),
+        polish: false,
+        ..SimulationOptions::default()
+    };
+    let section = Start {
+        state: orbit.state.clone(),
+        time: orbit.time,
+    };
+    let cycle = simulate(&model, omega, &section, &once).unwrap();
+    assert_eq!(a.amplitudes, cycle.amplitudes);
     b.orbit = a.orbit.clone();
-    assert_eq!(a, b, "polishing changed another output");
+    b.amplitudes = a.amplitudes.clone();
+    assert_eq!(
+        a, b,
+        "polishing changed an output other than the orbit and the amplitudes"
+    );
     assert_eq!(orbit.periods, 1);
     assert!(orbit.residual <= NEWTON_TOLERANCE_FACTOR * on.root_tolerance);
     // The run repeated to 1e-9: Newton moves the state by about that.

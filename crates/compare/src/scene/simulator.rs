@@ -332,8 +332,8 @@ pub fn run_watched(
 /// chain's ([`chain_regime`]: the two-impact motion is the unit's); the outer amplitude is
 /// the observed body's, the transmittance against `u_g` when the base moves. A periodic
 /// motion that the simulator's Newton polishes (with `options.polish`) is reported from its
-/// polished cycle: the amplitudes are those of one cycle run from the polished orbit, which
-/// is returned beside the point.
+/// polished cycle (the simulator reads the amplitudes there), which is returned beside the
+/// point with its impacts.
 ///
 /// # Errors
 /// As [`run`].
@@ -344,14 +344,11 @@ pub fn run_structure(
     options: &SimulationOptions,
 ) -> Result<(SimulatedPoint, Option<PolishedCycle>), SimulateError> {
     let model = structure.event_model(omega)?;
-    let mut steady = simulate_watched(&model, omega, start, options, &mut |_, _| false)?;
+    let steady = simulate_watched(&model, omega, start, options, &mut |_, _| false)?;
     let polished = match steady.orbit.as_deref() {
         Some(orbit) => Some(polished_cycle(&model, omega, orbit, options)?),
         None => None,
     };
-    if let Some(cycle) = &polished {
-        steady.amplitudes.clone_from(&cycle.amplitudes);
-    }
     let outer_amplitude = steady
         .amplitudes
         .get(structure.observe)

@@ -30,7 +30,8 @@ pub struct SimulationOptions {
     pub record_trajectory: bool,
     /// Polish a periodic final cycle (not sticking) with Newton on the stroboscopic map
     /// ([`crate::newton::periodic_orbit`]), once at the end of the run, into
-    /// [`SteadyState::orbit`]. Every other output is unchanged by it.
+    /// [`SteadyState::orbit`], and read [`SteadyState::amplitudes`] from one cycle run from
+    /// the polished orbit. Every other output is unchanged by it.
     pub polish: bool,
 }
 

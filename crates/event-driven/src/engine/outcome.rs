@@ -62,7 +62,9 @@ pub struct SteadyState {
     pub period: Option<u32>,
     /// Impacts in the final cycle divided by its length in periods.
     pub impacts_per_period: f64,
-    /// `max |u_k|` over the final cycle, per degree of freedom, from closed-form extrema.
+    /// `max |u_k|` over the final cycle, per degree of freedom, from closed-form extrema: of
+    /// one cycle run from the polished orbit when the run polishes one ([`Self::orbit`]),
+    /// else of the last simulated cycle.
     pub amplitudes: Vec<f64>,
     /// Whether the final cycle contains sticking.
     pub sticking: bool,
