@@ -2,7 +2,8 @@
 //! [`rattle_compare::runs::boundary::follow_any`] with the command's own checks
 //! ([`BoundaryOptions`]) and messages, the options named as the Python parameters.
 
-use super::{compute, json, python_names, NativeScene};
+use crate::common::{compute, json, python_names};
+use crate::scene::NativeScene;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -56,7 +57,7 @@ fn bad(message: impl std::fmt::Display) -> PyErr {
 
 /// The boundary's default `omega_min`, `omega_max` and `max_step`, as the command's.
 #[pyfunction]
-pub(crate) fn boundary_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
+fn boundary_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     let d = BoundarySettings::new(0.0, 1.0);
     let out = PyDict::new(py);
     out.set_item("omega_min", d.omega_min)?;
@@ -80,11 +81,7 @@ fn run_error(e: BoundaryRunError) -> PyErr {
 /// (ω, the scene parameter) within `[min, max]`; the command's record as JSON text. The
 /// options are checked by the command's own check ([`BoundaryOptions`]), in its order.
 #[pyfunction]
-pub(crate) fn boundary(
-    py: Python<'_>,
-    scene: &NativeScene,
-    input: BoundaryInput,
-) -> PyResult<String> {
+fn boundary(py: Python<'_>, scene: &NativeScene, input: BoundaryInput) -> PyResult<String> {
     let scene = &scene.scene;
     let options = BoundaryOptions {
         signature: input.signature,
@@ -103,4 +100,11 @@ pub(crate) fn boundary(
     let request = options.request(&checked, scene.is_chain()).map_err(bad)?;
     let record = compute(py, || Ok(follow_any(scene, &request, &checked.settings)))?;
     json(&record.map_err(run_error)?)
+}
+
+/// Registers `boundary_defaults` and `boundary`.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(boundary_defaults, m)?)?;
+    m.add_function(wrap_pyfunction!(boundary, m)?)?;
+    Ok(())
 }

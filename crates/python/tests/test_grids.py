@@ -85,7 +85,7 @@ def test_map_parts_merge_into_the_whole_map(damped, map_file):
     for n in (1, 2, 4, 7):  # 7 parts of 6 lines: one part is empty
         parts = [rattle.map(damped, **MAP, shard=(k, n)) for k in range(n, 0, -1)]
         assert all(p.shard == (k, n) for p, k in zip(parts, range(n, 0, -1)))
-        assert rattle.merge(parts) == map_file[0], n
+        assert rattle.merge(parts).document == map_file[0], n
 
 
 def test_basins_parts_merge_into_the_whole_grid(basins_file):
@@ -94,16 +94,72 @@ def test_basins_parts_merge_into_the_whole_grid(basins_file):
     assert set(b.attractor) == {0, 1}
     for n in (2, 3, 37):  # 37 parts of 36 starts: one part is empty
         parts = [rattle.basins(rattle.Scene.paper(), **BASINS, shard=(k, n)) for k in range(1, n + 1)]
-        assert rattle.merge(parts[::-1]) == basins_file, n
+        assert rattle.merge(parts[::-1]).document == basins_file, n
 
 
 def test_sweep_parts_merge_into_the_whole_sweep():
     omegas = rattle.frequencies(0.5, 3.5, 30)
     whole = rattle.sweep(rattle.Scene.paper(), omegas, solver="analytic")
     parts = [rattle.sweep(rattle.Scene.paper(), omegas, "analytic", shard=(k, 4)) for k in (1, 2, 3, 4)]
-    assert rattle.merge(parts) == whole.document
+    assert rattle.merge(parts).document == whole.document
     with pytest.raises(ValueError, match="need each of"):
         rattle.merge(parts[1:])
+
+
+def assert_same_result(merged, whole, kind):
+    """``merged`` is a ``kind`` equal to ``whole``: its document byte for byte, its columns
+    value for value and type for type."""
+    assert type(merged) is kind
+    assert merged == whole
+    assert merged.document == whole.document
+    assert list(merged.columns) == list(whole.columns)
+    for name, column in whole.columns.items():
+        assert merged.columns[name].dtype == column.dtype, name
+        assert not merged.columns[name].flags.writeable, name
+        np.testing.assert_array_equal(merged.columns[name], column, err_msg=name)
+
+
+def test_merged_map_parts_are_a_map_equal_to_the_whole(damped):
+    whole = rattle.map(damped, **MAP)
+    parts = [rattle.map(damped, **MAP, shard=(k, 2)) for k in (2, 1)]
+    merged = rattle.merge(parts)
+    assert_same_result(merged, whole, rattle.Map)
+    assert merged.shard is None and merged.scene == whole.scene
+    # Documents merge into a document, as before.
+    assert rattle.merge([p.document for p in parts]) == whole.document
+    # An empty part's columns have the whole map's types (7 parts of 6 lines: one is empty).
+    sevenths = [rattle.map(damped, **MAP, shard=(k, 7)) for k in range(1, 8)]
+    empty = next(p for p in sevenths if len(p) == 0)
+    assert [c.dtype for c in empty.columns.values()] == [c.dtype for c in whole.columns.values()]
+
+
+def test_merged_basins_parts_are_basins_equal_to_the_whole():
+    whole = rattle.basins(rattle.Scene.paper(), **BASINS)
+    parts = [rattle.basins(rattle.Scene.paper(), **BASINS, shard=(k, 2)) for k in (1, 2)]
+    merged = rattle.merge(parts)
+    assert_same_result(merged, whole, rattle.Basins)
+    assert set(merged.attractor) == {0, 1}
+    assert rattle.merge([p.document for p in parts]) == whole.document
+
+
+def test_merged_sweep_parts_are_a_sweep_equal_to_the_whole():
+    omegas = rattle.frequencies(0.5, 3.5, 5)
+    whole = rattle.sweep(rattle.Scene.paper(), omegas, solver="both")
+    parts = [rattle.sweep(rattle.Scene.paper(), omegas, "both", shard=(k, 2)) for k in (2, 1)]
+    merged = rattle.merge(parts)
+    assert_same_result(merged, whole, rattle.Sweep)
+    assert len(merged) == len(whole) == 5
+    assert (merged.scene, merged.solver, merged.effects, merged.points) == (
+        whole.scene, whole.solver, whole.effects, whole.points
+    )
+    assert merged.to_dict() == whole.to_dict()
+    assert rattle.merge([p.document for p in parts]) == whole.document
+
+
+def test_a_sweep_read_from_its_document_has_the_same_column_types():
+    for solver, omegas in [("analytic", []), ("event", [1.0, 2.0])]:
+        native = rattle.sweep(rattle.Scene.paper(), omegas, solver=solver)
+        assert_same_result(rattle.Sweep(native.document), native, rattle.Sweep)
 
 
 def test_xarray_puts_the_columns_on_the_grids_axes(damped):

@@ -39,7 +39,7 @@ import math as _math
 
 import numpy as _np
 
-from . import _rattle
+from . import _rattle, _tables
 
 __all__ = [
     "Scene",
@@ -513,20 +513,34 @@ class Sweep:
       with ``[float(x) if x else math.nan for x in cell.split(";")]``.
 
     :meth:`to_dict` is the command's JSON document (with ``null`` kept as ``None``),
-    :meth:`to_pandas` a DataFrame of the columns when pandas is installed.
+    :meth:`to_pandas` a DataFrame of the columns when pandas is installed. ``Sweep(document)``
+    reads the command's ``--out F.json`` file of a sweep (given as text) with the same
+    columns; :func:`merge` gives the merged parts of a sweep so. Two sweeps are equal when
+    their documents are.
     """
 
     def __init__(self, native):
-        """Wraps a native sweep; use :func:`sweep`."""
-        self._native = native
-        header = _json.loads(native.header_json())
+        """Wraps a native sweep (use :func:`sweep`), or the command's ``--out F.json`` file
+        of a sweep as text (a whole sweep's, e.g. the one :func:`merge` joins, or a part's)."""
+        if isinstance(native, (str, bytes)):
+            document = native.decode() if isinstance(native, bytes) else native
+            data = _json.loads(document)
+            rows = data.pop("results")
+            self._native = None
+            self._document = document
+            header = data
+            self.columns = _tables.columns("sweep", rows)
+        else:
+            self._native = native
+            self._document = None
+            header = _json.loads(native.header_json())
+            self.columns = dict(native.columns())
+            for column in self.columns.values():
+                column.flags.writeable = False
         self.scene = header["scene"]
         self.solver = header["solver"]
         self.effects = header["effects"]
         self.points = header["points"]
-        self.columns = dict(native.columns())
-        for column in self.columns.values():
-            column.flags.writeable = False
 
     def __getattr__(self, name):
         columns = self.__dict__.get("columns", {})
@@ -537,17 +551,27 @@ class Sweep:
         raise AttributeError(f"Sweep has no attribute or column {name!r}")
 
     def __len__(self):
-        return len(self._native)
+        return len(self.columns["omega"])
+
+    def __eq__(self, other):
+        """Two sweeps are equal when their documents are."""
+        return isinstance(other, Sweep) and other.document == self.document
+
+    __hash__ = None
 
     @property
     def document(self):
         """The command's ``--out F.json`` file as text, byte for byte (for a part, with its
         ``shard``: :func:`merge` joins parts)."""
+        if self._native is None:
+            return self._document
         return self._native.document()
 
     def to_dict(self):
         """The command's JSON document: the header fields, then ``results``, one dict per
         frequency."""
+        if self._native is None:
+            return _json.loads(self._document)
         doc = _json.loads(self._native.header_json())
         doc["results"] = _json.loads(self._native.rows_json())
         return doc
@@ -737,8 +761,8 @@ def sweep(
     columns hold every cell and pair.
 
     ``shard=(K, N)``: part ``K`` of ``N`` only (a contiguous block of ``omegas``), as
-    ``rattle sweep --shard K/N``; :func:`merge` joins the parts' :meth:`Sweep.document`
-    into the whole sweep's document.
+    ``rattle sweep --shard K/N``; :func:`merge` joins the parts into the whole sweep (a
+    :class:`Sweep` equal to the one computed whole).
     """
     omegas = _np.ascontiguousarray(omegas, dtype=_np.float64)
     if omegas.ndim != 1:

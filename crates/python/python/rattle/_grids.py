@@ -15,7 +15,7 @@ import uuid as _uuid
 
 import numpy as _np
 
-from . import _rattle
+from . import _rattle, _tables
 
 #: Seconds of one core per map point, as measured on this project's 2-core machine (the
 #: performance page, docs/performance.md: 640 000 points of the lightly damped paper unit in 390 s on 2 threads):
@@ -30,55 +30,6 @@ BASINS_SECONDS_PER_START = 0.0005
 #: overhead of Dask (scheduling, shipping the scene and the part's table) is a small part of
 #: it (see the package README for the measurement), short enough that a lost worker costs little.
 TASK_SECONDS = 5.0
-
-_NUMBER, _FLAG, _TEXT, _COUNT = "number", "flag", "text", "count"
-
-#: The type of each column: numbers ``float64`` (NaN where the command writes ``null``),
-#: counts that are never ``null`` ``int64``, flags ``bool``, words and lists ``object``.
-_KINDS = {
-    "map": {
-        "restitution": _NUMBER,
-        "gap_over_base_amplitude": _NUMBER,
-        "omega": _NUMBER,
-        "simulated_regime": _TEXT,
-        "simulated_period": _NUMBER,
-        "simulated_impacts_per_period": _NUMBER,
-        "simulated_pair_impacts_per_period": _TEXT,
-        "simulated_outer_amplitude": _NUMBER,
-        "simulated_cell_outer_amplitudes": _TEXT,
-        "simulated_transmittance_db": _NUMBER,
-        "stopped_by": _TEXT,
-        "periods_run": _COUNT,
-        "analytic_candidates": _COUNT,
-        "analytic_transmittance_db": _NUMBER,
-        "analytic_match": _FLAG,
-        "continued_from": _TEXT,
-        "error": _TEXT,
-        "largest_exponent": _NUMBER,
-        "lyapunov_regime": _TEXT,
-    },
-    "basins": {
-        "outer_start": _NUMBER,
-        "inner_start": _NUMBER,
-        "attractor": _COUNT,
-        "attractor_words": _TEXT,
-        "outer_amplitude": _NUMBER,
-        "periods_run": _COUNT,
-    },
-}
-
-
-def _column(kind, values):
-    if kind == _NUMBER:
-        return _np.array([_math.nan if v is None else v for v in values], dtype=_np.float64)
-    if kind == _COUNT:
-        return _np.array(values, dtype=_np.int64)
-    if kind == _FLAG:
-        return _np.array([bool(v) for v in values], dtype=bool)
-    out = _np.empty(len(values), dtype=object)
-    out[:] = values
-    return out
-
 
 class Grid:
     """A map's or basins' table: the command's JSON file and its columns.
@@ -98,11 +49,7 @@ class Grid:
         data = _json.loads(document)
         rows = data.pop("results")
         self.header = data
-        kinds = _KINDS[self._table]
-        names = list(_rattle.table_columns(self._table))
-        self.columns = {name: _column(kinds[name], [r[name] for r in rows]) for name in names}
-        for column in self.columns.values():
-            column.flags.writeable = False
+        self.columns = _tables.columns(self._table, rows)
 
     def __getattr__(self, name):
         if name in self.__dict__.get("columns", {}):
@@ -113,6 +60,12 @@ class Grid:
 
     def __len__(self):
         return len(next(iter(self.columns.values())))
+
+    def __eq__(self, other):
+        """Two results are equal when they are of one type and their documents are equal."""
+        return type(other) is type(self) and other.document == self.document
+
+    __hash__ = None
 
     @property
     def shard(self):
@@ -199,16 +152,27 @@ def _axis(lo, hi, n):
 
 
 def merge(parts):
-    """Joins the parts of a sharded sweep, map or basins into the whole run's document, as
-    ``rattle merge``: ``parts`` are documents (``str``), results with a ``document``
-    (:class:`Map`, :class:`Basins`, a sweep part) in any order, all JSON or all CSV text.
-    Returns the merged document (``str``), byte for byte the one the whole run writes; wrap
-    it with :class:`Map` or :class:`Basins` for columns. A part missing, repeated or from
-    another run is a :class:`ValueError` with the command's message."""
+    """Joins the parts of a sharded sweep, map or basins into the whole run, as
+    ``rattle merge``: ``parts`` are results (:class:`Map`, :class:`Basins`,
+    :class:`~rattle.Sweep` parts) or their documents (``str``), in any order, all JSON or all
+    CSV text. Returns the whole run as the type of its parts: a :class:`Map`,
+    :class:`Basins` or :class:`~rattle.Sweep` whose ``document`` is byte for byte the one the
+    whole run writes, equal to the whole run's result; for documents, the merged document
+    (``str``). A part missing, repeated or from another run is a :class:`ValueError` with
+    the command's message."""
+    parts = list(parts)
     texts = [getattr(p, "document", p) for p in parts]
     if not texts:
         raise ValueError("no parts to merge")
-    return _rattle.merge([t.decode() if isinstance(t, bytes) else str(t) for t in texts])
+    merged = _rattle.merge([t.decode() if isinstance(t, bytes) else str(t) for t in texts])
+    results = {type(p) for p in parts if not isinstance(p, (str, bytes))}
+    if len(results) == 1:
+        from . import Sweep
+
+        (result,) = results
+        if issubclass(result, (Grid, Sweep)):
+            return result(merged)
+    return merged
 
 
 def _scene_json(scene):

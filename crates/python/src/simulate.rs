@@ -1,0 +1,111 @@
+//! `rattle.simulate`: the event-driven simulator from rest, as `rattle simulate --json`, with
+//! the `--trajectory`/`--impacts` tables and the `--lyapunov` exponents on request.
+
+use crate::common::{check_frequency, compute, json, options, positive, python_names};
+use crate::orbit::check_samples;
+use crate::scene::NativeScene;
+use crate::table::{columns, PyColumns};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use rattle_compare::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
+use rattle_compare::output::trajectory::{simulated_rows, ImpactRow, TrajectoryRow};
+use rattle_compare::scene::lyapunov::{check_periods, spectrum};
+use rattle_compare::scene::simulator::{model, run as simulate_scene};
+use rattle_event_driven::lyapunov::BATCHES;
+use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
+
+/// A trajectory's two tables, as the command writes them with `--trajectory` and `--impacts`.
+type Tables = (Vec<TrajectoryRow>, Vec<ImpactRow>);
+
+/// `rattle simulate --json`: the event-driven simulator from rest; with `samples_per_period`,
+/// also the tables `--trajectory` and `--impacts` write (the final cycle, or with `periods`
+/// the last period, sampled from the closed form); with `lyapunov_periods`, the exponents of
+/// `--lyapunov --lyapunov-periods N` in the document (the library's [`spectrum`] and
+/// [`LyapunovRecord::new`], as the command's).
+#[pyfunction]
+#[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations, samples_per_period=None, lyapunov_periods=None))]
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
+fn simulate<'py>(
+    py: Python<'py>,
+    scene: &NativeScene,
+    omega: f64,
+    periods: Option<i64>,
+    tol: f64,
+    steady_tol: f64,
+    max_periods: i64,
+    max_oscillations: f64,
+    samples_per_period: Option<i64>,
+    lyapunov_periods: Option<i64>,
+) -> PyResult<(String, Option<(PyColumns<'py>, PyColumns<'py>)>)> {
+    let omega = check_frequency(&scene.scene, "omega", omega)?;
+    let mut options = options(tol, steady_tol, max_periods, max_oscillations)?;
+    if let Some(n) = periods {
+        options.fixed_periods = Some(positive("periods", n)?);
+    }
+    let samples = samples_per_period.map(check_samples).transpose()?;
+    let lyapunov = lyapunov_periods.map(checked_lyapunov_periods).transpose()?;
+    let scene = &scene.scene;
+    let (record, tables, exponents) = compute(py, || {
+        let sim = simulate_scene(
+            scene,
+            omega,
+            &rattle_compare::scene::simulator::rest(scene),
+            &options,
+        )
+        .map_err(|e| e.to_string())?;
+        let tables: Option<Tables> = match samples {
+            None => None,
+            Some(samples_per_period) => {
+                let m = model(scene, sim.omega).map_err(|e| e.to_string())?;
+                let trajectory = final_cycle_trajectory(
+                    &m,
+                    sim.omega,
+                    &sim.steady,
+                    &TrajectoryOptions {
+                        periods: 1,
+                        samples_per_period,
+                        base_amplitude: scene.base.amplitude,
+                        simulation: options.clone(),
+                    },
+                )
+                .map_err(|e| e.to_string())?;
+                Some(simulated_rows(&trajectory, &scene.cell_pairs()))
+            }
+        };
+        let exponents = match &lyapunov {
+            None => None,
+            Some(periods) => Some(
+                spectrum(scene, &sim, *periods, &options)
+                    .map(|s| LyapunovRecord::new(&sim, &s))
+                    .map_err(|e| e.to_string())?,
+            ),
+        };
+        Ok((SimulationRecord::new(scene, &sim), tables, exponents))
+    })?;
+    let tables = match tables {
+        Some((rows, impacts)) => Some((columns(py, &rows)?, columns(py, &impacts)?)),
+        None => None,
+    };
+    let document = WithLyapunov {
+        record: &record,
+        lyapunov: exponents.as_ref(),
+    };
+    Ok((json(&document)?, tables))
+}
+
+/// `lyapunov_periods = N` checked by the library's range, the command's too ([`check_periods`],
+/// named as the Python parameter).
+fn checked_lyapunov_periods(periods: i64) -> PyResult<u64> {
+    let out_of_range = || {
+        PyValueError::new_err(format!(
+            "lyapunov_periods = {periods} is out of range: must be at least {BATCHES}"
+        ))
+    };
+    let periods = u64::try_from(periods).map_err(|_| out_of_range())?;
+    check_periods(periods).map_err(|e| PyValueError::new_err(python_names(&e.to_string())))
+}
+
+/// Registers `simulate`.
+pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_function(wrap_pyfunction!(simulate, m)?)
+}
