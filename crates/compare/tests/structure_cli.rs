@@ -186,3 +186,53 @@ fn a_structure_sweep_gives_every_frequency_a_verdict() {
         assert_eq!(Some(x), row["simulated_outer_amplitude"].as_f64());
     }
 }
+
+/// `simulate --trajectory --impacts` on a structure: a column per body and per stop; every
+/// impact sits on its stop.
+#[test]
+fn a_structure_trajectory_has_a_column_per_body() {
+    let dir = scene_file("structure", "t.json", "{}");
+    let (states, impacts) = (dir.with_file_name("t.csv"), dir.with_file_name("i.csv"));
+    let out = rattle(&[
+        "simulate",
+        "data/scenes/asymmetric-unit.json",
+        "--omega",
+        "3.0",
+        "--trajectory",
+        states.to_str().unwrap(),
+        "--impacts",
+        impacts.to_str().unwrap(),
+        "--samples-per-period",
+        "16",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = std::fs::read_to_string(&states).unwrap();
+    assert_eq!(
+        text.lines().next(),
+        Some("t,kind,base,u_outer,u_inner,v_outer,v_inner,r_0")
+    );
+    assert!(text.lines().count() > 16);
+    let text = std::fs::read_to_string(&impacts).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t,stop,side,relative_velocity_before,u_outer,u_inner,v_outer_before,v_inner_before")
+    );
+    let mut sides = Vec::new();
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let (side, outer, inner): (u8, f64, f64) = (
+            cells[2].parse().unwrap(),
+            cells[4].parse().unwrap(),
+            cells[5].parse().unwrap(),
+        );
+        let stop = if side == 1 { 0.6 } else { -0.25 };
+        assert!((inner - outer - stop).abs() < 1e-12, "{line}");
+        sides.push(side);
+    }
+    assert_eq!(sides.len(), 2, "{text}");
+}

@@ -93,7 +93,13 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         AnyScene::Cells(scene) => scene,
         AnyScene::Structure(form) => {
             refuse_for_structure(&args)?;
-            return super::structure::simulate(&form, omega, &options, args.common.json);
+            return super::structure::simulate(
+                &form,
+                omega,
+                &options,
+                &args.trajectory,
+                args.common.json,
+            );
         }
     };
     check_frequency(&scene, "--omega", omega)?;
@@ -173,20 +179,14 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
 
 /// The options `rattle simulate` does not take on a structure scene yet, refused by name.
 fn refuse_for_structure(args: &SimulateArgs) -> Result<(), RattleError> {
-    let refused = if args.trajectory.trajectory.is_some() {
-        Some("--trajectory")
-    } else if args.lyapunov.lyapunov {
-        Some("--lyapunov")
-    } else {
-        None
-    };
-    match refused {
-        Some(option) => Err(RattleError::Argument(format!(
-            "{option} is not taken on a scene in the structure form yet: it is taken on the \
+    if args.lyapunov.lyapunov {
+        return Err(RattleError::Argument(
+            "--lyapunov is not taken on a scene in the structure form yet: it is taken on the \
              unit and chain forms"
-        ))),
-        None => Ok(()),
+                .into(),
+        ));
     }
+    Ok(())
 }
 
 impl LyapunovArgs {

@@ -1,14 +1,19 @@
-//! The commands on a scene in the structure form: `rattle simulate`, `rattle orbit
-//! --signature` and `rattle compare` (each command's own module hands such a scene here).
+//! The one-frequency commands on a scene in the structure form: `rattle simulate`, `rattle
+//! orbit --signature` and `rattle compare` (each command's own module hands such a scene
+//! here; `rattle sweep`'s is [`crate::runs::structure_sweep`]).
 
 use super::{pretty, RattleError};
 use crate::output::finite;
-use crate::output::structure::{StructureAnalyticRecord, StructureAt, StructureSimulationRecord};
+use crate::output::structure::{
+    structure_trajectory, StructureAnalyticRecord, StructureAt, StructureSimulationRecord,
+};
+use crate::output::Format;
 use crate::scene::frequency::FrequencyBounds;
 use crate::scene::simulator::run_structure;
 use crate::scene::structure::StructureForm;
 use crate::verdict::structure::{record as compare_record, structure_cross_check};
 use rattle_analytic::{sequence_orbits, ImpactSequence};
+use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::SimulationOptions;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -57,12 +62,14 @@ pub(crate) fn simulate(
     loaded: &StructureForm,
     omega: f64,
     options: &SimulationOptions,
+    trajectory: &super::TrajectoryArgs,
     json: bool,
 ) -> Result<String, RattleError> {
     loaded.check_frequency(omega)?;
     let (sim, polished) =
         run_structure(&loaded.structure, omega, &loaded.structure.rest(), options)
             .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    write_trajectory(loaded, &sim, options, trajectory)?;
     let record =
         StructureSimulationRecord::new(&loaded.scene, &loaded.structure, &sim, polished.is_some());
     if json {
@@ -100,6 +107,42 @@ pub(crate) fn simulate(
         record.periods_run, record.impacts
     );
     Ok(out)
+}
+
+/// Writes `--trajectory` (and `--impacts`) of the final cycle of `sim`, when asked: a column
+/// per body and per stop ([`structure_trajectory`]).
+fn write_trajectory(
+    loaded: &StructureForm,
+    sim: &crate::scene::simulator::SimulatedPoint,
+    options: &SimulationOptions,
+    args: &super::TrajectoryArgs,
+) -> Result<(), RattleError> {
+    let Some(path) = &args.trajectory else {
+        return Ok(());
+    };
+    let numerical = |e: &dyn std::fmt::Display| RattleError::Numerical(e.to_string());
+    let model = loaded
+        .structure
+        .event_model(sim.omega)
+        .map_err(|e| numerical(&e))?;
+    let sampled = final_cycle_trajectory(
+        &model,
+        sim.omega,
+        &sim.steady,
+        &TrajectoryOptions {
+            periods: 1,
+            samples_per_period: args.samples_per_period,
+            base_amplitude: loaded.structure.base_amplitude.unwrap_or(0.0),
+            simulation: options.clone(),
+        },
+    )
+    .map_err(|e| numerical(&e))?;
+    let (states, impacts) = structure_trajectory(&loaded.structure, &sampled);
+    states.write(path, Format::of(path, "--trajectory")?)?;
+    if let Some(path) = &args.impacts {
+        impacts.write(path, Format::of(path, "--impacts")?)?;
+    }
+    Ok(())
 }
 
 /// Each stop's impacts per period with its signature, as words.

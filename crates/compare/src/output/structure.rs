@@ -268,3 +268,183 @@ pub struct StructureCompareRecord {
     /// The viable analytic orbit confirmed by the simulator's Newton started on it.
     pub confirmation: Option<ChainConfirmationRecord>,
 }
+
+/// A table whose columns are named at run time (a structure's bodies and stops): its column
+/// names and rows of cells, each a number (`None`: empty or `null`) or a word.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NamedTable {
+    /// The column names, in order.
+    pub columns: Vec<String>,
+    /// The rows, each with one cell per column.
+    pub rows: Vec<Vec<Cell>>,
+}
+
+/// One cell of a [`NamedTable`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum Cell {
+    /// A number (`None`: not finite, written empty or `null`).
+    Number(Option<f64>),
+    /// A word.
+    Word(&'static str),
+    /// A count.
+    Count(usize),
+}
+
+impl Serialize for Cell {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Cell::Number(x) => x.serialize(serializer),
+            Cell::Word(w) => w.serialize(serializer),
+            Cell::Count(n) => n.serialize(serializer),
+        }
+    }
+}
+
+impl Cell {
+    /// The cell as CSV text: a number as JSON writes it (it reads back bit for bit), empty
+    /// when not finite.
+    fn text(&self) -> String {
+        match self {
+            Cell::Number(x) => x
+                .and_then(serde_json::Number::from_f64)
+                .map_or_else(String::new, |n| n.to_string()),
+            Cell::Word(w) => (*w).to_owned(),
+            Cell::Count(n) => n.to_string(),
+        }
+    }
+}
+
+/// One row of a [`NamedTable`] as a JSON object, its cells in column order.
+struct NamedRow<'a>(&'a [String], &'a [Cell]);
+
+impl Serialize for NamedRow<'_> {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (name, cell) in self.0.iter().zip(self.1) {
+            map.serialize_entry(name, cell)?;
+        }
+        map.end()
+    }
+}
+
+impl NamedTable {
+    /// Writes the table to `path` in `format`: CSV (a line of column names, a line per row),
+    /// JSON (`{"results": [ {column: cell, …}, … ]}`) or JSON Lines (an object per line).
+    ///
+    /// # Errors
+    /// [`crate::output::OutputError::Io`] when the file cannot be written.
+    pub fn write(
+        &self,
+        path: &std::path::Path,
+        format: crate::output::Format,
+    ) -> Result<(), crate::output::OutputError> {
+        use crate::output::Format;
+        use std::io::Write;
+        let io = |source| crate::output::OutputError::Io {
+            path: path.to_owned(),
+            source,
+        };
+        let file = std::fs::File::create(path).map_err(io)?;
+        let mut out = std::io::BufWriter::new(file);
+        let json = |row: &[Cell]| {
+            serde_json::to_string(&NamedRow(&self.columns, row)).map_err(std::io::Error::other)
+        };
+        match format {
+            Format::Csv => {
+                let mut csv = ::csv::WriterBuilder::new()
+                    .has_headers(false)
+                    .from_writer(out);
+                csv.write_record(&self.columns).map_err(|e| io(e.into()))?;
+                for row in &self.rows {
+                    csv.write_record(row.iter().map(Cell::text))
+                        .map_err(|e| io(e.into()))?;
+                }
+                csv.flush().map_err(io)
+            }
+            Format::Json => {
+                write!(out, "{{\"results\":[").map_err(io)?;
+                for (k, row) in self.rows.iter().enumerate() {
+                    let sep = if k == 0 { "\n" } else { ",\n" };
+                    write!(out, "{sep}{}", json(row).map_err(io)?).map_err(io)?;
+                }
+                writeln!(out, "\n]}}").map_err(io)?;
+                out.flush().map_err(io)
+            }
+            Format::JsonLines => {
+                for row in &self.rows {
+                    writeln!(out, "{}", json(row).map_err(io)?).map_err(io)?;
+                }
+                out.flush().map_err(io)
+            }
+        }
+    }
+}
+
+/// A structure's trajectory as two tables: the states (`t, kind, base`, then `u_NAME` and
+/// `v_NAME` of every body and `r_K` of every stop), and the impacts (`t, stop, side,
+/// relative_velocity_before`, then `u_NAME` and `v_NAME_before` of every body).
+pub fn structure_trajectory(
+    structure: &Structure,
+    trajectory: &rattle_event_driven::Trajectory,
+) -> (NamedTable, NamedTable) {
+    use rattle_event_driven::RowKind;
+    let names = &structure.names;
+    let mut columns: Vec<String> = ["t", "kind", "base"].map(String::from).to_vec();
+    columns.extend(names.iter().map(|n| format!("u_{n}")));
+    columns.extend(names.iter().map(|n| format!("v_{n}")));
+    columns.extend((0..structure.stops.len()).map(|k| format!("r_{k}")));
+    let t0 = trajectory.phase;
+    let numbers = |v: &[f64]| {
+        v.iter()
+            .map(|&x| Cell::Number(finite(x)))
+            .collect::<Vec<_>>()
+    };
+    let rows = trajectory
+        .rows
+        .iter()
+        .map(|row| {
+            let kind = match row.kind {
+                RowKind::Sample => "sample",
+                RowKind::BeforeImpact => "before_impact",
+                RowKind::AfterImpact => "after_impact",
+                RowKind::AfterStick => "after_stick",
+            };
+            let mut cells = vec![
+                Cell::Number(finite(t0 + row.time)),
+                Cell::Word(kind),
+                Cell::Number(structure.base_amplitude.and_then(|_| finite(row.base))),
+            ];
+            cells.extend(numbers(&row.displacements));
+            cells.extend(numbers(&row.velocities));
+            cells.extend(numbers(&row.relative));
+            cells
+        })
+        .collect();
+    let mut impact_columns: Vec<String> = ["t", "stop", "side", "relative_velocity_before"]
+        .map(String::from)
+        .to_vec();
+    impact_columns.extend(names.iter().map(|n| format!("u_{n}")));
+    impact_columns.extend(names.iter().map(|n| format!("v_{n}_before")));
+    let impacts = trajectory
+        .impacts
+        .iter()
+        .map(|i| {
+            let mut cells = vec![
+                Cell::Number(finite(t0 + i.time)),
+                Cell::Count(i.pair),
+                Cell::Count(if i.side > 0 { 1 } else { 2 }),
+                Cell::Number(finite(i.relative_velocity_before)),
+            ];
+            cells.extend(numbers(&i.displacements));
+            cells.extend(numbers(&i.velocities_before));
+            cells
+        })
+        .collect();
+    (
+        NamedTable { columns, rows },
+        NamedTable {
+            columns: impact_columns,
+            rows: impacts,
+        },
+    )
+}

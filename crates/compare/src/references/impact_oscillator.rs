@@ -71,17 +71,32 @@ pub enum ReferenceError {
     OutOfRange,
 }
 
-/// Samples of the flight in the viability check: the grid's spacing (`T/2¹⁶`) resolves an
-/// excursion beyond the stop of more than about `1e-9` of the motion's size for flights whose
-/// fastest rate is of the order of `ω`.
-const VIABILITY_SAMPLES: usize = 1 << 16;
+/// Samples of the flight in the viability check of [`ImpactOscillator::period_one_orbits`]:
+/// the grid's spacing (`T/2¹⁶`) resolves an excursion beyond the stop of more than about
+/// `1e-9` of the motion's size for flights whose fastest rate is of the order of `ω`.
+pub const VIABILITY_SAMPLES: usize = 1 << 16;
 
 impl ImpactOscillator {
-    /// Every period-1 one-impact orbit at `omega` (zero or two), viable or not.
+    /// Every period-1 one-impact orbit at `omega` (zero or two), viable or not, its
+    /// viability checked on [`VIABILITY_SAMPLES`] points of the flight.
     ///
     /// # Errors
     /// [`ReferenceError::OutOfRange`] outside the closed form's range.
     pub fn period_one_orbits(&self, omega: f64) -> Result<Vec<PeriodOneOrbit>, ReferenceError> {
+        self.period_one_orbits_sampled(omega, VIABILITY_SAMPLES)
+    }
+
+    /// [`Self::period_one_orbits`] with the viability (and the amplitude) checked on
+    /// `samples` points of the flight: fewer for a figure, whose points near grazing may then
+    /// be misjudged by an excursion below the grid's resolution.
+    ///
+    /// # Errors
+    /// [`ReferenceError::OutOfRange`] outside the closed form's range.
+    pub fn period_one_orbits_sampled(
+        &self,
+        omega: f64,
+        samples: usize,
+    ) -> Result<Vec<PeriodOneOrbit>, ReferenceError> {
         let Self {
             mass: m,
             damping: c,
@@ -139,7 +154,7 @@ impl ImpactOscillator {
                 let impact_time = (forcing_phase - phase).rem_euclid(TAU) / omega;
                 let (p, q) = (amplitude * cos, -amplitude * omega * sin);
                 let after = (sigma - p, -r * v - q);
-                let (peak, inside) = self.flight_extent(omega, theta, after, amplitude);
+                let (peak, inside) = self.flight_extent(omega, theta, after, amplitude, samples);
                 let (multipliers, stable) = self.multipliers(omega, forcing_phase, v);
                 PeriodOneOrbit {
                     forcing_phase,
@@ -175,14 +190,15 @@ impl ImpactOscillator {
         theta: f64,
         free: (f64, f64),
         amplitude: f64,
+        samples: usize,
     ) -> (f64, bool) {
         let period = TAU / omega;
         let sigma = self.gap;
         let tolerance = 1e-9 * sigma.max(amplitude);
         let mut peak = sigma;
         let mut inside = true;
-        for j in 1..VIABILITY_SAMPLES {
-            let t = period * j as f64 / VIABILITY_SAMPLES as f64;
+        for j in 1..samples {
+            let t = period * j as f64 / samples as f64;
             let [[a, b], _] = self.free_flow(t);
             let x = amplitude * (theta + omega * t).cos() + a * free.0 + b * free.1;
             peak = peak.max(x.abs());
