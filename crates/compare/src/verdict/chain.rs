@@ -340,19 +340,28 @@ fn linear_check(scene: &Scene, check: &mut ChainCheck) {
         &check.simulated.cell_outer_amplitudes(),
         &linear.cell_outer_amplitudes,
     );
-    check.relative_difference = Some(d);
-    if reaches {
-        check.contradiction(
-            ChainReason::NotLinear,
-            "periodic without impacts, but the linear chain's motion reaches the stops".into(),
-        );
-    } else if d < MATCH_TOLERANCE {
-        check.decide(None, Class::Agreement);
-    } else {
-        check.contradiction(
-            ChainReason::NotLinear,
-            format!("periodic without impacts, {d:.1e} from the linear chain's motion"),
-        );
+    check.decide_linear(d, reaches, "the linear chain's motion");
+}
+
+impl ChainCheck {
+    /// The verdict on a periodic motion without impacts `difference` (relative) from the
+    /// linear steady state (`linear`, in words), which `reaches` a stop or not: agreement
+    /// within [`MATCH_TOLERANCE`] when it stays clear, a contradiction otherwise.
+    pub(crate) fn decide_linear(&mut self, difference: f64, reaches: bool, linear: &str) {
+        self.relative_difference = Some(difference);
+        if reaches {
+            self.contradiction(
+                ChainReason::NotLinear,
+                format!("periodic without impacts, but {linear} reaches the stops"),
+            );
+        } else if difference < MATCH_TOLERANCE {
+            self.decide(None, Class::Agreement);
+        } else {
+            self.contradiction(
+                ChainReason::NotLinear,
+                format!("periodic without impacts, {difference:.1e} from {linear}"),
+            );
+        }
     }
 }
 

@@ -13,7 +13,6 @@ use crate::scene::structure::{Structure, StructureScene};
 use crate::verdict::chain::{
     judge, largest_relative, seeded_models, ChainCheck, ChainConfirmation, ChainReason, CheckModels,
 };
-use crate::verdict::{Class, MATCH_TOLERANCE};
 use rattle_event_driven::SimulationOptions;
 
 /// Both solvers on the motion `structure` settles on from rest at `omega`, classed as a
@@ -87,20 +86,7 @@ fn linear_check(structure: &Structure, check: &mut ChainCheck) {
         .any(|pair| state.relative_amplitude(pair) > pair.gap_side1.min(pair.gap_side2));
     let linear_amplitudes: Vec<f64> = state.amplitudes().iter().copied().collect();
     let d = largest_relative(&check.simulated.steady.amplitudes, &linear_amplitudes);
-    check.relative_difference = Some(d);
-    if reaches {
-        check.contradiction(
-            ChainReason::NotLinear,
-            "periodic without impacts, but the linear motion reaches a stop".into(),
-        );
-    } else if d < MATCH_TOLERANCE {
-        check.decide(None, Class::Agreement);
-    } else {
-        check.contradiction(
-            ChainReason::NotLinear,
-            format!("periodic without impacts, {d:.1e} from the linear steady state"),
-        );
-    }
+    check.decide_linear(d, reaches, "the linear steady state");
 }
 
 /// The record of `check` on `structure` (`scene` as written): what `rattle compare --json`
