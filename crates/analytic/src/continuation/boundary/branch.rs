@@ -14,8 +14,9 @@
 //! the exact `R_X`, as the one-parameter location does) and the column in `p` (central
 //! differences of the whole residual) are differences.
 
+use super::curve::{jacobian_of, residual_of, EventCurve};
 use super::family::Family;
-use super::{jacobian_of, residual_of, EventCurve, DIFFERENCE_STEP};
+use super::DIFFERENCE_STEP;
 use crate::continuation::branch_point::{extended, left_null_vector};
 use crate::continuation::system::BranchModel;
 use nalgebra::{DMatrix, DVector};

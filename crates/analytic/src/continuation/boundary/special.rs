@@ -12,9 +12,10 @@
 //! | strong resonance `1:q` (Neimark–Sacker curves) | `c − cos(2π/q)`, `c = (μ + μ')/2` of the pair with `μ μ' = 1` |
 //! | crossing | the fold (`det R_x`), period-doubling (`det(M + I)`) or Neimark–Sacker (`det(M ⊙ M − I)`) test of another event |
 
+use super::curve::{fold_test, jacobian_of, multipliers, torus_test, Border, EventCurve, Node};
 use super::family::Family;
-use super::{fold_test, multipliers, tangent, torus_test, EventCurve, Node};
-use super::{jacobian_of, Border, BoundaryPoint};
+use super::BoundaryPoint;
+use crate::continuation::predictor::tangent;
 use crate::continuation::result::EventKind;
 use crate::continuation::system::BranchModel;
 use crate::continuation::test_functions::Test;

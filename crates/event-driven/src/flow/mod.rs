@@ -1,0 +1,790 @@
+//! The closed-form flow of a linear system `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + f₀`
+//! between events, by its complex modal decomposition.
+//!
+//! With the first-order state `y = (u, u̇)` and `A = [[0, I], [−M⁻¹K, −M⁻¹C]] = V Λ V⁻¹`,
+//! the modal coordinates `z = V⁻¹ y` obey `ż_k = λ_k z_k + g⁺_k e^{iωt} + g⁻_k e^{−iωt} + g⁰_k`,
+//! whose exact solution over a time `s` is
+//! `z_k(s) = e^{λ_k s} z_k(0) + Σ G_k φ(λ_k, μ, s)`, `φ(λ, μ, s) = ∫₀ˢ e^{λ(s−σ)} e^{μσ} dσ`.
+//! `φ` is evaluated in a form that stays finite when `μ = λ` (exact resonance of an undamped
+//! mode): as `(e^{μs} − e^{λs})/(μ − λ)` when `|μ − λ| T` is large, and as
+//! `e^{λs}(s + δs²/2 + δ²s³/6)`, `δ = μ − λ`, when it is below `10⁻⁴`.
+//! Away from resonance (every `|μ − λ| T` above `10⁻⁴`) a flight is written instead as the
+//! steady forced response `z_p(t)` plus the deviation from it, `z(s) = e^{λs} ∘ (z(0) − z_p(t₀))
+//! + z_p(t₀ + s)`: the same motion with one exponential per mode and one for the forcing, which
+//! is what the event search evaluates over and over. Conjugate modes of the real system are
+//! folded into one (`Re Σ = 2 Re` of one of each pair), halving the exponentials again.
+//! The eigenvectors come from the quadratic pencil: `(λ²M + λC + K) φ = 0`, `v = (φ, λφ)`.
+//!
+//! This module builds the flow (eigen-decomposition, modal forcing, steady response); a
+//! flight from a state and its evaluation (states, modal coordinates, exponential sums and
+//! their summaries) are in `flight`, and the AVX kernels of both in `packed`.
+
+mod flight;
+#[cfg(target_arch = "x86_64")]
+mod packed;
+#[cfg(test)]
+mod tests;
+
+use crate::expsum::{ModeTerm, LANES};
+pub use flight::Flight;
+use flight::Form;
+use nalgebra::{Complex, DMatrix, DVector};
+#[cfg(target_arch = "x86_64")]
+use packed::{add_column, add_scaled_avx, modal_coordinates_avx, AVX_COLUMN, PACKED_MODES};
+use thiserror::Error;
+
+type C64 = Complex<f64>;
+
+/// Why a flow could not be built.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum FlowError {
+    /// The mass matrix is singular.
+    #[error("the mass matrix is singular")]
+    SingularMass,
+    /// The system matrix is defective (repeated eigenvalues without a full set of
+    /// eigenvectors, e.g. exactly critical damping): the modal flow does not exist.
+    #[error("the system is defective (e.g. exactly critically damped): condition number {0:e}")]
+    Defective(f64),
+    /// The system matrix has a non-finite entry (masses, stiffnesses or dampings whose
+    /// ratios overflow).
+    #[error("the system matrix is not finite (masses, stiffnesses or dampings out of range)")]
+    NotFinite,
+    /// The eigenvalue iteration did not converge.
+    #[error("the eigenvalues of the system matrix did not converge")]
+    NoConvergence,
+}
+
+/// Below this `|μ − λ|·T` a forcing rate counts as resonant with a mode.
+const RESONANCE: f64 = 1e-4;
+
+/// A modal basis whose condition number (Frobenius) reaches this is defective (e.g. exactly
+/// critically damped): modal coordinates would lose more than ten of the sixteen digits.
+const DEFECTIVE_CONDITION: f64 = 1e10;
+
+/// Iteration cap of each Schur decomposition tried for the eigenvalues (nalgebra's QR
+/// iterations; a convergent one takes a few per eigenvalue).
+const SCHUR_ITERATIONS: usize = 1000;
+
+/// Shifts (times the matrix's largest entry) of the retries when the Schur iteration on the
+/// matrix and its transpose fails: a shift moves the spectrum off a symmetric configuration
+/// that stalls the iteration; 0.37 is deliberately not a simple fraction.
+const SCHUR_SHIFTS: [f64; 2] = [0.5, -0.37];
+
+/// The modal flow of one linear system at one forcing frequency.
+#[derive(Debug, Clone)]
+pub struct LinearFlow {
+    /// Degrees of freedom `n`; the state has `2n` entries.
+    dofs: usize,
+    omega: f64,
+    period: f64,
+    /// Eigenvalues `λ_k` of `A`.
+    rates: Vec<C64>,
+    /// Eigenvectors as columns.
+    modes: DMatrix<C64>,
+    /// `V⁻¹`.
+    inverse: DMatrix<C64>,
+    /// `V⁻¹` row by row (row `k` at `k·2n..(k + 1)·2n`), real and imaginary parts apart: the
+    /// modal coordinates of a state as contiguous dot products.
+    inverse_rows: (Vec<f64>, Vec<f64>),
+    /// `V⁻¹` column by column over the kept modes only (column `j` at
+    /// `j·kept..(j + 1)·kept`, in the order of `kept`): a jump of state entry `j` as one
+    /// contiguous run of products ([`Self::add_jump`]).
+    kept_inverse_columns: Vec<C64>,
+    /// The eigenvectors column by column (column `k` at `k·2n..(k + 1)·2n`), real and
+    /// imaginary parts apart: a state from its modal coordinates as contiguous sums.
+    mode_columns: (Vec<f64>, Vec<f64>),
+    /// Modal forcing on `e^{+iωt}`, `e^{−iωt}` and the constant.
+    plus: DVector<C64>,
+    minus: DVector<C64>,
+    constant: DVector<C64>,
+    /// The modes that carry a real motion: one of each conjugate pair (weight 2) and every
+    /// real mode (weight 1), so that `Re Σ_all = Σ_kept weight · Re`.
+    kept: Vec<(usize, f64)>,
+    /// Per kept mode, `|Re λ| + |Im λ|` and its cube `(r · r) · r`, for [`Flight::summarize`].
+    kept_sizes: Vec<(f64, f64)>,
+    /// Per kept mode, [`LinearFlow::kept_peaks`].
+    kept_peaks: Vec<(f64, f64)>,
+    /// The modes as [`Flight::summarize_all`] adds them, every kept mode then the forcing
+    /// (their deviations zero: a flight writes its own), formed once for the flow; `None`
+    /// where it gives no joint summaries (a rate grows, no mode is kept, or a kept mode has
+    /// rate zero). Formed once: building them and checking the rates at every flight would
+    /// cost a chain some 3 % of its instructions.
+    joint_modes: Option<Vec<ModeTerm>>,
+    /// The forced steady response, when no mode is resonant with the forcing.
+    steady: Option<SteadyResponse>,
+}
+
+/// The forced steady response in modal coordinates,
+/// `z_p(t) = P⁺ e^{iωt} + P⁻ e^{−iωt} + P⁰`, `P^±_k = g^±_k/(±iω − λ_k)`, `P⁰_k = −g⁰_k/λ_k`.
+#[derive(Debug, Clone)]
+struct SteadyResponse {
+    plus: Vec<C64>,
+    minus: Vec<C64>,
+    constant: Vec<C64>,
+}
+
+impl SteadyResponse {
+    /// Kept mode `j`'s coordinate `(h_j e^{λ_j s} + P⁺_j F + P⁻_j F̄ + P⁰_j)·weight` from its
+    /// decayed deviation `h_j e^{λ_j s}` and the forcing's phase `F` at `s`: the one form
+    /// of it ([`Flight::state_at`] adds the state from these, [`Flight::modal_state`] hands
+    /// them out; `packed::pair_coordinates_avx` packs the same operations two modes at a
+    /// time).
+    #[inline(always)]
+    fn coordinate(&self, j: usize, decayed: C64, forced: C64, weight: f64) -> C64 {
+        (decayed + self.plus[j] * forced + self.minus[j] * forced.conj() + self.constant[j])
+            * weight
+    }
+
+    /// The response of the kept modes only, in the order of `kept` (contiguous, as the
+    /// flights' deviations are).
+    fn of_kept(self, kept: &[(usize, f64)]) -> Self {
+        let pick = |v: &[C64]| kept.iter().map(|&(k, _)| v[k]).collect();
+        Self {
+            plus: pick(&self.plus),
+            minus: pick(&self.minus),
+            constant: pick(&self.constant),
+        }
+    }
+}
+
+/// A linear functional `c · y` of the state, prepared for fast flights: its modal weights
+/// `Vᵀc` and, when the flow has a steady response, that response's contribution
+/// `Re(forced e^{iωt}) + constant`.
+#[derive(Debug, Clone)]
+pub struct Functional {
+    weights: DVector<C64>,
+    forced: C64,
+    constant: f64,
+}
+
+/// Several functionals prepared for [`Flight::summarize_all`]: in blocks of [`LANES`]
+/// functionals, per kept mode, their modal weights `[Re w₀, …, Re w₃, Im w₀, …, Im w₃]`, then
+/// their forced parts likewise (a last block filled up with zeros), and each functional's
+/// constant.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct JointWeights {
+    count: usize,
+    blocks: Vec<[f64; 2 * LANES]>,
+    constant: Vec<f64>,
+}
+
+/// Whether a forcing rate `μ = λ + δ` counts as resonant with the mode of rate `λ`.
+fn resonant(delta: C64, period: f64) -> bool {
+    (delta.re.abs() + delta.im.abs()) * period <= RESONANCE
+}
+
+/// `e^{μ s}`, skipping the real exponential for purely oscillatory rates.
+#[inline]
+fn cexp(mu: C64, s: f64) -> C64 {
+    let (sin, cos) = crate::trig::sin_cos(mu.im * s);
+    let r = if mu.re == 0.0 { 1.0 } else { (mu.re * s).exp() };
+    C64::new(r * cos, r * sin)
+}
+
+/// The eigenvalues of the system matrix `a`, by the real Schur form with a bounded QR
+/// iteration; when it does not converge, on the transpose, then on shifted copies `a + σI`
+/// (nalgebra's unbounded iteration can cycle forever on some finite matrices).
+pub(crate) fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<C64>, FlowError> {
+    if !a.iter().all(|v| v.is_finite()) {
+        return Err(FlowError::NotFinite);
+    }
+    let n = a.nrows();
+    // A system of no coordinates (a structure held on its stops in every direction) has no
+    // rates.
+    if n == 0 {
+        return Ok(Vec::new());
+    }
+    let scale = a.amax().max(f64::MIN_POSITIVE);
+    let identity = DMatrix::<f64>::identity(n, n);
+    for (matrix, shift) in [
+        (a.clone(), 0.0),
+        (a.transpose(), 0.0),
+        (
+            a + &identity * (SCHUR_SHIFTS[0] * scale),
+            SCHUR_SHIFTS[0] * scale,
+        ),
+        (
+            a - &identity * (-SCHUR_SHIFTS[1] * scale),
+            SCHUR_SHIFTS[1] * scale,
+        ),
+    ] {
+        if let Some(schur) =
+            nalgebra::linalg::Schur::try_new(matrix, f64::EPSILON, SCHUR_ITERATIONS)
+        {
+            return Ok(schur
+                .complex_eigenvalues()
+                .iter()
+                .map(|l| l - shift)
+                .collect());
+        }
+    }
+    Err(FlowError::NoConvergence)
+}
+
+/// Real parts of an undamped system's oscillating rates at most this many times `ε·|μ|` are
+/// rounding (the Schur form leaves a few `1e-17` where they are zero) and are made exactly 0.
+/// Far above the Schur form's rounding (a few `ε·|μ|`), far below any real damping's share
+/// (a damping ratio of `1e-13`).
+pub(crate) const CONSERVATIVE_ROUNDING: f64 = 1e3;
+
+/// The rates of a system with no damping terms: its oscillating modes (`im μ ≠ 0`) conserve
+/// energy, so a real part at rounding level ([`CONSERVATIVE_ROUNDING`]) is made exactly 0;
+/// conjugate pairs stay exact conjugates. An undamped flight then counts as bounded and is
+/// searched on the fixed grid of cached exponentials, not the horizon grid's fresh ones (the
+/// `steady_sweep` example, half its runs undamped, shows the gain: see the performance page,
+/// `docs/performance.md`).
+fn conservative_rates(rates: &mut [C64]) {
+    for r in rates.iter_mut() {
+        if r.im != 0.0 && r.re.abs() <= CONSERVATIVE_ROUNDING * f64::EPSILON * r.norm() {
+            r.re = 0.0;
+        }
+    }
+}
+
+/// `M⁻¹` and the first-order system matrix `A = [0 I; −M⁻¹K −M⁻¹C]` (no `C` block without
+/// `damping`) of `M ü + C u̇ + K u`.
+///
+/// # Errors
+/// [`FlowError::SingularMass`] when `mass` has no inverse.
+fn first_order(
+    mass: &DMatrix<f64>,
+    damping: Option<&DMatrix<f64>>,
+    stiffness: &DMatrix<f64>,
+) -> Result<(DMatrix<f64>, DMatrix<f64>), FlowError> {
+    let n = mass.nrows();
+    let minv = mass.clone().try_inverse().ok_or(FlowError::SingularMass)?;
+    let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
+    a.view_mut((0, n), (n, n)).fill_with_identity();
+    a.view_mut((n, 0), (n, n))
+        .copy_from(&(-(&minv * stiffness)));
+    if let Some(c) = damping {
+        a.view_mut((n, n), (n, n)).copy_from(&(-(&minv * c)));
+    }
+    Ok((minv, a))
+}
+
+impl LinearFlow {
+    /// The free flow of `model` (its masses, dampings, stiffnesses and forcing, no constant
+    /// force) at forcing frequency `omega`: the flight between its events.
+    ///
+    /// # Errors
+    /// As [`LinearFlow::new`].
+    pub(crate) fn of_model(model: &crate::Model, omega: f64) -> Result<Self, FlowError> {
+        LinearFlow::new(
+            &model.mass,
+            model.damping.as_ref(),
+            &model.stiffness,
+            &model.forcing_cos,
+            &model.forcing_sin,
+            &DVector::zeros(model.mass.nrows()),
+            omega,
+        )
+    }
+
+    /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + f₀` (`damping` `None`: no
+    /// damping terms at all).
+    pub fn new(
+        mass: &DMatrix<f64>,
+        damping: Option<&DMatrix<f64>>,
+        stiffness: &DMatrix<f64>,
+        forcing_cos: &DVector<f64>,
+        forcing_sin: &DVector<f64>,
+        forcing_constant: &DVector<f64>,
+        omega: f64,
+    ) -> Result<Self, FlowError> {
+        let n = mass.nrows();
+        let (minv, a) = first_order(mass, damping, stiffness)?;
+        let mut rates = eigenvalues(&a)?;
+        if damping.is_none() {
+            conservative_rates(&mut rates);
+        }
+        let mut modes = DMatrix::<C64>::zeros(2 * n, 2 * n);
+        let mc = mass.map(|v| C64::new(v, 0.0));
+        let kc = stiffness.map(|v| C64::new(v, 0.0));
+        let cc = damping.map(|c| c.map(|v| C64::new(v, 0.0)));
+        for (k, &lambda) in rates.iter().enumerate() {
+            let mut pencil = &mc * (lambda * lambda) + &kc;
+            if let Some(c) = &cc {
+                pencil += c * lambda;
+            }
+            let svd = pencil.svd(false, true);
+            let v_t = svd.v_t.ok_or(FlowError::Defective(f64::INFINITY))?;
+            let (imin, _) =
+                svd.singular_values
+                    .iter()
+                    .enumerate()
+                    .fold(
+                        (0, f64::INFINITY),
+                        |acc, (i, &s)| if s < acc.1 { (i, s) } else { acc },
+                    );
+            let shape: DVector<C64> = v_t.row(imin).adjoint();
+            for i in 0..n {
+                modes[(i, k)] = shape[i];
+                modes[(n + i, k)] = shape[i] * lambda;
+            }
+        }
+        let inverse = modes
+            .clone()
+            .try_inverse()
+            .ok_or(FlowError::Defective(f64::INFINITY))?;
+        let condition = modes.norm() * inverse.norm();
+        if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
+            return Err(FlowError::Defective(condition));
+        }
+        let lift = |f: DVector<C64>| {
+            let mut b = DVector::<C64>::zeros(2 * n);
+            let accel = minv.map(|v| C64::new(v, 0.0)) * f;
+            b.rows_mut(n, n).copy_from(&accel);
+            &inverse * b
+        };
+        // f_c cos ωt + f_s sin ωt = (F e^{iωt} + F̄ e^{−iωt})/2 with F = f_c − i f_s.
+        let f = DVector::from_fn(n, |i, _| C64::new(forcing_cos[i], -forcing_sin[i]) * 0.5);
+        let plus = lift(f.clone());
+        let minus = lift(f.map(|c| c.conj()));
+        let constant = lift(forcing_constant.map(|v| C64::new(v, 0.0)));
+        let period = std::f64::consts::TAU / omega;
+        // A real system has real rates and exact conjugate pairs (real Schur form); fold each
+        // pair into one mode of weight 2. Anything else keeps every mode.
+        let partner = |k: usize| rates.iter().position(|r| *r == rates[k].conj());
+        let pairs_exact = rates
+            .iter()
+            .enumerate()
+            .all(|(k, r)| r.im == 0.0 || partner(k).is_some());
+        let kept: Vec<(usize, f64)> = if pairs_exact {
+            rates
+                .iter()
+                .enumerate()
+                .filter(|(_, r)| r.im >= 0.0)
+                .map(|(k, r)| (k, if r.im > 0.0 { 2.0 } else { 1.0 }))
+                .collect()
+        } else {
+            (0..rates.len()).map(|k| (k, 1.0)).collect()
+        };
+        let kept_sizes: Vec<(f64, f64)> = kept
+            .iter()
+            .map(|&(k, _)| {
+                let rate = rates[k].re.abs() + rates[k].im.abs();
+                (rate, rate * rate * rate)
+            })
+            .collect();
+        let w = C64::new(0.0, omega);
+        let has_constant = constant.iter().any(|c| *c != C64::default());
+        let steady = rates
+            .iter()
+            .all(|&l| {
+                let forced_at_zero = has_constant && resonant(-l, period);
+                !(resonant(w - l, period) || resonant(-w - l, period) || forced_at_zero)
+            })
+            .then(|| SteadyResponse {
+                plus: rates
+                    .iter()
+                    .zip(plus.iter())
+                    .map(|(&l, &g)| g / (w - l))
+                    .collect(),
+                minus: rates
+                    .iter()
+                    .zip(minus.iter())
+                    .map(|(&l, &g)| g / (-w - l))
+                    .collect(),
+                constant: rates
+                    .iter()
+                    .zip(constant.iter())
+                    .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
+                    .collect(),
+            })
+            .map(|response| response.of_kept(&kept));
+        let apart = |m: &DMatrix<C64>| {
+            (
+                m.as_slice().iter().map(|c| c.re).collect(),
+                m.as_slice().iter().map(|c| c.im).collect(),
+            )
+        };
+        let inverse_rows = apart(&inverse.transpose());
+        let kept_inverse_columns = (0..2 * n)
+            .flat_map(|j| kept.iter().map(move |&(k, _)| (k, j)))
+            .map(|(k, j)| inverse[(k, j)])
+            .collect();
+        let mode_columns = apart(&modes);
+        let kept_peaks = kept_peaks(&modes, &kept);
+        let joint_modes = joint_modes(&rates, &kept, &kept_sizes, omega);
+        Ok(Self {
+            dofs: n,
+            omega,
+            period,
+            rates,
+            modes,
+            inverse,
+            inverse_rows,
+            kept_inverse_columns,
+            mode_columns,
+            plus,
+            minus,
+            constant,
+            kept,
+            kept_sizes,
+            kept_peaks,
+            joint_modes,
+            steady,
+        })
+    }
+
+    /// Per kept mode, in their order, `(Re v_ik, Im v_ik)`: entry `i` of its eigenvector, as
+    /// [`Flight::state_at`] adds it into the state (`y_i = Σ_k Re v_ik Re z_k − Im v_ik Im
+    /// z_k`, mode by mode from `0`).
+    ///
+    /// # Panics
+    ///
+    /// If `i ≥ 2n`.
+    pub(crate) fn kept_entry(&self, i: usize) -> Vec<(f64, f64)> {
+        let m = 2 * self.dofs;
+        assert!(i < m, "state entry {i} of {m}");
+        let (columns_re, columns_im) = &self.mode_columns;
+        self.kept
+            .iter()
+            .map(|&(k, _)| (columns_re[k * m + i], columns_im[k * m + i]))
+            .collect()
+    }
+
+    /// Per kept mode, in their order, the largest `max(|Re v_ik|, |Im v_ik|)` of its
+    /// eigenvector's position entries (`i < n`) and of its velocity entries: with the
+    /// modes' coordinates `z` they bound the state's entries, `|y_i| ≤ Σ_k peak_k (|Re z_k| +
+    /// |Im z_k|)`, up to rounding.
+    pub(crate) fn kept_peaks(&self) -> &[(f64, f64)] {
+        &self.kept_peaks
+    }
+
+    /// Per kept mode `k`, `Σ_i w_i max(|Re v_ik|, |Im v_ik|)` for nonnegative weights `w` of
+    /// the state's entries (length `2n`): `Σ_i w_i |y_i| ≤ Σ_k size_k (|Re z_k| + |Im z_k|)`
+    /// for the state of coordinates `z`, with no cancellation between entries, so the bound
+    /// holds for the entries as [`Flight::state_at`] rounds them to within a few roundings
+    /// of its size.
+    ///
+    /// # Panics
+    ///
+    /// If `weights` is not of length `2n`.
+    pub(crate) fn kept_entry_sizes(&self, weights: &[f64]) -> Vec<f64> {
+        let m = 2 * self.dofs;
+        assert_eq!(weights.len(), m, "weights of the state's entries");
+        self.kept
+            .iter()
+            .map(|&(k, _)| {
+                let column = self.modes.column(k);
+                weights
+                    .iter()
+                    .zip(column.iter())
+                    .map(|(&w, v)| w * v.re.abs().max(v.im.abs()))
+                    .sum()
+            })
+            .collect()
+    }
+
+    /// One mode's coordinate `(V⁻¹y)_k` from its row of `V⁻¹` (real and imaginary parts
+    /// apart): `re += Re v·y_i`, `im += Im v·y_i` over the entries in order from `0`.
+    #[inline(always)]
+    fn modal_coordinate(&self, (row_re, row_im): (&[f64], &[f64]), y: &[f64]) -> C64 {
+        let (mut re, mut im) = (0.0, 0.0);
+        for ((&vr, &vi), &yj) in row_re.iter().zip(row_im).zip(y) {
+            re += vr * yj;
+            im += vi * yj;
+        }
+        C64::new(re, im)
+    }
+
+    /// `y += Re(v_k z)`, `v_k` the `k`-th eigenvector: one mode's part of a state.
+    #[inline]
+    fn add_mode(&self, k: usize, z: C64, y: &mut [f64]) {
+        let m = 2 * self.dofs;
+        let (columns_re, columns_im) = &self.mode_columns;
+        let column = k * m..(k + 1) * m;
+        // Equal-length slices and an index loop: each entry on its own (the compiler may pack
+        // them), the same operations as entry by entry.
+        let (re, im) = (&columns_re[column.clone()], &columns_im[column]);
+        let y = &mut y[..m];
+        // A short column (a unit's four entries) gains nothing from the packed call, which
+        // is kept out of line so that this loop stays inlined.
+        #[cfg(target_arch = "x86_64")]
+        if m >= AVX_COLUMN {
+            return add_column(re, im, z, y);
+        }
+        for i in 0..m {
+            y[i] += re[i] * z.re - im[i] * z.im;
+        }
+    }
+
+    /// Degrees of freedom.
+    pub fn dofs(&self) -> usize {
+        self.dofs
+    }
+
+    /// The fastest free rate `max |λ_k|` of the system (rad/s).
+    pub fn fastest_rate(&self) -> f64 {
+        self.rates.iter().map(|l| l.norm()).fold(0.0, f64::max)
+    }
+
+    /// The homogeneous propagator `Φ(s) = ∂y(s)/∂y(0) = e^{A s} = Re(V e^{Λ s} V⁻¹)` of a
+    /// flight of duration `s`: the tangent flow of the linear flight (independent of the
+    /// forcing and of the start phase), from the same modal form as the flights themselves.
+    pub fn propagator(&self, s: f64) -> DMatrix<f64> {
+        let m = 2 * self.dofs;
+        let mut out = DMatrix::zeros(m, m);
+        self.propagator_into(s, &mut out);
+        out
+    }
+
+    /// [`Self::propagator`] written into `out`, resized to `2n × 2n` if needed (no allocation
+    /// when it already has that size).
+    pub fn propagator_into(&self, s: f64, out: &mut DMatrix<f64>) {
+        let m = 2 * self.dofs;
+        if out.shape() != (m, m) {
+            *out = DMatrix::zeros(m, m);
+        } else {
+            out.fill(0.0);
+        }
+        for &(k, weight) in &self.kept {
+            let e = cexp(self.rates[k], s) * weight;
+            for j in 0..m {
+                let w = self.inverse[(k, j)] * e;
+                for i in 0..m {
+                    out[(i, j)] += (self.modes[(i, k)] * w).re;
+                }
+            }
+        }
+    }
+
+    /// Whether flights use the steady forced response (no mode resonant with the forcing); at
+    /// or near resonance they use the resonance-safe `φ` form instead.
+    pub fn has_steady_response(&self) -> bool {
+        self.steady.is_some()
+    }
+
+    /// The flight from state `y` (length `2n`) at forcing phase time `t0` (the forcing is
+    /// evaluated at `t0 + s`).
+    pub fn flight(&self, y: &DVector<f64>, t0: f64) -> Flight<'_> {
+        let (sin, cos) = crate::trig::sin_cos(self.omega * t0);
+        self.flight_at_phase(y, C64::new(cos, sin), Vec::new())
+    }
+
+    /// [`Self::flight`] given its forcing phase `e^{iωt0}` as `crate::trig::sin_cos(ωt0)`
+    /// gives it (the event loop keeps the last one it computed: a contact's accelerations and
+    /// the flight that follows start at the same time), its modal deviation written into
+    /// `storage` (any contents; the event loop hands back the last flight's,
+    /// [`Flight::into_storage`], so that a flight allocates nothing).
+    pub(crate) fn flight_at_phase(
+        &self,
+        y: &DVector<f64>,
+        phase: C64,
+        mut storage: Vec<C64>,
+    ) -> Flight<'_> {
+        let m = 2 * self.dofs;
+        let form = match &self.steady {
+            Some(p) => {
+                // The kept modes' deviations, in their order.
+                if storage.len() != self.kept.len() {
+                    storage.clear();
+                    storage.resize(self.kept.len(), C64::default());
+                }
+                let mut deviation = storage;
+                let y = y.as_slice();
+                let (rows_re, rows_im) = &self.inverse_rows;
+                // A chain's modal coordinates `V⁻¹y` with AVX, two modes to a register, but for
+                // a last odd one (the same sums, so the same bits); a unit's as they were.
+                #[cfg(target_arch = "x86_64")]
+                if self.kept.len() >= PACKED_MODES && std::arch::is_x86_feature_detected!("avx") {
+                    // SAFETY: the CPU has AVX (checked just above).
+                    let done = unsafe {
+                        modal_coordinates_avx(&self.kept_inverse_columns, y, &mut deviation)
+                    };
+                    let modes = deviation.iter_mut().zip(&self.kept).enumerate();
+                    for (j, (h, &(k, _))) in modes {
+                        let z = if j < done {
+                            *h
+                        } else {
+                            let row = k * m..(k + 1) * m;
+                            self.modal_coordinate((&rows_re[row.clone()], &rows_im[row]), y)
+                        };
+                        *h = z - (p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j]);
+                    }
+                    return Flight {
+                        flow: self,
+                        form: Form::Steady {
+                            response: p,
+                            deviation,
+                            phase,
+                        },
+                    };
+                }
+                for (j, (h, &(k, _))) in deviation.iter_mut().zip(&self.kept).enumerate() {
+                    let row = k * m..(k + 1) * m;
+                    let z = self.modal_coordinate((&rows_re[row.clone()], &rows_im[row]), y);
+                    *h = z - (p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j]);
+                }
+                Form::Steady {
+                    response: p,
+                    deviation,
+                    phase,
+                }
+            }
+            None => Form::General {
+                start: &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                plus: self.plus.map(|g| g * phase),
+                minus: self.minus.map(|g| g * phase.conj()),
+            },
+        };
+        Flight { flow: self, form }
+    }
+
+    /// The flight at the forcing phase `e^{iωt0}` (as [`Self::flight_at_phase`] takes it) from
+    /// a state whose deviation from the steady response, `h = z(0) − z_p(t0)` per mode (the
+    /// kept modes', in their order), is already
+    /// known, as [`Flight::deviation_at`] and [`Self::add_jump`] carry it across an event;
+    /// `None` (the deviation handed back) when the flow has no steady response.
+    ///
+    /// It is [`Self::flight`] of that state up to rounding: the deviation is not recomputed
+    /// from the state, so the last bits differ from a fresh start.
+    pub(crate) fn flight_with_deviation(
+        &self,
+        deviation: Vec<C64>,
+        phase: C64,
+    ) -> Result<Flight<'_>, Vec<C64>> {
+        let Some(p) = &self.steady else {
+            return Err(deviation);
+        };
+        if deviation.len() != self.kept.len() {
+            return Err(deviation);
+        }
+        Ok(Flight {
+            flow: self,
+            form: Form::Steady {
+                response: p,
+                deviation,
+                phase,
+            },
+        })
+    }
+
+    /// Adds to a modal deviation (of the kept modes) the jump of the state from `before` to
+    /// `after` (an impact's velocity change): `h += V⁻¹ (after − before)`, over the entries
+    /// that changed only, among `changed` (rising), the only entries that can differ (an
+    /// impact's: the velocities along `M⁻¹d`; comparing every entry of the state would be a
+    /// third of the carry's instructions on a chain of eight cells).
+    pub(crate) fn add_jump(
+        &self,
+        deviation: &mut [C64],
+        (before, after): (&[f64], &[f64]),
+        changed: impl Iterator<Item = usize>,
+    ) {
+        let count = self.kept.len();
+        if count == 0 {
+            return;
+        }
+        for j in changed {
+            let (b, a) = (before[j], after[j]);
+            if a == b {
+                continue;
+            }
+            let delta = a - b;
+            let column = &self.kept_inverse_columns[j * count..(j + 1) * count];
+            #[cfg(target_arch = "x86_64")]
+            if count >= PACKED_MODES && std::arch::is_x86_feature_detected!("avx") {
+                // SAFETY: the CPU has AVX (checked just above).
+                unsafe { add_scaled_avx(deviation, column, delta) };
+                continue;
+            }
+            for (h, &v) in deviation.iter_mut().zip(column) {
+                *h += v * delta;
+            }
+        }
+    }
+
+    /// The functionals, in their order, prepared for [`Flight::summarize_all`].
+    pub(crate) fn joint_weights(&self, functionals: &[&Functional]) -> JointWeights {
+        let count = functionals.len();
+        let mut joint = JointWeights {
+            count,
+            ..JointWeights::default()
+        };
+        for block in functionals.chunks(LANES) {
+            let lane = |l: usize, of: &dyn Fn(&Functional) -> C64| {
+                block.get(l).map_or(C64::default(), |f| of(f))
+            };
+            for &(k, _) in &self.kept {
+                let w: [C64; LANES] = std::array::from_fn(|l| lane(l, &|f| f.weights[k]));
+                joint.blocks.push(std::array::from_fn(|i| {
+                    if i < LANES {
+                        w[i].re
+                    } else {
+                        w[i - LANES].im
+                    }
+                }));
+            }
+            let forced: [C64; LANES] = std::array::from_fn(|l| lane(l, &|f| f.forced));
+            joint.blocks.push(std::array::from_fn(|i| {
+                if i < LANES {
+                    forced[i].re
+                } else {
+                    forced[i - LANES].im
+                }
+            }));
+        }
+        joint
+            .constant
+            .extend(functionals.iter().map(|f| f.constant));
+        joint
+    }
+
+    /// Modal weights `Vᵀ c` of the functional `c · y`, with the steady response's part.
+    pub fn functional(&self, c: &DVector<f64>) -> Functional {
+        let weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
+        let (mut forced, mut constant) = (C64::default(), 0.0);
+        if let Some(p) = &self.steady {
+            for (j, &(k, weight)) in self.kept.iter().enumerate() {
+                // Re[w P⁻ e^{−iωt}] = Re[conj(w P⁻) e^{iωt}].
+                forced += (weights[k] * p.plus[j] + (weights[k] * p.minus[j]).conj()) * weight;
+                constant += (weights[k] * p.constant[j]).re * weight;
+            }
+        }
+        Functional {
+            weights,
+            forced,
+            constant,
+        }
+    }
+}
+
+/// The modes of [`LinearFlow::joint_modes`]: each kept mode `(k, weight)` with its rate and
+/// sizes, then the forced part at `iω` as `add_decaying` adds it (weight 1 is exact), every
+/// deviation zero; `None` where [`Flight::summarize_all`] gives no summaries.
+fn joint_modes(
+    rates: &[C64],
+    kept: &[(usize, f64)],
+    kept_sizes: &[(f64, f64)],
+    omega: f64,
+) -> Option<Vec<ModeTerm>> {
+    if rates.iter().any(|r| r.re > 0.0)
+        || kept.is_empty()
+        || kept_sizes.iter().any(|&(rate, _)| rate == 0.0)
+    {
+        return None;
+    }
+    let mut modes: Vec<ModeTerm> = kept
+        .iter()
+        .zip(kept_sizes)
+        .map(|(&(k, weight), &sizes)| ModeTerm::new(rates[k], weight, sizes))
+        .collect();
+    let forcing = C64::new(0.0, omega);
+    let rate = forcing.re.abs() + forcing.im.abs();
+    modes.push(ModeTerm::new(forcing, 1.0, (rate, rate * rate * rate)));
+    Some(modes)
+}
+
+/// [`LinearFlow::kept_peaks`] of the eigenvectors `modes` (as columns, `2n` rows).
+fn kept_peaks(modes: &DMatrix<C64>, kept: &[(usize, f64)]) -> Vec<(f64, f64)> {
+    let n = modes.nrows() / 2;
+    let peak = |k: usize, rows: std::ops::Range<usize>| {
+        rows.map(|i| modes[(i, k)])
+            .fold(0.0, |m: f64, v| m.max(v.re.abs()).max(v.im.abs()))
+    };
+    kept.iter()
+        .map(|&(k, _)| (peak(k, 0..n), peak(k, n..2 * n)))
+        .collect()
+}
