@@ -250,7 +250,7 @@ fn natural_frequencies(cells: &[Cell]) -> Vec<f64> {
     w
 }
 
-/// One cell is the unit of `../shared/notes/physics.md`: `M = diag(m_o, m_i)`,
+/// One cell is the unit of the methods page (`docs/methods.md`): `M = diag(m_o, m_i)`,
 /// `K = [[k_o + k_i, −k_i], [−k_i, k_i]]`, `C` likewise, forcing `(k_o u_g, 0)` in cosine and
 /// `(−c_o u_g, 0)` in sine per ω (written here, not taken from the crate); `LinearModel::unit`
 /// and `LinearModel::chain` are this constructor.

@@ -269,7 +269,7 @@ pub fn free_flight_to_a_stop(restitution: f64) -> Reference<FirstContact> {
     }
 }
 
-/// The impact map of the physics notes, written out:
+/// The unit's impact map (`docs/methods.md`), written out:
 /// `G = 1/(m_i+m_o) [[m_o − m_i e, m_i(1+e)], [m_o(1+e), m_i − m_o e]]` applied to
 /// `(u̇_o, u̇_i)`.
 pub fn impact_matrix(mo: f64, mi: f64, e: f64, v: [f64; 2]) -> [f64; 2] {

@@ -1,5 +1,5 @@
 //! The simulator against independent references: a generic integrator written here, the
-//! conservation laws of an impact, and the behaviours the physics notes require.
+//! conservation laws of an impact, and the hard cases of the validation page (`docs/validation.md`).
 
 use nalgebra::{DMatrix, DVector};
 use rattle_event_driven::flow::LinearFlow;

@@ -178,7 +178,7 @@ fn eigenfrequencies(mass: &[f64], stiffness: &DMatrix<f64>) -> Vec<f64> {
 mod tests {
     use super::*;
 
-    /// The paper's unit: `ω² = 1.5, 6` exactly (physics notes, §2.2).
+    /// The paper's unit: `ω² = 1.5, 6` exactly (the paper's §2.2).
     #[test]
     fn the_paper_units_bounds_come_from_its_two_modes() {
         let b = FrequencyBounds::of(&Scene::paper());
