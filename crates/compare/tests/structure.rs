@@ -455,3 +455,23 @@ fn a_body_held_on_the_frame_leaves_when_the_push_changes_sign() {
         "{held} samples held, {releases} releases"
     );
 }
+
+/// A body on its own undamped spring, untouched by the forcing and the stops, keeps a Floquet
+/// multiplier on the unit circle in both solvers: the impact oscillator beside it agrees, and
+/// the verdict is `beyond` (neutral), not a contradiction.
+#[test]
+fn an_unexcited_undamped_body_makes_the_verdict_neutral() {
+    let text = oscillator_scene("frame", 0.5, 0.8).replace(
+        r#"[{"name": "x", "mass": 1.0}]"#,
+        r#"[{"name": "x", "mass": 1.0}, {"name": "idle", "mass": 2.0}]"#,
+    );
+    let text = text.replace(
+        r#""springs":  ["#,
+        r#""springs":  [{"between": ["frame", "idle"], "stiffness": 3.0}, "#,
+    );
+    let s = structure(&text);
+    let check = structure_cross_check(&s, 1.8, &SimulationOptions::default()).unwrap();
+    assert_eq!(check.class.name(), "beyond", "{:?}", check.class);
+    assert_eq!(check.reason.map(|r| r.name()), Some("neutral"));
+    assert!(check.relative_difference.unwrap() < 1e-9);
+}

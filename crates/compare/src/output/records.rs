@@ -668,7 +668,7 @@ pub struct ChainCompareRecord {
     pub class: &'static str,
     /// Why the class is not `agreement`, one word: `non-periodic`, `no-dissipation`,
     /// `sticking`, `not-polished`, `too-many-impacts`, `period-too-long`,
-    /// `cell-without-stops` (beyond); `no-analytic-orbit`, `not-viable`, `unstable`, `differ`,
+    /// `cell-without-stops`, `neutral` (beyond); `no-analytic-orbit`, `not-viable`, `unstable`, `differ`,
     /// `not-linear` (contradiction); `null` for an agreement.
     pub reason: Option<&'static str>,
     /// The reason in words (empty for an agreement).

@@ -55,6 +55,10 @@ pub enum ChainReason {
     NoAnalyticOrbit,
     /// Contradiction: the analytic orbit violates a contact condition.
     NotViable,
+    /// Beyond: the orbits agree, but a Floquet multiplier lies on the unit circle (within
+    /// [`NEUTRAL_MARGIN`]) in both solvers: an undamped mode the motion does not excite, whose
+    /// stability is neutral.
+    Neutral,
     /// Contradiction: the analytic orbit is unstable, yet the simulator settles on it.
     Unstable,
     /// Contradiction: the orbits differ by [`MATCH_TOLERANCE`] or more.
@@ -77,6 +81,7 @@ impl ChainReason {
             ChainReason::CellWithoutStops => "cell-without-stops",
             ChainReason::NoAnalyticOrbit => "no-analytic-orbit",
             ChainReason::NotViable => "not-viable",
+            ChainReason::Neutral => "neutral",
             ChainReason::Unstable => "unstable",
             ChainReason::Differ => "differ",
             ChainReason::NotLinear => "not-linear",
@@ -365,6 +370,19 @@ impl ChainCheck {
     }
 }
 
+/// `max_k |a_k − b_k| / max_k |b_k|` (infinite when the lengths differ).
+pub(crate) fn relative_to_largest(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() != b.len() {
+        return f64::INFINITY;
+    }
+    let scale = b.iter().fold(0.0, |m: f64, x| m.max(x.abs()));
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+        / scale.max(f64::MIN_POSITIVE)
+}
+
 /// `max_k |a_k − b_k| / |b_k|` (infinite when the lengths differ).
 pub(crate) fn largest_relative(a: &[f64], b: &[f64]) -> f64 {
     if a.len() != b.len() {
@@ -396,6 +414,7 @@ fn seeded_check(
         event: model(scene, omega)?,
         analytic,
         compared: (0..scene.cell_count()).map(|j| 2 * j).collect(),
+        relative_to_largest: false,
     };
     seeded_models(&models, omega, orbit, steady, options, check)
 }
@@ -411,6 +430,10 @@ pub struct CheckModels {
     /// The coordinates whose amplitudes are compared (a chain's outer masses, a structure's
     /// bodies).
     pub compared: Vec<usize>,
+    /// Whether each amplitude's difference is relative to the largest compared amplitude (a
+    /// structure's, whose bodies may rest: an amplitude of 0 and one of 1e-30 are the same
+    /// rest) rather than to its own (a chain's cells all move).
+    pub relative_to_largest: bool,
 }
 
 /// The analytic orbit of the polished cycle's sequence on `models`, its differences from the
@@ -505,7 +528,12 @@ pub(crate) fn seeded_models(
     let pick = |amplitudes: &[f64]| -> Vec<f64> {
         models.compared.iter().map(|&k| amplitudes[k]).collect()
     };
-    let amplitude = largest_relative(&pick(&cycle.amplitudes), &pick(&analytic.amplitudes));
+    let (a, b) = (pick(&cycle.amplitudes), pick(&analytic.amplitudes));
+    let amplitude = if models.relative_to_largest {
+        relative_to_largest(&a, &b)
+    } else {
+        largest_relative(&a, &b)
+    };
     // The analytic orbit starts at one of the equivalent rotations: compare with the closest.
     let before = DVector::from_column_slice(&analytic.states_before_impacts[0]);
     let difference = rotations
@@ -544,16 +572,42 @@ pub(crate) fn seeded_models(
     Ok(())
 }
 
+/// A largest Floquet multiplier within this of 1 in modulus, in both solvers, is neutral: the
+/// simulator's own margin of a steady cycle ([`rattle_event_driven::UNSTABLE_MARGIN`]), far
+/// above the multipliers' rounding (1e-14 between the solvers) and far below any decay a
+/// dashpot or an impact gives.
+pub const NEUTRAL_MARGIN: f64 = rattle_event_driven::UNSTABLE_MARGIN;
+
 /// The class of a seeded check from the analytic orbit's verdicts and its `difference` from
 /// the simulated cycle: a contradiction when the simulator settles on a cycle the analytic
-/// solver calls not viable or unstable, or that differs from it; agreement otherwise.
+/// solver calls not viable or unstable, or that differs from it; `beyond` (neutral) when the
+/// orbits agree and both solvers put the largest multiplier on the unit circle; agreement
+/// otherwise.
 fn classify(
     check: &mut ChainCheck,
     sequence: &ImpactSequence,
     analytic: &rattle_analytic::SequenceOrbit,
     difference: f64,
 ) {
-    if !analytic.viable {
+    let largest = |m: &[Complex<f64>]| m.iter().map(|m| m.norm()).fold(0.0, f64::max);
+    let simulated = check
+        .simulated
+        .steady
+        .orbit
+        .as_ref()
+        .map_or(f64::NAN, |o| largest(&o.floquet_multipliers));
+    let neutral = [largest(&analytic.floquet_multipliers), simulated]
+        .iter()
+        .all(|m| (m - 1.0).abs() <= NEUTRAL_MARGIN);
+    if analytic.viable && neutral && difference < MATCH_TOLERANCE {
+        check.beyond(
+            ChainReason::Neutral,
+            format!(
+                "the {sequence} orbits agree, but a Floquet multiplier lies on the unit circle \
+                 (an undamped mode the motion does not excite): neutral stability"
+            ),
+        );
+    } else if !analytic.viable {
         check.contradiction(
             ChainReason::NotViable,
             format!(

@@ -11,7 +11,8 @@ use crate::output::structure::{
 use crate::scene::simulator::{run_structure, SimulateError};
 use crate::scene::structure::{Structure, StructureScene};
 use crate::verdict::chain::{
-    judge, largest_relative, seeded_models, ChainCheck, ChainConfirmation, ChainReason, CheckModels,
+    judge, relative_to_largest, seeded_models, ChainCheck, ChainConfirmation, ChainReason,
+    CheckModels,
 };
 use rattle_event_driven::SimulationOptions;
 
@@ -45,6 +46,7 @@ pub fn structure_cross_check(
                     event: structure.event_model(omega)?,
                     analytic,
                     compared: (0..structure.dofs()).collect(),
+                    relative_to_largest: true,
                 };
                 seeded_models(&models, omega, orbit, steady, &options, check)
             }
@@ -85,7 +87,7 @@ fn linear_check(structure: &Structure, check: &mut ChainCheck) {
         .iter()
         .any(|pair| state.relative_amplitude(pair) > pair.gap_side1.min(pair.gap_side2));
     let linear_amplitudes: Vec<f64> = state.amplitudes().iter().copied().collect();
-    let d = largest_relative(&check.simulated.steady.amplitudes, &linear_amplitudes);
+    let d = relative_to_largest(&check.simulated.steady.amplitudes, &linear_amplitudes);
     check.decide_linear(d, reaches, "the linear steady state");
 }
 
