@@ -6,7 +6,7 @@
 use nalgebra::DVector;
 use rattle_analytic::{sequence_orbits, ImpactSequence, SequenceOrbit};
 use rattle_compare::references::impact_oscillator::{ImpactOscillator, PeriodOneOrbit};
-use rattle_compare::scene::simulator::run_structure;
+use rattle_compare::scene::simulator::{polished_cycle, run_structure};
 use rattle_compare::scene::structure::{Structure, StructureScene};
 use rattle_compare::scene::{analytic::chain_model, simulator, AnyScene, Scene};
 use rattle_compare::verdict::structure::structure_cross_check;
@@ -172,9 +172,10 @@ fn the_simulator_finds_the_closed_form_orbits() {
         } else {
             s.rest()
         };
-        let (sim, polished) =
-            run_structure(&s, omega, &start, &SimulationOptions::default()).unwrap();
-        let cycle = polished.expect("a polished cycle");
+        let sim = run_structure(&s, omega, &start, &SimulationOptions::default()).unwrap();
+        let orbit = sim.steady.orbit.as_deref().expect("a polished orbit");
+        let model = s.event_model(omega).unwrap();
+        let cycle = polished_cycle(&model, omega, orbit, &SimulationOptions::default()).unwrap();
         assert_eq!(cycle.impacts.len(), 1, "{drive}");
         let impact = &cycle.impacts[0];
         let time = impact.time.rem_euclid(period);
@@ -306,7 +307,7 @@ fn the_unit_as_a_structure_is_the_unit() {
     for omega in [1.2, 1.9, 2.0, 3.3] {
         let options = SimulationOptions::default();
         let unit = simulator::run(&paper, omega, &simulator::rest(&paper), &options).unwrap();
-        let (general, _) = run_structure(&s, omega, &s.rest(), &options).unwrap();
+        let general = run_structure(&s, omega, &s.rest(), &options).unwrap();
         let (a, b) = (unit.steady.orbit.unwrap(), general.steady.orbit.unwrap());
         let d = (&a.state - &b.state).norm() / a.state.norm();
         assert!(d < 1e-12, "{omega}: {d}");
@@ -382,7 +383,7 @@ fn a_chain_as_a_structure_is_the_chain() {
     let omega = 3.3;
     let options = SimulationOptions::default();
     let a = simulator::run(&chain, omega, &simulator::rest(&chain), &options).unwrap();
-    let (b, _) = run_structure(&s, omega, &s.rest(), &options).unwrap();
+    let b = run_structure(&s, omega, &s.rest(), &options).unwrap();
     let (a, b) = (a.steady.orbit.unwrap(), b.steady.orbit.unwrap());
     assert!(!a.impact_sides.is_empty());
     assert_eq!(a.state, b.state);

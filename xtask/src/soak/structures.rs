@@ -118,7 +118,7 @@ fn simulation_sound(s: &Structure, omega: f64) -> Result<usize, String> {
         record_trajectory: true,
         ..SimulationOptions::default()
     };
-    let (sim, _) = run_structure(s, omega, &s.rest(), &options)
+    let sim = run_structure(s, omega, &s.rest(), &options)
         .map_err(|e| format!("simulation failed: {e}"))?;
     if !sim.steady.amplitudes.iter().all(|a| a.is_finite()) {
         return Err("an amplitude is not finite".into());

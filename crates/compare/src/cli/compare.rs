@@ -74,20 +74,12 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
             );
         }
     }
-    let _ = writeln!(
-        out,
-        "class: {}{}; relative difference {}; multiplier difference {}",
+    out.push_str(&super::class_line(
         r.class,
-        if r.class_detail.is_empty() {
-            String::new()
-        } else {
-            format!(" ({})", r.class_detail)
-        },
-        r.relative_difference
-            .map_or("-".to_owned(), |d| format!("{d:.1e}")),
-        r.multiplier_difference
-            .map_or("-".to_owned(), |d| format!("{d:.1e}"))
-    );
+        &super::detail(&r.class_detail),
+        r.relative_difference,
+        r.multiplier_difference,
+    ));
     for k in &r.confirmed_orbits {
         let _ = writeln!(
             out,
@@ -166,17 +158,13 @@ fn chain_run(
             );
         }
     }
-    let _ = writeln!(
-        out,
-        "class: {}{}; relative difference {}; multiplier difference {}",
+    out.push_str(&super::class_line(
         r.class,
-        r.reason
+        &r.reason
             .map_or(String::new(), |w| format!(" ({w}: {})", r.class_detail)),
-        r.relative_difference
-            .map_or("-".to_owned(), |d| format!("{d:.1e}")),
-        r.multiplier_difference
-            .map_or("-".to_owned(), |d| format!("{d:.1e}"))
-    );
+        r.relative_difference,
+        r.multiplier_difference,
+    ));
     if let Some(k) = &r.confirmation {
         let _ = writeln!(
             out,

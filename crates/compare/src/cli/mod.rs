@@ -368,3 +368,33 @@ fn write_record<R: crate::output::Row, I: Iterator<Item = R>>(
     }
     Ok(summary())
 }
+
+/// ` (DETAIL)`, or nothing for an empty detail.
+fn detail(words: &str) -> String {
+    if words.is_empty() {
+        String::new()
+    } else {
+        format!(" ({words})")
+    }
+}
+
+/// The verdict's line of a table: the class, its `detail` (already in parentheses, or empty)
+/// and the two differences.
+fn class_line(class: &str, detail: &str, relative: Option<f64>, multiplier: Option<f64>) -> String {
+    let number = |x: Option<f64>| x.map_or("-".to_owned(), |d| format!("{d:.1e}"));
+    format!(
+        "class: {class}{detail}; relative difference {}; multiplier difference {}\n",
+        number(relative),
+        number(multiplier)
+    )
+}
+
+/// The `status:` and `period:` lines of a simulation's table.
+fn status_lines(status: &str, regime: &str, period: Option<u32>) -> String {
+    format!(
+        "status: {status} ({regime})\nperiod: {}\n",
+        period.map_or("none (not periodic)".to_owned(), |p| format!(
+            "{p} forcing period(s)"
+        ))
+    )
+}

@@ -120,16 +120,11 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         });
     }
     let mut out = heading(&scene, omega);
-    let _ = writeln!(out, "status: {} ({})", record.status, sim.regime.words());
-    let _ = writeln!(
-        out,
-        "period: {}",
-        record
-            .period
-            .map_or("none (not periodic)".to_owned(), |p| format!(
-                "{p} forcing period(s)"
-            ))
-    );
+    out.push_str(&super::status_lines(
+        &record.status,
+        sim.regime.words(),
+        record.period,
+    ));
     let _ = writeln!(out, "impacts per period: {}", sim.steady.impacts_per_period);
     let _ = writeln!(
         out,

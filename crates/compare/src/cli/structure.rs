@@ -66,26 +66,20 @@ pub(crate) fn simulate(
     json: bool,
 ) -> Result<String, RattleError> {
     loaded.check_frequency(omega)?;
-    let (sim, polished) =
-        run_structure(&loaded.structure, omega, &loaded.structure.rest(), options)
-            .map_err(|e| RattleError::Numerical(e.to_string()))?;
+    let sim = run_structure(&loaded.structure, omega, &loaded.structure.rest(), options)
+        .map_err(|e| RattleError::Numerical(e.to_string()))?;
     write_trajectory(loaded, &sim, options, trajectory)?;
-    let record =
-        StructureSimulationRecord::new(&loaded.scene, &loaded.structure, &sim, polished.is_some());
+    let polished = sim.steady.orbit.is_some();
+    let record = StructureSimulationRecord::new(&loaded.scene, &loaded.structure, &sim, polished);
     if json {
         return pretty(&record);
     }
     let mut out = loaded.heading(omega);
-    let _ = writeln!(out, "status: {} ({})", record.status, sim.regime.words());
-    let _ = writeln!(
-        out,
-        "period: {}",
-        record
-            .period
-            .map_or("none (not periodic)".to_owned(), |p| format!(
-                "{p} forcing period(s)"
-            ))
-    );
+    out.push_str(&super::status_lines(
+        &record.status,
+        sim.regime.words(),
+        record.period,
+    ));
     let _ = writeln!(
         out,
         "impacts per period: {} (by stop: {})",
@@ -215,20 +209,12 @@ pub(crate) fn compare(
             );
         }
     }
-    let _ = writeln!(
-        out,
-        "class: {}{}; relative difference {}; multiplier difference {}",
+    out.push_str(&super::class_line(
         r.class,
-        if r.class_detail.is_empty() {
-            String::new()
-        } else {
-            format!(" ({})", r.class_detail)
-        },
-        r.relative_difference
-            .map_or("-".to_owned(), |d| format!("{d:.1e}")),
-        r.multiplier_difference
-            .map_or("-".to_owned(), |d| format!("{d:.1e}")),
-    );
+        &super::detail(&r.class_detail),
+        r.relative_difference,
+        r.multiplier_difference,
+    ));
     Ok(out)
 }
 

@@ -150,7 +150,7 @@ pub fn structure_point(
     match solver {
         Solver::Analytic => {}
         Solver::Event => match run_structure(s, omega, &s.rest(), options) {
-            Ok((sim, _)) => row.set_simulated(s, &sim),
+            Ok(sim) => row.set_simulated(s, &sim),
             Err(e) => row.error = Some(e.to_string()),
         },
         Solver::Both => match structure_cross_check(s, omega, options) {

@@ -332,8 +332,8 @@ pub fn run_watched(
 /// chain's ([`chain_regime`]: the two-impact motion is the unit's); the outer amplitude is
 /// the observed body's, the transmittance against `u_g` when the base moves. A periodic
 /// motion that the simulator's Newton polishes (with `options.polish`) is reported from its
-/// polished cycle (the simulator reads the amplitudes there), which is returned beside the
-/// point with its impacts.
+/// polished cycle (the simulator reads the amplitudes there; [`polished_cycle`] gives its
+/// impacts).
 ///
 /// # Errors
 /// As [`run`].
@@ -342,13 +342,9 @@ pub fn run_structure(
     omega: f64,
     start: &Start,
     options: &SimulationOptions,
-) -> Result<(SimulatedPoint, Option<PolishedCycle>), SimulateError> {
+) -> Result<SimulatedPoint, SimulateError> {
     let model = structure.event_model(omega)?;
     let steady = simulate_watched(&model, omega, start, options, &mut |_, _| false)?;
-    let polished = match steady.orbit.as_deref() {
-        Some(orbit) => Some(polished_cycle(&model, omega, orbit, options)?),
-        None => None,
-    };
     let outer_amplitude = steady
         .amplitudes
         .get(structure.observe)
@@ -359,7 +355,7 @@ pub fn run_structure(
         .base_amplitude
         .filter(|_| settled && outer_amplitude.is_finite())
         .map(|ug| transmittance_db(outer_amplitude, ug));
-    let point = SimulatedPoint {
+    Ok(SimulatedPoint {
         omega,
         regime: chain_regime(&steady),
         steady,
@@ -368,8 +364,7 @@ pub fn run_structure(
         cells: 1,
         pairs: structure.stops.len(),
         side1_impact: None,
-    };
-    Ok((point, polished))
+    })
 }
 
 /// The simulator's polished cycle, read from the simulator alone.

@@ -126,7 +126,7 @@ fn sweep(structure: &Structure, omegas: impl Iterator<Item = f64>) -> Vec<(f64, 
     let mut start = structure.rest();
     let mut out = Vec::new();
     for omega in omegas {
-        let Ok((point, _)) = run_structure(structure, omega, &start, &options) else {
+        let Ok(point) = run_structure(structure, omega, &start, &options) else {
             start = structure.rest();
             continue;
         };

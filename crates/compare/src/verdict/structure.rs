@@ -34,7 +34,7 @@ pub fn structure_cross_check(
         polish: true,
         ..*options
     };
-    let (simulated, _) = run_structure(structure, omega, &structure.rest(), &options)?;
+    let simulated = run_structure(structure, omega, &structure.rest(), &options)?;
     let check = ChainCheck::new(1, omega, simulated);
     let analytic = structure.analytic_model();
     judge(
