@@ -18,6 +18,7 @@ use rattle_compare::study::chaos::{
     chaos_samples, poincare_sections, ChaosSample, PoincareSections, POINCARE_OMEGA,
     POINCARE_POINTS,
 };
+use rattle_compare::study::damper::{damper_study, DamperStudy, DAMPER_BRANCH_POINTS, DAMPER_POINTS};
 use rattle_compare::study::gallery::{
     oscillator_study, OscillatorStudy, BRANCH_POINTS, OSCILLATOR_POINTS,
 };
@@ -142,6 +143,7 @@ struct Computed {
     chains: ChainStudy,
     boundaries: StudyBoundaries,
     oscillator: OscillatorStudy,
+    damper: DamperStudy,
 }
 
 /// The scene's copy with the gap of the study's second reading.
@@ -170,7 +172,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
     };
     let (mut main, mut other, mut elastic, mut maps_done) = (None, None, None, None);
     let (mut basins, mut samples, mut poincare, mut chains) = (None, None, None, None);
-    let (mut boundaries, mut oscillator) = (None, None);
+    let (mut boundaries, mut oscillator, mut damper) = (None, None, None);
     // Stages handed out longest first: another thread takes the earliest spawned, this one
     // the latest.
     rayon::scope(|s| {
@@ -205,6 +207,16 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
                 oscillator_study(points, branch)
             }))
         });
+        s.spawn(|_| {
+            damper = Some(clock.stage("impact dampers", || {
+                let (points, branch) = if quick {
+                    (12, 100)
+                } else {
+                    (DAMPER_POINTS, DAMPER_BRANCH_POINTS)
+                };
+                damper_study(points, branch)
+            }))
+        });
     });
     // Every slot is filled once the scope has ended (a stage's panic is carried on by it).
     let filled = "every stage has run";
@@ -219,6 +231,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
         chains: chains.expect(filled),
         boundaries: boundaries.expect(filled),
         oscillator: oscillator.expect(filled),
+        damper: damper.expect(filled),
     }
 }
 
@@ -370,6 +383,7 @@ fn draw_the_rest(c: &Computed, dir: &Path) -> Result<Vec<PathBuf>, String> {
             .map_err(|e| e.to_string())?,
     );
     written.extend(figures::draw_impact_oscillator(&c.oscillator, dir).map_err(|e| e.to_string())?);
+    written.extend(figures::draw_impact_damper(&c.damper, dir).map_err(|e| e.to_string())?);
     Ok(written)
 }
 

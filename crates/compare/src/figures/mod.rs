@@ -9,6 +9,7 @@ pub mod bifurcation;
 pub mod boundaries;
 pub mod chain;
 pub mod frequency_response;
+pub mod impact_damper;
 pub mod impact_oscillator;
 pub mod impact_time_response;
 pub mod linear_time_response;
@@ -118,6 +119,18 @@ pub fn draw_boundaries(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     save(figure, dir)
+}
+
+/// Draws the impact dampers' response with and without the free body (`impact-damper`) into
+/// `dir`; returns the files written.
+///
+/// # Errors
+/// The figure cannot be drawn or written, with its path.
+pub fn draw_impact_damper(
+    study: &crate::study::damper::DamperStudy,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    save(study, dir)
 }
 
 /// Draws the impact oscillator's bifurcation diagram (`impact-oscillator`) into `dir`; returns

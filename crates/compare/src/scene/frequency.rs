@@ -34,6 +34,13 @@ pub const MAX_OSCILLATIONS_PER_PERIOD: f64 = 1e3;
 /// far inside that and far above any frequency a study of the unit asks for.
 pub const MAX_PERIODS_PER_OSCILLATION: f64 = 1e6;
 
+/// A natural frequency at most this fraction of the fastest is a rigid mode's zero: the
+/// symmetric eigensolver leaves a zero eigenvalue of `ω²` at about `1e-16` of the largest, so
+/// its square root at about `1e-8` of the fastest frequency; `1e-6` is above that rounding and
+/// below any elastic mode a structure of at most a few dozen bodies with stiffness ratios
+/// under `1e10` has.
+pub const RIGID_RATE: f64 = 1e-6;
+
 /// A forcing frequency that a scene cannot be run at.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum FrequencyError {
@@ -70,7 +77,9 @@ pub enum FrequencyError {
     },
 }
 
-/// The forcing frequencies a scene can be run at: `[ω_fastest / 1e3, ω_slowest × 1e6]`.
+/// The forcing frequencies a scene can be run at: `[ω_fastest / 1e3, ω_slowest × 1e6]`,
+/// `ω_slowest` the slowest elastic mode (a structure of free bodies alone has none: no upper
+/// bound, and no lower one either when it has no elastic mode at all).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FrequencyBounds {
     /// The scene's slowest undamped natural frequency, rad/s.
@@ -91,10 +100,18 @@ impl FrequencyBounds {
         Self::of_rates(&eigenfrequencies(&mass, &structure.stiffness))
     }
 
+    /// The bounds from the natural frequencies `rates`; a rigid mode (a free body's
+    /// translation, a rate of zero to rounding: at most [`RIGID_RATE`] of the fastest) has no
+    /// oscillation to bound and is left out of the slowest.
     fn of_rates(rates: &[f64]) -> Self {
+        let fastest = rates.iter().copied().fold(0.0, f64::max);
         Self {
-            slowest: rates.iter().copied().fold(f64::INFINITY, f64::min),
-            fastest: rates.iter().copied().fold(0.0, f64::max),
+            slowest: rates
+                .iter()
+                .copied()
+                .filter(|&r| r > RIGID_RATE * fastest)
+                .fold(f64::INFINITY, f64::min),
+            fastest,
         }
     }
 

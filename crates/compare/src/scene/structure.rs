@@ -27,8 +27,9 @@
 //!
 //! What has no bounded motion is refused, naming the JSON path and the reason: a name that does
 //! not exist, an element between an end and itself, a gap `≤ 0`, a stop against the moving
-//! base, and a body (or group of bodies) that no spring holds to the frame or the base (a free
-//! body: its stiffness matrix is singular, and neither solver's flow takes a rigid mode yet).
+//! base, and a body (or group of bodies) that nothing holds: a body no spring or dashpot ties
+//! to the frame or the base (a free body, such as an impact damper's mass) must be held both
+//! ways by stops against ends that are held themselves.
 //!
 //! [`Structure`] is the checked, resolved form: indices instead of names, the matrices
 //! `M`, `C`, `K` assembled element by element, and each solver's model built from it
@@ -239,6 +240,12 @@ pub struct Structure {
     pub base_amplitude: Option<f64>,
     /// The observed body.
     pub observe: usize,
+    /// Per body, the group it floats in when no chain of springs ties it to the frame or the
+    /// base (an id shared by the bodies of one group), `None` when springs hold it. A floating
+    /// group's position is not set by the linear dynamics (`K` is singular on its
+    /// translation): its motion clear of the stops is a family, offset anywhere the stops
+    /// allow.
+    pub floating: Vec<Option<usize>>,
 }
 
 impl StructureScene {
@@ -313,12 +320,14 @@ impl StructureScene {
         let mut stiffness = DMatrix::zeros(n, n);
         let mut base_springs = DVector::zeros(n);
         let mut held = Grounding::new(n);
+        let mut sprung = Grounding::new(n);
         for (j, spring) in spec.springs.iter().enumerate() {
             let field = format!("structure.springs[{j}]");
             let [a, b] = ends(&field, &spring.between)?;
             positive(&format!("{field}.stiffness"), spring.stiffness)?;
             assemble(&mut stiffness, &mut base_springs, [a, b], spring.stiffness);
             held.tie(a, b);
+            sprung.tie(a, b);
         }
         let mut damping = DMatrix::zeros(n, n);
         let mut base_dashpots = DVector::zeros(n);
@@ -333,20 +342,27 @@ impl StructureScene {
                 ));
             }
             assemble(&mut damping, &mut base_dashpots, [a, b], c);
+            if c > 0.0 {
+                held.tie(a, b);
+            }
         }
         let mut stops = Vec::with_capacity(spec.stops.len());
         for (j, stop) in spec.stops.iter().enumerate() {
             stops.push(resolve_stop(&format!("structure.stops[{j}]"), stop, &ends)?);
         }
-        if let Some(free) = held.free_bodies() {
-            let list: Vec<&str> = free.iter().map(|&j| names[j].as_str()).collect();
+        if let Some((group, direction)) = held.unbounded(&stops) {
+            let list: Vec<&str> = group.iter().map(|&j| names[j].as_str()).collect();
             return Err(refuse(
-                "structure.springs",
+                "structure.stops",
                 format!(
-                    "no spring holds {} to the frame or the base: a free body has no bounded \
-                     linear motion of its own, and the solvers' flows do not take a rigid mode \
-                     (a singular stiffness matrix); tie it by a spring",
-                    list.join(", ")
+                    "nothing holds {} {}: no spring or dashpot ties {} to the frame or the \
+                     base, and no stop against a held end bounds {} motion towards {} u; \
+                     add a spring, or a stop on that side",
+                    if list.len() == 1 { "body" } else { "bodies" },
+                    list.join(", "),
+                    if list.len() == 1 { "it" } else { "them" },
+                    if list.len() == 1 { "its" } else { "their" },
+                    if direction > 0.0 { "growing" } else { "shrinking" },
                 ),
             ));
         }
@@ -373,6 +389,7 @@ impl StructureScene {
             stops,
             base_amplitude,
             observe,
+            floating: sprung.floating(),
         })
     }
 
@@ -540,7 +557,8 @@ fn assemble(matrix: &mut DMatrix<f64>, base: &mut DVector<f64>, ends: [End; 2], 
     }
 }
 
-/// Which bodies springs hold to the ground (frame or base): union–find over the springs.
+/// Which bodies springs and dashpots hold to the ground (frame or base): union–find over the
+/// elements, each group grounded when one of its bodies is tied to the frame or the base.
 struct Grounding {
     parent: Vec<usize>,
     grounded: Vec<bool>,
@@ -579,16 +597,89 @@ impl Grounding {
         }
     }
 
-    /// The bodies of the first group no spring holds to the ground, if any.
-    fn free_bodies(&mut self) -> Option<Vec<usize>> {
+    /// Per body, its group's id when the group is not grounded.
+    fn floating(&mut self) -> Vec<Option<usize>> {
+        (0..self.parent.len())
+            .map(|i| {
+                let r = self.root(i);
+                (!self.grounded[r]).then_some(r)
+            })
+            .collect()
+    }
+
+    /// The first group whose translation nothing bounds, with the direction it is free in
+    /// (`+1`: growing `u`, `−1`: shrinking), if any.
+    ///
+    /// A group no spring or dashpot ties to the ground translates freely (a rigid mode). It is
+    /// held when stops bound its translation both ways against ends that are held themselves
+    /// (the frame, a grounded group, or a group held so): a stop `[a, b]` on group `b` bounds
+    /// growth by `gap_plus` and shrinking by `gap_minus`, on group `a` the other way round.
+    /// Held groups are found by repeating that rule until nothing changes.
+    fn unbounded(&mut self, stops: &[Stop]) -> Option<(Vec<usize>, f64)> {
         let n = self.parent.len();
         let roots: Vec<usize> = (0..n).map(|i| self.root(i)).collect();
-        let first = (0..n).find(|&i| !self.grounded[roots[i]])?;
-        Some((0..n).filter(|&i| roots[i] == roots[first]).collect())
+        let mut held: Vec<bool> = (0..n).map(|i| self.grounded[roots[i]]).collect();
+        let end_held = |held: &[bool], end: Option<usize>| end.is_none_or(|j| held[roots[j]]);
+        loop {
+            let mut changed = false;
+            for g in 0..n {
+                if roots[g] != g || held[g] {
+                    continue;
+                }
+                let (mut up, mut down) = (false, false);
+                for stop in stops {
+                    let (at_plus, at_minus) = (
+                        stop.plus.is_some_and(|j| roots[j] == g),
+                        stop.minus.is_some_and(|j| roots[j] == g),
+                    );
+                    if at_plus && !at_minus && end_held(&held, stop.minus) {
+                        up |= stop.gap_plus.is_finite();
+                        down |= stop.gap_minus.is_finite();
+                    } else if at_minus && !at_plus && end_held(&held, stop.plus) {
+                        up |= stop.gap_minus.is_finite();
+                        down |= stop.gap_plus.is_finite();
+                    }
+                }
+                if up && down {
+                    held[g] = true;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        let first = (0..n).find(|&i| !held[roots[i]])?;
+        let group: Vec<usize> = (0..n).filter(|&i| roots[i] == roots[first]).collect();
+        // Name the direction the group is free in: the first the stops leave open.
+        let g = roots[first];
+        let up = stops.iter().any(|stop| {
+            let at_plus = stop.plus.is_some_and(|j| roots[j] == g);
+            let at_minus = stop.minus.is_some_and(|j| roots[j] == g);
+            (at_plus && !at_minus && end_held(&held, stop.minus) && stop.gap_plus.is_finite())
+                || (at_minus
+                    && !at_plus
+                    && end_held(&held, stop.plus)
+                    && stop.gap_minus.is_finite())
+        });
+        Some((group, if up { -1.0 } else { 1.0 }))
     }
 }
 
 impl Structure {
+    /// Whether the structure has floating bodies ([`Structure::floating`]).
+    pub fn has_floating(&self) -> bool {
+        self.floating.iter().any(Option::is_some)
+    }
+
+    /// Whether `stop`'s relative coordinate moves with a floating group's offset: its ends
+    /// lie in different groups and one at least floats (the frame never does).
+    pub fn floats(&self, stop: &Stop) -> bool {
+        let group = |end: Option<usize>| end.and_then(|j| self.floating[j]);
+        let (a, b) = (group(stop.minus), group(stop.plus));
+        (a.is_some() || b.is_some()) && a != b
+    }
+
     /// Degrees of freedom (bodies).
     pub fn dofs(&self) -> usize {
         self.names.len()
@@ -808,22 +899,41 @@ mod tests {
         assert!(e.starts_with("structure.stops[0].restitution"), "{e}");
     }
 
-    /// A body no spring holds (a free impact mass) is refused, naming it.
+    /// A body no spring holds (a free impact mass) is a structure when stops hold it both
+    /// ways against held ends; a group nothing holds, or holds one way only, is refused,
+    /// naming it and the open direction.
     #[test]
-    fn a_free_body_is_refused_naming_it() {
-        let e = parse(
-            r#"{"structure": {
-                 "bodies": [{"name": "primary", "mass": 2.0}, {"name": "ball", "mass": 0.1}],
-                 "springs": [{"between": ["frame", "primary"], "stiffness": 6.0}],
-                 "stops": [{"between": ["primary", "ball"], "gap": 0.5, "restitution": 0.8}]},
-               "forcing": {"forces": [{"on": "primary", "amplitude": 1.0}]}}"#,
-        )
-        .unwrap_err()
-        .to_string();
+    fn a_free_body_needs_stops_on_both_sides() {
+        let damper = |stops: &str| {
+            parse(&format!(
+                r#"{{"structure": {{
+                     "bodies": [{{"name": "primary", "mass": 2.0}}, {{"name": "ball", "mass": 0.1}},
+                                {{"name": "pebble", "mass": 0.01}}],
+                     "springs": [{{"between": ["frame", "primary"], "stiffness": 6.0}}],
+                     "stops": [{stops}]}},
+                   "forcing": {{"forces": [{{"on": "primary", "amplitude": 1.0}}]}}}}"#
+            ))
+        };
+        let inside = r#"{"between": ["primary", "ball"], "gap": 0.5, "restitution": 0.8},
+                        {"between": ["ball", "pebble"], "gap": 0.1, "restitution": 0.5}"#;
+        let s = damper(inside).unwrap();
+        assert_eq!(s.stiffness[(1, 1)], 0.0);
+        assert_eq!(s.floating, [None, Some(1), Some(2)]);
+        let walls = r#"{"between": ["frame", "ball"], "gap_plus": 0.5, "restitution": 0.8},
+                       {"between": ["ball", "frame"], "gap_plus": 0.5, "restitution": 0.8},
+                       {"between": ["pebble", "primary"], "gap": 0.1, "restitution": 0.5}"#;
+        assert!(damper(walls).is_ok());
+        let one_sided = r#"{"between": ["primary", "ball"], "gap_plus": 0.5, "restitution": 0.8},
+                           {"between": ["ball", "pebble"], "gap": 0.1, "restitution": 0.5}"#;
+        let e = damper(one_sided).unwrap_err().to_string();
         assert!(
-            e.starts_with("structure.springs: no spring holds ball"),
+            e.starts_with("structure.stops: nothing holds body ball:")
+                && e.contains("towards shrinking u"),
             "{e}"
         );
+        let loose = r#"{"between": ["primary", "ball"], "gap": 0.5, "restitution": 0.8}"#;
+        let e = damper(loose).unwrap_err().to_string();
+        assert!(e.starts_with("structure.stops: nothing holds body pebble"), "{e}");
         let e = parse(
             r#"{"structure": {
                  "bodies": [{"name": "a", "mass": 2.0}, {"name": "b", "mass": 1.0}],
@@ -832,9 +942,14 @@ mod tests {
         )
         .unwrap_err()
         .to_string();
-        assert!(
-            e.starts_with("structure.springs: no spring holds a, b"),
-            "{e}"
+        assert!(e.starts_with("structure.stops: nothing holds bodies a, b"), "{e}");
+        // A dashpot to the frame holds a body's mean (its velocity decays to the forced one).
+        let e = parse(
+            r#"{"structure": {
+                 "bodies": [{"name": "a", "mass": 2.0}],
+                 "dashpots": [{"between": ["frame", "a"], "damping": 0.5}]},
+               "forcing": {"forces": [{"on": "a", "amplitude": 1.0}]}}"#,
         );
+        assert!(e.is_ok(), "{e:?}");
     }
 }

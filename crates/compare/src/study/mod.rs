@@ -5,6 +5,7 @@
 pub mod boundaries;
 pub mod chain;
 pub mod chaos;
+pub mod damper;
 pub mod gallery;
 pub mod paper;
 pub mod plots;
