@@ -2,12 +2,13 @@
 //! not repeat (`chaotic`, `quasi-periodic`, `unsettled`).
 
 use crate::scene::simulator::{model, Regime, SimulatedPoint};
+use crate::scene::structure::Structure;
 use crate::scene::Scene;
 use rattle_event_driven::lyapunov::{
     lyapunov_after_steady_state, LyapunovError, LyapunovOptions, LyapunovSpectrum,
     Regime as LyapunovRegime, BATCHES,
 };
-use rattle_event_driven::{ModelError, SimulationOptions};
+use rattle_event_driven::{Model, ModelError, SimulationOptions};
 use thiserror::Error;
 
 /// Why a scene's exponents were not computed.
@@ -52,14 +53,37 @@ pub fn spectrum(
     periods: u64,
     simulation: &SimulationOptions,
 ) -> Result<LyapunovSpectrum, SpectrumError> {
-    let model = model(scene, sim.omega)?;
+    model_spectrum(&model(scene, sim.omega)?, sim, periods, simulation)
+}
+
+/// [`spectrum`] on a structure scene: the exponents of the motion `sim` settled in on
+/// `structure`, one per state coordinate (two per body).
+///
+/// # Errors
+/// As [`spectrum`].
+pub fn structure_spectrum(
+    structure: &Structure,
+    sim: &SimulatedPoint,
+    periods: u64,
+    simulation: &SimulationOptions,
+) -> Result<LyapunovSpectrum, SpectrumError> {
+    model_spectrum(&structure.event_model(sim.omega)?, sim, periods, simulation)
+}
+
+/// The exponents' run on the simulator's `model` from where the run of `sim` ended.
+fn model_spectrum(
+    model: &Model,
+    sim: &SimulatedPoint,
+    periods: u64,
+    simulation: &SimulationOptions,
+) -> Result<LyapunovSpectrum, SpectrumError> {
     let options = LyapunovOptions {
         periods,
         simulation: simulation.clone(),
         ..LyapunovOptions::default()
     };
     Ok(lyapunov_after_steady_state(
-        &model,
+        model,
         sim.omega,
         &sim.steady,
         &options,
