@@ -4,6 +4,7 @@
 
 #[cfg(target_arch = "x86_64")]
 use super::packed::{modal_state_avx, steady_state_avx, AVX_COLUMN, PACKED_MODES};
+use super::rigid::RigidStart;
 use super::{cexp, resonant, Functional, JointWeights, LinearFlow, SteadyResponse, C64};
 use crate::expsum::{summarize_block, ExpSum, Summary, Term, LANES};
 use nalgebra::DVector;
@@ -33,6 +34,8 @@ pub(super) enum Form<'a> {
         start: DVector<C64>,
         plus: DVector<C64>,
         minus: DVector<C64>,
+        /// The rigid modes' starts (empty without rigid modes).
+        rigid: Vec<RigidStart>,
     },
 }
 
@@ -136,7 +139,12 @@ impl Flight<'_> {
                     f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
-            Form::General { start, plus, minus } => {
+            Form::General {
+                start,
+                plus,
+                minus,
+                rigid,
+            } => {
                 let w = C64::new(0.0, f.omega);
                 let em = ep.conj();
                 let zero = C64::new(0.0, 0.0);
@@ -152,6 +160,9 @@ impl Flight<'_> {
                     }
                     let zk = zk * weight;
                     f.add_mode(k, zk, y.as_mut_slice());
+                }
+                if let Some(modes) = &f.rigid {
+                    modes.add_state(rigid, s, ep, f.omega, y.as_mut_slice());
                 }
             }
         }
@@ -391,8 +402,13 @@ impl Flight<'_> {
                     });
                 }
             }
-            Form::General { start, plus, minus } => {
-                let mut terms = Vec::with_capacity(4 * f.rates.len());
+            Form::General {
+                start,
+                plus,
+                minus,
+                rigid,
+            } => {
+                let mut terms = Vec::with_capacity(4 * f.rates.len() + 2 * rigid.len());
                 for (k, &l) in f.rates.iter().enumerate() {
                     let wk = weights[k];
                     terms.push(Term {
@@ -404,6 +420,9 @@ impl Flight<'_> {
                     if f.constant[k] != zero {
                         phi_terms(l, zero, f.period, wk * f.constant[k], &mut terms);
                     }
+                }
+                if let Some(modes) = &f.rigid {
+                    modes.terms(&functional.rigid, rigid, f.omega, &mut terms);
                 }
                 out.terms = merge(terms);
             }
