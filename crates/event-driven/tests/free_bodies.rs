@@ -159,3 +159,132 @@ fn a_mixed_structure_flies_as_the_augmented_exponential() {
     }
     eprintln!("mixed structure: worst relative error {worst:e}");
 }
+
+/// A unit free mass under `cos 2t` from `(u₀, v₀)` at `t = 0`: `u(s) = u₀ + v₀ s +
+/// (1 − cos 2s)/4` (the closed form above with `m = 1`, `ω = 2`, `f_c = 1`).
+fn drifting_mass(forcing: f64) -> LinearFlow {
+    LinearFlow::new(
+        &DMatrix::from_element(1, 1, 1.0),
+        None,
+        &DMatrix::zeros(1, 1),
+        &DVector::from_element(1, forcing),
+        &DVector::zeros(1),
+        &DVector::zeros(1),
+        2.0,
+    )
+    .expect("a free mass has a flow")
+}
+
+/// The first exit of the position from `(−∞, gap)` over a flight from `(u₀, v₀)`.
+fn first_contact(flow: &LinearFlow, (u0, v0): (f64, f64), gap: f64, horizon: f64) -> Option<f64> {
+    let sum = flow
+        .flight(&DVector::from_vec(vec![u0, v0]), 0.0)
+        .value_of(&DVector::from_vec(vec![1.0, 0.0]));
+    let mut stack = SearchStack::default();
+    sum.first_exit(f64::NEG_INFINITY, gap, horizon, 1e-13, 1e-12 * gap, &mut stack)
+        .map(|(s, side)| {
+            assert_eq!(side, 1);
+            s
+        })
+}
+
+/// `u(s) = u₀ + v₀ s + (1 − cos 2s)/4`, the drifting mass's position.
+fn drifting_position((u0, v0): (f64, f64), s: f64) -> f64 {
+    u0 + v0 * s + 0.25 * (1.0 - (2.0 * s).cos())
+}
+
+#[test]
+fn a_mass_at_constant_velocity_reaches_the_stop_at_gap_over_speed() {
+    let flow = drifting_mass(0.0);
+    for (gap, v) in [(0.75, 0.3), (1e-3, 2.0), (4.0, 1e-2)] {
+        let s = first_contact(&flow, (0.0, v), gap, 1000.0).expect("a contact");
+        let exact = gap / v;
+        assert!((s - exact).abs() <= 1e-12 * exact, "{s} against {exact}");
+    }
+    // Moving away: no contact.
+    assert_eq!(first_contact(&flow, (0.0, -0.3), 0.75, 1000.0), None);
+}
+
+#[test]
+fn a_drifting_oscillation_finds_its_first_crossing_and_no_graze() {
+    let flow = drifting_mass(1.0);
+    let (v0, gap) = (-0.1, 0.5);
+    // u' = v₀ + sin(2s)/2 vanishes at sin 2s = 0.2: the first maximum at s* = (π − asin 0.2)/2.
+    let peak = 0.5 * (PI - (0.2f64).asin());
+    let bump = |u0: f64| drifting_position((u0, v0), peak) - u0;
+    // Crosses up at s₁ = 1.2 (rising there), back down after the peak, and stays below the
+    // stop up to the horizon: the first crossing is s₁.
+    let s1 = 1.2;
+    let u0 = gap - (drifting_position((0.0, v0), s1));
+    let s = first_contact(&flow, (u0, v0), gap, 3.0).expect("a crossing");
+    assert!((s - s1).abs() < 1e-12, "{s} against {s1}");
+    // The peak a part in 10⁹ of the gap below the stop: a tangency without crossing.
+    let below = gap * (1.0 - 1e-9) - bump(0.0);
+    assert_eq!(first_contact(&flow, (below, v0), gap, 3.0), None);
+    // ... and as far above: two crossings 6.4e-5 apart, the first found.
+    let above = gap * (1.0 + 1e-9) - bump(0.0);
+    let s = first_contact(&flow, (above, v0), gap, 3.0).expect("a crossing near the peak");
+    // The exact first root, by bisection on the rising side [s₁, s*].
+    let (mut a, mut b) = (s1, peak);
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        if drifting_position((above, v0), m) < gap {
+            a = m;
+        } else {
+            b = m;
+        }
+    }
+    assert!(peak - a > 1e-5, "two distinct crossings");
+    assert!((s - a).abs() < 1e-11, "{s} against {a}");
+}
+
+/// A unit ball between frame stops at `±1`, elastic (`e = 1`), unforced.
+fn bouncing_ball() -> Model {
+    Model::new(
+        DMatrix::from_element(1, 1, 1.0),
+        DMatrix::zeros(1, 1),
+        None,
+        DVector::zeros(1),
+        DVector::zeros(1),
+        vec![ContactPair {
+            plus_dof: Some(0),
+            minus_dof: None,
+            gap_plus: 1.0,
+            gap_minus: 1.0,
+            restitution: 1.0,
+        }],
+    )
+    .expect("the ball's model")
+}
+
+#[test]
+fn a_ball_bounces_between_stops_at_the_exact_times() {
+    let model = bouncing_ball();
+    let (omega, v) = (1.0, 0.3);
+    let start = Start {
+        state: DVector::from_vec(vec![0.0, v]),
+        time: 0.0,
+    };
+    let periods = 5;
+    let map = stroboscopic_map(&model, omega, &start, periods, &SimulationOptions::default())
+        .expect("the ball's map");
+    // From the middle at speed v: the first stop after 1/v, then one every 2/v.
+    let end = periods as f64 * TAU;
+    let exact: Vec<f64> = (0..)
+        .map(|k| (1.0 + 2.0 * k as f64) / v)
+        .take_while(|&t| t < end)
+        .collect();
+    assert_eq!(map.impact_times.len(), exact.len());
+    let tolerance = 1e-12 * TAU;
+    for (t, e) in map.impact_times.iter().zip(&exact) {
+        assert!((t - e).abs() <= 10.0 * tolerance, "{t} against {e}");
+    }
+    let sides: Vec<i8> = (0..exact.len()).map(|k| if k % 2 == 0 { 1 } else { -1 }).collect();
+    assert_eq!(map.impact_sides, sides);
+    // The state at the end: moving at ±v from the last stop.
+    let last = *exact.last().unwrap();
+    let sign = if exact.len() % 2 == 0 { 1.0 } else { -1.0 };
+    let position = -sign + sign * v * (end - last);
+    assert!((map.state[0] - position).abs() < 1e-11, "{} against {position}", map.state[0]);
+    assert!((map.state[1] - sign * v).abs() < 1e-14);
+}
