@@ -400,6 +400,11 @@ impl<'m> Engine<'m> {
         })
     }
 
+    /// The free flow's rigid shapes `R` (`n × r`), if it has rigid modes.
+    pub(crate) fn rigid_shapes(&self) -> Option<&DMatrix<f64>> {
+        self.free.rigid_shapes()
+    }
+
     /// What [`Engine::cannot_stick`] reads of the engine.
     fn bounce_test(&self) -> contact::BounceTest {
         contact::BounceTest {

@@ -23,6 +23,7 @@ mod flight;
 #[cfg(target_arch = "x86_64")]
 mod packed;
 mod rigid;
+pub(crate) use rigid::shapes as rigid_shapes;
 #[cfg(test)]
 mod tests;
 
@@ -617,6 +618,11 @@ impl LinearFlow {
     /// `2(n − r)`.
     pub fn rigid_modes(&self) -> usize {
         self.rigid.as_ref().map_or(0, |r| r.count())
+    }
+
+    /// The rigid shapes `R` (`n × r`, orthonormal columns), if the flow has rigid modes.
+    pub fn rigid_shapes(&self) -> Option<&DMatrix<f64>> {
+        self.rigid.as_ref().map(|r| &r.shapes)
     }
 
     /// The linear steady state `y(t)` (length `2n`) at time `t`, the motion with every free
