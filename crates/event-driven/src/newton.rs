@@ -13,6 +13,14 @@
 //!
 //! Newton `y ← y − (DP − I)⁻¹ (P(y) − y)` converges quadratically from a good guess to the
 //! orbit whatever its stability; the eigenvalues of `DP` there are the Floquet multipliers.
+//!
+//! With free bodies (rigid modes `R` of the flow) the propagator carries their rigid block and
+//! the saltation matrices their share of each impact, so `DP` is exact for them too. A rigid
+//! translation `(R a, 0)` that no impact of the cycle involves is mapped onto itself (the
+//! flight moves positions by velocities only), so such orbits are not isolated: they form a
+//! family with a multiplier exactly 1, and `DP − I` is singular by construction. Newton checks
+//! `(DP − I) (R, 0)` first and reports that case as [`NewtonError::Family`] instead of an
+//! ill-conditioned solve.
 
 pub use crate::engine::PeriodicOrbit;
 use crate::engine::{check_inputs, Engine, SimulationError, SimulationOptions, Start};

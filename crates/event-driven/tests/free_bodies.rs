@@ -54,7 +54,10 @@ fn a_free_mass_flies_as_the_closed_form() {
             let scale = u.abs().max(v.abs()).max(1.0);
             let error = (y[0] - u).abs().max((y[1] - v).abs()) / scale;
             worst = worst.max(error);
-            assert!(error < 1e-13, "s = {s}: {y:?} against ({u}, {v}): {error:e}");
+            assert!(
+                error < 1e-13,
+                "s = {s}: {y:?} against ({u}, {v}): {error:e}"
+            );
         }
         // The position as an exponential sum is the same function.
         let c = DVector::from_vec(vec![1.0, 0.0]);
@@ -94,7 +97,13 @@ fn expm(b: &DMatrix<f64>, s: f64) -> DMatrix<f64> {
 /// and 1 (of different masses) tied to each other only (spring 2, dashpot 0.1), so that their
 /// common translation is rigid and their relative motion elastic, and mass 2 on a spring and
 /// a dashpot to the frame.
-fn mixed_model() -> (DMatrix<f64>, DMatrix<f64>, DMatrix<f64>, DVector<f64>, DVector<f64>) {
+fn mixed_model() -> (
+    DMatrix<f64>,
+    DMatrix<f64>,
+    DMatrix<f64>,
+    DVector<f64>,
+    DVector<f64>,
+) {
     let mass = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 0.5, 2.0]));
     let spring = |k: &mut DMatrix<f64>, i: usize, j: Option<usize>, v: f64| {
         k[(i, i)] += v;
@@ -181,11 +190,18 @@ fn first_contact(flow: &LinearFlow, (u0, v0): (f64, f64), gap: f64, horizon: f64
         .flight(&DVector::from_vec(vec![u0, v0]), 0.0)
         .value_of(&DVector::from_vec(vec![1.0, 0.0]));
     let mut stack = SearchStack::default();
-    sum.first_exit(f64::NEG_INFINITY, gap, horizon, 1e-13, 1e-12 * gap, &mut stack)
-        .map(|(s, side)| {
-            assert_eq!(side, 1);
-            s
-        })
+    sum.first_exit(
+        f64::NEG_INFINITY,
+        gap,
+        horizon,
+        1e-13,
+        1e-12 * gap,
+        &mut stack,
+    )
+    .map(|(s, side)| {
+        assert_eq!(side, 1);
+        s
+    })
 }
 
 /// `u(s) = u₀ + v₀ s + (1 − cos 2s)/4`, the drifting mass's position.
@@ -266,8 +282,14 @@ fn a_ball_bounces_between_stops_at_the_exact_times() {
         time: 0.0,
     };
     let periods = 5;
-    let map = stroboscopic_map(&model, omega, &start, periods, &SimulationOptions::default())
-        .expect("the ball's map");
+    let map = stroboscopic_map(
+        &model,
+        omega,
+        &start,
+        periods,
+        &SimulationOptions::default(),
+    )
+    .expect("the ball's map");
     // From the middle at speed v: the first stop after 1/v, then one every 2/v.
     let end = periods as f64 * TAU;
     let exact: Vec<f64> = (0..)
@@ -283,13 +305,19 @@ fn a_ball_bounces_between_stops_at_the_exact_times() {
         assert!((t - e).abs() <= tolerance, "{t} against {e}");
     }
     eprintln!("ball: worst impact time error {worst:e}");
-    let sides: Vec<i8> = (0..exact.len()).map(|k| if k % 2 == 0 { 1 } else { -1 }).collect();
+    let sides: Vec<i8> = (0..exact.len())
+        .map(|k| if k % 2 == 0 { 1 } else { -1 })
+        .collect();
     assert_eq!(map.impact_sides, sides);
     // The state at the end: moving at ±v from the last stop.
     let last = *exact.last().unwrap();
     let sign = if exact.len() % 2 == 0 { 1.0 } else { -1.0 };
     let position = -sign + sign * v * (end - last);
-    assert!((map.state[0] - position).abs() < 1e-11, "{} against {position}", map.state[0]);
+    assert!(
+        (map.state[0] - position).abs() < 1e-11,
+        "{} against {position}",
+        map.state[0]
+    );
     assert!((map.state[1] - sign * v).abs() < 1e-14);
 }
 
@@ -334,7 +362,10 @@ fn the_impact_damper_settles_polishes_and_has_its_floquet_exponents() {
     let orbit = steady.orbit.as_deref().expect("Newton polishes the cycle");
     // The residual at rounding: well below the root tolerance it is asked for.
     assert!(orbit.residual < 1e-14, "residual {:e}", orbit.residual);
-    eprintln!("damper: residual {:e} after {} steps", orbit.residual, orbit.iterations);
+    eprintln!(
+        "damper: residual {:e} after {} steps",
+        orbit.residual, orbit.iterations
+    );
     // The map through the orbit and its Jacobian against central differences.
     let start = Start {
         state: orbit.state.clone(),
@@ -386,7 +417,10 @@ fn the_impact_damper_settles_polishes_and_has_its_floquet_exponents() {
         .map(|m| (m.norm().ln() / period, m.im))
         .collect();
     rates.sort_by(|a, b| b.0.total_cmp(&a.0));
-    eprintln!("damper: exponents {:?} against {rates:?}", spectrum.exponents);
+    eprintln!(
+        "damper: exponents {:?} against {rates:?}",
+        spectrum.exponents
+    );
     check_against(&spectrum, &rates, 1e-6);
 }
 
@@ -429,8 +463,13 @@ fn a_damper_whose_ball_never_impacts_is_a_family() {
     // a clearance of 100: the ball, at rest, is never reached.
     let omega = 1.1;
     let model = impact_damper(100.0);
-    let steady = simulate(&model, omega, &Start::rest(2), &SimulationOptions::default())
-        .expect("the damper runs");
+    let steady = simulate(
+        &model,
+        omega,
+        &Start::rest(2),
+        &SimulationOptions::default(),
+    )
+    .expect("the damper runs");
     assert_eq!(steady.status, Status::Periodic);
     assert_eq!(steady.impacts, 0);
     assert!(steady.family);
@@ -486,4 +525,45 @@ fn a_body_held_by_a_dashpot_alone_has_a_simple_zero_rate() {
             "s = {s}: {y:?}"
         );
     }
+}
+
+#[test]
+fn the_linear_steady_start_of_a_damper_is_the_zero_mean_member() {
+    // The primary on `u₁ = Re(U e^{iωt})`, `U = 1/(1 − ω² + 0.05 iω)`; the ball, unforced,
+    // at rest at zero (its family's zero-mean member).
+    let omega = 1.1;
+    let start = Start::linear_steady_state(&impact_damper(100.0), omega).expect("a start");
+    let u = C64::new(1.0 - omega * omega, 0.05 * omega).inv();
+    let y = &start.state;
+    assert!(
+        (y[0] - u.re).abs() < 1e-14 * u.norm(),
+        "{} against {}",
+        y[0],
+        u.re
+    );
+    assert!((y[2] - (u * C64::new(0.0, omega)).re).abs() < 1e-14 * u.norm());
+    assert_eq!((y[1], y[3]), (0.0, 0.0));
+    // A forced free mass: `u = −Re(F e^{iωt})/(mω²)` at t = 0, `u̇ = −Re(iωF)/(mω²)`,
+    // `F = f_c − i f_s`.
+    let (m, fc, fs) = (2.0, 0.6, 0.8);
+    let forced = Model::new(
+        DMatrix::from_element(1, 1, m),
+        DMatrix::zeros(1, 1),
+        None,
+        DVector::from_element(1, fc),
+        DVector::from_element(1, fs),
+        vec![],
+    )
+    .expect("a free mass");
+    let start = Start::linear_steady_state(&forced, omega).expect("a start");
+    let (u, v) = (-fc / (m * omega * omega), -fs / (m * omega));
+    assert!((start.state[0] - u).abs() < 1e-15 && (start.state[1] - v).abs() < 1e-15);
+    // Starting there, the mass stays on it: the state one period later is the same.
+    let map = stroboscopic_map(&forced, omega, &start, 1, &SimulationOptions::default())
+        .expect("the map");
+    assert!(
+        (&map.state - &start.state).amax() < 1e-14,
+        "{:?}",
+        map.state
+    );
 }

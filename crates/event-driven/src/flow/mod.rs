@@ -15,6 +15,17 @@
 //! folded into one (`Re Σ = 2 Re` of one of each pair), halving the exponentials again.
 //! The eigenvectors come from the quadratic pencil: `(λ²M + λC + K) φ = 0`, `v = (φ, λφ)`.
 //!
+//! A structure with free bodies (a common null space `R` of `K` and `C`: rigid modes) has a
+//! defective `A` (a Jordan block at 0 per rigid mode), so its flow splits off the rigid
+//! subspace (`rigid`): the elastic modes are those of the reduced system on `R`'s
+//! `M`-orthogonal complement, the rigid coordinates fly as free bodies, `q(s) = h_q + h_p s +
+//! g₀s²/2 + Re(P e^{iω(t₀+s)})`, and a functional of the state gains a polynomial term of
+//! rate 0 and a term of rate `iω`. Such a flow flies in the general (resonance-safe) form,
+//! which carries polynomial terms; the steady-response form, its summaries and its packed
+//! kernels serve the flows without rigid modes, unchanged. Its propagator adds the rigid
+//! block `(1, s; 0, 1)`. A body held by a dashpot alone (`K r = 0`, `C r ≠ 0`) is no rigid
+//! mode: its zero rate is simple, with the eigenvector `(r, 0)`, and the modal flow holds it.
+//!
 //! This module builds the flow (eigen-decomposition, modal forcing, steady response); a
 //! flight from a state and its evaluation (states, modal coordinates, exponential sums and
 //! their summaries) are in `flight`, and the AVX kernels of both in `packed`.
@@ -434,23 +445,23 @@ impl LinearFlow {
                 !(resonant(w - l, period) || resonant(-w - l, period) || forced_at_zero)
             }))
         .then(|| SteadyResponse {
-                plus: rates
-                    .iter()
-                    .zip(plus.iter())
-                    .map(|(&l, &g)| g / (w - l))
-                    .collect(),
-                minus: rates
-                    .iter()
-                    .zip(minus.iter())
-                    .map(|(&l, &g)| g / (-w - l))
-                    .collect(),
-                constant: rates
-                    .iter()
-                    .zip(constant.iter())
-                    .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
-                    .collect(),
-            })
-            .map(|response| response.of_kept(&kept));
+            plus: rates
+                .iter()
+                .zip(plus.iter())
+                .map(|(&l, &g)| g / (w - l))
+                .collect(),
+            minus: rates
+                .iter()
+                .zip(minus.iter())
+                .map(|(&l, &g)| g / (-w - l))
+                .collect(),
+            constant: rates
+                .iter()
+                .zip(constant.iter())
+                .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
+                .collect(),
+        })
+        .map(|response| response.of_kept(&kept));
         let apart = |m: &DMatrix<C64>| {
             (
                 m.as_slice().iter().map(|c| c.re).collect(),
@@ -464,7 +475,8 @@ impl LinearFlow {
             .collect();
         let mode_columns = apart(&modes);
         let kept_peaks = kept_peaks(&modes, &kept);
-        let joint_modes = joint_modes(&rates, &kept, &kept_sizes, omega).filter(|_| rigid.is_none());
+        let joint_modes =
+            joint_modes(&rates, &kept, &kept_sizes, omega).filter(|_| rigid.is_none());
         Ok(Self {
             dofs: n,
             omega,

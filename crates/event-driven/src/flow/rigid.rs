@@ -249,7 +249,14 @@ impl RigidModes {
 
     /// Rigid mode `j`'s position and velocity at `s` into a flight from `start`, given the
     /// forcing's `e^{iωs}`.
-    pub(crate) fn at(&self, j: usize, start: &RigidStart, s: f64, ep: C64, omega: f64) -> (f64, f64) {
+    pub(crate) fn at(
+        &self,
+        j: usize,
+        start: &RigidStart,
+        s: f64,
+        ep: C64,
+        omega: f64,
+    ) -> (f64, f64) {
         let g0 = self.constant[j];
         let oscillating = start.forced * ep;
         let q = start.position + start.velocity * s + 0.5 * g0 * s * s + oscillating.re;
@@ -258,7 +265,14 @@ impl RigidModes {
     }
 
     /// Adds the rigid modes' state at `s` into `y` (length `2n`).
-    pub(crate) fn add_state(&self, starts: &[RigidStart], s: f64, ep: C64, omega: f64, y: &mut [f64]) {
+    pub(crate) fn add_state(
+        &self,
+        starts: &[RigidStart],
+        s: f64,
+        ep: C64,
+        omega: f64,
+        y: &mut [f64],
+    ) {
         let n = self.shapes.nrows();
         for (j, start) in starts.iter().enumerate() {
             let (q, p) = self.at(j, start, s, ep, omega);
@@ -337,7 +351,12 @@ impl RigidModes {
     ///
     /// # Errors
     /// [`FlowError::RigidDrift`] when a constant force acts on a rigid mode.
-    pub(crate) fn add_steady_state(&self, phase: C64, omega: f64, y: &mut [f64]) -> Result<(), FlowError> {
+    pub(crate) fn add_steady_state(
+        &self,
+        phase: C64,
+        omega: f64,
+        y: &mut [f64],
+    ) -> Result<(), FlowError> {
         if let Some(j) = self.constant.iter().position(|&g| g != 0.0) {
             return Err(FlowError::RigidDrift(j));
         }
