@@ -93,17 +93,20 @@ fn expm(b: &DMatrix<f64>, s: f64) -> DMatrix<f64> {
     sum
 }
 
+/// `M`, `K`, `C`, `f_c`, `f_s` of a structure.
+type Structure = (
+    DMatrix<f64>,
+    DMatrix<f64>,
+    DMatrix<f64>,
+    DVector<f64>,
+    DVector<f64>,
+);
+
 /// A structure with a rigid mode beside elastic ones, under a forcing on every mass: masses 0
 /// and 1 (of different masses) tied to each other only (spring 2, dashpot 0.1), so that their
 /// common translation is rigid and their relative motion elastic, and mass 2 on a spring and
 /// a dashpot to the frame.
-fn mixed_model() -> (
-    DMatrix<f64>,
-    DMatrix<f64>,
-    DMatrix<f64>,
-    DVector<f64>,
-    DVector<f64>,
-) {
+fn mixed_model() -> Structure {
     let mass = DMatrix::from_diagonal(&DVector::from_vec(vec![1.0, 0.5, 2.0]));
     let spring = |k: &mut DMatrix<f64>, i: usize, j: Option<usize>, v: f64| {
         k[(i, i)] += v;
