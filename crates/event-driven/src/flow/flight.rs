@@ -4,7 +4,6 @@
 
 #[cfg(target_arch = "x86_64")]
 use super::packed::{modal_state_avx, steady_state_avx, AVX_COLUMN, PACKED_MODES};
-use super::rigid::RigidStart;
 use super::{cexp, resonant, Functional, JointWeights, LinearFlow, SteadyResponse, C64};
 use crate::expsum::{summarize_block, ExpSum, Summary, Term, LANES};
 use nalgebra::DVector;
@@ -29,13 +28,13 @@ pub(super) enum Form<'a> {
         phase: C64,
     },
     /// `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`, finite at resonance. The forcing
-    /// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`.
+    /// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`. `start`
+    /// holds the modes' `z(0)`, then, with rigid modes, each one's start packed in two
+    /// entries ([`RigidModes::start`](super::rigid::RigidModes::start)).
     General {
         start: DVector<C64>,
         plus: DVector<C64>,
         minus: DVector<C64>,
-        /// The rigid modes' starts (empty without rigid modes).
-        rigid: Vec<RigidStart>,
     },
 }
 
@@ -139,12 +138,7 @@ impl Flight<'_> {
                     f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
-            Form::General {
-                start,
-                plus,
-                minus,
-                rigid,
-            } => {
+            Form::General { start, plus, minus } => {
                 let w = C64::new(0.0, f.omega);
                 let em = ep.conj();
                 let zero = C64::new(0.0, 0.0);
@@ -162,7 +156,8 @@ impl Flight<'_> {
                     f.add_mode(k, zk, y.as_mut_slice());
                 }
                 if let Some(modes) = &f.rigid {
-                    modes.add_state(rigid, s, ep, f.omega, y.as_mut_slice());
+                    let starts = &start.as_slice()[f.rates.len()..];
+                    modes.add_state(starts, s, ep, f.omega, y.as_mut_slice());
                 }
             }
         }
@@ -402,13 +397,8 @@ impl Flight<'_> {
                     });
                 }
             }
-            Form::General {
-                start,
-                plus,
-                minus,
-                rigid,
-            } => {
-                let mut terms = Vec::with_capacity(4 * f.rates.len() + 2 * rigid.len());
+            Form::General { start, plus, minus } => {
+                let mut terms = Vec::with_capacity(4 * f.rates.len() + 2 * f.rigid_modes());
                 for (k, &l) in f.rates.iter().enumerate() {
                     let wk = weights[k];
                     terms.push(Term {
@@ -422,7 +412,10 @@ impl Flight<'_> {
                     }
                 }
                 if let Some(modes) = &f.rigid {
-                    modes.terms(&functional.rigid, rigid, f.omega, &mut terms);
+                    let elastic = f.rates.len();
+                    let starts = &start.as_slice()[elastic..];
+                    let weights = &functional.weights.as_slice()[elastic..];
+                    modes.terms(weights, starts, f.omega, &mut terms);
                 }
                 out.terms = merge(terms);
             }

@@ -141,7 +141,7 @@ pub struct LinearFlow {
     steady: Option<SteadyResponse>,
     /// The rigid modes ([`rigid`]), if any: the modes above are then the elastic ones only
     /// (`2(n − r)` of them), `V⁻¹` their rows of `W⁻¹`.
-    rigid: Option<rigid::RigidModes>,
+    rigid: Option<Box<rigid::RigidModes>>,
 }
 
 /// The forced steady response in modal coordinates,
@@ -182,12 +182,11 @@ impl SteadyResponse {
 /// `Re(forced e^{iωt}) + constant`.
 #[derive(Debug, Clone)]
 pub struct Functional {
+    /// `Vᵀc` over the modes, then, with rigid modes, each one's weights `a_j + i b_j` on its
+    /// position and velocity ([`rigid::RigidModes::weights`]).
     weights: DVector<C64>,
     forced: C64,
     constant: f64,
-    /// Its weights `(a_j, b_j)` on the rigid modes' positions and velocities (empty without
-    /// rigid modes).
-    rigid: Vec<(f64, f64)>,
 }
 
 /// Several functionals prepared for [`Flight::summarize_all`]: in blocks of [`LANES`]
@@ -398,7 +397,7 @@ impl LinearFlow {
             let rows = full.rows(elastic, 2 * r).into_owned();
             let forcing = (forcing_cos, forcing_sin, forcing_constant);
             let rigid = rigid::RigidModes::new(shapes, &rows, &minv, forcing, omega);
-            (full.rows(0, elastic).into_owned(), Some(rigid))
+            (full.rows(0, elastic).into_owned(), Some(Box::new(rigid)))
         };
         let lift = |f: DVector<C64>| {
             let mut b = DVector::<C64>::zeros(2 * n);
@@ -748,13 +747,17 @@ impl LinearFlow {
                 }
             }
             None => Form::General {
-                start: &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                start: match &self.rigid {
+                    None => &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                    Some(rigid) => rigid.start(
+                        &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                        y,
+                        phase,
+                        self.omega,
+                    ),
+                },
                 plus: self.plus.map(|g| g * phase),
                 minus: self.minus.map(|g| g * phase.conj()),
-                rigid: self
-                    .rigid
-                    .as_ref()
-                    .map_or_else(Vec::new, |r| r.start(y, phase, self.omega)),
             },
         };
         Flight { flow: self, form }
@@ -861,7 +864,10 @@ impl LinearFlow {
 
     /// Modal weights `Vᵀ c` of the functional `c · y`, with the steady response's part.
     pub fn functional(&self, c: &DVector<f64>) -> Functional {
-        let weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
+        let mut weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
+        if let Some(rigid) = &self.rigid {
+            weights = rigid.weights(weights, c);
+        }
         let (mut forced, mut constant) = (C64::default(), 0.0);
         if let Some(p) = &self.steady {
             for (j, &(k, weight)) in self.kept.iter().enumerate() {
@@ -870,12 +876,10 @@ impl LinearFlow {
                 constant += (weights[k] * p.constant[j]).re * weight;
             }
         }
-        let rigid = self.rigid.as_ref().map_or_else(Vec::new, |r| r.weights(c));
         Functional {
             weights,
             forced,
             constant,
-            rigid,
         }
     }
 }

@@ -70,15 +70,6 @@ pub(crate) struct RigidModes {
     pub(crate) constant: Vec<f64>,
 }
 
-/// A flight's start on one rigid mode: the deviations `h_q`, `h_p` from the particular
-/// solution and the particular solution's amplitude at the start, `P e^{iωt₀}`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct RigidStart {
-    pub(crate) position: f64,
-    pub(crate) velocity: f64,
-    pub(crate) forced: C64,
-}
-
 /// The orthonormal basis of the right null space of `matrix` (`rows × cols`, `rows ≥ cols`)
 /// to [`RIGID_ROUNDING`] of its largest singular value (the whole space for a zero matrix).
 fn null_space(matrix: &DMatrix<f64>) -> DMatrix<f64> {
@@ -231,51 +222,56 @@ impl RigidModes {
         self.shapes.ncols()
     }
 
-    /// A flight's start on every rigid mode from state `y` at forcing phase `e^{iωt₀}`.
-    pub(crate) fn start(&self, y: &DVector<f64>, phase: C64, omega: f64) -> Vec<RigidStart> {
-        (0..self.count())
-            .map(|j| {
-                let q = self.position_rows.row(j).dot(&y.transpose());
-                let p = self.velocity_rows.row(j).dot(&y.transpose());
-                let forced = self.forced[j] * phase;
-                RigidStart {
-                    position: q - forced.re,
-                    velocity: p - (forced * C64::new(0.0, omega)).re,
-                    forced,
-                }
-            })
-            .collect()
+    /// A flight's start in the general form: the modes' coordinates `elastic`, then per
+    /// rigid mode two entries, `h_q + i h_p` (the deviations from the particular solution)
+    /// and `P e^{iωt₀}` (the particular solution's amplitude at the start), from state `y` at
+    /// forcing phase `e^{iωt₀}`.
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn start(
+        &self,
+        elastic: DVector<C64>,
+        y: &DVector<f64>,
+        phase: C64,
+        omega: f64,
+    ) -> DVector<C64> {
+        let count = elastic.len();
+        let mut out = elastic.resize_vertically(count + 2 * self.count(), C64::default());
+        for j in 0..self.count() {
+            let q = self.position_rows.row(j).dot(&y.transpose());
+            let p = self.velocity_rows.row(j).dot(&y.transpose());
+            let forced = self.forced[j] * phase;
+            out[count + 2 * j] = C64::new(q - forced.re, p - (forced * C64::new(0.0, omega)).re);
+            out[count + 2 * j + 1] = forced;
+        }
+        out
     }
 
-    /// Rigid mode `j`'s position and velocity at `s` into a flight from `start`, given the
-    /// forcing's `e^{iωs}`.
-    pub(crate) fn at(
+    /// Rigid mode `j`'s position and velocity at `s` into a flight whose start on it is
+    /// `(h_q + i h_p, P e^{iωt₀})` ([`Self::start`]), given the forcing's `e^{iωs}`.
+    fn at(
         &self,
         j: usize,
-        start: &RigidStart,
+        (deviation, forced): (C64, C64),
         s: f64,
         ep: C64,
         omega: f64,
     ) -> (f64, f64) {
         let g0 = self.constant[j];
-        let oscillating = start.forced * ep;
-        let q = start.position + start.velocity * s + 0.5 * g0 * s * s + oscillating.re;
-        let p = start.velocity + g0 * s + (oscillating * C64::new(0.0, omega)).re;
+        let oscillating = forced * ep;
+        let q = deviation.re + deviation.im * s + 0.5 * g0 * s * s + oscillating.re;
+        let p = deviation.im + g0 * s + (oscillating * C64::new(0.0, omega)).re;
         (q, p)
     }
 
-    /// Adds the rigid modes' state at `s` into `y` (length `2n`).
-    pub(crate) fn add_state(
-        &self,
-        starts: &[RigidStart],
-        s: f64,
-        ep: C64,
-        omega: f64,
-        y: &mut [f64],
-    ) {
+    /// Adds the rigid modes' state at `s` into `y` (length `2n`), from their `starts` (two
+    /// entries each, [`Self::start`]).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn add_state(&self, starts: &[C64], s: f64, ep: C64, omega: f64, y: &mut [f64]) {
         let n = self.shapes.nrows();
-        for (j, start) in starts.iter().enumerate() {
-            let (q, p) = self.at(j, start, s, ep, omega);
+        for (j, start) in starts.chunks_exact(2).enumerate() {
+            let (q, p) = self.at(j, (start[0], start[1]), s, ep, omega);
             for i in 0..n {
                 let shape = self.shapes[(i, j)];
                 y[i] += shape * q;
@@ -284,45 +280,50 @@ impl RigidModes {
         }
     }
 
-    /// The weights `(a_j, b_j)` of the functional `c · y` on the rigid coordinates:
-    /// `c · (R q, R p) = Σ_j a_j q_j + b_j p_j`.
-    pub(crate) fn weights(&self, c: &DVector<f64>) -> Vec<(f64, f64)> {
+    /// The functional `c · y`'s modal `weights` followed by its weights `a_j + i b_j` on the
+    /// rigid coordinates: `c · (R q, R p) = Σ_j a_j q_j + b_j p_j`.
+    pub(crate) fn weights(&self, weights: DVector<C64>, c: &DVector<f64>) -> DVector<C64> {
         let n = self.shapes.nrows();
-        (0..self.count())
-            .map(|j| {
-                let column = self.shapes.column(j);
-                let a = (0..n).map(|i| c[i] * column[i]).sum();
-                let b = (0..n).map(|i| c[n + i] * column[i]).sum();
-                (a, b)
-            })
-            .collect()
+        let count = weights.len();
+        let mut out = weights.resize_vertically(count + self.count(), C64::default());
+        for j in 0..self.count() {
+            let column = self.shapes.column(j);
+            let a = (0..n).map(|i| c[i] * column[i]).sum();
+            let b = (0..n).map(|i| c[n + i] * column[i]).sum();
+            out[count + j] = C64::new(a, b);
+        }
+        out
     }
 
-    /// The terms of `Σ_j a_j q_j(s) + b_j p_j(s)` for the functional's rigid `weights` over a
-    /// flight from `starts`: each mode's polynomial `α + β s + γ s²` (rate 0) and its
-    /// oscillating part `(a + iωb) P e^{iωt₀}` (rate `iω`).
+    /// The terms of `Σ_j a_j q_j(s) + b_j p_j(s)` for the functional's rigid `weights`
+    /// (`a_j + i b_j`) over a flight from `starts` ([`Self::start`]): each mode's polynomial
+    /// `α + β s + γ s²` (rate 0) and its oscillating part `(a + iωb) P e^{iωt₀}` (rate `iω`).
+    #[cold]
+    #[inline(never)]
     pub(crate) fn terms(
         &self,
-        weights: &[(f64, f64)],
-        starts: &[RigidStart],
+        weights: &[C64],
+        starts: &[C64],
         omega: f64,
         out: &mut Vec<crate::expsum::Term>,
     ) {
         let zero = C64::default();
         let real = |v: f64| C64::new(v, 0.0);
-        for (j, (&(a, b), start)) in weights.iter().zip(starts).enumerate() {
+        for (j, (w, start)) in weights.iter().zip(starts.chunks_exact(2)).enumerate() {
+            let (a, b) = (w.re, w.im);
+            let (deviation, forced) = (start[0], start[1]);
             let g0 = self.constant[j];
             out.push(crate::expsum::Term {
                 poly: [
-                    real(a * start.position + b * start.velocity),
-                    real(a * start.velocity + b * g0),
+                    real(a * deviation.re + b * deviation.im),
+                    real(a * deviation.im + b * g0),
                     real(0.5 * a * g0),
                     zero,
                 ],
                 rate: zero,
             });
             out.push(crate::expsum::Term {
-                poly: [C64::new(a, omega * b) * start.forced, zero, zero, zero],
+                poly: [C64::new(a, omega * b) * forced, zero, zero, zero],
                 rate: C64::new(0.0, omega),
             });
         }
@@ -360,14 +361,10 @@ impl RigidModes {
         if let Some(j) = self.constant.iter().position(|&g| g != 0.0) {
             return Err(FlowError::RigidDrift(j));
         }
-        let starts: Vec<RigidStart> = self
+        let starts: Vec<C64> = self
             .forced
             .iter()
-            .map(|&p| RigidStart {
-                position: 0.0,
-                velocity: 0.0,
-                forced: p * phase,
-            })
+            .flat_map(|&p| [C64::default(), p * phase])
             .collect();
         self.add_state(&starts, 0.0, C64::new(1.0, 0.0), omega, y);
         Ok(())
