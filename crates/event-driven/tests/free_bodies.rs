@@ -570,3 +570,68 @@ fn the_linear_steady_start_of_a_damper_is_the_zero_mean_member() {
         map.state
     );
 }
+
+#[test]
+fn a_ball_between_two_one_sided_stops_bounces_at_the_same_times() {
+    // The same ball with each stop its own contact pair (several pairs watched at once).
+    let stop = |gap_plus: f64, gap_minus: f64| ContactPair {
+        plus_dof: Some(0),
+        minus_dof: None,
+        gap_plus,
+        gap_minus,
+        restitution: 1.0,
+    };
+    let model = Model::new(
+        DMatrix::from_element(1, 1, 1.0),
+        DMatrix::zeros(1, 1),
+        None,
+        DVector::zeros(1),
+        DVector::zeros(1),
+        vec![stop(1.0, f64::INFINITY), stop(f64::INFINITY, 1.0)],
+    )
+    .expect("the ball's model");
+    let v = 0.3;
+    let start = Start {
+        state: DVector::from_vec(vec![0.0, v]),
+        time: 0.0,
+    };
+    let map = stroboscopic_map(&model, 1.0, &start, 5, &SimulationOptions::default())
+        .expect("the ball's map");
+    let end = 5.0 * TAU;
+    let exact: Vec<f64> = (0..)
+        .map(|k| (1.0 + 2.0 * k as f64) / v)
+        .take_while(|&t| t < end)
+        .collect();
+    assert_eq!(map.impact_times.len(), exact.len());
+    for (k, (t, e)) in map.impact_times.iter().zip(&exact).enumerate() {
+        assert!((t - e).abs() <= 1e-12 * TAU, "{t} against {e}");
+        assert_eq!(map.impact_pairs[k], k % 2);
+    }
+}
+
+#[test]
+fn a_constant_force_on_a_free_mass_has_no_steady_state_but_flies_exactly() {
+    // ü = g₀ = 0.5/2: u(s) = u₀ + v₀ s + g₀ s²/2.
+    let flow = LinearFlow::new(
+        &DMatrix::from_element(1, 1, 2.0),
+        None,
+        &DMatrix::zeros(1, 1),
+        &DVector::zeros(1),
+        &DVector::zeros(1),
+        &DVector::from_element(1, 0.5),
+        1.0,
+    )
+    .expect("a free mass has a flow");
+    assert_eq!(
+        flow.linear_steady_state(0.0),
+        Err(rattle_event_driven::flow::FlowError::RigidDrift(0))
+    );
+    let y = flow
+        .flight(&DVector::from_vec(vec![0.1, -0.2]), 0.3)
+        .state(3.0);
+    let (u, v) = (0.1 - 0.2 * 3.0 + 0.125 * 9.0, -0.2 + 0.25 * 3.0);
+    assert!(
+        (y[0] - u).abs() < 1e-15 && (y[1] - v).abs() < 1e-15,
+        "{y:?}"
+    );
+}
