@@ -21,6 +21,12 @@
 //! pair per cell; any pairs may stick, chatter or fly at the same time, each watched with the
 //! same guarantee ([`simulate()`]).
 //!
+//! Free bodies (a mass held by no spring or dashpot, such as an impact damper's ball in its
+//! clearance) are rigid modes of the flow: they fly exactly as rigid bodies, their
+//! polynomial drift searched with the same guarantee, and their tangent flow enters Newton
+//! and the Lyapunov spectrum. A steady state in which no impact reaches them is a family
+//! ([`SteadyState::family`], [`NewtonError::Family`]).
+//!
 //! Only the effects a model has are simulated: no contact pairs, no event search; no damping
 //! matrix, no damping terms, and the oscillating rates purely imaginary, as a conservative
 //! system's are (the Schur form's rounding-level real parts removed).
@@ -47,7 +53,7 @@ pub use lyapunov::{
 pub use model::{CellParameters, CellStops, ContactPair, Model, ModelError, MAX_CELLS};
 pub use newton::{
     periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
-    MAX_NEWTON_ITERATIONS, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
+    MAX_NEWTON_ITERATIONS, NEUTRAL_TRANSLATION, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
 };
 pub use simulate::{
     simulate, simulate_watched, ImpactRecord, SimulationError, SimulationOptions, Start, Status,

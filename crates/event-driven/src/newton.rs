@@ -13,6 +13,14 @@
 //!
 //! Newton `y ← y − (DP − I)⁻¹ (P(y) − y)` converges quadratically from a good guess to the
 //! orbit whatever its stability; the eigenvalues of `DP` there are the Floquet multipliers.
+//!
+//! With free bodies (rigid modes `R` of the flow) the propagator carries their rigid block and
+//! the saltation matrices their share of each impact, so `DP` is exact for them too. A rigid
+//! translation `(R a, 0)` that no impact of the cycle involves is mapped onto itself (the
+//! flight moves positions by velocities only), so such orbits are not isolated: they form a
+//! family with a multiplier exactly 1, and `DP − I` is singular by construction. Newton checks
+//! `(DP − I) (R, 0)` first and reports that case as [`NewtonError::Family`] instead of an
+//! ill-conditioned solve.
 
 pub use crate::engine::PeriodicOrbit;
 use crate::engine::{check_inputs, Engine, SimulationError, SimulationOptions, Start};
@@ -87,9 +95,45 @@ pub enum NewtonError {
         /// The last residual.
         residual: f64,
     },
+    /// The model has rigid modes (free bodies) that the cycle's impacts leave untouched
+    /// (a cycle without impacts, or a free body no impact reaches): a rigid translation of
+    /// such a body maps every periodic orbit onto another one, so the orbits form a family
+    /// (a Floquet multiplier exactly 1 with no isolated fixed point) and `DP − I` is singular
+    /// by construction rather than by a fold. This many independent rigid translations are
+    /// neutral.
+    #[error(
+        "the cycle leaves {neutral} rigid mode(s) untouched by impacts: its periodic orbits \
+         form a family (a Floquet multiplier exactly 1), no isolated orbit to polish"
+    )]
+    Family {
+        /// Rigid translations `(δu, 0) = (R a, 0)` with `DP (R a, 0) = (R a, 0)`.
+        neutral: usize,
+    },
     /// The eigenvalues of `DP` did not converge.
     #[error("multipliers: {0}")]
     Eigenvalues(#[from] FlowError),
+}
+
+/// A rigid translation whose image under `DP − I` is at most this fraction of
+/// `max(1, |DP|)` is neutral ([`NewtonError::Family`]): a translation untouched by any impact
+/// is mapped onto itself to rounding (a few `ε`), while an impact that involves it changes it
+/// by a saltation term of the order of the motion's own scales.
+pub const NEUTRAL_TRANSLATION: f64 = 1e-9;
+
+/// The number of rigid translations `(R a, 0)` that `jacobian` (`DP`) keeps fixed to
+/// [`NEUTRAL_TRANSLATION`]: the singular values of `(DP − I) [R; 0]` that small.
+fn neutral_translations(shapes: &DMatrix<f64>, jacobian: &DMatrix<f64>) -> usize {
+    let (n, r) = (shapes.nrows(), shapes.ncols());
+    let mut translations = DMatrix::zeros(2 * n, r);
+    translations.view_mut((0, 0), (n, r)).copy_from(shapes);
+    let image = jacobian * &translations - &translations;
+    let scale = jacobian.amax().max(1.0);
+    image
+        .svd(false, false)
+        .singular_values
+        .iter()
+        .filter(|&&s| s <= NEUTRAL_TRANSLATION * scale)
+        .count()
 }
 
 /// `model` with its forcing advanced by `time` (`f(t) → f(t + time)`), so that a section at
@@ -167,7 +211,10 @@ pub fn stroboscopic_map(
 /// As [`stroboscopic_map`] at any iterate; [`NewtonError::SignatureChanged`] when an iterate's
 /// impact sequence differs from the first, [`NewtonError::Singular`] when `DP − I` cannot be
 /// solved, [`NewtonError::NoConvergence`] after [`MAX_NEWTON_ITERATIONS`] steps or at a
-/// non-finite iterate, and [`NewtonError::Eigenvalues`] when the multipliers do not converge.
+/// non-finite iterate, [`NewtonError::Eigenvalues`] when the multipliers do not converge,
+/// and [`NewtonError::Family`] when the model has a rigid mode that the cycle's impacts leave
+/// untouched (a free body on a cycle without impacts): its orbits form a family, none
+/// isolated.
 pub fn periodic_orbit(
     model: &Model,
     omega: f64,
@@ -187,6 +234,12 @@ pub fn periodic_orbit(
     let mut previous = f64::INFINITY;
     for iteration in 0..=MAX_NEWTON_ITERATIONS {
         let map = map_at(&mut engine, &y, periods)?;
+        if let Some(shapes) = engine.rigid_shapes() {
+            let neutral = neutral_translations(shapes, &map.jacobian);
+            if neutral > 0 {
+                return Err(NewtonError::Family { neutral });
+            }
+        }
         match &first {
             None => first = Some((map.impact_pairs.clone(), map.impact_sides.clone())),
             Some((pairs, sides)) => {

@@ -33,6 +33,11 @@
 //! the constrained flow. Contacts are resolved one at a time in time order, ties by pair
 //! index (see `Engine::free_flight` for what that assumes).
 //!
+//! Free bodies (rigid modes of the free flow) fly in the flow's general form: their flights
+//! are searched term by term (a polynomial drift plus oscillations, [`crate::expsum`]'s
+//! general bounds), without the steady-response summaries and carries. A periodic final
+//! cycle in which no impact reaches them is a family ([`SteadyState::family`]).
+//!
 //! The tangent flow through a stick or an impact made while other pairs are held uses the
 //! free saltation matrices (exact when the event's pair shares no degree of freedom with the
 //! held ones under a diagonal mass matrix, as in a chain; the constrained propagator is
@@ -398,6 +403,11 @@ impl<'m> Engine<'m> {
             #[cfg(test)]
             unformed_contacts: Cell::new(0),
         })
+    }
+
+    /// The free flow's rigid shapes `R` (`n × r`), if it has rigid modes.
+    pub(crate) fn rigid_shapes(&self) -> Option<&DMatrix<f64>> {
+        self.free.rigid_shapes()
     }
 
     /// What [`Engine::cannot_stick`] reads of the engine.

@@ -99,6 +99,29 @@ impl Start {
             time: 0.0,
         }
     }
+
+    /// On the linear steady state of `model` at `omega` (its motion without contacts, every
+    /// free transient decayed) at `t = 0`: [`LinearFlow::linear_steady_state`]. With free
+    /// bodies (rigid modes) that steady state is a family, each rigid mode free to sit at any
+    /// constant position: this start is its zero-mean member, each rigid mode on the harmonic
+    /// particular solution `q = −Re(F e^{iωt})/ω²` alone (a body in a clearance starts
+    /// centred on its mean position zero).
+    ///
+    /// # Errors
+    /// [`SimulationError::Omega`] for an `omega` that is not finite and positive, and
+    /// [`SimulationError::Flow`] when the modal flow does not exist, a mode is resonant with
+    /// the forcing ([`FlowError::Resonant`]) or a constant force drives a rigid mode
+    /// ([`FlowError::RigidDrift`]).
+    pub fn linear_steady_state(model: &Model, omega: f64) -> Result<Start, SimulationError> {
+        if !(omega.is_finite() && omega > 0.0) {
+            return Err(SimulationError::Omega(omega));
+        }
+        let flow = LinearFlow::of_model(model, omega)?;
+        Ok(Start {
+            state: flow.linear_steady_state(0.0)?,
+            time: 0.0,
+        })
+    }
 }
 
 /// A failure of the simulation.

@@ -58,6 +58,14 @@ pub struct ImpactRecord {
 pub struct SteadyState {
     /// Periodic, non-periodic or no dissipation.
     pub status: Status,
+    /// A periodic final cycle without impact (and not held on a stop) of a model with rigid
+    /// modes ([`LinearFlow::rigid_modes`](crate::flow::LinearFlow::rigid_modes): a free body):
+    /// the motion is one member of a family of steady states, a rigid mode keeping whatever
+    /// constant position the run left it at (the linear steady state is unique only up to
+    /// rigid translations). Its cycle is not polished ([`Self::orbit`] is `None`,
+    /// [`Self::orbit_error`] gives [`NewtonError::Family`](crate::newton::NewtonError::Family)'s
+    /// reason): no isolated orbit exists.
+    pub family: bool,
     /// Least `p` with `x(t + pT) = x(t)`, when periodic.
     pub period: Option<u32>,
     /// Impacts in the final cycle divided by its length in periods.

@@ -342,8 +342,13 @@ impl Engine<'_> {
                 .filter(|(t, _)| *t >= cycle_start - slack)
                 .collect()
         });
+        let family = status == Status::Periodic
+            && cycle_impacts.is_empty()
+            && !window.sticking
+            && self.free.rigid_modes() > 0;
         SteadyState {
             status,
+            family,
             period: period_found,
             impacts_per_period: cycle_impacts.len() as f64 / cycle as f64,
             amplitudes: window.amplitudes,

@@ -28,7 +28,9 @@ pub(super) enum Form<'a> {
         phase: C64,
     },
     /// `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`, finite at resonance. The forcing
-    /// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`.
+    /// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`. `start`
+    /// holds the modes' `z(0)`, then, with rigid modes, each one's start packed in two
+    /// entries ([`RigidModes::start`](super::rigid::RigidModes::start)).
     General {
         start: DVector<C64>,
         plus: DVector<C64>,
@@ -152,6 +154,10 @@ impl Flight<'_> {
                     }
                     let zk = zk * weight;
                     f.add_mode(k, zk, y.as_mut_slice());
+                }
+                if let Some(modes) = &f.rigid {
+                    let starts = &start.as_slice()[f.rates.len()..];
+                    modes.add_state(starts, s, ep, f.omega, y.as_mut_slice());
                 }
             }
         }
@@ -392,7 +398,7 @@ impl Flight<'_> {
                 }
             }
             Form::General { start, plus, minus } => {
-                let mut terms = Vec::with_capacity(4 * f.rates.len());
+                let mut terms = Vec::with_capacity(4 * f.rates.len() + 2 * f.rigid_modes());
                 for (k, &l) in f.rates.iter().enumerate() {
                     let wk = weights[k];
                     terms.push(Term {
@@ -404,6 +410,12 @@ impl Flight<'_> {
                     if f.constant[k] != zero {
                         phi_terms(l, zero, f.period, wk * f.constant[k], &mut terms);
                     }
+                }
+                if let Some(modes) = &f.rigid {
+                    let elastic = f.rates.len();
+                    let starts = &start.as_slice()[elastic..];
+                    let weights = &functional.weights.as_slice()[elastic..];
+                    modes.terms(weights, starts, f.omega, &mut terms);
                 }
                 out.terms = merge(terms);
             }

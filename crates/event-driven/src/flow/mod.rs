@@ -15,6 +15,17 @@
 //! folded into one (`Re Σ = 2 Re` of one of each pair), halving the exponentials again.
 //! The eigenvectors come from the quadratic pencil: `(λ²M + λC + K) φ = 0`, `v = (φ, λφ)`.
 //!
+//! A structure with free bodies (a common null space `R` of `K` and `C`: rigid modes) has a
+//! defective `A` (a Jordan block at 0 per rigid mode), so its flow splits off the rigid
+//! subspace (`rigid`): the elastic modes are those of the reduced system on `R`'s
+//! `M`-orthogonal complement, the rigid coordinates fly as free bodies, `q(s) = h_q + h_p s +
+//! g₀s²/2 + Re(P e^{iω(t₀+s)})`, and a functional of the state gains a polynomial term of
+//! rate 0 and a term of rate `iω`. Such a flow flies in the general (resonance-safe) form,
+//! which carries polynomial terms; the steady-response form, its summaries and its packed
+//! kernels serve the flows without rigid modes, unchanged. Its propagator adds the rigid
+//! block `(1, s; 0, 1)`. A body held by a dashpot alone (`K r = 0`, `C r ≠ 0`) is no rigid
+//! mode: its zero rate is simple, with the eigenvector `(r, 0)`, and the modal flow holds it.
+//!
 //! This module builds the flow (eigen-decomposition, modal forcing, steady response); a
 //! flight from a state and its evaluation (states, modal coordinates, exponential sums and
 //! their summaries) are in `flight`, and the AVX kernels of both in `packed`.
@@ -22,6 +33,8 @@
 mod flight;
 #[cfg(target_arch = "x86_64")]
 mod packed;
+mod rigid;
+pub(crate) use rigid::shapes as rigid_shapes;
 #[cfg(test)]
 mod tests;
 
@@ -52,6 +65,19 @@ pub enum FlowError {
     /// The eigenvalue iteration did not converge.
     #[error("the eigenvalues of the system matrix did not converge")]
     NoConvergence,
+    /// The common null space of the stiffness and damping matrices (this many rigid modes) is
+    /// not also their left null space (`Rᵀ K ≠ 0` or `Rᵀ C ≠ 0`, only possible for
+    /// non-symmetric matrices): the rigid motion does not separate from the elastic one.
+    #[error("the {0} rigid mode(s) are not a left null space of the stiffness and damping")]
+    UnbalancedRigidModes(usize),
+    /// A constant force acts on rigid mode `j` (counted among the flow's rigid modes): it
+    /// accelerates without bound and there is no steady state.
+    #[error("a constant force drives rigid mode {0}: it drifts without bound, no steady state")]
+    RigidDrift(usize),
+    /// A mode is resonant with the forcing (`|μ − λ| T ≤ 10⁻⁴`): the response grows without
+    /// bound and there is no linear steady state.
+    #[error("a mode is resonant with the forcing: no linear steady state")]
+    Resonant,
 }
 
 /// Below this `|μ − λ|·T` a forcing rate counts as resonant with a mode.
@@ -110,8 +136,12 @@ pub struct LinearFlow {
     /// rate zero). Formed once: building them and checking the rates at every flight would
     /// cost a chain some 3 % of its instructions.
     joint_modes: Option<Vec<ModeTerm>>,
-    /// The forced steady response, when no mode is resonant with the forcing.
+    /// The forced steady response, when no mode is resonant with the forcing and there is
+    /// no rigid mode.
     steady: Option<SteadyResponse>,
+    /// The rigid modes ([`rigid`]), if any: the modes above are then the elastic ones only
+    /// (`2(n − r)` of them), `V⁻¹` their rows of `W⁻¹`.
+    rigid: Option<Box<rigid::RigidModes>>,
 }
 
 /// The forced steady response in modal coordinates,
@@ -152,6 +182,8 @@ impl SteadyResponse {
 /// `Re(forced e^{iωt}) + constant`.
 #[derive(Debug, Clone)]
 pub struct Functional {
+    /// `Vᵀc` over the modes, then, with rigid modes, each one's weights `a_j + i b_j` on its
+    /// position and velocity ([`rigid::RigidModes::weights`]).
     weights: DVector<C64>,
     forced: C64,
     constant: f64,
@@ -294,11 +326,19 @@ impl LinearFlow {
     ) -> Result<Self, FlowError> {
         let n = mass.nrows();
         let (minv, a) = first_order(mass, damping, stiffness)?;
-        let mut rates = eigenvalues(&a)?;
+        // The rigid modes apart (`rigid`): the elastic rates are the reduced system's.
+        let shapes = rigid::shapes(stiffness, damping)?;
+        let mut rates = if shapes.ncols() == 0 {
+            eigenvalues(&a)?
+        } else {
+            eigenvalues(&rigid::reduced_system(
+                mass, &minv, stiffness, damping, &shapes,
+            ))?
+        };
         if damping.is_none() {
             conservative_rates(&mut rates);
         }
-        let mut modes = DMatrix::<C64>::zeros(2 * n, 2 * n);
+        let mut modes = DMatrix::<C64>::zeros(2 * n, rates.len());
         let mc = mass.map(|v| C64::new(v, 0.0));
         let kc = stiffness.map(|v| C64::new(v, 0.0));
         let cc = damping.map(|c| c.map(|v| C64::new(v, 0.0)));
@@ -323,14 +363,42 @@ impl LinearFlow {
                 modes[(n + i, k)] = shape[i] * lambda;
             }
         }
-        let inverse = modes
-            .clone()
-            .try_inverse()
-            .ok_or(FlowError::Defective(f64::INFINITY))?;
-        let condition = modes.norm() * inverse.norm();
-        if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
-            return Err(FlowError::Defective(condition));
-        }
+        let (inverse, rigid) = if shapes.ncols() == 0 {
+            let inverse = modes
+                .clone()
+                .try_inverse()
+                .ok_or(FlowError::Defective(f64::INFINITY))?;
+            let condition = modes.norm() * inverse.norm();
+            if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
+                return Err(FlowError::Defective(condition));
+            }
+            (inverse, None)
+        } else {
+            // `W = [V_e | (R, 0) | (0, R)]`: the elastic coordinates are the first rows of
+            // `W⁻¹`, the rigid positions and velocities its last `2r`.
+            let (elastic, r) = (rates.len(), shapes.ncols());
+            let mut basis = DMatrix::<C64>::zeros(2 * n, 2 * n);
+            basis.view_mut((0, 0), (2 * n, elastic)).copy_from(&modes);
+            for j in 0..r {
+                for i in 0..n {
+                    let v = C64::new(shapes[(i, j)], 0.0);
+                    basis[(i, elastic + j)] = v;
+                    basis[(n + i, elastic + r + j)] = v;
+                }
+            }
+            let full = basis
+                .clone()
+                .try_inverse()
+                .ok_or(FlowError::Defective(f64::INFINITY))?;
+            let condition = basis.norm() * full.norm();
+            if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
+                return Err(FlowError::Defective(condition));
+            }
+            let rows = full.rows(elastic, 2 * r).into_owned();
+            let forcing = (forcing_cos, forcing_sin, forcing_constant);
+            let rigid = rigid::RigidModes::new(shapes, &rows, &minv, forcing, omega);
+            (full.rows(0, elastic).into_owned(), Some(Box::new(rigid)))
+        };
         let lift = |f: DVector<C64>| {
             let mut b = DVector::<C64>::zeros(2 * n);
             let accel = minv.map(|v| C64::new(v, 0.0)) * f;
@@ -369,30 +437,30 @@ impl LinearFlow {
             .collect();
         let w = C64::new(0.0, omega);
         let has_constant = constant.iter().any(|c| *c != C64::default());
-        let steady = rates
-            .iter()
-            .all(|&l| {
+        // A flow with rigid modes flies in the general form, which carries them.
+        let steady = (rigid.is_none()
+            && rates.iter().all(|&l| {
                 let forced_at_zero = has_constant && resonant(-l, period);
                 !(resonant(w - l, period) || resonant(-w - l, period) || forced_at_zero)
-            })
-            .then(|| SteadyResponse {
-                plus: rates
-                    .iter()
-                    .zip(plus.iter())
-                    .map(|(&l, &g)| g / (w - l))
-                    .collect(),
-                minus: rates
-                    .iter()
-                    .zip(minus.iter())
-                    .map(|(&l, &g)| g / (-w - l))
-                    .collect(),
-                constant: rates
-                    .iter()
-                    .zip(constant.iter())
-                    .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
-                    .collect(),
-            })
-            .map(|response| response.of_kept(&kept));
+            }))
+        .then(|| SteadyResponse {
+            plus: rates
+                .iter()
+                .zip(plus.iter())
+                .map(|(&l, &g)| g / (w - l))
+                .collect(),
+            minus: rates
+                .iter()
+                .zip(minus.iter())
+                .map(|(&l, &g)| g / (-w - l))
+                .collect(),
+            constant: rates
+                .iter()
+                .zip(constant.iter())
+                .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
+                .collect(),
+        })
+        .map(|response| response.of_kept(&kept));
         let apart = |m: &DMatrix<C64>| {
             (
                 m.as_slice().iter().map(|c| c.re).collect(),
@@ -406,7 +474,8 @@ impl LinearFlow {
             .collect();
         let mode_columns = apart(&modes);
         let kept_peaks = kept_peaks(&modes, &kept);
-        let joint_modes = joint_modes(&rates, &kept, &kept_sizes, omega);
+        let joint_modes =
+            joint_modes(&rates, &kept, &kept_sizes, omega).filter(|_| rigid.is_none());
         Ok(Self {
             dofs: n,
             omega,
@@ -425,6 +494,7 @@ impl LinearFlow {
             kept_peaks,
             joint_modes,
             steady,
+            rigid,
         })
     }
 
@@ -549,6 +619,58 @@ impl LinearFlow {
                 }
             }
         }
+        if let Some(rigid) = &self.rigid {
+            rigid.add_propagator(s, out);
+        }
+    }
+
+    /// Rigid modes `r`: the dimension of the common null space of `K` and `C` (a free body
+    /// contributes one per direction it moves in unheld). The elastic modes number
+    /// `2(n − r)`.
+    pub fn rigid_modes(&self) -> usize {
+        self.rigid.as_ref().map_or(0, |r| r.count())
+    }
+
+    /// The rigid shapes `R` (`n × r`, orthonormal columns), if the flow has rigid modes.
+    pub fn rigid_shapes(&self) -> Option<&DMatrix<f64>> {
+        self.rigid.as_ref().map(|r| &r.shapes)
+    }
+
+    /// The linear steady state `y(t)` (length `2n`) at time `t`, the motion with every free
+    /// transient decayed: each elastic mode's forced response
+    /// `Re Σ_k v_k (g⁺_k e^{iωt}/(iω − λ_k) + g⁻_k e^{−iωt}/(−iω − λ_k) − g⁰_k/λ_k)`. With
+    /// rigid modes the steady state is a family (a rigid mode keeps any constant position):
+    /// this is its zero-mean member, each rigid mode on the particular solution
+    /// `q = −Re(F e^{iωt})/ω²` alone.
+    ///
+    /// # Errors
+    /// [`FlowError::Resonant`] when a mode is resonant with the forcing (or, under a constant
+    /// force, a mode has rate 0), [`FlowError::RigidDrift`] when a constant force acts on a
+    /// rigid mode.
+    pub fn linear_steady_state(&self, t: f64) -> Result<DVector<f64>, FlowError> {
+        let m = 2 * self.dofs;
+        let w = C64::new(0.0, self.omega);
+        let (sin, cos) = crate::trig::sin_cos(self.omega * t);
+        let phase = C64::new(cos, sin);
+        let has_constant = self.constant.iter().any(|c| *c != C64::default());
+        let mut y = DVector::zeros(m);
+        for (k, &l) in self.rates.iter().enumerate() {
+            let forced_at_zero = has_constant && resonant(-l, self.period);
+            if resonant(w - l, self.period) || resonant(-w - l, self.period) || forced_at_zero {
+                return Err(FlowError::Resonant);
+            }
+            let mut z = self.plus[k] / (w - l) * phase + self.minus[k] / (-w - l) * phase.conj();
+            if has_constant {
+                z -= self.constant[k] / l;
+            }
+            for i in 0..m {
+                y[i] += (self.modes[(i, k)] * z).re;
+            }
+        }
+        if let Some(rigid) = &self.rigid {
+            rigid.add_steady_state(phase, self.omega, y.as_mut_slice())?;
+        }
+        Ok(y)
     }
 
     /// Whether flights use the steady forced response (no mode resonant with the forcing); at
@@ -625,7 +747,15 @@ impl LinearFlow {
                 }
             }
             None => Form::General {
-                start: &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                start: match &self.rigid {
+                    None => &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                    Some(rigid) => rigid.start(
+                        &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                        y,
+                        phase,
+                        self.omega,
+                    ),
+                },
                 plus: self.plus.map(|g| g * phase),
                 minus: self.minus.map(|g| g * phase.conj()),
             },
@@ -734,7 +864,10 @@ impl LinearFlow {
 
     /// Modal weights `Vᵀ c` of the functional `c · y`, with the steady response's part.
     pub fn functional(&self, c: &DVector<f64>) -> Functional {
-        let weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
+        let mut weights = self.modes.transpose() * c.map(|v| C64::new(v, 0.0));
+        if let Some(rigid) = &self.rigid {
+            weights = rigid.weights(weights, c);
+        }
         let (mut forced, mut constant) = (C64::default(), 0.0);
         if let Some(p) = &self.steady {
             for (j, &(k, weight)) in self.kept.iter().enumerate() {
