@@ -95,6 +95,18 @@ pub(crate) fn simulate(
     if let Some(t) = record.transmittance_db {
         let _ = writeln!(out, "T = {t:.4} dB (observed body against u_g)");
     }
+    if record.family {
+        let floating: Vec<&str> = (0..loaded.structure.dofs())
+            .filter(|&j| loaded.structure.floating[j].is_some())
+            .map(|j| loaded.structure.names[j].as_str())
+            .collect();
+        let _ = writeln!(
+            out,
+            "family: no impact, and no spring holds {}: any offset the stops leave room for \
+             is as steady as the one this run ended at",
+            floating.join(", ")
+        );
+    }
     let _ = writeln!(
         out,
         "periods run: {}, impacts: {}",

@@ -125,6 +125,11 @@ pub struct StructureSimulationRecord {
     pub floquet_multipliers: Option<Vec<[Option<f64>; 2]>>,
     /// Why the cycle could not be polished, when it could not.
     pub orbit_error: Option<String>,
+    /// Whether the motion is one member of a family: periodic without impacts on a structure
+    /// with floating bodies (no spring holds them), which keep whatever offset the run left
+    /// them at. Any offset the stops leave room for is as steady, so their amplitudes are one
+    /// member's.
+    pub family: bool,
 }
 
 impl StructureSimulationRecord {
@@ -163,6 +168,7 @@ impl StructureSimulationRecord {
                 .as_ref()
                 .map(|o| multipliers(&o.floquet_multipliers)),
             orbit_error: s.orbit_error.clone(),
+            family: s.family,
         }
     }
 }
