@@ -45,10 +45,7 @@ const TIMEOUT: Duration = Duration::from_secs(180);
 /// The guide's commands that are not `rattle` and are not run here, with the reason. Each
 /// entry must still appear in the guide (a stale entry fails the test).
 const NOT_RUN_HERE: &[(&str, &str)] = &[
-    (
-        "cargo test --workspace",
-        "the command that runs this test",
-    ),
+    ("cargo test --workspace", "the command that runs this test"),
     (
         "cargo xtask figures",
         "rewrites the committed figures, tables and validation report (minutes of CPU); \
@@ -173,7 +170,10 @@ fn blocks(markdown: &str, page: &str) -> Result<Vec<Block>, String> {
             let text = comment
                 .strip_suffix("-->")
                 .ok_or_else(|| format!("{page}:{}: a directive ends with `-->`", i + 1))?;
-            pending.push((i + 1, directive(text).map_err(|e| format!("{page}:{}: {e}", i + 1))?));
+            pending.push((
+                i + 1,
+                directive(text).map_err(|e| format!("{page}:{}: {e}", i + 1))?,
+            ));
             i += 1;
             continue;
         }
@@ -654,7 +654,10 @@ fn a_command_neither_run_nor_listed_fails() {
     assert!(failures.is_empty(), "{failures:?}");
     assert!(log[0].contains("not run: `make figures`: needs make"));
     let (failures, log) = check_one("```sh\ncargo xtask figures   # every figure\n```\n");
-    assert!(failures.is_empty() && log[0].contains("not run"), "{failures:?}");
+    assert!(
+        failures.is_empty() && log[0].contains("not run"),
+        "{failures:?}"
+    );
 }
 
 #[test]
@@ -678,9 +681,8 @@ fn a_transcript_checks_the_output_shown() {
     let (failures, _) = check_one(shown);
     assert_eq!(failures.len(), 1, "{failures:?}");
     // Output that the command does not print.
-    let (failures, _) = check_one(
-        "```console\n$ rattle simulate --omega 2.0\n...\nregime: three-impact\n```\n",
-    );
+    let (failures, _) =
+        check_one("```console\n$ rattle simulate --omega 2.0\n...\nregime: three-impact\n```\n");
     assert_eq!(failures.len(), 1, "{failures:?}");
     assert!(failures[0].contains("does not print `regime: three-impact`"));
     // Lines out of order.
@@ -739,6 +741,120 @@ fn blocks_are_read_as_a_shell_reads_them() {
     assert!(blocks("```\nrattle orbit\n```\n", "p.md").is_err());
     assert!(blocks("```sh\nrattle orbit\n", "p.md").is_err());
     assert!(blocks("<!-- test: nonsense -->\n```sh\nrattle\n```\n", "p.md").is_err());
-    assert!(blocks("<!-- test: a => b -->\n\ntext\n```sh\nrattle\n```\n", "p.md").is_err());
+    assert!(blocks(
+        "<!-- test: a => b -->\n\ntext\n```sh\nrattle\n```\n",
+        "p.md"
+    )
+    .is_err());
     assert!(blocks("<!-- test: not run: -->\n```sh\nx\n```\n", "p.md").is_err());
+}
+
+/// The options of other programs that the guide names, with the program: every other
+/// `--option` written in the guide must be an option of a `rattle` command.
+const OTHER_PROGRAMS_OPTIONS: &[(&str, &str)] = &[
+    ("cargo", "--all"),
+    ("cargo", "--all-targets"),
+    ("cargo", "--bench"),
+    ("cargo", "--bin"),
+    ("cargo", "--check"),
+    ("cargo", "--example"),
+    ("cargo", "--no-default-features"),
+    ("cargo", "--no-deps"),
+    ("cargo", "--path"),
+    ("cargo", "--release"),
+    ("cargo", "--workspace"),
+    ("cargo xtask", "--bad-scenes"),
+    ("cargo xtask", "--quick"),
+    ("cargo xtask", "--scene"),
+    ("cargo xtask", "--scenes"),
+    ("cargo xtask", "--seed"),
+    ("cargo xtask", "--structures"),
+    ("criterion", "--measurement-time"),
+    ("criterion", "--warm-up-time"),
+    ("sbatch", "--array"),
+    ("sbatch", "--cpus-per-task"),
+    ("sbatch", "--dependency"),
+];
+
+/// Every `--option` in `text`: two dashes, then a lower-case word with dashes.
+fn options(text: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    for (i, _) in text.match_indices("--") {
+        let before = text[..i].chars().next_back();
+        if before.is_some_and(|c| c.is_alphanumeric() || c == '-') {
+            continue;
+        }
+        let name: String = text[i + 2..]
+            .chars()
+            .take_while(|c| c.is_ascii_lowercase() || *c == '-')
+            .collect();
+        let name = name.trim_end_matches('-');
+        if name.chars().next().is_some_and(|c| c.is_ascii_lowercase()) {
+            found.push(format!("--{name}"));
+        }
+    }
+    found
+}
+
+#[test]
+fn every_option_the_guide_names_exists() {
+    let commands = [
+        "orbit",
+        "family",
+        "simulate",
+        "compare",
+        "continue",
+        "boundary",
+        "boundaries",
+        "sweep",
+        "merge",
+        "map",
+        "basins",
+    ];
+    let mut known = std::collections::BTreeSet::new();
+    for command in commands {
+        let out = Command::new(env!("CARGO_BIN_EXE_rattle"))
+            .args([command, "--help"])
+            .output()
+            .expect("rattle runs");
+        assert!(out.status.success(), "rattle {command} --help");
+        known.extend(options(&String::from_utf8_lossy(&out.stdout)));
+    }
+    assert!(
+        known.contains("--omega") && known.contains("--shard"),
+        "{known:?}"
+    );
+    let mut used = vec![false; OTHER_PROGRAMS_OPTIONS.len()];
+    let mut unknown = Vec::new();
+    for (page, text) in guide() {
+        for option in options(&text) {
+            if let Some(k) = OTHER_PROGRAMS_OPTIONS
+                .iter()
+                .position(|(_, o)| *o == option)
+            {
+                used[k] = true;
+            } else if !known.contains(&option) {
+                unknown.push(format!("{page}: {option}"));
+            }
+        }
+    }
+    unknown.dedup();
+    assert!(
+        unknown.is_empty(),
+        "options no rattle command has: {unknown:?}"
+    );
+    for ((program, option), used) in OTHER_PROGRAMS_OPTIONS.iter().zip(used) {
+        assert!(
+            used,
+            "OTHER_PROGRAMS_OPTIONS lists {program}'s {option}, which no page names"
+        );
+    }
+}
+
+#[test]
+fn options_are_found_in_prose() {
+    assert_eq!(
+        options("`--omega W`, --max-periods, a -- b, x--y, --Upper, `--shard K/N`—"),
+        ["--omega", "--max-periods", "--shard"]
+    );
 }

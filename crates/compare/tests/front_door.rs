@@ -31,7 +31,10 @@ fn a_branch_listed_but_not_followed_says_why() {
         .iter()
         .filter(|l| l.contains("listed, not followed (max-depth)"))
         .collect();
-    assert!(!listed.is_empty(), "no branch listed without points:\n{text}");
+    assert!(
+        !listed.is_empty(),
+        "no branch listed without points:\n{text}"
+    );
     assert!(
         branches.iter().any(|l| l.contains(" points on ω ∈ [")),
         "no branch followed:\n{text}"
@@ -42,14 +45,28 @@ fn a_branch_listed_but_not_followed_says_why() {
 #[test]
 fn a_malformed_scene_names_the_last_field_read() {
     let cases = [
-        ("{\"name\": \"x\", \"unit\": {", "unit: not valid JSON: EOF while parsing"),
-        ("{", ".: not valid JSON: EOF while parsing an object (line 1, column 1)"),
-        ("not json", ".: not valid JSON: expected ident (line 1, column 2)"),
+        (
+            "{\"name\": \"x\", \"unit\": {",
+            "unit: not valid JSON: EOF while parsing",
+        ),
+        (
+            "{",
+            ".: not valid JSON: EOF while parsing an object (line 1, column 1)",
+        ),
+        (
+            "not json",
+            ".: not valid JSON: expected ident (line 1, column 2)",
+        ),
         ("{\"unit\": 3}", "unit: invalid type: integer `3`"),
     ];
     for (k, (text, message)) in cases.into_iter().enumerate() {
         let path = scene_file("front-door", &format!("bad-{k}.json"), text);
-        let out = rattle(&["simulate", path.to_str().expect("a UTF-8 path"), "--omega", "2"]);
+        let out = rattle(&[
+            "simulate",
+            path.to_str().expect("a UTF-8 path"),
+            "--omega",
+            "2",
+        ]);
         assert_eq!(out.status.code(), Some(2));
         let err = String::from_utf8_lossy(&out.stderr);
         let expected = format!("rattle: {}: {message}", path.display());
