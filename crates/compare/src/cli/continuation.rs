@@ -298,13 +298,26 @@ fn summary(record: &ContinuationRecord) -> String {
                 (lo.min(value(p.omega)), hi.max(value(p.omega)))
             });
         let stable = points.filter(|p| p.stable && p.viable).count();
+        // A branch listed at the switching depth or the branch cap has no points: its end says
+        // why, instead of an empty ω range.
+        let followed = if b.points == 0 {
+            let why = record.ends.iter().find(|e| e.branch == b.branch);
+            format!(
+                "listed, not followed ({})",
+                why.map_or("no points".to_owned(), |e| e.reason.to_string())
+            )
+        } else {
+            format!(
+                "{} points on ω ∈ [{lo:.6}, {hi:.6}], {stable} stable and viable",
+                b.points
+            )
+        };
         let _ = writeln!(
             out,
-            "branch {}: {} over {} period(s), {} points on ω ∈ [{lo:.6}, {hi:.6}], {stable} stable and viable{}",
+            "branch {}: {} over {} period(s), {followed}{}",
             b.branch,
             b.signature,
             b.period,
-            b.points,
             b.from_event
                 .map_or(String::new(), |e| format!(", from event {e}"))
         );

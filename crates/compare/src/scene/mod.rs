@@ -109,12 +109,24 @@ fn is_structure(text: &str) -> bool {
 fn deserialize<T: serde::de::DeserializeOwned>(text: &str, origin: &str) -> Result<T, SceneError> {
     let de = &mut serde_json::Deserializer::from_str(text);
     serde_path_to_error::deserialize(de).map_err(|e| {
+        // `?` is serde_path_to_error's stand-in for a key the parser had not read when the
+        // text stopped being JSON: the path ends at the last field it had read.
         let path = e.path().to_string();
+        let path = path.trim_end_matches('?').trim_end_matches('.');
         let inner = e.into_inner();
+        let syntax = matches!(
+            inner.classify(),
+            serde_json::error::Category::Syntax | serde_json::error::Category::Eof
+        );
+        let message = strip_position(&inner.to_string());
         SceneError::Format {
             origin: origin.to_owned(),
-            path_in_scene: path,
-            message: strip_position(&inner.to_string()),
+            path_in_scene: if path.is_empty() { "." } else { path }.to_owned(),
+            message: if syntax {
+                format!("not valid JSON: {message}")
+            } else {
+                message
+            },
             line: inner.line(),
             column: inner.column(),
         }
