@@ -1,14 +1,16 @@
 //! Random structures through both solvers: one to four bodies, each held by a spring to the
-//! frame, the base or an earlier body (so that no body is free); one to three stops between
-//! two bodies or a body and the frame, two-sided, asymmetric or one-sided; driven by the base,
-//! by forces, or both. Per structure, at a random frequency:
+//! frame, the base or an earlier body; one to three stops between two bodies or a body and the
+//! frame, two-sided, asymmetric or one-sided; driven by the base, by forces, or both; and one
+//! structure in three carries a free body (no spring, no dashpot) in a two-sided clearance of
+//! a body or between two walls of the frame, as an impact damper's. Per structure, at a random
+//! frequency:
 //! - 20 periods from rest are finite, never pass a stop (beyond 1e-9 of the motion's size),
 //!   and no impact gains energy or changes the momentum of the bodies it involves (1e-12);
 //! - the cross-check of `rattle compare` is never a contradiction, and a periodic impacting
 //!   motion that both solvers find agrees.
 //!
-//! Bad structures (a name that does not exist, a free body, a gap of zero, a stop against the
-//! base) are refused naming their field.
+//! Bad structures (a name that does not exist, a body that nothing holds, a gap of zero, a stop
+//! against the base) are refused naming their field.
 
 use super::{progress, Rng};
 use nalgebra::DVector;
@@ -91,6 +93,30 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
     } else {
         Vec::new()
     };
+    let base = tied_to_base.then(|| BaseSpec {
+        amplitude: rng.uniform(0.1, 3.0),
+    });
+    let omega = rng.uniform(0.3, 5.0);
+    // Drawn after the rest, so that the structures without one are those of the same index
+    // before free bodies were drawn.
+    let (mut bodies, mut stops): (Vec<BodySpec>, Vec<StopSpec>) = (bodies, stops);
+    if rng.below(3) == 0 {
+        let host = match rng.below(n as u64 + 1) as usize {
+            k if k == n => "frame".to_owned(),
+            k => name(k),
+        };
+        bodies.push(BodySpec {
+            name: "free".into(),
+            mass: rng.uniform(0.05, 1.0),
+        });
+        stops.push(StopSpec {
+            between: [host, "free".into()],
+            gap: None,
+            gap_plus: Some(rng.uniform(0.05, 2.0)),
+            gap_minus: Some(rng.uniform(0.05, 2.0)),
+            restitution: rng.uniform(0.0, 1.0),
+        });
+    }
     let scene = StructureScene {
         name: format!("soak-structure-{index}"),
         structure: StructureSpec {
@@ -100,14 +126,13 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
             stops,
         },
         forcing: ForcingSpec {
-            base: tied_to_base.then(|| BaseSpec {
-                amplitude: rng.uniform(0.1, 3.0),
-            }),
+            base,
             forces,
         },
-        observe: None,
+        // The last body unless that is the free one.
+        observe: Some(name(n - 1)),
     };
-    (scene, rng.uniform(0.3, 5.0))
+    (scene, omega)
 }
 
 /// 20 periods from rest are finite, inside every stop, and no impact gains energy or changes
@@ -237,10 +262,10 @@ fn bad_structures(seed: u64) -> Vec<String> {
             Box::new(|s| s.structure.stops[0].between[0] = "base".into()),
         ),
         (
-            "structure.springs",
+            "structure.stops",
             Box::new(|s| {
                 s.structure.bodies.push(BodySpec {
-                    name: "free".into(),
+                    name: "loose".into(),
                     mass: 1.0,
                 })
             }),

@@ -1,5 +1,5 @@
 //! What an impact damper buys: the primary's amplitude against frequency with the free body
-//! (simulated, sweeping up) and without it (the primary alone, linear), one panel per gallery
+//! (simulated, sweeping up and down) and without it (the primary alone, linear), one panel per gallery
 //! damper, with the one-body damper's closed-form symmetric two-impact motion on top.
 
 use crate::figures::plot::{axes, err, legend, text, Figure};
@@ -34,6 +34,7 @@ fn draw_panel<DB: DrawingBackend>(
         .alone
         .iter()
         .chain(&panel.up)
+        .chain(&panel.down)
         .chain(&panel.irregular)
         .map(|p| p.1)
         .chain(panel.branch.iter().map(|p| p.amplitude))
@@ -79,8 +80,19 @@ fn draw_panel<DB: DrawingBackend>(
                 .map(|&p| Circle::new(p, 3, up_colour.filled())),
         )
         .map_err(err)?
-        .label("with the damper: simulated, periodic")
+        .label("with the damper: simulated, periodic, sweeping up")
         .legend(move |(x, y)| Circle::new((x + 10, y), 4, up_colour.filled()));
+    let down_colour = RGBColor(20, 160, 90);
+    chart
+        .draw_series(
+            panel
+                .down
+                .iter()
+                .map(|&p| TriangleMarker::new(p, 4, down_colour.filled())),
+        )
+        .map_err(err)?
+        .label("with the damper: simulated, periodic, sweeping down")
+        .legend(move |(x, y)| TriangleMarker::new((x + 10, y), 4, down_colour.filled()));
     let irregular_colour = RGBColor(220, 60, 30);
     chart
         .draw_series(

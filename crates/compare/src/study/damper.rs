@@ -22,8 +22,9 @@ pub const IMPACT_DAMPER_TWO_MASS_SCENE: &str =
 /// the two-body primary's (`√0.5` and `√2` rad/s).
 pub const DAMPER_RANGE: (f64, f64) = (0.4, 1.8);
 
-/// Points of each simulated sweep (each continued from the last one's final state).
-pub const DAMPER_POINTS: usize = 240;
+/// Points of each simulated sweep, up and down (each continued from the last one's final
+/// state).
+pub const DAMPER_POINTS: usize = 150;
 
 /// Points of the closed-form branch and of the primary alone.
 pub const DAMPER_BRANCH_POINTS: usize = 600;
@@ -59,7 +60,10 @@ pub struct DamperPanel {
     pub alone: Vec<(f64, f64)>,
     /// `(ω, amplitude)` simulated with the free body, sweeping up; periodic motions only.
     pub up: Vec<(f64, f64)>,
-    /// `(ω, amplitude)` of motions that were not periodic within the run (their last cycle).
+    /// The same, sweeping down.
+    pub down: Vec<(f64, f64)>,
+    /// `(ω, amplitude)` of motions that were not periodic within the run (their last cycle),
+    /// both ways.
     pub irregular: Vec<(f64, f64)>,
     /// The viable closed-form symmetric motions (the one-body damper only).
     pub branch: Vec<DamperBranchPoint>,
@@ -182,15 +186,16 @@ fn panel(text: &str, points: usize, branch_points: usize) -> DamperPanel {
             })
             .collect()
     });
-    let (up, irregular) = sweep(
-        &structure,
-        Axis::new(DAMPER_RANGE.0, DAMPER_RANGE.1, points).values(),
-    );
+    let grid = Axis::new(DAMPER_RANGE.0, DAMPER_RANGE.1, points).values();
+    let (up, mut irregular) = sweep(&structure, grid.iter().copied());
+    let (down, irregular_down) = sweep(&structure, grid.iter().rev().copied());
+    irregular.extend(irregular_down);
     DamperPanel {
         scene_name: scene.name,
         observed: structure.names[structure.observe].clone(),
         alone,
         up,
+        down,
         irregular,
         branch,
     }
@@ -199,7 +204,10 @@ fn panel(text: &str, points: usize, branch_points: usize) -> DamperPanel {
 /// The observed body's amplitude at each frequency of `omegas`, each run started from the
 /// last one's final state (the first from rest): periodic motions, then the others.
 #[allow(clippy::type_complexity)]
-fn sweep(structure: &Structure, omegas: Vec<f64>) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+fn sweep(
+    structure: &Structure,
+    omegas: impl Iterator<Item = f64>,
+) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
     let options = SimulationOptions {
         max_periods: SWEEP_MAX_PERIODS,
         ..SimulationOptions::default()
