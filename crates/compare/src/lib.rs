@@ -17,6 +17,7 @@
 //! | [`references`] | closed-form answers computed apart from both solvers, to check them against |
 #![deny(missing_docs)]
 
+pub mod api;
 pub mod cli;
 #[cfg(feature = "figures")]
 pub mod figures;

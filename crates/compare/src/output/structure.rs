@@ -448,3 +448,32 @@ pub fn structure_trajectory(
         },
     )
 }
+
+/// What `rattle orbit --signature --json` prints for a structure.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureOrbitsRecord {
+    /// The scene and the frequency.
+    #[serde(flatten)]
+    pub at: StructureAt,
+    /// The impact sequence, canonical.
+    pub sequence: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// Every orbit of the sequence the multi-start finds.
+    pub orbits: Vec<StructureOrbitRecord>,
+}
+
+/// One orbit of a structure's impact sequence.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureOrbitRecord {
+    /// The forcing's phase `θ = ωt + α` at the first impact (`t = 0`), rad in `(−π, π]`: the
+    /// base moves as `u_g cos θ`, a force as `F cos(θ + φ)`.
+    pub alpha: Option<f64>,
+    /// The impacts' times as fractions of the cycle, first 0.
+    pub impact_phases: Vec<Option<f64>>,
+    /// Each impact's relative velocity just before it, `ṙ⁻`, m/s.
+    pub relative_velocities_before: Vec<Option<f64>>,
+    /// The orbit's amplitudes, verdicts and multipliers.
+    #[serde(flatten)]
+    pub orbit: StructureAnalyticRecord,
+}
