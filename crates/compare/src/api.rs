@@ -1098,7 +1098,8 @@ pub fn map<P: Write, B: Write>(
 /// };
 /// let text = api::map_document(&Scene::paper(), &grid, &MapSettings::default(), None)?;
 /// let document: serde_json::Value = serde_json::from_str(&text).unwrap();
-/// assert_eq!(document["rows"].as_array().unwrap().len(), 3);
+/// assert_eq!(document["points"], 3);
+/// assert_eq!(document["results"].as_array().unwrap().len(), 3);
 /// # Ok::<(), rattle_compare::api::ApiError>(())
 /// ```
 pub fn map_document(

@@ -70,7 +70,7 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
         unreachable!("a unit loaded by `load_unit`")
     };
     let (point, record) = (&found.point, &found.record);
-    let mut out = heading(&scene, omega);
+    let mut out = heading(scene, omega);
     let lin = &point.linear;
     if lin.unbounded {
         let _ = writeln!(out, "linear: unbounded (undamped exact resonance)");

@@ -83,6 +83,26 @@ fn transmittance(structure: &Structure, amplitudes: &[f64]) -> Option<f64> {
 }
 
 /// What `rattle simulate --json` prints for a structure.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api::{self, Simulation};
+/// use rattle_event_driven::SimulationOptions;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/impact-oscillator.json");
+/// let scene = api::load(path)?;
+/// let Simulation::Structure { record, .. } =
+///     api::simulate(&scene, 1.5, &SimulationOptions::default())?
+/// else {
+///     unreachable!("a scene of the structure form")
+/// };
+/// // One entry per stop, every body named by the scene's name for it.
+/// assert_eq!(record.pair_impacts_per_period.len(), 1);
+/// let json = serde_json::to_value(&record).unwrap();
+/// assert!(json["body_amplitudes"].is_object());
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct StructureSimulationRecord {
     /// The scene and the frequency.
