@@ -215,11 +215,17 @@ pub fn parse(text: &str) -> Result<AnyScene, ApiError> {
 /// # Ok::<(), rattle_compare::api::ApiError>(())
 /// ```
 pub fn check_frequency(scene: &AnyScene, name: &str, omega: f64) -> Result<f64, ApiError> {
-    let bounds = match scene {
-        AnyScene::Cells(scene) => FrequencyBounds::of(scene),
-        AnyScene::Structure(form) => FrequencyBounds::of_structure(&form.structure),
-    };
-    Ok(bounds.check(name, omega)?)
+    match scene {
+        AnyScene::Cells(scene) => check_cells_frequency(scene, name, omega),
+        AnyScene::Structure(form) => {
+            Ok(FrequencyBounds::of_structure(&form.structure).check(name, omega)?)
+        }
+    }
+}
+
+/// [`check_frequency`] on a scene of the cells form.
+fn check_cells_frequency(scene: &Scene, name: &str, omega: f64) -> Result<f64, ApiError> {
+    Ok(FrequencyBounds::of(scene).check(name, omega)?)
 }
 
 /// The cells form of `scene`, or bad input naming `call` for a structure.
@@ -452,7 +458,7 @@ pub fn orbits(scene: &AnyScene, omega: f64, search: OrbitSearch) -> Result<Orbit
     scene
         .refuse_chain("rattle_compare::api::orbits")
         .map_err(argument)?;
-    let omega = check_frequency(&AnyScene::Cells(scene.clone()), "--omega", omega)?;
+    let omega = check_cells_frequency(scene, "--omega", omega)?;
     let point = analyse(scene, omega, search).map_err(numerical)?;
     let record = OrbitsRecord {
         at: At::new(scene, omega),
@@ -834,10 +840,10 @@ impl Sweep {
     }
 }
 
-/// Every frequency of `omegas` checked against `scene`'s bounds, each named `omegas[i]`.
-fn check_frequencies(scene: &AnyScene, omegas: &[f64]) -> Result<(), ApiError> {
+/// Every frequency of `omegas` checked against `bounds`, each named `omegas[i]`.
+fn check_frequencies(bounds: &FrequencyBounds, omegas: &[f64]) -> Result<(), ApiError> {
     for (i, &omega) in omegas.iter().enumerate() {
-        check_frequency(scene, &format!("omegas[{i}]"), omega)?;
+        bounds.check(&format!("omegas[{i}]"), omega)?;
     }
     Ok(())
 }
@@ -904,7 +910,7 @@ pub fn sweep_each<E: From<ApiError>>(
     progress: &Progress,
     each: impl FnMut(SweepRow) -> Result<(), E>,
 ) -> Result<(), E> {
-    check_frequencies(&AnyScene::Cells(scene.clone()), omegas)?;
+    check_frequencies(&FrequencyBounds::of(scene), omegas)?;
     sweep_rows(scene, omegas, solver, options, progress, each)
 }
 
@@ -920,12 +926,7 @@ pub fn structure_sweep_each<E: From<ApiError>>(
     progress: &Progress,
     each: impl FnMut(StructureSweepRow) -> Result<(), E>,
 ) -> Result<(), E> {
-    let bounds = FrequencyBounds::of_structure(&form.structure);
-    for (i, &omega) in omegas.iter().enumerate() {
-        bounds
-            .check(&format!("omegas[{i}]"), omega)
-            .map_err(ApiError::from)?;
-    }
+    check_frequencies(&FrequencyBounds::of_structure(&form.structure), omegas)?;
     structure_sweep_rows(&form.structure, omegas, solver, options, progress, each)
 }
 
@@ -991,7 +992,7 @@ pub fn continuation(
     orbit: Option<usize>,
     settings: &ContinuationSettings,
 ) -> Result<Continuation, ApiError> {
-    let omega = check_frequency(&AnyScene::Cells(scene.clone()), "--omega", omega)?;
+    let omega = check_cells_frequency(scene, "--omega", omega)?;
     let error = |e: FollowError| match e {
         FollowError::OrbitIndex { .. }
         | FollowError::NoStops
@@ -1062,9 +1063,8 @@ pub fn map<P: Write, B: Write>(
     if scene.stops.is_none() {
         return Err(argument(MapError::NoStops));
     }
-    let any = AnyScene::Cells(scene.clone());
-    check_frequency(&any, "--omega-min", grid.omega.min)?;
-    check_frequency(&any, "--omega-max", grid.omega.max)?;
+    check_cells_frequency(scene, "--omega-min", grid.omega.min)?;
+    check_cells_frequency(scene, "--omega-max", grid.omega.max)?;
     write_map(scene, grid, settings, shard, points, bandwidth, progress).map_err(|e| match e {
         WriteMapError::Map(e) => argument(e),
         WriteMapError::Points(source) => ApiError::Write {
@@ -1161,7 +1161,7 @@ pub fn basins<W: Write>(
     scene
         .refuse_chain("rattle_compare::api::basins")
         .map_err(argument)?;
-    let omega = check_frequency(&AnyScene::Cells(scene.clone()), "--omega", omega)?;
+    let omega = check_cells_frequency(scene, "--omega", omega)?;
     write_basins(scene, omega, grid, options, shard, out, progress).map_err(|source| {
         ApiError::Write {
             table: Table::Points,
