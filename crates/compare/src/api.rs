@@ -327,7 +327,7 @@ pub fn simulate(
 
 /// A cycle sampled in time: the two tables `--trajectory` and `--impacts` write.
 #[derive(Debug, Clone)]
-pub enum Trajectory {
+pub enum TrajectoryTables {
     /// A unit or a chain: one row per cell at each time, every impact as two rows.
     Cells {
         /// The states, columns `t, kind, cell, base, u_o, u_i, v_o, v_i, r`.
@@ -356,7 +356,7 @@ pub fn simulation_trajectory(
     simulation: &Simulation,
     samples_per_period: u64,
     options: &SimulationOptions,
-) -> Result<Trajectory, ApiError> {
+) -> Result<TrajectoryTables, ApiError> {
     use crate::output::trajectory::MAX_SAMPLES_PER_PERIOD;
     if !(1..=MAX_SAMPLES_PER_PERIOD).contains(&samples_per_period) {
         return Err(ApiError::Argument(format!(
@@ -377,7 +377,7 @@ pub fn simulation_trajectory(
                 final_cycle_trajectory(&m, sim.omega, &sim.steady, &sampling(scene.base.amplitude))
                     .map_err(numerical)?;
             let (rows, impacts) = simulated_rows(&trajectory, &scene.cell_pairs());
-            Ok(Trajectory::Cells { rows, impacts })
+            Ok(TrajectoryTables::Cells { rows, impacts })
         }
         AnyScene::Structure(form) => {
             let structure = &form.structure;
@@ -390,7 +390,7 @@ pub fn simulation_trajectory(
             )
             .map_err(numerical)?;
             let (states, impacts) = structure_trajectory(structure, &trajectory);
-            Ok(Trajectory::Structure { states, impacts })
+            Ok(TrajectoryTables::Structure { states, impacts })
         }
     }
 }
@@ -937,12 +937,12 @@ pub struct Continuation {
     /// The command's record: branches, points, events and ends.
     pub record: ContinuationRecord,
     /// The branches as the continuation gives them.
-    pub branches: Branches,
+    pub branches: ContinuedBranches,
 }
 
 /// The branches of a [`Continuation`], a unit's or a chain's.
 #[derive(Debug, Clone)]
-pub enum Branches {
+pub enum ContinuedBranches {
     /// A unit's branches.
     Unit(Followed),
     /// A chain's branches, every point with every cell's outer amplitude.
@@ -1007,14 +1007,14 @@ pub fn continuation(
             follow_chain(scene, signature, period, omega, orbit, settings).map_err(error)?;
         return Ok(Continuation {
             record: followed.record(&scene.name),
-            branches: Branches::Chain(followed),
+            branches: ContinuedBranches::Chain(followed),
         });
     }
     let signature = Signature::parse(signature, period).map_err(argument)?;
     let followed = follow(scene, &signature, omega, orbit, settings).map_err(error)?;
     Ok(Continuation {
         record: followed.record(&scene.name),
-        branches: Branches::Unit(followed),
+        branches: ContinuedBranches::Unit(followed),
     })
 }
 

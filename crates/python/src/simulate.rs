@@ -7,7 +7,7 @@ use crate::scene::NativeScene;
 use crate::table::{columns, PyColumns};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use rattle_compare::api::{self, Simulation, Trajectory};
+use rattle_compare::api::{self, Simulation, TrajectoryTables};
 use rattle_compare::output::records::WithLyapunov;
 use rattle_compare::scene::lyapunov::check_periods;
 use rattle_event_driven::lyapunov::BATCHES;
@@ -47,8 +47,8 @@ fn simulate<'py>(
             Some(samples_per_period) => {
                 match api::simulation_trajectory(&scene, &simulation, samples_per_period, &options)?
                 {
-                    Trajectory::Cells { rows, impacts } => Some((rows, impacts)),
-                    Trajectory::Structure { .. } => unreachable!("a scene of the unit form"),
+                    TrajectoryTables::Cells { rows, impacts } => Some((rows, impacts)),
+                    TrajectoryTables::Structure { .. } => unreachable!("a scene of the unit form"),
                 }
             }
         };

@@ -2,7 +2,7 @@
 //! sequence) at one frequency, followed in ω with their bifurcations.
 
 use super::{check_frequency, check_omega, load, write_record, RattleError};
-use crate::api::{self, Branches};
+use crate::api::{self, ContinuedBranches};
 use crate::output::records::ContinuationRecord;
 use crate::output::{finite, number_list, table_row, Format};
 use crate::runs::continuation::{ChainFollowed, Followed};
@@ -201,8 +201,10 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
         &settings,
     )?;
     match &continued.branches {
-        Branches::Unit(followed) => write(&args, format, &continued.record, || rows(followed)),
-        Branches::Chain(followed) => {
+        ContinuedBranches::Unit(followed) => {
+            write(&args, format, &continued.record, || rows(followed))
+        }
+        ContinuedBranches::Chain(followed) => {
             write(&args, format, &continued.record, || chain_rows(followed))
         }
     }

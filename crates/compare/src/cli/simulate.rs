@@ -3,7 +3,7 @@
 use super::{
     check_omega, heading, load_any, pretty, Accuracy, Common, RattleError, TrajectoryArgs,
 };
-use crate::api::{self, Simulation, Trajectory};
+use crate::api::{self, Simulation, TrajectoryTables};
 use crate::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
 use crate::output::Format;
 use crate::scene::lyapunov::check_periods;
@@ -47,8 +47,8 @@ fn write_trajectory(
         return Ok(());
     };
     match api::simulation_trajectory(scene, simulation, args.samples_per_period, options)? {
-        Trajectory::Cells { rows, impacts } => args.write(rows, impacts),
-        Trajectory::Structure { states, impacts } => {
+        TrajectoryTables::Cells { rows, impacts } => args.write(rows, impacts),
+        TrajectoryTables::Structure { states, impacts } => {
             states.write(path, Format::of(path, "--trajectory")?)?;
             if let Some(path) = &args.impacts {
                 impacts.write(path, Format::of(path, "--impacts")?)?;
