@@ -1,12 +1,15 @@
 //! `rattle.basins`' native half: the basins table, as `rattle basins --out F.json
 //! [--shard K/N]` writes it.
 
-use crate::common::{check_frequency, check_omega, compute, count_of, shard, unit_only};
+use crate::common::{
+    check_frequency, check_omega, compute_api, count_of, python_names, shard, unit_only,
+};
 use crate::scene::NativeScene;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use rattle_compare::api::{self, ApiError};
 use rattle_compare::output::Format;
-use rattle_compare::runs::basins::{basin_options, write_basins, BasinGrid};
+use rattle_compare::runs::basins::{basin_options, BasinGrid};
 use rattle_compare::runs::parallel::Progress;
 
 /// `rattle basins --out F.json [--shard K/N]`: the basins table, the command's file as text.
@@ -38,9 +41,9 @@ fn basins_document(
     unit_only(&scene.scene, "rattle basins")?;
     check_frequency(&scene.scene, "omega", omega)?;
     let scene = &scene.scene;
-    compute(py, || {
+    compute_api(py, python_names, || {
         let mut out = Vec::new();
-        write_basins(
+        api::basins(
             scene,
             omega,
             grid,
@@ -48,9 +51,8 @@ fn basins_document(
             part,
             (Format::Json, &mut out),
             &Progress::hidden(),
-        )
-        .map_err(|e| e.to_string())?;
-        String::from_utf8(out).map_err(|e| e.to_string())
+        )?;
+        String::from_utf8(out).map_err(|e| ApiError::Numerical(e.to_string()))
     })
 }
 

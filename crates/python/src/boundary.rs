@@ -1,14 +1,14 @@
-//! `rattle.boundary`: one regime boundary, as `rattle boundary --json`, over
-//! [`rattle_compare::runs::boundary::follow_any`] with the command's own checks
-//! ([`BoundaryOptions`]) and messages, the options named as the Python parameters.
+//! `rattle.boundary`: one regime boundary, as `rattle boundary --json`, over the facade's
+//! [`api::boundary`] with the command's own checks ([`BoundaryOptions`]) and messages, the
+//! options named as the Python parameters.
 
-use crate::common::{compute, json, python_names};
+use crate::common::{compute_api, json, python_names};
 use crate::scene::NativeScene;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rattle_analytic::continuation::BoundarySettings;
-use rattle_compare::runs::boundary::{follow_any, BoundaryOptions, BoundaryRunError};
+use rattle_compare::api;
+use rattle_compare::runs::boundary::BoundaryOptions;
 
 /// The arguments of [`boundary`], as the Python half passes them (a dict, one item each).
 #[derive(FromPyObject)]
@@ -50,11 +50,6 @@ fn boundary_names(message: &str) -> String {
         .replace("boundary.max_step", "max_step")
 }
 
-/// A `ValueError` with the command's message, named as the Python parameters.
-fn bad(message: impl std::fmt::Display) -> PyErr {
-    PyValueError::new_err(boundary_names(&message.to_string()))
-}
-
 /// The boundary's default `omega_min`, `omega_max` and `max_step`, as the command's.
 #[pyfunction]
 fn boundary_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
@@ -64,16 +59,6 @@ fn boundary_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
     out.set_item("omega_max", d.omega_max)?;
     out.set_item("max_step", d.max_step)?;
     Ok(out)
-}
-
-/// A refused boundary as the Python exception: the caller's (`ValueError`) or a numerical
-/// failure (`RuntimeError`), the command's split between its exit codes 2 and 1.
-fn run_error(e: BoundaryRunError) -> PyErr {
-    if e.is_bad_input() {
-        bad(e)
-    } else {
-        PyRuntimeError::new_err(format!("numerical failure: {e}"))
-    }
 }
 
 /// `rattle boundary --json`: the event of one kind nearest `omega` on the branches of the
@@ -96,10 +81,8 @@ fn boundary(py: Python<'_>, scene: &NativeScene, input: BoundaryInput) -> PyResu
         omega_max: input.omega_max,
         max_step: input.max_step,
     };
-    let checked = options.checked().map_err(bad)?;
-    let request = options.request(&checked, scene.is_chain()).map_err(bad)?;
-    let record = compute(py, || Ok(follow_any(scene, &request, &checked.settings)))?;
-    json(&record.map_err(run_error)?)
+    let record = compute_api(py, boundary_names, || api::boundary(scene, &options))?;
+    json(&record)
 }
 
 /// Registers `boundary_defaults` and `boundary`.

@@ -2,13 +2,14 @@
 //! numerical failure raised as a `RuntimeError`, records handed over as JSON text) and the
 //! checks of the options several commands take, worded as the command words them.
 
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use rattle_compare::api::ApiError;
 use rattle_compare::runs::shard::Shard;
 use rattle_compare::scene::frequency::FrequencyBounds;
 use rattle_compare::scene::simulator::Accuracy;
-use rattle_compare::scene::Scene;
+use rattle_compare::scene::{AnyScene, Scene};
 use rattle_event_driven::SimulationOptions;
 use serde::Serialize;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -51,6 +52,32 @@ pub(crate) fn compute<T: Send>(
             ))
         })?
         .map_err(|message| PyRuntimeError::new_err(format!("numerical failure: {message}")))
+}
+
+/// Runs the facade call `work` with the GIL released ([`compute`]), its [`ApiError`] raised as
+/// the command words it: a numerical failure a `RuntimeError`, a table that cannot be written
+/// an `OSError`, bad input a `ValueError` whose message `names` renames (the command's options
+/// named as the Python parameters).
+pub(crate) fn compute_api<T: Send>(
+    py: Python<'_>,
+    names: fn(&str) -> String,
+    work: impl FnOnce() -> Result<T, ApiError> + Send,
+) -> PyResult<T> {
+    compute(py, || Ok(work()))?.map_err(|e| match e {
+        ApiError::Numerical(message) => {
+            PyRuntimeError::new_err(format!("numerical failure: {message}"))
+        }
+        ApiError::Write { .. } => PyOSError::new_err(e.to_string()),
+        ApiError::Scene(_) | ApiError::Frequency(_) | ApiError::Argument(_) => {
+            PyValueError::new_err(names(&e.to_string()))
+        }
+    })
+}
+
+/// The scene in the facade's form: a clone, as the facade takes either form
+/// ([`rattle_compare::api`]).
+pub(crate) fn any(scene: &Scene) -> AnyScene {
+    AnyScene::Cells(scene.clone())
 }
 
 /// The command's options named as this module's parameters (`--steady-tol` is `steady_tol`).

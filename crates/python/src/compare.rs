@@ -1,15 +1,14 @@
 //! `rattle.compare`: both solvers on the motion the unit settles on, as
 //! `rattle compare --json`.
 
-use crate::common::{check_frequency, compute, json, options};
+use crate::common::{any, check_frequency, compute_api, json, options, python_names};
 use crate::scene::NativeScene;
 use pyo3::prelude::*;
-use rattle_compare::verdict::chain::chain_cross_check;
-use rattle_compare::verdict::cross_check;
+use rattle_compare::api;
 
 /// `rattle compare --json`: both solvers on the motion the unit settles on; on a chain, the
 /// simulated cycle beside the analytic orbit of its impact sequence (the command's chain
-/// record).
+/// record); the facade's [`api::compare`], as the command's.
 #[pyfunction]
 #[pyo3(signature = (scene, omega, tol, steady_tol, max_periods, max_oscillations))]
 fn compare(
@@ -23,21 +22,10 @@ fn compare(
 ) -> PyResult<String> {
     let omega = check_frequency(&scene.scene, "omega", omega)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
-    let scene = &scene.scene;
-    if scene.is_chain() {
-        let record = compute(py, || {
-            chain_cross_check(scene, omega, &options)
-                .map(|c| c.record(scene))
-                .map_err(|e| e.to_string())
-        })?;
-        return json(&record);
-    }
-    let record = compute(py, || {
-        cross_check(scene, omega, &options)
-            .map(|c| c.record(scene))
-            .map_err(|e| e.to_string())
-    })?;
-    json(&record)
+    let scene = any(&scene.scene);
+    json(&compute_api(py, python_names, || {
+        api::compare(&scene, omega, &options)
+    })?)
 }
 
 /// Registers `compare`.

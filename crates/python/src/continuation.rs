@@ -1,15 +1,14 @@
 //! `rattle.continue_branch`: the orbits of a signature followed in frequency, as
 //! `rattle continue --json`, with the command's settings, checks and messages.
 
-use crate::common::{check_frequency, check_omega, compute, json, python_names};
+use crate::common::{check_frequency, check_omega, compute_api, json, python_names};
 use crate::scene::NativeScene;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
-use rattle_compare::runs::continuation::{follow, follow_chain, FollowError};
-use rattle_compare::verdict::chain::ChainOrbitsError;
+use rattle_compare::api;
 
 /// The continuation's default `max_step`, `max_branches` and `max_depth`, as the command's.
 #[pyfunction]
@@ -47,15 +46,13 @@ fn continue_branch(
     let omega = check_omega("omega", omega)?;
     let period = u32::try_from(period).unwrap_or(0);
     let text = signature;
-    let signature = if scene.scene.is_chain() {
-        // A chain's impact sequence is parsed against the chain, as the command does.
-        None
-    } else {
-        Some(
-            Signature::parse(text, period)
-                .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?,
-        )
-    };
+    if !scene.scene.is_chain() {
+        // A unit's signature is checked first, so that its message comes before the
+        // settings'; a chain's impact sequence is parsed against the chain, as the command
+        // does ([`api::continuation`]).
+        Signature::parse(text, period)
+            .map_err(|e| PyValueError::new_err(python_names(&e.to_string())))?;
+    }
     let max_branches = usize::try_from(max_branches).unwrap_or(0);
     let max_depth = usize::try_from(max_depth).map_err(|_| {
         PyValueError::new_err(format!(
@@ -101,29 +98,12 @@ fn continue_branch(
         })
         .transpose()?;
     let scene = &scene.scene;
-    let followed = compute(py, || {
-        Ok(match &signature {
-            Some(signature) => {
-                follow(scene, signature, omega, orbit, &settings).map(|f| f.record(&scene.name))
-            }
-            None => follow_chain(scene, text, period, omega, orbit, &settings)
-                .map(|f| f.record(&scene.name)),
-        })
-    })?;
     // Which errors are the caller's is the command's split (its exit code 2 against 1); a
     // numerical failure keeps the command's words (its hint names a command).
-    let record = followed.map_err(|e| match e {
-        FollowError::OrbitIndex { .. }
-        | FollowError::NoStops
-        | FollowError::Chain(ChainOrbitsError::Sequence(_) | ChainOrbitsError::MissingStops(_)) => {
-            PyValueError::new_err(python_names(&e.to_string()))
-        }
-        FollowError::Continuation(ref c) if c.to_string().contains("out of range") => {
-            PyValueError::new_err(python_names(&e.to_string()))
-        }
-        _ => PyRuntimeError::new_err(format!("numerical failure: {e}")),
+    let continued = compute_api(py, python_names, || {
+        api::continuation(scene, text, period, omega, orbit, &settings)
     })?;
-    json(&record)
+    json(&continued)
 }
 
 /// Registers `continuation_defaults` and `continue_branch`.

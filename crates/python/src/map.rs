@@ -1,15 +1,14 @@
 //! `rattle.map`'s native half: the map's points table, as `rattle map --out F.json
 //! [--shard K/N]` writes it, and the map's default accuracy options.
 
-use crate::common::{check_frequency, compute, count_of, options, python_names, shard};
+use crate::common::{check_frequency, compute_api, count_of, options, python_names, shard};
 use crate::scene::NativeScene;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rattle_compare::output::Format;
+use rattle_compare::api;
 use rattle_compare::runs::axis::Axis;
-use rattle_compare::runs::map::{write_map, MapError, MapGrid, MapSettings};
-use rattle_compare::runs::parallel::Progress;
+use rattle_compare::runs::map::{MapError, MapGrid, MapSettings};
 
 /// The command's map options named as this module's parameters: `--gap-min` is `gap[0]`,
 /// `--points` is `omega[2]`.
@@ -67,22 +66,9 @@ fn map_document(
     }
     check_frequency(scene, "omega[0]", grid.omega.min)?;
     check_frequency(scene, "omega[1]", grid.omega.max)?;
-    let text = compute(py, || {
-        let mut out = Vec::new();
-        let none: Option<(Format, Vec<u8>)> = None;
-        write_map(
-            scene,
-            &grid,
-            &settings,
-            part,
-            (Format::Json, &mut out),
-            none,
-            &Progress::hidden(),
-        )
-        .map_err(|e| e.to_string())?;
-        String::from_utf8(out).map_err(|e| e.to_string())
-    })?;
-    Ok(text)
+    compute_api(py, map_names, || {
+        api::map_document(scene, &grid, &settings, part)
+    })
 }
 
 /// The defaults of `rattle map`'s accuracy options: `tol`, `steady_tol` (the map's looser

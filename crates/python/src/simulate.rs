@@ -1,27 +1,22 @@
 //! `rattle.simulate`: the event-driven simulator from rest, as `rattle simulate --json`, with
 //! the `--trajectory`/`--impacts` tables and the `--lyapunov` exponents on request.
 
-use crate::common::{check_frequency, compute, json, options, positive, python_names};
+use crate::common::{any, check_frequency, compute_api, json, options, positive, python_names};
 use crate::orbit::check_samples;
 use crate::scene::NativeScene;
 use crate::table::{columns, PyColumns};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use rattle_compare::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
-use rattle_compare::output::trajectory::{simulated_rows, ImpactRow, TrajectoryRow};
-use rattle_compare::scene::lyapunov::{check_periods, spectrum};
-use rattle_compare::scene::simulator::{model, run as simulate_scene};
+use rattle_compare::api::{self, Simulation, TrajectoryTables};
+use rattle_compare::output::records::WithLyapunov;
+use rattle_compare::scene::lyapunov::check_periods;
 use rattle_event_driven::lyapunov::BATCHES;
-use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
-
-/// A trajectory's two tables, as the command writes them with `--trajectory` and `--impacts`.
-type Tables = (Vec<TrajectoryRow>, Vec<ImpactRow>);
 
 /// `rattle simulate --json`: the event-driven simulator from rest; with `samples_per_period`,
 /// also the tables `--trajectory` and `--impacts` write (the final cycle, or with `periods`
 /// the last period, sampled from the closed form); with `lyapunov_periods`, the exponents of
-/// `--lyapunov --lyapunov-periods N` in the document (the library's [`spectrum`] and
-/// [`LyapunovRecord::new`], as the command's).
+/// `--lyapunov --lyapunov-periods N` in the document. The facade's calls, as the command's
+/// ([`api::simulate`], [`api::simulation_trajectory`], [`api::lyapunov`]).
 #[pyfunction]
 #[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations, samples_per_period=None, lyapunov_periods=None))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
@@ -44,50 +39,33 @@ fn simulate<'py>(
     }
     let samples = samples_per_period.map(check_samples).transpose()?;
     let lyapunov = lyapunov_periods.map(checked_lyapunov_periods).transpose()?;
-    let scene = &scene.scene;
-    let (record, tables, exponents) = compute(py, || {
-        let sim = simulate_scene(
-            scene,
-            omega,
-            &rattle_compare::scene::simulator::rest(scene),
-            &options,
-        )
-        .map_err(|e| e.to_string())?;
-        let tables: Option<Tables> = match samples {
+    let scene = any(&scene.scene);
+    let (simulation, tables, exponents) = compute_api(py, python_names, || {
+        let simulation = api::simulate(&scene, omega, &options)?;
+        let tables = match samples {
             None => None,
             Some(samples_per_period) => {
-                let m = model(scene, sim.omega).map_err(|e| e.to_string())?;
-                let trajectory = final_cycle_trajectory(
-                    &m,
-                    sim.omega,
-                    &sim.steady,
-                    &TrajectoryOptions {
-                        periods: 1,
-                        samples_per_period,
-                        base_amplitude: scene.base.amplitude,
-                        simulation: options.clone(),
-                    },
-                )
-                .map_err(|e| e.to_string())?;
-                Some(simulated_rows(&trajectory, &scene.cell_pairs()))
+                match api::simulation_trajectory(&scene, &simulation, samples_per_period, &options)?
+                {
+                    TrajectoryTables::Cells { rows, impacts } => Some((rows, impacts)),
+                    TrajectoryTables::Structure { .. } => unreachable!("a scene of the unit form"),
+                }
             }
         };
-        let exponents = match &lyapunov {
-            None => None,
-            Some(periods) => Some(
-                spectrum(scene, &sim, *periods, &options)
-                    .map(|s| LyapunovRecord::new(&sim, &s))
-                    .map_err(|e| e.to_string())?,
-            ),
-        };
-        Ok((SimulationRecord::new(scene, &sim), tables, exponents))
+        let exponents = lyapunov
+            .map(|periods| api::lyapunov(&scene, &simulation, periods, &options))
+            .transpose()?;
+        Ok((simulation, tables, exponents))
     })?;
+    let Simulation::Cells { record, .. } = &simulation else {
+        unreachable!("a scene of the unit form")
+    };
     let tables = match tables {
         Some((rows, impacts)) => Some((columns(py, &rows)?, columns(py, &impacts)?)),
         None => None,
     };
     let document = WithLyapunov {
-        record: &record,
+        record,
         lyapunov: exponents.as_ref(),
     };
     Ok((json(&document)?, tables))

@@ -2,16 +2,19 @@
 //! `rattle sweep --out F.json [--shard K/N]`, its rows kept in Rust and handed to numpy
 //! column by column ([`crate::table`]), and the command's frequency axis.
 
-use crate::common::{check_frequency, check_omega, compute, json, options, shard};
+use crate::common::{
+    check_frequency, check_omega, compute_api, json, options, python_names, shard,
+};
 use crate::scene::NativeScene;
 use crate::table::{columns, PyColumns};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
+use rattle_compare::api::{self, ApiError};
 use rattle_compare::output::{table_text, Format, Header};
 use rattle_compare::runs::axis::Axis;
 use rattle_compare::runs::parallel::Progress;
-use rattle_compare::runs::sweep::{header, sweep_rows, Solver, SweepRow};
+use rattle_compare::runs::sweep::{header, Solver, SweepRow};
 
 /// A sweep's result: the command's header and one [`SweepRow`] per frequency.
 #[pyclass(frozen, module = "rattle._rattle")]
@@ -102,10 +105,10 @@ fn sweep(
     let solver = solver(solver_name)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
     let scene = &scene.scene;
-    let rows = compute(py, || {
+    let rows = compute_api(py, python_names, || {
         // The command's own row builder (with the Lyapunov columns), rows kept in order.
         let mut rows = Vec::with_capacity(omegas.len());
-        let done: Result<(), std::convert::Infallible> = sweep_rows(
+        api::sweep_each(
             scene,
             &omegas,
             solver,
@@ -113,13 +116,10 @@ fn sweep(
             &Progress::hidden(),
             |row| {
                 rows.push(row);
-                Ok(())
+                Ok::<_, ApiError>(())
             },
-        );
-        match done {
-            Ok(()) => Ok(rows),
-            Err(never) => match never {},
-        }
+        )?;
+        Ok(rows)
     })?;
     Ok(NativeSweep {
         header: header(scene, solver, all.len(), part),

@@ -1,8 +1,9 @@
 //! `rattle basins`: a grid of starts at rest, each coloured by the attractor it reaches.
 
 use super::{check_frequency, check_omega, load_unit, RattleError};
+use crate::api::{self, ApiError};
 use crate::output::{Format, OutputError};
-use crate::runs::basins::{basin_options, write_basins, BasinGrid};
+use crate::runs::basins::{basin_options, BasinGrid};
 use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
 use clap::Args;
@@ -77,7 +78,7 @@ pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
         })
     };
     let file = std::fs::File::create(&args.out).map_err(io)?;
-    let b = write_basins(
+    let b = api::basins(
         &scene,
         omega,
         grid,
@@ -86,7 +87,10 @@ pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
         (format, std::io::BufWriter::new(file)),
         &progress,
     )
-    .map_err(io)?;
+    .map_err(|e| match e {
+        ApiError::Write { source, .. } => io(source),
+        e => e.into(),
+    })?;
     let part = shard.map_or(String::new(), |s| {
         format!(" (part {}/{})", s.index, s.count)
     });

@@ -3,8 +3,9 @@
 //! orbits followed in (ω, a scene parameter).
 
 use super::{load, write_record, RattleError};
+use crate::api;
 use crate::output::{finite, table_row, Format};
-use crate::runs::boundary::{follow_any, BoundaryOptions, BoundaryRecord};
+use crate::runs::boundary::{BoundaryOptions, BoundaryRecord};
 use clap::Args;
 use rattle_analytic::continuation::BoundarySettings;
 use std::fmt::Write as _;
@@ -106,7 +107,9 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
         omega_max: args.omega_max,
         max_step: args.max_step,
     };
-    let checked = options.checked().map_err(RattleError::Argument)?;
+    // The options first, before the output's format and the scene (`api::boundary` checks
+    // them too).
+    options.checked().map_err(RattleError::Argument)?;
     let format = args
         .out
         .as_ref()
@@ -118,16 +121,7 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
         ));
     }
     let scene = load(&args.scene)?;
-    let request = options
-        .request(&checked, scene.is_chain())
-        .map_err(RattleError::Argument)?;
-    let record = follow_any(&scene, &request, &checked.settings).map_err(|e| {
-        if e.is_bad_input() {
-            RattleError::Argument(e.to_string())
-        } else {
-            RattleError::Numerical(e.to_string())
-        }
-    })?;
+    let record = api::boundary(&scene, &options)?;
     write(&args, format, &record)
 }
 

@@ -1,13 +1,10 @@
 //! `rattle compare`: both solvers on the motion the unit settles on, whatever its signature.
 
-use super::{
-    check_frequency, check_omega, heading, load_any, pretty, Accuracy, Common, RattleError,
-};
+use super::{check_omega, heading, load_any, pretty, Accuracy, Common, RattleError};
+use crate::api::{self, Comparison};
+use crate::output::records::{ChainCompareRecord, CrossCheckRecord};
 use crate::scene::{AnyScene, Scene};
-use crate::verdict::chain::chain_cross_check;
-use crate::verdict::cross_check;
 use clap::Args;
-use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
 
 /// Arguments of `rattle compare`.
@@ -28,23 +25,25 @@ pub struct CompareArgs {
 pub fn run(args: CompareArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.common.omega)?;
     let options = args.accuracy.options()?;
-    let scene = match load_any(&args.common.scene)? {
-        AnyScene::Cells(scene) => scene,
-        AnyScene::Structure(form) => {
-            return super::structure::compare(&form, omega, &options, args.common.json);
-        }
-    };
-    check_frequency(&scene, "--omega", omega)?;
-    if scene.is_chain() {
-        return chain_run(&scene, omega, &options, args.common.json);
-    }
-    let check =
-        cross_check(&scene, omega, &options).map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let r = check.record(&scene);
+    let any = load_any(&args.common.scene)?;
+    api::check_frequency(&any, "--omega", omega)?;
+    let comparison = api::compare(&any, omega, &options)?;
     if args.common.json {
-        return pretty(&r);
+        return pretty(&comparison);
     }
-    let mut out = heading(&scene, omega);
+    Ok(match (&any, &comparison) {
+        (AnyScene::Cells(scene), Comparison::Unit(r)) => unit_table(scene, omega, r),
+        (AnyScene::Cells(scene), Comparison::Chain(r)) => chain_table(scene, omega, r),
+        (AnyScene::Structure(form), Comparison::Structure(r)) => {
+            super::structure::comparison_table(form, omega, r)
+        }
+        _ => unreachable!("a comparison has the form of its scene"),
+    })
+}
+
+/// The table `rattle compare` prints for a single unit's record `r`.
+fn unit_table(scene: &Scene, omega: f64, r: &CrossCheckRecord) -> String {
+    let mut out = heading(scene, omega);
     let num = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.9}"));
     let _ = writeln!(
         out,
@@ -96,22 +95,11 @@ pub fn run(args: CompareArgs) -> Result<String, RattleError> {
                 .map_or(String::new(), |e| format!(" ({e})"))
         );
     }
-    Ok(out)
+    out
 }
 
-/// `rattle compare` on a chain scene.
-fn chain_run(
-    scene: &Scene,
-    omega: f64,
-    options: &SimulationOptions,
-    json: bool,
-) -> Result<String, RattleError> {
-    let check = chain_cross_check(scene, omega, options)
-        .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let r = check.record(scene);
-    if json {
-        return pretty(&r);
-    }
+/// The table `rattle compare` prints for a chain's record `r`.
+fn chain_table(scene: &Scene, omega: f64, r: &ChainCompareRecord) -> String {
     let mut out = heading(scene, omega);
     let num = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.9}"));
     let signatures = r
@@ -184,5 +172,5 @@ fn chain_run(
             }
         );
     }
-    Ok(out)
+    out
 }

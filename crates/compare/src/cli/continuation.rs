@@ -2,13 +2,12 @@
 //! sequence) at one frequency, followed in ω with their bifurcations.
 
 use super::{check_frequency, check_omega, load, write_record, RattleError};
+use crate::api::{self, ContinuedBranches};
 use crate::output::records::ContinuationRecord;
 use crate::output::{finite, number_list, table_row, Format};
-use crate::runs::continuation::{follow, follow_chain, ChainFollowed, FollowError, Followed};
-use crate::verdict::chain::ChainOrbitsError;
+use crate::runs::continuation::{ChainFollowed, Followed};
 use clap::Args;
 use rattle_analytic::continuation::ContinuationSettings;
-use rattle_analytic::Signature;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -193,25 +192,22 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
     let scene = load(&args.scene)?;
     check_frequency(&scene, "--omega-min", args.omega_min)?;
     check_frequency(&scene, "--omega-max", args.omega_max)?;
-    if scene.is_chain() {
-        let followed = follow_chain(
-            &scene,
-            &args.signature,
-            args.period,
-            omega,
-            args.orbit,
-            &settings,
-        )
-        .map_err(follow_error)?;
-        let record = followed.record(&scene.name);
-        return write(&args, format, &record, || chain_rows(&followed));
+    let continued = api::continuation(
+        &scene,
+        &args.signature,
+        args.period,
+        omega,
+        args.orbit,
+        &settings,
+    )?;
+    match &continued.branches {
+        ContinuedBranches::Unit(followed) => {
+            write(&args, format, &continued.record, || rows(followed))
+        }
+        ContinuedBranches::Chain(followed) => {
+            write(&args, format, &continued.record, || chain_rows(followed))
+        }
     }
-    let signature = Signature::parse(&args.signature, args.period)
-        .map_err(|e| RattleError::Argument(e.to_string()))?;
-    let followed =
-        follow(&scene, &signature, omega, args.orbit, &settings).map_err(follow_error)?;
-    let record = followed.record(&scene.name);
-    write(&args, format, &record, || rows(&followed))
 }
 
 /// The continuation settings of the arguments.
@@ -244,22 +240,6 @@ fn settings(args: &ContinueArgs) -> Result<ContinuationSettings, RattleError> {
         .validate()
         .map_err(|e| RattleError::Argument(e.to_string()))?;
     Ok(settings)
-}
-
-/// The command's error for a refused continuation: bad input (exit code 2) or a numerical
-/// failure (exit code 1).
-fn follow_error(e: FollowError) -> RattleError {
-    match e {
-        FollowError::OrbitIndex { .. }
-        | FollowError::NoStops
-        | FollowError::Chain(ChainOrbitsError::Sequence(_) | ChainOrbitsError::MissingStops(_)) => {
-            RattleError::Argument(e.to_string())
-        }
-        FollowError::Continuation(ref c) if c.to_string().contains("out of range") => {
-            RattleError::Argument(e.to_string())
-        }
-        _ => RattleError::Numerical(e.to_string()),
-    }
 }
 
 /// The output of a run: `--json` prints `record`; `--out` writes it (`.json`) or the points'

@@ -1,9 +1,10 @@
 //! `rattle map`: the map over restitution, gap and frequency, streamed to a file.
 
 use super::{check_frequency, load, Accuracy, RattleError};
+use crate::api::{self, ApiError, Table};
 use crate::output::{Format, OutputError};
 use crate::runs::axis::Axis;
-use crate::runs::map::{write_map, MapError, MapGrid, MapSettings, WriteMapError};
+use crate::runs::map::{MapError, MapGrid, MapSettings};
 use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
 use clap::Args;
@@ -135,7 +136,7 @@ pub fn run(args: MapArgs) -> Result<String, RattleError> {
         _ => None,
     };
     let progress = Progress::new("map lines", lines, true);
-    write_map(
+    api::map(
         &scene,
         &grid,
         &settings,
@@ -145,11 +146,15 @@ pub fn run(args: MapArgs) -> Result<String, RattleError> {
         &progress,
     )
     .map_err(|e| match e {
-        WriteMapError::Map(e) => RattleError::Argument(e.to_string()),
-        WriteMapError::Points(source) => io(&args.out)(source),
-        WriteMapError::Bandwidth(source) => {
-            io(args.bandwidth_out.as_deref().unwrap_or(Path::new("")))(source)
-        }
+        ApiError::Write {
+            table: Table::Points,
+            source,
+        } => io(&args.out)(source),
+        ApiError::Write {
+            table: Table::Bandwidth,
+            source,
+        } => io(args.bandwidth_out.as_deref().unwrap_or(Path::new("")))(source),
+        e => e.into(),
     })?;
     let part = shard.map_or(String::new(), |s| {
         format!(", part {}/{}: {lines} lines", s.index, s.count)

@@ -16,6 +16,7 @@ pub mod simulate;
 pub mod structure;
 pub mod sweep;
 
+use crate::api::ApiError;
 use crate::output::trajectory::{ImpactRow, TrajectoryRow, MAX_SAMPLES_PER_PERIOD};
 use crate::output::{write_table, Format, Header, OutputError};
 use crate::scene::frequency::{FrequencyBounds, FrequencyError};
@@ -102,6 +103,24 @@ pub enum RattleError {
     /// The computation failed; the message says why.
     #[error("numerical failure: {0}")]
     Numerical(String),
+}
+
+impl From<ApiError> for RattleError {
+    /// The facade's error as the command's, variant for variant (the same exit codes). A
+    /// table that cannot be written is named by its table here; the commands that write
+    /// tables name the file instead ([`RattleError::Output`]).
+    fn from(e: ApiError) -> Self {
+        match e {
+            ApiError::Scene(e) => RattleError::Scene(e),
+            ApiError::Frequency(e) => RattleError::Frequency(e),
+            ApiError::Argument(message) => RattleError::Argument(message),
+            ApiError::Numerical(message) => RattleError::Numerical(message),
+            ApiError::Write { table, source } => RattleError::Output(OutputError::Io {
+                path: PathBuf::from(format!("the {table} table")),
+                source,
+            }),
+        }
+    }
 }
 
 impl RattleError {

@@ -1,22 +1,15 @@
 //! `rattle orbit`: the analytic picture at one frequency.
 
 use super::{
-    check_frequency, check_omega, heading, load_any, load_unit, pretty, Common, RattleError,
-    TrajectoryArgs,
+    check_omega, heading, load_any, load_unit, pretty, Common, RattleError, TrajectoryArgs,
 };
+use crate::api::{self, SignatureOrbits};
 use crate::output::records::{
-    At, ChainOrbitsRecord, LinearRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord,
-    SignatureOrbitsRecord, ViolationRecord,
+    ChainOrbitsRecord, OrbitRecord, SignatureOrbitsRecord, ViolationRecord,
 };
-use crate::output::trajectory::{analytic_rows, ImpactRow, TrajectoryRow};
-use crate::scene::analytic::{
-    analyse, chain_linear_model, orbits_of_signature, sample_sequence_orbit,
-    sample_signature_orbit, OrbitImpact, OrbitSample, OrbitSearch,
-};
+use crate::scene::analytic::OrbitSearch;
 use crate::scene::{AnyScene, Scene};
-use crate::verdict::chain::{chain_orbits, ChainOrbitsError};
 use clap::Args;
-use rattle_analytic::Signature;
 use std::fmt::Write as _;
 
 /// Arguments of `rattle orbit`.
@@ -55,55 +48,29 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     let omega = check_omega("--omega", args.common.omega)?;
     args.trajectory.check()?;
     if let Some(text) = &args.signature {
-        let scene = match load_any(&args.common.scene)? {
-            AnyScene::Cells(scene) => scene,
-            AnyScene::Structure(form) => {
-                if args.trajectory.trajectory.is_some() {
-                    return Err(RattleError::Argument(
-                        "--trajectory is not taken on a scene in the structure form yet: it is \
-                         taken on the unit and chain forms"
-                            .into(),
-                    ));
-                }
-                return super::structure::orbits(&form, omega, text, args.period, args.common.json);
-            }
-        };
-        check_frequency(&scene, "--omega", omega)?;
-        if scene.is_chain() {
-            return chain_run(&scene, omega, text, &args);
-        }
-        let signature = Signature::parse(text, args.period)
-            .map_err(|e| RattleError::Argument(e.to_string()))?;
-        let scene = load_unit(&args.common.scene, "rattle orbit")?;
-        return signature_run(&scene, omega, &signature, &args);
+        return signature_run(&args, omega, text);
     }
     if args.trajectory.trajectory.is_some() {
         return Err(RattleError::Argument(
             "--trajectory needs --signature (for the two-impact orbits: --signature +-)".into(),
         ));
     }
-    let scene = load_unit(&args.common.scene, "rattle orbit")?;
-    check_frequency(&scene, "--omega", omega)?;
+    let scene = AnyScene::Cells(load_unit(&args.common.scene, "rattle orbit")?);
+    api::check_frequency(&scene, "--omega", omega)?;
     let search = if args.symmetric_only {
         OrbitSearch::Symmetric
     } else {
         OrbitSearch::All
     };
-    let point =
-        analyse(&scene, omega, search).map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let record = OrbitsRecord {
-        at: At::new(&scene, omega),
-        linear: LinearRecord::new(&point.linear, scene.gap()),
-        orbits: point
-            .orbits
-            .iter()
-            .map(|(b, o)| OrbitRecord::new(o, *b))
-            .collect(),
-    };
+    let found = api::orbits(&scene, omega, search)?;
     if args.common.json {
-        return pretty(&record);
+        return pretty(&found);
     }
-    let mut out = heading(&scene, omega);
+    let AnyScene::Cells(scene) = &scene else {
+        unreachable!("a unit loaded by `load_unit`")
+    };
+    let (point, record) = (&found.point, &found.record);
+    let mut out = heading(scene, omega);
     let lin = &point.linear;
     if lin.unbounded {
         let _ = writeln!(out, "linear: unbounded (undamped exact resonance)");
@@ -134,84 +101,44 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
     Ok(out)
 }
 
-/// The `--trajectory` and `--impacts` tables of the `orbit`-th of the `count` orbits of `what`
-/// (a signature or an impact sequence) of `scene` at `omega`, sampled by `sample(orbit)`.
-///
-/// # Errors
-/// [`RattleError::Argument`] naming `--orbit` when `orbit` is not below `count`.
-fn orbit_tables(
-    scene: &Scene,
-    omega: f64,
-    what: &str,
-    count: usize,
-    orbit: usize,
-    sample: impl FnOnce(usize) -> (Vec<OrbitSample>, Vec<OrbitImpact>),
-) -> Result<(Vec<TrajectoryRow>, Vec<ImpactRow>), RattleError> {
-    if orbit >= count {
-        return Err(RattleError::Argument(format!(
-            "--orbit = {orbit} is out of range: {count} orbit(s) of {what} at ω = {omega}, numbered from 0"
-        )));
-    }
-    let (samples, impacts) = sample(orbit);
-    Ok(analytic_rows(
-        &samples,
-        &impacts,
-        omega,
-        scene.base.amplitude,
-        &scene.cell_pairs(),
-    ))
-}
-
-/// With --trajectory: writes the `--orbit`-th of the `count` orbits of `what` (a signature or
-/// an impact sequence), sampled by `sample(k)`.
-///
-/// # Errors
-/// An `--orbit` out of range; a file that cannot be written.
-fn write_orbit_trajectory(
-    scene: &Scene,
-    omega: f64,
-    args: &OrbitArgs,
-    what: &str,
-    count: usize,
-    sample: impl FnOnce(usize) -> (Vec<OrbitSample>, Vec<OrbitImpact>),
-) -> Result<(), RattleError> {
-    if args.trajectory.trajectory.is_none() {
-        return Ok(());
-    }
-    let (rows, impacts) = orbit_tables(scene, omega, what, count, args.orbit, sample)?;
-    args.trajectory.write(rows, impacts)
-}
-
-/// `rattle orbit --signature`: every orbit of one signature.
-fn signature_run(
-    scene: &Scene,
-    omega: f64,
-    signature: &Signature,
-    args: &OrbitArgs,
-) -> Result<String, RattleError> {
-    if scene.stops.is_none() {
+/// `rattle orbit --signature`: every orbit of one signature (on a chain: of an impact
+/// sequence of its pairs; on a structure: of its stops), with `--trajectory` the
+/// `--orbit`-th sampled.
+fn signature_run(args: &OrbitArgs, omega: f64, text: &str) -> Result<String, RattleError> {
+    let any = load_any(&args.common.scene)?;
+    if matches!(any, AnyScene::Structure(_)) && args.trajectory.trajectory.is_some() {
         return Err(RattleError::Argument(
-            "--signature: the scene has no `stops`, so no impact signature".into(),
+            "--trajectory is not taken on a scene in the structure form yet: it is taken on the \
+             unit and chain forms"
+                .into(),
         ));
     }
-    let orbits = orbits_of_signature(scene, omega, signature);
-    write_orbit_trajectory(
-        scene,
-        omega,
-        args,
-        &signature.to_string(),
-        orbits.len(),
-        |k| sample_signature_orbit(scene, &orbits[k], args.trajectory.samples_per_period),
-    )?;
-    let record = SignatureOrbitsRecord {
-        at: At::new(scene, omega),
-        signature: signature.to_string(),
-        period: signature.period(),
-        orbits: orbits.iter().map(SignatureOrbitRecord::new).collect(),
-    };
-    if args.common.json {
-        return pretty(&record);
+    api::check_frequency(&any, "--omega", omega)?;
+    let found = api::signature_orbits(&any, omega, text, args.period)?;
+    if args.trajectory.trajectory.is_some() {
+        let (rows, impacts) =
+            api::orbit_trajectory(&any, &found, args.orbit, args.trajectory.samples_per_period)?;
+        args.trajectory.write(rows, impacts)?;
     }
+    if args.common.json {
+        return pretty(&found);
+    }
+    Ok(match (&any, &found) {
+        (AnyScene::Cells(scene), SignatureOrbits::Unit { record, .. }) => {
+            unit_signature_table(scene, omega, record)
+        }
+        (AnyScene::Cells(scene), SignatureOrbits::Chain { record }) => {
+            chain_table(scene, omega, record)
+        }
+        (AnyScene::Structure(form), SignatureOrbits::Structure { orbits, record }) => {
+            super::structure::orbits_table(form, omega, orbits, record)
+        }
+        _ => unreachable!("orbits have the form of their scene"),
+    })
+}
+
+/// The table `rattle orbit --signature` prints for a unit's `record`.
+fn unit_signature_table(scene: &Scene, omega: f64, record: &SignatureOrbitsRecord) -> String {
     let mut out = heading(scene, omega);
     let _ = writeln!(
         out,
@@ -221,7 +148,7 @@ fn signature_run(
         record.orbits.len()
     );
     if record.orbits.is_empty() {
-        return Ok(out);
+        return out;
     }
     let _ = writeln!(
         out,
@@ -249,7 +176,7 @@ fn signature_run(
             violation_words(&o.violations)
         );
     }
-    Ok(out)
+    out
 }
 
 /// The violations in words, `-` for none.
@@ -286,46 +213,8 @@ pub(crate) fn orbit_table(orbits: &[OrbitRecord]) -> String {
     out
 }
 
-/// `rattle orbit --signature` on a chain: every orbit of one impact sequence of its pairs.
-fn chain_run(
-    scene: &Scene,
-    omega: f64,
-    text: &str,
-    args: &OrbitArgs,
-) -> Result<String, RattleError> {
-    let record = chain_orbits(scene, omega, text, args.period).map_err(|e| match e {
-        ChainOrbitsError::Numerical(_) => RattleError::Numerical(e.to_string()),
-        _ => RattleError::Argument(e.to_string()),
-    })?;
-    if args.trajectory.trajectory.is_some() {
-        let model = chain_linear_model(scene).map_err(|e| RattleError::Argument(e.to_string()))?;
-        write_orbit_trajectory(
-            scene,
-            omega,
-            args,
-            &record.sequence,
-            record.orbits.len(),
-            |k| {
-                sample_sequence_orbit(
-                    &model,
-                    &record.orbits[k],
-                    args.trajectory.samples_per_period,
-                )
-            },
-        )?;
-    }
-    if args.common.json {
-        return pretty(&record);
-    }
-    chain_table(scene, omega, &record)
-}
-
 /// The table `rattle orbit --signature` prints for a chain's `record`.
-fn chain_table(
-    scene: &Scene,
-    omega: f64,
-    record: &ChainOrbitsRecord,
-) -> Result<String, RattleError> {
+fn chain_table(scene: &Scene, omega: f64, record: &ChainOrbitsRecord) -> String {
     let mut out = heading(scene, omega);
     let _ = writeln!(
         out,
@@ -355,5 +244,5 @@ fn chain_table(
                 .collect::<Vec<_>>()
         );
     }
-    Ok(out)
+    out
 }

@@ -1,17 +1,16 @@
 //! `rattle simulate`: the event-driven simulator from rest.
 
 use super::{
-    check_frequency, check_omega, heading, load_any, pretty, Accuracy, Common, RattleError,
-    TrajectoryArgs,
+    check_omega, heading, load_any, pretty, Accuracy, Common, RattleError, TrajectoryArgs,
 };
+use crate::api::{self, Simulation, TrajectoryTables};
 use crate::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
-use crate::output::trajectory::simulated_rows;
-use crate::scene::lyapunov::{check_periods, spectrum};
-use crate::scene::simulator::{model, run as simulate, SimulatedPoint};
+use crate::output::Format;
+use crate::scene::lyapunov::check_periods;
+use crate::scene::simulator::SimulatedPoint;
 use crate::scene::{AnyScene, Scene};
 use clap::Args;
 use rattle_event_driven::lyapunov::DEFAULT_LYAPUNOV_PERIODS;
-use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
 
@@ -36,31 +35,27 @@ pub struct SimulateArgs {
     pub lyapunov: LyapunovArgs,
 }
 
-/// Writes the trajectory files of `args` for the run `sim`.
+/// Writes the trajectory files of `args` for `simulation`, when asked for
+/// ([`api::simulation_trajectory`]).
 fn write_trajectory(
     args: &TrajectoryArgs,
-    scene: &Scene,
-    sim: &SimulatedPoint,
+    scene: &AnyScene,
+    simulation: &Simulation,
     options: &SimulationOptions,
 ) -> Result<(), RattleError> {
-    if args.trajectory.is_none() {
+    let Some(path) = &args.trajectory else {
         return Ok(());
+    };
+    match api::simulation_trajectory(scene, simulation, args.samples_per_period, options)? {
+        TrajectoryTables::Cells { rows, impacts } => args.write(rows, impacts),
+        TrajectoryTables::Structure { states, impacts } => {
+            states.write(path, Format::of(path, "--trajectory")?)?;
+            if let Some(path) = &args.impacts {
+                impacts.write(path, Format::of(path, "--impacts")?)?;
+            }
+            Ok(())
+        }
     }
-    let m = model(scene, sim.omega).map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let trajectory = final_cycle_trajectory(
-        &m,
-        sim.omega,
-        &sim.steady,
-        &TrajectoryOptions {
-            periods: 1,
-            samples_per_period: args.samples_per_period,
-            base_amplitude: scene.base.amplitude,
-            simulation: options.clone(),
-        },
-    )
-    .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let (rows, impacts) = simulated_rows(&trajectory, &scene.cell_pairs());
-    args.write(rows, impacts)
 }
 
 /// The `--lyapunov` flags of `rattle simulate`.
@@ -89,37 +84,53 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
     }
     args.trajectory.check()?;
     args.lyapunov.check()?;
-    let scene = match load_any(&args.common.scene)? {
-        AnyScene::Cells(scene) => scene,
-        AnyScene::Structure(form) => {
-            refuse_for_structure(&args)?;
-            return super::structure::simulate(
-                &form,
-                omega,
-                &options,
-                &args.trajectory,
-                args.common.json,
-            );
+    let any = load_any(&args.common.scene)?;
+    if let AnyScene::Structure(_) = any {
+        refuse_for_structure(&args)?;
+    }
+    api::check_frequency(&any, "--omega", omega)?;
+    let simulation = api::simulate(&any, omega, &options)?;
+    write_trajectory(&args.trajectory, &any, &simulation, &options)?;
+    let (scene, sim, record) = match (&any, &simulation) {
+        (AnyScene::Cells(scene), Simulation::Cells { point, record }) => (scene, point, record),
+        (AnyScene::Structure(form), Simulation::Structure { point, record }) => {
+            if args.common.json {
+                return pretty(record);
+            }
+            return Ok(super::structure::simulation_table(
+                form, omega, point, record,
+            ));
         }
+        _ => unreachable!("a simulation has the form of its scene"),
     };
-    check_frequency(&scene, "--omega", omega)?;
-    let sim = simulate(
-        &scene,
-        omega,
-        &crate::scene::simulator::rest(&scene),
-        &options,
-    )
-    .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    write_trajectory(&args.trajectory, &scene, &sim, &options)?;
-    let record = SimulationRecord::new(&scene, &sim);
-    let exponents = lyapunov_record(&args.lyapunov, &scene, &sim, &options)?;
+    let exponents = if args.lyapunov.lyapunov {
+        Some(api::lyapunov(
+            &any,
+            &simulation,
+            args.lyapunov.lyapunov_periods,
+            &options,
+        )?)
+    } else {
+        None
+    };
     if args.common.json {
         return pretty(&WithLyapunov {
-            record: &record,
+            record,
             lyapunov: exponents.as_ref(),
         });
     }
-    let mut out = heading(&scene, omega);
+    Ok(table(scene, omega, sim, record, exponents.as_ref()))
+}
+
+/// The table `rattle simulate` prints for a unit or a chain.
+fn table(
+    scene: &Scene,
+    omega: f64,
+    sim: &SimulatedPoint,
+    record: &SimulationRecord,
+    exponents: Option<&LyapunovRecord>,
+) -> String {
+    let mut out = heading(scene, omega);
     out.push_str(&super::status_lines(
         &record.status,
         sim.regime.words(),
@@ -166,10 +177,10 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         "periods run: {}, impacts: {}",
         record.periods_run, record.impacts
     );
-    if let Some(l) = &exponents {
+    if let Some(l) = exponents {
         write_lyapunov(&mut out, l);
     }
-    Ok(out)
+    out
 }
 
 /// The options `rattle simulate` does not take on a structure scene yet, refused by name.
@@ -197,27 +208,6 @@ impl LyapunovArgs {
         }
         Ok(())
     }
-}
-
-/// The exponents of `sim` when `--lyapunov` asks for them: the library's [`spectrum`] and
-/// [`LyapunovRecord::new`].
-///
-/// # Errors
-/// [`RattleError::Argument`] as [`LyapunovArgs::check`]; [`RattleError::Numerical`] when the
-/// exponents' run fails.
-fn lyapunov_record(
-    args: &LyapunovArgs,
-    scene: &Scene,
-    sim: &SimulatedPoint,
-    options: &SimulationOptions,
-) -> Result<Option<LyapunovRecord>, RattleError> {
-    if !args.lyapunov {
-        return Ok(None);
-    }
-    args.check()?;
-    let spectrum = spectrum(scene, sim, args.lyapunov_periods, options)
-        .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    Ok(Some(LyapunovRecord::new(sim, &spectrum)))
 }
 
 /// The table lines of the exponents.

@@ -1,29 +1,17 @@
-//! The one-frequency commands on a scene in the structure form: `rattle simulate`, `rattle
-//! orbit --signature` and `rattle compare` (each command's own module hands such a scene
-//! here; `rattle sweep`'s is [`crate::runs::structure_sweep`]).
+//! The tables of the one-frequency commands on a scene in the structure form: `rattle
+//! simulate`, `rattle orbit --signature` and `rattle compare` (each command's own module
+//! computes through [`crate::api`] and hands a structure's record here; `rattle sweep`'s rows
+//! are [`crate::runs::structure_sweep`]'s).
 
-use super::{pretty, RattleError};
-use crate::output::finite;
 use crate::output::structure::{
-    structure_trajectory, StructureAnalyticRecord, StructureAt, StructureSimulationRecord,
+    StructureAt, StructureCompareRecord, StructureOrbitsRecord, StructureSimulationRecord,
 };
-use crate::output::Format;
-use crate::scene::frequency::FrequencyBounds;
-use crate::scene::simulator::run_structure;
+use crate::scene::simulator::SimulatedPoint;
 use crate::scene::structure::StructureForm;
-use crate::verdict::structure::{record as compare_record, structure_cross_check};
-use rattle_analytic::{sequence_orbits, ImpactSequence};
-use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
-use rattle_event_driven::SimulationOptions;
-use serde::Serialize;
+use rattle_analytic::SequenceOrbit;
 use std::fmt::Write as _;
 
 impl StructureForm {
-    /// `omega` if the structure can be run at it in bounded time.
-    fn check_frequency(&self, omega: f64) -> Result<f64, RattleError> {
-        Ok(FrequencyBounds::of_structure(&self.structure).check("--omega", omega)?)
-    }
-
     /// The first line of a table.
     fn heading(&self, omega: f64) -> String {
         let at = StructureAt::new(&self.scene, &self.structure, omega);
@@ -53,27 +41,13 @@ impl StructureForm {
     }
 }
 
-/// `rattle simulate` on a structure: the simulator from rest (or for `periods` periods),
-/// reported from the polished cycle when the simulator's Newton polishes it.
-///
-/// # Errors
-/// A frequency outside the structure's bounds; a failure of the simulator.
-pub(crate) fn simulate(
+/// The table `rattle simulate` prints for a structure's `record` of the run `sim`.
+pub(crate) fn simulation_table(
     loaded: &StructureForm,
     omega: f64,
-    options: &SimulationOptions,
-    trajectory: &super::TrajectoryArgs,
-    json: bool,
-) -> Result<String, RattleError> {
-    loaded.check_frequency(omega)?;
-    let sim = run_structure(&loaded.structure, omega, &loaded.structure.rest(), options)
-        .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    write_trajectory(loaded, &sim, options, trajectory)?;
-    let polished = sim.steady.orbit.is_some();
-    let record = StructureSimulationRecord::new(&loaded.scene, &loaded.structure, &sim, polished);
-    if json {
-        return pretty(&record);
-    }
+    sim: &SimulatedPoint,
+    record: &StructureSimulationRecord,
+) -> String {
     let mut out = loaded.heading(omega);
     out.push_str(&super::status_lines(
         &record.status,
@@ -112,43 +86,7 @@ pub(crate) fn simulate(
         "periods run: {}, impacts: {}",
         record.periods_run, record.impacts
     );
-    Ok(out)
-}
-
-/// Writes `--trajectory` (and `--impacts`) of the final cycle of `sim`, when asked: a column
-/// per body and per stop ([`structure_trajectory`]).
-fn write_trajectory(
-    loaded: &StructureForm,
-    sim: &crate::scene::simulator::SimulatedPoint,
-    options: &SimulationOptions,
-    args: &super::TrajectoryArgs,
-) -> Result<(), RattleError> {
-    let Some(path) = &args.trajectory else {
-        return Ok(());
-    };
-    let numerical = |e: &dyn std::fmt::Display| RattleError::Numerical(e.to_string());
-    let model = loaded
-        .structure
-        .event_model(sim.omega)
-        .map_err(|e| numerical(&e))?;
-    let sampled = final_cycle_trajectory(
-        &model,
-        sim.omega,
-        &sim.steady,
-        &TrajectoryOptions {
-            periods: 1,
-            samples_per_period: args.samples_per_period,
-            base_amplitude: loaded.structure.base_amplitude.unwrap_or(0.0),
-            simulation: options.clone(),
-        },
-    )
-    .map_err(|e| numerical(&e))?;
-    let (states, impacts) = structure_trajectory(&loaded.structure, &sampled);
-    states.write(path, Format::of(path, "--trajectory")?)?;
-    if let Some(path) = &args.impacts {
-        impacts.write(path, Format::of(path, "--impacts")?)?;
-    }
-    Ok(())
+    out
 }
 
 /// Each stop's impacts per period with its signature, as words.
@@ -167,23 +105,12 @@ fn signature_words(per_pair: &[Option<f64>], signatures: &Option<Vec<Option<Stri
         .join(", ")
 }
 
-/// `rattle compare` on a structure.
-///
-/// # Errors
-/// A frequency outside the structure's bounds; a failure of the simulator.
-pub(crate) fn compare(
+/// The table `rattle compare` prints for a structure's record `r`.
+pub(crate) fn comparison_table(
     loaded: &StructureForm,
     omega: f64,
-    options: &SimulationOptions,
-    json: bool,
-) -> Result<String, RattleError> {
-    loaded.check_frequency(omega)?;
-    let check = structure_cross_check(&loaded.structure, omega, options)
-        .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let r = compare_record(&loaded.scene, &loaded.structure, &check);
-    if json {
-        return pretty(&r);
-    }
+    r: &StructureCompareRecord,
+) -> String {
     let mut out = loaded.heading(omega);
     let num = |x: Option<f64>| x.map_or("-".to_owned(), |v| format!("{v:.9}"));
     let _ = writeln!(
@@ -227,106 +154,17 @@ pub(crate) fn compare(
         r.relative_difference,
         r.multiplier_difference,
     ));
-    Ok(out)
+    out
 }
 
-/// What `rattle orbit --signature --json` prints for a structure.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct StructureOrbitsRecord {
-    /// The scene and the frequency.
-    #[serde(flatten)]
-    pub at: StructureAt,
-    /// The impact sequence, canonical.
-    pub sequence: String,
-    /// Forcing periods per cycle.
-    pub period: u32,
-    /// Every orbit of the sequence the multi-start finds.
-    pub orbits: Vec<StructureOrbitRecord>,
-}
-
-/// One orbit of a structure's impact sequence.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct StructureOrbitRecord {
-    /// The forcing's phase `θ = ωt + α` at the first impact (`t = 0`), rad in `(−π, π]`: the
-    /// base moves as `u_g cos θ`, a force as `F cos(θ + φ)`.
-    pub alpha: Option<f64>,
-    /// The impacts' times as fractions of the cycle, first 0.
-    pub impact_phases: Vec<Option<f64>>,
-    /// Each impact's relative velocity just before it, `ṙ⁻`, m/s.
-    pub relative_velocities_before: Vec<Option<f64>>,
-    /// The orbit's amplitudes, verdicts and multipliers.
-    #[serde(flatten)]
-    pub orbit: StructureAnalyticRecord,
-}
-
-/// A signature as the user writes it for a structure: `<stop><side>` tokens, or with one stop
-/// the side characters alone (`+-` reads as `0+ 0-`).
-fn sequence_text(text: &str, stops: usize) -> String {
-    let bare = !text.is_empty() && text.chars().all(|c| matches!(c, '+' | '-'));
-    if stops == 1 && bare {
-        text.chars()
-            .map(|c| format!("0{c}"))
-            .collect::<Vec<_>>()
-            .join(" ")
-    } else {
-        text.to_owned()
-    }
-}
-
-/// `rattle orbit --signature` on a structure: every orbit of one impact sequence of its stops.
-///
-/// # Errors
-/// A sequence that does not parse, names a stop the structure lacks or a side without a stop
-/// ([`RattleError::Argument`]); a failure of the analytic solver.
-pub(crate) fn orbits(
+/// The table `rattle orbit --signature` prints for a structure's orbits `found` and their
+/// `record`.
+pub(crate) fn orbits_table(
     loaded: &StructureForm,
     omega: f64,
-    text: &str,
-    period: u32,
-    json: bool,
-) -> Result<String, RattleError> {
-    loaded.check_frequency(omega)?;
-    let structure = &loaded.structure;
-    if structure.stops.is_empty() {
-        return Err(RattleError::Argument(format!(
-            "--signature: structure '{}' has no stops: it has no impacting orbits",
-            loaded.scene.name
-        )));
-    }
-    let argument = |e: &dyn std::fmt::Display| RattleError::Argument(e.to_string());
-    let sequence = ImpactSequence::parse(&sequence_text(text, structure.stops.len()), period)
-        .map_err(|e| argument(&e))?;
-    let model = structure.analytic_model().map_err(|e| argument(&e))?;
-    sequence.check(&model).map_err(|e| argument(&e))?;
-    let found = sequence_orbits(&model, omega, &sequence)
-        .map_err(|e| RattleError::Numerical(e.to_string()))?;
-    let record = StructureOrbitsRecord {
-        at: StructureAt::new(&loaded.scene, structure, omega),
-        sequence: sequence.to_string(),
-        period: sequence.period(),
-        orbits: found
-            .iter()
-            .map(|o| StructureOrbitRecord {
-                alpha: finite(o.alpha),
-                impact_phases: o.impact_phases.iter().map(|&p| finite(p)).collect(),
-                relative_velocities_before: o
-                    .sequence
-                    .impacts()
-                    .iter()
-                    .zip(&o.states_before_impacts)
-                    .map(|(i, x)| {
-                        let n = structure.dofs();
-                        let w = &model.pairs()[i.pair].direction;
-                        finite((0..n).map(|k| w[k] * x[n + k]).sum())
-                    })
-                    .collect(),
-                orbit: StructureAnalyticRecord::new(structure, o),
-            })
-            .collect(),
-    };
-    if json {
-        return pretty(&record);
-    }
+    found: &[SequenceOrbit],
+    record: &StructureOrbitsRecord,
+) -> String {
     let mut out = loaded.heading(omega);
     let _ = writeln!(
         out,
@@ -353,5 +191,5 @@ pub(crate) fn orbits(
             let _ = writeln!(out, "   T = {t:.4} dB (observed body against u_g)");
         }
     }
-    Ok(out)
+    out
 }

@@ -1,12 +1,13 @@
 //! `rattle sweep`: a frequency sweep, streamed to a file.
 
 use super::{check_frequency, check_omega, load_any, Accuracy, RattleError};
+use crate::api;
 use crate::output::{writer, Format, OutputError};
 use crate::runs::axis::Axis;
 use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
-use crate::runs::structure_sweep::{structure_header, structure_sweep_rows};
-use crate::runs::sweep::{header, sweep_rows, Solver, SweepRow};
+use crate::runs::structure_sweep::structure_header;
+use crate::runs::sweep::{header, Solver, SweepRow};
 use crate::scene::frequency::FrequencyBounds;
 use crate::scene::structure::StructureForm;
 use crate::scene::AnyScene;
@@ -122,16 +123,15 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
     let progress = Progress::new("sweep", omegas.len(), true);
     let mut by_class: BTreeMap<&'static str, usize> = BTreeMap::new();
     let mut by_signature: BTreeMap<String, usize> = BTreeMap::new();
-    sweep_rows(&scene, omegas, args.solver, &options, &progress, |row| {
+    api::sweep_each(&scene, omegas, args.solver, &options, &progress, |row| {
         if let Some(class) = row.class {
             *by_class.entry(class).or_insert(0) += 1;
             if class == "agreement" {
                 *by_signature.entry(agreed_motion(&row)).or_insert(0) += 1;
             }
         }
-        table.row(&row)
-    })
-    .map_err(io)?;
+        table.row(&row).map_err(io)
+    })?;
     table.finish().map_err(io)?;
     let mut out = format!(
         "wrote {} ({} frequencies, solver {})\n",
@@ -185,20 +185,12 @@ fn structure_run(
     .map_err(io)?;
     let progress = Progress::new("sweep", omegas.len(), true);
     let mut by_class: BTreeMap<&'static str, usize> = BTreeMap::new();
-    structure_sweep_rows(
-        &form.structure,
-        &omegas,
-        args.solver,
-        options,
-        &progress,
-        |row| {
-            if let Some(class) = row.class {
-                *by_class.entry(class).or_insert(0) += 1;
-            }
-            table.row(&row)
-        },
-    )
-    .map_err(io)?;
+    api::structure_sweep_each(form, &omegas, args.solver, options, &progress, |row| {
+        if let Some(class) = row.class {
+            *by_class.entry(class).or_insert(0) += 1;
+        }
+        table.row(&row).map_err(io)
+    })?;
     table.finish().map_err(io)?;
     let mut out = format!(
         "wrote {} ({} frequencies, solver {}, structure {})\n",

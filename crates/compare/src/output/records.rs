@@ -234,6 +234,28 @@ pub struct FamilyRecord {
 }
 
 /// What `rattle simulate --json` prints.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api::{self, Simulation};
+/// use rattle_compare::scene::{AnyScene, Scene};
+/// use rattle_event_driven::SimulationOptions;
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// let Simulation::Cells { record, .. } =
+///     api::simulate(&scene, 2.0, &SimulationOptions::default())?
+/// else {
+///     unreachable!("a scene of the unit form")
+/// };
+/// assert_eq!(record.status, "periodic");
+/// assert_eq!(record.period, Some(1));
+/// assert_eq!(record.cell_outer_amplitudes.len(), 1);
+/// // Undefined values are `None`, written `null`: never NaN in the JSON.
+/// let json = serde_json::to_value(&record).unwrap();
+/// assert_eq!(json["scene"], "paper");
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SimulationRecord {
     /// The scene and the frequency.
@@ -434,6 +456,23 @@ pub struct AnalyticCycleRecord {
 }
 
 /// What `rattle compare --json` prints.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api::{self, Comparison};
+/// use rattle_compare::scene::{AnyScene, Scene};
+/// use rattle_event_driven::SimulationOptions;
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// let Comparison::Unit(r) = api::compare(&scene, 2.0, &SimulationOptions::default())? else {
+///     unreachable!("a single unit")
+/// };
+/// assert_eq!(r.class, "agreement");
+/// assert_eq!(r.simulated.signature.as_deref(), Some("+-"));
+/// assert!(r.relative_difference.unwrap() < 1e-6);
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CrossCheckRecord {
     /// Scene name.

@@ -83,6 +83,26 @@ fn transmittance(structure: &Structure, amplitudes: &[f64]) -> Option<f64> {
 }
 
 /// What `rattle simulate --json` prints for a structure.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api::{self, Simulation};
+/// use rattle_event_driven::SimulationOptions;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/impact-oscillator.json");
+/// let scene = api::load(path)?;
+/// let Simulation::Structure { record, .. } =
+///     api::simulate(&scene, 1.5, &SimulationOptions::default())?
+/// else {
+///     unreachable!("a scene of the structure form")
+/// };
+/// // One entry per stop, every body named by the scene's name for it.
+/// assert_eq!(record.pair_impacts_per_period.len(), 1);
+/// let json = serde_json::to_value(&record).unwrap();
+/// assert!(json["body_amplitudes"].is_object());
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct StructureSimulationRecord {
     /// The scene and the frequency.
@@ -453,4 +473,33 @@ pub fn structure_trajectory(
             rows: impacts,
         },
     )
+}
+
+/// What `rattle orbit --signature --json` prints for a structure.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureOrbitsRecord {
+    /// The scene and the frequency.
+    #[serde(flatten)]
+    pub at: StructureAt,
+    /// The impact sequence, canonical.
+    pub sequence: String,
+    /// Forcing periods per cycle.
+    pub period: u32,
+    /// Every orbit of the sequence the multi-start finds.
+    pub orbits: Vec<StructureOrbitRecord>,
+}
+
+/// One orbit of a structure's impact sequence.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct StructureOrbitRecord {
+    /// The forcing's phase `θ = ωt + α` at the first impact (`t = 0`), rad in `(−π, π]`: the
+    /// base moves as `u_g cos θ`, a force as `F cos(θ + φ)`.
+    pub alpha: Option<f64>,
+    /// The impacts' times as fractions of the cycle, first 0.
+    pub impact_phases: Vec<Option<f64>>,
+    /// Each impact's relative velocity just before it, `ṙ⁻`, m/s.
+    pub relative_velocities_before: Vec<Option<f64>>,
+    /// The orbit's amplitudes, verdicts and multipliers.
+    #[serde(flatten)]
+    pub orbit: StructureAnalyticRecord,
 }

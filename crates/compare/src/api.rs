@@ -1,0 +1,1171 @@
+//! The front door: one call per job of the `rattle` command, each taking a loaded scene and
+//! plain options and returning the record the command prints with `--json`.
+//!
+//! The `rattle` command and the Python package call these functions; they add argument
+//! parsing, text tables and files around them. Every record is [`serde::Serialize`], and its
+//! JSON is the command's, key for key. The records' fields are documented on their types in
+//! [`crate::output::records`] and [`crate::output::structure`].
+//!
+//! | call | the command | returns |
+//! | --- | --- | --- |
+//! | [`load`], [`parse`] | `rattle … SCENE` | [`AnyScene`] |
+//! | [`simulate`] | `rattle simulate` | [`Simulation`] |
+//! | [`orbits`] | `rattle orbit` | [`Orbits`] |
+//! | [`signature_orbits`] | `rattle orbit --signature` | [`SignatureOrbits`] |
+//! | [`compare`] | `rattle compare` | [`Comparison`] |
+//! | [`sweep`], [`sweep_each`] | `rattle sweep` | [`Sweep`], rows one by one |
+//! | [`continuation`] | `rattle continue` | [`Continuation`] |
+//! | [`boundary`] | `rattle boundary` | [`BoundaryRecord`] |
+//! | [`map`], [`map_document`] | `rattle map` | the map's tables |
+//! | [`basins`] | `rattle basins` | [`Basins`] and its table |
+//!
+//! Errors are values ([`ApiError`]): bad input names the parameter (or the scene's field) and
+//! its allowed range; a solver that fails says why.
+//!
+//! # Examples
+//!
+//! ```
+//! use rattle_compare::api;
+//! use rattle_event_driven::SimulationOptions;
+//!
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/paper.json");
+//! let scene = api::load(path)?;
+//! let sim = api::simulate(&scene, 2.0, &SimulationOptions::default())?;
+//! assert!(sim.point().outer_amplitude > 0.0);
+//! let json = serde_json::to_string(&sim)?;
+//! assert!(json.contains("\"status\""));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+
+use crate::output::records::{
+    At, ChainCompareRecord, ChainOrbitsRecord, ContinuationRecord, CrossCheckRecord, LinearRecord,
+    LyapunovRecord, OrbitRecord, OrbitsRecord, SignatureOrbitRecord, SignatureOrbitsRecord,
+    SimulationRecord,
+};
+use crate::output::structure::{
+    structure_trajectory, NamedTable, StructureAnalyticRecord, StructureAt, StructureCompareRecord,
+    StructureOrbitRecord, StructureOrbitsRecord, StructureSimulationRecord,
+};
+use crate::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, TrajectoryRow};
+use crate::output::{finite, Format};
+use crate::runs::basins::{write_basins, BasinGrid, Basins};
+use crate::runs::boundary::{follow_any, BoundaryOptions, BoundaryRecord};
+use crate::runs::continuation::{follow, follow_chain, ChainFollowed, FollowError, Followed};
+use crate::runs::map::{write_map, MapError, MapGrid, MapSettings, WriteMapError};
+use crate::runs::parallel::Progress;
+use crate::runs::shard::Shard;
+use crate::runs::structure_sweep::{structure_sweep_rows, StructureSweepRow};
+use crate::runs::sweep::{sweep_rows, Solver, SweepRow};
+use crate::scene::analytic::{
+    analyse, chain_linear_model, orbits_of_signature, sample_sequence_orbit,
+    sample_signature_orbit, AnalyticPoint, OrbitSearch,
+};
+use crate::scene::frequency::{FrequencyBounds, FrequencyError};
+use crate::scene::lyapunov::{check_periods, spectrum};
+use crate::scene::simulator::{model, rest, run, run_structure, SimulatedPoint};
+use crate::scene::structure::StructureForm;
+use crate::scene::{AnyScene, Scene, SceneError};
+use crate::verdict::chain::{chain_cross_check, chain_orbits, ChainOrbitsError};
+use crate::verdict::structure::{record as structure_compare_record, structure_cross_check};
+use crate::verdict::{chain::ChainCheck, cross_check};
+use rattle_analytic::continuation::ContinuationSettings;
+use rattle_analytic::{sequence_orbits, ImpactSequence, SequenceOrbit, Signature, SignatureOrbit};
+use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
+use rattle_event_driven::SimulationOptions;
+use serde::{Serialize, Serializer};
+use std::io::Write;
+use std::path::Path;
+use thiserror::Error;
+
+/// A facade call that did not give its result.
+///
+/// [`ApiError::Scene`], [`ApiError::Frequency`] and [`ApiError::Argument`] are the caller's
+/// (bad input, each message naming the scene's field, or the parameter as the `rattle`
+/// command's option spells it (`--omega`, `--signature`), and its allowed range);
+/// [`ApiError::Numerical`] is a solver's failure; [`ApiError::Write`] an output that could
+/// not be written.
+#[derive(Debug, Error)]
+pub enum ApiError {
+    /// The scene is unreadable or invalid.
+    #[error(transparent)]
+    Scene(#[from] SceneError),
+    /// A frequency the scene cannot be run at in bounded time.
+    #[error(transparent)]
+    Frequency(#[from] FrequencyError),
+    /// A parameter out of its range, or a request the scene does not admit; the message names
+    /// the parameter and what it must be.
+    #[error("{0}")]
+    Argument(String),
+    /// A solver failed; the message says why.
+    #[error("numerical failure: {0}")]
+    Numerical(String),
+    /// A table could not be written to its writer.
+    #[error("cannot write the {table} table: {source}")]
+    Write {
+        /// Which table.
+        table: Table,
+        /// The writer's error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+/// The tables [`map`] and [`basins`] write, to say which one failed in [`ApiError::Write`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Table {
+    /// Every point of a map, or every start of a basins grid.
+    Points,
+    /// The attenuation bandwidth of every line of a map.
+    Bandwidth,
+}
+
+impl std::fmt::Display for Table {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Table::Points => "points",
+            Table::Bandwidth => "bandwidth",
+        })
+    }
+}
+
+/// A numerical failure carrying `e`'s message.
+fn numerical(e: impl std::fmt::Display) -> ApiError {
+    ApiError::Numerical(e.to_string())
+}
+
+/// Bad input carrying `e`'s message.
+fn argument(e: impl std::fmt::Display) -> ApiError {
+    ApiError::Argument(e.to_string())
+}
+
+/// Reads and validates the scene file at `path`, in either form (cells or structure).
+///
+/// # Errors
+/// [`ApiError::Scene`]: the file cannot be read, is not JSON of the scene format (line and
+/// column), or a value is out of range (its JSON path and allowed range).
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::scene::AnyScene;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/impact-oscillator.json");
+/// let scene = api::load(path)?;
+/// assert!(matches!(scene, AnyScene::Structure(_)));
+///
+/// let missing = api::load("no-such-scene.json").unwrap_err();
+/// assert!(missing.to_string().contains("no-such-scene.json"));
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn load(path: impl AsRef<Path>) -> Result<AnyScene, ApiError> {
+    Ok(AnyScene::load(path.as_ref())?)
+}
+
+/// Parses and validates a scene given as JSON text, in either form; error messages name it
+/// `text`.
+///
+/// # Errors
+/// [`ApiError::Scene`], as [`load`].
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+///
+/// let scene = api::parse(r#"{
+///     "name": "inline",
+///     "unit": {"outer_mass": 1.0, "inner_mass": 0.5,
+///              "outer_stiffness": 1.0, "inner_stiffness": 2.0},
+///     "base": {"amplitude": 1.0},
+///     "stops": {"gap": 0.5, "restitution": 0.8}
+/// }"#)?;
+/// assert_eq!(scene.name(), "inline");
+///
+/// // A value out of range is refused with its field and its range.
+/// let bad = api::parse(r#"{
+///     "name": "bad",
+///     "unit": {"outer_mass": -1.0, "inner_mass": 0.5,
+///              "outer_stiffness": 1.0, "inner_stiffness": 2.0},
+///     "base": {"amplitude": 1.0}
+/// }"#).unwrap_err();
+/// assert!(bad.to_string().contains("unit.outer_mass"));
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn parse(text: &str) -> Result<AnyScene, ApiError> {
+    Ok(AnyScene::parse(text, "text")?)
+}
+
+/// `omega` if it is finite and positive and `scene` can be run at it in bounded time
+/// ([`FrequencyBounds`]); errors name the frequency `name` (the command passes `--omega`).
+///
+/// # Errors
+/// [`ApiError::Frequency`] naming `name`, with the allowed range.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::scene::{AnyScene, Scene};
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// assert_eq!(api::check_frequency(&scene, "omega", 2.0)?, 2.0);
+/// let refused = api::check_frequency(&scene, "omega", -1.0).unwrap_err();
+/// assert!(refused.to_string().starts_with("omega = -1"));
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn check_frequency(scene: &AnyScene, name: &str, omega: f64) -> Result<f64, ApiError> {
+    match scene {
+        AnyScene::Cells(scene) => check_cells_frequency(scene, name, omega),
+        AnyScene::Structure(form) => {
+            Ok(FrequencyBounds::of_structure(&form.structure).check(name, omega)?)
+        }
+    }
+}
+
+/// [`check_frequency`] on a scene of the cells form.
+fn check_cells_frequency(scene: &Scene, name: &str, omega: f64) -> Result<f64, ApiError> {
+    Ok(FrequencyBounds::of(scene).check(name, omega)?)
+}
+
+/// The cells form of `scene`, or bad input naming `call` for a structure.
+fn cells<'a>(scene: &'a AnyScene, call: &str) -> Result<&'a Scene, ApiError> {
+    match scene {
+        AnyScene::Cells(scene) => Ok(scene),
+        AnyScene::Structure(_) => Err(ApiError::Argument(format!(
+            "{call} is not taken on a scene in the structure form yet: it is taken on the unit \
+             and chain forms"
+        ))),
+    }
+}
+
+/// What [`simulate`] found: the simulator's own report and the record `rattle simulate
+/// --json` prints (serializing a `Simulation` gives that record).
+#[derive(Debug, Clone)]
+pub enum Simulation {
+    /// A unit or a chain of cells.
+    Cells {
+        /// The simulator's report.
+        point: SimulatedPoint,
+        /// The command's record.
+        record: SimulationRecord,
+    },
+    /// A structure.
+    Structure {
+        /// The simulator's report.
+        point: SimulatedPoint,
+        /// The command's record.
+        record: StructureSimulationRecord,
+    },
+}
+
+impl Simulation {
+    /// The simulator's report: the regime, the steady state, amplitudes and transmittance.
+    pub fn point(&self) -> &SimulatedPoint {
+        match self {
+            Simulation::Cells { point, .. } | Simulation::Structure { point, .. } => point,
+        }
+    }
+}
+
+impl Serialize for Simulation {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Simulation::Cells { record, .. } => record.serialize(s),
+            Simulation::Structure { record, .. } => record.serialize(s),
+        }
+    }
+}
+
+/// The event-driven simulator on `scene` at `omega` from rest (a structure from its rest
+/// state), run until the motion is periodic or a cap (or for `options.fixed_periods`
+/// periods): `rattle simulate`. A structure's periodic motion is reported from the cycle the
+/// simulator's Newton polishes, when it polishes it.
+///
+/// # Errors
+/// [`ApiError::Frequency`] for a frequency the scene cannot be run at (named `--omega`);
+/// [`ApiError::Numerical`] when the simulator refuses the model, the start or the options,
+/// or meets an unresolved accumulation of impacts.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::scene::{AnyScene, Scene};
+/// use rattle_event_driven::SimulationOptions;
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// // Eight forcing periods exactly, the steady state judged from their tail.
+/// let options = SimulationOptions { fixed_periods: Some(8), ..SimulationOptions::default() };
+/// let sim = api::simulate(&scene, 2.0, &options)?;
+/// let api::Simulation::Cells { record, .. } = &sim else { unreachable!() };
+/// assert_eq!(record.periods_run, 8);
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn simulate(
+    scene: &AnyScene,
+    omega: f64,
+    options: &SimulationOptions,
+) -> Result<Simulation, ApiError> {
+    let omega = check_frequency(scene, "--omega", omega)?;
+    match scene {
+        AnyScene::Cells(scene) => {
+            let point = run(scene, omega, &rest(scene), options).map_err(numerical)?;
+            let record = SimulationRecord::new(scene, &point);
+            Ok(Simulation::Cells { point, record })
+        }
+        AnyScene::Structure(form) => {
+            let structure = &form.structure;
+            let point =
+                run_structure(structure, omega, &structure.rest(), options).map_err(numerical)?;
+            let polished = point.steady.orbit.is_some();
+            let record = StructureSimulationRecord::new(&form.scene, structure, &point, polished);
+            Ok(Simulation::Structure { point, record })
+        }
+    }
+}
+
+/// A cycle sampled in time: the two tables `--trajectory` and `--impacts` write.
+#[derive(Debug, Clone)]
+pub enum TrajectoryTables {
+    /// A unit or a chain: one row per cell at each time, every impact as two rows.
+    Cells {
+        /// The states, columns `t, kind, cell, base, u_o, u_i, v_o, v_i, r`.
+        rows: Vec<TrajectoryRow>,
+        /// The impacts.
+        impacts: Vec<ImpactRow>,
+    },
+    /// A structure: a column per body and per stop.
+    Structure {
+        /// The states.
+        states: NamedTable,
+        /// The impacts.
+        impacts: NamedTable,
+    },
+}
+
+/// The final cycle of `simulation` (its last period with `options.fixed_periods`) sampled
+/// from the closed form between events, `samples_per_period` uniform samples per forcing
+/// period plus every impact: `rattle simulate --trajectory`. `options` are those of the run.
+///
+/// # Errors
+/// [`ApiError::Argument`] naming `--samples-per-period` outside
+/// `[1, MAX_SAMPLES_PER_PERIOD]`; [`ApiError::Numerical`] when the cycle cannot be rerun.
+pub fn simulation_trajectory(
+    scene: &AnyScene,
+    simulation: &Simulation,
+    samples_per_period: u64,
+    options: &SimulationOptions,
+) -> Result<TrajectoryTables, ApiError> {
+    use crate::output::trajectory::MAX_SAMPLES_PER_PERIOD;
+    if !(1..=MAX_SAMPLES_PER_PERIOD).contains(&samples_per_period) {
+        return Err(ApiError::Argument(format!(
+            "--samples-per-period = {samples_per_period} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]"
+        )));
+    }
+    let sim = simulation.point();
+    let sampling = |base_amplitude| TrajectoryOptions {
+        periods: 1,
+        samples_per_period,
+        base_amplitude,
+        simulation: options.clone(),
+    };
+    match scene {
+        AnyScene::Cells(scene) => {
+            let m = model(scene, sim.omega).map_err(numerical)?;
+            let trajectory =
+                final_cycle_trajectory(&m, sim.omega, &sim.steady, &sampling(scene.base.amplitude))
+                    .map_err(numerical)?;
+            let (rows, impacts) = simulated_rows(&trajectory, &scene.cell_pairs());
+            Ok(TrajectoryTables::Cells { rows, impacts })
+        }
+        AnyScene::Structure(form) => {
+            let structure = &form.structure;
+            let m = structure.event_model(sim.omega).map_err(numerical)?;
+            let trajectory = final_cycle_trajectory(
+                &m,
+                sim.omega,
+                &sim.steady,
+                &sampling(structure.base_amplitude.unwrap_or(0.0)),
+            )
+            .map_err(numerical)?;
+            let (states, impacts) = structure_trajectory(structure, &trajectory);
+            Ok(TrajectoryTables::Structure { states, impacts })
+        }
+    }
+}
+
+/// The Lyapunov exponents of `simulation` over `periods` more forcing periods from its end
+/// state: `rattle simulate --lyapunov`. `options` are those of the run.
+///
+/// # Errors
+/// [`ApiError::Argument`] for fewer periods than the exponents need (named
+/// `--lyapunov-periods`, with the range) or a structure scene; [`ApiError::Numerical`] when
+/// the exponents' run fails.
+pub fn lyapunov(
+    scene: &AnyScene,
+    simulation: &Simulation,
+    periods: u64,
+    options: &SimulationOptions,
+) -> Result<LyapunovRecord, ApiError> {
+    let scene = cells(scene, "lyapunov")?;
+    check_periods(periods).map_err(argument)?;
+    let sim = simulation.point();
+    let spectrum = spectrum(scene, sim, periods, options).map_err(numerical)?;
+    Ok(LyapunovRecord::new(sim, &spectrum))
+}
+
+/// The analytic picture of a unit at one frequency ([`orbits`]): the solver's answer and the
+/// record `rattle orbit --json` prints (serializing `Orbits` gives that record).
+#[derive(Debug, Clone)]
+pub struct Orbits {
+    /// The solver's answer: the linear response and the orbits, unrounded.
+    pub point: AnalyticPoint,
+    /// The command's record.
+    pub record: OrbitsRecord,
+}
+
+impl Serialize for Orbits {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.record.serialize(s)
+    }
+}
+
+/// The analytic picture of a single unit at `omega`: its linear steady state and every
+/// two-impact orbit of `search` (symmetric, or asymmetric β too), with viability and
+/// stability: `rattle orbit`.
+///
+/// # Errors
+/// [`ApiError::Argument`] for a chain or a structure (their orbits are those of an impact
+/// sequence: [`signature_orbits`]); [`ApiError::Frequency`] naming `--omega`;
+/// [`ApiError::Numerical`] when the analytic solver fails.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::scene::analytic::OrbitSearch;
+/// use rattle_compare::scene::{AnyScene, Scene};
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// let found = api::orbits(&scene, 2.0, OrbitSearch::Symmetric)?;
+/// assert!(found.record.orbits.iter().all(|o| o.beta == Some(0.5)));
+/// assert_eq!(found.record.linear.unbounded, found.point.linear.unbounded);
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn orbits(scene: &AnyScene, omega: f64, search: OrbitSearch) -> Result<Orbits, ApiError> {
+    let scene = cells(scene, "orbits")?;
+    scene
+        .refuse_chain("rattle_compare::api::orbits")
+        .map_err(argument)?;
+    let omega = check_cells_frequency(scene, "--omega", omega)?;
+    let point = analyse(scene, omega, search).map_err(numerical)?;
+    let record = OrbitsRecord {
+        at: At::new(scene, omega),
+        linear: LinearRecord::new(&point.linear, scene.gap()),
+        orbits: point
+            .orbits
+            .iter()
+            .map(|(b, o)| OrbitRecord::new(o, *b))
+            .collect(),
+    };
+    Ok(Orbits { point, record })
+}
+
+/// Every orbit of one impact signature found by [`signature_orbits`], with the solver's
+/// orbits beside the record (to sample one: [`orbit_trajectory`]); serializing it gives the
+/// record `rattle orbit --signature --json` prints.
+#[derive(Debug, Clone)]
+pub enum SignatureOrbits {
+    /// A single unit's orbits of a signature.
+    Unit {
+        /// The solver's orbits.
+        orbits: Vec<SignatureOrbit>,
+        /// The command's record.
+        record: SignatureOrbitsRecord,
+    },
+    /// A chain's orbits of an impact sequence of its pairs (the record holds the orbits).
+    Chain {
+        /// The command's record.
+        record: ChainOrbitsRecord,
+    },
+    /// A structure's orbits of an impact sequence of its stops.
+    Structure {
+        /// The solver's orbits.
+        orbits: Vec<SequenceOrbit>,
+        /// The command's record.
+        record: StructureOrbitsRecord,
+    },
+}
+
+impl SignatureOrbits {
+    /// How many orbits were found.
+    pub fn len(&self) -> usize {
+        match self {
+            SignatureOrbits::Unit { orbits, .. } => orbits.len(),
+            SignatureOrbits::Chain { record } => record.orbits.len(),
+            SignatureOrbits::Structure { orbits, .. } => orbits.len(),
+        }
+    }
+
+    /// No orbit was found.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The signature or impact sequence, canonical, as the record writes it.
+    pub fn signature(&self) -> &str {
+        match self {
+            SignatureOrbits::Unit { record, .. } => &record.signature,
+            SignatureOrbits::Chain { record } => &record.sequence,
+            SignatureOrbits::Structure { record, .. } => &record.sequence,
+        }
+    }
+}
+
+impl Serialize for SignatureOrbits {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            SignatureOrbits::Unit { record, .. } => record.serialize(s),
+            SignatureOrbits::Chain { record } => record.serialize(s),
+            SignatureOrbits::Structure { record, .. } => record.serialize(s),
+        }
+    }
+}
+
+/// Every orbit with the impact signature `signature` over `period` forcing periods at
+/// `omega`: `rattle orbit --signature`. On a unit, `signature` lists the stops hit over one
+/// cycle, `+` side 1 and `-` side 2 (e.g. `+-`); on a chain, `<pair><side>` tokens (e.g.
+/// `0+ 1- 0- 1+`); on a structure, `<stop><side>` tokens (with one stop, the sides alone).
+///
+/// # Errors
+/// [`ApiError::Argument`] for a signature that does not parse (or names a stop or pair the
+/// scene lacks), a `period` outside `[1, 8]`, or a scene without stops;
+/// [`ApiError::Frequency`] naming `--omega`; [`ApiError::Numerical`] when the solver fails.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::scene::{AnyScene, Scene};
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// let found = api::signature_orbits(&scene, 2.0, "+-", 1)?;
+/// assert_eq!(found.signature(), "+-");
+/// let json = serde_json::to_value(&found).unwrap();
+/// assert_eq!(json["orbits"].as_array().unwrap().len(), found.len());
+///
+/// let refused = api::signature_orbits(&scene, 2.0, "+x", 1).unwrap_err();
+/// assert!(matches!(refused, api::ApiError::Argument(_)));
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn signature_orbits(
+    scene: &AnyScene,
+    omega: f64,
+    signature: &str,
+    period: u32,
+) -> Result<SignatureOrbits, ApiError> {
+    let omega = check_frequency(scene, "--omega", omega)?;
+    match scene {
+        AnyScene::Structure(form) => structure_orbits(form, omega, signature, period),
+        AnyScene::Cells(scene) if scene.is_chain() => {
+            let record = chain_orbits(scene, omega, signature, period).map_err(|e| match e {
+                ChainOrbitsError::Numerical(_) => numerical(e),
+                _ => argument(e),
+            })?;
+            Ok(SignatureOrbits::Chain { record })
+        }
+        AnyScene::Cells(scene) => {
+            let signature = Signature::parse(signature, period).map_err(argument)?;
+            if scene.stops.is_none() {
+                return Err(ApiError::Argument(
+                    "--signature: the scene has no `stops`, so no impact signature".into(),
+                ));
+            }
+            let orbits = orbits_of_signature(scene, omega, &signature);
+            let record = SignatureOrbitsRecord {
+                at: At::new(scene, omega),
+                signature: signature.to_string(),
+                period: signature.period(),
+                orbits: orbits.iter().map(SignatureOrbitRecord::new).collect(),
+            };
+            Ok(SignatureOrbits::Unit { orbits, record })
+        }
+    }
+}
+
+/// A signature as the user writes it for a structure: `<stop><side>` tokens, or with one stop
+/// the side characters alone (`+-` reads as `0+ 0-`).
+fn sequence_text(text: &str, stops: usize) -> String {
+    let bare = !text.is_empty() && text.chars().all(|c| matches!(c, '+' | '-'));
+    if stops == 1 && bare {
+        text.chars()
+            .map(|c| format!("0{c}"))
+            .collect::<Vec<_>>()
+            .join(" ")
+    } else {
+        text.to_owned()
+    }
+}
+
+/// [`signature_orbits`] on a structure: every orbit of one impact sequence of its stops.
+fn structure_orbits(
+    form: &StructureForm,
+    omega: f64,
+    text: &str,
+    period: u32,
+) -> Result<SignatureOrbits, ApiError> {
+    let structure = &form.structure;
+    if structure.stops.is_empty() {
+        return Err(ApiError::Argument(format!(
+            "--signature: structure '{}' has no stops: it has no impacting orbits",
+            form.scene.name
+        )));
+    }
+    let sequence = ImpactSequence::parse(&sequence_text(text, structure.stops.len()), period)
+        .map_err(argument)?;
+    let model = structure.analytic_model().map_err(argument)?;
+    sequence.check(&model).map_err(argument)?;
+    let found = sequence_orbits(&model, omega, &sequence).map_err(numerical)?;
+    let n = structure.dofs();
+    let record = StructureOrbitsRecord {
+        at: StructureAt::new(&form.scene, structure, omega),
+        sequence: sequence.to_string(),
+        period: sequence.period(),
+        orbits: found
+            .iter()
+            .map(|o| StructureOrbitRecord {
+                alpha: finite(o.alpha),
+                impact_phases: o.impact_phases.iter().map(|&p| finite(p)).collect(),
+                relative_velocities_before: o
+                    .sequence
+                    .impacts()
+                    .iter()
+                    .zip(&o.states_before_impacts)
+                    .map(|(i, x)| {
+                        let w = &model.pairs()[i.pair].direction;
+                        finite((0..n).map(|k| w[k] * x[n + k]).sum())
+                    })
+                    .collect(),
+                orbit: StructureAnalyticRecord::new(structure, o),
+            })
+            .collect(),
+    };
+    Ok(SignatureOrbits::Structure {
+        orbits: found,
+        record,
+    })
+}
+
+/// The `orbit`-th of `found` (numbered from 0, as listed) sampled from the closed form,
+/// `samples_per_period` uniform samples per forcing period plus every impact:
+/// `rattle orbit --signature … --orbit K --trajectory F --impacts I`.
+///
+/// # Errors
+/// [`ApiError::Argument`] naming `--orbit` when it is not below `found.len()`, naming
+/// `--samples-per-period` outside `[1, MAX_SAMPLES_PER_PERIOD]`, or for a structure's orbits
+/// (not sampled yet).
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::scene::{AnyScene, Scene};
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// let found = api::signature_orbits(&scene, 2.0, "+-", 1)?;
+/// if !found.is_empty() {
+///     let (rows, impacts) = api::orbit_trajectory(&scene, &found, 0, 16)?;
+///     assert!(rows.len() >= 16);
+///     assert_eq!(impacts.len(), 2);
+/// }
+/// let past = api::orbit_trajectory(&scene, &found, found.len(), 16).unwrap_err();
+/// assert!(past.to_string().starts_with("--orbit = "));
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn orbit_trajectory(
+    scene: &AnyScene,
+    found: &SignatureOrbits,
+    orbit: usize,
+    samples_per_period: u64,
+) -> Result<(Vec<TrajectoryRow>, Vec<ImpactRow>), ApiError> {
+    use crate::output::trajectory::MAX_SAMPLES_PER_PERIOD;
+    if !(1..=MAX_SAMPLES_PER_PERIOD).contains(&samples_per_period) {
+        return Err(ApiError::Argument(format!(
+            "--samples-per-period = {samples_per_period} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]"
+        )));
+    }
+    let scene = cells(scene, "orbit_trajectory")?;
+    if orbit >= found.len() {
+        let omega = match found {
+            SignatureOrbits::Unit { record, .. } => record.at.omega,
+            SignatureOrbits::Chain { record } => record.at.omega,
+            SignatureOrbits::Structure { record, .. } => record.at.omega,
+        }
+        .unwrap_or(f64::NAN);
+        return Err(ApiError::Argument(format!(
+            "--orbit = {orbit} is out of range: {} orbit(s) of {} at ω = {omega}, numbered from 0",
+            found.len(),
+            found.signature()
+        )));
+    }
+    let (omega, (samples, impacts)) = match found {
+        SignatureOrbits::Unit { orbits, .. } => {
+            let o = &orbits[orbit];
+            (
+                o.omega,
+                sample_signature_orbit(scene, o, samples_per_period),
+            )
+        }
+        SignatureOrbits::Chain { record } => {
+            let model = chain_linear_model(scene).map_err(argument)?;
+            let o = &record.orbits[orbit];
+            (
+                o.omega,
+                sample_sequence_orbit(&model, o, samples_per_period),
+            )
+        }
+        SignatureOrbits::Structure { .. } => {
+            return Err(ApiError::Argument(
+                "orbit_trajectory is not taken on a scene in the structure form yet: it is \
+                 taken on the unit and chain forms"
+                    .into(),
+            ))
+        }
+    };
+    Ok(analytic_rows(
+        &samples,
+        &impacts,
+        omega,
+        scene.base.amplitude,
+        &scene.cell_pairs(),
+    ))
+}
+
+/// Both solvers on the motion `scene` settles on at `omega` and the verdict between them
+/// ([`compare`]); serializing it gives the record `rattle compare --json` prints.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum Comparison {
+    /// A single unit: the simulated cycle, the analytic orbit of its signature, the class.
+    Unit(CrossCheckRecord),
+    /// A chain: the simulated cycle beside the analytic orbit of its impact sequence.
+    Chain(ChainCompareRecord),
+    /// A structure: as a chain's, every body named.
+    Structure(StructureCompareRecord),
+}
+
+impl Comparison {
+    /// The verdict's class: `agreement`, `disagreement`, … (the record's `class`).
+    pub fn class(&self) -> &'static str {
+        match self {
+            Comparison::Unit(r) => r.class,
+            Comparison::Chain(r) => r.class,
+            Comparison::Structure(r) => r.class,
+        }
+    }
+}
+
+/// Both solvers on the motion `scene` settles on at `omega`, whatever its impact signature:
+/// the simulator from rest with its own Newton-polished cycle, the analytic orbit of that
+/// signature (a chain's or structure's: of its impact sequence) solved from the simulated
+/// impact phases, and the verdict: `rattle compare`.
+///
+/// # Errors
+/// [`ApiError::Frequency`] naming `--omega`; [`ApiError::Numerical`] when the simulator fails
+/// (the analytic solver's failure is part of the record, not an error).
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::scene::{AnyScene, Scene};
+/// use rattle_event_driven::SimulationOptions;
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// let check = api::compare(&scene, 2.0, &SimulationOptions::default())?;
+/// assert_eq!(check.class(), "agreement");
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn compare(
+    scene: &AnyScene,
+    omega: f64,
+    options: &SimulationOptions,
+) -> Result<Comparison, ApiError> {
+    let omega = check_frequency(scene, "--omega", omega)?;
+    match scene {
+        AnyScene::Structure(form) => {
+            let check =
+                structure_cross_check(&form.structure, omega, options).map_err(numerical)?;
+            Ok(Comparison::Structure(structure_compare_record(
+                &form.scene,
+                &form.structure,
+                &check,
+            )))
+        }
+        AnyScene::Cells(scene) if scene.is_chain() => {
+            let check: ChainCheck = chain_cross_check(scene, omega, options).map_err(numerical)?;
+            Ok(Comparison::Chain(check.record(scene)))
+        }
+        AnyScene::Cells(scene) => {
+            let check = cross_check(scene, omega, options).map_err(numerical)?;
+            Ok(Comparison::Unit(check.record(scene)))
+        }
+    }
+}
+
+/// The rows of a frequency sweep ([`sweep`]), in frequency order; serializing it gives the
+/// rows as a JSON array.
+#[derive(Debug, Clone, Serialize)]
+#[serde(untagged)]
+pub enum Sweep {
+    /// A unit's or a chain's rows.
+    Cells(Vec<SweepRow>),
+    /// A structure's rows.
+    Structure(Vec<StructureSweepRow>),
+}
+
+impl Sweep {
+    /// How many rows.
+    pub fn len(&self) -> usize {
+        match self {
+            Sweep::Cells(rows) => rows.len(),
+            Sweep::Structure(rows) => rows.len(),
+        }
+    }
+
+    /// No rows.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// Every frequency of `omegas` checked against `bounds`, each named `omegas[i]`.
+fn check_frequencies(bounds: &FrequencyBounds, omegas: &[f64]) -> Result<(), ApiError> {
+    for (i, &omega) in omegas.iter().enumerate() {
+        bounds.check(&format!("omegas[{i}]"), omega)?;
+    }
+    Ok(())
+}
+
+/// `solver` at every frequency of `omegas`, in parallel on rayon's pool, the rows in order:
+/// `rattle sweep` (`both`: the verdict of [`compare`] at every frequency).
+///
+/// # Errors
+/// [`ApiError::Frequency`] naming `omegas[i]`, the first frequency the scene cannot be run
+/// at. A point whose solver fails is a row that says so, not an error.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::runs::sweep::Solver;
+/// use rattle_compare::scene::{AnyScene, Scene};
+/// use rattle_event_driven::SimulationOptions;
+///
+/// let scene = AnyScene::Cells(Scene::paper());
+/// let rows = api::sweep(&scene, &[1.5, 2.0, 2.5], Solver::Analytic, &SimulationOptions::default())?;
+/// assert_eq!(rows.len(), 3);
+/// let api::Sweep::Cells(rows) = rows else { unreachable!() };
+/// assert_eq!(rows[1].omega, Some(2.0));
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn sweep(
+    scene: &AnyScene,
+    omegas: &[f64],
+    solver: Solver,
+    options: &SimulationOptions,
+) -> Result<Sweep, ApiError> {
+    match scene {
+        AnyScene::Cells(s) => {
+            let mut rows = Vec::with_capacity(omegas.len());
+            sweep_each(s, omegas, solver, options, &Progress::hidden(), |row| {
+                rows.push(row);
+                Ok::<_, ApiError>(())
+            })?;
+            Ok(Sweep::Cells(rows))
+        }
+        AnyScene::Structure(form) => {
+            let mut rows = Vec::with_capacity(omegas.len());
+            structure_sweep_each(form, omegas, solver, options, &Progress::hidden(), |row| {
+                rows.push(row);
+                Ok::<_, ApiError>(())
+            })?;
+            Ok(Sweep::Structure(rows))
+        }
+    }
+}
+
+/// [`sweep`] on a unit or a chain with every row handed to `each` as soon as it and those
+/// before it are done (to stream them to a file), `progress` told of every point.
+///
+/// # Errors
+/// [`ApiError::Frequency`] as [`sweep`], converted to `E`; the first error of `each`, which
+/// stops the sweep.
+pub fn sweep_each<E: From<ApiError>>(
+    scene: &Scene,
+    omegas: &[f64],
+    solver: Solver,
+    options: &SimulationOptions,
+    progress: &Progress,
+    each: impl FnMut(SweepRow) -> Result<(), E>,
+) -> Result<(), E> {
+    check_frequencies(&FrequencyBounds::of(scene), omegas)?;
+    sweep_rows(scene, omegas, solver, options, progress, each)
+}
+
+/// [`sweep_each`] on a structure.
+///
+/// # Errors
+/// As [`sweep_each`].
+pub fn structure_sweep_each<E: From<ApiError>>(
+    form: &StructureForm,
+    omegas: &[f64],
+    solver: Solver,
+    options: &SimulationOptions,
+    progress: &Progress,
+    each: impl FnMut(StructureSweepRow) -> Result<(), E>,
+) -> Result<(), E> {
+    check_frequencies(&FrequencyBounds::of_structure(&form.structure), omegas)?;
+    structure_sweep_rows(&form.structure, omegas, solver, options, progress, each)
+}
+
+/// The branches [`continuation`] followed, with the record `rattle continue --json` prints
+/// (serializing a `Continuation` gives that record).
+#[derive(Debug, Clone)]
+pub struct Continuation {
+    /// The command's record: branches, points, events and ends.
+    pub record: ContinuationRecord,
+    /// The branches as the continuation gives them.
+    pub branches: ContinuedBranches,
+}
+
+/// The branches of a [`Continuation`], a unit's or a chain's.
+#[derive(Debug, Clone)]
+pub enum ContinuedBranches {
+    /// A unit's branches.
+    Unit(Followed),
+    /// A chain's branches, every point with every cell's outer amplitude.
+    Chain(ChainFollowed),
+}
+
+impl Serialize for Continuation {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        self.record.serialize(s)
+    }
+}
+
+/// Every orbit of `signature` over `period` forcing periods found at `omega` (or only the
+/// `orbit`-th, numbered as [`signature_orbits`] lists them) followed in ω by
+/// pseudo-arclength continuation within `settings`' range, through folds, with its
+/// bifurcations and the branches they lead onto: `rattle continue`. On a chain, `signature`
+/// is an impact sequence of its pairs (e.g. `0+ 1- 0- 1+`).
+///
+/// # Errors
+/// [`ApiError::Argument`] for a signature that does not parse, a scene without stops, an
+/// `orbit` past the orbits found, or settings out of range (the message names the setting);
+/// [`ApiError::Frequency`] naming `--omega`; [`ApiError::Numerical`] when no orbit exists at
+/// `omega` or the continuation cannot start.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_analytic::continuation::ContinuationSettings;
+/// use rattle_compare::api;
+/// use rattle_compare::scene::Scene;
+///
+/// let settings = ContinuationSettings {
+///     max_branches: 1,
+///     follow_switches: false,
+///     ..ContinuationSettings::new(1.9, 2.1)
+/// };
+/// let followed = api::continuation(&Scene::paper(), "+-", 1, 2.0, Some(0), &settings)?;
+/// assert_eq!(followed.record.signature, "+-");
+/// assert!(!followed.record.points.is_empty());
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn continuation(
+    scene: &Scene,
+    signature: &str,
+    period: u32,
+    omega: f64,
+    orbit: Option<usize>,
+    settings: &ContinuationSettings,
+) -> Result<Continuation, ApiError> {
+    let omega = check_cells_frequency(scene, "--omega", omega)?;
+    let error = |e: FollowError| match e {
+        FollowError::OrbitIndex { .. }
+        | FollowError::NoStops
+        | FollowError::Chain(ChainOrbitsError::Sequence(_) | ChainOrbitsError::MissingStops(_)) => {
+            argument(e)
+        }
+        FollowError::Continuation(ref c) if c.to_string().contains("out of range") => argument(e),
+        _ => numerical(e),
+    };
+    if scene.is_chain() {
+        let followed =
+            follow_chain(scene, signature, period, omega, orbit, settings).map_err(error)?;
+        return Ok(Continuation {
+            record: followed.record(&scene.name),
+            branches: ContinuedBranches::Chain(followed),
+        });
+    }
+    let signature = Signature::parse(signature, period).map_err(argument)?;
+    let followed = follow(scene, &signature, omega, orbit, settings).map_err(error)?;
+    Ok(Continuation {
+        record: followed.record(&scene.name),
+        branches: ContinuedBranches::Unit(followed),
+    })
+}
+
+/// A regime boundary: the event of `options.event`'s kind nearest `options.omega` on the
+/// branches of the signature's orbits, followed in (ω, the scene parameter `options.param`)
+/// through turning points: `rattle boundary`. The options are checked first
+/// ([`BoundaryOptions::checked`]).
+///
+/// # Errors
+/// [`ApiError::Argument`] for options out of range (each named, with its range), a parameter
+/// the scene lacks, or a start the event does not admit; [`ApiError::Numerical`] when no
+/// orbit or event is found or the curve cannot start.
+pub fn boundary(scene: &Scene, options: &BoundaryOptions) -> Result<BoundaryRecord, ApiError> {
+    let checked = options.checked().map_err(ApiError::Argument)?;
+    let request = options
+        .request(&checked, scene.is_chain())
+        .map_err(ApiError::Argument)?;
+    follow_any(scene, &request, &checked.settings).map_err(|e| {
+        if e.is_bad_input() {
+            argument(e)
+        } else {
+            numerical(e)
+        }
+    })
+}
+
+/// The map over restitution, gap and frequency of `grid` (each frequency continued from the
+/// previous one): every point written to `points` and, when given, the attenuation bandwidth
+/// of every (e, Δ/u_g) line to `bandwidth`, each in its format, line by line as the lines are
+/// done (only part `shard` of the lines with a shard): `rattle map`.
+///
+/// # Errors
+/// [`ApiError::Argument`] for a grid out of range (naming the axis) or a scene without stops;
+/// [`ApiError::Frequency`] naming `--omega-min` or `--omega-max`; [`ApiError::Write`] naming the
+/// table that could not be written.
+pub fn map<P: Write, B: Write>(
+    scene: &Scene,
+    grid: &MapGrid,
+    settings: &MapSettings,
+    shard: Option<Shard>,
+    points: (Format, P),
+    bandwidth: Option<(Format, B)>,
+    progress: &Progress,
+) -> Result<(), ApiError> {
+    grid.validate().map_err(argument)?;
+    if scene.stops.is_none() {
+        return Err(argument(MapError::NoStops));
+    }
+    check_cells_frequency(scene, "--omega-min", grid.omega.min)?;
+    check_cells_frequency(scene, "--omega-max", grid.omega.max)?;
+    write_map(scene, grid, settings, shard, points, bandwidth, progress).map_err(|e| match e {
+        WriteMapError::Map(e) => argument(e),
+        WriteMapError::Points(source) => ApiError::Write {
+            table: Table::Points,
+            source,
+        },
+        WriteMapError::Bandwidth(source) => ApiError::Write {
+            table: Table::Bandwidth,
+            source,
+        },
+    })
+}
+
+/// [`map`]'s points table as the JSON document `rattle map --out F.json` writes.
+///
+/// # Errors
+/// As [`map`].
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::runs::axis::Axis;
+/// use rattle_compare::runs::map::{MapGrid, MapSettings};
+/// use rattle_compare::scene::Scene;
+///
+/// let grid = MapGrid {
+///     restitution: Axis::new(0.8, 0.8, 1),
+///     gap_over_base_amplitude: Axis::new(0.5, 0.5, 1),
+///     omega: Axis::new(1.8, 2.2, 3),
+/// };
+/// let text = api::map_document(&Scene::paper(), &grid, &MapSettings::default(), None)?;
+/// let document: serde_json::Value = serde_json::from_str(&text).unwrap();
+/// assert_eq!(document["points"], 3);
+/// assert_eq!(document["results"].as_array().unwrap().len(), 3);
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn map_document(
+    scene: &Scene,
+    grid: &MapGrid,
+    settings: &MapSettings,
+    shard: Option<Shard>,
+) -> Result<String, ApiError> {
+    let mut out = Vec::new();
+    map(
+        scene,
+        grid,
+        settings,
+        shard,
+        (Format::Json, &mut out),
+        None::<(Format, Vec<u8>)>,
+        &Progress::hidden(),
+    )?;
+    String::from_utf8(out).map_err(numerical)
+}
+
+/// Basins of attraction of a single unit at `omega`: every start at rest of `grid` (outer
+/// and inner displacement) run to its steady state with `options` and numbered by the
+/// attractor it reaches, in parallel, the table written to `out` in its format (only part
+/// `shard` of the starts with a shard): `rattle basins`.
+///
+/// # Errors
+/// [`ApiError::Argument`] for a chain or a structure; [`ApiError::Frequency`] naming `--omega`;
+/// [`ApiError::Write`] when the table cannot be written.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::output::Format;
+/// use rattle_compare::runs::basins::{basin_options, BasinGrid};
+/// use rattle_compare::runs::parallel::Progress;
+/// use rattle_compare::scene::Scene;
+///
+/// let grid = BasinGrid::new((-0.5, 0.5), (-0.5, 0.5), 2).unwrap();
+/// let mut table = Vec::new();
+/// let basins = api::basins(
+///     &Scene::paper(), 2.0, grid, &basin_options(), None,
+///     (Format::Csv, &mut table), &Progress::hidden(),
+/// )?;
+/// assert_eq!(basins.cells.len(), 4);
+/// assert_eq!(basins.counts.iter().sum::<usize>(), 4);
+/// # Ok::<(), rattle_compare::api::ApiError>(())
+/// ```
+pub fn basins<W: Write>(
+    scene: &Scene,
+    omega: f64,
+    grid: BasinGrid,
+    options: &SimulationOptions,
+    shard: Option<Shard>,
+    out: (Format, W),
+    progress: &Progress,
+) -> Result<Basins, ApiError> {
+    scene
+        .refuse_chain("rattle_compare::api::basins")
+        .map_err(argument)?;
+    let omega = check_cells_frequency(scene, "--omega", omega)?;
+    write_basins(scene, omega, grid, options, shard, out, progress).map_err(|source| {
+        ApiError::Write {
+            table: Table::Points,
+            source,
+        }
+    })
+}
