@@ -18,7 +18,9 @@ use rattle_compare::study::chaos::{
     chaos_samples, poincare_sections, ChaosSample, PoincareSections, POINCARE_OMEGA,
     POINCARE_POINTS,
 };
-use rattle_compare::study::damper::{damper_study, DamperStudy, DAMPER_BRANCH_POINTS, DAMPER_POINTS};
+use rattle_compare::study::damper::{
+    damper_study, DamperStudy, DAMPER_BRANCH_POINTS, DAMPER_POINTS,
+};
 use rattle_compare::study::gallery::{
     oscillator_study, OscillatorStudy, BRANCH_POINTS, OSCILLATOR_POINTS,
 };

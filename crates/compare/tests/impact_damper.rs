@@ -127,7 +127,10 @@ fn the_analytic_solver_finds_the_symmetric_motions() {
         assert_eq!((a.viable, a.stable), (r.viable, r.stable), "{gap}: {r:?}");
         let mu: Vec<[f64; 2]> = a.floquet_multipliers.iter().map(|m| [m.re, m.im]).collect();
         for (m, e) in moduli(&mu).iter().zip(moduli(&r.multipliers)) {
-            assert!((m - e).abs() < CLOSED_FORM * e.max(1.0), "{gap}: {mu:?} {r:?}");
+            assert!(
+                (m - e).abs() < CLOSED_FORM * e.max(1.0),
+                "{gap}: {mu:?} {r:?}"
+            );
         }
         assert!(
             (a.amplitudes[0] - r.primary_amplitude).abs() < GRID_AMPLITUDE * r.primary_amplitude,
@@ -195,7 +198,10 @@ fn the_simulator_finds_the_symmetric_motions() {
                 .iter()
                 .map(|m| m.norm())
                 .fold(0.0, f64::max);
-            assert!((found - largest).abs() < SIMULATED * largest, "{found} {r:?}");
+            assert!(
+                (found - largest).abs() < SIMULATED * largest,
+                "{found} {r:?}"
+            );
         } else {
             // One period on from the closed form's state: close to the orbit still (it grows
             // away by the largest multiplier per period).
@@ -227,6 +233,11 @@ fn both_solvers_agree_on_the_damper() {
     let s = structure(0.8);
     for omega in [0.9, 1.0, 1.1] {
         let check = structure_cross_check(&s, omega, &SimulationOptions::default()).unwrap();
-        assert_eq!(check.class.name(), "agreement", "{omega}: {:?}", check.class);
+        assert_eq!(
+            check.class.name(),
+            "agreement",
+            "{omega}: {:?}",
+            check.class
+        );
     }
 }

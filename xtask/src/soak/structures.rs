@@ -125,10 +125,7 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
             dashpots,
             stops,
         },
-        forcing: ForcingSpec {
-            base,
-            forces,
-        },
+        forcing: ForcingSpec { base, forces },
         // The last body unless that is the free one.
         observe: Some(name(n - 1)),
     };

@@ -242,10 +242,9 @@ impl ImpactDamper {
 
     /// The vector field of `(x, ẋ, y, ẏ)` where the force's phase is `psi`.
     fn field(&self, state: &Vector4<f64>, psi: f64) -> Vector4<f64> {
-        let acceleration = (self.force * psi.cos()
-            - self.damping * state[1]
-            - self.stiffness * state[0])
-            / self.mass;
+        let acceleration =
+            (self.force * psi.cos() - self.damping * state[1] - self.stiffness * state[0])
+                / self.mass;
         Vector4::new(state[1], acceleration, state[3], 0.0)
     }
 
@@ -324,7 +323,8 @@ impl Flight<'_> {
         let (a, w, th) = (self.amplitude, self.omega, self.theta);
         let forced = |t: f64| (a * (th + w * t).cos(), -a * w * (th + w * t).sin());
         let (p, q) = forced(0.0);
-        let free = self.damper.free_flow(t) * nalgebra::Vector2::new(self.after[0] - p, self.after[1] - q);
+        let free =
+            self.damper.free_flow(t) * nalgebra::Vector2::new(self.after[0] - p, self.after[1] - q);
         let (pt, qt) = forced(t);
         Vector4::new(
             pt + free[0],
@@ -430,12 +430,17 @@ mod tests {
     fn the_multipliers_multiply_to_the_volume_contraction() {
         let omega = 1.0;
         for orbit in damper().symmetric_orbits(omega).unwrap() {
-            let product = orbit.multipliers.iter().fold(
-                nalgebra::Complex::new(1.0, 0.0),
-                |acc, [re, im]| acc * nalgebra::Complex::new(*re, *im),
-            );
+            let product = orbit
+                .multipliers
+                .iter()
+                .fold(nalgebra::Complex::new(1.0, 0.0), |acc, [re, im]| {
+                    acc * nalgebra::Complex::new(*re, *im)
+                });
             let expected = 0.6f64.powi(4) * (-0.05 * TAU).exp();
-            assert!((product.re - expected).abs() < 1e-12, "{product} {expected}");
+            assert!(
+                (product.re - expected).abs() < 1e-12,
+                "{product} {expected}"
+            );
             assert!(product.im.abs() < 1e-12);
         }
     }

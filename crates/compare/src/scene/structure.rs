@@ -362,7 +362,11 @@ impl StructureScene {
                     list.join(", "),
                     if list.len() == 1 { "it" } else { "them" },
                     if list.len() == 1 { "its" } else { "their" },
-                    if direction > 0.0 { "growing" } else { "shrinking" },
+                    if direction > 0.0 {
+                        "growing"
+                    } else {
+                        "shrinking"
+                    },
                 ),
             ));
         }
@@ -933,7 +937,10 @@ mod tests {
         );
         let loose = r#"{"between": ["primary", "ball"], "gap": 0.5, "restitution": 0.8}"#;
         let e = damper(loose).unwrap_err().to_string();
-        assert!(e.starts_with("structure.stops: nothing holds body pebble"), "{e}");
+        assert!(
+            e.starts_with("structure.stops: nothing holds body pebble"),
+            "{e}"
+        );
         let e = parse(
             r#"{"structure": {
                  "bodies": [{"name": "a", "mass": 2.0}, {"name": "b", "mass": 1.0}],
@@ -942,7 +949,10 @@ mod tests {
         )
         .unwrap_err()
         .to_string();
-        assert!(e.starts_with("structure.stops: nothing holds bodies a, b"), "{e}");
+        assert!(
+            e.starts_with("structure.stops: nothing holds bodies a, b"),
+            "{e}"
+        );
         // A dashpot to the frame holds a body's mean (its velocity decays to the forced one).
         let e = parse(
             r#"{"structure": {

@@ -103,7 +103,9 @@ pub fn free_bodies(structure: &Structure) -> Vec<usize> {
 /// where that system is singular (an undamped resonance).
 pub fn primary_alone(structure: &Structure, omega: f64) -> Option<f64> {
     let free = free_bodies(structure);
-    let kept: Vec<usize> = (0..structure.dofs()).filter(|j| !free.contains(j)).collect();
+    let kept: Vec<usize> = (0..structure.dofs())
+        .filter(|j| !free.contains(j))
+        .collect();
     let n = kept.len();
     let sin = structure.forcing_sin_at(omega);
     let system = DMatrix::from_fn(n, n, |r, c| {
@@ -243,7 +245,10 @@ mod tests {
     fn the_gallery_dampers_are_what_they_say() {
         let (_, one) = gallery_structure(IMPACT_DAMPER_SCENE);
         let c = closed_form(&one).expect("a closed form");
-        assert_eq!((c.mass, c.free_mass, c.gap, c.restitution), (1.0, 0.1, 0.8, 0.6));
+        assert_eq!(
+            (c.mass, c.free_mass, c.gap, c.restitution),
+            (1.0, 0.1, 0.8, 0.6)
+        );
         let (_, two) = gallery_structure(IMPACT_DAMPER_TWO_MASS_SCENE);
         assert!(closed_form(&two).is_none());
         assert_eq!(free_bodies(&two), [2]);

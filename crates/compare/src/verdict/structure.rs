@@ -88,14 +88,18 @@ fn linear_check(structure: &Structure, check: &mut ChainCheck) {
             )
         }
     };
-    let reaches = model.pairs().iter().zip(&structure.stops).any(|(pair, stop)| {
-        let r = state.relative_amplitude(pair);
-        if structure.floats(stop) {
-            2.0 * r > pair.gap_side1 + pair.gap_side2
-        } else {
-            r > pair.gap_side1.min(pair.gap_side2)
-        }
-    });
+    let reaches = model
+        .pairs()
+        .iter()
+        .zip(&structure.stops)
+        .any(|(pair, stop)| {
+            let r = state.relative_amplitude(pair);
+            if structure.floats(stop) {
+                2.0 * r > pair.gap_side1 + pair.gap_side2
+            } else {
+                r > pair.gap_side1.min(pair.gap_side2)
+            }
+        });
     let held = |v: &[f64]| -> Vec<f64> {
         v.iter()
             .zip(&structure.floating)
