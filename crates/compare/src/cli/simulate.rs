@@ -85,24 +85,9 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
     args.trajectory.check()?;
     args.lyapunov.check()?;
     let any = load_any(&args.common.scene)?;
-    if let AnyScene::Structure(_) = any {
-        refuse_for_structure(&args)?;
-    }
     api::check_frequency(&any, "--omega", omega)?;
     let simulation = api::simulate(&any, omega, &options)?;
     write_trajectory(&args.trajectory, &any, &simulation, &options)?;
-    let (scene, sim, record) = match (&any, &simulation) {
-        (AnyScene::Cells(scene), Simulation::Cells { point, record }) => (scene, point, record),
-        (AnyScene::Structure(form), Simulation::Structure { point, record }) => {
-            if args.common.json {
-                return pretty(record);
-            }
-            return Ok(super::structure::simulation_table(
-                form, omega, point, record,
-            ));
-        }
-        _ => unreachable!("a simulation has the form of its scene"),
-    };
     let exponents = if args.lyapunov.lyapunov {
         Some(api::lyapunov(
             &any,
@@ -112,6 +97,23 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
         )?)
     } else {
         None
+    };
+    let (scene, sim, record) = match (&any, &simulation) {
+        (AnyScene::Cells(scene), Simulation::Cells { point, record }) => (scene, point, record),
+        (AnyScene::Structure(form), Simulation::Structure { point, record }) => {
+            if args.common.json {
+                return pretty(&WithLyapunov {
+                    record,
+                    lyapunov: exponents.as_ref(),
+                });
+            }
+            let mut out = super::structure::simulation_table(form, omega, point, record);
+            if let Some(l) = &exponents {
+                write_lyapunov(&mut out, l);
+            }
+            return Ok(out);
+        }
+        _ => unreachable!("a simulation has the form of its scene"),
     };
     if args.common.json {
         return pretty(&WithLyapunov {
@@ -181,18 +183,6 @@ fn table(
         write_lyapunov(&mut out, l);
     }
     out
-}
-
-/// The options `rattle simulate` does not take on a structure scene yet, refused by name.
-fn refuse_for_structure(args: &SimulateArgs) -> Result<(), RattleError> {
-    if args.lyapunov.lyapunov {
-        return Err(RattleError::Argument(
-            "--lyapunov is not taken on a scene in the structure form yet: it is taken on the \
-             unit and chain forms"
-                .into(),
-        ));
-    }
-    Ok(())
 }
 
 impl LyapunovArgs {

@@ -809,10 +809,11 @@ pub struct ChainOrbitsRecord {
 /// The document `rattle simulate --json` prints (also the Python package's): the simulation
 /// record with the exponents, when asked for, flattened into one.
 #[derive(Serialize)]
-pub struct WithLyapunov<'a> {
-    /// The simulation.
+pub struct WithLyapunov<'a, R: Serialize = SimulationRecord> {
+    /// The simulation (a [`SimulationRecord`], or a structure's
+    /// [`StructureSimulationRecord`](crate::output::structure::StructureSimulationRecord)).
     #[serde(flatten)]
-    pub record: &'a SimulationRecord,
+    pub record: &'a R,
     /// The exponents, with `--lyapunov`.
     #[serde(flatten)]
     pub lyapunov: Option<&'a LyapunovRecord>,
