@@ -141,10 +141,56 @@ fn bad_structures_and_unsupported_uses_are_refused_by_name() {
         message.contains("structure: the structure form is taken by"),
         "{message}"
     );
-    let out = rattle(&["simulate", OSCILLATOR, "--omega", "1.0", "--lyapunov"]);
+    let out = rattle(&[
+        "orbit",
+        OSCILLATOR,
+        "--omega",
+        "1.0",
+        "--signature",
+        "+",
+        "--trajectory",
+        "t.csv",
+    ]);
     assert_eq!(out.status.code(), Some(2));
     let message = String::from_utf8_lossy(&out.stderr);
-    assert!(message.contains("--lyapunov is not taken"), "{message}");
+    assert!(message.contains("--trajectory is not taken"), "{message}");
+}
+
+/// `simulate --lyapunov` on a structure: the exponents of a periodic motion are
+/// `log|μ|/T` of the simulator's own multipliers, within the spectrum's uncertainty.
+#[test]
+fn a_structures_lyapunov_exponents_are_its_multipliers() {
+    let out = rattle(&[
+        "simulate",
+        OSCILLATOR,
+        "--omega",
+        "1.8",
+        "--lyapunov",
+        "--lyapunov-periods",
+        "400",
+        "--json",
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let period = std::f64::consts::TAU / 1.8;
+    let mut expected: Vec<f64> = doc["floquet_multipliers"]
+        .as_array()
+        .expect("a polished orbit")
+        .iter()
+        .map(|m| m[0].as_f64().unwrap().hypot(m[1].as_f64().unwrap()).ln() / period)
+        .collect();
+    expected.sort_by(|a, b| b.total_cmp(a));
+    let exponents: Vec<f64> = doc["lyapunov_exponents"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    let uncertainty = doc["lyapunov_uncertainty"].as_f64().unwrap();
+    assert_eq!(exponents.len(), 2);
+    for (e, x) in exponents.iter().zip(&expected) {
+        assert!((e - x).abs() < 3.0 * uncertainty.max(1e-6), "{exponents:?} {expected:?}");
+    }
 }
 
 /// `sweep --solver both` on a structure: a row per frequency with every body's amplitude and
