@@ -42,6 +42,7 @@ pub mod lyapunov;
 pub mod model;
 pub mod newton;
 pub mod simulate;
+#[cfg(any(test, feature = "fixtures"))]
 pub mod test_models;
 pub mod trajectory;
 mod trig;

@@ -2,6 +2,9 @@
 //! closed form, independently of the simulator (no [`crate::flow`], no event search): the paper's
 //! unit (`m_o = 2, m_i = 1, k_o = 6, k_i = 3, u_g = 1`, `ω_n² = 1.5, 6`) in the variants the
 //! tests need, a single undamped oscillator flying to a stop, and one impact.
+//!
+//! Fixtures, not API: compiled for the crate's own tests, and with the `fixtures` feature,
+//! which its benches and examples enable through the crate's dev-dependency on itself.
 
 use crate::engine::Start;
 use crate::model::{CellParameters, CellStops, ContactPair, Model};
