@@ -69,7 +69,7 @@ use cycle::verdicts;
 pub use cycle::{cycle_equations, motion, sequence_orbit, sequence_search};
 pub use flow::model_flight;
 pub use linear::lattice;
-pub use problem::{chain, model, sequence, signature, unit};
+pub use problem::{chain, model, rigid, sequence, signature, unit};
 pub use verdicts::sequence_verdicts;
 
 pub use chain::{chain_response, Cell, ChainResponse, MAX_CELLS};
@@ -92,6 +92,7 @@ pub use model::{
     ContactPair, HarmonicForcing, HarmonicState, LinearModel, ModelError, ModelTransition,
 };
 pub use motion::UnitMotion;
+pub use rigid::{ClearFamily, PairClearance};
 pub use orbit::{Orbit, Side, Violation};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};
 pub use sequence_orbit::{
