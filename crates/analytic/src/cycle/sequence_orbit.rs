@@ -16,6 +16,12 @@
 //! at the flight's end), `∂p₀/∂α = (−sin α, cos α)`, and the periodicity solve differentiated
 //! implicitly, `dy₁ = (I − Ψ_xx)⁻¹ (dΨ_xx y₁ + dΨ_xp p₀ + Ψ_xp dp₀)`. No finite differences.
 //!
+//! A model with rigid modes (free bodies, [`crate::problem::rigid`]) has a singular
+//! `I − Ψ_xx`: its periodicity solve is bordered by the contact conditions of the first impacts
+//! that see the rigid modes, and the free bodies' momentum balance becomes a residual in their
+//! place (the formulation is in [`crate::cycle_equations`]); the unknowns and the number of
+//! equations are those of a model without.
+//!
 //! Layout: [`crate::cycle_equations::CycleEquations`] evaluates residuals and Jacobian for any
 //! model, on stack matrices for the unit and heap matrices for a chain; [`SequenceProblem`] is
 //! a model's instance; [`SequenceNewton`] (the one solver of both) goes
@@ -87,6 +93,18 @@ pub enum SequenceOrbitError {
         /// Number of entries given.
         len: usize,
     },
+    /// The model has rigid modes (free bodies) that no impact of the sequence restrains: the
+    /// offset along them is not fixed by any contact condition.
+    #[error(
+        "the impacts of the sequence restrain {restrained} of the model's {modes} rigid modes: \
+         every rigid mode must be seen (w'phi != 0) by the pair of some impact"
+    )]
+    UnrestrainedRigidMode {
+        /// Number of independent rigid directions the sequence's impacts see.
+        restrained: usize,
+        /// Number of rigid modes of the model.
+        modes: usize,
+    },
     /// The periodicity solve or the Newton Jacobian is singular.
     #[error("the impact-sequence cycle equations are singular at omega = {omega}")]
     SingularCycle {
@@ -120,9 +138,16 @@ pub struct SequenceProblem<'a> {
 impl<'a> SequenceProblem<'a> {
     /// The cycle equations of `sequence` on `model` at `omega`.
     ///
+    /// For a model with rigid modes the equations are bordered: the anchors are the first
+    /// impacts (in sequence order) whose pairs' projections `Φᵀw` are independent (Gram–Schmidt,
+    /// a projection counting when it keeps more than [`crate::rigid::RIGID_COUPLING`] of `|w|`),
+    /// the kicks `(0, Φ, 0)` and the scale `1/omega`.
+    ///
     /// # Errors
     /// [`SequenceOrbitError::InvalidFrequency`] unless `omega` is finite and positive;
-    /// [`SequenceOrbitError::Sequence`] when the sequence names a pair the model lacks.
+    /// [`SequenceOrbitError::Sequence`] when the sequence names a pair the model lacks;
+    /// [`SequenceOrbitError::UnrestrainedRigidMode`] when the model has rigid modes that the
+    /// sequence's impacts do not all see.
     pub fn new(
         model: &'a LinearModel,
         omega: f64,
@@ -157,13 +182,20 @@ impl<'a> SequenceProblem<'a> {
                 }
             })
             .collect();
-        let equations = CycleEquations::new(
+        let mut equations = CycleEquations::new(
             omega,
             model.augmented_matrix(omega),
             impacts,
             sequence_symmetries(sequence),
             f64::from(sequence.period()) * std::f64::consts::TAU / omega,
         );
+        if model.has_rigid_modes() {
+            let rigid = model.rigid_modes();
+            let anchors = anchors(model, sequence)?;
+            let mut kicks = DMatrix::zeros(size, rigid.ncols());
+            kicks.view_mut((n, 0), (n, rigid.ncols())).copy_from(rigid);
+            equations = equations.with_rigid_border(kicks, anchors, 1.0 / omega);
+        }
         Ok(Self {
             model,
             sequence,
@@ -195,6 +227,40 @@ impl<'a> SequenceProblem<'a> {
     pub fn equations(&self) -> &CycleEquations<Dyn> {
         &self.equations
     }
+}
+
+/// The anchors of a model with rigid modes `Φ`: the first impacts of `sequence` whose pairs'
+/// `Φᵀw` are independent, one per rigid mode.
+fn anchors(
+    model: &LinearModel,
+    sequence: &ImpactSequence,
+) -> Result<Vec<usize>, SequenceOrbitError> {
+    let rigid = model.rigid_modes();
+    let modes = rigid.ncols();
+    let mut basis: Vec<DVector<f64>> = Vec::with_capacity(modes);
+    let mut anchors = Vec::with_capacity(modes);
+    for (j, impact) in sequence.impacts().iter().enumerate() {
+        if anchors.len() == modes {
+            break;
+        }
+        let w = &model.pairs()[impact.pair].direction;
+        let mut b = rigid.transpose() * w;
+        for q in &basis {
+            let along = q.dot(&b);
+            b -= q * along;
+        }
+        if crate::rigid::couples(&b, w) {
+            basis.push(b.normalize());
+            anchors.push(j);
+        }
+    }
+    if anchors.len() < modes {
+        return Err(SequenceOrbitError::UnrestrainedRigidMode {
+            restrained: anchors.len(),
+            modes,
+        });
+    }
+    Ok(anchors)
 }
 
 /// The rotations `k` of the cycle that map the sequence onto itself (starting the cycle at
