@@ -2,7 +2,7 @@
 //! closed form, Masri and Caughey's symmetric two-impact motion of the impact damper against a
 //! closed form derived here, its multipliers against finite differences of the cycle map, a
 //! free mass resting against a one-sided stop, the family of linear motions clear of the
-//! stops, and the refusals.
+//! stops, continuation in `ω` of the damper's orbit, and the refusals.
 
 use nalgebra::{Complex, DMatrix, DVector};
 use rattle_analytic::*;
@@ -192,7 +192,6 @@ fn damper() -> Damper {
     }
 }
 
-
 /// Relative agreement asked of the solver against a closed form (both exact: rounding only).
 const AGREEMENT: f64 = 1e-12;
 
@@ -254,8 +253,7 @@ fn free_mass_flow_is_its_closed_form() {
                 let v = vp(th) + (v0 - vp(alpha)) * decay;
                 let integral = ((z(th) - z(alpha)) * force
                     / (denominator * Complex::new(0.0, omega)))
-                .re
-                    + (v0 - vp(alpha)) * (1.0 - decay) / lambda;
+                .re + (v0 - vp(alpha)) * (1.0 - decay) / lambda;
                 (x0 + integral, v)
             };
             let scale = x_exact.abs().max(v_exact.abs()).max(1.0);
@@ -284,7 +282,11 @@ fn masri_caughey_cases() -> Vec<(Damper, f64, bool)> {
         m2: 0.3,
         ..damper()
     };
-    vec![(damper(), 1.2, false), (damper(), 1.62, true), (heavy, 1.5, true)]
+    vec![
+        (damper(), 1.2, false),
+        (damper(), 1.62, true),
+        (heavy, 1.5, true),
+    ]
 }
 
 /// The closed-form orbit of a case that is viable (approached from inside, `V < 0`) and has
@@ -322,15 +324,29 @@ fn damper_two_impact_orbit_is_masri_and_caugheys() {
                     "ω = {omega}, {what}: solver {a} vs closed form {b}"
                 );
             };
-            assert!(wrap(o.alpha - mc.alpha).abs() <= AGREEMENT, "ω = {omega}: α");
-            assert!((o.impact_phases[1] - 0.5).abs() <= AGREEMENT, "ω = {omega}: phase");
+            assert!(
+                wrap(o.alpha - mc.alpha).abs() <= AGREEMENT,
+                "ω = {omega}: α"
+            );
+            assert!(
+                (o.impact_phases[1] - 0.5).abs() <= AGREEMENT,
+                "ω = {omega}: phase"
+            );
             let before = &o.states_before_impacts[0];
             close(before[0], mc.x0, "x at the side-1 impact");
             close(before[1], mc.x0 + p.gap, "y at the side-1 impact");
             close(before[2], mc.v_before, "primary velocity before");
             close(before[3], -mc.v_free, "free mass velocity before");
-            close(o.state_after_impact[2], mc.v_after, "primary velocity after");
-            close(o.state_after_impact[3], mc.v_free, "free mass velocity after");
+            close(
+                o.state_after_impact[2],
+                mc.v_after,
+                "primary velocity after",
+            );
+            close(
+                o.state_after_impact[3],
+                mc.v_free,
+                "free mass velocity after",
+            );
             let half = &o.states_before_impacts[1];
             close(half[0], -mc.x0, "x at the side-2 impact");
             close(half[2], -mc.v_before, "primary velocity before side 2");
@@ -464,7 +480,10 @@ fn damper_multipliers_are_the_cycle_maps() {
             let mut b: Vec<f64> = b.collect();
             b.sort_by(f64::total_cmp);
             for (x, y) in a.iter().zip(&b) {
-                assert!((x - y).abs() <= 1e-6 * y.max(1.0), "ω = {omega}: {a:?} vs {b:?}");
+                assert!(
+                    (x - y).abs() <= 1e-6 * y.max(1.0),
+                    "ω = {omega}: {a:?} vs {b:?}"
+                );
             }
         }
     }
@@ -505,7 +524,11 @@ fn free_mass_rests_against_a_one_sided_stop() {
     let x = &o.state_after_impact;
     let scale = x_amp.max(p.gap);
     assert!((x[0] + x_amp).abs() <= AGREEMENT * scale, "x = {}", x[0]);
-    assert!((x[1] - (p.gap - x_amp)).abs() <= AGREEMENT * scale, "y = {}", x[1]);
+    assert!(
+        (x[1] - (p.gap - x_amp)).abs() <= AGREEMENT * scale,
+        "y = {}",
+        x[1]
+    );
     assert!(x[2].abs() <= AGREEMENT * scale && x[3].abs() <= AGREEMENT * scale);
     assert!(!o.viable);
     assert!(matches!(
@@ -532,7 +555,9 @@ fn damper_clear_family_is_the_peak_to_peak_condition() {
         assert_eq!(family.pairs.len(), 1);
         assert!(family.pairs[0].involves_rigid);
         assert!((family.pairs[0].amplitude - x_amp).abs() <= AGREEMENT * x_amp);
-        assert!(family.state.cosine[1].abs() <= AGREEMENT && family.state.sine[1].abs() <= AGREEMENT);
+        assert!(
+            family.state.cosine[1].abs() <= AGREEMENT && family.state.sine[1].abs() <= AGREEMENT
+        );
         if let Some(a) = &family.offset {
             let shift = (family.rigid_modes.transpose() * &model.pairs()[0].direction).dot(a);
             assert!(shift.abs() + x_amp <= gap * (1.0 + 1e-15));
@@ -617,4 +642,37 @@ fn unrestrained_and_unbounded_models_are_refused() {
             "{refused:?}"
         );
     }
+}
+
+/// Continuation in `ω` of the damper's symmetric orbit (the bordered equations at every
+/// frequency): every point of the branch is Masri and Caughey's orbit at its own frequency.
+#[test]
+fn continued_damper_orbit_stays_masri_and_caugheys() {
+    let p = damper();
+    let model = p.model();
+    let (_, start) = solve_case(&p, 1.62)
+        .into_iter()
+        .find(|(_, o)| o.stable)
+        .unwrap_or_else(|| panic!("the stable orbit"));
+    let settings = ContinuationSettings {
+        omega_min: 1.45,
+        omega_max: 1.75,
+        follow_switches: false,
+        max_branches: 1,
+        ..ContinuationSettings::default()
+    };
+    let result = continue_sequence(&model, &start, &settings).unwrap_or_else(|e| panic!("{e}"));
+    let points = &result.branches[0].points;
+    assert!(points.len() > 10, "{} points", points.len());
+    let mut worst: f64 = 0.0;
+    for point in points {
+        let closed: Vec<MasriCaughey> = masri_caughey(&p, point.omega);
+        let nearest = closed
+            .iter()
+            .map(|mc| wrap(point.alpha - mc.alpha).abs())
+            .fold(f64::INFINITY, f64::min);
+        worst = worst.max(nearest);
+        assert!((point.impact_phases[1] - 0.5).abs() <= AGREEMENT);
+    }
+    assert!(worst <= AGREEMENT, "worst α difference {worst:e}");
 }

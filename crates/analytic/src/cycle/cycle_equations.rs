@@ -554,10 +554,7 @@ where
     /// For fixed impact times (the maps `pre`), the residuals as the affine function
     /// `r₀ + r_c cos α + r_s sin α` of the forcing phase: `(r₀, r_c, r_s)`. Without border
     /// `r₀` is `−c_j`; `None` when the periodicity solve is singular.
-    pub(crate) fn affine_residuals(
-        &self,
-        pre: &[OMatrix<f64, D, D>],
-    ) -> Option<[DVector<f64>; 3]> {
+    pub(crate) fn affine_residuals(&self, pre: &[OMatrix<f64, D, D>]) -> Option<[DVector<f64>; 3]> {
         let factors = self.periodic_factors(pre)?;
         let solver = factors.view();
         let stops_at = |i: usize| {

@@ -578,6 +578,110 @@ mod tests {
         }
     }
 
+    /// A primary mass on a spring and dashpot with `free` free masses, each in a clearance of
+    /// the primary (pair `k`: direction `e_{k+1} − e_0`, gaps 1 and 0.8).
+    fn free_masses(free: usize) -> LinearModel {
+        let n = free + 1;
+        let diagonal = |first: f64, rest: f64| {
+            DMatrix::from_diagonal(&DVector::from_fn(
+                n,
+                |i, _| if i == 0 { first } else { rest },
+            ))
+        };
+        let pairs = (1..n)
+            .map(|k| {
+                let mut w = DVector::zeros(n);
+                w[0] = -1.0;
+                w[k] = 1.0;
+                crate::model::ContactPair {
+                    direction: w,
+                    gap_side1: 1.0,
+                    gap_side2: 0.8,
+                    restitution: 0.7,
+                }
+            })
+            .collect();
+        let mut cosine = DVector::zeros(n);
+        cosine[0] = 1.0;
+        let mut sine = DVector::zeros(n);
+        sine[0] = 0.3;
+        LinearModel::new(
+            diagonal(1.0, 0.15),
+            diagonal(0.05, 0.0),
+            diagonal(1.0, 0.0),
+            crate::model::HarmonicForcing {
+                cosine,
+                sine,
+                sine_per_omega: DVector::zeros(n),
+            },
+            pairs,
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// The bordered residuals of models with rigid modes (one free mass, anchor the first
+    /// impact; two free masses, anchors the first two impacts, the second's border row moving
+    /// with the impact times): the exact Jacobian in `x` and its `ω` column against central
+    /// differences, step `1e-6`, truncation `O(1e-12)` and rounding `O(1e-10)` of the
+    /// residuals' size, as for the chain.
+    #[test]
+    fn bordered_jacobian_is_the_derivative_of_the_residuals() {
+        let cases = [
+            (free_masses(1), "0+ 0-", vec![0.7, 0.43]),
+            (free_masses(2), "0+ 1+ 0- 1-", vec![-0.4, 0.2, 0.55, 0.8]),
+        ];
+        for (model, text, x) in cases {
+            let sequence = ImpactSequence::parse(text, 1).unwrap_or_else(|e| panic!("{e}"));
+            let omega = 1.3;
+            let problem =
+                SequenceProblem::new(&model, omega, &sequence).unwrap_or_else(|e| panic!("{e}"));
+            assert!(problem.equations().is_bordered());
+            let m = x.len();
+            let exact = problem
+                .equations()
+                .evaluate_in_omega(&x, &model.augmented_rate())
+                .unwrap_or_else(|| panic!("singular"))
+                .jacobian;
+            let in_x = evaluate(problem.equations(), &x)
+                .unwrap_or_else(|e| panic!("{e}"))
+                .jacobian;
+            assert!((exact.columns(0, m) - &in_x).amax() <= 1e-12 * in_x.amax());
+            let scale = exact.amax();
+            let step = 1e-6;
+            for i in 0..=m {
+                let at = |d: f64| {
+                    let mut y = x.clone();
+                    let w = if i < m {
+                        y[i] += d;
+                        omega
+                    } else {
+                        omega + d
+                    };
+                    let p = SequenceProblem::new(&model, w, &sequence)
+                        .unwrap_or_else(|e| panic!("{e}"));
+                    // The residual scale 1/ω is the one of the equations at `omega`.
+                    let e = evaluate(p.equations(), &y).unwrap_or_else(|e| panic!("{e}"));
+                    let mut r = e.residual;
+                    for (k, value) in r.iter_mut().enumerate() {
+                        if k < model.rigid_modes().ncols() {
+                            *value *= w / omega;
+                        }
+                    }
+                    r
+                };
+                let quotient = (at(step) - at(-step)) / (2.0 * step);
+                for j in 0..m {
+                    assert!(
+                        (quotient[j] - exact[(j, i)]).abs() <= 1e-7 * scale,
+                        "{text}: ∂r{j}/∂x{i}: {} vs {}",
+                        quotient[j],
+                        exact[(j, i)]
+                    );
+                }
+            }
+        }
+    }
+
     /// The exact `ω` column of the Jacobian against a central difference of the residuals in
     /// `ω` (phases fixed as fractions of the cycle): step `1e-6`, truncation `O(1e-12)` and
     /// rounding `O(1e-10)` of the residuals' size, as above.

@@ -159,7 +159,13 @@ fn feasible_point(inequalities: Vec<Inequality>, dims: usize) -> Option<Vec<f64>
                 // u: c_u a ≤ d_u with c_u,k > 0; l: c_l,k < 0. Combine to cancel a_k.
                 let (su, sl) = (-l.c[k], u.c[k]);
                 let c: Vec<f64> = (0..dims)
-                    .map(|j| if j == k { 0.0 } else { su * u.c[j] + sl * l.c[j] })
+                    .map(|j| {
+                        if j == k {
+                            0.0
+                        } else {
+                            su * u.c[j] + sl * l.c[j]
+                        }
+                    })
                     .collect();
                 rest.push(Inequality {
                     c,
