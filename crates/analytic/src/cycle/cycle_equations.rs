@@ -20,8 +20,8 @@
 //! [`crate::problem::rigid`]), every flight and impact map keeps the translations `(Φa, 0)`:
 //! `Ψ_xx (Φa, 0) = (Φa, 0)`, so `I − Ψ_xx` is singular (rank `2n − r` when nothing else is
 //! neutral) and periodicity alone leaves the offset `a` free while asking one solvability
-//! condition per rigid mode of the impact times (the momentum balance of the free bodies over
-//! the cycle). The contact conditions fix the offsets: the first `r` impacts (in sequence
+//! condition per rigid mode of the impact times (that the free bodies come back where they
+//! were: no drift over the cycle). The contact conditions fix the offsets: the first `r` impacts (in sequence
 //! order) whose pair directions `w` have independent projections `Φᵀw` (the *anchors* `J`)
 //! are moved into the periodicity solve, and the solvability conditions out of it, by the
 //! bordered system
@@ -31,18 +31,27 @@
 //! [ Rᵀ   0 ] [ μ  ] = [ c_J     ]
 //! ```
 //!
-//! `P` as above, `L̂ = (0, Φ, 0)` (a velocity kick `Φμ` along the rigid modes at the end of the
-//! cycle, `μ ∈ ℝʳ`), and row `i` of `Rᵀ` the anchor `j_i`'s contact functional carried to the
-//! state after the first impact, `h_jᵀ Pre_{j−1}` (`h₀ᵀ` for the first impact). It is regular
-//! when `Rᵀ(Φ, 0)` (the anchors' `wᵀΦ`) is, which the choice of anchors ensures, and the
-//! kicks leave the range of `I − Ψ_xx` (a kick along a free body's velocity changes its
-//! momentum, which periodicity with fixed impact times cannot absorb). A solution with
-//! `μ = 0` is a periodic motion meeting the anchors' contact conditions; so the residuals are
-//! `μ_i / ω` (a kick over the time `1/ω`: a displacement, in the units of the other
-//! residuals; `ω` that of the equations' construction, kept by [`CycleEquations::at_frequency`])
-//! in place of the anchors' contact residuals, and the other contact residuals as before: `m`
-//! equations in `m` unknowns, well conditioned, whose zeros are the orbits. A model without
-//! rigid modes has no border and runs the unbordered system above, unchanged.
+//! `P` as above, `L̂ = (Φ, 0, 0)` (a shift `Φμ` of the positions along the rigid modes at the
+//! end of the cycle, `μ ∈ ℝʳ`: the free bodies' drift over one cycle), and row `i` of `Rᵀ` the
+//! anchor `j_i`'s contact functional carried to the state after the first impact,
+//! `h_jᵀ Pre_{j−1}` (`h₀ᵀ` for the first impact). A translation is kept and changes no other
+//! coordinate: in coordinates `u = Φa + Φ⊥b` the `a`-columns of `Ψ_xx` are those of the
+//! identity, so `I − Ψ_xx = [[0, −D], [0, I − Ψ']]`, where `I − Ψ'` acts on `(b, u̇)` (the
+//! cycle map *modulo translations*) and the `a`-rows `D(b, u̇)` are the free bodies' drift
+//! over the cycle, which periodicity asks to vanish. The bordered system is regular exactly
+//! when `I − Ψ'` is (the cycle map at fixed impact times has no neutral direction but the
+//! translations) and the anchors' `wᵀΦ` form a regular `r × r` matrix (`Rᵀ(Φ, 0)`, which the
+//! choice of anchors ensures): then the drift is the dependent part of periodicity, and the
+//! shifts `Φμ` are exactly what it lacks. A solution with `μ = 0`
+//! is a periodic motion meeting the anchors' contact conditions, so the residuals are the
+//! drifts `μ_i` (displacements, in the units of the contact residuals) in place of the
+//! anchors' contact residuals, and the other contact residuals as before: `m` equations in
+//! `m` unknowns whose zeros are the orbits. (A kick on the free bodies' velocities instead
+//! fails where a body's velocity scale is neutral at fixed impact times, e.g. a free mass
+//! between a stop on the frame and one on a primary at the orbit's own impact phase
+//! `e/(1 + e)`.) Where `I − Ψ'` is singular the solve is reported singular, as a singular `P`
+//! is without rigid modes. A model without rigid modes has no border and runs the unbordered
+//! system above, unchanged.
 //!
 //! Differentiating the bordered system: `B (dz₁, dμ) = (dΨ z₁ on the state rows, dp₀,
 //! −h_jᵀ dPre_{j−1} z₁ on anchor rows)`, the same carried products `dPre_f z₁` as without
@@ -108,12 +117,10 @@ where
 /// The border of the periodicity solve of a model with `r` rigid modes.
 #[derive(Debug, Clone)]
 pub(crate) struct RigidBorder {
-    /// `L̂` (augmented size × `r`): velocity kicks along the rigid modes.
-    pub(crate) kicks: DMatrix<f64>,
+    /// `L̂` (augmented size × `r`): shifts of the positions along the rigid modes.
+    pub(crate) shifts: DMatrix<f64>,
     /// The anchor impacts `j_1 < … < j_r`, whose contact conditions fix the offsets.
     pub(crate) anchors: Vec<usize>,
-    /// The factor `1/ω` of the residuals `μ_i / ω`.
-    pub(crate) scale: f64,
 }
 
 /// The factored periodicity solve of one cycle: the unbordered `P`, or the bordered system of
@@ -225,21 +232,11 @@ where
     }
 
     /// The same equations bordered for a model with rigid modes (see the module's
-    /// documentation): `kicks` the columns `L̂` (augmented size × `r`), `anchors` the `r`
-    /// impacts whose contact conditions fix the offsets, `scale` the factor of the residuals
-    /// `μ_i · scale`.
-    pub(crate) fn with_rigid_border(
-        self,
-        kicks: DMatrix<f64>,
-        anchors: Vec<usize>,
-        scale: f64,
-    ) -> Self {
+    /// documentation): `shifts` the columns `L̂` (augmented size × `r`), `anchors` the `r`
+    /// impacts whose contact conditions fix the offsets.
+    pub(crate) fn with_rigid_border(self, shifts: DMatrix<f64>, anchors: Vec<usize>) -> Self {
         Self {
-            border: Some(Arc::new(RigidBorder {
-                kicks,
-                anchors,
-                scale,
-            })),
+            border: Some(Arc::new(RigidBorder { shifts, anchors })),
             ..self
         }
     }
@@ -460,7 +457,7 @@ where
         lu.is_invertible().then_some(lu)
     }
 
-    /// The bordered system of the maps `pre` (see the module's documentation): `P`, the kicks
+    /// The bordered system of the maps `pre` (see the module's documentation): `P`, the shifts
     /// `L̂`, and the anchors' contact functionals carried to the state after the first impact.
     fn bordered_matrix(&self, border: &RigidBorder, pre: &[OMatrix<f64, D, D>]) -> DMatrix<f64> {
         let size = self.augmented.nrows();
@@ -475,7 +472,7 @@ where
         }
         b[(size - 2, size - 2)] = 1.0;
         b[(size - 1, size - 1)] = 1.0;
-        b.view_mut((0, size), (size, r)).copy_from(&border.kicks);
+        b.view_mut((0, size), (size, r)).copy_from(&border.shifts);
         for (i, &j) in border.anchors.iter().enumerate() {
             let row = if j == 0 {
                 self.contacts[0].clone()
@@ -531,7 +528,7 @@ where
     }
 
     /// The bordered residuals: the contact residuals (less the stops when `with_stops`) with
-    /// `μ_i · scale` in place of each anchor's.
+    /// the drift `μ_i` in place of each anchor's.
     fn bordered_residuals(
         &self,
         pre: &[OMatrix<f64, D, D>],
@@ -545,7 +542,7 @@ where
         });
         if let Some(border) = &self.border {
             for (i, &j) in border.anchors.iter().enumerate() {
-                residual[j] = mu[i] * border.scale;
+                residual[j] = mu[i];
             }
         }
         residual
@@ -859,8 +856,8 @@ where
     DefaultAllocator: Allocator<D, D> + Allocator<D>,
 {
     /// The bordered counterpart of the last step of [`Self::column`]: the bordered solve with
-    /// `−h_jᵀ dPre_{j−1} z₁` on the anchor rows, then the residuals' derivatives (`dμ_i ·
-    /// scale` for the anchors).
+    /// `−h_jᵀ dPre_{j−1} z₁` on the anchor rows, then the residuals' derivatives (`dμ_i` for
+    /// the anchors).
     fn bordered_column(
         &self,
         e: &CycleEvaluation<D>,
@@ -893,7 +890,7 @@ where
             self.contacts[j].dot(&total)
         });
         for (i, &j) in border.anchors.iter().enumerate() {
-            column[j] = dmu[i] * border.scale;
+            column[j] = dmu[i];
         }
         Some(column)
     }

@@ -18,8 +18,8 @@
 //!
 //! A model with rigid modes (free bodies, [`crate::problem::rigid`]) has a singular
 //! `I − Ψ_xx`: its periodicity solve is bordered by the contact conditions of the first impacts
-//! that see the rigid modes, and the free bodies' momentum balance becomes a residual in their
-//! place (the formulation is in [`crate::cycle_equations`]); the unknowns and the number of
+//! that see the rigid modes, and the free bodies' drift over the cycle becomes a residual in
+//! their place (the formulation is in [`crate::cycle_equations`]); the unknowns and the number of
 //! equations are those of a model without.
 //!
 //! Layout: [`crate::cycle_equations::CycleEquations`] evaluates residuals and Jacobian for any
@@ -141,7 +141,7 @@ impl<'a> SequenceProblem<'a> {
     /// For a model with rigid modes the equations are bordered: the anchors are the first
     /// impacts (in sequence order) whose pairs' projections `Φᵀw` are independent (Gram–Schmidt,
     /// a projection counting when it keeps more than [`crate::rigid::RIGID_COUPLING`] of `|w|`),
-    /// the kicks `(0, Φ, 0)` and the scale `1/omega`.
+    /// the shifts `(Φ, 0, 0)`.
     ///
     /// # Errors
     /// [`SequenceOrbitError::InvalidFrequency`] unless `omega` is finite and positive;
@@ -192,9 +192,9 @@ impl<'a> SequenceProblem<'a> {
         if model.has_rigid_modes() {
             let rigid = model.rigid_modes();
             let anchors = anchors(model, sequence)?;
-            let mut kicks = DMatrix::zeros(size, rigid.ncols());
-            kicks.view_mut((n, 0), (n, rigid.ncols())).copy_from(rigid);
-            equations = equations.with_rigid_border(kicks, anchors, 1.0 / omega);
+            let mut shifts = DMatrix::zeros(size, rigid.ncols());
+            shifts.view_mut((0, 0), (n, rigid.ncols())).copy_from(rigid);
+            equations = equations.with_rigid_border(shifts, anchors);
         }
         Ok(Self {
             model,
@@ -659,15 +659,9 @@ mod tests {
                     };
                     let p = SequenceProblem::new(&model, w, &sequence)
                         .unwrap_or_else(|e| panic!("{e}"));
-                    // The residual scale 1/ω is the one of the equations at `omega`.
-                    let e = evaluate(p.equations(), &y).unwrap_or_else(|e| panic!("{e}"));
-                    let mut r = e.residual;
-                    for (k, value) in r.iter_mut().enumerate() {
-                        if k < model.rigid_modes().ncols() {
-                            *value *= w / omega;
-                        }
-                    }
-                    r
+                    evaluate(p.equations(), &y)
+                        .unwrap_or_else(|e| panic!("{e}"))
+                        .residual
                 };
                 let quotient = (at(step) - at(-step)) / (2.0 * step);
                 for j in 0..m {

@@ -46,6 +46,20 @@ pub enum ModelError {
         /// The required property, in words.
         required: &'static str,
     },
+    /// The model has rigid modes (free bodies) that neither a dashpot nor a contact pair
+    /// restrains: nothing ever stops such a body, which drifts at any velocity it is given
+    /// (no bounded motion).
+    #[error(
+        "{free} of the model's {modes} rigid modes are restrained by neither a dashpot nor a \
+         contact pair: such a free body drifts (no bounded motion); every rigid mode must be \
+         seen by a pair's direction or damped"
+    )]
+    Drift {
+        /// Number of rigid modes (the nullity of `K`).
+        modes: usize,
+        /// Number of independent rigid directions free of both dashpots and pairs.
+        free: usize,
+    },
     /// The linear steady state does not exist: `K − ω²M + iωC` is singular (an undamped
     /// resonance).
     #[error(
@@ -207,7 +221,9 @@ impl LinearModel {
     ///   `> 0`, or a restitution outside `[0, 1]`;
     /// - [`ModelError::Structure`] if `M`, `C` or `K` is not symmetric, `M` not positive
     ///   definite, `K` or `C` not positive semidefinite (no bounded motion), or a pair's
-    ///   direction is zero.
+    ///   direction is zero;
+    /// - [`ModelError::Drift`] if a rigid mode is restrained by neither a dashpot nor a pair
+    ///   (`CΦa = 0` and `wᵀΦa = 0` for every pair, for some `a ≠ 0`).
     ///
     /// A singular `K` is accepted: its null vectors are the model's rigid modes (free bodies,
     /// [`LinearModel::rigid_modes`]), handled by the linear steady state
@@ -282,6 +298,7 @@ impl LinearModel {
             }
         }
         let rigid_modes = crate::problem::rigid::rigid_basis(&stiffness, &damping)?;
+        crate::problem::rigid::check_restrained(&rigid_modes, &damping, &pairs)?;
         let mass_inverse = cholesky.inverse();
         Ok(Self {
             mass,

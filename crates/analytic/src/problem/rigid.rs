@@ -18,7 +18,12 @@
 //! (`φᴴ(−ω²M + iωC)φ` has the real part `−ω² φᵀMφ < 0`), and the linear steady state of
 //! [`LinearModel::linear_steady_state`] exists as for a model without rigid modes (unless an
 //! elastic mode is an undamped resonance). A constant force, which would make a rigid mode
-//! drift, cannot be expressed by [`crate::HarmonicForcing`].
+//! drift, cannot be expressed by [`crate::HarmonicForcing`]. A rigid mode along which
+//! neither a dashpot (`CΦa = 0`) nor a contact pair (`wᵀΦa = 0` for every pair) acts keeps any
+//! velocity it is given forever: such a free body drifts, and the model is refused
+//! ([`ModelError::Drift`]). A rigid mode restrained by a dashpot only has a bounded motion
+//! whose offset is arbitrary; the cycle equations ask that the impacts of the sequence see
+//! every rigid mode ([`crate::SequenceOrbitError::UnrestrainedRigidMode`]).
 //!
 //! **The family of linear motions.** With rigid modes the linear steady state is not one
 //! motion but a family: `u(t) = U_c cos θ + U_s sin θ + Φa` for every offset `a ∈ ℝʳ` (the rigid
@@ -84,6 +89,48 @@ pub(crate) fn rigid_basis(
         return Ok(DMatrix::zeros(n, 0));
     }
     Ok(DMatrix::from_columns(&columns))
+}
+
+/// Checks that every rigid direction `Φa` is restrained by a dashpot or a pair: the stacked
+/// `[CΦ / max|C|; w_pᵀΦ / |w_p|]` has full column rank `r`, its singular values above
+/// [`RIGID_COUPLING`] (`Φ` orthonormal, every row scaled to at most unit size).
+///
+/// # Errors
+/// [`ModelError::Drift`] with the number of free directions otherwise.
+pub(crate) fn check_restrained(
+    rigid: &DMatrix<f64>,
+    damping: &DMatrix<f64>,
+    pairs: &[ContactPair],
+) -> Result<(), ModelError> {
+    let (n, r) = rigid.shape();
+    if r == 0 {
+        return Ok(());
+    }
+    let damping_scale = damping.amax();
+    let mut stacked = DMatrix::zeros(n + pairs.len(), r);
+    if damping_scale > 0.0 {
+        stacked
+            .view_mut((0, 0), (n, r))
+            .copy_from(&(damping * rigid / damping_scale));
+    }
+    for (p, pair) in pairs.iter().enumerate() {
+        let row = rigid.tr_mul(&pair.direction) / pair.direction.norm();
+        stacked
+            .view_mut((n + p, 0), (1, r))
+            .copy_from(&row.transpose());
+    }
+    let restrained = stacked
+        .singular_values()
+        .iter()
+        .filter(|&&s| s > RIGID_COUPLING)
+        .count();
+    if restrained < r {
+        return Err(ModelError::Drift {
+            modes: r,
+            free: r - restrained,
+        });
+    }
+    Ok(())
 }
 
 /// Whether `b = Φᵀw` of a pair's direction `w` is a coupling to the rigid modes
