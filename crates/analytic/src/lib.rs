@@ -16,6 +16,10 @@
 //! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
 //!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
 //!   state (the model the sequence solver below runs on);
+//! - [`rigid`]: free bodies (a singular stiffness matrix): a model's rigid modes
+//!   ([`LinearModel::rigid_modes`]), the family of its linear motions and whether one stays
+//!   clear of the stops ([`LinearModel::clear_family`]); the cycle equations of such a model
+//!   border their periodicity solve with contact conditions ([`cycle_equations`]);
 //! - [`chain`]: chains of cells in series, graded or not ([`Cell`], at most [`MAX_CELLS`]),
 //!   and the linear chain's steady state by transfer matrices ([`chain_response`]), finite at
 //!   every local resonance and unbounded only at the chain's own undamped resonances;
@@ -69,7 +73,7 @@ use cycle::verdicts;
 pub use cycle::{cycle_equations, motion, sequence_orbit, sequence_search};
 pub use flow::model_flight;
 pub use linear::lattice;
-pub use problem::{chain, model, sequence, signature, unit};
+pub use problem::{chain, model, rigid, sequence, signature, unit};
 pub use verdicts::sequence_verdicts;
 
 pub use chain::{chain_response, Cell, ChainResponse, MAX_CELLS};
@@ -93,6 +97,7 @@ pub use model::{
 };
 pub use motion::UnitMotion;
 pub use orbit::{Orbit, Side, Violation};
+pub use rigid::{ClearFamily, PairClearance};
 pub use sequence::{ImpactSequence, PairImpact, SequenceError};
 pub use sequence_orbit::{
     NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,

@@ -15,13 +15,54 @@
 //!
 //! Derivatives are exact: `∂Φ_j/∂τ_j = Â Φ_j`, `∂p₀/∂α = (−sin α, cos α)`, and the periodicity
 //! solve differentiated implicitly, `P dz₁ = (dΨ z₁ restricted to the state rows, dp₀)`.
+//!
+//! **Rigid modes.** When the model has rigid modes `Φ` (`n × r`, `KΦ = 0`, see
+//! [`crate::problem::rigid`]), every flight and impact map keeps the translations `(Φa, 0)`:
+//! `Ψ_xx (Φa, 0) = (Φa, 0)`, so `I − Ψ_xx` is singular (rank `2n − r` when nothing else is
+//! neutral) and periodicity alone leaves the offset `a` free while asking one solvability
+//! condition per rigid mode of the impact times (that the free bodies come back where they
+//! were: no drift over the cycle). The contact conditions fix the offsets: the first `r` impacts (in sequence
+//! order) whose pair directions `w` have independent projections `Φᵀw` (the *anchors* `J`)
+//! are moved into the periodicity solve, and the solvability conditions out of it, by the
+//! bordered system
+//!
+//! ```text
+//! [ P    L̂ ] [ z₁ ]   [ (0, p₀) ]
+//! [ Rᵀ   0 ] [ μ  ] = [ c_J     ]
+//! ```
+//!
+//! `P` as above, `L̂ = (Φ, 0, 0)` (a shift `Φμ` of the positions along the rigid modes at the
+//! end of the cycle, `μ ∈ ℝʳ`: the free bodies' drift over one cycle), and row `i` of `Rᵀ` the
+//! anchor `j_i`'s contact functional carried to the state after the first impact,
+//! `h_jᵀ Pre_{j−1}` (`h₀ᵀ` for the first impact). A translation is kept and changes no other
+//! coordinate: in coordinates `u = Φa + Φ⊥b` the `a`-columns of `Ψ_xx` are those of the
+//! identity, so `I − Ψ_xx = [[0, −D], [0, I − Ψ']]`, where `I − Ψ'` acts on `(b, u̇)` (the
+//! cycle map *modulo translations*) and the `a`-rows `D(b, u̇)` are the free bodies' drift
+//! over the cycle, which periodicity asks to vanish. The bordered system is regular exactly
+//! when `I − Ψ'` is (the cycle map at fixed impact times has no neutral direction but the
+//! translations) and the anchors' `wᵀΦ` form a regular `r × r` matrix (`Rᵀ(Φ, 0)`, which the
+//! choice of anchors ensures): then the drift is the dependent part of periodicity, and the
+//! shifts `Φμ` are exactly what it lacks. A solution with `μ = 0`
+//! is a periodic motion meeting the anchors' contact conditions, so the residuals are the
+//! drifts `μ_i` (displacements, in the units of the contact residuals) in place of the
+//! anchors' contact residuals, and the other contact residuals as before: `m` equations in
+//! `m` unknowns whose zeros are the orbits. (A kick on the free bodies' velocities instead
+//! fails where a body's velocity scale is neutral at fixed impact times, e.g. a free mass
+//! between a stop on the frame and one on a primary at the orbit's own impact phase
+//! `e/(1 + e)`.) Where `I − Ψ'` is singular the solve is reported singular, as a singular `P`
+//! is without rigid modes. A model without rigid modes has no border and runs the unbordered
+//! system above, unchanged.
+//!
+//! Differentiating the bordered system: `B (dz₁, dμ) = (dΨ z₁ on the state rows, dp₀,
+//! −h_jᵀ dPre_{j−1} z₁ on anchor rows)`, the same carried products `dPre_f z₁` as without
+//! border.
 
 use crate::cycle::unit_modes::{ModalForcing, UnitModes};
 use crate::orbit::wrap;
 use nalgebra::allocator::Allocator;
 use nalgebra::{
-    Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, Matrix4, Matrix6, OMatrix, OVector,
-    SMatrix, LU,
+    Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn, Matrix4, Matrix6, OMatrix,
+    OVector, SMatrix, LU,
 };
 use std::sync::Arc;
 
@@ -68,6 +109,51 @@ where
     /// Whether the modal flights are looked up among those this thread computed last
     /// ([`remembered_flow`]): for callers that evaluate the cycle at points sharing flights.
     remember: bool,
+    /// The border of a model with rigid modes (see the module's documentation); `None`:
+    /// the unbordered periodicity solve.
+    border: Option<Arc<RigidBorder>>,
+}
+
+/// The border of the periodicity solve of a model with `r` rigid modes.
+#[derive(Debug, Clone)]
+pub(crate) struct RigidBorder {
+    /// `L̂` (augmented size × `r`): shifts of the positions along the rigid modes.
+    pub(crate) shifts: DMatrix<f64>,
+    /// The anchor impacts `j_1 < … < j_r`, whose contact conditions fix the offsets.
+    pub(crate) anchors: Vec<usize>,
+}
+
+/// The factored periodicity solve of one cycle: the unbordered `P`, or the bordered system of
+/// a model with rigid modes.
+enum Periodic<'a, D: DimMin<D, Output = D>>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    /// `P`'s LU factors.
+    Plain(&'a LU<f64, D, D>),
+    /// The bordered system's LU factors (size `D + r`).
+    Bordered(&'a LU<f64, Dyn, Dyn>),
+}
+
+/// An owned [`Periodic`].
+enum PeriodicFactors<D: DimMin<D, Output = D>>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    Plain(LU<f64, D, D>),
+    Bordered(LU<f64, Dyn, Dyn>),
+}
+
+impl<D: DimMin<D, Output = D>> PeriodicFactors<D>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    fn view(&self) -> Periodic<'_, D> {
+        match self {
+            Self::Plain(lu) => Periodic::Plain(lu),
+            Self::Bordered(lu) => Periodic::Bordered(lu),
+        }
+    }
 }
 
 /// The cycle evaluated at one `x = (α, φ₂ … φ_m)`.
@@ -141,7 +227,23 @@ where
             cycle,
             modes: None,
             remember: false,
+            border: None,
         }
+    }
+
+    /// The same equations bordered for a model with rigid modes (see the module's
+    /// documentation): `shifts` the columns `L̂` (augmented size × `r`), `anchors` the `r`
+    /// impacts whose contact conditions fix the offsets.
+    pub(crate) fn with_rigid_border(self, shifts: DMatrix<f64>, anchors: Vec<usize>) -> Self {
+        Self {
+            border: Some(Arc::new(RigidBorder { shifts, anchors })),
+            ..self
+        }
+    }
+
+    /// Whether the periodicity solve is bordered (a model with rigid modes).
+    pub fn is_bordered(&self) -> bool {
+        self.border.is_some()
     }
 
     /// The same equations with the unit's modal flow (augmented dimension 6 only; elsewhere,
@@ -197,10 +299,21 @@ where
     /// `‖K‖∞ ‖K⁻¹‖∞` of the periodicity matrix `K = I − Ψ_xx` of the maps `pre` of one cycle
     /// (infinite when `K` is singular): the contact residuals carry rounding of about this
     /// many units of the motion's size.
+    ///
+    /// With a rigid border, the same of the bordered system without its two phase rows and
+    /// columns.
     pub fn conditioning(&self, pre: &[OMatrix<f64, D, D>]) -> f64 {
         let Some(last) = pre.last() else {
             return f64::INFINITY;
         };
+        if let Some(border) = &self.border {
+            let full = self.bordered_matrix(border, pre);
+            let (size, s) = (self.augmented.nrows(), self.states());
+            let keep: Vec<usize> = (0..s).chain(size..full.nrows()).collect();
+            let k = DMatrix::from_fn(keep.len(), keep.len(), |i, j| full[(keep[i], keep[j])]);
+            let inverse = k.clone().lu().try_inverse();
+            return inf_norm(&k) * inverse.map_or(f64::INFINITY, |i| inf_norm(&i));
+        }
         let psi = &self.g_hats[0] * last;
         let s = self.states();
         let k = DMatrix::from_fn(s, s, |i, j| f64::from(u8::from(i == j)) - psi[(i, j)]);
@@ -344,6 +457,118 @@ where
         lu.is_invertible().then_some(lu)
     }
 
+    /// The bordered system of the maps `pre` (see the module's documentation): `P`, the shifts
+    /// `L̂`, and the anchors' contact functionals carried to the state after the first impact.
+    fn bordered_matrix(&self, border: &RigidBorder, pre: &[OMatrix<f64, D, D>]) -> DMatrix<f64> {
+        let size = self.augmented.nrows();
+        let r = border.anchors.len();
+        let psi = pre.last().map(|last| &self.g_hats[0] * last);
+        let mut b = DMatrix::zeros(size + r, size + r);
+        for i in 0..size - 2 {
+            for j in 0..size {
+                let identity = f64::from(u8::from(i == j));
+                b[(i, j)] = identity - psi.as_ref().map_or(0.0, |p| p[(i, j)]);
+            }
+        }
+        b[(size - 2, size - 2)] = 1.0;
+        b[(size - 1, size - 1)] = 1.0;
+        b.view_mut((0, size), (size, r)).copy_from(&border.shifts);
+        for (i, &j) in border.anchors.iter().enumerate() {
+            let row = if j == 0 {
+                self.contacts[0].clone()
+            } else {
+                pre[j - 1].tr_mul(&self.contacts[j])
+            };
+            for k in 0..size {
+                b[(size + i, k)] = row[k];
+            }
+        }
+        b
+    }
+
+    /// The factored periodicity solve of the maps `pre`: bordered when the equations have a
+    /// rigid border, otherwise [`Self::periodicity`]; `None` when singular.
+    fn periodic_factors(&self, pre: &[OMatrix<f64, D, D>]) -> Option<PeriodicFactors<D>> {
+        let Some(border) = &self.border else {
+            return self.periodicity(pre).map(PeriodicFactors::Plain);
+        };
+        let lu = self.bordered_matrix(border, pre).lu();
+        lu.is_invertible().then_some(PeriodicFactors::Bordered(lu))
+    }
+
+    /// Solves the periodicity system `solver` for the state rows `state` (zero when `None`),
+    /// phase rows `p` and, when bordered, anchor rows `anchor_rows`: `(z₁, μ)` (`μ` empty
+    /// without border).
+    fn periodic_solve(
+        &self,
+        solver: &Periodic<'_, D>,
+        state: Option<&OVector<f64, D>>,
+        p: [f64; 2],
+        anchor_rows: impl Fn(usize) -> f64,
+    ) -> Option<(OVector<f64, D>, Vec<f64>)> {
+        let rhs = self.augmented_vector(state, p);
+        match solver {
+            Periodic::Plain(lu) => lu.solve(&rhs).map(|z| (z, Vec::new())),
+            Periodic::Bordered(lu) => {
+                let size = self.augmented.nrows();
+                let r = lu.l().nrows() - size;
+                let full = DVector::from_fn(size + r, |i, _| {
+                    if i < size {
+                        rhs[i]
+                    } else {
+                        anchor_rows(i - size)
+                    }
+                });
+                let solution = lu.solve(&full)?;
+                let d = D::from_usize(size);
+                let z = OVector::<f64, D>::from_fn_generic(d, Const::<1>, |i, _| solution[i]);
+                Some((z, solution.iter().skip(size).copied().collect()))
+            }
+        }
+    }
+
+    /// The bordered residuals: the contact residuals (less the stops when `with_stops`) with
+    /// the drift `μ_i` in place of each anchor's.
+    fn bordered_residuals(
+        &self,
+        pre: &[OMatrix<f64, D, D>],
+        z1: &OVector<f64, D>,
+        mu: &[f64],
+        with_stops: bool,
+    ) -> DVector<f64> {
+        let values = self.contact_values(pre, z1);
+        let mut residual = DVector::from_fn(values.len(), |j, _| {
+            values[j] - if with_stops { self.stops[j] } else { 0.0 }
+        });
+        if let Some(border) = &self.border {
+            for (i, &j) in border.anchors.iter().enumerate() {
+                residual[j] = mu[i];
+            }
+        }
+        residual
+    }
+
+    /// For fixed impact times (the maps `pre`), the residuals as the affine function
+    /// `r₀ + r_c cos α + r_s sin α` of the forcing phase: `(r₀, r_c, r_s)`. Without border
+    /// `r₀` is `−c_j`; `None` when the periodicity solve is singular.
+    pub(crate) fn affine_residuals(&self, pre: &[OMatrix<f64, D, D>]) -> Option<[DVector<f64>; 3]> {
+        let factors = self.periodic_factors(pre)?;
+        let solver = factors.view();
+        let stops_at = |i: usize| {
+            self.border
+                .as_ref()
+                .map_or(0.0, |b| self.stops[b.anchors[i]])
+        };
+        let (z0, mu0) = self.periodic_solve(&solver, None, [0.0, 0.0], stops_at)?;
+        let (zc, muc) = self.periodic_solve(&solver, None, [1.0, 0.0], |_| 0.0)?;
+        let (zs, mus) = self.periodic_solve(&solver, None, [0.0, 1.0], |_| 0.0)?;
+        Some([
+            self.bordered_residuals(pre, &z0, &mu0, true),
+            self.bordered_residuals(pre, &zc, &muc, false),
+            self.bordered_residuals(pre, &zs, &mus, false),
+        ])
+    }
+
     /// The augmented vector with the state rows `state` (zero when `None`) and phase `p`.
     pub(crate) fn augmented_vector(
         &self,
@@ -396,6 +621,9 @@ where
             .collect();
         let flights = self.flows(&taus);
         let pre = self.pre_maps(&flights.iter().collect::<Vec<_>>());
+        if self.border.is_some() {
+            return self.evaluate_bordered(x, flights, pre, with_jacobian);
+        }
         let lu = self.periodicity(&pre)?;
         let alpha = x[0];
         let z1 = lu.solve(&self.augmented_vector(None, [alpha.cos(), alpha.sin()]))?;
@@ -409,6 +637,35 @@ where
         };
         if with_jacobian {
             evaluation.jacobian = self.jacobian(&evaluation, &lu, alpha)?;
+        }
+        Some(evaluation)
+    }
+
+    /// [`Self::evaluate_with`] of bordered equations, from the flights and maps at `x`.
+    fn evaluate_bordered(
+        &self,
+        x: &[f64],
+        flights: Vec<OMatrix<f64, D, D>>,
+        pre: Vec<OMatrix<f64, D, D>>,
+        with_jacobian: bool,
+    ) -> Option<CycleEvaluation<D>> {
+        let border = self.border.as_ref()?;
+        let factors = self.periodic_factors(&pre)?;
+        let solver = factors.view();
+        let alpha = x[0];
+        let (z1, mu) = self.periodic_solve(&solver, None, [alpha.cos(), alpha.sin()], |i| {
+            self.stops[border.anchors[i]]
+        })?;
+        let residual = self.bordered_residuals(&pre, &z1, &mu, true);
+        let mut evaluation = CycleEvaluation {
+            flights,
+            pre,
+            z1,
+            residual,
+            jacobian: DMatrix::zeros(0, 0),
+        };
+        if with_jacobian {
+            evaluation.jacobian = self.jacobian_in(&evaluation, &solver, alpha)?;
         }
         Some(evaluation)
     }
@@ -446,8 +703,9 @@ where
         mut e: CycleEvaluation<D>,
         augmented_rate: &OMatrix<f64, D, D>,
     ) -> Option<CycleEvaluation<D>> {
-        let lu = self.periodicity(&e.pre)?;
-        let in_x = self.jacobian(&e, &lu, x[0])?;
+        let factors = self.periodic_factors(&e.pre)?;
+        let solver = factors.view();
+        let in_x = self.jacobian_in(&e, &solver, x[0])?;
         let m = self.impacts();
         let size = self.augmented.nrows();
         let d = D::from_usize(size);
@@ -492,7 +750,7 @@ where
                 product(&rates[f], &product(&self.g_hats[f], &e.pre[f - 1]))
             })
         };
-        let in_omega = self.column(&e, &lu, own, [0.0, 0.0])?;
+        let in_omega = self.column_in(&e, &solver, own, [0.0, 0.0])?;
         let mut jacobian = DMatrix::zeros(m, m + 1);
         jacobian.view_mut((0, 0), (m, m)).copy_from(&in_x);
         jacobian.set_column(m, &in_omega);
@@ -507,10 +765,20 @@ where
         lu: &LU<f64, D, D>,
         alpha: f64,
     ) -> Option<DMatrix<f64>> {
+        self.jacobian_in(e, &Periodic::Plain(lu), alpha)
+    }
+
+    /// `∂ residual / ∂ (α, φ₂ … φ_m)` at an evaluation, with the periodicity solve `solver`.
+    fn jacobian_in(
+        &self,
+        e: &CycleEvaluation<D>,
+        solver: &Periodic<'_, D>,
+        alpha: f64,
+    ) -> Option<DMatrix<f64>> {
         let m = self.impacts();
         let mut jacobian = DMatrix::zeros(m, m);
         // α: only p₀ moves.
-        let alpha_column = self.column(e, lu, |_| None, [-alpha.sin(), alpha.cos()])?;
+        let alpha_column = self.column_in(e, solver, |_| None, [-alpha.sin(), alpha.cos()])?;
         jacobian.set_column(0, &alpha_column);
         // t_i (impact i ≥ 1): flight i − 1 grows, flight i shrinks, so the own term of
         // ∂Pre_f is c_f Â Pre_f with c_{i−1} = 1, c_i = −1.
@@ -519,7 +787,7 @@ where
                 let c = (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
                 (c != 0.0).then(|| product(&self.augmented, &e.pre[f]) * (c * self.cycle))
             };
-            jacobian.set_column(i, &self.column(e, lu, own, [0.0, 0.0])?);
+            jacobian.set_column(i, &self.column_in(e, solver, own, [0.0, 0.0])?);
         }
         Some(jacobian)
     }
@@ -527,11 +795,22 @@ where
     /// The derivative of the residuals along one direction in which flight `f` contributes
     /// `own(f) = ∂Φ_f Ĝ_f Pre_{f−1}` (`∂Φ_0` for the first; `None`: the flight is unchanged)
     /// and `p₀` moves by `dp0`: `∂Pre_f = Φ_f Ĝ_f ∂Pre_{f−1} + own(f)`, and the periodicity
-    /// solve differentiated.
+    /// solve differentiated. For equations without a rigid border (`lu` factors `P`).
     pub fn column(
         &self,
         e: &CycleEvaluation<D>,
         lu: &LU<f64, D, D>,
+        own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
+        dp0: [f64; 2],
+    ) -> Option<DVector<f64>> {
+        self.column_in(e, &Periodic::Plain(lu), own, dp0)
+    }
+
+    /// [`Self::column`] with the periodicity solve `solver`, bordered or not.
+    fn column_in(
+        &self,
+        e: &CycleEvaluation<D>,
+        solver: &Periodic<'_, D>,
         own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
         dp0: [f64; 2],
     ) -> Option<DVector<f64>> {
@@ -551,6 +830,12 @@ where
             moved_z1.push(carried.as_ref().map(|d| d * &e.z1));
         }
         let moved_psi = moved_z1[m - 1].as_ref().map(|last| &self.g_hats[0] * last);
+        let lu = match solver {
+            Periodic::Plain(lu) => lu,
+            Periodic::Bordered(_) => {
+                return self.bordered_column(e, solver, &moved_z1, moved_psi.as_ref(), dp0)
+            }
+        };
         let dz1 = lu.solve(&self.augmented_vector(moved_psi.as_ref(), dp0))?;
         Some(DVector::from_fn(m, |j, _| {
             if j == 0 {
@@ -564,6 +849,58 @@ where
             self.contacts[j].dot(&total)
         }))
     }
+}
+
+impl<D: DimMin<D, Output = D>> CycleEquations<D>
+where
+    DefaultAllocator: Allocator<D, D> + Allocator<D>,
+{
+    /// The bordered counterpart of the last step of [`Self::column`]: the bordered solve with
+    /// `−h_jᵀ dPre_{j−1} z₁` on the anchor rows, then the residuals' derivatives (`dμ_i` for
+    /// the anchors).
+    fn bordered_column(
+        &self,
+        e: &CycleEvaluation<D>,
+        solver: &Periodic<'_, D>,
+        moved_z1: &[Option<OVector<f64, D>>],
+        moved_psi: Option<&OVector<f64, D>>,
+        dp0: [f64; 2],
+    ) -> Option<DVector<f64>> {
+        let border = self.border.as_ref()?;
+        let anchor_rows = |i: usize| {
+            let j = border.anchors[i];
+            if j == 0 {
+                return 0.0;
+            }
+            moved_z1[j - 1]
+                .as_ref()
+                .map_or(0.0, |d| -self.contacts[j].dot(d))
+        };
+        let (dz1, dmu) = self.periodic_solve(solver, moved_psi, dp0, anchor_rows)?;
+        let m = self.impacts();
+        let mut column = DVector::from_fn(m, |j, _| {
+            if j == 0 {
+                return self.contacts[0].dot(&dz1);
+            }
+            let moved = &e.pre[j - 1] * &dz1;
+            let total = match moved_z1[j - 1].as_ref() {
+                Some(d) => d + moved,
+                None => moved,
+            };
+            self.contacts[j].dot(&total)
+        });
+        for (i, &j) in border.anchors.iter().enumerate() {
+            column[j] = dmu[i];
+        }
+        Some(column)
+    }
+}
+
+/// `‖m‖∞`, the largest row sum of moduli.
+fn inf_norm(m: &DMatrix<f64>) -> f64 {
+    m.row_iter()
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
 }
 
 /// Augmented dimension of the unit (two degrees of freedom and the two forcing phases).

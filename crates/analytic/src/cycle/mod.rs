@@ -250,6 +250,10 @@ fn orbit_error(e: SequenceOrbitError) -> OrbitError {
         SequenceOrbitError::SingularCycle { omega } => OrbitError::SingularCycle { omega },
         // A signature has one pair: the unit's.
         SequenceOrbitError::Sequence(_) => unreachable!("a signature names no other pair"),
+        // The unit's outer spring is positive: its stiffness matrix is regular.
+        SequenceOrbitError::UnrestrainedRigidMode { .. } => {
+            unreachable!("the unit has no rigid modes")
+        }
     }
 }
 

@@ -16,6 +16,12 @@
 //! at the flight's end), `∂p₀/∂α = (−sin α, cos α)`, and the periodicity solve differentiated
 //! implicitly, `dy₁ = (I − Ψ_xx)⁻¹ (dΨ_xx y₁ + dΨ_xp p₀ + Ψ_xp dp₀)`. No finite differences.
 //!
+//! A model with rigid modes (free bodies, [`crate::problem::rigid`]) has a singular
+//! `I − Ψ_xx`: its periodicity solve is bordered by the contact conditions of the first impacts
+//! that see the rigid modes, and the free bodies' drift over the cycle becomes a residual in
+//! their place (the formulation is in [`crate::cycle_equations`]); the unknowns and the number of
+//! equations are those of a model without.
+//!
 //! Layout: [`crate::cycle_equations::CycleEquations`] evaluates residuals and Jacobian for any
 //! model, on stack matrices for the unit and heap matrices for a chain; [`SequenceProblem`] is
 //! a model's instance; [`SequenceNewton`] (the one solver of both) goes
@@ -87,6 +93,18 @@ pub enum SequenceOrbitError {
         /// Number of entries given.
         len: usize,
     },
+    /// The model has rigid modes (free bodies) that no impact of the sequence restrains: the
+    /// offset along them is not fixed by any contact condition.
+    #[error(
+        "the impacts of the sequence restrain {restrained} of the model's {modes} rigid modes: \
+         every rigid mode must be seen (w'phi != 0) by the pair of some impact"
+    )]
+    UnrestrainedRigidMode {
+        /// Number of independent rigid directions the sequence's impacts see.
+        restrained: usize,
+        /// Number of rigid modes of the model.
+        modes: usize,
+    },
     /// The periodicity solve or the Newton Jacobian is singular.
     #[error("the impact-sequence cycle equations are singular at omega = {omega}")]
     SingularCycle {
@@ -120,9 +138,16 @@ pub struct SequenceProblem<'a> {
 impl<'a> SequenceProblem<'a> {
     /// The cycle equations of `sequence` on `model` at `omega`.
     ///
+    /// For a model with rigid modes the equations are bordered: the anchors are the first
+    /// impacts (in sequence order) whose pairs' projections `Φᵀw` are independent (Gram–Schmidt,
+    /// a projection counting when it keeps more than [`crate::rigid::RIGID_COUPLING`] of `|w|`),
+    /// the shifts `(Φ, 0, 0)`.
+    ///
     /// # Errors
     /// [`SequenceOrbitError::InvalidFrequency`] unless `omega` is finite and positive;
-    /// [`SequenceOrbitError::Sequence`] when the sequence names a pair the model lacks.
+    /// [`SequenceOrbitError::Sequence`] when the sequence names a pair the model lacks;
+    /// [`SequenceOrbitError::UnrestrainedRigidMode`] when the model has rigid modes that the
+    /// sequence's impacts do not all see.
     pub fn new(
         model: &'a LinearModel,
         omega: f64,
@@ -157,13 +182,20 @@ impl<'a> SequenceProblem<'a> {
                 }
             })
             .collect();
-        let equations = CycleEquations::new(
+        let mut equations = CycleEquations::new(
             omega,
             model.augmented_matrix(omega),
             impacts,
             sequence_symmetries(sequence),
             f64::from(sequence.period()) * std::f64::consts::TAU / omega,
         );
+        if model.has_rigid_modes() {
+            let rigid = model.rigid_modes();
+            let anchors = anchors(model, sequence)?;
+            let mut shifts = DMatrix::zeros(size, rigid.ncols());
+            shifts.view_mut((0, 0), (n, rigid.ncols())).copy_from(rigid);
+            equations = equations.with_rigid_border(shifts, anchors);
+        }
         Ok(Self {
             model,
             sequence,
@@ -195,6 +227,40 @@ impl<'a> SequenceProblem<'a> {
     pub fn equations(&self) -> &CycleEquations<Dyn> {
         &self.equations
     }
+}
+
+/// The anchors of a model with rigid modes `Φ`: the first impacts of `sequence` whose pairs'
+/// `Φᵀw` are independent, one per rigid mode.
+fn anchors(
+    model: &LinearModel,
+    sequence: &ImpactSequence,
+) -> Result<Vec<usize>, SequenceOrbitError> {
+    let rigid = model.rigid_modes();
+    let modes = rigid.ncols();
+    let mut basis: Vec<DVector<f64>> = Vec::with_capacity(modes);
+    let mut anchors = Vec::with_capacity(modes);
+    for (j, impact) in sequence.impacts().iter().enumerate() {
+        if anchors.len() == modes {
+            break;
+        }
+        let w = &model.pairs()[impact.pair].direction;
+        let mut b = rigid.transpose() * w;
+        for q in &basis {
+            let along = q.dot(&b);
+            b -= q * along;
+        }
+        if crate::rigid::couples(&b, w) {
+            basis.push(b.normalize());
+            anchors.push(j);
+        }
+    }
+    if anchors.len() < modes {
+        return Err(SequenceOrbitError::UnrestrainedRigidMode {
+            restrained: anchors.len(),
+            modes,
+        });
+    }
+    Ok(anchors)
 }
 
 /// The rotations `k` of the cycle that map the sequence onto itself (starting the cycle at
@@ -508,6 +574,104 @@ mod tests {
                     quotient[j],
                     exact[(j, i)]
                 );
+            }
+        }
+    }
+
+    /// A primary mass on a spring and dashpot with `free` free masses, each in a clearance of
+    /// the primary (pair `k`: direction `e_{k+1} − e_0`, gaps 1 and 0.8).
+    fn free_masses(free: usize) -> LinearModel {
+        let n = free + 1;
+        let diagonal = |first: f64, rest: f64| {
+            DMatrix::from_diagonal(&DVector::from_fn(
+                n,
+                |i, _| if i == 0 { first } else { rest },
+            ))
+        };
+        let pairs = (1..n)
+            .map(|k| {
+                let mut w = DVector::zeros(n);
+                w[0] = -1.0;
+                w[k] = 1.0;
+                crate::model::ContactPair {
+                    direction: w,
+                    gap_side1: 1.0,
+                    gap_side2: 0.8,
+                    restitution: 0.7,
+                }
+            })
+            .collect();
+        let mut cosine = DVector::zeros(n);
+        cosine[0] = 1.0;
+        let mut sine = DVector::zeros(n);
+        sine[0] = 0.3;
+        LinearModel::new(
+            diagonal(1.0, 0.15),
+            diagonal(0.05, 0.0),
+            diagonal(1.0, 0.0),
+            crate::model::HarmonicForcing {
+                cosine,
+                sine,
+                sine_per_omega: DVector::zeros(n),
+            },
+            pairs,
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    /// The bordered residuals of models with rigid modes (one free mass, anchor the first
+    /// impact; two free masses, anchors the first two impacts, the second's border row moving
+    /// with the impact times): the exact Jacobian in `x` and its `ω` column against central
+    /// differences, step `1e-6`, truncation `O(1e-12)` and rounding `O(1e-10)` of the
+    /// residuals' size, as for the chain.
+    #[test]
+    fn bordered_jacobian_is_the_derivative_of_the_residuals() {
+        let cases = [
+            (free_masses(1), "0+ 0-", vec![0.7, 0.43]),
+            (free_masses(2), "0+ 1+ 0- 1-", vec![-0.4, 0.2, 0.55, 0.8]),
+        ];
+        for (model, text, x) in cases {
+            let sequence = ImpactSequence::parse(text, 1).unwrap_or_else(|e| panic!("{e}"));
+            let omega = 1.3;
+            let problem =
+                SequenceProblem::new(&model, omega, &sequence).unwrap_or_else(|e| panic!("{e}"));
+            assert!(problem.equations().is_bordered());
+            let m = x.len();
+            let exact = problem
+                .equations()
+                .evaluate_in_omega(&x, &model.augmented_rate())
+                .unwrap_or_else(|| panic!("singular"))
+                .jacobian;
+            let in_x = evaluate(problem.equations(), &x)
+                .unwrap_or_else(|e| panic!("{e}"))
+                .jacobian;
+            assert!((exact.columns(0, m) - &in_x).amax() <= 1e-12 * in_x.amax());
+            let scale = exact.amax();
+            let step = 1e-6;
+            for i in 0..=m {
+                let at = |d: f64| {
+                    let mut y = x.clone();
+                    let w = if i < m {
+                        y[i] += d;
+                        omega
+                    } else {
+                        omega + d
+                    };
+                    let p = SequenceProblem::new(&model, w, &sequence)
+                        .unwrap_or_else(|e| panic!("{e}"));
+                    evaluate(p.equations(), &y)
+                        .unwrap_or_else(|e| panic!("{e}"))
+                        .residual
+                };
+                let quotient = (at(step) - at(-step)) / (2.0 * step);
+                for j in 0..m {
+                    assert!(
+                        (quotient[j] - exact[(j, i)]).abs() <= 1e-7 * scale,
+                        "{text}: ∂r{j}/∂x{i}: {} vs {}",
+                        quotient[j],
+                        exact[(j, i)]
+                    );
+                }
             }
         }
     }

@@ -3,7 +3,8 @@
 //!
 //! The cycle `pT` is cut into `N` grid intervals and every ordered tuple
 //! `0 < φ₂ < … < φ_m < 1` of grid points is scanned. For fixed impact times the contact
-//! residuals are linear in `(cos α, sin α)`, so each tuple's squared residual is scanned on
+//! residuals are affine in `(cos α, sin α)` (linear but for the stops; with rigid modes the
+//! bordered residuals of [`crate::cycle_equations`] likewise), so each tuple's squared residual is scanned on
 //! `ALPHA_SCAN = 64` values of `α` for the cost of one cycle; Newton
 //! ([`crate::sequence_orbit::SequenceNewton`]) starts from every minimum in `α` of every tuple
 //! (up to `FULL_START_TUPLES = 5000` tuples; above, from the minima over the joint grid). Converged
@@ -327,6 +328,20 @@ where
         })
         .collect();
     let pre = equations.pre_maps(&flights);
+    if equations.is_bordered() {
+        // A model with rigid modes: the residuals are affine in (cos α, sin α).
+        let Some([constant, cosine, sine]) = equations.affine_residuals(&pre) else {
+            return vec![f64::INFINITY; ALPHA_SCAN];
+        };
+        return (0..ALPHA_SCAN)
+            .map(|k| {
+                let (c, s) = (scan_angle(k).cos(), scan_angle(k).sin());
+                (0..m)
+                    .map(|j| (constant[j] + cosine[j] * c + sine[j] * s).powi(2))
+                    .sum()
+            })
+            .collect();
+    }
     let Some(lu) = equations.periodicity(&pre) else {
         return vec![f64::INFINITY; ALPHA_SCAN];
     };

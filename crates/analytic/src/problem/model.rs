@@ -46,6 +46,20 @@ pub enum ModelError {
         /// The required property, in words.
         required: &'static str,
     },
+    /// The model has rigid modes (free bodies) that neither a dashpot nor a contact pair
+    /// restrains: nothing ever stops such a body, which drifts at any velocity it is given
+    /// (no bounded motion).
+    #[error(
+        "{free} of the model's {modes} rigid modes are restrained by neither a dashpot nor a \
+         contact pair: such a free body drifts (no bounded motion); every rigid mode must be \
+         seen by a pair's direction or damped"
+    )]
+    Drift {
+        /// Number of rigid modes (the nullity of `K`).
+        modes: usize,
+        /// Number of independent rigid directions free of both dashpots and pairs.
+        free: usize,
+    },
     /// The linear steady state does not exist: `K − ω²M + iωC` is singular (an undamped
     /// resonance).
     #[error(
@@ -127,6 +141,8 @@ pub struct LinearModel {
     forcing: HarmonicForcing,
     pairs: Vec<ContactPair>,
     mass_inverse: DMatrix<f64>,
+    /// Orthonormal basis of the null space of `K` (`n × r`), see [`crate::problem::rigid`].
+    rigid_modes: DMatrix<f64>,
 }
 
 pub(crate) fn out_of_range(field: String, value: f64, allowed: &'static str) -> ModelError {
@@ -204,7 +220,15 @@ impl LinearModel {
     /// - [`ModelError::OutOfRange`] naming the first non-finite entry, a pair's gap that is not
     ///   `> 0`, or a restitution outside `[0, 1]`;
     /// - [`ModelError::Structure`] if `M`, `C` or `K` is not symmetric, `M` not positive
-    ///   definite, or a pair's direction is zero.
+    ///   definite, `K` or `C` not positive semidefinite (no bounded motion), or a pair's
+    ///   direction is zero;
+    /// - [`ModelError::Drift`] if a rigid mode is restrained by neither a dashpot nor a pair
+    ///   (`CΦa = 0` and `wᵀΦa = 0` for every pair, for some `a ≠ 0`).
+    ///
+    /// A singular `K` is accepted: its null vectors are the model's rigid modes (free bodies,
+    /// [`LinearModel::rigid_modes`]), handled by the linear steady state
+    /// ([`LinearModel::clear_family`]) and the cycle equations
+    /// ([`crate::cycle_equations`]).
     pub fn new(
         mass: DMatrix<f64>,
         damping: DMatrix<f64>,
@@ -273,6 +297,8 @@ impl LinearModel {
                 ));
             }
         }
+        let rigid_modes = crate::problem::rigid::rigid_basis(&stiffness, &damping)?;
+        crate::problem::rigid::check_restrained(&rigid_modes, &damping, &pairs)?;
         let mass_inverse = cholesky.inverse();
         Ok(Self {
             mass,
@@ -281,6 +307,7 @@ impl LinearModel {
             forcing,
             pairs,
             mass_inverse,
+            rigid_modes,
         })
     }
 
@@ -312,6 +339,20 @@ impl LinearModel {
     /// The contact pairs, in the order in which signatures index them.
     pub fn pairs(&self) -> &[ContactPair] {
         &self.pairs
+    }
+
+    /// The rigid modes: an orthonormal basis `Φ` (`n × r`) of the null space of `K`, `r = 0`
+    /// (no columns) for a model without free bodies. A translation along a column is kept by
+    /// every flight and impact map ([`crate::problem::rigid`]).
+    pub fn rigid_modes(&self) -> &DMatrix<f64> {
+        &self.rigid_modes
+    }
+
+    /// Whether `K` is singular: the model has free bodies (rigid modes), its linear steady
+    /// states are a family ([`LinearModel::clear_family`]) and its cycle equations bordered
+    /// ([`crate::cycle_equations`]).
+    pub fn has_rigid_modes(&self) -> bool {
+        self.rigid_modes.ncols() > 0
     }
 
     /// First-order system matrix `A = [[0, I], [−M⁻¹K, −M⁻¹C]]` for the state `x = (u, u̇)`.
@@ -374,7 +415,10 @@ impl LinearModel {
 
     /// The linear steady state (no contact) at `omega`: `u(t) = U_c cos θ + U_s sin θ`, from
     /// the real `2n × 2n` system `(K − ω²M) U_c + ωC U_s = f_c`,
-    /// `−ωC U_c + (K − ω²M) U_s = f_s + ω f_ω`.
+    /// `−ωC U_c + (K − ω²M) U_s = f_s + ω f_ω`. With rigid modes this is one member of a
+    /// family (the one without a constant offset along the rigid modes): whether the motion
+    /// clear of the stops exists is [`LinearModel::clear_family`]'s question, not this
+    /// member's.
     ///
     /// # Errors
     /// [`ModelError::Unbounded`] if the system is singular to within

@@ -156,12 +156,16 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
             &model.forcing().sine_at(omega),
             omega,
         );
-        let statics = model
-            .stiffness()
-            .clone()
-            .lu()
-            .solve(&model.forcing().cosine)
-            .unwrap_or_else(|| DVector::from_element(n, f64::NAN));
+        let statics = if model.has_rigid_modes() {
+            rigid_statics(model)
+        } else {
+            model
+                .stiffness()
+                .clone()
+                .lu()
+                .solve(&model.forcing().cosine)
+                .unwrap_or_else(|| DVector::from_element(n, f64::NAN))
+        };
         let mass_cholesky = model.mass().clone().cholesky();
         let flexibility = model
             .pairs()
@@ -243,6 +247,27 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
             newton_iterations,
         })
     }
+}
+
+/// The static displacement of a model with rigid modes `Φ`: the solution of `K s = f_c`
+/// without a rigid component (`Φᵀs = 0`), from the regular `(K + κΦΦᵀ) s = f_c`
+/// (`κ = max |K_ij|`, or 1 when `K = 0`), which projected on `Φ` gives `κΦᵀs = Φᵀf_c`; `NaN`
+/// entries when `f_c` pushes a rigid mode (`|Φᵀf_c| > `[`crate::rigid::RIGID_COUPLING`]`|f_c|`:
+/// no static displacement).
+fn rigid_statics(model: &LinearModel) -> DVector<f64> {
+    let n = model.dofs();
+    let rigid = model.rigid_modes();
+    let force = &model.forcing().cosine;
+    let nan = DVector::from_element(n, f64::NAN);
+    if crate::rigid::couples(&(rigid.transpose() * force), force) {
+        return nan;
+    }
+    let kappa = match model.stiffness().amax() {
+        k if k > 0.0 => k,
+        _ => 1.0,
+    };
+    let regular = model.stiffness() + rigid * rigid.transpose() * kappa;
+    regular.lu().solve(force).unwrap_or(nan)
 }
 
 /// A model's general numerics for the verdicts: heap flights and monodromy.
