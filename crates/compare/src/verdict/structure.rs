@@ -64,10 +64,11 @@ pub fn structure_cross_check(
 /// A periodic motion without impacts beside the structure's linear steady state.
 ///
 /// A floating body's linear motion is a family (its offset is free), so the simulated motion
-/// is one member of it: the floating bodies' amplitudes are not compared, and a stop that
-/// moves with a floating offset is reached only when the relative motion's peak-to-peak
-/// `2|R|` exceeds the clearance `gap_plus + gap_minus` (no offset keeps it inside). Every
-/// other stop is reached when `|R|` exceeds its nearer side.
+/// is one member of it: the floating bodies' amplitudes are not compared, and the stops are
+/// reached only when no offset of the floating bodies keeps every one of them clear at once
+/// (each stop that moves with an offset needs at least its peak-to-peak `2|R|` within its
+/// clearance `gap_plus + gap_minus`). Without floating bodies a stop is reached when `|R|`
+/// exceeds its nearer side.
 fn linear_check(structure: &Structure, check: &mut ChainCheck) {
     let linear = structure
         .analytic_model()
@@ -88,18 +89,28 @@ fn linear_check(structure: &Structure, check: &mut ChainCheck) {
             )
         }
     };
-    let reaches = model
-        .pairs()
-        .iter()
-        .zip(&structure.stops)
-        .any(|(pair, stop)| {
-            let r = state.relative_amplitude(pair);
-            if structure.floats(stop) {
-                2.0 * r > pair.gap_side1 + pair.gap_side2
-            } else {
-                r > pair.gap_side1.min(pair.gap_side2)
+    let reaches = if structure.has_floating() {
+        // One offset of the floating bodies must keep every stop clear at once: the analytic
+        // model decides it exactly (and finds such an offset), beyond each stop's own
+        // peak-to-peak.
+        match model.clear_family(check.omega) {
+            Ok(family) => !family.exists,
+            Err(e) => {
+                return check.contradiction(
+                    ChainReason::NotLinear,
+                    format!(
+                        "periodic without impacts, but the linear structure has no bounded \
+                         motion: {e}"
+                    ),
+                )
             }
-        });
+        }
+    } else {
+        model
+            .pairs()
+            .iter()
+            .any(|pair| state.relative_amplitude(pair) > pair.gap_side1.min(pair.gap_side2))
+    };
     let held = |v: &[f64]| -> Vec<f64> {
         v.iter()
             .zip(&structure.floating)
