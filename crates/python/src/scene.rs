@@ -246,11 +246,15 @@ fn set_structure_number(scene: &mut StructureScene, path: &str, value: f64) -> P
             _ => None,
         })
     } else if let Some((j, f)) = indexed(path, "forcing.forces") {
-        scene.forcing.forces.get_mut(j).and_then(|force| match f.as_str() {
-            "amplitude" => Some(&mut force.amplitude),
-            "phase" => Some(&mut force.phase),
-            _ => None,
-        })
+        scene
+            .forcing
+            .forces
+            .get_mut(j)
+            .and_then(|force| match f.as_str() {
+                "amplitude" => Some(&mut force.amplitude),
+                "phase" => Some(&mut force.phase),
+                _ => None,
+            })
     } else if path == "forcing.base.amplitude" {
         scene.forcing.base.as_mut().map(|b| &mut b.amplitude)
     } else {

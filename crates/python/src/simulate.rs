@@ -10,8 +10,8 @@ use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rattle_compare::api::{self, Simulation, TrajectoryTables};
 use rattle_compare::output::records::WithLyapunov;
-use rattle_compare::scene::AnyScene;
 use rattle_compare::scene::lyapunov::check_periods;
+use rattle_compare::scene::AnyScene;
 use rattle_event_driven::lyapunov::BATCHES;
 
 /// `rattle simulate --json`: the event-driven simulator from rest; with `samples_per_period`,

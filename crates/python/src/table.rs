@@ -507,9 +507,7 @@ fn named_columns<'py>(
         .iter()
         .zip(first)
         .zip(values)
-        .map(|((name, cell), values)| {
-            Ok((name.clone(), array(py, name, cell_kind(cell), values)?))
-        })
+        .map(|((name, cell), values)| Ok((name.clone(), array(py, name, cell_kind(cell), values)?)))
         .collect()
 }
 
