@@ -13,7 +13,8 @@ use rattle_compare::runs::basins::{basin_options, BasinGrid};
 use rattle_compare::runs::parallel::Progress;
 
 /// `rattle basins --out F.json [--shard K/N]`: the basins table, the command's file as text.
-/// `outer` and `inner` are `(min, max)`, m.
+/// `outer` and `inner` are `(min, max)`, m. A structure is refused by name, as the command
+/// refuses one.
 #[pyfunction]
 #[pyo3(signature = (scene, omega, outer, inner, points, part=None))]
 fn basins_document(
@@ -25,6 +26,7 @@ fn basins_document(
     points: i64,
     part: Option<(i64, i64)>,
 ) -> PyResult<String> {
+    let scene = scene.cells("rattle.basins")?;
     let omega = check_omega("omega", omega)?;
     let points = count_of("points", points)?;
     let grid = BasinGrid::new(outer, inner, points).map_err(|e| {
@@ -38,9 +40,8 @@ fn basins_document(
         )
     })?;
     let part = shard(part)?;
-    unit_only(&scene.scene, "rattle basins")?;
-    check_frequency(&scene.scene, "omega", omega)?;
-    let scene = &scene.scene;
+    unit_only(scene, "rattle basins")?;
+    check_frequency(scene, "omega", omega)?;
     compute_api(py, python_names, || {
         let mut out = Vec::new();
         api::basins(

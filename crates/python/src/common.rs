@@ -5,7 +5,7 @@
 use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rattle_compare::api::ApiError;
+use rattle_compare::api::{self, ApiError};
 use rattle_compare::runs::shard::Shard;
 use rattle_compare::scene::frequency::FrequencyBounds;
 use rattle_compare::scene::simulator::Accuracy;
@@ -74,12 +74,6 @@ pub(crate) fn compute_api<T: Send>(
     })
 }
 
-/// The scene in the facade's form: a clone, as the facade takes either form
-/// ([`rattle_compare::api`]).
-pub(crate) fn any(scene: &Scene) -> AnyScene {
-    AnyScene::Cells(scene.clone())
-}
-
 /// The command's options named as this module's parameters (`--steady-tol` is `steady_tol`).
 pub(crate) fn python_names(message: &str) -> String {
     message
@@ -117,6 +111,12 @@ pub(crate) fn check_frequency(scene: &Scene, name: &str, omega: f64) -> PyResult
     FrequencyBounds::of(scene)
         .check(name, omega)
         .map_err(|e| PyValueError::new_err(e.to_string()))
+}
+
+/// `omega` if `scene`, of either form, can be run at it in bounded time; else the command's
+/// message, naming `name` ([`api::check_frequency`]).
+pub(crate) fn check_any_frequency(scene: &AnyScene, name: &str, omega: f64) -> PyResult<f64> {
+    api::check_frequency(scene, name, omega).map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// A count that must be at least 1.

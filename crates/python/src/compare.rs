@@ -1,14 +1,16 @@
-//! `rattle.compare`: both solvers on the motion the unit settles on, as
-//! `rattle compare --json`.
+//! `rattle.compare`: both solvers on the motion the scene settles on, as
+//! `rattle compare --json`, on a scene of either form.
 
-use crate::common::{any, check_frequency, compute_api, json, options, python_names};
+use crate::common::{check_any_frequency, compute_api, json, options, python_names};
 use crate::scene::NativeScene;
 use pyo3::prelude::*;
 use rattle_compare::api;
 
 /// `rattle compare --json`: both solvers on the motion the unit settles on; on a chain, the
 /// simulated cycle beside the analytic orbit of its impact sequence (the command's chain
-/// record); the facade's [`api::compare`], as the command's.
+/// record); on a structure, the analytic orbit of the simulated impact sequence, every body
+/// compared (the command's structure record); the facade's [`api::compare`], as the
+/// command's.
 #[pyfunction]
 #[pyo3(signature = (scene, omega, tol, steady_tol, max_periods, max_oscillations))]
 fn compare(
@@ -20,11 +22,11 @@ fn compare(
     max_periods: i64,
     max_oscillations: f64,
 ) -> PyResult<String> {
-    let omega = check_frequency(&scene.scene, "omega", omega)?;
+    let scene = &scene.scene;
+    let omega = check_any_frequency(scene, "omega", omega)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
-    let scene = any(&scene.scene);
     json(&compute_api(py, python_names, || {
-        api::compare(&scene, omega, &options)
+        api::compare(scene, omega, &options)
     })?)
 }
 

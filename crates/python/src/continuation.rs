@@ -24,6 +24,7 @@ fn continuation_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 /// `rattle continue --json`: every orbit of `signature` (on a chain: an impact sequence of its
 /// pairs) at `omega` (or only the `orbit`-th) followed in ω over `[omega_min, omega_max]`,
 /// with the command's settings, checks and messages (options named as the Python parameters).
+/// A structure is refused by name, as the command refuses one.
 #[pyfunction]
 #[pyo3(signature = (scene, signature, omega, omega_min, omega_max, period, orbit, switch, max_step, max_branches, max_depth))]
 #[allow(clippy::too_many_arguments)]
@@ -43,10 +44,11 @@ fn continue_branch(
 ) -> PyResult<String> {
     // The command's checks in the command's order, so that the first bad argument gets the
     // command's message: the settings and the range of `omega`, then the scene and its bounds.
+    let scene = scene.cells("rattle.continue_branch")?;
     let omega = check_omega("omega", omega)?;
     let period = u32::try_from(period).unwrap_or(0);
     let text = signature;
-    if !scene.scene.is_chain() {
+    if !scene.is_chain() {
         // A unit's signature is checked first, so that its message comes before the
         // settings'; a chain's impact sequence is parsed against the chain, as the command
         // does ([`api::continuation`]).
@@ -88,8 +90,8 @@ fn continue_branch(
             "omega = {omega} is out of range: must be in [omega_min, omega_max] = [{omega_min}, {omega_max}]"
         )));
     }
-    check_frequency(&scene.scene, "omega_min", omega_min)?;
-    check_frequency(&scene.scene, "omega_max", omega_max)?;
+    check_frequency(scene, "omega_min", omega_min)?;
+    check_frequency(scene, "omega_max", omega_max)?;
     let orbit = orbit
         .map(|k| {
             usize::try_from(k).map_err(|_| {
@@ -97,7 +99,6 @@ fn continue_branch(
             })
         })
         .transpose()?;
-    let scene = &scene.scene;
     // Which errors are the caller's is the command's split (its exit code 2 against 1); a
     // numerical failure keeps the command's words (its hint names a command).
     let continued = compute_api(py, python_names, || {

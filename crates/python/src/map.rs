@@ -31,7 +31,8 @@ fn map_names(message: &str) -> String {
 }
 
 /// `rattle map --out F.json [--shard K/N]`: the map's points table, the command's file as
-/// text (computed on rayon's pool, lines in parallel). Each axis is `(min, max, count)`.
+/// text (computed on rayon's pool, lines in parallel). Each axis is `(min, max, count)`. A
+/// structure is refused by name, as the command refuses one.
 #[pyfunction]
 #[pyo3(signature = (scene, restitution, gap, omega, tol, steady_tol, max_periods, max_oscillations, part=None))]
 #[allow(clippy::too_many_arguments)]
@@ -47,6 +48,7 @@ fn map_document(
     max_oscillations: f64,
     part: Option<(i64, i64)>,
 ) -> PyResult<String> {
+    let scene = scene.cells("rattle.map")?;
     let axis = |name: &str, (min, max, n): (f64, f64, i64)| {
         Ok::<_, PyErr>(Axis::new(min, max, count_of(&format!("{name}[2]"), n)?))
     };
@@ -60,7 +62,6 @@ fn map_document(
     let settings =
         MapSettings::with_simulation(options(tol, steady_tol, max_periods, max_oscillations)?);
     let part = shard(part)?;
-    let scene = &scene.scene;
     if scene.stops.is_none() {
         return Err(PyValueError::new_err(MapError::NoStops.to_string()));
     }

@@ -1,19 +1,20 @@
 //! `rattle.orbit` and `rattle.orbit_trajectory`: the analytic solver, as `rattle orbit --json`,
 //! and one orbit's cycle sampled from the closed form (`--orbit K --trajectory F --impacts I`).
 
-use crate::common::{any, check_frequency, compute_api, json, python_names, unit_only};
-use crate::scene::NativeScene;
+use crate::common::{check_any_frequency, compute_api, json, python_names, unit_only};
+use crate::scene::{structure_refused, NativeScene};
 use crate::table::{columns, PyColumns};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rattle_compare::api;
 use rattle_compare::output::trajectory::MAX_SAMPLES_PER_PERIOD;
 use rattle_compare::scene::analytic::OrbitSearch;
-use rattle_compare::scene::Scene;
+use rattle_compare::scene::structure::StructureForm;
+use rattle_compare::scene::{AnyScene, Scene};
 
 /// `rattle orbit --json`: the linear steady state and every two-impact orbit, or, with a
-/// signature, every orbit of that signature; on a chain (with a signature only, as the
-/// command), every orbit of that impact sequence of its pairs.
+/// signature, every orbit of that signature; on a chain or a structure (with a signature
+/// only, as the command), every orbit of that impact sequence of its pairs or stops.
 #[pyfunction]
 #[pyo3(signature = (scene, omega, signature=None, period=1, symmetric_only=false))]
 fn orbit(
@@ -24,10 +25,16 @@ fn orbit(
     period: i64,
     symmetric_only: bool,
 ) -> PyResult<String> {
-    let omega = check_frequency(&scene.scene, "omega", omega)?;
-    let scene = &scene.scene;
+    let any = &scene.scene;
+    let omega = check_any_frequency(any, "omega", omega)?;
+    let scene = match any {
+        AnyScene::Structure(form) => {
+            return structure_orbit(py, form, any, omega, signature, period, symmetric_only)
+        }
+        AnyScene::Cells(scene) => scene,
+    };
     if scene.is_chain() {
-        return chain_orbit(py, scene, omega, signature, period, symmetric_only);
+        return chain_orbit(py, any, scene, omega, signature, period, symmetric_only);
     }
     let Some(text) = signature else {
         if period != 1 {
@@ -40,7 +47,7 @@ fn orbit(
         } else {
             OrbitSearch::All
         };
-        let found = compute_api(py, python_names, || api::orbits(&any(scene), omega, search))?;
+        let found = compute_api(py, python_names, || api::orbits(any, omega, search))?;
         return json(&found);
     };
     if symmetric_only {
@@ -48,17 +55,53 @@ fn orbit(
             "symmetric_only and signature exclude each other",
         ));
     }
+    signature_orbits(py, any, omega, text, period)
+}
+
+/// `rattle orbit --signature TEXT --period P --json` on `scene`, of any form.
+fn signature_orbits(
+    py: Python<'_>,
+    scene: &AnyScene,
+    omega: f64,
+    text: &str,
+    period: i64,
+) -> PyResult<String> {
     let period = u32::try_from(period).unwrap_or(0);
     let found = compute_api(py, python_names, || {
-        api::signature_orbits(&any(scene), omega, text, period)
+        api::signature_orbits(scene, omega, text, period)
     })?;
     json(&found)
+}
+
+/// [`orbit`] on a structure: `rattle orbit STRUCTURE --signature SEQUENCE --period P --json`
+/// (an impact sequence of its stops: `<stop><side>` tokens, or with one stop the sides
+/// alone); without a signature, refused by name (a structure's orbits are those of an impact
+/// sequence).
+fn structure_orbit(
+    py: Python<'_>,
+    form: &StructureForm,
+    any: &AnyScene,
+    omega: f64,
+    signature: Option<&str>,
+    period: i64,
+    symmetric_only: bool,
+) -> PyResult<String> {
+    let Some(text) = signature else {
+        return Err(structure_refused(form, "rattle.orbit(signature=None)"));
+    };
+    if symmetric_only {
+        return Err(PyValueError::new_err(
+            "symmetric_only and signature exclude each other",
+        ));
+    }
+    signature_orbits(py, any, omega, text, period)
 }
 
 /// [`orbit`] on a chain: `rattle orbit --signature SEQUENCE --period P --json`; without a
 /// signature, the command's refusal of a chain.
 fn chain_orbit(
     py: Python<'_>,
+    any: &AnyScene,
     scene: &Scene,
     omega: f64,
     signature: Option<&str>,
@@ -76,11 +119,7 @@ fn chain_orbit(
             "symmetric_only and signature exclude each other",
         ));
     }
-    let period = u32::try_from(period).unwrap_or(0);
-    let found = compute_api(py, python_names, || {
-        api::signature_orbits(&any(scene), omega, text, period)
-    })?;
-    json(&found)
+    signature_orbits(py, any, omega, text, period)
 }
 
 /// `samples_per_period` if in the command's range `[1, MAX_SAMPLES_PER_PERIOD]`; else the
@@ -98,7 +137,8 @@ pub(crate) fn check_samples(samples_per_period: i64) -> PyResult<u64> {
 
 /// `rattle orbit --signature SIG --period P --orbit K --trajectory F --impacts I --json`: the
 /// orbits of the signature (the command's JSON) and the `orbit`-th of them sampled from the
-/// closed form, as the two tables the command writes.
+/// closed form, as the two tables the command writes. A structure is refused by name, as the
+/// command refuses `--trajectory` on one.
 #[pyfunction]
 #[pyo3(signature = (scene, omega, signature, period, orbit, samples_per_period))]
 fn orbit_trajectory<'py>(
@@ -110,15 +150,16 @@ fn orbit_trajectory<'py>(
     orbit: i64,
     samples_per_period: i64,
 ) -> PyResult<(String, PyColumns<'py>, PyColumns<'py>)> {
-    let omega = check_frequency(&scene.scene, "omega", omega)?;
+    scene.cells("rattle.orbit_trajectory")?;
+    let scene = &scene.scene;
+    let omega = check_any_frequency(scene, "omega", omega)?;
     let samples = check_samples(samples_per_period)?;
     let period = u32::try_from(period).unwrap_or(0);
-    let scene = any(&scene.scene);
     let (found, tables) = compute_api(py, python_names, || {
-        let found = api::signature_orbits(&scene, omega, signature, period)?;
+        let found = api::signature_orbits(scene, omega, signature, period)?;
         let tables = usize::try_from(orbit)
             .ok()
-            .map(|k| api::orbit_trajectory(&scene, &found, k, samples))
+            .map(|k| api::orbit_trajectory(scene, &found, k, samples))
             .transpose()?;
         Ok((found, tables))
     })?;

@@ -1,11 +1,11 @@
 //! `rattle.sweep`'s native half: a frequency sweep with one solver or both, as
-//! `rattle sweep --out F.json [--shard K/N]`, its rows kept in Rust and handed to numpy
-//! column by column ([`crate::table`]), and the command's frequency axis.
+//! `rattle sweep --out F.json [--shard K/N]`, on a scene of either form, its rows kept in Rust
+//! and handed to numpy column by column ([`crate::table`]), and the command's frequency axis.
 
 use crate::common::{
-    check_frequency, check_omega, compute_api, json, options, python_names, shard,
+    check_any_frequency, check_omega, compute_api, json, options, python_names, shard,
 };
-use crate::scene::NativeScene;
+use crate::scene::{structure_refused, NativeScene};
 use crate::table::{columns, PyColumns};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -14,15 +14,25 @@ use rattle_compare::api::{self, ApiError};
 use rattle_compare::output::{table_text, Format, Header};
 use rattle_compare::runs::axis::Axis;
 use rattle_compare::runs::parallel::Progress;
+use rattle_compare::runs::structure_sweep::{structure_header, StructureSweepRow};
 use rattle_compare::runs::sweep::{header, Solver, SweepRow};
+use rattle_compare::scene::AnyScene;
 
-/// A sweep's result: the command's header and one [`SweepRow`] per frequency.
+/// A sweep's rows, in frequency order: a unit's or a chain's, or a structure's.
+enum Rows {
+    /// One [`SweepRow`] per frequency.
+    Cells(Vec<SweepRow>),
+    /// One [`StructureSweepRow`] per frequency.
+    Structure(Vec<StructureSweepRow>),
+}
+
+/// A sweep's result: the command's header and one row per frequency.
 #[pyclass(frozen, module = "rattle._rattle")]
 struct NativeSweep {
     /// The command's JSON header.
     header: Header,
     /// The rows, in frequency order.
-    rows: Vec<SweepRow>,
+    rows: Rows,
 }
 
 #[pymethods]
@@ -43,25 +53,47 @@ impl NativeSweep {
 
     /// The command's `--out F.json` file as text (for a part, with its `shard`).
     fn document(&self) -> PyResult<String> {
-        Ok(table_text(Format::Json, &self.header, &self.rows))
+        Ok(match &self.rows {
+            Rows::Cells(rows) => table_text(Format::Json, &self.header, rows),
+            Rows::Structure(rows) => table_text(Format::Json, &self.header, rows),
+        })
     }
 
     /// The rows as one JSON array, each row as the command writes it.
     fn rows_json(&self) -> PyResult<String> {
-        json(&self.rows)
+        match &self.rows {
+            Rows::Cells(rows) => json(rows),
+            Rows::Structure(rows) => json(rows),
+        }
     }
 
-    /// The columns, in the command's order ([`SweepRow`]'s `COLUMNS`), as `(name, numpy
-    /// array)` pairs, each typed by its field's type ([`crate::table`]).
+    /// The columns, in the command's order (the row type's `COLUMNS`: [`SweepRow`]'s, or
+    /// [`StructureSweepRow`]'s for a structure), as `(name, numpy array)` pairs, each typed
+    /// by its field's type ([`crate::table`]).
     ///
     /// # Errors
     /// A `RuntimeError` if a row's fields are not the command's columns (a bug).
     fn columns<'py>(&self, py: Python<'py>) -> PyResult<PyColumns<'py>> {
-        columns(py, &self.rows)
+        match &self.rows {
+            Rows::Cells(rows) => columns(py, rows),
+            Rows::Structure(rows) => columns(py, rows),
+        }
+    }
+
+    /// The name of the rows' table for `table_kinds`: `sweep`, or `structure-sweep`.
+    #[getter]
+    fn table(&self) -> &'static str {
+        match &self.rows {
+            Rows::Cells(_) => "sweep",
+            Rows::Structure(_) => "structure-sweep",
+        }
     }
 
     fn __len__(&self) -> usize {
-        self.rows.len()
+        match &self.rows {
+            Rows::Cells(rows) => rows.len(),
+            Rows::Structure(rows) => rows.len(),
+        }
     }
 }
 
@@ -78,7 +110,8 @@ fn solver(name: &str) -> PyResult<Solver> {
 }
 
 /// `rattle sweep --out FILE.json`: `solver` at every frequency of `omegas`, in parallel on
-/// rayon's pool, in order.
+/// rayon's pool, in order; on a structure, its rows and header, as the command's (which
+/// refuses `--shard` on a structure: so is `part` refused).
 #[pyfunction]
 #[pyo3(signature = (scene, omegas, solver_name, tol, steady_tol, max_periods, max_oscillations, part=None))]
 #[allow(clippy::too_many_arguments)]
@@ -94,8 +127,11 @@ fn sweep(
     part: Option<(i64, i64)>,
 ) -> PyResult<NativeSweep> {
     let all = omegas.as_array().to_vec();
+    if let (AnyScene::Structure(form), Some(_)) = (&scene.scene, part) {
+        return Err(structure_refused(form, "rattle.sweep(shard=...)"));
+    }
     for (i, &omega) in all.iter().enumerate() {
-        check_frequency(&scene.scene, &format!("omegas[{i}]"), omega)?;
+        check_any_frequency(&scene.scene, &format!("omegas[{i}]"), omega)?;
     }
     let part = shard(part)?;
     let omegas = match part {
@@ -104,7 +140,30 @@ fn sweep(
     };
     let solver = solver(solver_name)?;
     let options = options(tol, steady_tol, max_periods, max_oscillations)?;
-    let scene = &scene.scene;
+    let scene = match &scene.scene {
+        AnyScene::Cells(scene) => scene,
+        AnyScene::Structure(form) => {
+            let rows = compute_api(py, python_names, || {
+                let mut rows = Vec::with_capacity(omegas.len());
+                api::structure_sweep_each(
+                    form,
+                    &omegas,
+                    solver,
+                    &options,
+                    &Progress::hidden(),
+                    |row| {
+                        rows.push(row);
+                        Ok::<_, ApiError>(())
+                    },
+                )?;
+                Ok(rows)
+            })?;
+            return Ok(NativeSweep {
+                header: structure_header(form, solver, all.len()),
+                rows: Rows::Structure(rows),
+            });
+        }
+    };
     let rows = compute_api(py, python_names, || {
         // The command's own row builder (with the Lyapunov columns), rows kept in order.
         let mut rows = Vec::with_capacity(omegas.len());
@@ -123,7 +182,7 @@ fn sweep(
     })?;
     Ok(NativeSweep {
         header: header(scene, solver, all.len(), part),
-        rows,
+        rows: Rows::Cells(rows),
     })
 }
 

@@ -20,14 +20,17 @@ use numpy::PyArray1;
 use pyo3::exceptions::{PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyString;
+use rattle_compare::output::structure::{structure_trajectory, Cell, NamedTable};
 use rattle_compare::output::trajectory::{analytic_rows, ImpactRow, TrajectoryRow};
 use rattle_compare::output::Row;
 use rattle_compare::runs::basins::{rows as basin_rows, Attractor, BasinCell, BasinRow};
 use rattle_compare::runs::map::{line, MapPointRow, MapSettings};
+use rattle_compare::runs::structure_sweep::{structure_point, StructureSweepRow};
 use rattle_compare::runs::sweep::{point, Solver, SweepRow};
 use rattle_compare::scene::analytic::{OrbitImpact, OrbitSample, SampleKind};
-use rattle_compare::scene::Scene;
-use rattle_event_driven::SimulationOptions;
+use rattle_compare::scene::structure::Structure;
+use rattle_compare::scene::{AnyScene, Scene};
+use rattle_event_driven::{RowKind, SimulationOptions, Trajectory, TrajectoryImpact};
 use serde::ser::{self, Impossible, Serialize, SerializeStruct, Serializer};
 use serde_json::Value;
 use std::any::type_name;
@@ -35,7 +38,7 @@ use std::fmt;
 use std::sync::OnceLock;
 
 /// A table handed to Python: `(column name, numpy array)` pairs in the command's order.
-pub(crate) type PyColumns<'py> = Vec<(&'static str, Bound<'py, PyAny>)>;
+pub(crate) type PyColumns<'py> = Vec<(String, Bound<'py, PyAny>)>;
 
 /// How a column is handed to numpy (its name, as `table_kinds` gives it, in [`Kind::name`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -271,6 +274,27 @@ table_row_kinds!(SweepRow, {
     Some(SweepRow::new(&scene, &p))
 });
 
+/// A structure of one body held by a spring between stops, forced: the structure the kinds of
+/// a structure's row types are read on.
+const ONE_BODY: &str = r#"{"name": "one-body",
+    "structure": {"bodies": [{"name": "x", "mass": 1.0}],
+                  "springs": [{"between": ["frame", "x"], "stiffness": 1.0}],
+                  "stops": [{"between": ["frame", "x"], "gap": 1.0, "restitution": 0.5}]},
+    "forcing": {"forces": [{"on": "x", "amplitude": 1.0}]}}"#;
+
+// A structure sweep's row: the one-body structure's linear steady state at one frequency.
+table_row_kinds!(StructureSweepRow, {
+    match AnyScene::parse(ONE_BODY, "built-in") {
+        Ok(AnyScene::Structure(form)) => Some(structure_point(
+            &form.structure,
+            0.5,
+            Solver::Analytic,
+            &SimulationOptions::default(),
+        )),
+        _ => None,
+    }
+});
+
 // A map's row: one point of one line, simulated for a single forcing period.
 table_row_kinds!(MapPointRow, {
     let settings = MapSettings {
@@ -399,8 +423,110 @@ pub(crate) fn columns<'py, R: TableRow>(py: Python<'py>, rows: &[R]) -> PyResult
     kinds
         .iter()
         .zip(values)
-        .map(|(&(name, kind), values)| Ok((name, array(py, name, kind, values)?)))
+        .map(|(&(name, kind), values)| Ok((name.to_owned(), array(py, name, kind, values)?)))
         .collect()
+}
+
+/// The two tables of a structure's trajectory with one row and one impact, at rest: the
+/// library's tables for `structure`, their columns and cells' kinds those of any of its
+/// trajectories ([`structure_trajectory`]).
+fn structure_sample(structure: &Structure) -> (NamedTable, NamedTable) {
+    let n = structure.dofs();
+    let trajectory = Trajectory {
+        rows: vec![rattle_event_driven::TrajectoryRow {
+            time: 0.0,
+            kind: RowKind::Sample,
+            base: 0.0,
+            displacements: vec![0.0; n],
+            velocities: vec![0.0; n],
+            relative: vec![0.0; structure.stops.len()],
+        }],
+        impacts: vec![TrajectoryImpact {
+            time: 0.0,
+            pair: 0,
+            side: 1,
+            relative_velocity_before: 0.0,
+            displacements: vec![0.0; n],
+            velocities_before: vec![0.0; n],
+        }],
+        period: 1.0,
+        phase: 0.0,
+    };
+    structure_trajectory(structure, &trajectory)
+}
+
+/// The kind of a cell of a [`NamedTable`].
+fn cell_kind(cell: &Cell) -> Kind {
+    match cell {
+        Cell::Number(_) => Kind::Number,
+        Cell::Word(_) => Kind::Text,
+        Cell::Count(_) => Kind::Count,
+    }
+}
+
+/// The columns of `table`, a table of a structure's trajectory (`sample` says which: `0`
+/// the states, `1` the impacts), in its order, each a numpy array of the kind the library's
+/// table for `structure` gives the column, whatever the rows ([`structure_sample`]).
+///
+/// # Errors
+/// A `RuntimeError` if the table's columns or rows are not the sample's (a bug).
+fn named_columns<'py>(
+    py: Python<'py>,
+    table: &NamedTable,
+    sample: &NamedTable,
+) -> PyResult<PyColumns<'py>> {
+    let first = sample
+        .rows
+        .first()
+        .ok_or_else(|| bug("no sample row of a structure's table"))?;
+    if sample.columns != table.columns || first.len() != table.columns.len() {
+        return Err(bug(&format!(
+            "a structure's table has the columns {:?}, its sample {:?}",
+            table.columns, sample.columns
+        )));
+    }
+    let mut values: Vec<Vec<Value>> = table
+        .columns
+        .iter()
+        .map(|_| Vec::with_capacity(table.rows.len()))
+        .collect();
+    for row in &table.rows {
+        if row.len() != table.columns.len() {
+            return Err(bug(&format!(
+                "a row of a structure's table has {} cells, not {}",
+                row.len(),
+                table.columns.len()
+            )));
+        }
+        for (column, cell) in values.iter_mut().zip(row) {
+            column.push(serde_json::to_value(cell).map_err(|e| bug(&e.to_string()))?);
+        }
+    }
+    table
+        .columns
+        .iter()
+        .zip(first)
+        .zip(values)
+        .map(|((name, cell), values)| Ok((name.clone(), array(py, name, cell_kind(cell), values)?)))
+        .collect()
+}
+
+/// The two tables of a structure's trajectory (the states, the impacts) as columns, each of
+/// the kind the library gives it ([`named_columns`]).
+///
+/// # Errors
+/// A `RuntimeError` if a table does not read as its columns (a bug).
+pub(crate) fn structure_columns<'py>(
+    py: Python<'py>,
+    structure: &Structure,
+    states: &NamedTable,
+    impacts: &NamedTable,
+) -> PyResult<(PyColumns<'py>, PyColumns<'py>)> {
+    let (sample_states, sample_impacts) = structure_sample(structure);
+    Ok((
+        named_columns(py, states, &sample_states)?,
+        named_columns(py, impacts, &sample_impacts)?,
+    ))
 }
 
 /// The kinds of the table called `table`.
@@ -409,6 +535,7 @@ fn table_kinds_of(table: &str) -> PyResult<&'static [(&'static str, Kind)]> {
         "map" => kinds::<MapPointRow>(),
         "basins" => kinds::<BasinRow>(),
         "sweep" => kinds::<SweepRow>(),
+        "structure-sweep" => kinds::<StructureSweepRow>(),
         "trajectory" => kinds::<TrajectoryRow>(),
         "impacts" => kinds::<ImpactRow>(),
         _ => Err(PyValueError::new_err(format!("no table {table:?}"))),
@@ -416,7 +543,7 @@ fn table_kinds_of(table: &str) -> PyResult<&'static [(&'static str, Kind)]> {
 }
 
 /// The columns of the command's tables, in order: `"map"` (the points), `"basins"`,
-/// `"sweep"`, `"trajectory"`, `"impacts"`.
+/// `"sweep"`, `"structure-sweep"` (a structure's sweep), `"trajectory"`, `"impacts"`.
 #[pyfunction]
 fn table_columns(table: &str) -> PyResult<Vec<&'static str>> {
     Ok(table_kinds_of(table)?

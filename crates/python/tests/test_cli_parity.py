@@ -137,18 +137,21 @@ def test_sweep_is_the_commands(rattle_cli, tmp_path, solver, points):
 @pytest.mark.parametrize("path", sorted(SCENES.glob("*.json")), ids=lambda p: p.name)
 def test_scene_files_give_the_commands_results(rattle_cli, path):
     document = json.loads(path.read_text())
-    if "structure" in document:
-        # The structure form is taken by the command's simulate, orbit --signature and
-        # compare; the package refuses it by name.
-        with pytest.raises(ValueError, match="structure form"):
-            rattle.Scene.from_file(path)
-        result = rattle_cli.json("simulate", path, "--omega", 2.0)
-        assert result["form"] == "structure"
-        names = [b["name"] for b in document["structure"]["bodies"]]
-        assert list(result["body_amplitudes"]) == names
-        return
     scene = rattle.Scene.from_file(path)
     assert scene.to_dict() == rattle.Scene.from_dict(document).to_dict()
+    if "structure" in document:
+        # The structure form: simulate, orbit with a signature, compare and sweep take it
+        # (test_structures.py); orbit without a signature refuses it by name, as the command.
+        assert scene.form == "structure"
+        assert "structure form" in rattle_cli.error("orbit", path, "--omega", 2.0)
+        with pytest.raises(ValueError, match="structure form"):
+            rattle.orbit(scene, 2.0)
+        result = rattle.simulate(scene, 2.0)
+        assert result.to_dict() == rattle_cli.json("simulate", path, "--omega", 2.0)
+        names = [b["name"] for b in document["structure"]["bodies"]]
+        assert list(result.to_dict()["body_amplitudes"]) == names
+        return
+    assert scene.form == "cells"
     if "cells" in document or "chain" in document:
         # A chain: the two-impact orbits are a single unit's; both refuse, naming the chain.
         assert "chain of" in rattle_cli.error("orbit", path, "--omega", 2.0)

@@ -32,6 +32,16 @@ sequence of the chain's pairs, ``"0+ 1- 0- 1+"``: :class:`ChainOrbits`),
 :func:`continue_branch` and :func:`boundary`, each as the command on the same chain;
 :func:`orbit` without a signature takes a single unit and refuses a chain with a
 :class:`ValueError` naming it.
+
+Structures (a scene in the structure form: bodies, springs, dashpots, stops and forcing, with a
+``structure`` field; :attr:`Scene.form` is ``"structure"``) go through :func:`simulate` (every
+body's amplitude by name; the trajectory with a column per body and per stop; the Lyapunov
+exponents), :func:`orbit` with a signature (an impact sequence of its stops:
+:class:`StructureOrbits`), :func:`compare` (:class:`StructureComparison`) and :func:`sweep`
+(every solver, not ``shard``), each as the command on the same structure. The others
+(:func:`orbit` without a signature, :func:`orbit_trajectory`, :func:`continue_branch`,
+:func:`boundary`, :func:`map`, :func:`basins`) refuse a structure with a :class:`ValueError`
+naming the function and the forms it takes, as the command refuses one.
 """
 
 import json as _json
@@ -47,9 +57,11 @@ __all__ = [
     "OrbitResult",
     "SignatureOrbits",
     "ChainOrbits",
+    "StructureOrbits",
     "Simulation",
     "Comparison",
     "ChainComparison",
+    "StructureComparison",
     "Sweep",
     "Table",
     "OrbitCycle",
@@ -113,14 +125,18 @@ def _plain(value):
     raise TypeError(f"{type(value).__name__} is not a JSON value")
 
 
-def _finite_copy(value, path, non_finite):
+def _finite_copy(value, path, non_finite, lists=False):
     """``value`` with each non-finite float replaced by 1.0 (JSON has no NaN), its path and
-    value appended to ``non_finite``: the scene is validated with them put back."""
+    value appended to ``non_finite``: the scene is validated with them put back. With
+    ``lists`` (a scene in the structure form), inside lists too (``structure.bodies[0].mass``).
+    """
     if isinstance(value, dict):
         return {
-            k: _finite_copy(v, f"{path}.{k}" if path else str(k), non_finite)
+            k: _finite_copy(v, f"{path}.{k}" if path else str(k), non_finite, lists)
             for k, v in value.items()
         }
+    if lists and isinstance(value, list):
+        return [_finite_copy(v, f"{path}[{i}]", non_finite, lists) for i, v in enumerate(value)]
     if isinstance(value, float) and not _math.isfinite(value):
         non_finite.append((path, value))
         return 1.0
@@ -128,10 +144,12 @@ def _finite_copy(value, path, non_finite):
 
 
 class Scene:
-    """One unit: masses, springs, base motion, and optionally stops and dashpots.
+    """A scene: one unit or a chain of cells (the unit form), or a structure of bodies,
+    springs, dashpots and stops (the structure form).
 
     Build it with :meth:`from_file`, :meth:`from_dict` or :meth:`paper`; it is validated on
-    construction and immutable. The format is the command's scene file::
+    construction and immutable. The format is the command's scene file, in either form. The
+    unit form::
 
         {"name": "paper",
          "unit": {"outer_mass": 2.0, "inner_mass": 1.0,
@@ -140,8 +158,23 @@ class Scene:
          "stops": {"gap": 0.5, "restitution": 0.8},
          "damping": {"outer": 0.0, "inner": 0.0}}
 
-    ``unit`` and ``base`` are required, ``stops`` and ``damping`` optional; unknown fields are
-    refused.
+    ``unit`` and ``base`` are required, ``stops`` and ``damping`` optional (``cells`` or
+    ``chain`` make a chain); unknown fields are refused. A document with a ``structure`` field
+    is in the structure form (``docs/structure.md``)::
+
+        {"name": "impact-oscillator",
+         "structure": {"bodies": [{"name": "x", "mass": 1.0}],
+                       "springs": [{"between": ["frame", "x"], "stiffness": 1.0}],
+                       "dashpots": [{"between": ["frame", "x"], "damping": 0.1}],
+                       "stops": [{"between": ["frame", "x"], "gap_plus": 0.5,
+                                  "restitution": 0.8}]},
+         "forcing": {"forces": [{"on": "x", "amplitude": 1.0, "phase": 0.0}]},
+         "observe": "x"}
+
+    :attr:`form` says which (``"cells"`` or ``"structure"``). A structure is taken by
+    :func:`simulate` (with its trajectory and Lyapunov exponents), :func:`orbit` with a
+    signature, :func:`compare` and :func:`sweep` (without ``shard``), as the command takes
+    one; the other functions refuse it with a :class:`ValueError` naming the function.
     """
 
     __slots__ = ("_native",)
@@ -154,7 +187,8 @@ class Scene:
 
     @classmethod
     def from_file(cls, path):
-        """Reads and validates the scene file at ``path`` (JSON), as ``rattle … PATH`` does.
+        """Reads and validates the scene file at ``path`` (JSON, in either form), as
+        ``rattle … PATH`` does.
 
         Raises :class:`FileNotFoundError`/:class:`OSError` when the file cannot be read and
         :class:`ValueError` when it is not a valid scene (the command's message: file, field
@@ -164,15 +198,17 @@ class Scene:
 
     @classmethod
     def from_dict(cls, d):
-        """Validates a scene given as a dictionary of the scene file's shape.
+        """Validates a scene given as a dictionary of the scene file's shape, in either form
+        (the structure form when it has a ``structure`` field).
 
-        Raises :class:`ValueError` naming the field path (e.g. ``stops.restitution``) and its
-        allowed range, as the command does for a file (the origin is called ``dict``).
+        Raises :class:`ValueError` naming the field path (e.g. ``stops.restitution``,
+        ``structure.bodies[0].mass``) and its allowed range, as the command does for a file
+        (the origin is called ``dict``).
         """
         if not isinstance(d, dict):
             raise TypeError(f"a scene is a dict, not {type(d).__name__}")
         non_finite = []
-        finite = _finite_copy(d, "", non_finite)
+        finite = _finite_copy(d, "", non_finite, lists="structure" in d)
         text = _json.dumps(finite, default=_plain)
         return cls(_rattle.NativeScene.from_dict_json(text, non_finite))
 
@@ -187,8 +223,15 @@ class Scene:
         return self._native.name
 
     @property
+    def form(self):
+        """The scene's form: ``"cells"`` (a unit or a chain of cells) or ``"structure"``."""
+        return self._native.form
+
+    @property
     def effects(self):
-        """The active effects, as outputs list them: ``["stops"]``, ``["stops", "damping"]``…"""
+        """The active effects, as outputs list them: ``["stops"]``, ``["stops", "damping"]``…
+        (a structure's as its records' heading lists them: ``stops`` when it has stops,
+        ``damping`` when it has a dashpot)."""
         return list(self._native.effects)
 
     def to_dict(self):
@@ -282,6 +325,16 @@ class ChainOrbits(Record):
     ``floquet_multipliers``, ``energy_residual``, as the command's JSON)."""
 
 
+class StructureOrbits(Record):
+    """``rattle orbit STRUCTURE --signature SEQUENCE --json`` on a structure: ``scene``,
+    ``form`` (``"structure"``), ``omega``, ``effects``, ``observed`` (the body behind
+    ``outer_amplitude`` and ``transmittance_db``), ``sequence`` (the impact sequence of its
+    stops, canonical, e.g. ``0+ 0-``), ``period`` and ``orbits``, every orbit of that sequence
+    (``alpha``, ``impact_phases``, ``relative_velocities_before``, ``outer_amplitude``,
+    ``transmittance_db``, ``body_amplitudes`` by body name, ``viable``, ``stable``,
+    ``floquet_multipliers``, ``energy_residual``, as the command's JSON)."""
+
+
 class Table:
     """A table the command writes as a file (``--trajectory``, ``--impacts``), as columns.
 
@@ -290,6 +343,11 @@ class Table:
     command writes nothing), words (``kind``) ``object`` arrays of ``str``, the impact
     ``side`` ``int64`` (1 for ``r = +gap``, 2 for ``r = -gap``). ``len(table)`` is the number
     of rows; :meth:`to_pandas` a DataFrame when pandas is installed.
+
+    A structure's tables have a column per body and per stop, named as the command names
+    them: the trajectory ``t, kind, base, u_NAME…, v_NAME…, r_K…`` (``base`` NaN without a
+    moving base), the impacts ``t, stop, side, relative_velocity_before, u_NAME…,
+    v_NAME_before…`` (``stop`` and ``side`` ``int64``).
     """
 
     def __init__(self, columns):
@@ -332,7 +390,12 @@ class Simulation(Record):
     With ``simulate(..., trajectory=True)`` also ``trajectory`` and ``impact_table``
     (:class:`Table`, see :func:`simulate`; ``impacts`` is already the command's count of
     impacts). They are not part of :meth:`to_dict`: the command writes them to their own
-    files. Without it, both are ``None``."""
+    files. Without it, both are ``None``.
+
+    On a structure, the command's structure record: also ``form`` (``"structure"``),
+    ``observed`` (the body behind ``outer_amplitude`` and ``transmittance_db``),
+    ``pair_impacts_per_period`` and ``pair_signatures`` (per stop), ``body_amplitudes``
+    (every body's amplitude by name), ``amplitudes_of`` and ``family``."""
 
     def __init__(self, data, trajectory=None, impacts=None):
         """Wraps the command's document and, when sampled, the two trajectory tables."""
@@ -492,12 +555,26 @@ class ChainComparison(Record):
     Newton started on the analytic orbit)."""
 
 
+class StructureComparison(Record):
+    """``rattle compare STRUCTURE --json`` on a structure: ``scene``, ``form``
+    (``"structure"``), ``omega``, ``effects``, ``observed``, ``simulated`` (the cycle from
+    rest, every body's amplitude by name in ``body_amplitudes``), ``analytic`` (the orbit of
+    the simulated impact sequence of its stops: ``sequence``, ``period``, ``outer_amplitude``,
+    ``body_amplitudes``, ``viable``, ``stable``, ``floquet_multipliers``,
+    ``energy_residual``; or ``None``), ``analytic_error``, ``class`` (also ``class_``),
+    ``reason``, ``class_detail``, ``relative_difference``, ``multiplier_difference`` and
+    ``confirmation``, as the command's JSON."""
+
+
 class Sweep:
     """``rattle sweep --out FILE.json``: one row per frequency, as columns.
 
-    Attributes: ``scene`` (dict), ``solver``, ``effects``, ``points``, ``columns`` (a dict of
-    numpy arrays in the command's column order), and each column by name (``sweep.omega``,
-    ``sweep.simulated_transmittance_db``…). Column types, fixed whatever the data:
+    Attributes: ``scene`` (dict), ``form`` (``"cells"`` or ``"structure"``), ``solver``,
+    ``effects`` (``None`` for a structure: its document lists ``bodies`` and ``observed``
+    instead, attributes too, ``None`` for a unit or a chain), ``points``, ``columns`` (a dict
+    of numpy arrays in the command's column order), and each column by name
+    (``sweep.omega``, ``sweep.simulated_transmittance_db``…). Column types, fixed whatever
+    the data:
 
     - numbers, counts included (``orbits``, ``simulated_period``): ``float64``, NaN where the
       command writes ``null`` (a cell that does not apply, or a number that is not finite);
@@ -511,6 +588,17 @@ class Sweep:
       element where one is not finite), or ``None`` (no finite number, or not applying); one
       element for a single unit. Read one
       with ``[float(x) if x else math.nan for x in cell.split(";")]``.
+
+    A structure's sweep has its own columns, as the command writes them: ``omega``,
+    ``linear_outer_amplitude`` and ``linear_transmittance_db`` (of the observed body),
+    ``linear_touches_stops``, ``linear_body_amplitudes`` (every body's, a ``;``-separated
+    list in the scene's order of bodies), ``simulated_regime``, ``simulated_status``,
+    ``simulated_period``, ``simulated_impacts_per_period``,
+    ``simulated_pair_impacts_per_period`` and ``simulated_pair_signatures`` (per stop),
+    ``simulated_outer_amplitude``, ``simulated_transmittance_db``,
+    ``simulated_body_amplitudes`` (every body's), ``simulated_polished``, ``class``,
+    ``reason``, ``relative_difference``, ``multiplier_difference``, ``analytic_sequence``,
+    ``error``. :meth:`body_amplitudes` reads a list column as one numpy column per body.
 
     :meth:`to_dict` is the command's JSON document (with ``null`` kept as ``None``),
     :meth:`to_pandas` a DataFrame of the columns when pandas is installed. ``Sweep(document)``
@@ -529,7 +617,8 @@ class Sweep:
             self._native = None
             self._document = document
             header = data
-            self.columns = _tables.columns("sweep", rows)
+            table = "structure-sweep" if header.get("form") == "structure" else "sweep"
+            self.columns = _tables.columns(table, rows)
         else:
             self._native = native
             self._document = None
@@ -538,8 +627,11 @@ class Sweep:
             for column in self.columns.values():
                 column.flags.writeable = False
         self.scene = header["scene"]
+        self.form = header.get("form", "cells")
         self.solver = header["solver"]
-        self.effects = header["effects"]
+        self.effects = header.get("effects")
+        self.bodies = header.get("bodies")
+        self.observed = header.get("observed")
         self.points = header["points"]
 
     def __getattr__(self, name):
@@ -576,6 +668,27 @@ class Sweep:
         doc["results"] = _json.loads(self._native.rows_json())
         return doc
 
+    def body_amplitudes(self, column="simulated_body_amplitudes"):
+        """A structure's list column of every body's amplitude (``simulated_body_amplitudes``
+        or ``linear_body_amplitudes``) as a dict of ``float64`` arrays, one per body by name
+        in the scene's order (NaN where the command writes nothing). A sweep of a unit or a
+        chain has no bodies: :class:`ValueError`."""
+        if self.bodies is None:
+            raise ValueError(
+                "Sweep.body_amplitudes: the sweep of a unit or a chain has no bodies "
+                "(its list columns are per cell)"
+            )
+        if column not in ("simulated_body_amplitudes", "linear_body_amplitudes"):
+            raise ValueError(
+                f"column = {column!r} is not a column of every body's amplitude: must be "
+                "'simulated_body_amplitudes' or 'linear_body_amplitudes'"
+            )
+        values = _np.full((len(self), len(self.bodies)), _np.nan)
+        for i, cell in enumerate(self.columns[column]):
+            if cell:
+                values[i] = [float(x) if x else _math.nan for x in cell.split(";")]
+        return {name: values[:, k].copy() for k, name in enumerate(self.bodies)}
+
     def to_pandas(self):
         """The columns as a :class:`pandas.DataFrame` (needs pandas, not installed with
         rattle: ``pip install pandas``)."""
@@ -606,10 +719,17 @@ def orbit(scene, omega, signature=None, period=1, symmetric_only=False):
     returns :class:`ChainOrbits`. Without a signature a chain is refused (the two-impact
     orbits are a single unit's).
 
-    ``omega`` is the base's angular frequency in rad/s (finite, > 0).
+    On a structure, ``signature`` is an impact sequence of its stops, ``<stop><side>`` tokens
+    with stops numbered from 0 in file order (with one stop the sides alone, ``"+-"``), as
+    ``rattle orbit STRUCTURE --signature``; returns :class:`StructureOrbits`. Without a
+    signature a structure is refused by name.
+
+    ``omega`` is the angular frequency of the forcing in rad/s (finite, > 0).
     """
     text = _rattle.orbit(_native_scene(scene), float(omega), signature, period, symmetric_only)
     data = _json.loads(text)
+    if data.get("form") == "structure":
+        return StructureOrbits(data)
     if "sequence" in data:
         return ChainOrbits(data)
     return SignatureOrbits(data) if signature is not None else OrbitResult(data)
@@ -656,6 +776,14 @@ def simulate(
     (directions contracted by sticking, exponents −∞, not listed), ``lyapunov_periods`` and
     ``lyapunov_regime`` (``chaotic``, ``quasi-periodic`` or ``unsettled`` for a motion that
     did not repeat, ``None`` for a periodic one). The same numbers as the command, bit for bit.
+
+    On a structure (``scene.form == "structure"``), as ``rattle simulate STRUCTURE``: the run
+    from the structure's rest state, the record with ``form``, ``observed`` and every body's
+    amplitude by name (``body_amplitudes``, from the polished cycle when ``amplitudes_of`` is
+    ``"polished"``), ``pair_impacts_per_period`` and ``pair_signatures`` per stop; its
+    ``trajectory`` has a column per body and per stop (``t, kind, base, u_NAME…, v_NAME…,
+    r_K…``) and its ``impact_table`` the columns ``t, stop, side, relative_velocity_before,
+    u_NAME…, v_NAME_before…``; with ``lyapunov=True``, two exponents per body.
     """
     text, tables = _rattle.simulate(
         _native_scene(scene),
@@ -696,6 +824,9 @@ def orbit_trajectory(
     A function of its own rather than ``orbit(..., trajectory=True)``: it needs a signature
     and picks one orbit, where :func:`orbit` lists them all, with or without a signature; and
     its result has one type whatever the arguments.
+
+    A structure is refused with a :class:`ValueError` naming this function, as the command
+    refuses ``rattle orbit STRUCTURE --trajectory``.
     """
     native = _native_scene(scene)
     text, rows, impacts = _rattle.orbit_trajectory(
@@ -723,6 +854,9 @@ def compare(
     On a chain of cells: the simulated cycle's impacts, pair by pair in time order, are the
     impact sequence the analytic solver solves from the simulated impact times, as
     ``rattle compare CHAIN``; returns a :class:`ChainComparison`.
+
+    On a structure: the same, every body compared (the stops' impacts are the sequence), as
+    ``rattle compare STRUCTURE``; returns a :class:`StructureComparison`.
     """
     text = _rattle.compare(
         _native_scene(scene),
@@ -733,6 +867,8 @@ def compare(
         float(max_oscillations),
     )
     data = _json.loads(text)
+    if data.get("form") == "structure":
+        return StructureComparison(data)
     return ChainComparison(data) if "cells" in data else Comparison(data)
 
 
@@ -759,6 +895,14 @@ def sweep(
     ``"both"`` the linear chain and, at each frequency, the verdict of :func:`compare` on the
     chain; ``outer_amplitude`` and ``transmittance_db`` columns are the last cell's, the list
     columns hold every cell and pair.
+
+    On a structure, as ``rattle sweep STRUCTURE``: ``"analytic"`` is the linear steady
+    state, ``"event"`` the structure from rest (amplitudes from its polished cycle),
+    ``"both"`` also the verdict of :func:`compare`; the rows have a structure's columns
+    (``linear_outer_amplitude`` and ``simulated_outer_amplitude`` of the observed body,
+    ``linear_body_amplitudes`` and ``simulated_body_amplitudes`` with every body's amplitude
+    in the scene's order, ``simulated_pair_signatures`` per stop…; see :class:`Sweep`), and
+    ``shard`` is refused, as the command refuses ``--shard`` on a structure.
 
     ``shard=(K, N)``: part ``K`` of ``N`` only (a contiguous block of ``omegas``), as
     ``rattle sweep --shard K/N``; :func:`merge` joins the parts into the whole sweep (a
@@ -826,7 +970,8 @@ def continue_branch(
 
     A bad argument is a :class:`ValueError` naming it (``omega_min``, ``max_step``,
     ``orbit``, a pair the chain lacks…); no orbit of the signature at ``omega`` a
-    :class:`RuntimeError`.
+    :class:`RuntimeError`. A structure is refused with a :class:`ValueError` naming this
+    function, as the command refuses one.
     """
     text = _rattle.continue_branch(
         _native_scene(scene),
@@ -882,7 +1027,8 @@ def boundary(
     ``omega_min``, ``signature``, ``period``…, or the scene field out of its range); no orbit
     of the signature at ``omega``, no event of the kind on its branches, or a start that does
     not converge a :class:`RuntimeError` (``numerical failure: …``, the command's words). The
-    computation releases the GIL.
+    computation releases the GIL. A structure is refused with a :class:`ValueError` naming
+    this function, as the command refuses one.
     """
     text = _rattle.boundary(
         _native_scene(scene),

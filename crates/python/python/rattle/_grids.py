@@ -290,7 +290,8 @@ def map(
     tasks rerun by Dask; an error in a task is raised here.
 
     A grid out of range is a :class:`ValueError` with the command's message, the field named
-    as here (``gap[2]`` for ``--gaps``); a scene without stops too.
+    as here (``gap[2]`` for ``--gaps``); a scene without stops too, and a scene in the
+    structure form (the map's axes are a unit's restitution and gap), naming ``rattle.map``.
     """
     defaults = _rattle.map_defaults()
     accuracy = (
@@ -346,7 +347,8 @@ def basins(
     costs that much more than its own starts. Progress, faults and errors as :func:`map`.
 
     A bad ``omega``, ``points`` or side is a :class:`ValueError` with the command's message
-    (``outer[0]`` for ``--outer-min``); a chain scene too.
+    (``outer[0]`` for ``--outer-min``); a chain scene too, and a scene in the structure form,
+    naming ``rattle.basins``.
     """
     outer = tuple(float(x) for x in _check_axis("outer", outer, 2))
     inner = tuple(float(x) for x in _check_axis("inner", inner, 2))
