@@ -327,7 +327,7 @@ enum System<'a> {
     Chain(&'a Scene),
     /// A structure and its simulator model at the frequency (`None`: the model was refused,
     /// every start fails).
-    Structure(&'a Structure, Option<Model>),
+    Structure(&'a Structure, Option<Box<Model>>),
 }
 
 impl<'a> System<'a> {
@@ -335,9 +335,10 @@ impl<'a> System<'a> {
         match scene {
             AnyScene::Cells(s) if s.is_chain() => System::Chain(s),
             AnyScene::Cells(s) => System::Unit(s),
-            AnyScene::Structure(form) => {
-                System::Structure(&form.structure, form.structure.event_model(omega).ok())
-            }
+            AnyScene::Structure(form) => System::Structure(
+                &form.structure,
+                form.structure.event_model(omega).ok().map(Box::new),
+            ),
         }
     }
 
@@ -403,7 +404,7 @@ impl<'a> System<'a> {
             }
             System::Structure(structure, model) => {
                 let steady =
-                    simulate_watched(model.as_ref()?, omega, start, options, watch).ok()?;
+                    simulate_watched(model.as_deref()?, omega, start, options, watch).ok()?;
                 let outer = steady
                     .amplitudes
                     .get(structure.observe)
