@@ -17,7 +17,7 @@
 //! | [`continuation`] | `rattle continue` | [`Continuation`] |
 //! | [`boundary`] | `rattle boundary` | [`BoundaryRecord`] |
 //! | [`map`], [`map_document`] | `rattle map` | the map's tables |
-//! | [`basins`] | `rattle basins` | [`Basins`] and its table |
+//! | [`basins`], [`plane_basins`] | `rattle basins` | [`Basins`] and its table |
 //!
 //! Errors are values ([`ApiError`]): bad input names the parameter (or the scene's field) and
 //! its allowed range; a solver that fails says why.
@@ -48,7 +48,7 @@ use crate::output::structure::{
 };
 use crate::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, TrajectoryRow};
 use crate::output::{finite, Format};
-use crate::runs::basins::{write_basins, BasinGrid, Basins};
+use crate::runs::basins::{write_basins, write_plane_basins, BasinGrid, BasinPlane, Basins};
 use crate::runs::boundary::{follow_any, BoundaryOptions, BoundaryRecord};
 use crate::runs::continuation::{follow, follow_chain, ChainFollowed, FollowError, Followed};
 use crate::runs::map::{write_map, MapError, MapGrid, MapSettings, WriteMapError};
@@ -1170,6 +1170,67 @@ pub fn basins<W: Write>(
         .map_err(argument)?;
     let omega = check_cells_frequency(scene, "--omega", omega)?;
     write_basins(scene, omega, grid, options, shard, out, progress).map_err(|source| {
+        ApiError::Write {
+            table: Table::Points,
+            source,
+        }
+    })
+}
+
+/// Basins of attraction of a scene of any form (unit, chain or structure) at `omega`: every
+/// start of `plane` (the scene at rest with the plane's two coordinates set, at time 0) run to
+/// its steady state with `options` and numbered by the attractor it reaches, in parallel, the
+/// table written to `out` in its format (only part `shard` of the starts with a shard):
+/// `rattle basins --x … --y …`. A structure's start outside a stop's clearance is not run
+/// (attractor "start outside a stop's clearance").
+///
+/// # Errors
+/// [`ApiError::Frequency`] naming `--omega`; [`ApiError::Argument`] when `plane` names a
+/// coordinate `scene` does not have (a plane built for another scene); [`ApiError::Write`]
+/// when the table cannot be written.
+///
+/// # Examples
+///
+/// ```
+/// use rattle_compare::api;
+/// use rattle_compare::output::Format;
+/// use rattle_compare::runs::basins::{basin_options, BasinPlane};
+/// use rattle_compare::runs::parallel::Progress;
+///
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/impact-oscillator.json");
+/// let scene = api::load(path)?;
+/// let plane = BasinPlane::new(&scene, ("u:x", (-0.5, 0.4)), ("v:x", (-0.5, 0.5)), 2).unwrap();
+/// let mut table = Vec::new();
+/// let basins = api::plane_basins(
+///     &scene, 1.8, &plane, &basin_options(), None,
+///     (Format::Csv, &mut table), &Progress::hidden(),
+/// )?;
+/// assert_eq!(basins.cells.len(), 4);
+/// let text = String::from_utf8(table).unwrap();
+/// assert!(text.starts_with("x_start,x_velocity_start,attractor,"));
+/// # Ok::<(), Box<dyn std::error::Error>>(())
+/// ```
+pub fn plane_basins<W: Write>(
+    scene: &AnyScene,
+    omega: f64,
+    plane: &BasinPlane,
+    options: &SimulationOptions,
+    shard: Option<Shard>,
+    out: (Format, W),
+    progress: &Progress,
+) -> Result<Basins, ApiError> {
+    let bodies = crate::runs::basins::body_names(scene);
+    for (flag, c) in [("--x", &plane.x), ("--y", &plane.y)] {
+        if bodies.get(c.index) != Some(&c.body) {
+            return Err(argument(crate::runs::basins::BasinsError::Coordinate {
+                flag,
+                given: c.to_string(),
+                names: crate::runs::basins::coordinate_names(&bodies).join(", "),
+            }));
+        }
+    }
+    let omega = check_frequency(scene, "--omega", omega)?;
+    write_plane_basins(scene, omega, plane, options, shard, out, progress).map_err(|source| {
         ApiError::Write {
             table: Table::Points,
             source,

@@ -760,6 +760,7 @@ const OTHER_PROGRAMS_OPTIONS: &[(&str, &str)] = &[
     ("cargo", "--example"),
     ("cargo", "--no-default-features"),
     ("cargo", "--no-deps"),
+    ("cargo", "--open"),
     ("cargo", "--path"),
     ("cargo", "--release"),
     ("cargo", "--workspace"),

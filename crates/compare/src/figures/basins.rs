@@ -34,11 +34,9 @@ fn colour(attractors: &[Attractor], k: usize) -> RGBColor {
         Attractor::NoDissipation => RGBColor(250, 250, 250),
         Attractor::Sticking => RGBColor(90, 30, 110),
         Attractor::Failed => RGBColor(0, 0, 0),
-        Attractor::Periodic { .. } => {
-            let periodic = attractors[..k]
-                .iter()
-                .filter(|a| matches!(a, Attractor::Periodic { .. }))
-                .count();
+        Attractor::OutsideClearance => RGBColor(160, 160, 160),
+        Attractor::Periodic { .. } | Attractor::Motion { .. } => {
+            let periodic = attractors[..k].iter().filter(|a| a.is_periodic()).count();
             PALETTE[periodic % PALETTE.len()]
         }
     }
