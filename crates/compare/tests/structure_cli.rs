@@ -170,7 +170,11 @@ fn a_structures_lyapunov_exponents_are_its_multipliers() {
         "400",
         "--json",
     ]);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let period = std::f64::consts::TAU / 1.8;
     let mut expected: Vec<f64> = doc["floquet_multipliers"]
@@ -189,7 +193,10 @@ fn a_structures_lyapunov_exponents_are_its_multipliers() {
     let uncertainty = doc["lyapunov_uncertainty"].as_f64().unwrap();
     assert_eq!(exponents.len(), 2);
     for (e, x) in exponents.iter().zip(&expected) {
-        assert!((e - x).abs() < 3.0 * uncertainty.max(1e-6), "{exponents:?} {expected:?}");
+        assert!(
+            (e - x).abs() < 3.0 * uncertainty.max(1e-6),
+            "{exponents:?} {expected:?}"
+        );
     }
 }
 
