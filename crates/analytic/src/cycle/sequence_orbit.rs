@@ -140,7 +140,7 @@ impl<'a> SequenceProblem<'a> {
     ///
     /// For a model with rigid modes the equations are bordered: the anchors are the first
     /// impacts (in sequence order) whose pairs' projections `Φᵀw` are independent (Gram–Schmidt,
-    /// a projection counting when it keeps more than [`crate::rigid::RIGID_COUPLING`] of `|w|`),
+    /// a projection counting when it keeps more than [`crate::model::RIGID_COUPLING`] of `|w|`),
     /// the shifts `(Φ, 0, 0)`.
     ///
     /// # Errors
@@ -249,7 +249,7 @@ fn anchors(
             let along = q.dot(&b);
             b -= q * along;
         }
-        if crate::rigid::couples(&b, w) {
+        if crate::model::couples(&b, w) {
             basis.push(b.normalize());
             anchors.push(j);
         }

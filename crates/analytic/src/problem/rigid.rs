@@ -9,7 +9,7 @@
 //! clearance of a primary mass on a spring, whose `K` and `C` vanish on the free mass's
 //! coordinate. The basis of the rigid modes ([`LinearModel::rigid_modes`]) is the null space of
 //! `K`, from its symmetric eigen-decomposition: the eigenvectors of the eigenvalues at most
-//! [`RIGID_EIGENVALUE`]` · n · max |λ|` (all of them when `K = 0`), orthonormal.
+//! [`crate::model::RIGID_EIGENVALUE`]` · n · max |λ|` (all of them when `K = 0`), orthonormal.
 //!
 //! **Boundedness.** `K` and `C` must be positive semidefinite (a negative eigenvalue beyond
 //! the same rounding allowance is refused: it has no bounded motion). The forcing is harmonic,
@@ -41,110 +41,15 @@
 //! are few), which also gives one member (each entry chosen in the middle of its interval,
 //! the last eliminated first).
 
-use crate::model::{ContactPair, HarmonicState, LinearModel, ModelError};
+use crate::model::{couples, ContactPair, HarmonicState, LinearModel, ModelError};
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
-
-/// An eigenvalue of `K` (or `C`) is zero when its modulus is at most this many units of
-/// roundoff times `n` and the largest modulus: the accuracy of the symmetric eigen-solver on
-/// an exactly singular matrix, with room for matrices assembled by sums in another order.
-pub const RIGID_EIGENVALUE: f64 = 64.0 * f64::EPSILON;
-
-/// A pair's coordinate involves a rigid mode when `|Φᵀw|` exceeds this fraction of `|w|`:
-/// far above the rounding of an orthonormal basis computed from `K`, far below any coupling a
-/// model means.
-pub const RIGID_COUPLING: f64 = 1e-10;
-
-/// The orthonormal basis (`n × r`, `r = 0` when `K` is regular) of the null space of the
-/// symmetric `stiffness`, checking that it and `damping` are positive semidefinite.
-///
-/// # Errors
-/// [`ModelError::Structure`] naming `model.stiffness` or `model.damping` when it has an
-/// eigenvalue below `−`[`RIGID_EIGENVALUE`]` · n · max |λ|`.
-pub(crate) fn rigid_basis(
-    stiffness: &DMatrix<f64>,
-    damping: &DMatrix<f64>,
-) -> Result<DMatrix<f64>, ModelError> {
-    let n = stiffness.nrows();
-    let floor = |values: &DVector<f64>| RIGID_EIGENVALUE * n as f64 * values.amax();
-    let damping_values = damping.clone().symmetric_eigenvalues();
-    if damping_values.min() < -floor(&damping_values) {
-        return Err(ModelError::Structure {
-            field: "model.damping".to_string(),
-            required: "positive semidefinite (a negative damping has no bounded motion)",
-        });
-    }
-    let eigen = SymmetricEigen::new(stiffness.clone());
-    let zero = floor(&eigen.eigenvalues);
-    if eigen.eigenvalues.min() < -zero {
-        return Err(ModelError::Structure {
-            field: "model.stiffness".to_string(),
-            required: "positive semidefinite (a negative stiffness has no bounded motion)",
-        });
-    }
-    let columns: Vec<DVector<f64>> = (0..n)
-        .filter(|&k| eigen.eigenvalues[k].abs() <= zero)
-        .map(|k| eigen.eigenvectors.column(k).into_owned())
-        .collect();
-    if columns.is_empty() {
-        return Ok(DMatrix::zeros(n, 0));
-    }
-    Ok(DMatrix::from_columns(&columns))
-}
-
-/// Checks that every rigid direction `Φa` is restrained by a dashpot or a pair: the stacked
-/// `[CΦ / max|C|; w_pᵀΦ / |w_p|]` has full column rank `r`, its singular values above
-/// [`RIGID_COUPLING`] (`Φ` orthonormal, every row scaled to at most unit size).
-///
-/// # Errors
-/// [`ModelError::Drift`] with the number of free directions otherwise.
-pub(crate) fn check_restrained(
-    rigid: &DMatrix<f64>,
-    damping: &DMatrix<f64>,
-    pairs: &[ContactPair],
-) -> Result<(), ModelError> {
-    let (n, r) = rigid.shape();
-    if r == 0 {
-        return Ok(());
-    }
-    let damping_scale = damping.amax();
-    let mut stacked = DMatrix::zeros(n + pairs.len(), r);
-    if damping_scale > 0.0 {
-        stacked
-            .view_mut((0, 0), (n, r))
-            .copy_from(&(damping * rigid / damping_scale));
-    }
-    for (p, pair) in pairs.iter().enumerate() {
-        let row = rigid.tr_mul(&pair.direction) / pair.direction.norm();
-        stacked
-            .view_mut((n + p, 0), (1, r))
-            .copy_from(&row.transpose());
-    }
-    let restrained = stacked
-        .singular_values()
-        .iter()
-        .filter(|&&s| s > RIGID_COUPLING)
-        .count();
-    if restrained < r {
-        return Err(ModelError::Drift {
-            modes: r,
-            free: r - restrained,
-        });
-    }
-    Ok(())
-}
-
-/// Whether `b = Φᵀw` of a pair's direction `w` is a coupling to the rigid modes
-/// (`|b| > `[`RIGID_COUPLING`]` |w|`).
-pub(crate) fn couples(b: &DVector<f64>, w: &DVector<f64>) -> bool {
-    b.norm() > RIGID_COUPLING * w.norm()
-}
 
 /// How the linear motion (the family member without offset) meets one pair's stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairClearance {
     /// `A_p`: amplitude of the pair's relative coordinate in the member without offset.
     pub amplitude: f64,
-    /// Whether the pair's coordinate involves a rigid mode (`|Φᵀw| > `[`RIGID_COUPLING`]`|w|`).
+    /// Whether the pair's coordinate involves a rigid mode (`|Φᵀw| > `[`crate::model::RIGID_COUPLING`]`|w|`).
     pub involves_rigid: bool,
     /// The pair's own condition: `2A_p ≤ gap_side1 + gap_side2` when it involves a rigid mode
     /// (some offset keeps it clear), `A_p ≤ min(gap_side1, gap_side2)` otherwise.

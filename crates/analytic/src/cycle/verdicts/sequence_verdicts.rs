@@ -252,14 +252,14 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
 /// The static displacement of a model with rigid modes `Φ`: the solution of `K s = f_c`
 /// without a rigid component (`Φᵀs = 0`), from the regular `(K + κΦΦᵀ) s = f_c`
 /// (`κ = max |K_ij|`, or 1 when `K = 0`), which projected on `Φ` gives `κΦᵀs = Φᵀf_c`; `NaN`
-/// entries when `f_c` pushes a rigid mode (`|Φᵀf_c| > `[`crate::rigid::RIGID_COUPLING`]`|f_c|`:
+/// entries when `f_c` pushes a rigid mode (`|Φᵀf_c| > `[`crate::model::RIGID_COUPLING`]`|f_c|`:
 /// no static displacement).
 fn rigid_statics(model: &LinearModel) -> DVector<f64> {
     let n = model.dofs();
     let rigid = model.rigid_modes();
     let force = &model.forcing().cosine;
     let nan = DVector::from_element(n, f64::NAN);
-    if crate::rigid::couples(&(rigid.transpose() * force), force) {
+    if crate::model::couples(&(rigid.transpose() * force), force) {
         return nan;
     }
     let kappa = match model.stiffness().amax() {
