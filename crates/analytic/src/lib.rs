@@ -66,6 +66,7 @@ pub mod cycle;
 pub mod flow;
 pub mod linear;
 pub mod problem;
+#[cfg(any(test, feature = "fixtures"))]
 pub mod test_models;
 
 pub use closed_form::{family, orbit, symmetric};

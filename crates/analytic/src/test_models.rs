@@ -1,4 +1,6 @@
-//! Reference problems with known answers, shared by the tests of this crate and its users.
+//! Reference problems with known answers, shared by the tests, benches and examples of this
+//! crate: fixtures, not API (compiled for the crate's tests, and with the `fixtures` feature,
+//! which its benches and examples enable through the crate's dev-dependency on itself).
 //!
 //! Each model returns the problem *together with* its answer, worked out by hand (Cramer's
 //! rule, the characteristic polynomial, the trace of the system matrix) and written here with

@@ -42,7 +42,7 @@
 //! the last eliminated first).
 
 use crate::model::{couples, ContactPair, HarmonicState, LinearModel, ModelError};
-use nalgebra::{DMatrix, DVector, SymmetricEigen};
+use nalgebra::{DMatrix, DVector};
 
 /// How the linear motion (the family member without offset) meets one pair's stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
