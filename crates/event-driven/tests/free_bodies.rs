@@ -635,3 +635,178 @@ fn a_constant_force_on_a_free_mass_has_no_steady_state_but_flies_exactly() {
         "{y:?}"
     );
 }
+
+/// Runs `f` on its own thread and returns its value, failing when it takes more than a
+/// minute: a search that never ends fails the test instead of hanging it.
+fn ends_within_a_minute<T: Send + 'static>(
+    what: &str,
+    f: impl FnOnce() -> T + Send + 'static,
+) -> T {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = send.send(f());
+    });
+    receive
+        .recv_timeout(std::time::Duration::from_secs(60))
+        .unwrap_or_else(|_| panic!("{what} never ends"))
+}
+
+/// A gap that rests on an edge of its band (a free body at rest on its stop, its carrier
+/// held) has no exit, and the search says so at once: the enclosure of a constant touches
+/// the edge on every chunk, so that bisection alone would split each chunk down to the time
+/// tolerance. Written as a stuck phase's flight writes it: the constant at rate 0 (with a
+/// `−0` coefficient) and a forcing term of zero amplitude.
+#[test]
+fn a_gap_resting_on_its_edge_has_no_exit() {
+    let zero = C64::default();
+    let (lo, hi) = (0.342_693_660_141_455_36, 0.854_836_860_293_133_7);
+    for (edge, level) in [(-1.0, lo), (1.0, hi)] {
+        let rest = expsum::ExpSum {
+            terms: vec![
+                expsum::Term {
+                    poly: [C64::new(level, 0.0), zero, C64::new(-0.0, 0.0), zero],
+                    rate: zero,
+                },
+                expsum::Term {
+                    poly: [zero; 4],
+                    rate: C64::new(0.0, 0.7),
+                },
+            ],
+        };
+        let found = ends_within_a_minute("the search of a gap at rest on its edge", move || {
+            let mut stack = SearchStack::default();
+            rest.first_exit(lo, hi, 40.0, 1e-11, 2e-12, &mut stack)
+        });
+        assert_eq!(found, None, "at rest on the edge {edge}");
+    }
+}
+
+/// A body `b0` on a spring to the frame, forced, with a near-plastic stop against the frame
+/// (it chatters and sticks there) and a two-sided one, and a free body in a clearance of `b0`
+/// (`r = u_free − u_b0 ∈ [−0.175, 0.337]`); no damping. From rest the free body chatters on
+/// its lower stop and sticks, `b0` then sticks on the frame with it, and the free body is left
+/// at rest on its stop while `b0` is held: a gap that is a constant on its edge.
+fn chattering_carrier() -> (Model, f64) {
+    let (m0, m1, k) = (
+        0.898_058_417_286_830_9,
+        0.871_583_877_874_093_5,
+        2.032_357_200_040_634,
+    );
+    let (force, phase) = (2.743_311_271_880_616_f64, 0.050_503_683_530_197_296_f64);
+    let frame = |gap_plus: f64, gap_minus: f64, restitution: f64| ContactPair {
+        plus_dof: Some(0),
+        minus_dof: None,
+        gap_plus,
+        gap_minus,
+        restitution,
+    };
+    let model = Model::new(
+        DMatrix::from_diagonal(&DVector::from_vec(vec![m0, m1])),
+        DMatrix::from_row_slice(2, 2, &[k, 0.0, 0.0, 0.0]),
+        None,
+        DVector::from_vec(vec![force * phase.cos(), 0.0]),
+        DVector::from_vec(vec![-force * phase.sin(), 0.0]),
+        vec![
+            frame(
+                0.517_415_546_937_098_3,
+                f64::INFINITY,
+                0.025_986_520_618_920_04,
+            ),
+            frame(
+                1.995_788_802_997_988_7,
+                1.450_239_467_405_160_6,
+                0.400_667_819_385_819_5,
+            ),
+            ContactPair {
+                plus_dof: Some(1),
+                minus_dof: Some(0),
+                gap_plus: 0.337_421_313_356_035_3,
+                gap_minus: 0.174_721_886_795_643,
+                restitution: 0.639_736_552_433_510_1,
+            },
+        ],
+    )
+    .expect("the chattering carrier's model");
+    (model, 0.696_349_122_663_189)
+}
+
+#[test]
+fn a_free_body_at_rest_on_its_stop_beside_a_held_carrier_lets_the_run_end() {
+    let (model, omega) = chattering_carrier();
+    assert_eq!(model.rigid_modes(), Ok(1));
+    let contacts = model.contacts().to_vec();
+    let options = TrajectoryOptions {
+        periods: 4,
+        samples_per_period: 40,
+        ..TrajectoryOptions::default()
+    };
+    let sampled = model.clone();
+    let trajectory = ends_within_a_minute("four periods of the chattering carrier", move || {
+        sample_trajectory(&sampled, omega, &Start::rest(2), &options)
+    })
+    .expect("the carrier's trajectory");
+    let rows = &trajectory.rows;
+    // The stops hold at every row.
+    for row in rows {
+        for (pair, (c, &r)) in contacts.iter().zip(&row.relative).enumerate() {
+            assert!(
+                r <= c.gap_plus + 1e-12 && r >= -c.gap_minus - 1e-12,
+                "pair {pair} at t = {}: r = {r}",
+                row.time
+            );
+        }
+    }
+    // While `b0` is held on its frame stop (`u_b0 = gap_plus`, at rest), the free body flies
+    // uniformly across its clearance: from each impact on one of its stops, the next on the
+    // other follows after distance / speed.
+    let held = |row: &TrajectoryRow| {
+        row.velocities[0] == 0.0 && (row.displacements[0] - contacts[0].gap_plus).abs() < 1e-12
+    };
+    let mut flights = 0;
+    for (i, after) in rows.iter().enumerate() {
+        if after.kind != RowKind::AfterImpact || !held(after) {
+            continue;
+        }
+        let Some(j) = (i + 1..rows.len()).find(|&j| rows[j].kind != RowKind::Sample) else {
+            continue;
+        };
+        let before = &rows[j];
+        if before.kind != RowKind::BeforeImpact || !held(before) || !rows[i + 1..j].iter().all(held)
+        {
+            continue;
+        }
+        let speed = after.velocities[1] - after.velocities[0];
+        let r = after.relative[2];
+        let edge = if speed > 0.0 {
+            contacts[2].gap_plus
+        } else {
+            -contacts[2].gap_minus
+        };
+        let exact = after.time + (edge - r) / speed;
+        assert!(
+            (before.time - exact).abs() < 1e-10,
+            "flight from t = {}: impact at {} against {exact}",
+            after.time,
+            before.time
+        );
+        assert!((before.relative[2] - edge).abs() < 1e-12);
+        flights += 1;
+    }
+    assert!(flights >= 2, "{flights} uniform flights while b0 is held");
+    // Run to its steady state: the sticking cycle is reached, and the run ends.
+    let steady = ends_within_a_minute("the chattering carrier's run", move || {
+        simulate(
+            &model,
+            omega,
+            &Start::rest(2),
+            &SimulationOptions::default(),
+        )
+    })
+    .expect("the carrier runs");
+    assert!(steady.sticking, "{:?}", steady.status);
+    assert!(
+        steady.periods_run < DEFAULT_MAX_PERIODS,
+        "{}",
+        steady.periods_run
+    );
+}

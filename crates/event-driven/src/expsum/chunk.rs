@@ -387,6 +387,20 @@ impl ExpSum {
                 }
                 continue;
             }
+            // A constant resting within `depth` of an edge (a free body at rest on its stop,
+            // its carrier held): neither excluded nor monotone, so bisection would split down
+            // to `time_tolerance` everywhere, `(b − a)/time_tolerance` evaluations, and find
+            // no exit (every split point is `fm`, never `depth` beyond the edge). Same answer
+            // at once. `f' = f'' = 0` at `m` is exact and rare for any other function, so the
+            // terms are read only then.
+            if dm == 0.0
+                && ddm == 0.0
+                && fm > lo - depth_tolerance
+                && fm < hi + depth_tolerance
+                && self.is_constant()
+            {
+                continue;
+            }
             if w < time_tolerance {
                 if fm >= hi + depth_tolerance {
                     return Some((m, 1));
@@ -434,6 +448,14 @@ impl ExpSum {
         }
         seed.seeds.recall_tried(start.is_some());
         start
+    }
+
+    /// Whether `f` is a constant: every term's polynomial zero, or a constant at rate `0`.
+    pub(super) fn is_constant(&self) -> bool {
+        let zero = C64::default();
+        self.terms.iter().all(|t| {
+            t.poly[1..].iter().all(|&c| c == zero) && (t.rate == zero || t.poly[0] == zero)
+        })
     }
 
     /// [`Self::eval3`] at a bisection's split point `s`, the exponentials there taken from the
