@@ -458,19 +458,6 @@ impl Model {
         )
     }
 
-    /// Rigid modes `r` of the structure: the dimension of the common null space of its
-    /// stiffness and damping matrices (`K r = C r = 0`), one per direction a free body (held
-    /// by neither a spring nor a dashpot, e.g. a mass in a clearance with contact pairs only)
-    /// moves in. The simulator flies them exactly as rigid bodies ([`crate::flow`]); a
-    /// steady state without impacts on them is a family ([`crate::SteadyState::family`]).
-    ///
-    /// # Errors
-    /// [`FlowError::UnbalancedRigidModes`](crate::flow::FlowError::UnbalancedRigidModes) when
-    /// that null space is not also a left null space of both (non-symmetric matrices).
-    pub fn rigid_modes(&self) -> Result<usize, crate::flow::FlowError> {
-        crate::flow::rigid_shapes(&self.stiffness, self.damping.as_ref()).map(|r| r.ncols())
-    }
-
     /// Whether damping terms are present.
     pub fn has_damping(&self) -> bool {
         self.damping.is_some()

@@ -34,7 +34,6 @@ mod flight;
 #[cfg(target_arch = "x86_64")]
 mod packed;
 mod rigid;
-pub(crate) use rigid::shapes as rigid_shapes;
 #[cfg(test)]
 mod tests;
 
@@ -200,6 +199,122 @@ pub(crate) struct JointWeights {
     constant: Vec<f64>,
 }
 
+/// The inverse of the elastic modes and, with rigid modes, their coordinates.
+type ModalInverse = (DMatrix<C64>, Option<Box<rigid::RigidModes>>);
+/// The eigenvectors `(φ, λφ)` of the rates `rates`, as columns: each `φ` the right singular
+/// vector of the smallest singular value of the pencil `λ²M + λC + K`.
+///
+/// # Errors
+/// [`FlowError::Defective`] when a singular value decomposition fails.
+fn pencil_modes(
+    mass: &DMatrix<f64>,
+    damping: Option<&DMatrix<f64>>,
+    stiffness: &DMatrix<f64>,
+    rates: &[C64],
+) -> Result<DMatrix<C64>, FlowError> {
+    let n = mass.nrows();
+    let mut modes = DMatrix::<C64>::zeros(2 * n, rates.len());
+    let mc = mass.map(|v| C64::new(v, 0.0));
+    let kc = stiffness.map(|v| C64::new(v, 0.0));
+    let cc = damping.map(|c| c.map(|v| C64::new(v, 0.0)));
+    for (k, &lambda) in rates.iter().enumerate() {
+        let mut pencil = &mc * (lambda * lambda) + &kc;
+        if let Some(c) = &cc {
+            pencil += c * lambda;
+        }
+        let svd = pencil.svd(false, true);
+        let v_t = svd.v_t.ok_or(FlowError::Defective(f64::INFINITY))?;
+        let (imin, _) =
+            svd.singular_values
+                .iter()
+                .enumerate()
+                .fold(
+                    (0, f64::INFINITY),
+                    |acc, (i, &s)| if s < acc.1 { (i, s) } else { acc },
+                );
+        let shape: DVector<C64> = v_t.row(imin).adjoint();
+        for i in 0..n {
+            modes[(i, k)] = shape[i];
+            modes[(n + i, k)] = shape[i] * lambda;
+        }
+    }
+    Ok(modes)
+}
+
+/// `V⁻¹` of the eigenvectors `modes` (elastic rates only), and with rigid `shapes` the rigid
+/// modes' own coordinates: `W = [V_e | (R, 0) | (0, R)]` is inverted once, the elastic
+/// coordinates its first `elastic` rows, the rigid positions and velocities its last `2r`.
+///
+/// # Errors
+/// [`FlowError::Defective`] when the basis is singular or its condition reaches
+/// [`DEFECTIVE_CONDITION`].
+fn modal_inverse(
+    modes: &DMatrix<C64>,
+    shapes: DMatrix<f64>,
+    elastic: usize,
+    minv: &DMatrix<f64>,
+    forcing: (&DVector<f64>, &DVector<f64>, &DVector<f64>),
+    omega: f64,
+) -> Result<ModalInverse, FlowError> {
+    let n = modes.nrows() / 2;
+    if shapes.ncols() == 0 {
+        let inverse = modes
+            .clone()
+            .try_inverse()
+            .ok_or(FlowError::Defective(f64::INFINITY))?;
+        let condition = modes.norm() * inverse.norm();
+        if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
+            return Err(FlowError::Defective(condition));
+        }
+        Ok((inverse, None))
+    } else {
+        // `W = [V_e | (R, 0) | (0, R)]`: the elastic coordinates are the first rows of
+        // `W⁻¹`, the rigid positions and velocities its last `2r`.
+        let r = shapes.ncols();
+        let mut basis = DMatrix::<C64>::zeros(2 * n, 2 * n);
+        basis.view_mut((0, 0), (2 * n, elastic)).copy_from(modes);
+        for j in 0..r {
+            for i in 0..n {
+                let v = C64::new(shapes[(i, j)], 0.0);
+                basis[(i, elastic + j)] = v;
+                basis[(n + i, elastic + r + j)] = v;
+            }
+        }
+        let full = basis
+            .clone()
+            .try_inverse()
+            .ok_or(FlowError::Defective(f64::INFINITY))?;
+        let condition = basis.norm() * full.norm();
+        if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
+            return Err(FlowError::Defective(condition));
+        }
+        let rows = full.rows(elastic, 2 * r).into_owned();
+        let rigid = rigid::RigidModes::new(shapes, &rows, minv, forcing, omega);
+        Ok((full.rows(0, elastic).into_owned(), Some(Box::new(rigid))))
+    }
+}
+
+/// The modes that carry a real motion, with their weights: a real system has real rates and
+/// exact conjugate pairs (real Schur form), each pair folded into one mode of weight 2;
+/// anything else keeps every mode.
+fn kept_modes(rates: &[C64]) -> Vec<(usize, f64)> {
+    let partner = |k: usize| rates.iter().position(|r| *r == rates[k].conj());
+    let pairs_exact = rates
+        .iter()
+        .enumerate()
+        .all(|(k, r)| r.im == 0.0 || partner(k).is_some());
+    if pairs_exact {
+        rates
+            .iter()
+            .enumerate()
+            .filter(|(_, r)| r.im >= 0.0)
+            .map(|(k, r)| (k, if r.im > 0.0 { 2.0 } else { 1.0 }))
+            .collect()
+    } else {
+        (0..rates.len()).map(|k| (k, 1.0)).collect()
+    }
+}
+
 /// Whether a forcing rate `μ = λ + δ` counts as resonant with the mode of rate `λ`.
 fn resonant(delta: C64, period: f64) -> bool {
     (delta.re.abs() + delta.im.abs()) * period <= RESONANCE
@@ -338,67 +453,9 @@ impl LinearFlow {
         if damping.is_none() {
             conservative_rates(&mut rates);
         }
-        let mut modes = DMatrix::<C64>::zeros(2 * n, rates.len());
-        let mc = mass.map(|v| C64::new(v, 0.0));
-        let kc = stiffness.map(|v| C64::new(v, 0.0));
-        let cc = damping.map(|c| c.map(|v| C64::new(v, 0.0)));
-        for (k, &lambda) in rates.iter().enumerate() {
-            let mut pencil = &mc * (lambda * lambda) + &kc;
-            if let Some(c) = &cc {
-                pencil += c * lambda;
-            }
-            let svd = pencil.svd(false, true);
-            let v_t = svd.v_t.ok_or(FlowError::Defective(f64::INFINITY))?;
-            let (imin, _) =
-                svd.singular_values
-                    .iter()
-                    .enumerate()
-                    .fold(
-                        (0, f64::INFINITY),
-                        |acc, (i, &s)| if s < acc.1 { (i, s) } else { acc },
-                    );
-            let shape: DVector<C64> = v_t.row(imin).adjoint();
-            for i in 0..n {
-                modes[(i, k)] = shape[i];
-                modes[(n + i, k)] = shape[i] * lambda;
-            }
-        }
-        let (inverse, rigid) = if shapes.ncols() == 0 {
-            let inverse = modes
-                .clone()
-                .try_inverse()
-                .ok_or(FlowError::Defective(f64::INFINITY))?;
-            let condition = modes.norm() * inverse.norm();
-            if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
-                return Err(FlowError::Defective(condition));
-            }
-            (inverse, None)
-        } else {
-            // `W = [V_e | (R, 0) | (0, R)]`: the elastic coordinates are the first rows of
-            // `W⁻¹`, the rigid positions and velocities its last `2r`.
-            let (elastic, r) = (rates.len(), shapes.ncols());
-            let mut basis = DMatrix::<C64>::zeros(2 * n, 2 * n);
-            basis.view_mut((0, 0), (2 * n, elastic)).copy_from(&modes);
-            for j in 0..r {
-                for i in 0..n {
-                    let v = C64::new(shapes[(i, j)], 0.0);
-                    basis[(i, elastic + j)] = v;
-                    basis[(n + i, elastic + r + j)] = v;
-                }
-            }
-            let full = basis
-                .clone()
-                .try_inverse()
-                .ok_or(FlowError::Defective(f64::INFINITY))?;
-            let condition = basis.norm() * full.norm();
-            if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
-                return Err(FlowError::Defective(condition));
-            }
-            let rows = full.rows(elastic, 2 * r).into_owned();
-            let forcing = (forcing_cos, forcing_sin, forcing_constant);
-            let rigid = rigid::RigidModes::new(shapes, &rows, &minv, forcing, omega);
-            (full.rows(0, elastic).into_owned(), Some(Box::new(rigid)))
-        };
+        let modes = pencil_modes(mass, damping, stiffness, &rates)?;
+        let forcing = (forcing_cos, forcing_sin, forcing_constant);
+        let (inverse, rigid) = modal_inverse(&modes, shapes, rates.len(), &minv, forcing, omega)?;
         let lift = |f: DVector<C64>| {
             let mut b = DVector::<C64>::zeros(2 * n);
             let accel = minv.map(|v| C64::new(v, 0.0)) * f;
@@ -411,23 +468,7 @@ impl LinearFlow {
         let minus = lift(f.map(|c| c.conj()));
         let constant = lift(forcing_constant.map(|v| C64::new(v, 0.0)));
         let period = std::f64::consts::TAU / omega;
-        // A real system has real rates and exact conjugate pairs (real Schur form); fold each
-        // pair into one mode of weight 2. Anything else keeps every mode.
-        let partner = |k: usize| rates.iter().position(|r| *r == rates[k].conj());
-        let pairs_exact = rates
-            .iter()
-            .enumerate()
-            .all(|(k, r)| r.im == 0.0 || partner(k).is_some());
-        let kept: Vec<(usize, f64)> = if pairs_exact {
-            rates
-                .iter()
-                .enumerate()
-                .filter(|(_, r)| r.im >= 0.0)
-                .map(|(k, r)| (k, if r.im > 0.0 { 2.0 } else { 1.0 }))
-                .collect()
-        } else {
-            (0..rates.len()).map(|k| (k, 1.0)).collect()
-        };
+        let kept = kept_modes(&rates);
         let kept_sizes: Vec<(f64, f64)> = kept
             .iter()
             .map(|&(k, _)| {

@@ -370,3 +370,20 @@ impl RigidModes {
         Ok(())
     }
 }
+
+/// The rigid modes of a model, from its matrices: the query lives with the flow that finds
+/// them, so that the model does not depend on the flow.
+impl crate::Model {
+    /// Rigid modes `r` of the structure: the dimension of the common null space of its
+    /// stiffness and damping matrices (`K r = C r = 0`), one per direction a free body (held
+    /// by neither a spring nor a dashpot, e.g. a mass in a clearance with contact pairs only)
+    /// moves in. The simulator flies them exactly as rigid bodies ([`crate::flow`]); a
+    /// steady state without impacts on them is a family ([`crate::SteadyState::family`]).
+    ///
+    /// # Errors
+    /// [`FlowError::UnbalancedRigidModes`](FlowError::UnbalancedRigidModes) when
+    /// that null space is not also a left null space of both (non-symmetric matrices).
+    pub fn rigid_modes(&self) -> Result<usize, FlowError> {
+        shapes(&self.stiffness, self.damping.as_ref()).map(|r| r.ncols())
+    }
+}
