@@ -65,8 +65,8 @@ pub enum Command {
     /// followed in (ω, a scene parameter) through turning points, exact to rounding.
     Boundary(boundary::BoundaryArgs),
     /// Every regime boundary at once: each event of the continuation in ω of the motions a
-    /// sweep settles on (and of the `+-` orbits), followed in (ω, a scene parameter); the same
-    /// curve reached from two events listed once, branch points listed as skipped.
+    /// sweep settles on (and of the `+-` orbits), branch points included, followed in (ω, a
+    /// scene parameter); the same curve reached from two events listed once.
     Boundaries(boundaries::BoundariesArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
     /// JSON Lines file as it runs; on a chain, every solver (`both`: the verdict of `compare`
