@@ -28,7 +28,7 @@
 //! saltation matrix of each impact, `S = R + (f⁺ − R f⁻) nᵀ / (nᵀ f⁻)`: `R` the impact's
 //! linear map, `n` the gradient of `r ∓ d`, `f^∓` the vector field just before and after it.
 
-use super::impact_oscillator::ReferenceError;
+use super::impact_oscillator::{free_flow, wrap, ReferenceError};
 use nalgebra::{Matrix2, Matrix4, Vector4};
 use std::f64::consts::{PI, TAU};
 
@@ -216,17 +216,8 @@ impl ImpactDamper {
 
     /// `Φ(t)`, the primary's free flow over `t`.
     fn free_flow(&self, t: f64) -> Matrix2<f64> {
-        let lambda = self.damping / (2.0 * self.mass);
-        let wn2 = self.stiffness / self.mass;
-        let wd = (wn2 - lambda * lambda).sqrt();
-        let (s, c) = (wd * t).sin_cos();
-        let decay = (-lambda * t).exp();
-        Matrix2::new(
-            decay * (c + lambda / wd * s),
-            decay * s / wd,
-            -decay * wn2 / wd * s,
-            decay * (c - lambda / wd * s),
-        )
+        let [[a, b], [c, d]] = free_flow(self.mass, self.damping, self.stiffness, t);
+        Matrix2::new(a, b, c, d)
     }
 
     /// `Φ₄(t)`: the primary's free flow and the free body's uniform motion.
@@ -353,16 +344,6 @@ impl Flight<'_> {
             inside &= (z[2] - z[0]).abs() <= d + tolerance;
         }
         (primary, free, inside)
-    }
-}
-
-/// `x` wrapped to `(−π, π]`.
-fn wrap(x: f64) -> f64 {
-    let y = x.rem_euclid(TAU);
-    if y > PI {
-        y - TAU
-    } else {
-        y
     }
 }
 

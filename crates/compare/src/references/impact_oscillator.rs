@@ -171,15 +171,7 @@ impl ImpactOscillator {
 
     /// `Φ(t)`, the free flow over `t`.
     fn free_flow(&self, t: f64) -> [[f64; 2]; 2] {
-        let lambda = self.damping / (2.0 * self.mass);
-        let wn2 = self.stiffness / self.mass;
-        let wd = (wn2 - lambda * lambda).sqrt();
-        let (s, c) = (wd * t).sin_cos();
-        let decay = (-lambda * t).exp();
-        [
-            [decay * (c + lambda / wd * s), decay * s / wd],
-            [-decay * wn2 / wd * s, decay * (c - lambda / wd * s)],
-        ]
+        free_flow(self.mass, self.damping, self.stiffness, t)
     }
 
     /// `max |x|` over the flight from the impact and whether `x ≤ σ` there, on the grid:
@@ -241,8 +233,21 @@ impl ImpactOscillator {
     }
 }
 
+/// `Φ(t)`, the free flow over `t` of the underdamped `m ẍ + c ẋ + k x = 0`, as rows.
+pub(crate) fn free_flow(m: f64, c: f64, k: f64, t: f64) -> [[f64; 2]; 2] {
+    let lambda = c / (2.0 * m);
+    let wn2 = k / m;
+    let wd = (wn2 - lambda * lambda).sqrt();
+    let (s, c) = (wd * t).sin_cos();
+    let decay = (-lambda * t).exp();
+    [
+        [decay * (c + lambda / wd * s), decay * s / wd],
+        [-decay * wn2 / wd * s, decay * (c - lambda / wd * s)],
+    ]
+}
+
 /// `x` wrapped to `(−π, π]`.
-fn wrap(x: f64) -> f64 {
+pub(crate) fn wrap(x: f64) -> f64 {
     let y = x.rem_euclid(TAU);
     if y > std::f64::consts::PI {
         y - TAU
