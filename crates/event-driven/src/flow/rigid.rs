@@ -381,7 +381,7 @@ impl crate::Model {
     /// steady state without impacts on them is a family ([`crate::SteadyState::family`]).
     ///
     /// # Errors
-    /// [`FlowError::UnbalancedRigidModes`](FlowError::UnbalancedRigidModes) when
+    /// [`FlowError::UnbalancedRigidModes`] when
     /// that null space is not also a left null space of both (non-symmetric matrices).
     pub fn rigid_modes(&self) -> Result<usize, FlowError> {
         shapes(&self.stiffness, self.damping.as_ref()).map(|r| r.ncols())
