@@ -238,7 +238,6 @@ def test_a_structure_is_refused_by_name(call):
         ["orbit", "--omega", 1.8],
         ["orbit", "--omega", 1.8, "--signature", "+", "--trajectory", "t.csv"],
         ["continue", "--signature", "+", "--omega", 1.8, "--omega-min", 1.0, "--omega-max", 2.0],
-        ["basins", "--omega", 1.8, "--points", 2, "--out", "b.json"],
         ["sweep", "--omega-min", 1.0, "--omega-max", 2.0, "--points", 2, "--shard", "1/2",
          "--out", "s.json"],
     ],

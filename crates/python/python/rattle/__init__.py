@@ -41,7 +41,8 @@ exponents), :func:`orbit` with a signature (an impact sequence of its stops:
 (every solver, not ``shard``), each as the command on the same structure. The others
 (:func:`orbit` without a signature, :func:`orbit_trajectory`, :func:`continue_branch`,
 :func:`boundary`, :func:`map`, :func:`basins`) refuse a structure with a :class:`ValueError`
-naming the function and the forms it takes, as the command refuses one.
+naming the function and the forms it takes, as the command refuses one (``rattle basins``
+takes a structure; the package's :func:`basins` does not yet).
 """
 
 import json as _json
