@@ -6,10 +6,10 @@
 
 use crate::references::impact_damper::ImpactDamper;
 use crate::runs::axis::Axis;
-use crate::scene::simulator::run_structure;
-use crate::scene::structure::{Structure, StructureScene};
+use crate::scene::structure::Structure;
+use crate::study::gallery::{continued_runs, gallery_structure};
 use nalgebra::{Complex, DMatrix, DVector};
-use rattle_event_driven::{SimulationOptions, Start, Status};
+use rattle_event_driven::{SimulationOptions, Status};
 
 /// The gallery's impact damper with one primary body.
 pub const IMPACT_DAMPER_SCENE: &str = include_str!("../../../../data/scenes/impact-damper.json");
@@ -76,16 +76,6 @@ pub struct DamperStudy {
     pub omega_range: (f64, f64),
     /// The one-body and the two-body damper.
     pub panels: Vec<DamperPanel>,
-}
-
-/// A gallery scene, checked.
-///
-/// # Panics
-/// Never on the gallery's texts (fixed and valid, tested).
-pub fn gallery_structure(text: &str) -> (StructureScene, Structure) {
-    let scene: StructureScene = serde_json::from_str(text).expect("the gallery's scene parses");
-    let structure = scene.structure().expect("the gallery's scene is valid");
-    (scene, structure)
 }
 
 /// The bodies no spring or dashpot ties to anything: the free bodies, which only stops hold.
@@ -214,24 +204,14 @@ fn sweep(
         max_periods: SWEEP_MAX_PERIODS,
         ..SimulationOptions::default()
     };
-    let mut start = structure.rest();
     let (mut periodic, mut irregular) = (Vec::new(), Vec::new());
-    for omega in omegas {
-        let Ok(point) = run_structure(structure, omega, &start, &options) else {
-            start = structure.rest();
-            continue;
-        };
-        let steady = &point.steady;
-        match steady.status {
-            Status::Periodic => periodic.push((omega, point.outer_amplitude)),
+    continued_runs(structure, omegas, &options, |point| {
+        match point.steady.status {
+            Status::Periodic => periodic.push((point.omega, point.outer_amplitude)),
             Status::NoDissipation => {}
-            _ => irregular.push((omega, point.outer_amplitude)),
+            _ => irregular.push((point.omega, point.outer_amplitude)),
         }
-        start = Start {
-            state: steady.final_state.state.clone(),
-            time: steady.final_state.time,
-        };
-    }
+    });
     (periodic, irregular)
 }
 

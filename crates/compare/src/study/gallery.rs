@@ -4,7 +4,7 @@
 
 use crate::references::impact_oscillator::ImpactOscillator;
 use crate::runs::axis::Axis;
-use crate::scene::simulator::run_structure;
+use crate::scene::simulator::{run_structure, SimulatedPoint};
 use crate::scene::structure::{Structure, StructureScene};
 use rattle_event_driven::{SimulationOptions, Start, Status};
 
@@ -64,10 +64,40 @@ pub struct OscillatorStudy {
 /// # Panics
 /// Never: the scene is a fixed, valid text (tested).
 pub fn impact_oscillator() -> (StructureScene, Structure) {
-    let scene: StructureScene =
-        serde_json::from_str(IMPACT_OSCILLATOR_SCENE).expect("the gallery's scene parses");
+    gallery_structure(IMPACT_OSCILLATOR_SCENE)
+}
+
+/// A gallery scene's text, parsed and checked.
+///
+/// # Panics
+/// Never on the gallery's texts (fixed and valid, tested).
+pub fn gallery_structure(text: &str) -> (StructureScene, Structure) {
+    let scene: StructureScene = serde_json::from_str(text).expect("the gallery's scene parses");
     let structure = scene.structure().expect("the gallery's scene is valid");
     (scene, structure)
+}
+
+/// Runs `structure` at each frequency of `omegas` in turn, each run started from the last
+/// one's final state (the first, and any after a failed run, from rest), and hands every
+/// point to `each`: the gallery's sweeps up and down.
+pub fn continued_runs(
+    structure: &Structure,
+    omegas: impl Iterator<Item = f64>,
+    options: &SimulationOptions,
+    mut each: impl FnMut(&SimulatedPoint),
+) {
+    let mut start = structure.rest();
+    for omega in omegas {
+        let Ok(point) = run_structure(structure, omega, &start, options) else {
+            start = structure.rest();
+            continue;
+        };
+        each(&point);
+        start = Start {
+            state: point.steady.final_state.state.clone(),
+            time: point.steady.final_state.time,
+        };
+    }
 }
 
 /// The closed form of the gallery's oscillator (one body, a force, a stop on side 1).
@@ -123,27 +153,18 @@ fn sweep(structure: &Structure, omegas: impl Iterator<Item = f64>) -> Vec<(f64, 
         max_period_multiplicity: RECORDED_PERIODS,
         ..SimulationOptions::default()
     };
-    let mut start = structure.rest();
     let mut out = Vec::new();
-    for omega in omegas {
-        let Ok(point) = run_structure(structure, omega, &start, &options) else {
-            start = structure.rest();
-            continue;
-        };
+    continued_runs(structure, omegas, &options, |point| {
         let steady = &point.steady;
         if steady.status != Status::NoDissipation {
             out.extend(
                 steady
                     .cycle_impacts
                     .iter()
-                    .map(|i| (omega, i.state_before[1])),
+                    .map(|i| (point.omega, i.state_before[1])),
             );
         }
-        start = Start {
-            state: steady.final_state.state.clone(),
-            time: steady.final_state.time,
-        };
-    }
+    });
     out
 }
 
