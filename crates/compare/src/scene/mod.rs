@@ -25,6 +25,7 @@ pub mod parameter;
 pub mod phase;
 pub mod simulator;
 pub mod structure;
+pub mod structure_parameter;
 
 use rattle_analytic::{Damping, Stops, Unit, UnitError};
 use serde::{Deserialize, Serialize};

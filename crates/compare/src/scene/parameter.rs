@@ -7,7 +7,8 @@
 //! base is the chain's, not a cell's). Setting a cell's field of a chain of identical cells
 //! (`cells: N`) writes the chain out cell by cell first, so that only that cell changes.
 
-use super::{CellSpec, DampingSpec, Scene, SceneError};
+use super::structure_parameter::{StructureParameter, StructureParameterError};
+use super::{AnyScene, CellSpec, DampingSpec, Scene, SceneError};
 use std::fmt;
 use std::str::FromStr;
 use thiserror::Error;
@@ -278,6 +279,92 @@ fn written_out<'a>(
     chain.get_or_insert_with(|| vec![CellSpec::default(); count])
 }
 
+/// A number of a scene of any form by its JSON path: a [`SceneParameter`] of the unit and
+/// chain forms, a [`StructureParameter`] of the structure form.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AnyParameter {
+    /// A field of a unit or chain scene (`stops.gap`, `chain[2].unit.inner_mass`).
+    Cells(SceneParameter),
+    /// A field of a structure scene (`structure.stops[0].gap_plus`).
+    Structure(StructureParameter),
+}
+
+/// Why a parameter path cannot be read or used on a scene of any form.
+#[derive(Debug, Error)]
+pub enum AnyParameterError {
+    /// On a unit or chain scene.
+    #[error(transparent)]
+    Cells(#[from] ParameterError),
+    /// On a structure scene.
+    #[error(transparent)]
+    Structure(#[from] StructureParameterError),
+}
+
+impl AnyParameter {
+    /// Reads `path` as a parameter of `scene`'s form.
+    ///
+    /// # Errors
+    /// The form's refusal of a path it does not know, listing the paths it takes.
+    pub fn parse(scene: &AnyScene, path: &str) -> Result<AnyParameter, AnyParameterError> {
+        Ok(match scene {
+            AnyScene::Cells(_) => AnyParameter::Cells(path.parse()?),
+            AnyScene::Structure(_) => AnyParameter::Structure(path.parse()?),
+        })
+    }
+
+    /// The parameter's value in `scene`.
+    ///
+    /// # Errors
+    /// As [`SceneParameter::value`] and [`StructureParameter::value`]; a parameter of one form
+    /// on a scene of the other is [`StructureParameterError::Unknown`] or
+    /// [`ParameterError::Unknown`].
+    pub fn value(&self, scene: &AnyScene) -> Result<f64, AnyParameterError> {
+        match (self, scene) {
+            (AnyParameter::Cells(p), AnyScene::Cells(s)) => Ok(p.value(s)?),
+            (AnyParameter::Structure(p), AnyScene::Structure(form)) => Ok(p.value(&form.scene)?),
+            _ => Err(self.other_form()),
+        }
+    }
+
+    /// `scene` with this parameter set to `value`, checked.
+    ///
+    /// # Errors
+    /// As [`AnyParameter::value`], and the form's refusal of a value out of the field's range.
+    pub fn with_value(&self, scene: &AnyScene, value: f64) -> Result<AnyScene, AnyParameterError> {
+        match (self, scene) {
+            (AnyParameter::Cells(p), AnyScene::Cells(s)) => {
+                Ok(AnyScene::Cells(p.with_value(s, value)?))
+            }
+            (AnyParameter::Structure(p), AnyScene::Structure(form)) => Ok(AnyScene::Structure(
+                Box::new(p.with_value(&form.scene, value)?),
+            )),
+            _ => Err(self.other_form()),
+        }
+    }
+
+    /// The refusal of this parameter on a scene of the other form.
+    fn other_form(&self) -> AnyParameterError {
+        let path = self.to_string();
+        match self {
+            AnyParameter::Cells(_) => {
+                AnyParameterError::Structure(StructureParameterError::Unknown { path })
+            }
+            AnyParameter::Structure(_) => {
+                AnyParameterError::Cells(ParameterError::Unknown { path })
+            }
+        }
+    }
+}
+
+impl fmt::Display for AnyParameter {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            AnyParameter::Cells(p) => p.fmt(f),
+            AnyParameter::Structure(p) => p.fmt(f),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -364,5 +451,26 @@ mod tests {
             gap.value(&linear),
             Err(ParameterError::NoStops { .. })
         ));
+    }
+
+    #[test]
+    fn any_parameter_takes_the_path_of_the_scene_s_form() {
+        let unit = AnyScene::Cells(Scene::paper());
+        let p = AnyParameter::parse(&unit, "stops.gap").expect("a unit path");
+        assert_eq!(p.value(&unit).ok(), Some(0.5));
+        let set = p.with_value(&unit, 0.25).expect("valid");
+        assert_eq!(p.value(&set).ok(), Some(0.25));
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../data/scenes/impact-oscillator.json"
+        ))
+        .expect("the gallery scene");
+        let oscillator = AnyScene::parse(&text, "impact-oscillator.json").expect("valid");
+        let e = AnyParameter::parse(&oscillator, "stops.gap").expect_err("a unit path");
+        assert!(e.to_string().contains("structure.stops[K].gap_plus"), "{e}");
+        let q = AnyParameter::parse(&oscillator, "structure.stops[0].restitution").expect("a path");
+        let set = q.with_value(&oscillator, 0.5).expect("valid");
+        assert_eq!(q.value(&set).ok(), Some(0.5));
+        assert!(q.value(&unit).is_err() && p.value(&oscillator).is_err());
     }
 }
