@@ -50,7 +50,9 @@ use crate::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, Trajec
 use crate::output::{finite, Format};
 use crate::runs::basins::{write_basins, write_plane_basins, BasinGrid, BasinPlane, Basins};
 use crate::runs::boundary::{follow_any, BoundaryOptions, BoundaryRecord};
-use crate::runs::continuation::{follow, follow_chain, ChainFollowed, FollowError, Followed};
+use crate::runs::continuation::{
+    follow, follow_chain, follow_sequence, FollowError, Followed, SequenceFollowed,
+};
 use crate::runs::map::{write_map, MapError, MapGrid, MapSettings, WriteMapError};
 use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
@@ -63,13 +65,15 @@ use crate::scene::analytic::{
 use crate::scene::frequency::{FrequencyBounds, FrequencyError};
 use crate::scene::lyapunov::{check_periods, spectrum, structure_spectrum};
 use crate::scene::simulator::{model, rest, run, run_structure, SimulatedPoint};
-use crate::scene::structure::StructureForm;
+use crate::scene::structure::{Structure, StructureForm};
 use crate::scene::{AnyScene, Scene, SceneError};
 use crate::verdict::chain::{chain_cross_check, chain_orbits, ChainOrbitsError};
 use crate::verdict::structure::{record as structure_compare_record, structure_cross_check};
 use crate::verdict::{chain::ChainCheck, cross_check};
 use rattle_analytic::continuation::ContinuationSettings;
-use rattle_analytic::{sequence_orbits, ImpactSequence, SequenceOrbit, Signature, SignatureOrbit};
+use rattle_analytic::{
+    sequence_orbits, ImpactSequence, LinearModel, SequenceOrbit, Signature, SignatureOrbit,
+};
 use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
 use rattle_event_driven::SimulationOptions;
 use serde::{Serialize, Serializer};
@@ -601,18 +605,24 @@ pub fn signature_orbits(
     }
 }
 
-/// A signature as the user writes it for a structure: `<stop><side>` tokens, or with one stop
-/// the side characters alone (`+-` reads as `0+ 0-`).
-fn sequence_text(text: &str, stops: usize) -> String {
-    let bare = !text.is_empty() && text.chars().all(|c| matches!(c, '+' | '-'));
-    if stops == 1 && bare {
-        text.chars()
-            .map(|c| format!("0{c}"))
-            .collect::<Vec<_>>()
-            .join(" ")
-    } else {
-        text.to_owned()
+/// A structure's analytic model with the impact sequence `text` of its stops over `period`
+/// forcing periods, checked against it.
+fn structure_sequence(
+    form: &StructureForm,
+    text: &str,
+    period: u32,
+) -> Result<(LinearModel, ImpactSequence), ApiError> {
+    let structure = &form.structure;
+    if structure.stops.is_empty() {
+        return Err(ApiError::Argument(format!(
+            "--signature: structure '{}' has no stops: it has no impacting orbits",
+            form.scene.name
+        )));
     }
+    let sequence = structure.sequence(text, period).map_err(argument)?;
+    let model = structure.analytic_model().map_err(argument)?;
+    sequence.check(&model).map_err(argument)?;
+    Ok((model, sequence))
 }
 
 /// [`signature_orbits`] on a structure: every orbit of one impact sequence of its stops.
@@ -623,16 +633,7 @@ fn structure_orbits(
     period: u32,
 ) -> Result<SignatureOrbits, ApiError> {
     let structure = &form.structure;
-    if structure.stops.is_empty() {
-        return Err(ApiError::Argument(format!(
-            "--signature: structure '{}' has no stops: it has no impacting orbits",
-            form.scene.name
-        )));
-    }
-    let sequence = ImpactSequence::parse(&sequence_text(text, structure.stops.len()), period)
-        .map_err(argument)?;
-    let model = structure.analytic_model().map_err(argument)?;
-    sequence.check(&model).map_err(argument)?;
+    let (model, sequence) = structure_sequence(form, text, period)?;
     let found = sequence_orbits(&model, omega, &sequence).map_err(numerical)?;
     let n = structure.dofs();
     let record = StructureOrbitsRecord {
@@ -947,13 +948,20 @@ pub struct Continuation {
     pub branches: ContinuedBranches,
 }
 
-/// The branches of a [`Continuation`], a unit's or a chain's.
+/// The branches of a [`Continuation`], a unit's, a chain's or a structure's.
 #[derive(Debug, Clone)]
 pub enum ContinuedBranches {
     /// A unit's branches.
     Unit(Followed),
     /// A chain's branches, every point with every cell's outer amplitude.
-    Chain(ChainFollowed),
+    Chain(SequenceFollowed),
+    /// A structure's branches, every point with every body's amplitude.
+    Structure {
+        /// The branches.
+        followed: SequenceFollowed,
+        /// The structure they belong to (its bodies' names, the observed body, the base).
+        structure: Box<Structure>,
+    },
 }
 
 impl Serialize for Continuation {
@@ -979,27 +987,37 @@ impl Serialize for Continuation {
 /// ```
 /// use rattle_analytic::continuation::ContinuationSettings;
 /// use rattle_compare::api;
-/// use rattle_compare::scene::Scene;
+/// use rattle_compare::scene::{AnyScene, Scene};
 ///
 /// let settings = ContinuationSettings {
 ///     max_branches: 1,
 ///     follow_switches: false,
 ///     ..ContinuationSettings::new(1.9, 2.1)
 /// };
-/// let followed = api::continuation(&Scene::paper(), "+-", 1, 2.0, Some(0), &settings)?;
+/// let paper = AnyScene::Cells(Scene::paper());
+/// let followed = api::continuation(&paper, "+-", 1, 2.0, Some(0), &settings)?;
 /// assert_eq!(followed.record.signature, "+-");
 /// assert!(!followed.record.points.is_empty());
+///
+/// // A structure's orbits are of an impact sequence of its stops; `+` reads as `0+` with one.
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/impact-oscillator.json");
+/// let oscillator = api::load(path)?;
+/// let settings = ContinuationSettings { max_branches: 1, ..ContinuationSettings::new(1.4, 1.6) };
+/// let followed = api::continuation(&oscillator, "+", 1, 1.5, Some(0), &settings)?;
+/// assert_eq!(followed.record.signature, "0+");
+/// let json = serde_json::to_value(&followed).unwrap();
+/// assert!(json["points"][0]["body_amplitudes"]["x"].is_number());
 /// # Ok::<(), rattle_compare::api::ApiError>(())
 /// ```
 pub fn continuation(
-    scene: &Scene,
+    scene: &AnyScene,
     signature: &str,
     period: u32,
     omega: f64,
     orbit: Option<usize>,
     settings: &ContinuationSettings,
 ) -> Result<Continuation, ApiError> {
-    let omega = check_cells_frequency(scene, "--omega", omega)?;
+    let omega = check_frequency(scene, "--omega", omega)?;
     let error = |e: FollowError| match e {
         FollowError::OrbitIndex { .. }
         | FollowError::NoStops
@@ -1009,11 +1027,17 @@ pub fn continuation(
         FollowError::Continuation(ref c) if c.to_string().contains("out of range") => argument(e),
         _ => numerical(e),
     };
+    let scene = match scene {
+        AnyScene::Structure(form) => {
+            return structure_continuation(form, signature, period, omega, orbit, settings, error)
+        }
+        AnyScene::Cells(scene) => scene,
+    };
     if scene.is_chain() {
         let followed =
             follow_chain(scene, signature, period, omega, orbit, settings).map_err(error)?;
         return Ok(Continuation {
-            record: followed.record(&scene.name),
+            record: followed.record(scene),
             branches: ContinuedBranches::Chain(followed),
         });
     }
@@ -1022,6 +1046,31 @@ pub fn continuation(
     Ok(Continuation {
         record: followed.record(&scene.name),
         branches: ContinuedBranches::Unit(followed),
+    })
+}
+
+/// [`continuation`] on a structure: the orbits of an impact sequence of its stops, found as
+/// [`signature_orbits`] finds them, followed on the structure's analytic model.
+fn structure_continuation(
+    form: &StructureForm,
+    signature: &str,
+    period: u32,
+    omega: f64,
+    orbit: Option<usize>,
+    settings: &ContinuationSettings,
+    error: impl Fn(FollowError) -> ApiError,
+) -> Result<Continuation, ApiError> {
+    settings.validate().map_err(|e| error(e.into()))?;
+    let (model, sequence) = structure_sequence(form, signature, period)?;
+    let orbits = sequence_orbits(&model, omega, &sequence).map_err(numerical)?;
+    let followed =
+        follow_sequence(&model, sequence, orbits, omega, orbit, settings).map_err(error)?;
+    Ok(Continuation {
+        record: followed.structure_record(form),
+        branches: ContinuedBranches::Structure {
+            followed,
+            structure: Box::new(form.structure.clone()),
+        },
     })
 }
 
@@ -1034,10 +1083,10 @@ pub fn continuation(
 /// [`ApiError::Argument`] for options out of range (each named, with its range), a parameter
 /// the scene lacks, or a start the event does not admit; [`ApiError::Numerical`] when no
 /// orbit or event is found or the curve cannot start.
-pub fn boundary(scene: &Scene, options: &BoundaryOptions) -> Result<BoundaryRecord, ApiError> {
+pub fn boundary(scene: &AnyScene, options: &BoundaryOptions) -> Result<BoundaryRecord, ApiError> {
     let checked = options.checked().map_err(ApiError::Argument)?;
     let request = options
-        .request(&checked, scene.is_chain())
+        .request(&checked, scene)
         .map_err(ApiError::Argument)?;
     follow_any(scene, &request, &checked.settings).map_err(|e| {
         if e.is_bad_input() {

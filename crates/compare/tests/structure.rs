@@ -476,3 +476,143 @@ fn an_unexcited_undamped_body_makes_the_verdict_neutral() {
     assert_eq!(check.reason.map(|r| r.name()), Some("neutral"));
     assert!(check.relative_difference.unwrap() < 1e-9);
 }
+
+/// Where the closed form's count of period-1 orbits changes between `lo` and `hi` (its two
+/// orbits meet and vanish at a fold), bisected to rounding.
+fn closed_form_fold(drive: &str, gap: f64, (mut lo, mut hi): (f64, f64)) -> f64 {
+    let count = |omega: f64| {
+        closed_form(drive, gap, 0.8, omega)
+            .period_one_orbits_sampled(omega, 16)
+            .expect("in the closed form's range")
+            .len()
+    };
+    let at_lo = count(lo);
+    assert_ne!(at_lo, count(hi), "no fold in [{lo}, {hi}]");
+    while hi - lo > 4.0 * f64::EPSILON * hi {
+        let mid = 0.5 * (lo + hi);
+        if count(mid) == at_lo {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// The continuation of the oscillator's period-1 orbits, through its fold: every point is a
+/// closed-form orbit at its frequency (phase and amplitude), and the fold is the closed
+/// form's.
+#[test]
+fn continuation_follows_the_closed_form_branch_through_its_fold() {
+    use rattle_analytic::continuation::ContinuationSettings;
+    use rattle_compare::api::{self, ContinuedBranches};
+    let text = oscillator_scene("frame", 0.5, 0.8);
+    let scene = api::parse(&text).expect("a valid scene");
+    let settings = ContinuationSettings {
+        follow_switches: false,
+        ..ContinuationSettings::new(1.2, 2.5)
+    };
+    let continued = api::continuation(&scene, "+", 1, 1.8, Some(0), &settings).expect("followed");
+    let ContinuedBranches::Structure { followed, .. } = &continued.branches else {
+        panic!("a structure's branches")
+    };
+    let branch = &followed.continuation.branches[0];
+    assert!(branch.points.len() > 20, "{} points", branch.points.len());
+    let offset = closed_form("frame", 0.5, 0.8, 1.0).phase;
+    for p in &branch.points {
+        let reference = closed_form("frame", 0.5, 0.8, p.omega)
+            .period_one_orbits(p.omega)
+            .expect("in range");
+        let nearest = reference
+            .iter()
+            .min_by(|a, b| {
+                let d = |o: &PeriodOneOrbit| phase_distance(p.alpha + offset, o.forcing_phase);
+                d(a).total_cmp(&d(b))
+            })
+            .unwrap_or_else(|| panic!("no closed-form orbit at ω = {}", p.omega));
+        // Points are corrected onto the branch to the corrector's acceptance (1e-10); the
+        // closed form's amplitude is sampled on its viability grid (see the test above).
+        assert!(
+            phase_distance(p.alpha + offset, nearest.forcing_phase) < 1e-8,
+            "ω = {}: {} {nearest:?}",
+            p.omega,
+            p.alpha
+        );
+        assert!(
+            (p.amplitudes[0] - nearest.amplitude).abs() < 1e-8 * nearest.amplitude,
+            "ω = {}: {} {nearest:?}",
+            p.omega,
+            p.amplitudes[0]
+        );
+        assert_eq!(p.stable, nearest.stable, "ω = {}", p.omega);
+    }
+    let fold = followed
+        .continuation
+        .events
+        .iter()
+        .find(|e| e.kind == rattle_analytic::continuation::EventKind::Fold)
+        .expect("the branch folds");
+    let exact = closed_form_fold("frame", 0.5, (fold.omega - 1e-3, fold.omega + 1e-3));
+    assert!((fold.omega - exact).abs() < 1e-8, "{} {exact}", fold.omega);
+    // The record names the body and carries the observed body's amplitude.
+    let json = serde_json::to_value(&continued).expect("serializes");
+    let first = &json["points"][0];
+    assert_eq!(first["outer_amplitude"], first["body_amplitudes"]["x"]);
+}
+
+/// The fold followed in the gap: at each gap asked for, the curve's frequency is the closed
+/// form's fold at that gap.
+#[test]
+fn the_fold_boundary_in_the_gap_is_the_closed_form_fold() {
+    use rattle_compare::api;
+    use rattle_compare::runs::boundary::BoundaryOptions;
+    let scene = api::parse(&oscillator_scene("frame", 0.5, 0.8)).expect("a valid scene");
+    let options = BoundaryOptions {
+        signature: "+".into(),
+        period: 1,
+        event: "fold".into(),
+        omega: 1.85,
+        param: "structure.stops[0].gap_plus".into(),
+        min: 0.35,
+        max: 0.8,
+        at: vec![0.4, 0.6, 0.75],
+        omega_min: 1.0,
+        omega_max: 2.6,
+        max_step: 0.02,
+    };
+    let record = api::boundary(&scene, &options).expect("followed");
+    assert_eq!(record.param, "structure.stops[0].gap_plus");
+    assert!(record.at.len() >= 3, "{:?}", record.at);
+    for a in &record.at {
+        let exact = closed_form_fold("frame", a.param_value, (a.omega - 1e-3, a.omega + 1e-3));
+        assert!(
+            (a.omega - exact).abs() < 1e-8,
+            "gap {}: {} {exact}",
+            a.param_value,
+            a.omega
+        );
+    }
+    // A path of the other form is refused naming the flag and the paths a structure takes.
+    let e = api::boundary(
+        &scene,
+        &BoundaryOptions {
+            param: "stops.gap".into(),
+            ..options.clone()
+        },
+    )
+    .expect_err("a unit's path");
+    let text = e.to_string();
+    assert!(
+        text.contains("--param") && text.contains("structure.stops[K].gap_plus"),
+        "{text}"
+    );
+    let e = api::boundary(
+        &scene,
+        &BoundaryOptions {
+            param: "structure.stops[0].gap_minus".into(),
+            ..options
+        },
+    )
+    .expect_err("a one-sided stop");
+    assert!(e.to_string().contains("no side 2"), "{e}");
+}

@@ -64,11 +64,12 @@ fn boundary_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 /// `rattle boundary --json`: the event of one kind nearest `omega` on the branches of the
 /// signature's orbits there (on a chain: of an impact sequence of its pairs), followed in
 /// (ω, the scene parameter) within `[min, max]`; the command's record as JSON text. The
-/// options are checked by the command's own check ([`BoundaryOptions`]), in its order. A
-/// structure is refused by name, as the command refuses one.
+/// options are checked by the command's own check ([`BoundaryOptions`]), in its order. On a
+/// structure the signature is an impact sequence of its stops and the parameter a path of
+/// the structure form (`structure.stops[0].gap_plus`).
 #[pyfunction]
 fn boundary(py: Python<'_>, scene: &NativeScene, input: BoundaryInput) -> PyResult<String> {
-    let scene = scene.cells("rattle.boundary")?;
+    let scene = &scene.scene;
     let options = BoundaryOptions {
         signature: input.signature,
         period: u32::try_from(input.period).unwrap_or(0),

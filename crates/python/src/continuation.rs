@@ -1,7 +1,7 @@
 //! `rattle.continue_branch`: the orbits of a signature followed in frequency, as
 //! `rattle continue --json`, with the command's settings, checks and messages.
 
-use crate::common::{check_frequency, check_omega, compute_api, json, python_names};
+use crate::common::{check_any_frequency, check_omega, compute_api, json, python_names};
 use crate::scene::NativeScene;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
@@ -9,6 +9,7 @@ use pyo3::types::PyDict;
 use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::Signature;
 use rattle_compare::api;
+use rattle_compare::scene::AnyScene;
 
 /// The continuation's default `max_step`, `max_branches` and `max_depth`, as the command's.
 #[pyfunction]
@@ -22,9 +23,9 @@ fn continuation_defaults(py: Python<'_>) -> PyResult<Bound<'_, PyDict>> {
 }
 
 /// `rattle continue --json`: every orbit of `signature` (on a chain: an impact sequence of its
-/// pairs) at `omega` (or only the `orbit`-th) followed in ω over `[omega_min, omega_max]`,
-/// with the command's settings, checks and messages (options named as the Python parameters).
-/// A structure is refused by name, as the command refuses one.
+/// pairs; on a structure: of its stops) at `omega` (or only the `orbit`-th) followed in ω over
+/// `[omega_min, omega_max]`, with the command's settings, checks and messages (options named
+/// as the Python parameters).
 #[pyfunction]
 #[pyo3(signature = (scene, signature, omega, omega_min, omega_max, period, orbit, switch, max_step, max_branches, max_depth))]
 #[allow(clippy::too_many_arguments)]
@@ -44,11 +45,11 @@ fn continue_branch(
 ) -> PyResult<String> {
     // The command's checks in the command's order, so that the first bad argument gets the
     // command's message: the settings and the range of `omega`, then the scene and its bounds.
-    let scene = scene.cells("rattle.continue_branch")?;
+    let scene = &scene.scene;
     let omega = check_omega("omega", omega)?;
     let period = u32::try_from(period).unwrap_or(0);
     let text = signature;
-    if !scene.is_chain() {
+    if matches!(scene, AnyScene::Cells(s) if !s.is_chain()) {
         // A unit's signature is checked first, so that its message comes before the
         // settings'; a chain's impact sequence is parsed against the chain, as the command
         // does ([`api::continuation`]).
@@ -90,8 +91,8 @@ fn continue_branch(
             "omega = {omega} is out of range: must be in [omega_min, omega_max] = [{omega_min}, {omega_max}]"
         )));
     }
-    check_frequency(scene, "omega_min", omega_min)?;
-    check_frequency(scene, "omega_max", omega_max)?;
+    check_any_frequency(scene, "omega_min", omega_min)?;
+    check_any_frequency(scene, "omega_max", omega_max)?;
     let orbit = orbit
         .map(|k| {
             usize::try_from(k).map_err(|_| {

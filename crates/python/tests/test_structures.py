@@ -210,12 +210,47 @@ def test_body_amplitudes_of_a_units_sweep_is_refused():
         ours.body_amplitudes()
 
 
+def test_continue_branch_on_a_structure_is_the_commands(rattle_cli):
+    scene = rattle.Scene.from_file(OSCILLATOR)
+    ours = rattle.continue_branch(scene, "+", 1.8, 1.2, 2.5, orbit=0, switch=False)
+    theirs = rattle_cli.json(
+        "continue", OSCILLATOR, "--signature", "+", "--omega", 1.8, "--omega-min", 1.2,
+        "--omega-max", 2.5, "--orbit", 0, "--no-switch",
+    )
+    assert ours.to_dict() == theirs
+    assert ours.signature == "0+"
+    by_body = ours.body_amplitudes()
+    assert list(by_body) == ["x"]
+    assert np.array_equal(
+        by_body["x"], ours.points_columns()["outer_amplitude"], equal_nan=True
+    )
+    with pytest.raises(ValueError, match="Continuation.body_amplitudes"):
+        rattle.continue_branch(
+            rattle.Scene.paper(), "+-", 2.0, 1.9, 2.1, orbit=0, switch=False, max_branches=1
+        ).body_amplitudes()
+
+
+def test_boundary_on_a_structure_is_the_commands(rattle_cli):
+    scene = rattle.Scene.from_file(OSCILLATOR)
+    path = "structure.stops[0].gap_plus"
+    ours = rattle.boundary(
+        scene, "+", "fold", 1.85, path, 0.4, 0.6, at=[0.5], omega_min=1.0, omega_max=2.6
+    )
+    theirs = rattle_cli.json(
+        "boundary", OSCILLATOR, "--signature", "+", "--event", "fold", "--omega", 1.85,
+        "--param", path, "--min", 0.4, "--max", 0.6, "--at", 0.5, "--omega-min", 1.0,
+        "--omega-max", 2.6,
+    )
+    assert ours.to_dict() == theirs
+    assert theirs["param"] == path and theirs["at"]
+    with pytest.raises(ValueError, match=r"param.*structure\.stops\[K\]\.gap_plus"):
+        rattle.boundary(scene, "+", "fold", 1.85, "stops.gap", 0.4, 0.6)
+
+
 #: Every call of the package that takes the unit and chain forms only, on a structure.
 REFUSALS = {
     "rattle.orbit(signature=None)": lambda s: rattle.orbit(s, 1.8),
     "rattle.orbit_trajectory": lambda s: rattle.orbit_trajectory(s, 1.8, "+"),
-    "rattle.continue_branch": lambda s: rattle.continue_branch(s, "+", 1.8, 1.0, 2.0),
-    "rattle.boundary": lambda s: rattle.boundary(s, "+", "grazing", 1.8, "stops.gap", 0.1, 1.0),
     "rattle.map": lambda s: rattle.map(s, (0.8, 0.8, 1), (0.5, 0.5, 1), (1.0, 2.0, 2)),
     "rattle.basins": lambda s: rattle.basins(s, 1.8, points=2),
     "rattle.sweep(shard=...)": lambda s: rattle.sweep(s, [1.0, 2.0], shard=(1, 2)),
@@ -237,7 +272,6 @@ def test_a_structure_is_refused_by_name(call):
     [
         ["orbit", "--omega", 1.8],
         ["orbit", "--omega", 1.8, "--signature", "+", "--trajectory", "t.csv"],
-        ["continue", "--signature", "+", "--omega", 1.8, "--omega-min", 1.0, "--omega-max", 2.0],
         ["sweep", "--omega-min", 1.0, "--omega-max", 2.0, "--points", 2, "--shard", "1/2",
          "--out", "s.json"],
     ],

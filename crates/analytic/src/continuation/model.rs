@@ -187,6 +187,7 @@ impl BranchModel for ModelBranch<'_> {
             return Verdicts {
                 outer_amplitude: nan,
                 cell_outer_amplitudes: vec![nan; cells],
+                amplitudes: vec![nan; self.model.dofs()],
                 transmittance_db: nan,
                 stable: false,
                 viable: false,
@@ -216,6 +217,7 @@ impl BranchModel for ModelBranch<'_> {
         Verdicts {
             outer_amplitude: orbit.outer_amplitude,
             cell_outer_amplitudes: orbit.cell_outer_amplitudes,
+            amplitudes: orbit.amplitudes,
             transmittance_db: orbit.transmittance_db,
             stable: orbit.stable,
             viable: orbit.viable,

@@ -21,6 +21,10 @@ pub struct ContinuationPoint {
     /// coordinate (rigorous extrema): one entry on the unit, equal to `outer_amplitude`; on a
     /// chain `outer_amplitude` is the last cell's.
     pub cell_outer_amplitudes: Vec<f64>,
+    /// On a model's branch: every coordinate's amplitude `max |u_k(t)|` over the cycle, in
+    /// model order (rigorous extrema), the way any structure reads its bodies' motion; empty
+    /// on the unit's (whose amplitude is `outer_amplitude`).
+    pub amplitudes: Vec<f64>,
     /// `20 log10(X_o / X_s)`, `X_s` the static displacement of that coordinate (`u_g` on the
     /// unit and on a base-driven chain).
     pub transmittance_db: f64,

@@ -106,6 +106,8 @@ pub(crate) struct Verdicts {
     pub(crate) outer_amplitude: f64,
     /// Each cell's outer amplitude.
     pub(crate) cell_outer_amplitudes: Vec<f64>,
+    /// Every coordinate's amplitude (a model's; empty on the unit).
+    pub(crate) amplitudes: Vec<f64>,
     /// `20 log10(X_o / X_s)`.
     pub(crate) transmittance_db: f64,
     /// Every multiplier inside the unit circle.
@@ -383,6 +385,7 @@ impl<M: BranchModel> System<M> {
             impact_phases,
             outer_amplitude: verdicts.outer_amplitude,
             cell_outer_amplitudes: verdicts.cell_outer_amplitudes,
+            amplitudes: verdicts.amplitudes,
             transmittance_db: verdicts.transmittance_db,
             stable: verdicts.stable,
             viable: verdicts.viable,

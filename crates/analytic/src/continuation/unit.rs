@@ -234,6 +234,7 @@ impl BranchModel for UnitBranch<'_> {
         Verdicts {
             outer_amplitude,
             cell_outer_amplitudes: vec![outer_amplitude],
+            amplitudes: Vec::new(),
             transmittance_db: transmittance_db(outer_amplitude, self.unit.base_amplitude),
             stable,
             viable,

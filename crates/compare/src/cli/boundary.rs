@@ -2,7 +2,7 @@
 //! branch point, period doubling, Neimark–Sacker, grazing, vanishing impact) of a signature's
 //! orbits followed in (ω, a scene parameter).
 
-use super::{load, write_record, RattleError};
+use super::{load_any, write_record, RattleError};
 use crate::api;
 use crate::output::{finite, table_row, Format};
 use crate::runs::boundary::{BoundaryOptions, BoundaryRecord};
@@ -120,7 +120,7 @@ pub fn run(args: BoundaryArgs) -> Result<String, RattleError> {
             "--out: a boundary is written as .csv (points) or .json (the whole document)".into(),
         ));
     }
-    let scene = load(&args.scene)?;
+    let scene = load_any(&args.scene)?;
     let record = api::boundary(&scene, &options)?;
     write(&args, format, &record)
 }

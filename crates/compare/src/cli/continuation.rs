@@ -1,13 +1,14 @@
 //! `rattle continue`: the branches through every orbit of a signature (on a chain: an impact
 //! sequence) at one frequency, followed in ω with their bifurcations.
 
-use super::{check_frequency, check_omega, load, write_record, RattleError};
+use super::{check_omega, load_any, write_record, RattleError};
 use crate::api::{self, ContinuedBranches};
 use crate::output::records::ContinuationRecord;
 use crate::output::{finite, number_list, table_row, Format};
-use crate::runs::continuation::{ChainFollowed, Followed};
+use crate::runs::continuation::{Followed, SequenceFollowed};
+use crate::scene::structure::Structure;
 use clap::Args;
-use rattle_analytic::continuation::ContinuationSettings;
+use rattle_analytic::continuation::{ContinuationPoint, ContinuationSettings};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
@@ -119,7 +120,7 @@ table_row! {
 }
 
 /// The rows of every point of a chain's `f`.
-fn chain_rows(f: &ChainFollowed) -> impl Iterator<Item = ChainContinuationRow> + '_ {
+fn chain_rows(f: &SequenceFollowed) -> impl Iterator<Item = ChainContinuationRow> + '_ {
     f.continuation.branches.iter().flat_map(|b| {
         b.points.iter().map(move |p| ChainContinuationRow {
             branch: b.index,
@@ -131,15 +132,73 @@ fn chain_rows(f: &ChainFollowed) -> impl Iterator<Item = ChainContinuationRow> +
             transmittance_db: finite(p.transmittance_db),
             stable: p.stable,
             viable: p.viable,
-            largest_multiplier: p
-                .floquet_multipliers
-                .iter()
-                .map(|m| m.norm())
-                .reduce(f64::max)
-                .and_then(finite),
+            largest_multiplier: largest_multiplier(p),
             cell_outer_amplitudes: number_list(&p.cell_outer_amplitudes),
         })
     })
+}
+
+table_row! {
+    /// One point of a structure's continued branch, as a CSV row: the unit's columns for the
+    /// observed body and every body's amplitude.
+    pub struct StructureContinuationRow {
+        /// Index of its branch.
+        pub branch: usize,
+        /// The branch's canonical impact sequence of the stops.
+        pub signature: String,
+        /// Forcing periods per cycle.
+        pub period: u32,
+        /// Angular frequency, rad/s.
+        pub omega: Option<f64>,
+        /// The forcing's phase at the first canonical impact, rad.
+        pub alpha: Option<f64>,
+        /// The observed body's amplitude, m.
+        pub outer_amplitude: Option<f64>,
+        /// `20 log10(outer_amplitude / u_g)`, dB, when the base moves.
+        pub transmittance_db: Option<f64>,
+        /// Every Floquet multiplier inside the unit circle.
+        pub stable: bool,
+        /// No penetration, every impact from inside, no extra impact.
+        pub viable: bool,
+        /// The largest modulus of a Floquet multiplier.
+        pub largest_multiplier: Option<f64>,
+        /// `max|u|` of every body in the scene's order, m: a list, `;`-separated.
+        pub body_amplitudes: Option<String>,
+    }
+}
+
+/// The rows of every point of a structure's `f`.
+fn structure_rows<'a>(
+    structure: &'a Structure,
+    f: &'a SequenceFollowed,
+) -> impl Iterator<Item = StructureContinuationRow> + 'a {
+    f.continuation.branches.iter().flat_map(move |b| {
+        b.points.iter().map(move |p| {
+            let observed = p.amplitudes.get(structure.observe).copied();
+            StructureContinuationRow {
+                branch: b.index,
+                signature: b.signature.to_string(),
+                period: b.period,
+                omega: finite(p.omega),
+                alpha: finite(p.alpha),
+                outer_amplitude: observed.and_then(finite),
+                transmittance_db: observed.and_then(|x| structure.transmittance_db(x)),
+                stable: p.stable,
+                viable: p.viable,
+                largest_multiplier: largest_multiplier(p),
+                body_amplitudes: number_list(&p.amplitudes),
+            }
+        })
+    })
+}
+
+/// The largest modulus of `p`'s Floquet multipliers.
+fn largest_multiplier(p: &ContinuationPoint) -> Option<f64> {
+    p.floquet_multipliers
+        .iter()
+        .map(|m| m.norm())
+        .reduce(f64::max)
+        .and_then(finite)
 }
 
 /// The rows of every point of `f`.
@@ -155,12 +214,7 @@ fn rows(f: &Followed) -> impl Iterator<Item = ContinuationRow> + '_ {
             transmittance_db: finite(p.transmittance_db),
             stable: p.stable,
             viable: p.viable,
-            largest_multiplier: p
-                .floquet_multipliers
-                .iter()
-                .map(|m| m.norm())
-                .reduce(f64::max)
-                .and_then(finite),
+            largest_multiplier: largest_multiplier(p),
         })
     })
 }
@@ -189,9 +243,9 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
                 .into(),
         ));
     }
-    let scene = load(&args.scene)?;
-    check_frequency(&scene, "--omega-min", args.omega_min)?;
-    check_frequency(&scene, "--omega-max", args.omega_max)?;
+    let scene = load_any(&args.scene)?;
+    api::check_frequency(&scene, "--omega-min", args.omega_min)?;
+    api::check_frequency(&scene, "--omega-max", args.omega_max)?;
     let continued = api::continuation(
         &scene,
         &args.signature,
@@ -207,6 +261,12 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
         ContinuedBranches::Chain(followed) => {
             write(&args, format, &continued.record, || chain_rows(followed))
         }
+        ContinuedBranches::Structure {
+            followed,
+            structure,
+        } => write(&args, format, &continued.record, || {
+            structure_rows(structure, followed)
+        }),
     }
 }
 

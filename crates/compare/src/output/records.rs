@@ -3,9 +3,11 @@
 
 use super::finite;
 use crate::scene::simulator::SimulatedPoint;
+use crate::scene::structure::Structure;
 use crate::scene::Scene;
 use nalgebra::{Complex, Vector4};
 use rattle_analytic::{LinearResponse, Orbit, SequenceOrbit, SignatureOrbit, Violation};
+use serde::ser::{SerializeMap, Serializer};
 use serde::Serialize;
 
 /// A state `(u_o, u_i, u̇_o, u̇_i)`.
@@ -544,6 +546,10 @@ pub struct ContinuationPointRecord {
     /// last); absent on a single unit.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cell_outer_amplitudes: Option<Vec<Option<f64>>>,
+    /// On a structure: every body's amplitude by name, m (`outer_amplitude` is the observed
+    /// body's); absent on a unit or a chain.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub body_amplitudes: Option<ByBody>,
 }
 
 impl ContinuationPointRecord {
@@ -560,6 +566,7 @@ impl ContinuationPointRecord {
             viable: p.viable,
             floquet_multipliers: multipliers(&p.floquet_multipliers),
             cell_outer_amplitudes: None,
+            body_amplitudes: None,
         }
     }
 
@@ -569,6 +576,21 @@ impl ContinuationPointRecord {
             cell_outer_amplitudes: Some(
                 p.cell_outer_amplitudes.iter().map(|&a| finite(a)).collect(),
             ),
+            ..Self::new(p)
+        }
+    }
+
+    /// The record of a structure's point `p`: the observed body's amplitude and transmittance,
+    /// with every body's amplitude.
+    pub fn of_structure(
+        structure: &Structure,
+        p: &rattle_analytic::continuation::ContinuationPoint,
+    ) -> Self {
+        let observed = p.amplitudes.get(structure.observe).copied();
+        Self {
+            outer_amplitude: observed.and_then(finite),
+            transmittance_db: observed.and_then(|x| structure.transmittance_db(x)),
+            body_amplitudes: Some(ByBody::new(structure, &p.amplitudes)),
             ..Self::new(p)
         }
     }
@@ -621,6 +643,34 @@ pub struct EndRecord {
     /// For `joins`: the branch it runs onto (itself for a branch that is its own mirror
     /// image); else `null`.
     pub joins: Option<usize>,
+}
+
+/// Each body's value by its name, in the scene's order (a JSON object).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ByBody(pub Vec<(String, Option<f64>)>);
+
+impl ByBody {
+    /// `values[k]` for every body `k` of `structure` (non-finite values `null`).
+    pub fn new(structure: &Structure, values: &[f64]) -> Self {
+        Self(
+            structure
+                .names
+                .iter()
+                .enumerate()
+                .map(|(k, name)| (name.clone(), values.get(k).copied().and_then(finite)))
+                .collect(),
+        )
+    }
+}
+
+impl Serialize for ByBody {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.0.len()))?;
+        for (name, value) in &self.0 {
+            map.serialize_entry(name, value)?;
+        }
+        map.end()
+    }
 }
 
 /// `rattle continue --json`.

@@ -3,40 +3,11 @@
 //! is named by the scene's own name for it.
 
 use crate::output::finite;
-use crate::output::records::{multipliers, ChainConfirmationRecord};
+use crate::output::records::{multipliers, ByBody, ChainConfirmationRecord};
 use crate::scene::simulator::SimulatedPoint;
 use crate::scene::structure::{Structure, StructureScene};
-use rattle_analytic::linear::transmittance_db;
 use rattle_analytic::SequenceOrbit;
 use serde::ser::{Serialize, SerializeMap, Serializer};
-
-/// Each body's value by its name, in the scene's order (a JSON object).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ByBody(pub Vec<(String, Option<f64>)>);
-
-impl ByBody {
-    /// `values[k]` for every body `k` of `structure` (non-finite values `null`).
-    pub fn new(structure: &Structure, values: &[f64]) -> Self {
-        Self(
-            structure
-                .names
-                .iter()
-                .enumerate()
-                .map(|(k, name)| (name.clone(), values.get(k).copied().and_then(finite)))
-                .collect(),
-        )
-    }
-}
-
-impl Serialize for ByBody {
-    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-        let mut map = serializer.serialize_map(Some(self.0.len()))?;
-        for (name, value) in &self.0 {
-            map.serialize_entry(name, value)?;
-        }
-        map.end()
-    }
-}
 
 /// Where a structure's result was computed.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -76,10 +47,7 @@ impl StructureAt {
 /// The transmittance `20 log10(X / u_g)` of the observed body's amplitude `X`, when the base
 /// moves.
 fn transmittance(structure: &Structure, amplitudes: &[f64]) -> Option<f64> {
-    let x = *amplitudes.get(structure.observe)?;
-    structure
-        .base_amplitude
-        .and_then(|ug| finite(transmittance_db(x, ug)))
+    structure.transmittance_db(*amplitudes.get(structure.observe)?)
 }
 
 /// What `rattle simulate --json` prints for a structure.

@@ -224,7 +224,14 @@ pub fn follow_events(
         follow_boundary(&start, settings)
             .map(|b| {
                 let period = b.signature.period();
-                boundary::record(scene, param, (param_start, event.omega), period, &b)
+                boundary::record(
+                    &scene.name,
+                    param,
+                    (param_start, event.omega),
+                    period,
+                    &b,
+                    |p| p.outer_amplitude,
+                )
             })
             .map_err(|e| e.to_string())
     });

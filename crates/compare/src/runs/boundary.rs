@@ -1,15 +1,18 @@
 //! One regime boundary of a scene: the event of one kind nearest a frequency on the
 //! branches of a signature's orbits there, followed in (ω, a scene parameter) by
 //! [`rattle_analytic::follow_boundary`] on a unit ([`follow`]), by
-//! [`rattle_analytic::follow_sequence_boundary`] on a chain ([`follow_chain`]).
+//! [`rattle_analytic::follow_sequence_boundary`] on a chain ([`follow_chain`]) and on a
+//! structure ([`follow_structure`]).
 
 use crate::scene::analytic::{chain_model, orbits_of_signature};
-use crate::scene::parameter::{ParameterError, SceneParameter};
-use crate::scene::Scene;
+use crate::scene::parameter::{AnyParameter, AnyParameterError, ParameterError, SceneParameter};
+use crate::scene::structure::StructureForm;
+use crate::scene::structure_parameter::{StructureParameter, StructureParameterError};
+use crate::scene::{AnyScene, Scene};
 use rattle_analytic::continuation::{
     continue_orbit, continue_sequence, follow_boundary, follow_sequence_boundary, Boundary,
-    BoundaryError, BoundarySettings, BoundarySpecialPoint, BoundaryStart, ContinuationError,
-    ContinuationSettings, Event, EventKind, SequenceBoundaryStart, SpecialKind,
+    BoundaryError, BoundaryPoint, BoundarySettings, BoundarySpecialPoint, BoundaryStart,
+    ContinuationError, ContinuationSettings, Event, EventKind, SequenceBoundaryStart, SpecialKind,
 };
 use rattle_analytic::{sequence_orbits, ImpactSequence, LinearModel, Signature, Stops, Unit};
 use serde::Serialize;
@@ -46,6 +49,21 @@ pub struct ChainBoundaryRequest {
     pub at: Vec<f64>,
 }
 
+/// What to follow on a structure scene.
+#[derive(Debug, Clone)]
+pub struct StructureBoundaryRequest {
+    /// The impact sequence of the orbits (stops numbered from 0 in file order).
+    pub sequence: ImpactSequence,
+    /// The event kind.
+    pub kind: EventKind,
+    /// The frequency near which the event is looked for, rad/s.
+    pub omega: f64,
+    /// The structure parameter varied.
+    pub param: StructureParameter,
+    /// Parameter values at which the curve's ω is solved.
+    pub at: Vec<f64>,
+}
+
 /// Why no boundary could be followed.
 #[derive(Debug, Error)]
 pub enum BoundaryRunError {
@@ -63,15 +81,21 @@ pub enum BoundaryRunError {
     Sequence(String),
     /// The parameter cannot be read from the scene or set.
     #[error("--param: {0}")]
-    Parameter(#[from] ParameterError),
+    Parameter(#[from] AnyParameterError),
     /// `--min` or `--max` outside the parameter's physical range.
     #[error("{option}: {source}")]
     Range {
         /// `--min` or `--max`.
         option: &'static str,
         /// The scene's refusal, naming the path and its range.
-        source: ParameterError,
+        source: AnyParameterError,
     },
+    /// The request was made for a scene of another form than the one given.
+    #[error("the boundary's request was made for a scene of another form (unit, chain or structure) than the one given")]
+    OtherForm,
+    /// The structure's analytic model refuses it.
+    #[error("{0}")]
+    Model(#[from] rattle_analytic::ModelError),
     /// No orbit of the signature at `--omega`.
     #[error("no {signature} orbit over {period} period(s) at --omega = {omega}: nothing to follow (try `rattle orbit --signature`)")]
     NoOrbit {
@@ -104,6 +128,18 @@ pub enum BoundaryRunError {
     Boundary(#[from] BoundaryError),
 }
 
+impl From<ParameterError> for BoundaryRunError {
+    fn from(e: ParameterError) -> Self {
+        BoundaryRunError::Parameter(e.into())
+    }
+}
+
+impl From<StructureParameterError> for BoundaryRunError {
+    fn from(e: StructureParameterError) -> Self {
+        BoundaryRunError::Parameter(e.into())
+    }
+}
+
 /// One point of a boundary, as written.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct BoundaryPointRecord {
@@ -111,7 +147,7 @@ pub struct BoundaryPointRecord {
     pub param_value: f64,
     /// Forcing frequency, rad/s.
     pub omega: f64,
-    /// `X_o`.
+    /// `X_o` (on a structure: the observed body's amplitude).
     pub outer_amplitude: f64,
     /// The event's multiplier, `[re, im]`.
     pub critical_multiplier: [f64; 2],
@@ -300,8 +336,8 @@ pub struct CheckedOptions {
     pub kind: EventKind,
     /// The frequency near which the event is looked for, rad/s.
     pub omega: f64,
-    /// The scene parameter.
-    pub param: SceneParameter,
+    /// The scene parameter (of the unit and chain forms, or of the structure form).
+    pub param: AnyParameter,
     /// The curve's settings.
     pub settings: BoundarySettings,
 }
@@ -313,6 +349,8 @@ pub enum AnyBoundaryRequest {
     Unit(BoundaryRequest),
     /// On a chain scene.
     Chain(ChainBoundaryRequest),
+    /// On a structure scene.
+    Structure(StructureBoundaryRequest),
 }
 
 /// The event kinds, in the order the command lists them.
@@ -348,7 +386,7 @@ impl BoundaryOptions {
                     self.event
                 )
             })?;
-        let param: SceneParameter = self.param.parse().map_err(|e| format!("--param: {e}"))?;
+        let param: AnyParameter = self.param.parse().map_err(|e| format!("--param: {e}"))?;
         let settings = BoundarySettings {
             omega_min: self.omega_min,
             omega_max: self.omega_max,
@@ -374,19 +412,45 @@ impl BoundaryOptions {
         })
     }
 
-    /// The request on a unit scene, or on a chain scene when `chain` (the signature then an
-    /// impact sequence of the chain's pairs).
+    /// The request on `scene`: on a chain the signature is an impact sequence of its pairs,
+    /// on a structure of its stops.
     ///
     /// # Errors
-    /// A message naming `--signature` or `--period` when the signature does not parse.
+    /// A message naming `--signature` or `--period` when the signature does not parse, and
+    /// `--param` for a path of the other form than the scene's.
     pub fn request(
         &self,
         checked: &CheckedOptions,
-        chain: bool,
+        scene: &AnyScene,
     ) -> Result<AnyBoundaryRequest, String> {
-        let (kind, omega, param, at) =
-            (checked.kind, checked.omega, checked.param, self.at.clone());
-        Ok(if chain {
+        let (kind, omega, at) = (checked.kind, checked.omega, self.at.clone());
+        let path = checked.param.to_string();
+        let bad_param = |e: AnyParameterError| format!("--param: {e}");
+        let (scene, param) = match scene {
+            AnyScene::Structure(form) => {
+                let param: StructureParameter = path
+                    .parse()
+                    .map_err(|e: StructureParameterError| bad_param(e.into()))?;
+                let sequence = form
+                    .structure
+                    .sequence(&self.signature, self.period)
+                    .map_err(|e| format!("--signature: {e}"))?;
+                return Ok(AnyBoundaryRequest::Structure(StructureBoundaryRequest {
+                    sequence,
+                    kind,
+                    omega,
+                    param,
+                    at,
+                }));
+            }
+            AnyScene::Cells(scene) => {
+                let param: SceneParameter = path
+                    .parse()
+                    .map_err(|e: ParameterError| bad_param(e.into()))?;
+                (scene, param)
+            }
+        };
+        Ok(if scene.is_chain() {
             let sequence = ImpactSequence::parse(&self.signature, self.period)
                 .map_err(|e| format!("--signature: {e}"))?;
             AnyBoundaryRequest::Chain(ChainBoundaryRequest {
@@ -421,6 +485,7 @@ impl BoundaryRunError {
                 | BoundaryRunError::Sequence(_)
                 | BoundaryRunError::Parameter(_)
                 | BoundaryRunError::Range { .. }
+                | BoundaryRunError::OtherForm
                 | BoundaryRunError::Boundary(BoundaryError::Setting { .. })
                 | BoundaryRunError::Boundary(BoundaryError::Unsupported { .. })
         )
@@ -433,13 +498,17 @@ impl BoundaryRunError {
 /// # Errors
 /// See [`BoundaryRunError`].
 pub fn follow_any(
-    scene: &Scene,
+    scene: &AnyScene,
     request: &AnyBoundaryRequest,
     settings: &BoundarySettings,
 ) -> Result<BoundaryRecord, BoundaryRunError> {
-    match request {
-        AnyBoundaryRequest::Unit(r) => follow(scene, r, settings),
-        AnyBoundaryRequest::Chain(r) => follow_chain(scene, r, settings),
+    match (scene, request) {
+        (AnyScene::Cells(scene), AnyBoundaryRequest::Unit(r)) => follow(scene, r, settings),
+        (AnyScene::Cells(scene), AnyBoundaryRequest::Chain(r)) => follow_chain(scene, r, settings),
+        (AnyScene::Structure(form), AnyBoundaryRequest::Structure(r)) => {
+            follow_structure(form, r, settings)
+        }
+        _ => Err(BoundaryRunError::OtherForm),
     }
 }
 
@@ -463,11 +532,12 @@ pub fn follow(
     };
     let boundary = follow_boundary(&start, settings)?;
     Ok(record(
-        scene,
+        &scene.name,
         &request.param,
         (param_start, event.omega),
         boundary.signature.period(),
         &boundary,
+        |p| p.outer_amplitude,
     ))
 }
 
@@ -483,7 +553,10 @@ fn param_start(
     for (option, value) in [("--min", settings.param_min), ("--max", settings.param_max)] {
         param
             .with_value(scene, value)
-            .map_err(|e| BoundaryRunError::Range { option, source: e })?;
+            .map_err(|e| BoundaryRunError::Range {
+                option,
+                source: e.into(),
+            })?;
     }
     Ok(start)
 }
@@ -498,20 +571,20 @@ fn model_at(
     chain_model(&scene).map_err(|cell| BoundaryRunError::CellWithoutStops { cell })
 }
 
-/// The event of `request.kind` nearest `request.omega` on the branches through every orbit of
-/// the sequence at `request.omega` on the chain `model`.
-fn nearest_chain_event(
+/// The event of `kind` nearest `omega` on the branches through every orbit of `sequence`
+/// at `omega` on `model` (a chain's, a structure's).
+fn nearest_sequence_event(
     model: &LinearModel,
-    request: &ChainBoundaryRequest,
+    (sequence, kind, omega): (&ImpactSequence, EventKind, f64),
     settings: &BoundarySettings,
 ) -> Result<Event<ImpactSequence>, BoundaryRunError> {
-    let starts = sequence_orbits(model, request.omega, &request.sequence)
+    let starts = sequence_orbits(model, omega, sequence)
         .map_err(|e| BoundaryRunError::Sequence(e.to_string()))?;
     if starts.is_empty() {
         return Err(BoundaryRunError::NoOrbit {
-            signature: request.sequence.to_string(),
-            period: request.sequence.period(),
-            omega: request.omega,
+            signature: sequence.to_string(),
+            period: sequence.period(),
+            omega,
         });
     }
     let continuation = ContinuationSettings {
@@ -521,17 +594,17 @@ fn nearest_chain_event(
     let mut best: Option<Event<ImpactSequence>> = None;
     for start in &starts {
         let c = continue_sequence(model, start, &continuation)?;
-        for e in c.events.into_iter().filter(|e| e.kind == request.kind) {
-            let d = |e: &Event<ImpactSequence>| (e.omega - request.omega).abs();
+        for e in c.events.into_iter().filter(|e| e.kind == kind) {
+            let d = |e: &Event<ImpactSequence>| (e.omega - omega).abs();
             if best.as_ref().is_none_or(|b| d(&e) < d(b)) {
                 best = Some(e);
             }
         }
     }
     best.ok_or_else(|| BoundaryRunError::NoEvent {
-        kind: request.kind.name(),
-        signature: request.sequence.to_string(),
-        omega: request.omega,
+        kind: kind.name(),
+        signature: sequence.to_string(),
+        omega,
         min: settings.omega_min,
         max: settings.omega_max,
     })
@@ -551,7 +624,11 @@ pub fn follow_chain(
 ) -> Result<BoundaryRecord, BoundaryRunError> {
     let param_start = param_start(scene, &request.param, settings)?;
     let model = model_at(scene, &request.param, param_start)?;
-    let event = nearest_chain_event(&model, request, settings)?;
+    let event = nearest_sequence_event(
+        &model,
+        (&request.sequence, request.kind, request.omega),
+        settings,
+    )?;
     let start = SequenceBoundaryStart {
         model_at: |v: f64| model_at(scene, &request.param, v),
         sequence: &request.sequence,
@@ -561,25 +638,91 @@ pub fn follow_chain(
     };
     let boundary = follow_sequence_boundary(&start, settings)?;
     Ok(record(
-        scene,
+        &scene.name,
         &request.param,
         (param_start, event.omega),
         request.sequence.period(),
         &boundary,
+        |p| p.outer_amplitude,
     ))
 }
 
-/// The written form of `boundary` (of orbits over `period` forcing periods), started at
-/// `param_start` from the event at `omega_start`.
+/// Follows the boundary of `request` on the structure `form` within `settings`: as
+/// [`follow_chain`], on the structure's orbits of an impact sequence of its stops, the
+/// parameter a field of the structure scene; each point's amplitude is the observed body's.
+///
+/// # Errors
+/// See [`BoundaryRunError`]; [`BoundaryRunError::Sequence`] for a sequence naming a stop the
+/// structure lacks.
+pub fn follow_structure(
+    form: &StructureForm,
+    request: &StructureBoundaryRequest,
+    settings: &BoundarySettings,
+) -> Result<BoundaryRecord, BoundaryRunError> {
+    settings.validate()?;
+    let param = &request.param;
+    let param_start = param.value(&form.scene)?;
+    for (option, value) in [("--min", settings.param_min), ("--max", settings.param_max)] {
+        param
+            .with_value(&form.scene, value)
+            .map_err(|e| BoundaryRunError::Range {
+                option,
+                source: e.into(),
+            })?;
+    }
+    let model_at = |v: f64| -> Result<LinearModel, BoundaryRunError> {
+        Ok(param
+            .with_value(&form.scene, v)?
+            .structure
+            .analytic_model()?)
+    };
+    let model = model_at(param_start)?;
+    request
+        .sequence
+        .check(&model)
+        .map_err(|e| BoundaryRunError::Sequence(e.to_string()))?;
+    let event = nearest_sequence_event(
+        &model,
+        (&request.sequence, request.kind, request.omega),
+        settings,
+    )?;
+    let start = SequenceBoundaryStart {
+        model_at,
+        sequence: &request.sequence,
+        event: &event,
+        param: param_start,
+        at: &request.at,
+    };
+    let boundary = follow_sequence_boundary(&start, settings)?;
+    let structure = &form.structure;
+    Ok(record(
+        &form.scene.name,
+        param,
+        (param_start, event.omega),
+        request.sequence.period(),
+        &boundary,
+        |p| {
+            p.amplitudes
+                .get(structure.observe)
+                .copied()
+                .unwrap_or(f64::NAN)
+        },
+    ))
+}
+
+/// The written form of `boundary` (of orbits over `period` forcing periods) on the scene
+/// named `scene`, started at `param_start` from the event at `omega_start`, each point's
+/// amplitude by `amplitude`.
 pub(crate) fn record<L: Display>(
-    scene: &Scene,
-    param: &SceneParameter,
+    scene: &str,
+    param: &impl Display,
     (param_start, omega_start): (f64, f64),
     period: u32,
     boundary: &Boundary<L>,
+    amplitude: impl Fn(&BoundaryPoint) -> f64,
 ) -> BoundaryRecord {
     BoundaryRecord {
-        scene: scene.name.clone(),
+        scene: scene.to_owned(),
         signature: boundary.signature.to_string(),
         period,
         event: boundary.kind.name(),
@@ -592,7 +735,7 @@ pub(crate) fn record<L: Display>(
             .map(|p| BoundaryPointRecord {
                 param_value: p.param_value,
                 omega: p.omega,
-                outer_amplitude: p.outer_amplitude,
+                outer_amplitude: amplitude(p),
                 critical_multiplier: [p.critical_multiplier.re, p.critical_multiplier.im],
                 special: boundary
                     .special_points

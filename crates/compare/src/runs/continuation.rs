@@ -7,13 +7,14 @@ use crate::output::records::{
 };
 use crate::scene::analytic::chain_linear_model;
 use crate::scene::analytic::orbits_of_signature;
+use crate::scene::structure::StructureForm;
 use crate::scene::Scene;
 use crate::verdict::chain::{chain_orbits, ChainOrbitsError};
 use rattle_analytic::continuation::{
     continue_orbit_after, continue_sequence_after, Branch, BranchEnd, Continuation,
     ContinuationError, ContinuationPoint, ContinuationSettings, Event,
 };
-use rattle_analytic::{ImpactSequence, SequenceOrbit, Signature, SignatureOrbit};
+use rattle_analytic::{ImpactSequence, LinearModel, SequenceOrbit, Signature, SignatureOrbit};
 use std::f64::consts::PI;
 use thiserror::Error;
 
@@ -310,13 +311,12 @@ impl<L: std::fmt::Display> Parts<'_, L> {
     }
 }
 
-/// Every branch followed from the orbits of an impact sequence of a chain at one frequency.
+/// Every branch followed from the orbits of an impact sequence of a model (a chain, a
+/// structure) at one frequency.
 #[derive(Debug, Clone)]
-pub struct ChainFollowed {
+pub struct SequenceFollowed {
     /// The impact sequence asked for, canonical.
     pub sequence: ImpactSequence,
-    /// The chain's number of cells.
-    pub cells: usize,
     /// The frequency of the start orbits, rad/s.
     pub omega_start: f64,
     /// The orbits found at `omega_start` (all of them, viable or not).
@@ -343,16 +343,40 @@ pub fn follow_chain(
     omega_start: f64,
     orbit: Option<usize>,
     settings: &ContinuationSettings,
-) -> Result<ChainFollowed, FollowError> {
+) -> Result<SequenceFollowed, FollowError> {
     settings.validate()?;
     let record = chain_orbits(scene, omega_start, text, period)?;
     let model = chain_linear_model(scene).map_err(ChainOrbitsError::from)?;
     let sequence = ImpactSequence::parse(text, period).map_err(ChainOrbitsError::from)?;
-    let start_orbits = record.orbits;
+    follow_sequence(
+        &model,
+        sequence,
+        record.orbits,
+        omega_start,
+        orbit,
+        settings,
+    )
+}
+
+/// [`follow`] on a model: the orbits `start_orbits` of `sequence` found at `omega_start` on
+/// `model` (or only the `orbit`-th), each followed unless it lies on a branch already followed.
+///
+/// # Errors
+/// [`FollowError::NoOrbit`] when `start_orbits` is empty, [`FollowError::OrbitIndex`] and
+/// [`FollowError::Continuation`] as [`follow`].
+pub fn follow_sequence(
+    model: &LinearModel,
+    sequence: ImpactSequence,
+    start_orbits: Vec<SequenceOrbit>,
+    omega_start: f64,
+    orbit: Option<usize>,
+    settings: &ContinuationSettings,
+) -> Result<SequenceFollowed, FollowError> {
+    settings.validate()?;
     if start_orbits.is_empty() {
         return Err(FollowError::NoOrbit {
             signature: sequence.to_string(),
-            period,
+            period: sequence.period(),
             omega: omega_start,
         });
     }
@@ -370,13 +394,12 @@ pub fn follow_chain(
     let mut continuation = Continuation::default();
     let mut followed_starts = Vec::new();
     for k in chosen {
-        if continue_sequence_after(&model, &start_orbits[k], settings, &mut continuation)? {
+        if continue_sequence_after(model, &start_orbits[k], settings, &mut continuation)? {
             followed_starts.push(k);
         }
     }
-    Ok(ChainFollowed {
+    Ok(SequenceFollowed {
         sequence,
-        cells: scene.cell_count(),
         omega_start,
         start_orbits,
         followed_starts,
@@ -384,15 +407,29 @@ pub fn follow_chain(
     })
 }
 
-impl ChainFollowed {
-    /// The record of the run on the scene named `scene`: the unit's fields, with `cells` and
+impl SequenceFollowed {
+    /// The record of the run on the chain scene `scene`: the unit's fields, with `cells` and
     /// each point's `cell_outer_amplitudes`.
-    pub fn record(&self, scene: &str) -> ContinuationRecord {
+    pub fn record(&self, scene: &Scene) -> ContinuationRecord {
+        self.parts(Some(scene.cell_count()))
+            .record(&scene.name, ContinuationPointRecord::of_chain)
+    }
+
+    /// The record of the run on the structure `form`: each point's `outer_amplitude` and
+    /// `transmittance_db` those of the observed body, with every body's amplitude by name.
+    pub fn structure_record(&self, form: &StructureForm) -> ContinuationRecord {
+        self.parts(None).record(&form.scene.name, |p| {
+            ContinuationPointRecord::of_structure(&form.structure, p)
+        })
+    }
+
+    /// What the record is made of, with `cells` on a chain.
+    fn parts(&self, cells: Option<usize>) -> Parts<'_, ImpactSequence> {
         let c = &self.continuation;
         Parts {
             signature: &self.sequence,
             period: self.sequence.period(),
-            cells: Some(self.cells),
+            cells,
             omega_start: self.omega_start,
             start_orbits: self.start_orbits.len(),
             followed_starts: &self.followed_starts,
@@ -400,7 +437,6 @@ impl ChainFollowed {
             events: &c.events,
             ends: &c.ends,
         }
-        .record(scene, ContinuationPointRecord::of_chain)
     }
 }
 

@@ -356,6 +356,20 @@ impl AnyParameter {
     }
 }
 
+impl FromStr for AnyParameter {
+    type Err = AnyParameterError;
+
+    /// Reads a path of either form without a scene: one that begins with `structure.` or
+    /// `forcing.` as a [`StructureParameter`], any other as a [`SceneParameter`].
+    fn from_str(path: &str) -> Result<Self, AnyParameterError> {
+        if path.starts_with("structure.") || path.starts_with("forcing.") {
+            Ok(AnyParameter::Structure(path.parse()?))
+        } else {
+            Ok(AnyParameter::Cells(path.parse()?))
+        }
+    }
+}
+
 impl fmt::Display for AnyParameter {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {

@@ -779,6 +779,38 @@ impl Structure {
         rattle_event_driven::Start::rest(self.dofs())
     }
 
+    /// The transmittance `20 log10(X / u_g)` of the observed body's amplitude `X`, when the
+    /// base moves and the value is finite.
+    pub fn transmittance_db(&self, amplitude: f64) -> Option<f64> {
+        self.base_amplitude
+            .map(|ug| rattle_analytic::linear::transmittance_db(amplitude, ug))
+            .filter(|t| t.is_finite())
+    }
+
+    /// The impact sequence of the stops `text` over `period` forcing periods: `<stop><side>`
+    /// tokens (`0+ 1- 0- 1+`), or with one stop the side characters alone (`+-` reads as
+    /// `0+ 0-`).
+    ///
+    /// # Errors
+    /// [`rattle_analytic::SequenceError`] for a text that does not parse or a period out of
+    /// range.
+    pub fn sequence(
+        &self,
+        text: &str,
+        period: u32,
+    ) -> Result<rattle_analytic::ImpactSequence, rattle_analytic::SequenceError> {
+        let bare = !text.is_empty() && text.chars().all(|c| matches!(c, '+' | '-'));
+        let text = if self.stops.len() == 1 && bare {
+            text.chars()
+                .map(|c| format!("0{c}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        } else {
+            text.to_owned()
+        };
+        rattle_analytic::ImpactSequence::parse(&text, period)
+    }
+
     /// Whether some dashpot is not zero.
     pub fn is_damped(&self) -> bool {
         self.damping.is_some()

@@ -3,9 +3,9 @@
 //! amplitude compared, and the linear steady state for a motion without impacts.
 
 use crate::output::finite;
-use crate::output::records::multipliers;
+use crate::output::records::{multipliers, ByBody};
 use crate::output::structure::{
-    signatures, ByBody, StructureAnalyticRecord, StructureAt, StructureCompareRecord,
+    signatures, StructureAnalyticRecord, StructureAt, StructureCompareRecord,
     StructureSimulatedRecord,
 };
 use crate::scene::simulator::{run_structure, SimulateError};

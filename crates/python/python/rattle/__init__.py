@@ -442,7 +442,32 @@ class Continuation(Record):
     once) and ``ends`` (how each branch ends: ``branch``, ``omega``, ``reason``, and for
     ``reason == "joins"`` the branch it runs onto in ``joins``). On a chain also ``cells``,
     and each point's ``cell_outer_amplitudes`` (every cell's outer amplitude, from the base
-    out). :meth:`points_columns` gives the points as numpy arrays."""
+    out); on a structure each point's ``body_amplitudes`` (every body's amplitude by name,
+    ``outer_amplitude`` being the observed body's). :meth:`points_columns` gives the points
+    as numpy arrays, :meth:`body_amplitudes` a structure's bodies'."""
+
+    def body_amplitudes(self):
+        """A structure's every body's amplitude at every point, as a dict of ``float64``
+        arrays by body name in the scene's order (NaN where the command writes ``null``), in
+        the order of :attr:`points`. The branches of a unit or a chain have no bodies:
+        :class:`ValueError`."""
+        points = self._data["points"]
+        if points and "body_amplitudes" not in points[0]:
+            raise ValueError(
+                "Continuation.body_amplitudes: the branches of a unit or a chain have no "
+                "bodies (a chain's points carry cell_outer_amplitudes)"
+            )
+        names = list(points[0]["body_amplitudes"]) if points else []
+        return {
+            name: _np.array(
+                [
+                    _np.nan if p["body_amplitudes"][name] is None else p["body_amplitudes"][name]
+                    for p in points
+                ],
+                dtype=_np.float64,
+            )
+            for name in names
+        }
 
     def points_columns(self):
         """The points as a dict of numpy arrays, for plotting: ``branch`` (``int64``),
@@ -967,12 +992,14 @@ def continue_branch(
     continuation runs on the chain's equations (grazing and vanishing impact per pair), and
     the document gains ``cells`` and each point ``cell_outer_amplitudes`` (every cell's
     outer amplitude from the base out, the last being ``outer_amplitude``), as
-    ``rattle continue CHAIN --json``.
+    ``rattle continue CHAIN --json``. On a structure ``signature`` is an impact sequence of
+    its stops (``"0+ 1-"``; with one stop ``"+-"`` reads as ``"0+ 0-"``), and each point
+    gains ``body_amplitudes`` (:meth:`Continuation.body_amplitudes`), its
+    ``outer_amplitude`` and ``transmittance_db`` being the observed body's.
 
     A bad argument is a :class:`ValueError` naming it (``omega_min``, ``max_step``,
     ``orbit``, a pair the chain lacks…); no orbit of the signature at ``omega`` a
-    :class:`RuntimeError`. A structure is refused with a :class:`ValueError` naming this
-    function, as the command refuses one.
+    :class:`RuntimeError`.
     """
     text = _rattle.continue_branch(
         _native_scene(scene),
@@ -1016,8 +1043,11 @@ def boundary(
     (ω, ``param``) both ways within ``[min, max]``, through turning points. ``param`` is a
     scene field by its JSON path (``"stops.gap"``, ``"stops.restitution"``,
     ``"unit.inner_stiffness"``, ``"damping.outer"``…; on a chain the whole chain's field or
-    one cell's, ``"chain[1].stops.gap"``); ``min`` and ``max`` lie in its physical
-    range. ``at`` (values in ``[min, max]``) asks for the curve's ω solved exactly at those
+    one cell's, ``"chain[1].stops.gap"``; on a structure a field of the structure form,
+    ``"structure.stops[0].gap_plus"``, ``"structure.bodies[1].mass"``,
+    ``"structure.springs[0].stiffness"``, ``"forcing.forces[0].amplitude"``…, the signature
+    then an impact sequence of its stops, each point's ``outer_amplitude`` the observed
+    body's); ``min`` and ``max`` lie in its physical range. ``at`` (values in ``[min, max]``) asks for the curve's ω solved exactly at those
     parameter values (one entry per crossing). ``max_step`` is the largest step along the
     curve. Returns a :class:`Boundary` (numpy columns from its ``*_columns`` methods).
 
@@ -1028,8 +1058,7 @@ def boundary(
     ``omega_min``, ``signature``, ``period``…, or the scene field out of its range); no orbit
     of the signature at ``omega``, no event of the kind on its branches, or a start that does
     not converge a :class:`RuntimeError` (``numerical failure: …``, the command's words). The
-    computation releases the GIL. A structure is refused with a :class:`ValueError` naming
-    this function, as the command refuses one.
+    computation releases the GIL.
     """
     text = _rattle.boundary(
         _native_scene(scene),

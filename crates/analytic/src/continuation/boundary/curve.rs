@@ -277,6 +277,7 @@ impl<Fam: Family> EventCurve<Fam> {
                 alpha: wrap(y[0]),
                 impact_phases,
                 outer_amplitude: verdicts.outer_amplitude,
+                amplitudes: verdicts.amplitudes,
                 critical_multiplier: critical(self.kind, &verdicts.floquet_multipliers),
                 floquet_multipliers: verdicts.floquet_multipliers,
                 residual: residual_of(model, &eval).amax() / model.scale(&eval),

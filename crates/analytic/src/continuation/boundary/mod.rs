@@ -225,6 +225,9 @@ pub struct BoundaryPoint {
     pub impact_phases: Vec<f64>,
     /// `X_o = max |u_o(t)|` over the cycle (rigorous extrema).
     pub outer_amplitude: f64,
+    /// On a model's curve: every coordinate's amplitude over the cycle, in model order
+    /// (rigorous extrema); empty on the unit's.
+    pub amplitudes: Vec<f64>,
     /// Eigenvalues of the monodromy matrix.
     pub floquet_multipliers: Vec<Complex<f64>>,
     /// The multiplier the event concerns: nearest `+1` at a fold, nearest `−1` at a period
