@@ -289,3 +289,84 @@ fn a_structure_trajectory_has_a_column_per_body() {
     }
     assert_eq!(sides.len(), 2, "{text}");
 }
+
+/// Where the closed form's count of period-1 orbits changes between `lo` and `hi` at `gap`
+/// (its two orbits meet at a fold), bisected to rounding.
+fn closed_form_fold(gap: f64, (mut lo, mut hi): (f64, f64)) -> f64 {
+    let count = |omega: f64| {
+        ImpactOscillator { gap, ..reference() }
+            .period_one_orbits_sampled(omega, 16)
+            .unwrap()
+            .len()
+    };
+    let at_lo = count(lo);
+    assert_ne!(at_lo, count(hi), "no fold in [{lo}, {hi}] at gap {gap}");
+    while hi - lo > 4.0 * f64::EPSILON * hi {
+        let mid = 0.5 * (lo + hi);
+        if count(mid) == at_lo {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// `boundaries` on a structure: the events of the motions a sweep settles on, each followed
+/// in the gap; the period-1 fold's curve is the closed form's fold at every gap.
+#[test]
+fn boundaries_on_a_structure_follow_the_closed_form_fold() {
+    let doc = json(&[
+        "boundaries",
+        OSCILLATOR,
+        "--param",
+        "structure.stops[0].gap_plus",
+        "--min",
+        "0.4",
+        "--max",
+        "0.7",
+        "--omega-min",
+        "1.0",
+        "--omega-max",
+        "2.5",
+        "--points",
+        "12",
+        "--max-impacts",
+        "2",
+        "--stable-only",
+        "--json",
+    ]);
+    assert_eq!(doc["param"], "structure.stops[0].gap_plus");
+    let curves = doc["curves"].as_array().unwrap();
+    let fold = curves
+        .iter()
+        .find(|c| c["event"] == "fold" && c["signature"] == "0+")
+        .unwrap_or_else(|| panic!("the period-1 fold: {doc}"));
+    let points = fold["points"].as_array().unwrap();
+    assert!(points.len() > 10, "{} points", points.len());
+    for p in points.iter().step_by(7) {
+        let (gap, omega) = (
+            p["param_value"].as_f64().unwrap(),
+            p["omega"].as_f64().unwrap(),
+        );
+        let exact = closed_form_fold(gap, (omega - 1e-3, omega + 1e-3));
+        assert!((omega - exact).abs() < 1e-8, "gap {gap}: {omega} {exact}");
+    }
+    // A path of the unit form is refused on a structure, naming the paths it takes.
+    let out = rattle(&[
+        "boundaries",
+        OSCILLATOR,
+        "--param",
+        "stops.gap",
+        "--min",
+        "0.4",
+        "--max",
+        "0.7",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let message = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        message.contains("--param") && message.contains("structure.bodies[K].mass"),
+        "{message}"
+    );
+}

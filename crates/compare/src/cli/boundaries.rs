@@ -1,20 +1,25 @@
-//! `rattle boundaries`: every regime boundary of a unit at once: each event of the
-//! one-parameter continuation of the motions a sweep settles on, followed in (ω, a scene
+//! `rattle boundaries`: every regime boundary of a unit or a structure at once: each event of
+//! the one-parameter continuation of the motions a sweep settles on, followed in (ω, a scene
 //! parameter).
 
-use super::{check_frequency, load_unit, write_record, RattleError};
+use super::{load_any, write_record, RattleError};
 use crate::output::Format;
 use crate::runs::boundaries::{
-    follow_events, rows, BoundariesError, BoundariesRecord, EventFilter,
+    follow_events, follow_structure_events, rows, BoundariesError, BoundariesRecord, EventFilter,
 };
 use crate::runs::continuation::Branches;
 use crate::runs::parallel::{parallel_map, Grain, Progress};
-use crate::scene::parameter::SceneParameter;
-use crate::scene::Scene;
+use crate::scene::parameter::{AnyParameter, AnyParameterError, ParameterError, SceneParameter};
+use crate::scene::structure::StructureForm;
+use crate::scene::structure_parameter::{StructureParameter, StructureParameterError};
+use crate::scene::{AnyScene, Scene};
 use crate::study::{compared_seeds, study_continuation, two_impact_seeds, StudySize};
+use crate::verdict::structure::structure_cross_check;
 use crate::verdict::{compare, Starts};
 use clap::Args;
 use rattle_analytic::continuation::BoundarySettings;
+use rattle_analytic::continuation::{continue_sequence_after, Continuation};
+use rattle_analytic::ImpactSequence;
 use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
 use std::io::IsTerminal;
@@ -27,10 +32,12 @@ pub const SWEEP_MAX_PERIODS: u64 = 4000;
 /// Arguments of `rattle boundaries`.
 #[derive(Debug, Args)]
 pub struct BoundariesArgs {
-    /// Scene file (JSON), a single unit. Omit for the built-in paper scene (Δ = 0.5, e = 0.8).
+    /// Scene file (JSON), a single unit or a structure. Omit for the built-in paper scene
+    /// (Δ = 0.5, e = 0.8).
     pub scene: Option<PathBuf>,
     /// The scene parameter varied, by its JSON path: stops.gap, stops.restitution,
-    /// unit.inner_stiffness, damping.outer, …
+    /// unit.inner_stiffness, damping.outer, … (on a structure: structure.stops[0].gap_plus,
+    /// structure.bodies[1].mass, forcing.forces[0].amplitude, …)
     #[arg(long)]
     pub param: String,
     /// Lowest parameter value followed (within the field's physical range, ≤ the scene's
@@ -119,6 +126,42 @@ fn sweep_branches(
     out
 }
 
+/// [`sweep_branches`] on a structure: the seeds are the viable analytic orbits of the
+/// motions the structure settles on from rest (its cross-check, each run capped at
+/// [`SWEEP_MAX_PERIODS`] periods), followed on its analytic model.
+fn structure_branches(
+    form: &StructureForm,
+    omega_min: f64,
+    omega_max: f64,
+    points: usize,
+    progress: &Progress,
+) -> Continuation<ImpactSequence> {
+    let mut out = Continuation::default();
+    let Ok(model) = form.structure.analytic_model() else {
+        return out;
+    };
+    let options = SimulationOptions {
+        max_periods: SWEEP_MAX_PERIODS,
+        ..SimulationOptions::default()
+    };
+    let grid = crate::runs::axis::Axis::new(omega_min, omega_max, points).values();
+    let seeds: Vec<_> = parallel_map(&grid, Grain::Uneven, progress, |&w| {
+        structure_cross_check(&form.structure, w, &options)
+            .ok()
+            .and_then(|check| check.analytic)
+            .filter(|o| o.viable)
+    })
+    .into_iter()
+    .flatten()
+    .collect();
+    let settings = study_continuation(omega_min, omega_max);
+    for seed in &seeds {
+        // A seed the continuation refuses leaves the others' branches.
+        let _ = continue_sequence_after(&model, seed, &settings, &mut out);
+    }
+    out
+}
+
 /// The curves' settings of the arguments.
 ///
 /// # Errors
@@ -162,7 +205,7 @@ fn settings(args: &BoundariesArgs) -> Result<BoundarySettings, RattleError> {
 /// Bad arguments or scene (exit code 2).
 pub fn run(args: BoundariesArgs) -> Result<String, RattleError> {
     let settings = settings(&args)?;
-    let param: SceneParameter = args
+    let param: AnyParameter = args
         .param
         .parse()
         .map_err(|e| RattleError::Argument(format!("--param: {e}")))?;
@@ -176,50 +219,50 @@ pub fn run(args: BoundariesArgs) -> Result<String, RattleError> {
             "--out: boundaries are written as .csv (points) or .json (the whole document)".into(),
         ));
     }
-    let scene = load_unit(&args.scene, "boundaries")?;
-    check_frequency(&scene, "--omega-min", args.omega_min)?;
-    check_frequency(&scene, "--omega-max", args.omega_max)?;
+    let any = load_any(&args.scene)?;
+    crate::api::check_frequency(&any, "--omega-min", args.omega_min)?;
+    crate::api::check_frequency(&any, "--omega-max", args.omega_max)?;
     let filter = EventFilter {
         max_impacts: args.max_impacts,
         stable_only: args.stable_only,
     };
-    // The arguments are checked against the scene before the sweep runs.
-    let checked = follow_events(
-        &scene,
-        &Default::default(),
-        &param,
-        &settings,
-        filter,
-        &Progress::hidden(),
-    );
-    checked.map_err(run_error)?;
     let show = std::io::stderr().is_terminal();
-    let tell = |line: String| {
-        if show {
-            eprintln!("{line}");
+    let bad_param = |e: AnyParameterError| RattleError::Argument(format!("--param: {e}"));
+    let path = param.to_string();
+    let record = match &any {
+        AnyScene::Structure(form) => {
+            let param: StructureParameter = path
+                .parse()
+                .map_err(|e: StructureParameterError| bad_param(e.into()))?;
+            // The arguments are checked against the scene before the sweep runs.
+            let check = |c: &Continuation<ImpactSequence>, progress: &Progress| {
+                follow_structure_events(form, c, &param, &settings, filter, progress)
+            };
+            check(&Continuation::default(), &Progress::hidden()).map_err(run_error)?;
+            let branches = structure_branches(
+                form,
+                args.omega_min,
+                args.omega_max,
+                args.points,
+                &Progress::new("sweep", args.points, show),
+            );
+            tell(show, branches.branches.len(), branches.events.len(), &param);
+            check(
+                &branches,
+                &Progress::new("curves", branches.events.len(), show),
+            )
+            .map_err(run_error)?
+        }
+        AnyScene::Cells(scene) => {
+            scene
+                .refuse_chain("boundaries")
+                .map_err(|e| RattleError::Argument(e.to_string()))?;
+            let param: SceneParameter = path
+                .parse()
+                .map_err(|e: ParameterError| bad_param(e.into()))?;
+            unit_record(scene, &param, &args, &settings, filter, show)?
         }
     };
-    let branches = sweep_branches(
-        &scene,
-        args.omega_min,
-        args.omega_max,
-        args.points,
-        &Progress::new("sweep", args.points, show),
-    );
-    tell(format!(
-        "continuation: {} branches, {} events; following each in (ω, {param})",
-        branches.branches.len(),
-        branches.events.len()
-    ));
-    let record = follow_events(
-        &scene,
-        &branches,
-        &param,
-        &settings,
-        filter,
-        &Progress::new("curves", branches.events.len(), show),
-    )
-    .map_err(run_error)?;
     write_record(
         args.json,
         args.out.as_ref(),
@@ -228,6 +271,44 @@ pub fn run(args: BoundariesArgs) -> Result<String, RattleError> {
         || rows(&record),
         || summary(&record),
     )
+}
+
+/// Tells the user, on a terminal, what the continuation found and what follows.
+fn tell(show: bool, branches: usize, events: usize, param: &impl std::fmt::Display) {
+    if show {
+        eprintln!(
+            "continuation: {branches} branches, {events} events; following each in (ω, {param})"
+        );
+    }
+}
+
+/// [`run`] on a unit: the branches seeded by [`sweep_branches`], each event followed.
+fn unit_record(
+    scene: &Scene,
+    param: &SceneParameter,
+    args: &BoundariesArgs,
+    settings: &BoundarySettings,
+    filter: EventFilter,
+    show: bool,
+) -> Result<BoundariesRecord, RattleError> {
+    let check = |b: &Branches, progress: &Progress| {
+        follow_events(scene, b, param, settings, filter, progress)
+    };
+    // The arguments are checked against the scene before the sweep runs.
+    check(&Branches::default(), &Progress::hidden()).map_err(run_error)?;
+    let branches = sweep_branches(
+        scene,
+        args.omega_min,
+        args.omega_max,
+        args.points,
+        &Progress::new("sweep", args.points, show),
+    );
+    tell(show, branches.branches.len(), branches.events.len(), param);
+    check(
+        &branches,
+        &Progress::new("curves", branches.events.len(), show),
+    )
+    .map_err(run_error)
 }
 
 /// The command's error: every refusal is of the input (exit code 2).

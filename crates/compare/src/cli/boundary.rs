@@ -14,13 +14,14 @@ use std::path::PathBuf;
 /// Arguments of `rattle boundary`.
 #[derive(Debug, Args)]
 pub struct BoundaryArgs {
-    /// Scene file (JSON), a single unit or a chain of cells. Omit for the built-in paper
-    /// scene (Δ = 0.5, e = 0.8).
+    /// Scene file (JSON), a single unit, a chain of cells or a structure. Omit for the
+    /// built-in paper scene (Δ = 0.5, e = 0.8).
     pub scene: Option<PathBuf>,
     /// The impact signature of the orbits: the stops hit over one cycle in time order, `+`
     /// side 1 (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`). On a chain: the
     /// impacts of every pair in time order as `<pair><side>` tokens, pairs (cells) numbered
-    /// from 0 (e.g. "0+ 1- 0- 1+").
+    /// from 0 (e.g. "0+ 1- 0- 1+"); on a structure, of its stops numbered from 0 in file
+    /// order (with one stop, `+-` reads as "0+ 0-").
     #[arg(long, allow_hyphen_values = true)]
     pub signature: String,
     /// Forcing periods per cycle of the signature, in [1, 8].
@@ -38,7 +39,8 @@ pub struct BoundaryArgs {
     pub omega: f64,
     /// The scene parameter varied, by its JSON path: stops.gap, stops.restitution,
     /// unit.inner_stiffness, damping.outer, … (on a chain the whole chain's field, or one
-    /// cell's, e.g. `chain[2].stops.gap`)
+    /// cell's, e.g. `chain[2].stops.gap`; on a structure: structure.stops[0].gap_plus,
+    /// structure.bodies[1].mass, structure.springs[0].stiffness, forcing.forces[0].amplitude, …)
     #[arg(long)]
     pub param: String,
     /// Lowest parameter value followed (within the field's physical range).

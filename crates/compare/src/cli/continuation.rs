@@ -15,13 +15,15 @@ use std::path::PathBuf;
 /// Arguments of `rattle continue`.
 #[derive(Debug, Args)]
 pub struct ContinueArgs {
-    /// Scene file (JSON), a single unit or a chain of cells. Omit for the built-in paper scene
-    /// (Δ = 0.5, e = 0.8).
+    /// Scene file (JSON), a single unit, a chain of cells or a structure. Omit for the built-in
+    /// paper scene (Δ = 0.5, e = 0.8).
     pub scene: Option<PathBuf>,
     /// The impact signature to follow: the stops hit over one cycle in time order, `+` side 1
     /// (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`). On a chain: the impacts of
     /// every pair in time order as `<pair><side>` tokens, pairs (cells) numbered from 0 (e.g.
-    /// "0+ 1- 0- 1+"); each point then carries every cell's outer amplitude.
+    /// "0+ 1- 0- 1+"); each point then carries every cell's outer amplitude. On a structure:
+    /// of its stops, numbered from 0 in file order (with one stop, `+-` reads as "0+ 0-");
+    /// each point then carries every body's amplitude.
     #[arg(long, allow_hyphen_values = true)]
     pub signature: String,
     /// Forcing periods per cycle of the signature, in [1, 8].

@@ -1,6 +1,9 @@
-//! Every regime boundary of a unit scene: each event of a one-parameter continuation in ω (the
-//! branches of [`crate::runs::continuation::Branches`]) followed in (ω, a scene parameter) by
-//! [`rattle_analytic::follow_boundary`], the same curve reached from two events listed once.
+//! Every regime boundary of a unit scene or a structure: each event of a one-parameter
+//! continuation in ω (a unit's branches of [`crate::runs::continuation::Branches`], a
+//! structure's of its impact sequences) followed in (ω, a scene parameter) by
+//! [`rattle_analytic::follow_boundary`] ([`follow_events`]) or
+//! [`rattle_analytic::follow_sequence_boundary`] ([`follow_structure_events`]), the same curve
+//! reached from two events listed once.
 //!
 //! **Same curve.** Each event is followed with its curve's ω solved exactly at the scene's own
 //! value `p₀` of the parameter (every crossing of the curve there, the `at` of a boundary). A
@@ -14,13 +17,17 @@ use crate::output::{finite, table_row};
 use crate::runs::boundary::{self, BoundaryRecord};
 use crate::runs::continuation::Branches;
 use crate::runs::parallel::{parallel_map, Grain, Progress};
-use crate::scene::parameter::{ParameterError, SceneParameter};
+use crate::scene::parameter::{AnyParameterError, ParameterError, SceneParameter};
+use crate::scene::structure::StructureForm;
+use crate::scene::structure_parameter::{StructureParameter, StructureParameterError};
 use crate::scene::Scene;
 use rattle_analytic::continuation::{
-    follow_boundary, BoundaryError, BoundarySettings, BoundaryStart, Event,
+    follow_boundary, follow_sequence_boundary, BoundaryError, BoundarySettings, BoundaryStart,
+    Continuation, Event, SequenceBoundaryStart,
 };
-use rattle_analytic::Signature;
+use rattle_analytic::{ImpactSequence, LinearModel, Signature};
 use serde::Serialize;
+use std::fmt::Display;
 use thiserror::Error;
 
 /// Two events of one kind and signature lie on one curve when the frequency of the second is
@@ -38,14 +45,14 @@ pub enum BoundariesError {
     NoStops,
     /// The parameter cannot be read from the scene.
     #[error("--param: {0}")]
-    Parameter(#[from] ParameterError),
+    Parameter(#[from] AnyParameterError),
     /// `--min` or `--max` outside the parameter's physical range.
     #[error("{option}: {source}")]
     Range {
         /// `--min` or `--max`.
         option: &'static str,
         /// The scene's refusal, naming the path and its range.
-        source: ParameterError,
+        source: AnyParameterError,
     },
     /// The scene's own value of the parameter lies outside `[--min, --max]`: the events found
     /// there would start no curve inside.
@@ -63,6 +70,18 @@ pub enum BoundariesError {
     /// The curves' settings are refused.
     #[error("{0}")]
     Settings(#[from] BoundaryError),
+}
+
+impl From<ParameterError> for BoundariesError {
+    fn from(e: ParameterError) -> Self {
+        BoundariesError::Parameter(e.into())
+    }
+}
+
+impl From<StructureParameterError> for BoundariesError {
+    fn from(e: StructureParameterError) -> Self {
+        BoundariesError::Parameter(e.into())
+    }
 }
 
 /// One curve, as written: a `rattle boundary` document and the event it was followed from.
@@ -155,12 +174,12 @@ pub struct EventFilter {
 pub const STABLE_MARGIN: f64 = 1e-6;
 
 impl EventFilter {
-    /// Why `event` (of orbits of `signature`) is not followed, if it is not.
-    fn refuses(&self, event: &Event, signature: &Signature) -> Option<String> {
-        if let Some(cap) = self.max_impacts.filter(|&cap| signature.impacts() > cap) {
+    /// Why `event` (of orbits with `impacts` impacts per cycle) is not followed, if it is
+    /// not.
+    fn refuses<L>(&self, event: &Event<L>, impacts: usize) -> Option<String> {
+        if let Some(cap) = self.max_impacts.filter(|&cap| impacts > cap) {
             return Some(format!(
-                "{} impacts per cycle: beyond the cap of {cap}, not followed",
-                signature.impacts()
+                "{impacts} impacts per cycle: beyond the cap of {cap}, not followed"
             ));
         }
         let outside = event
@@ -193,36 +212,33 @@ pub fn follow_events(
 ) -> Result<BoundariesRecord, BoundariesError> {
     settings.validate()?;
     scene.stops_model().ok_or(BoundariesError::NoStops)?;
-    let param_start = param.value(scene)?;
-    for (option, value) in [("--min", settings.param_min), ("--max", settings.param_max)] {
-        param
-            .with_value(scene, value)
-            .map_err(|source| BoundariesError::Range { option, source })?;
-    }
-    if !(settings.param_min..=settings.param_max).contains(&param_start) {
-        return Err(BoundariesError::StartOutside {
-            param: param.to_string(),
-            value: param_start,
-            min: settings.param_min,
-            max: settings.param_max,
-        });
-    }
-    let signature_of = |e: &Event| -> Signature { branches.branches[e.branch].signature.clone() };
+    let param_start = param_start(
+        param,
+        |v| param.with_value(scene, v).map(|_| ()),
+        param.value(scene)?,
+        settings,
+    )?;
     let at = [param_start];
-    let outcomes = parallel_map(&branches.events, Grain::Uneven, progress, |event| {
-        let signature = signature_of(event);
-        if let Some(reason) = filter.refuses(event, &signature) {
-            return Err(reason);
-        }
-        let start = BoundaryStart {
-            unit_at: |v: f64| boundary::unit_at(scene, param, v),
-            signature: &signature,
-            event,
-            param: param_start,
-            at: &at,
-        };
-        follow_boundary(&start, settings)
-            .map(|b| {
+    let events = Events {
+        events: &branches.events,
+        signature_of: |e: &Event| branches.branches[e.branch].signature.clone(),
+        branches: branches.branches.len(),
+    };
+    follow_each(
+        (&scene.name, param, param_start),
+        &events,
+        settings,
+        filter,
+        progress,
+        |event, signature| {
+            let start = BoundaryStart {
+                unit_at: |v: f64| boundary::unit_at(scene, param, v),
+                signature,
+                event,
+                param: param_start,
+                at: &at,
+            };
+            follow_boundary(&start, settings).map(|b| {
                 let period = b.signature.period();
                 boundary::record(
                     &scene.name,
@@ -233,32 +249,187 @@ pub fn follow_events(
                     |p| p.outer_amplitude,
                 )
             })
-            .map_err(|e| e.to_string())
+        },
+    )
+}
+
+/// [`follow_events`] on a structure: every event of `continuation` (of the structure's
+/// impact sequences, found at its own value of `param`) followed on its analytic model, each
+/// point's amplitude the observed body's.
+///
+/// # Errors
+/// As [`follow_events`].
+pub fn follow_structure_events(
+    form: &StructureForm,
+    continuation: &Continuation<ImpactSequence>,
+    param: &StructureParameter,
+    settings: &BoundarySettings,
+    filter: EventFilter,
+    progress: &Progress,
+) -> Result<BoundariesRecord, BoundariesError> {
+    settings.validate()?;
+    if form.structure.stops.is_empty() {
+        return Err(BoundariesError::NoStops);
+    }
+    let param_start = param_start(
+        param,
+        |v| param.with_value(&form.scene, v).map(|_| ()),
+        param.value(&form.scene)?,
+        settings,
+    )?;
+    let at = [param_start];
+    let model_at = |v: f64| -> Result<LinearModel, String> {
+        let set = param
+            .with_value(&form.scene, v)
+            .map_err(|e| e.to_string())?;
+        set.structure.analytic_model().map_err(|e| e.to_string())
+    };
+    let events = Events {
+        events: &continuation.events,
+        signature_of: |e: &Event<ImpactSequence>| continuation.branches[e.branch].signature.clone(),
+        branches: continuation.branches.len(),
+    };
+    let observe = form.structure.observe;
+    follow_each(
+        (&form.scene.name, param, param_start),
+        &events,
+        settings,
+        filter,
+        progress,
+        |event, sequence| {
+            let start = SequenceBoundaryStart {
+                model_at,
+                sequence,
+                event,
+                param: param_start,
+                at: &at,
+            };
+            follow_sequence_boundary(&start, settings).map(|b| {
+                boundary::record(
+                    &form.scene.name,
+                    param,
+                    (param_start, event.omega),
+                    sequence.period(),
+                    &b,
+                    |p| p.amplitudes.get(observe).copied().unwrap_or(f64::NAN),
+                )
+            })
+        },
+    )
+}
+
+/// The parameter's value in the scene, `start`, after checking that `--min` and `--max` are
+/// within its physical range (`set` refuses a value outside) and around `start`.
+fn param_start<E: Into<AnyParameterError>>(
+    param: &impl Display,
+    set: impl Fn(f64) -> Result<(), E>,
+    start: f64,
+    settings: &BoundarySettings,
+) -> Result<f64, BoundariesError> {
+    for (option, value) in [("--min", settings.param_min), ("--max", settings.param_max)] {
+        set(value).map_err(|e| BoundariesError::Range {
+            option,
+            source: e.into(),
+        })?;
+    }
+    if !(settings.param_min..=settings.param_max).contains(&start) {
+        return Err(BoundariesError::StartOutside {
+            param: param.to_string(),
+            value: start,
+            min: settings.param_min,
+            max: settings.param_max,
+        });
+    }
+    Ok(start)
+}
+
+/// What a curve's record needs of a branch's signature: a unit's [`Signature`], a model's
+/// [`ImpactSequence`].
+trait CycleLabel: Display + Sync {
+    /// Impacts per cycle.
+    fn impacts_per_cycle(&self) -> usize;
+    /// Forcing periods per cycle.
+    fn periods(&self) -> u32;
+}
+
+impl CycleLabel for Signature {
+    fn impacts_per_cycle(&self) -> usize {
+        self.impacts()
+    }
+    fn periods(&self) -> u32 {
+        self.period()
+    }
+}
+
+impl CycleLabel for ImpactSequence {
+    fn impacts_per_cycle(&self) -> usize {
+        self.impacts().len()
+    }
+    fn periods(&self) -> u32 {
+        self.period()
+    }
+}
+
+/// The events of a continuation, with how to read the signature of the branch each lies on.
+struct Events<'a, L, S> {
+    /// The events, in the continuation's order.
+    events: &'a [Event<L>],
+    /// The signature of the branch an event lies on.
+    signature_of: S,
+    /// The continuation's number of branches.
+    branches: usize,
+}
+
+/// Follows each of `events` that `filter` lets through by `follow_one` in parallel, and
+/// lists the curves (the same curve reached twice listed once) and the events skipped, in
+/// the events' order, on the scene named `name` with `param` starting at `param_start`.
+fn follow_each<L, S, F>(
+    (name, param, param_start): (&str, &impl Display, f64),
+    events: &Events<'_, L, S>,
+    settings: &BoundarySettings,
+    filter: EventFilter,
+    progress: &Progress,
+    follow_one: F,
+) -> Result<BoundariesRecord, BoundariesError>
+where
+    L: CycleLabel,
+    S: Fn(&Event<L>) -> L + Sync,
+    F: Fn(&Event<L>, &L) -> Result<BoundaryRecord, BoundaryError> + Sync,
+{
+    let outcomes = parallel_map(events.events, Grain::Uneven, progress, |event| {
+        let signature = (events.signature_of)(event);
+        if let Some(reason) = filter.refuses(event, signature.impacts_per_cycle()) {
+            return Err(reason);
+        }
+        follow_one(event, &signature).map_err(|e| e.to_string())
     });
     let mut record = BoundariesRecord {
-        scene: scene.name.clone(),
+        scene: name.to_owned(),
         param: param.to_string(),
         min: settings.param_min,
         max: settings.param_max,
         param_start,
         omega_min: settings.omega_min,
         omega_max: settings.omega_max,
-        branches: branches.branches.len(),
-        events: branches.events.len(),
+        branches: events.branches,
+        events: events.events.len(),
         curves: Vec::new(),
         skipped: Vec::new(),
     };
-    for (k, (event, outcome)) in branches.events.iter().zip(outcomes).enumerate() {
+    for (k, (event, outcome)) in events.events.iter().zip(outcomes).enumerate() {
         match outcome {
-            Err(reason) => record.skipped.push(SkippedRecord {
-                event: k,
-                branch: event.branch,
-                kind: event.kind.name(),
-                signature: signature_of(event).to_string(),
-                period: signature_of(event).period(),
-                omega: event.omega,
-                reason,
-            }),
+            Err(reason) => {
+                let signature = (events.signature_of)(event);
+                record.skipped.push(SkippedRecord {
+                    event: k,
+                    branch: event.branch,
+                    kind: event.kind.name(),
+                    signature: signature.to_string(),
+                    period: signature.periods(),
+                    omega: event.omega,
+                    reason,
+                })
+            }
             Ok(boundary) => match record
                 .curves
                 .iter_mut()
