@@ -1,8 +1,8 @@
 """Scenes in the structure form (bodies, springs, dashpots, stops, forcing) against the
 `rattle` command's JSON for the same inputs: simulate (with its trajectory tables and
-Lyapunov exponents), orbit with a signature, compare and sweep give the command's documents,
-and every other function refuses a structure with a ValueError naming it, as the command
-refuses one."""
+Lyapunov exponents), orbit with a signature, orbit_trajectory (with its tables), compare and
+sweep give the command's documents, and every other function refuses a structure with a
+ValueError naming it, as the command refuses one."""
 
 import json
 import math
@@ -143,6 +143,39 @@ def test_orbit_of_a_sequence_on_a_structure_is_the_commands(
     assert ours.sequence == theirs["sequence"]
 
 
+@pytest.mark.parametrize(
+    "path, omega, signature, k",
+    [(OSCILLATOR, 1.8, "+", 0), (OSCILLATOR, 1.8, "+", 1), (DAMPER, 1.0, "0+ 0-", 1),
+     (ASYMMETRIC, 3.0, "+-", 0)],
+)
+def test_orbit_trajectory_on_a_structure_is_the_commands(
+    rattle_cli, tmp_path, path, omega, signature, k
+):
+    states, impacts = tmp_path / "states.json", tmp_path / "impacts.json"
+    theirs = rattle_cli.json(
+        "orbit", path, "--omega", omega, "--signature", signature, "--orbit", k,
+        "--trajectory", states, "--impacts", impacts, "--samples-per-period", 24,
+    )
+    scene = rattle.Scene.from_file(path)
+    ours = rattle.orbit_trajectory(scene, omega, signature, orbit=k, samples_per_period=24)
+    assert isinstance(ours.orbits, rattle.StructureOrbits)
+    assert ours.orbits.to_dict() == theirs
+    assert ours.orbit.to_dict() == theirs["orbits"][k] and ours.index == k
+    assert repr(ours).startswith(f"OrbitCycle(signature={theirs['sequence']!r}")
+    # The tables: the command's, cell for cell, with the columns of the simulated ones.
+    simulated = rattle.simulate(scene, omega, trajectory=True, samples_per_period=4)
+    assert list(ours.trajectory.columns) == list(simulated.trajectory.columns)
+    assert list(ours.impact_table.columns) == list(simulated.impact_table.columns)
+    for ours_table, file in ((ours.trajectory, states), (ours.impact_table, impacts)):
+        theirs_table = _table(file)
+        assert list(ours_table.columns) == list(theirs_table)
+        for name, column in theirs_table.items():
+            assert _same_column(ours_table.columns[name], column), name
+    assert len(ours.trajectory) == 24 + 2 * len(ours.impact_table)
+    with pytest.raises(ValueError, match=r"orbit = 9 is out of range: \d orbit\(s\) of "):
+        rattle.orbit_trajectory(scene, omega, signature, orbit=9)
+
+
 def test_a_bad_sequence_on_a_structure_is_the_commands_error(rattle_cli):
     theirs = rattle_cli.error("orbit", OSCILLATOR, "--omega", 1.8, "--signature", "3+")
     with pytest.raises(ValueError) as ours:
@@ -213,7 +246,6 @@ def test_body_amplitudes_of_a_units_sweep_is_refused():
 #: Every call of the package that takes the unit and chain forms only, on a structure.
 REFUSALS = {
     "rattle.orbit(signature=None)": lambda s: rattle.orbit(s, 1.8),
-    "rattle.orbit_trajectory": lambda s: rattle.orbit_trajectory(s, 1.8, "+"),
     "rattle.continue_branch": lambda s: rattle.continue_branch(s, "+", 1.8, 1.0, 2.0),
     "rattle.boundary": lambda s: rattle.boundary(s, "+", "grazing", 1.8, "stops.gap", 0.1, 1.0),
     "rattle.map": lambda s: rattle.map(s, (0.8, 0.8, 1), (0.5, 0.5, 1), (1.0, 2.0, 2)),
@@ -236,7 +268,6 @@ def test_a_structure_is_refused_by_name(call):
     "args",
     [
         ["orbit", "--omega", 1.8],
-        ["orbit", "--omega", 1.8, "--signature", "+", "--trajectory", "t.csv"],
         ["continue", "--signature", "+", "--omega", 1.8, "--omega-min", 1.0, "--omega-max", 2.0],
         ["sweep", "--omega-min", 1.0, "--omega-max", 2.0, "--points", 2, "--shard", "1/2",
          "--out", "s.json"],

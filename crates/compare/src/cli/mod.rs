@@ -16,7 +16,7 @@ pub mod simulate;
 pub mod structure;
 pub mod sweep;
 
-use crate::api::ApiError;
+use crate::api::{ApiError, TrajectoryTables};
 use crate::output::trajectory::{ImpactRow, TrajectoryRow, MAX_SAMPLES_PER_PERIOD};
 use crate::output::{write_table, Format, Header, OutputError};
 use crate::scene::frequency::{FrequencyBounds, FrequencyError};
@@ -176,7 +176,9 @@ pub struct TrajectoryArgs {
     /// `orbit`: the orbit chosen by --signature and --orbit) sampled from the closed form to
     /// this `.csv`/`.json`/`.jsonl` file: columns `t, kind, cell, base, u_o, u_i, v_o, v_i, r`
     /// (SI units; `t` with the base at `u_g cos ωt`; a chain has one row per cell, numbered
-    /// from 0 at the base, at each time), every impact as two rows (before and after).
+    /// from 0 at the base, at each time), every impact as two rows (before and after). On a
+    /// structure: columns `t, kind, base`, then `u_NAME` and `v_NAME` of every body and `r_K`
+    /// of every stop, one row per time, the same for both commands.
     #[arg(long)]
     pub trajectory: Option<PathBuf>,
     /// Uniform samples per forcing period of --trajectory, in [1, 100000].
@@ -184,7 +186,8 @@ pub struct TrajectoryArgs {
     pub samples_per_period: u64,
     /// Write every impact of the sampled stretch to this file: columns `t, pair, side,
     /// relative_velocity_before, u_o, u_i, v_o_before, v_i_before` (the pair's cell's
-    /// displacements and velocities).
+    /// displacements and velocities). On a structure: `t, stop, side,
+    /// relative_velocity_before`, then `u_NAME` and `v_NAME_before` of every body.
     #[arg(long, requires = "trajectory")]
     pub impacts: Option<PathBuf>,
 }
@@ -216,6 +219,26 @@ impl TrajectoryArgs {
             )?;
         }
         Ok(())
+    }
+
+    /// Writes `tables` (a unit's or a chain's rows, or a structure's named tables) to
+    /// --trajectory and --impacts, each if asked for.
+    ///
+    /// # Errors
+    /// An unknown file extension, or a file that cannot be written.
+    pub fn write_tables(&self, tables: TrajectoryTables) -> Result<(), RattleError> {
+        match tables {
+            TrajectoryTables::Cells { rows, impacts } => self.write(rows, impacts),
+            TrajectoryTables::Structure { states, impacts } => {
+                if let Some(path) = &self.trajectory {
+                    states.write(path, Format::of(path, "--trajectory")?)?;
+                }
+                if let Some(path) = &self.impacts {
+                    impacts.write(path, Format::of(path, "--impacts")?)?;
+                }
+                Ok(())
+            }
+        }
     }
 
     /// Checks the options before anything runs.

@@ -37,10 +37,11 @@ Structures (a scene in the structure form: bodies, springs, dashpots, stops and 
 ``structure`` field; :attr:`Scene.form` is ``"structure"``) go through :func:`simulate` (every
 body's amplitude by name; the trajectory with a column per body and per stop; the Lyapunov
 exponents), :func:`orbit` with a signature (an impact sequence of its stops:
-:class:`StructureOrbits`), :func:`compare` (:class:`StructureComparison`) and :func:`sweep`
+:class:`StructureOrbits`), :func:`orbit_trajectory` (a column per body and per stop, as the
+simulated trajectory's), :func:`compare` (:class:`StructureComparison`) and :func:`sweep`
 (every solver, not ``shard``), each as the command on the same structure. The others
-(:func:`orbit` without a signature, :func:`orbit_trajectory`, :func:`continue_branch`,
-:func:`boundary`, :func:`map`, :func:`basins`) refuse a structure with a :class:`ValueError`
+(:func:`orbit` without a signature, :func:`continue_branch`, :func:`boundary`, :func:`map`,
+:func:`basins`, :func:`sweep` with ``shard``) refuse a structure with a :class:`ValueError`
 naming the function and the forms it takes, as the command refuses one (``rattle basins``
 takes a structure; the package's :func:`basins` does not yet).
 """
@@ -413,7 +414,8 @@ class OrbitCycle:
     :class:`Simulation` so that the two solvers' cycles overlay with the same code), ``orbit`` (the orbit's
     record, as listed in ``orbits.orbits[index]``), ``index``, and ``orbits``, the
     :class:`SignatureOrbits` of every orbit of the signature at that frequency (the command's
-    ``--json`` document; :class:`ChainOrbits` on a chain).
+    ``--json`` document; :class:`ChainOrbits` on a chain, :class:`StructureOrbits` on a
+    structure).
     """
 
     def __init__(self, orbits, index, trajectory, impacts):
@@ -425,8 +427,10 @@ class OrbitCycle:
         self.impact_table = impacts
 
     def __repr__(self):
+        # A unit's orbits list a signature, a chain's and a structure's an impact sequence.
+        signature = self.orbits.__dict__.get("signature", self.orbits.__dict__.get("sequence"))
         return (
-            f"OrbitCycle(signature={self.orbits.signature!r}, period={self.orbits.period}, "
+            f"OrbitCycle(signature={signature!r}, period={self.orbits.period}, "
             f"omega={self.orbits.omega!r}, index={self.index}, rows={len(self.trajectory)})"
         )
 
@@ -826,15 +830,24 @@ def orbit_trajectory(
     and picks one orbit, where :func:`orbit` lists them all, with or without a signature; and
     its result has one type whatever the arguments.
 
-    A structure is refused with a :class:`ValueError` naming this function, as the command
-    refuses ``rattle orbit STRUCTURE --trajectory``.
+    On a structure ``signature`` is an impact sequence of its stops (with one stop the sides
+    alone, ``"+-"``), as ``rattle orbit STRUCTURE --signature SEQUENCE --orbit K --trajectory
+    F.csv``: ``orbits`` is then the :class:`StructureOrbits` of that sequence, and the tables
+    have the columns of a structure's ``simulate(..., trajectory=True)``, a column per body and
+    per stop (``t, kind, base, u_NAME…, v_NAME…, r_K…``; the impacts ``t, stop, side,
+    relative_velocity_before, u_NAME…, v_NAME_before…``).
     """
     native = _native_scene(scene)
     text, rows, impacts = _rattle.orbit_trajectory(
         native, float(omega), signature, period, orbit, samples_per_period
     )
     doc = _json.loads(text)
-    orbits = ChainOrbits(doc) if "sequence" in doc else SignatureOrbits(doc)
+    if doc.get("form") == "structure":
+        orbits = StructureOrbits(doc)
+    elif "sequence" in doc:
+        orbits = ChainOrbits(doc)
+    else:
+        orbits = SignatureOrbits(doc)
     return OrbitCycle(orbits, orbit, Table(rows), Table(impacts))
 
 
