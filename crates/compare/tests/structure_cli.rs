@@ -518,3 +518,95 @@ fn a_structures_analytic_and_simulated_cycles_overlay() {
         assert!((a[k] - s[k]).abs() < 1e-8, "column {k}: {a:?} {s:?}");
     }
 }
+
+/// `sweep --shard K/N` on a structure: each part says which it is (a JSON `shard` field, a CSV
+/// `# shard` line), and `rattle merge` joins two parts into the unsharded file byte for byte,
+/// in CSV and in JSON.
+#[test]
+fn a_structures_sweep_parts_merge_into_the_whole_sweep() {
+    let dir = scene_file("structure", "shards.json", "{}");
+    let sweep = |out: &std::path::Path, shard: Option<&str>| {
+        let mut args = vec![
+            "sweep",
+            "data/scenes/one-sided-unit.json",
+            "--omega-min",
+            "0.5",
+            "--omega-max",
+            "3.5",
+            "--points",
+            "5",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if let Some(s) = shard {
+            args.extend(["--shard", s]);
+        }
+        let o = rattle(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read_to_string(out).unwrap()
+    };
+    for ext in ["csv", "json"] {
+        let whole = sweep(&dir.with_file_name(format!("whole.{ext}")), None);
+        let parts: Vec<std::path::PathBuf> = (1..=2)
+            .map(|k| dir.with_file_name(format!("part-{k}.{ext}")))
+            .collect();
+        for (k, part) in parts.iter().enumerate() {
+            let text = sweep(part, Some(&format!("{}/2", k + 1)));
+            if ext == "csv" {
+                assert_eq!(
+                    text.lines().next(),
+                    Some(format!("# shard {}/2 of 5 points", k + 1).as_str())
+                );
+            } else {
+                let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+                assert_eq!(
+                    doc["shard"],
+                    serde_json::json!({"index": k + 1, "count": 2})
+                );
+                assert_eq!(doc["points"], 5);
+                assert_eq!(doc["form"], "structure");
+                assert_eq!(doc["results"].as_array().unwrap().len(), 2 + k);
+            }
+        }
+        let merged = dir.with_file_name(format!("merged.{ext}"));
+        let o = rattle(&[
+            "merge",
+            parts[1].to_str().unwrap(),
+            parts[0].to_str().unwrap(),
+            "--out",
+            merged.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(std::fs::read_to_string(&merged).unwrap(), whole, "{ext}");
+        if ext == "csv" {
+            continue;
+        }
+        // A part of another sweep (another scene) is refused.
+        let other = dir.with_file_name("other.json");
+        let o = rattle(&[
+            "sweep",
+            OSCILLATOR,
+            "--omega-min",
+            "0.5",
+            "--omega-max",
+            "3.5",
+            "--points",
+            "5",
+            "--shard",
+            "2/2",
+            "--out",
+            other.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let o = rattle(&[
+            "merge",
+            parts[0].to_str().unwrap(),
+            other.to_str().unwrap(),
+            "--out",
+            merged.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2));
+        let message = String::from_utf8_lossy(&o.stderr);
+        assert!(message.contains("different sweeps"), "{message}");
+    }
+}

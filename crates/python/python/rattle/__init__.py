@@ -39,9 +39,9 @@ body's amplitude by name; the trajectory with a column per body and per stop; th
 exponents), :func:`orbit` with a signature (an impact sequence of its stops:
 :class:`StructureOrbits`), :func:`orbit_trajectory` (a column per body and per stop, as the
 simulated trajectory's), :func:`compare` (:class:`StructureComparison`) and :func:`sweep`
-(every solver, not ``shard``), each as the command on the same structure. The others
+(every solver, whole or in parts), each as the command on the same structure. The others
 (:func:`orbit` without a signature, :func:`continue_branch`, :func:`boundary`, :func:`map`,
-:func:`basins`, :func:`sweep` with ``shard``) refuse a structure with a :class:`ValueError`
+:func:`basins`) refuse a structure with a :class:`ValueError`
 naming the function and the forms it takes, as the command refuses one (``rattle basins``
 takes a structure; the package's :func:`basins` does not yet).
 """
@@ -915,8 +915,8 @@ def sweep(
     ``"both"`` also the verdict of :func:`compare`; the rows have a structure's columns
     (``linear_outer_amplitude`` and ``simulated_outer_amplitude`` of the observed body,
     ``linear_body_amplitudes`` and ``simulated_body_amplitudes`` with every body's amplitude
-    in the scene's order, ``simulated_pair_signatures`` per stop…; see :class:`Sweep`), and
-    ``shard`` is refused, as the command refuses ``--shard`` on a structure.
+    in the scene's order, ``simulated_pair_signatures`` per stop…; see :class:`Sweep`);
+    ``shard`` cuts it as it cuts a unit's sweep.
 
     ``shard=(K, N)``: part ``K`` of ``N`` only (a contiguous block of ``omegas``), as
     ``rattle sweep --shard K/N``; :func:`merge` joins the parts into the whole sweep (a
