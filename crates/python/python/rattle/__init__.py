@@ -38,12 +38,12 @@ Structures (a scene in the structure form: bodies, springs, dashpots, stops and 
 body's amplitude by name; the trajectory with a column per body and per stop; the Lyapunov
 exponents), :func:`orbit` with a signature (an impact sequence of its stops:
 :class:`StructureOrbits`), :func:`orbit_trajectory` (a column per body and per stop, as the
-simulated trajectory's), :func:`compare` (:class:`StructureComparison`) and :func:`sweep`
-(every solver, whole or in parts), each as the command on the same structure. The others
-(:func:`orbit` without a signature, :func:`continue_branch`, :func:`boundary`, :func:`map`,
-:func:`basins`) refuse a structure with a :class:`ValueError`
-naming the function and the forms it takes, as the command refuses one (``rattle basins``
-takes a structure; the package's :func:`basins` does not yet).
+simulated trajectory's), :func:`compare` (:class:`StructureComparison`), :func:`sweep`
+(every solver, whole or in parts) and :func:`basins` (over any two of its bodies'
+displacements and velocities, ``x="u:NAME"``, ``y="v:NAME"``), each as the command on the
+same structure. The others (:func:`orbit` without a signature, :func:`continue_branch`,
+:func:`boundary`, :func:`map`) refuse a structure with a :class:`ValueError` naming the
+function and the forms it takes, as the command refuses one.
 """
 
 import json as _json
