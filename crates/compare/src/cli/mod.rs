@@ -43,7 +43,9 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Analytic steady states at one frequency: the linear response and every two-impact
-    /// orbit (symmetric branches and asymmetric β), with viability and Floquet stability.
+    /// orbit (symmetric branches and asymmetric β), with viability and Floquet stability; with
+    /// --signature every orbit of an impact signature (of a chain's pairs or a structure's
+    /// stops), and with --trajectory one of them sampled over its cycle.
     Orbit(orbit::OrbitArgs),
     /// The member of the two-impact family whose side-2 impact comes βT after the side-1
     /// impact: the gap Δ*(β) that admits it, its phase, viability and stability.
@@ -69,8 +71,8 @@ pub enum Command {
     /// scene parameter); the same curve reached from two events listed once.
     Boundaries(boundaries::BoundariesArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
-    /// JSON Lines file as it runs; on a chain, every solver (`both`: the verdict of `compare`
-    /// at every frequency).
+    /// JSON Lines file as it runs; on a chain or a structure, every solver (`both`: the verdict
+    /// of `compare` at every frequency); whole, or one part of it with --shard.
     Sweep(sweep::SweepArgs),
     /// Joins the parts of a sharded sweep, map or basins (`rattle sweep|map|basins …
     /// --shard K/N`) into the file the unsharded run would write, byte for byte.
@@ -79,9 +81,11 @@ pub enum Command {
     /// one, up the frequencies): the simulated regime and transmittance at every point, the
     /// analytic prediction beside it, and the attenuation bandwidth of every (e, Δ/u_g) line.
     Map(map::MapArgs),
-    /// Basins of attraction at one frequency: a grid of starts at rest (outer and inner
-    /// displacement), each run to its steady state and numbered by the attractor it reaches
-    /// (signature and amplitude, or not periodic), in parallel, written to a file.
+    /// Basins of attraction at one frequency: a grid of starts over two coordinates (on the
+    /// unit by default its outer and inner displacement; with --x and --y any body's
+    /// displacement or velocity of a unit, a chain or a structure), the rest at rest, each run
+    /// to its steady state and numbered by the attractor it reaches (signature and amplitude,
+    /// or not periodic), in parallel, written to a file.
     Basins(basins::BasinsArgs),
 }
 
