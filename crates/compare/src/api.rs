@@ -43,8 +43,9 @@ use crate::output::records::{
     SimulationRecord,
 };
 use crate::output::structure::{
-    structure_trajectory, NamedTable, StructureAnalyticRecord, StructureAt, StructureCompareRecord,
-    StructureOrbitRecord, StructureOrbitsRecord, StructureSimulationRecord,
+    structure_orbit_trajectory, structure_trajectory, NamedTable, StructureAnalyticRecord,
+    StructureAt, StructureCompareRecord, StructureOrbitRecord, StructureOrbitsRecord,
+    StructureSimulationRecord,
 };
 use crate::output::trajectory::{analytic_rows, simulated_rows, ImpactRow, TrajectoryRow};
 use crate::output::{finite, Format};
@@ -667,28 +668,42 @@ fn structure_orbits(
 
 /// The `orbit`-th of `found` (numbered from 0, as listed) sampled from the closed form,
 /// `samples_per_period` uniform samples per forcing period plus every impact:
-/// `rattle orbit --signature … --orbit K --trajectory F --impacts I`.
+/// `rattle orbit --signature … --orbit K --trajectory F --impacts I`. The tables have the
+/// columns [`simulation_trajectory`] gives the same scene, so that the two solvers' cycles
+/// overlay: a unit's or a chain's one row per cell at each time, a structure's a column per
+/// body and per stop.
 ///
 /// # Errors
 /// [`ApiError::Argument`] naming `--orbit` when it is not below `found.len()`, naming
-/// `--samples-per-period` outside `[1, MAX_SAMPLES_PER_PERIOD]`, or for a structure's orbits
-/// (not sampled yet).
+/// `--samples-per-period` outside `[1, MAX_SAMPLES_PER_PERIOD]`, or when `found` is not of
+/// `scene`'s form (orbits found on another scene).
 ///
 /// # Examples
 ///
 /// ```
-/// use rattle_compare::api;
+/// use rattle_compare::api::{self, TrajectoryTables};
 /// use rattle_compare::scene::{AnyScene, Scene};
 ///
 /// let scene = AnyScene::Cells(Scene::paper());
 /// let found = api::signature_orbits(&scene, 2.0, "+-", 1)?;
 /// if !found.is_empty() {
-///     let (rows, impacts) = api::orbit_trajectory(&scene, &found, 0, 16)?;
+///     let TrajectoryTables::Cells { rows, impacts } = api::orbit_trajectory(&scene, &found, 0, 16)?
+///     else { unreachable!("a unit's tables") };
 ///     assert!(rows.len() >= 16);
 ///     assert_eq!(impacts.len(), 2);
 /// }
 /// let past = api::orbit_trajectory(&scene, &found, found.len(), 16).unwrap_err();
 /// assert!(past.to_string().starts_with("--orbit = "));
+///
+/// // A structure's orbit: a column per body and per stop, as `simulate --trajectory` writes.
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../data/scenes/impact-oscillator.json");
+/// let oscillator = api::load(path)?;
+/// let found = api::signature_orbits(&oscillator, 1.8, "+", 1)?;
+/// let TrajectoryTables::Structure { states, impacts } =
+///     api::orbit_trajectory(&oscillator, &found, 0, 16)?
+/// else { unreachable!("a structure's tables") };
+/// assert_eq!(states.columns, ["t", "kind", "base", "u_x", "v_x", "r_0"]);
+/// assert_eq!(impacts.rows.len(), 1);
 /// # Ok::<(), rattle_compare::api::ApiError>(())
 /// ```
 pub fn orbit_trajectory(
@@ -696,14 +711,13 @@ pub fn orbit_trajectory(
     found: &SignatureOrbits,
     orbit: usize,
     samples_per_period: u64,
-) -> Result<(Vec<TrajectoryRow>, Vec<ImpactRow>), ApiError> {
+) -> Result<TrajectoryTables, ApiError> {
     use crate::output::trajectory::MAX_SAMPLES_PER_PERIOD;
     if !(1..=MAX_SAMPLES_PER_PERIOD).contains(&samples_per_period) {
         return Err(ApiError::Argument(format!(
             "--samples-per-period = {samples_per_period} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]"
         )));
     }
-    let scene = cells(scene, "orbit_trajectory")?;
     if orbit >= found.len() {
         let omega = match found {
             SignatureOrbits::Unit { record, .. } => record.at.omega,
@@ -717,37 +731,50 @@ pub fn orbit_trajectory(
             found.signature()
         )));
     }
-    let (omega, (samples, impacts)) = match found {
-        SignatureOrbits::Unit { orbits, .. } => {
+    let other_form = || {
+        ApiError::Argument(format!(
+            "orbit_trajectory: the orbits of {} were not found on scene '{}' (another form)",
+            found.signature(),
+            scene.name()
+        ))
+    };
+    let (scene, omega, (samples, impacts)) = match (scene, found) {
+        (AnyScene::Structure(form), SignatureOrbits::Structure { orbits, .. }) => {
+            let structure = &form.structure;
+            let model = structure.analytic_model().map_err(argument)?;
+            let o = &orbits[orbit];
+            let (samples, impacts) = sample_sequence_orbit(&model, o, samples_per_period);
+            let (states, impacts) =
+                structure_orbit_trajectory(structure, &samples, &impacts, o.omega);
+            return Ok(TrajectoryTables::Structure { states, impacts });
+        }
+        (AnyScene::Cells(scene), SignatureOrbits::Unit { orbits, .. }) => {
             let o = &orbits[orbit];
             (
+                scene,
                 o.omega,
                 sample_signature_orbit(scene, o, samples_per_period),
             )
         }
-        SignatureOrbits::Chain { record } => {
+        (AnyScene::Cells(scene), SignatureOrbits::Chain { record }) => {
             let model = chain_linear_model(scene).map_err(argument)?;
             let o = &record.orbits[orbit];
             (
+                scene,
                 o.omega,
                 sample_sequence_orbit(&model, o, samples_per_period),
             )
         }
-        SignatureOrbits::Structure { .. } => {
-            return Err(ApiError::Argument(
-                "orbit_trajectory is not taken on a scene in the structure form yet: it is \
-                 taken on the unit and chain forms"
-                    .into(),
-            ))
-        }
+        _ => return Err(other_form()),
     };
-    Ok(analytic_rows(
+    let (rows, impacts) = analytic_rows(
         &samples,
         &impacts,
         omega,
         scene.base.amplitude,
         &scene.cell_pairs(),
-    ))
+    );
+    Ok(TrajectoryTables::Cells { rows, impacts })
 }
 
 /// Both solvers on the motion `scene` settles on at `omega` and the verdict between them

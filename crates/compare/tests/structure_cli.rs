@@ -145,15 +145,20 @@ fn bad_structures_and_unsupported_uses_are_refused_by_name() {
         "orbit",
         OSCILLATOR,
         "--omega",
-        "1.0",
+        "1.8",
         "--signature",
         "+",
+        "--orbit",
+        "2",
         "--trajectory",
         "t.csv",
     ]);
     assert_eq!(out.status.code(), Some(2));
     let message = String::from_utf8_lossy(&out.stderr);
-    assert!(message.contains("--trajectory is not taken"), "{message}");
+    assert!(
+        message.contains("--orbit = 2 is out of range: 2 orbit(s) of 0+ at ω = 1.8"),
+        "{message}"
+    );
 }
 
 /// `simulate --lyapunov` on a structure: the exponents of a periodic motion are
@@ -369,4 +374,320 @@ fn boundaries_on_a_structure_follow_the_closed_form_fold() {
         message.contains("--param") && message.contains("structure.bodies[K].mass"),
         "{message}"
     );
+}
+
+/// The columns and the rows of a CSV table `rattle` wrote, each row by column name.
+fn csv_rows(
+    path: &std::path::Path,
+) -> (Vec<String>, Vec<std::collections::HashMap<String, String>>) {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let columns: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    let rows = lines
+        .map(|line| {
+            columns
+                .iter()
+                .cloned()
+                .zip(line.split(',').map(String::from))
+                .collect()
+        })
+        .collect();
+    (columns, rows)
+}
+
+/// The number in `row`'s column `name`.
+fn number(row: &std::collections::HashMap<String, String>, name: &str) -> f64 {
+    row[name]
+        .parse()
+        .unwrap_or_else(|_| panic!("{name} in {row:?}"))
+}
+
+/// `orbit --signature … --trajectory --impacts` on a structure samples every orbit of the
+/// sequence with a column per body and per stop: at each impact, before and after, the
+/// stop's relative coordinate sits on its side's gap (the asymmetric unit's two gaps, and the
+/// impact damper's free body in its clearance).
+#[test]
+fn a_structures_sampled_orbit_meets_its_stops_at_its_impacts() {
+    let dir = scene_file("structure", "orbit-trajectory.json", "{}");
+    for (scene, omega, sequence, gaps, bodies) in [
+        (
+            "data/scenes/asymmetric-unit.json",
+            "3.0",
+            "+-",
+            (0.6, 0.25),
+            ["outer", "inner"],
+        ),
+        (
+            "data/scenes/impact-damper.json",
+            "1.0",
+            "0+ 0-",
+            (0.8, 0.8),
+            ["primary", "ball"],
+        ),
+    ] {
+        let orbits = json(&[
+            "orbit",
+            scene,
+            "--omega",
+            omega,
+            "--signature",
+            sequence,
+            "--json",
+        ]);
+        let count = orbits["orbits"].as_array().unwrap().len();
+        assert!(count > 0, "{scene}: {orbits}");
+        for k in 0..count {
+            let states = dir.with_file_name(format!("orbit-{k}.csv"));
+            let impacts = dir.with_file_name(format!("orbit-{k}-impacts.csv"));
+            let out = rattle(&[
+                "orbit",
+                scene,
+                "--omega",
+                omega,
+                "--signature",
+                sequence,
+                "--orbit",
+                &k.to_string(),
+                "--trajectory",
+                states.to_str().unwrap(),
+                "--impacts",
+                impacts.to_str().unwrap(),
+                "--samples-per-period",
+                "32",
+            ]);
+            assert!(
+                out.status.success(),
+                "{}",
+                String::from_utf8_lossy(&out.stderr)
+            );
+            let (columns, rows) = csv_rows(&states);
+            let u = |b: &str| format!("u_{b}");
+            let v = |b: &str| format!("v_{b}");
+            let expected = [
+                "t".to_owned(),
+                "kind".to_owned(),
+                "base".to_owned(),
+                u(bodies[0]),
+                u(bodies[1]),
+                v(bodies[0]),
+                v(bodies[1]),
+                "r_0".to_owned(),
+            ];
+            assert_eq!(columns, expected, "{scene}");
+            assert_eq!(
+                rows.len(),
+                32 + 2 * 2,
+                "{scene}: uniform samples and two rows per impact"
+            );
+            let at_stop = |r: f64| (r - gaps.0).abs().min((r + gaps.1).abs());
+            let mut times = Vec::new();
+            for row in rows.iter().filter(|r| r["kind"] != "sample") {
+                let r = number(row, "r_0");
+                assert!(at_stop(r) < 1e-12, "{scene} orbit {k}: {row:?}");
+                let relative = number(row, &u(bodies[1])) - number(row, &u(bodies[0]));
+                assert_eq!(
+                    r, relative,
+                    "{scene} orbit {k}: r_0 is the second body's u − the first's"
+                );
+                times.push(number(row, "t"));
+            }
+            let viable = orbits["orbits"][k]["viable"] == true;
+            let (impact_columns, impacts) = csv_rows(&impacts);
+            assert_eq!(
+                impact_columns[..4],
+                ["t", "stop", "side", "relative_velocity_before"]
+            );
+            assert_eq!(impacts.len(), 2, "{scene} orbit {k}");
+            let mut sides = Vec::new();
+            for (j, i) in impacts.iter().enumerate() {
+                assert_eq!(i["stop"], "0");
+                let side: u8 = i["side"].parse().unwrap();
+                let r = number(i, &u(bodies[1])) - number(i, &u(bodies[0]));
+                let gap = if side == 1 { gaps.0 } else { -gaps.1 };
+                assert!((r - gap).abs() < 1e-12, "{scene} orbit {k}: {i:?}");
+                let approach = number(i, "relative_velocity_before");
+                let before = |b: &str| number(i, &format!("v_{b}_before"));
+                assert_eq!(approach, before(bodies[1]) - before(bodies[0]));
+                // A viable orbit approaches each stop from inside.
+                assert!(!viable || approach * gap > 0.0, "{scene} orbit {k}: {i:?}");
+                // Each impact is the time of a pair of rows (before, after).
+                assert_eq!(times[2 * j], number(i, "t"));
+                assert_eq!(times[2 * j + 1], number(i, "t"));
+                sides.push(side);
+            }
+            sides.sort_unstable();
+            assert_eq!(sides, [1, 2], "{scene} orbit {k}");
+        }
+    }
+}
+
+/// The analytic orbit and the simulated cycle of the same motion, each written by its
+/// command, overlay: the same columns, and the same impact (at the same forcing phase, in the
+/// same state) on the impact oscillator's stable orbit.
+#[test]
+fn a_structures_analytic_and_simulated_cycles_overlay() {
+    let dir = scene_file("structure", "overlay.json", "{}");
+    let orbits = json(&[
+        "orbit",
+        OSCILLATOR,
+        "--omega",
+        "1.8",
+        "--signature",
+        "+",
+        "--json",
+    ]);
+    let stable = orbits["orbits"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|o| o["stable"] == true && o["viable"] == true)
+        .expect("a stable orbit at 1.8 rad/s");
+    let tables = |command: &str| {
+        let (states, impacts) = (
+            dir.with_file_name(format!("{command}.csv")),
+            dir.with_file_name(format!("{command}-impacts.csv")),
+        );
+        let mut args = vec![command, OSCILLATOR, "--omega", "1.8"];
+        let k = stable.to_string();
+        if command == "orbit" {
+            args.extend(["--signature", "+", "--orbit", &k]);
+        }
+        args.extend([
+            "--trajectory",
+            states.to_str().unwrap(),
+            "--impacts",
+            impacts.to_str().unwrap(),
+        ]);
+        let out = rattle(&args);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        (
+            std::fs::read_to_string(states).unwrap(),
+            std::fs::read_to_string(impacts).unwrap(),
+        )
+    };
+    let (analytic, analytic_impacts) = tables("orbit");
+    let (simulated, simulated_impacts) = tables("simulate");
+    assert_eq!(analytic.lines().next(), simulated.lines().next());
+    assert_eq!(
+        analytic_impacts.lines().next(),
+        Some("t,stop,side,relative_velocity_before,u_x,v_x_before")
+    );
+    assert_eq!(
+        analytic_impacts.lines().next(),
+        simulated_impacts.lines().next()
+    );
+    let impact = |text: &str| -> Vec<f64> {
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines.len(), 2, "one impact per cycle: {text}");
+        lines[1].split(',').map(|c| c.parse().unwrap()).collect()
+    };
+    let (a, s) = (impact(&analytic_impacts), impact(&simulated_impacts));
+    let period = std::f64::consts::TAU / 1.8;
+    let cycles = (a[0] - s[0]) / period;
+    assert!(
+        (cycles - cycles.round()).abs() < 1e-8,
+        "impact times {} and {} are not a whole number of periods apart",
+        a[0],
+        s[0]
+    );
+    assert_eq!(a[1..3], s[1..3], "the same stop and side");
+    for k in 3..a.len() {
+        assert!((a[k] - s[k]).abs() < 1e-8, "column {k}: {a:?} {s:?}");
+    }
+}
+
+/// `sweep --shard K/N` on a structure: each part says which it is (a JSON `shard` field, a CSV
+/// `# shard` line), and `rattle merge` joins two parts into the unsharded file byte for byte,
+/// in CSV and in JSON.
+#[test]
+fn a_structures_sweep_parts_merge_into_the_whole_sweep() {
+    let dir = scene_file("structure", "shards.json", "{}");
+    let sweep = |out: &std::path::Path, shard: Option<&str>| {
+        let mut args = vec![
+            "sweep",
+            "data/scenes/one-sided-unit.json",
+            "--omega-min",
+            "0.5",
+            "--omega-max",
+            "3.5",
+            "--points",
+            "5",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        if let Some(s) = shard {
+            args.extend(["--shard", s]);
+        }
+        let o = rattle(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        std::fs::read_to_string(out).unwrap()
+    };
+    for ext in ["csv", "json"] {
+        let whole = sweep(&dir.with_file_name(format!("whole.{ext}")), None);
+        let parts: Vec<std::path::PathBuf> = (1..=2)
+            .map(|k| dir.with_file_name(format!("part-{k}.{ext}")))
+            .collect();
+        for (k, part) in parts.iter().enumerate() {
+            let text = sweep(part, Some(&format!("{}/2", k + 1)));
+            if ext == "csv" {
+                assert_eq!(
+                    text.lines().next(),
+                    Some(format!("# shard {}/2 of 5 points", k + 1).as_str())
+                );
+            } else {
+                let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
+                assert_eq!(
+                    doc["shard"],
+                    serde_json::json!({"index": k + 1, "count": 2})
+                );
+                assert_eq!(doc["points"], 5);
+                assert_eq!(doc["form"], "structure");
+                assert_eq!(doc["results"].as_array().unwrap().len(), 2 + k);
+            }
+        }
+        let merged = dir.with_file_name(format!("merged.{ext}"));
+        let o = rattle(&[
+            "merge",
+            parts[1].to_str().unwrap(),
+            parts[0].to_str().unwrap(),
+            "--out",
+            merged.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        assert_eq!(std::fs::read_to_string(&merged).unwrap(), whole, "{ext}");
+        if ext == "csv" {
+            continue;
+        }
+        // A part of another sweep (another scene) is refused.
+        let other = dir.with_file_name("other.json");
+        let o = rattle(&[
+            "sweep",
+            OSCILLATOR,
+            "--omega-min",
+            "0.5",
+            "--omega-max",
+            "3.5",
+            "--points",
+            "5",
+            "--shard",
+            "2/2",
+            "--out",
+            other.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let o = rattle(&[
+            "merge",
+            parts[0].to_str().unwrap(),
+            other.to_str().unwrap(),
+            "--out",
+            merged.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(2));
+        let message = String::from_utf8_lossy(&o.stderr);
+        assert!(message.contains("different sweeps"), "{message}");
+    }
 }

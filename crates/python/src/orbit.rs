@@ -3,10 +3,10 @@
 
 use crate::common::{check_any_frequency, compute_api, json, python_names, unit_only};
 use crate::scene::{structure_refused, NativeScene};
-use crate::table::{columns, PyColumns};
+use crate::table::{columns, structure_columns, PyColumns};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use rattle_compare::api;
+use rattle_compare::api::{self, TrajectoryTables};
 use rattle_compare::output::trajectory::MAX_SAMPLES_PER_PERIOD;
 use rattle_compare::scene::analytic::OrbitSearch;
 use rattle_compare::scene::structure::StructureForm;
@@ -137,8 +137,8 @@ pub(crate) fn check_samples(samples_per_period: i64) -> PyResult<u64> {
 
 /// `rattle orbit --signature SIG --period P --orbit K --trajectory F --impacts I --json`: the
 /// orbits of the signature (the command's JSON) and the `orbit`-th of them sampled from the
-/// closed form, as the two tables the command writes. A structure is refused by name, as the
-/// command refuses `--trajectory` on one.
+/// closed form, as the two tables the command writes, on a scene of any form (a structure's
+/// with a column per body and per stop, as [`crate::simulate`]'s tables).
 #[pyfunction]
 #[pyo3(signature = (scene, omega, signature, period, orbit, samples_per_period))]
 fn orbit_trajectory<'py>(
@@ -150,7 +150,6 @@ fn orbit_trajectory<'py>(
     orbit: i64,
     samples_per_period: i64,
 ) -> PyResult<(String, PyColumns<'py>, PyColumns<'py>)> {
-    scene.cells("rattle.orbit_trajectory")?;
     let scene = &scene.scene;
     let omega = check_any_frequency(scene, "omega", omega)?;
     let samples = check_samples(samples_per_period)?;
@@ -163,14 +162,25 @@ fn orbit_trajectory<'py>(
             .transpose()?;
         Ok((found, tables))
     })?;
-    let Some((rows, impacts)) = tables else {
+    let Some(tables) = tables else {
         return Err(PyValueError::new_err(format!(
             "orbit = {orbit} is out of range: {} orbit(s) of {} at ω = {omega}, numbered from 0",
             found.len(),
             found.signature()
         )));
     };
-    Ok((json(&found)?, columns(py, &rows)?, columns(py, &impacts)?))
+    let (rows, impacts) = match (tables, scene) {
+        (TrajectoryTables::Cells { rows, impacts }, _) => {
+            (columns(py, &rows)?, columns(py, &impacts)?)
+        }
+        (TrajectoryTables::Structure { states, impacts }, AnyScene::Structure(form)) => {
+            structure_columns(py, &form.structure, &states, &impacts)?
+        }
+        (TrajectoryTables::Structure { .. }, AnyScene::Cells(_)) => {
+            unreachable!("a trajectory has the form of its scene")
+        }
+    };
+    Ok((json(&found)?, rows, impacts))
 }
 
 /// Registers `orbit` and `orbit_trajectory`.

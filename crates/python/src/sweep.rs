@@ -5,7 +5,7 @@
 use crate::common::{
     check_any_frequency, check_omega, compute_api, json, options, python_names, shard,
 };
-use crate::scene::{structure_refused, NativeScene};
+use crate::scene::NativeScene;
 use crate::table::{columns, PyColumns};
 use numpy::{PyArray1, PyReadonlyArray1};
 use pyo3::exceptions::PyValueError;
@@ -109,9 +109,9 @@ fn solver(name: &str) -> PyResult<Solver> {
         })
 }
 
-/// `rattle sweep --out FILE.json`: `solver` at every frequency of `omegas`, in parallel on
-/// rayon's pool, in order; on a structure, its rows and header, as the command's (which
-/// refuses `--shard` on a structure: so is `part` refused).
+/// `rattle sweep --out FILE.json [--shard K/N]`: `solver` at every frequency of `omegas` (with
+/// `part`, of its block of them), in parallel on rayon's pool, in order; on a structure, its
+/// rows and header, as the command's.
 #[pyfunction]
 #[pyo3(signature = (scene, omegas, solver_name, tol, steady_tol, max_periods, max_oscillations, part=None))]
 #[allow(clippy::too_many_arguments)]
@@ -127,9 +127,6 @@ fn sweep(
     part: Option<(i64, i64)>,
 ) -> PyResult<NativeSweep> {
     let all = omegas.as_array().to_vec();
-    if let (AnyScene::Structure(form), Some(_)) = (&scene.scene, part) {
-        return Err(structure_refused(form, "rattle.sweep(shard=...)"));
-    }
     for (i, &omega) in all.iter().enumerate() {
         check_any_frequency(&scene.scene, &format!("omegas[{i}]"), omega)?;
     }
@@ -159,7 +156,7 @@ fn sweep(
                 Ok(rows)
             })?;
             return Ok(NativeSweep {
-                header: structure_header(form, solver, all.len()),
+                header: structure_header(form, solver, all.len(), part),
                 rows: Rows::Structure(rows),
             });
         }

@@ -97,6 +97,22 @@ def test_basins_parts_merge_into_the_whole_grid(basins_file):
         assert rattle.merge(parts[::-1]).document == basins_file, n
 
 
+def test_a_chains_basins_are_the_commands_file(rattle_cli, tmp_path):
+    """A chain has no default plane: `x` and `y` name two of its coordinates, as `--x`/`--y`."""
+    chain = SCENES / "paper-chain-5.json"
+    out = tmp_path / "chain.json"
+    code, _, err = rattle_cli.run(
+        "basins", chain, "--omega", 1.9, "--x", "u:outer0", "--y", "v:inner1", "--points", 2,
+        "--out", out,
+    )
+    assert code == 0, err
+    ours = rattle.basins(rattle.Scene.from_file(chain), 1.9, x="u:outer0", y="v:inner1", points=2)
+    assert ours.document == out.read_text()
+    assert list(ours.columns)[:2] == ["outer0_start", "inner1_velocity_start"]
+    with pytest.raises(ValueError, match=r"^x is required on a chain or a structure: one of u:outer0"):
+        rattle.basins(rattle.Scene.from_file(chain), 1.9, points=2)
+
+
 def test_sweep_parts_merge_into_the_whole_sweep():
     omegas = rattle.frequencies(0.5, 3.5, 30)
     whole = rattle.sweep(rattle.Scene.paper(), omegas, solver="analytic")

@@ -1,9 +1,11 @@
 """Scenes in the structure form (bodies, springs, dashpots, stops, forcing) against the
 `rattle` command's JSON for the same inputs: simulate (with its trajectory tables and
-Lyapunov exponents), orbit with a signature, compare and sweep give the command's documents,
+Lyapunov exponents), orbit with a signature, orbit_trajectory (with its tables), compare,
+sweep (whole and in parts) and basins (over any two coordinates) give the command's documents,
 and every other function refuses a structure with a ValueError naming it, as the command
 refuses one."""
 
+import csv
 import json
 import math
 
@@ -143,6 +145,59 @@ def test_orbit_of_a_sequence_on_a_structure_is_the_commands(
     assert ours.sequence == theirs["sequence"]
 
 
+@pytest.mark.parametrize(
+    "path, omega, signature, k",
+    [(OSCILLATOR, 1.8, "+", 0), (OSCILLATOR, 1.8, "+", 1), (DAMPER, 1.0, "0+ 0-", 1),
+     (ASYMMETRIC, 3.0, "+-", 0)],
+)
+def test_orbit_trajectory_on_a_structure_is_the_commands(
+    rattle_cli, tmp_path, path, omega, signature, k
+):
+    states, impacts = tmp_path / "states.json", tmp_path / "impacts.json"
+    theirs = rattle_cli.json(
+        "orbit", path, "--omega", omega, "--signature", signature, "--orbit", k,
+        "--trajectory", states, "--impacts", impacts, "--samples-per-period", 24,
+    )
+    scene = rattle.Scene.from_file(path)
+    ours = rattle.orbit_trajectory(scene, omega, signature, orbit=k, samples_per_period=24)
+    assert isinstance(ours.orbits, rattle.StructureOrbits)
+    assert ours.orbits.to_dict() == theirs
+    assert ours.orbit.to_dict() == theirs["orbits"][k] and ours.index == k
+    assert repr(ours).startswith(f"OrbitCycle(signature={theirs['sequence']!r}")
+    # The tables: the command's, cell for cell, with the columns of the simulated ones.
+    simulated = rattle.simulate(scene, omega, trajectory=True, samples_per_period=4)
+    assert list(ours.trajectory.columns) == list(simulated.trajectory.columns)
+    assert list(ours.impact_table.columns) == list(simulated.impact_table.columns)
+    for ours_table, file in ((ours.trajectory, states), (ours.impact_table, impacts)):
+        theirs_table = _table(file)
+        assert list(ours_table.columns) == list(theirs_table)
+        for name, column in theirs_table.items():
+            assert _same_column(ours_table.columns[name], column), name
+    assert len(ours.trajectory) == 24 + 2 * len(ours.impact_table)
+    with pytest.raises(ValueError, match=r"orbit = 9 is out of range: \d orbit\(s\) of "):
+        rattle.orbit_trajectory(scene, omega, signature, orbit=9)
+
+
+def test_a_structures_sweep_parts_merge_into_the_whole_sweep(rattle_cli, tmp_path):
+    omegas = rattle.frequencies(0.5, 3.0, 5)
+    scene = rattle.Scene.from_file(ASYMMETRIC)
+    whole = rattle.sweep(scene, omegas, solver="event")
+    parts = [rattle.sweep(scene, omegas, solver="event", shard=(k, 2)) for k in (2, 1)]
+    assert [len(p) for p in parts] == [3, 2]
+    merged = rattle.merge(parts)
+    assert isinstance(merged, rattle.Sweep) and merged == whole
+    assert merged.document == whole.document
+    # Each part is the command's part, byte for byte.
+    out = tmp_path / "part.json"
+    code, _, err = rattle_cli.run(
+        "sweep", ASYMMETRIC, "--omega-min", 0.5, "--omega-max", 3.0, "--points", 5,
+        "--solver", "event", "--shard", "2/2", "--out", out,
+    )
+    assert code == 0, err
+    assert parts[0].document == out.read_text()
+    assert json.loads(parts[0].document)["shard"] == {"index": 2, "count": 2}
+
+
 def test_a_bad_sequence_on_a_structure_is_the_commands_error(rattle_cli):
     theirs = rattle_cli.error("orbit", OSCILLATOR, "--omega", 1.8, "--signature", "3+")
     with pytest.raises(ValueError) as ours:
@@ -247,13 +302,129 @@ def test_boundary_on_a_structure_is_the_commands(rattle_cli):
         rattle.boundary(scene, "+", "fold", 1.85, "stops.gap", 0.4, 0.6)
 
 
+#: Basins of structures on small grids, as `rattle basins SCENE --omega W --x … --out F`: the
+#: impact damper's free body against its primary's displacement (the clearance ±0.8 holds the
+#: starts with the ball at ±0.55 inside, the others run), and the impact oscillator's
+#: displacement against its velocity (a start beyond the stop at 0.5 is not run).
+BASINS = [
+    (
+        DAMPER, 0.7,
+        dict(x="u:primary", x_min=-0.2, x_max=0.2, y="u:ball", y_min=-0.55, y_max=0.55, points=3),
+    ),
+    (OSCILLATOR, 1.8, dict(x="u:x", x_min=-0.5, x_max=0.6, y="v:x", y_min=-0.5, y_max=0.5, points=3)),
+]
+
+
+def _basins_flags(kwargs):
+    """The command's flags for the keyword arguments of `rattle.basins`."""
+    flags = []
+    for name, value in kwargs.items():
+        flags += [f"--{name.replace('_', '-')}", value]
+    return flags
+
+
+@pytest.mark.parametrize("path, omega, kwargs", BASINS, ids=lambda v: getattr(v, "stem", None))
+def test_basins_on_a_structure_is_the_commands(rattle_cli, tmp_path, path, omega, kwargs):
+    scene = rattle.Scene.from_file(path)
+    ours = rattle.basins(scene, omega, **kwargs)
+    for ext in ("json", "csv"):
+        out = tmp_path / f"basins.{ext}"
+        code, _, err = rattle_cli.run(
+            "basins", path, "--omega", omega, *_basins_flags(kwargs), "--out", out
+        )
+        assert code == 0, err
+        if ext == "json":
+            assert ours.document == out.read_text()
+            continue
+        # The columns are the command's CSV columns, named by the coordinates, cell for cell.
+        header, *rows = list(csv.reader(out.read_text().splitlines()))
+        assert list(ours.columns) == header
+        assert len(ours) == kwargs["points"] ** 2 == len(rows)
+        for k, name in enumerate(header):
+            column = ours.columns[name]
+            for row, value in zip(rows, column):
+                cell = row[k]
+                if column.dtype == np.float64:
+                    assert (math.isnan(value) and cell == "") or float(cell) == value, name
+                elif column.dtype == np.int64:
+                    assert int(cell) == value, name
+                else:
+                    assert cell == ("" if value is None else value), name
+    names = [b["name"] for b in json.loads(path.read_text())["structure"]["bodies"]]
+    assert list(ours.columns)[-1] == "body_amplitudes"
+    assert all(
+        a is None or len(a.split(";")) == len(names) for a in ours.body_amplitudes
+    )
+    # In parts, merged: the whole grid, byte for byte.
+    parts = [rattle.basins(scene, omega, **kwargs, shard=(k, 2)) for k in (2, 1)]
+    merged = rattle.merge(parts)
+    assert isinstance(merged, rattle.Basins) and merged == ours
+    assert list(merged.columns) == list(ours.columns)
+
+
+def test_a_structures_basins_go_on_their_coordinates_axes():
+    pytest.importorskip("xarray")
+    path, omega, kwargs = BASINS[1]
+    ds = rattle.basins(rattle.Scene.from_file(path), omega, **kwargs).to_xarray()
+    assert ds["attractor"].dims == ("x_start", "x_velocity_start")
+    assert ds["x_start"].values[[0, -1]].tolist() == [kwargs["x_min"], kwargs["x_max"]]
+    assert ds["x_velocity_start"].values[[0, -1]].tolist() == [kwargs["y_min"], kwargs["y_max"]]
+
+
+@pytest.mark.parametrize(
+    "kwargs, flags",
+    [
+        (dict(points=2), ["--points", "2"]),
+        (dict(x="u:x", points=2), ["--x", "u:x", "--points", "2"]),
+        (dict(x="u:wall", y="v:x", points=2), ["--x", "u:wall", "--y", "v:x", "--points", "2"]),
+        (dict(x="u:x", y="u:x", points=2), ["--x", "u:x", "--y", "u:x", "--points", "2"]),
+        (dict(x="u:x", y="v:x", x_min=1.0, x_max=-1.0, points=2),
+         ["--x", "u:x", "--y", "v:x", "--x-min", "1", "--x-max", "-1", "--points", "2"]),
+        (dict(outer=(-1.0, 1.0), points=2), ["--outer-min", "-1", "--outer-max", "1", "--points", "2"]),
+        (dict(x="u:x", y="v:x", points=0), ["--x", "u:x", "--y", "v:x", "--points", "0"]),
+    ],
+)
+def test_a_bad_basins_request_on_a_structure_is_the_commands_error(rattle_cli, kwargs, flags):
+    message = rattle_cli.error("basins", OSCILLATOR, "--omega", 1.8, *flags, "--out", "never.csv")
+    for option, name in [
+        ("--outer-min/--outer-max/--inner-min/--inner-max", "outer/inner"),
+        ("--x-min", "x_min"), ("--x-max", "x_max"), ("--x and --y", "x and y"),
+        ("--x", "x"), ("--y", "y"), ("--points", "points"),
+    ]:
+        message = message.replace(option, name)
+    with pytest.raises(ValueError) as e:
+        rattle.basins(rattle.Scene.from_file(OSCILLATOR), 1.8, **kwargs)
+    assert str(e.value) == message
+
+
+def test_basins_mixing_the_default_plane_and_named_axes_is_the_commands_error(rattle_cli):
+    message = rattle_cli.error(
+        "basins", "--omega", 1.9, "--outer-min", -1, "--x", "u:outer", "--out", "never.csv"
+    )
+    with pytest.raises(ValueError) as e:
+        rattle.basins(rattle.Scene.paper(), 1.9, outer=(-1.0, 2.0), x="u:outer", points=2)
+    assert str(e.value) == (
+        message.replace("--outer-min/--outer-max/--inner-min/--inner-max", "outer/inner")
+        .replace("--x-min/--x-max/--y-min/--y-max", "x_min/x_max/y_min/y_max")
+        .replace("--x/--y", "x/y")
+    )
+
+
+def test_basins_on_the_units_named_plane_is_its_default_plane():
+    """`x="u:outer", y="u:inner"` on the unit is its default plane, byte for byte."""
+    default = rattle.basins(rattle.Scene.paper(), 1.9, outer=(-1.0, 1.0), inner=(-1.0, 1.0), points=3)
+    named = rattle.basins(
+        rattle.Scene.paper(), 1.9, x="u:outer", y="u:inner", x_min=-1.0, x_max=1.0,
+        y_min=-1.0, y_max=1.0, points=3,
+    )
+    assert named == default
+    assert list(named.columns)[:2] == ["outer_start", "inner_start"]
+
+
 #: Every call of the package that takes the unit and chain forms only, on a structure.
 REFUSALS = {
     "rattle.orbit(signature=None)": lambda s: rattle.orbit(s, 1.8),
-    "rattle.orbit_trajectory": lambda s: rattle.orbit_trajectory(s, 1.8, "+"),
     "rattle.map": lambda s: rattle.map(s, (0.8, 0.8, 1), (0.5, 0.5, 1), (1.0, 2.0, 2)),
-    "rattle.basins": lambda s: rattle.basins(s, 1.8, points=2),
-    "rattle.sweep(shard=...)": lambda s: rattle.sweep(s, [1.0, 2.0], shard=(1, 2)),
 }
 
 
@@ -271,9 +442,6 @@ def test_a_structure_is_refused_by_name(call):
     "args",
     [
         ["orbit", "--omega", 1.8],
-        ["orbit", "--omega", 1.8, "--signature", "+", "--trajectory", "t.csv"],
-        ["sweep", "--omega-min", 1.0, "--omega-max", 2.0, "--points", 2, "--shard", "1/2",
-         "--out", "s.json"],
     ],
     ids=lambda a: " ".join(map(str, a[:1] + a[-2:])),
 )

@@ -1,12 +1,10 @@
 //! `rattle basins`: a grid of starts over two coordinates of a scene (the rest at rest), each
 //! coloured by the attractor it reaches.
 
-use super::{check_frequency, check_omega, load_any, RattleError};
+use super::{check_omega, load_any, RattleError};
 use crate::api::{self, ApiError};
 use crate::output::{Format, OutputError};
-use crate::runs::basins::{
-    basin_options, body_names, coordinate_names, BasinGrid, BasinPlane, Basins,
-};
+use crate::runs::basins::{basin_options, BasinAxes, BasinStarts, Basins};
 use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
 use crate::scene::AnyScene;
@@ -89,37 +87,24 @@ pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
         ));
     }
     let scene = load_any(&args.scene)?;
-    let default_plane = [
-        args.outer_min,
-        args.outer_max,
-        args.inner_min,
-        args.inner_max,
-    ]
-    .iter()
-    .any(Option::is_some);
-    let named = args.x.is_some()
-        || args.y.is_some()
-        || [args.x_min, args.x_max, args.y_min, args.y_max]
-            .iter()
-            .any(Option::is_some);
-    if default_plane && named {
-        return Err(RattleError::Argument(
-            "--outer-min/--outer-max/--inner-min/--inner-max set the unit's default plane \
-             (u:outer × u:inner); with --x/--y give the ranges as --x-min/--x-max/--y-min/--y-max"
-                .into(),
-        ));
-    }
-    let unit = matches!(&scene, AnyScene::Cells(s) if !s.is_chain());
-    let coordinates = || coordinate_names(&body_names(&scene)).join(", ");
-    if default_plane && !unit {
-        return Err(RattleError::Argument(format!(
-            "--outer-min/--outer-max/--inner-min/--inner-max set the unit's default plane; on \
-             a chain or a structure name the axes with --x and --y (coordinates: {})",
-            coordinates()
-        )));
-    }
-    let or = |value: Option<f64>, default: f64| value.unwrap_or(default);
-    let starts_of = |points: usize| shard.map_or(points, |s| s.range(points).len());
+    let axes = BasinAxes {
+        x: args.x.clone(),
+        y: args.y.clone(),
+        x_range: (args.x_min, args.x_max),
+        y_range: (args.y_min, args.y_max),
+        outer: (args.outer_min, args.outer_max),
+        inner: (args.inner_min, args.inner_max),
+        points: args.points,
+    };
+    let starts = axes
+        .starts(&scene)
+        .map_err(|e| RattleError::Argument(e.to_string()))?;
+    api::check_frequency(&scene, "--omega", omega)?;
+    let progress = Progress::new(
+        "basins",
+        shard.map_or(starts.starts(), |s| s.range(starts.starts()).len()),
+        true,
+    );
     let io = |source| {
         RattleError::Output(OutputError::Io {
             path: args.out.clone(),
@@ -130,62 +115,26 @@ pub fn run(args: BasinsArgs) -> Result<String, RattleError> {
         ApiError::Write { source, .. } => io(source),
         e => e.into(),
     };
-    let b: Basins = match &scene {
-        AnyScene::Cells(unit) if !named && !unit.is_chain() => {
-            let grid = BasinGrid::new(
-                (or(args.outer_min, -2.0), or(args.outer_max, 2.0)),
-                (or(args.inner_min, -2.0), or(args.inner_max, 2.0)),
-                args.points,
-            )
-            .map_err(|e| RattleError::Argument(e.to_string()))?;
-            check_frequency(unit, "--omega", omega)?;
-            let progress = Progress::new("basins", starts_of(grid.starts()), true);
-            let file = std::fs::File::create(&args.out).map_err(io)?;
-            api::basins(
-                unit,
-                omega,
-                grid,
-                &basin_options(),
-                shard,
-                (format, std::io::BufWriter::new(file)),
-                &progress,
-            )
-            .map_err(written)?
+    let file = std::fs::File::create(&args.out).map_err(io)?;
+    let out = (format, std::io::BufWriter::new(file));
+    let b: Basins = match (&scene, &starts) {
+        (AnyScene::Cells(unit), BasinStarts::Unit(grid)) => {
+            api::basins(unit, omega, *grid, &basin_options(), shard, out, &progress)
         }
-        _ => {
-            let axis =
-                |flag: &str, given: &Option<String>, default: &'static str| match (given, unit) {
-                    (Some(name), _) => Ok(name.clone()),
-                    (None, true) => Ok(default.to_owned()),
-                    (None, false) => Err(RattleError::Argument(format!(
-                        "{flag} is required on a chain or a structure: one of {}",
-                        coordinates()
-                    ))),
-                };
-            let x = axis("--x", &args.x, "u:outer")?;
-            let y = axis("--y", &args.y, "u:inner")?;
-            let plane = BasinPlane::new(
-                &scene,
-                (&x, (or(args.x_min, -2.0), or(args.x_max, 2.0))),
-                (&y, (or(args.y_min, -2.0), or(args.y_max, 2.0))),
-                args.points,
-            )
-            .map_err(|e| RattleError::Argument(e.to_string()))?;
-            api::check_frequency(&scene, "--omega", omega)?;
-            let progress = Progress::new("basins", starts_of(plane.grid.starts()), true);
-            let file = std::fs::File::create(&args.out).map_err(io)?;
-            api::plane_basins(
-                &scene,
-                omega,
-                &plane,
-                &basin_options(),
-                shard,
-                (format, std::io::BufWriter::new(file)),
-                &progress,
-            )
-            .map_err(written)?
+        (_, BasinStarts::Plane(plane)) => api::plane_basins(
+            &scene,
+            omega,
+            plane,
+            &basin_options(),
+            shard,
+            out,
+            &progress,
+        ),
+        (AnyScene::Structure(_), BasinStarts::Unit(_)) => {
+            unreachable!("the default plane is the unit's")
         }
-    };
+    }
+    .map_err(written)?;
     let part = shard.map_or(String::new(), |s| {
         format!(" (part {}/{})", s.index, s.count)
     });

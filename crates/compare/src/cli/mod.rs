@@ -16,7 +16,7 @@ pub mod simulate;
 pub mod structure;
 pub mod sweep;
 
-use crate::api::ApiError;
+use crate::api::{ApiError, TrajectoryTables};
 use crate::output::trajectory::{ImpactRow, TrajectoryRow, MAX_SAMPLES_PER_PERIOD};
 use crate::output::{write_table, Format, Header, OutputError};
 use crate::scene::frequency::{FrequencyBounds, FrequencyError};
@@ -43,7 +43,9 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Analytic steady states at one frequency: the linear response and every two-impact
-    /// orbit (symmetric branches and asymmetric β), with viability and Floquet stability.
+    /// orbit (symmetric branches and asymmetric β), with viability and Floquet stability; with
+    /// --signature every orbit of an impact signature (of a chain's pairs or a structure's
+    /// stops), and with --trajectory one of them sampled over its cycle.
     Orbit(orbit::OrbitArgs),
     /// The member of the two-impact family whose side-2 impact comes βT after the side-1
     /// impact: the gap Δ*(β) that admits it, its phase, viability and stability.
@@ -69,8 +71,8 @@ pub enum Command {
     /// scene parameter); the same curve reached from two events listed once.
     Boundaries(boundaries::BoundariesArgs),
     /// A frequency sweep with one solver or both, in parallel, written to a CSV, JSON or
-    /// JSON Lines file as it runs; on a chain, every solver (`both`: the verdict of `compare`
-    /// at every frequency).
+    /// JSON Lines file as it runs; on a chain or a structure, every solver (`both`: the verdict
+    /// of `compare` at every frequency); whole, or one part of it with --shard.
     Sweep(sweep::SweepArgs),
     /// Joins the parts of a sharded sweep, map or basins (`rattle sweep|map|basins …
     /// --shard K/N`) into the file the unsharded run would write, byte for byte.
@@ -79,9 +81,11 @@ pub enum Command {
     /// one, up the frequencies): the simulated regime and transmittance at every point, the
     /// analytic prediction beside it, and the attenuation bandwidth of every (e, Δ/u_g) line.
     Map(map::MapArgs),
-    /// Basins of attraction at one frequency: a grid of starts at rest (outer and inner
-    /// displacement), each run to its steady state and numbered by the attractor it reaches
-    /// (signature and amplitude, or not periodic), in parallel, written to a file.
+    /// Basins of attraction at one frequency: a grid of starts over two coordinates (on the
+    /// unit by default its outer and inner displacement; with --x and --y any body's
+    /// displacement or velocity of a unit, a chain or a structure), the rest at rest, each run
+    /// to its steady state and numbered by the attractor it reaches (signature and amplitude,
+    /// or not periodic), in parallel, written to a file.
     Basins(basins::BasinsArgs),
 }
 
@@ -176,7 +180,9 @@ pub struct TrajectoryArgs {
     /// `orbit`: the orbit chosen by --signature and --orbit) sampled from the closed form to
     /// this `.csv`/`.json`/`.jsonl` file: columns `t, kind, cell, base, u_o, u_i, v_o, v_i, r`
     /// (SI units; `t` with the base at `u_g cos ωt`; a chain has one row per cell, numbered
-    /// from 0 at the base, at each time), every impact as two rows (before and after).
+    /// from 0 at the base, at each time), every impact as two rows (before and after). On a
+    /// structure: columns `t, kind, base`, then `u_NAME` and `v_NAME` of every body and `r_K`
+    /// of every stop, one row per time, the same for both commands.
     #[arg(long)]
     pub trajectory: Option<PathBuf>,
     /// Uniform samples per forcing period of --trajectory, in [1, 100000].
@@ -184,7 +190,8 @@ pub struct TrajectoryArgs {
     pub samples_per_period: u64,
     /// Write every impact of the sampled stretch to this file: columns `t, pair, side,
     /// relative_velocity_before, u_o, u_i, v_o_before, v_i_before` (the pair's cell's
-    /// displacements and velocities).
+    /// displacements and velocities). On a structure: `t, stop, side,
+    /// relative_velocity_before`, then `u_NAME` and `v_NAME_before` of every body.
     #[arg(long, requires = "trajectory")]
     pub impacts: Option<PathBuf>,
 }
@@ -216,6 +223,26 @@ impl TrajectoryArgs {
             )?;
         }
         Ok(())
+    }
+
+    /// Writes `tables` (a unit's or a chain's rows, or a structure's named tables) to
+    /// --trajectory and --impacts, each if asked for.
+    ///
+    /// # Errors
+    /// An unknown file extension, or a file that cannot be written.
+    pub fn write_tables(&self, tables: TrajectoryTables) -> Result<(), RattleError> {
+        match tables {
+            TrajectoryTables::Cells { rows, impacts } => self.write(rows, impacts),
+            TrajectoryTables::Structure { states, impacts } => {
+                if let Some(path) = &self.trajectory {
+                    states.write(path, Format::of(path, "--trajectory")?)?;
+                }
+                if let Some(path) = &self.impacts {
+                    impacts.write(path, Format::of(path, "--impacts")?)?;
+                }
+                Ok(())
+            }
+        }
     }
 
     /// Checks the options before anything runs.

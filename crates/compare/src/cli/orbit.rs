@@ -25,7 +25,9 @@ pub struct OrbitArgs {
     /// order, `+` side 1 (r = +Δ), `-` side 2, any rotation (e.g. `+-`, `++--`, `+-+-`).
     /// On a chain: the impacts of every pair in time order as `<pair><side>` tokens, pairs
     /// numbered from 0 at the base (e.g. `0+ 1- 0- 1+`); a signature without numbers is
-    /// pair 0's alone (the other pairs must not impact).
+    /// pair 0's alone (the other pairs must not impact). On a structure: its stops' impacts
+    /// as `<stop><side>` tokens, stops numbered from 0 in file order (with one stop, the
+    /// sides alone: `+-` reads as `0+ 0-`).
     #[arg(long, allow_hyphen_values = true)]
     pub signature: Option<String>,
     /// Forcing periods per cycle of the signature, in [1, 8].
@@ -103,22 +105,19 @@ pub fn run(args: OrbitArgs) -> Result<String, RattleError> {
 
 /// `rattle orbit --signature`: every orbit of one signature (on a chain: of an impact
 /// sequence of its pairs; on a structure: of its stops), with `--trajectory` the
-/// `--orbit`-th sampled.
+/// `--orbit`-th sampled (on a structure: a column per body and per stop, as
+/// `simulate --trajectory` writes them).
 fn signature_run(args: &OrbitArgs, omega: f64, text: &str) -> Result<String, RattleError> {
     let any = load_any(&args.common.scene)?;
-    if matches!(any, AnyScene::Structure(_)) && args.trajectory.trajectory.is_some() {
-        return Err(RattleError::Argument(
-            "--trajectory is not taken on a scene in the structure form yet: it is taken on the \
-             unit and chain forms"
-                .into(),
-        ));
-    }
     api::check_frequency(&any, "--omega", omega)?;
     let found = api::signature_orbits(&any, omega, text, args.period)?;
     if args.trajectory.trajectory.is_some() {
-        let (rows, impacts) =
-            api::orbit_trajectory(&any, &found, args.orbit, args.trajectory.samples_per_period)?;
-        args.trajectory.write(rows, impacts)?;
+        args.trajectory.write_tables(api::orbit_trajectory(
+            &any,
+            &found,
+            args.orbit,
+            args.trajectory.samples_per_period,
+        )?)?;
     }
     if args.common.json {
         return pretty(&found);

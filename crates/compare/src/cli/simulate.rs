@@ -3,9 +3,8 @@
 use super::{
     check_omega, heading, load_any, pretty, Accuracy, Common, RattleError, TrajectoryArgs,
 };
-use crate::api::{self, Simulation, TrajectoryTables};
+use crate::api::{self, Simulation};
 use crate::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
-use crate::output::Format;
 use crate::scene::lyapunov::check_periods;
 use crate::scene::simulator::SimulatedPoint;
 use crate::scene::{AnyScene, Scene};
@@ -43,19 +42,15 @@ fn write_trajectory(
     simulation: &Simulation,
     options: &SimulationOptions,
 ) -> Result<(), RattleError> {
-    let Some(path) = &args.trajectory else {
+    if args.trajectory.is_none() {
         return Ok(());
-    };
-    match api::simulation_trajectory(scene, simulation, args.samples_per_period, options)? {
-        TrajectoryTables::Cells { rows, impacts } => args.write(rows, impacts),
-        TrajectoryTables::Structure { states, impacts } => {
-            states.write(path, Format::of(path, "--trajectory")?)?;
-            if let Some(path) = &args.impacts {
-                impacts.write(path, Format::of(path, "--impacts")?)?;
-            }
-            Ok(())
-        }
     }
+    args.write_tables(api::simulation_trajectory(
+        scene,
+        simulation,
+        args.samples_per_period,
+        options,
+    )?)
 }
 
 /// The `--lyapunov` flags of `rattle simulate`.

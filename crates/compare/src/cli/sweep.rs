@@ -38,8 +38,9 @@ pub struct SweepArgs {
     /// computed, in frequency order.
     #[arg(long)]
     pub out: PathBuf,
-    /// Compute only part K of N (a contiguous block of the frequencies), e.g. `--shard 3/8`;
-    /// join the parts with `rattle merge` (CSV or JSON parts).
+    /// Compute only part K of N (a contiguous block of the frequencies), e.g. `--shard 3/8`,
+    /// on a scene of any form; join the parts with `rattle merge` (CSV or JSON parts) into
+    /// the file the whole sweep writes, byte for byte.
     #[arg(long)]
     pub shard: Option<String>,
     #[command(flatten)]
@@ -88,14 +89,7 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
     let scene = match load_any(&args.scene)? {
         AnyScene::Cells(scene) => scene,
         AnyScene::Structure(form) => {
-            if shard.is_some() {
-                return Err(RattleError::Argument(
-                    "--shard is not taken on a scene in the structure form yet: it is taken on \
-                     the unit and chain forms"
-                        .into(),
-                ));
-            }
-            return structure_run(&args, &form, (lo, hi), format, &options);
+            return structure_run(&args, &form, (lo, hi), (format, shard), &options);
         }
     };
     check_frequency(&scene, "--omega-min", lo)?;
@@ -154,7 +148,9 @@ pub fn run(args: SweepArgs) -> Result<String, RattleError> {
     Ok(out)
 }
 
-/// `rattle sweep` on a structure: every row streamed to `--out`, the classes summarised.
+/// `rattle sweep` on a structure: every row streamed to `--out` in `format` (only part
+/// `shard` of the frequencies with a shard, its header and CSV preamble saying which, as a
+/// unit's parts do, so that `rattle merge` joins them), the classes summarised.
 ///
 /// # Errors
 /// A frequency outside the structure's bounds; an output file that cannot be written.
@@ -162,13 +158,17 @@ fn structure_run(
     args: &SweepArgs,
     form: &StructureForm,
     (lo, hi): (f64, f64),
-    format: Format,
+    (format, shard): (Format, Option<Shard>),
     options: &SimulationOptions,
 ) -> Result<String, RattleError> {
     let bounds = FrequencyBounds::of_structure(&form.structure);
     bounds.check("--omega-min", lo)?;
     bounds.check("--omega-max", hi)?;
-    let omegas = Axis::new(lo, hi, args.points).values();
+    let all = Axis::new(lo, hi, args.points).values();
+    let omegas = match shard {
+        Some(s) => &all[s.range(all.len())],
+        None => &all[..],
+    };
     let io = |source| {
         RattleError::Output(OutputError::Io {
             path: args.out.clone(),
@@ -176,16 +176,17 @@ fn structure_run(
         })
     };
     let file = std::fs::File::create(&args.out).map_err(io)?;
+    let preamble = shard.map(|s| s.csv_preamble(all.len()));
     let mut table = writer(
         format,
         std::io::BufWriter::new(file),
-        &structure_header(form, args.solver, omegas.len()),
-        None,
+        &structure_header(form, args.solver, all.len(), shard),
+        preamble.as_deref(),
     )
     .map_err(io)?;
     let progress = Progress::new("sweep", omegas.len(), true);
     let mut by_class: BTreeMap<&'static str, usize> = BTreeMap::new();
-    api::structure_sweep_each(form, &omegas, args.solver, options, &progress, |row| {
+    api::structure_sweep_each(form, omegas, args.solver, options, &progress, |row| {
         if let Some(class) = row.class {
             *by_class.entry(class).or_insert(0) += 1;
         }

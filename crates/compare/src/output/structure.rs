@@ -1,9 +1,11 @@
 //! The records of a structure scene: what `rattle simulate --json`, `rattle compare --json`
-//! and `rattle orbit --signature --json` print for a scene in the structure form. Every body
+//! and `rattle orbit --signature --json` print for a scene in the structure form, and the
+//! tables of its trajectories (`--trajectory`, `--impacts`), simulated or analytic. Every body
 //! is named by the scene's own name for it.
 
 use crate::output::finite;
 use crate::output::records::{multipliers, ByBody, ChainConfirmationRecord};
+use crate::scene::analytic::{OrbitImpact, OrbitSample, SampleKind};
 use crate::scene::simulator::SimulatedPoint;
 use crate::scene::structure::{Structure, StructureScene};
 use rattle_analytic::SequenceOrbit;
@@ -374,25 +376,81 @@ impl NamedTable {
     }
 }
 
-/// A structure's trajectory as two tables: the states (`t, kind, base`, then `u_NAME` and
-/// `v_NAME` of every body and `r_K` of every stop), and the impacts (`t, stop, side,
-/// relative_velocity_before`, then `u_NAME` and `v_NAME_before` of every body).
+/// The columns of a structure's two trajectory tables: the states' (`t, kind, base`, then
+/// `u_NAME` and `v_NAME` of every body and `r_K` of every stop) and the impacts' (`t, stop,
+/// side, relative_velocity_before`, then `u_NAME` and `v_NAME_before` of every body). Both
+/// solvers' tables have them, so that a simulated cycle and an analytic orbit overlay column
+/// for column.
+fn trajectory_columns(structure: &Structure) -> (Vec<String>, Vec<String>) {
+    let names = &structure.names;
+    let mut states: Vec<String> = ["t", "kind", "base"].map(String::from).to_vec();
+    states.extend(names.iter().map(|n| format!("u_{n}")));
+    states.extend(names.iter().map(|n| format!("v_{n}")));
+    states.extend((0..structure.stops.len()).map(|k| format!("r_{k}")));
+    let mut impacts: Vec<String> = ["t", "stop", "side", "relative_velocity_before"]
+        .map(String::from)
+        .to_vec();
+    impacts.extend(names.iter().map(|n| format!("u_{n}")));
+    impacts.extend(names.iter().map(|n| format!("v_{n}_before")));
+    (states, impacts)
+}
+
+/// Numbers as cells, each `None` where it is not finite.
+fn number_cells(values: &[f64]) -> impl Iterator<Item = Cell> + '_ {
+    values.iter().map(|&x| Cell::Number(finite(x)))
+}
+
+/// One row of a structure's states table: time `t`, the row's `kind`, the base's displacement
+/// (`None` without a moving base), every body's displacement `u` and velocity `v`, and every
+/// stop's relative coordinate `r`.
+fn state_cells(
+    t: f64,
+    kind: &'static str,
+    base: Option<f64>,
+    (u, v, r): (&[f64], &[f64], &[f64]),
+) -> Vec<Cell> {
+    let mut cells = vec![
+        Cell::Number(finite(t)),
+        Cell::Word(kind),
+        Cell::Number(base.and_then(finite)),
+    ];
+    cells.extend(number_cells(u));
+    cells.extend(number_cells(v));
+    cells.extend(number_cells(r));
+    cells
+}
+
+/// One row of a structure's impacts table: time `t`, the stop (numbered from 0), the side
+/// (`+1` is side 1, else side 2), the relative velocity just before, and every body's
+/// displacement `u` and velocity `v` just before.
+fn impact_cells(
+    t: f64,
+    stop: usize,
+    side: i8,
+    relative_velocity_before: f64,
+    (u, v): (&[f64], &[f64]),
+) -> Vec<Cell> {
+    let mut cells = vec![
+        Cell::Number(finite(t)),
+        Cell::Count(stop),
+        Cell::Count(if side > 0 { 1 } else { 2 }),
+        Cell::Number(finite(relative_velocity_before)),
+    ];
+    cells.extend(number_cells(u));
+    cells.extend(number_cells(v));
+    cells
+}
+
+/// A structure's simulated trajectory as two tables: the states (`t, kind, base`, then
+/// `u_NAME` and `v_NAME` of every body and `r_K` of every stop), and the impacts (`t, stop,
+/// side, relative_velocity_before`, then `u_NAME` and `v_NAME_before` of every body).
 pub fn structure_trajectory(
     structure: &Structure,
     trajectory: &rattle_event_driven::Trajectory,
 ) -> (NamedTable, NamedTable) {
     use rattle_event_driven::RowKind;
-    let names = &structure.names;
-    let mut columns: Vec<String> = ["t", "kind", "base"].map(String::from).to_vec();
-    columns.extend(names.iter().map(|n| format!("u_{n}")));
-    columns.extend(names.iter().map(|n| format!("v_{n}")));
-    columns.extend((0..structure.stops.len()).map(|k| format!("r_{k}")));
+    let (columns, impact_columns) = trajectory_columns(structure);
     let t0 = trajectory.phase;
-    let numbers = |v: &[f64]| {
-        v.iter()
-            .map(|&x| Cell::Number(finite(x)))
-            .collect::<Vec<_>>()
-    };
     let rows = trajectory
         .rows
         .iter()
@@ -403,35 +461,81 @@ pub fn structure_trajectory(
                 RowKind::AfterImpact => "after_impact",
                 RowKind::AfterStick => "after_stick",
             };
-            let mut cells = vec![
-                Cell::Number(finite(t0 + row.time)),
-                Cell::Word(kind),
-                Cell::Number(structure.base_amplitude.and_then(|_| finite(row.base))),
-            ];
-            cells.extend(numbers(&row.displacements));
-            cells.extend(numbers(&row.velocities));
-            cells.extend(numbers(&row.relative));
-            cells
+            state_cells(
+                t0 + row.time,
+                kind,
+                structure.base_amplitude.map(|_| row.base),
+                (&row.displacements, &row.velocities, &row.relative),
+            )
         })
         .collect();
-    let mut impact_columns: Vec<String> = ["t", "stop", "side", "relative_velocity_before"]
-        .map(String::from)
-        .to_vec();
-    impact_columns.extend(names.iter().map(|n| format!("u_{n}")));
-    impact_columns.extend(names.iter().map(|n| format!("v_{n}_before")));
     let impacts = trajectory
         .impacts
         .iter()
         .map(|i| {
-            let mut cells = vec![
-                Cell::Number(finite(t0 + i.time)),
-                Cell::Count(i.pair),
-                Cell::Count(if i.side > 0 { 1 } else { 2 }),
-                Cell::Number(finite(i.relative_velocity_before)),
-            ];
-            cells.extend(numbers(&i.displacements));
-            cells.extend(numbers(&i.velocities_before));
-            cells
+            impact_cells(
+                t0 + i.time,
+                i.pair,
+                i.side,
+                i.relative_velocity_before,
+                (&i.displacements, &i.velocities_before),
+            )
+        })
+        .collect();
+    (
+        NamedTable { columns, rows },
+        NamedTable {
+            columns: impact_columns,
+            rows: impacts,
+        },
+    )
+}
+
+/// A structure's analytic orbit, sampled by
+/// [`crate::scene::analytic::sample_sequence_orbit`] on [`Structure::analytic_model`], as the
+/// two tables of [`structure_trajectory`], with the same columns: the base's displacement
+/// `u_g cos ωt` at `omega` (empty without a moving base), every stop's `r` and each impact's
+/// `ṙ⁻` from the bodies' displacements and velocities ([`crate::scene::structure::Stop::relative`]).
+///
+/// # Panics
+/// If a sampled state has fewer than two entries per body of `structure`, or an impact names
+/// a stop it does not have.
+pub fn structure_orbit_trajectory(
+    structure: &Structure,
+    samples: &[OrbitSample],
+    impacts: &[OrbitImpact],
+    omega: f64,
+) -> (NamedTable, NamedTable) {
+    let n = structure.dofs();
+    let (columns, impact_columns) = trajectory_columns(structure);
+    let relative =
+        |u: &[f64]| -> Vec<f64> { structure.stops.iter().map(|s| s.relative(u)).collect() };
+    let rows = samples
+        .iter()
+        .map(|s| {
+            let (u, v) = (&s.state.as_slice()[..n], &s.state.as_slice()[n..2 * n]);
+            let kind = match s.kind {
+                SampleKind::Sample => "sample",
+                SampleKind::BeforeImpact => "before_impact",
+                SampleKind::AfterImpact => "after_impact",
+            };
+            let base = structure
+                .base_amplitude
+                .map(|ug| ug * (omega * s.time).cos());
+            state_cells(s.time, kind, base, (u, v, &relative(u)))
+        })
+        .collect();
+    let impacts = impacts
+        .iter()
+        .map(|i| {
+            let (u, v) = (&i.before.as_slice()[..n], &i.before.as_slice()[n..2 * n]);
+            impact_cells(
+                i.time,
+                i.pair,
+                i.side,
+                structure.stops[i.pair].relative(v),
+                (u, v),
+            )
         })
         .collect();
     (

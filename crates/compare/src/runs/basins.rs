@@ -110,6 +110,29 @@ pub enum BasinsError {
     /// Both axes name one coordinate.
     #[error("--x and --y both name {0}: they must be two different coordinates")]
     SameCoordinate(String),
+    /// The unit's default plane's ranges given with named axes.
+    #[error(
+        "--outer-min/--outer-max/--inner-min/--inner-max set the unit's default plane \
+         (u:outer × u:inner); with --x/--y give the ranges as --x-min/--x-max/--y-min/--y-max"
+    )]
+    MixedPlanes,
+    /// The unit's default plane's ranges given on a chain or a structure.
+    #[error(
+        "--outer-min/--outer-max/--inner-min/--inner-max set the unit's default plane; on a \
+         chain or a structure name the axes with --x and --y (coordinates: {coordinates})"
+    )]
+    DefaultPlaneOnUnit {
+        /// The scene's coordinates, comma-separated.
+        coordinates: String,
+    },
+    /// An axis left unnamed on a chain or a structure, which has no default plane.
+    #[error("{flag} is required on a chain or a structure: one of {coordinates}")]
+    Unnamed {
+        /// `--x` or `--y`.
+        flag: &'static str,
+        /// The scene's coordinates, comma-separated.
+        coordinates: String,
+    },
 }
 
 impl BasinGrid {
@@ -316,6 +339,103 @@ impl BasinPlane {
         start.state[self.x.state_index(dofs)] = x;
         start.state[self.y.state_index(dofs)] = y;
         start
+    }
+}
+
+/// The starts `rattle basins` is asked for, as its options give them (`None`: an option left
+/// out): the unit's default plane (`--outer-min` … `--inner-max`) or a plane over two named
+/// coordinates of any scene (`--x`, `--y`, `--x-min` … `--y-max`). The command and the Python
+/// package's `basins` both read their options through [`BasinAxes::starts`], so that they take
+/// and refuse the same requests with the same messages.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BasinAxes {
+    /// `--x`: the first coordinate, `u:NAME` or `v:NAME`.
+    pub x: Option<String>,
+    /// `--y`: the second coordinate.
+    pub y: Option<String>,
+    /// `--x-min` and `--x-max`: the first coordinate's range at the start.
+    pub x_range: (Option<f64>, Option<f64>),
+    /// `--y-min` and `--y-max`: the second coordinate's range at the start.
+    pub y_range: (Option<f64>, Option<f64>),
+    /// `--outer-min` and `--outer-max`: the unit's outer displacement at the start, m.
+    pub outer: (Option<f64>, Option<f64>),
+    /// `--inner-min` and `--inner-max`: the unit's inner displacement at the start, m.
+    pub inner: (Option<f64>, Option<f64>),
+    /// `--points`: starts per side.
+    pub points: usize,
+}
+
+/// The starts of a basins run, as [`BasinAxes::starts`] reads them.
+#[derive(Debug, Clone, PartialEq)]
+pub enum BasinStarts {
+    /// The unit's default plane, `u:outer × u:inner` ([`crate::api::basins`]).
+    Unit(BasinGrid),
+    /// A plane over two coordinates of a scene of any form ([`crate::api::plane_basins`]).
+    Plane(BasinPlane),
+}
+
+impl BasinStarts {
+    /// The grid's number of starts.
+    pub fn starts(&self) -> usize {
+        match self {
+            BasinStarts::Unit(grid) => grid.starts(),
+            BasinStarts::Plane(plane) => plane.grid.starts(),
+        }
+    }
+}
+
+impl BasinAxes {
+    /// The default range of every side at the start: `[−2, 2]` (m, or m/s for a velocity).
+    pub const DEFAULT_RANGE: (f64, f64) = (-2.0, 2.0);
+
+    /// The starts these options ask for on `scene`. On the unit, without a named axis, its
+    /// default plane over `outer` and `inner`; else the plane over `x` and `y` (on the unit
+    /// they default to `u:outer` and `u:inner`, which give the default plane's table byte for
+    /// byte). A side left out is [`BasinAxes::DEFAULT_RANGE`].
+    ///
+    /// # Errors
+    /// [`BasinsError`], naming the command's options: the default plane's ranges with named
+    /// axes ([`BasinsError::MixedPlanes`]) or on a chain or a structure
+    /// ([`BasinsError::DefaultPlaneOnUnit`]), an axis left unnamed on a chain or a structure
+    /// ([`BasinsError::Unnamed`]), and [`BasinGrid::new`]'s and [`BasinPlane::new`]'s.
+    pub fn starts(&self, scene: &AnyScene) -> Result<BasinStarts, BasinsError> {
+        let given = |(lo, hi): (Option<f64>, Option<f64>)| lo.is_some() || hi.is_some();
+        let default_plane = given(self.outer) || given(self.inner);
+        let named =
+            self.x.is_some() || self.y.is_some() || given(self.x_range) || given(self.y_range);
+        if default_plane && named {
+            return Err(BasinsError::MixedPlanes);
+        }
+        let unit = matches!(scene, AnyScene::Cells(s) if !s.is_chain());
+        let coordinates = || coordinate_names(&body_names(scene)).join(", ");
+        if default_plane && !unit {
+            return Err(BasinsError::DefaultPlaneOnUnit {
+                coordinates: coordinates(),
+            });
+        }
+        let (lo, hi) = Self::DEFAULT_RANGE;
+        let range = |(min, max): (Option<f64>, Option<f64>)| (min.unwrap_or(lo), max.unwrap_or(hi));
+        if unit && !named {
+            let grid = BasinGrid::new(range(self.outer), range(self.inner), self.points)?;
+            return Ok(BasinStarts::Unit(grid));
+        }
+        let axis = |flag: &'static str, given: &Option<String>, default: &str| match (given, unit) {
+            (Some(name), _) => Ok(name.clone()),
+            (None, true) => Ok(default.to_owned()),
+            (None, false) => Err(BasinsError::Unnamed {
+                flag,
+                coordinates: coordinates(),
+            }),
+        };
+        let x = axis("--x", &self.x, "u:outer")?;
+        let y = axis("--y", &self.y, "u:inner")?;
+        let plane = BasinPlane::new(
+            scene,
+            (&x, range(self.x_range)),
+            (&y, range(self.y_range)),
+            self.points,
+        )?;
+        Ok(BasinStarts::Plane(plane))
     }
 }
 
@@ -1598,5 +1718,58 @@ mod tests {
         assert_eq!(proximity(&[a.clone(), c], 0.5), BASIN_PROXIMITY);
         assert_eq!(proximity(&[a], 0.5), BASIN_PROXIMITY);
         assert_eq!(proximity(&[], 0.5), BASIN_PROXIMITY);
+    }
+
+    #[test]
+    fn the_axes_are_read_as_the_command_reads_its_flags() {
+        let unit = AnyScene::Cells(Scene::paper());
+        let axes = |f: &dyn Fn(&mut BasinAxes)| {
+            let mut a = BasinAxes {
+                points: 3,
+                ..BasinAxes::default()
+            };
+            f(&mut a);
+            a
+        };
+        // The unit without named axes: its default plane, each side ±2 unless given.
+        let Ok(BasinStarts::Unit(grid)) = axes(&|a| a.outer = (Some(-1.0), None)).starts(&unit)
+        else {
+            panic!("the unit's default plane")
+        };
+        assert_eq!((grid.outer.min, grid.outer.max), (-1.0, 2.0));
+        assert_eq!((grid.inner.min, grid.inner.max), BasinAxes::DEFAULT_RANGE);
+        // A named axis: a plane, the other axis the unit's default.
+        let Ok(BasinStarts::Plane(plane)) = axes(&|a| a.y = Some("v:inner".into())).starts(&unit)
+        else {
+            panic!("a plane")
+        };
+        assert_eq!(plane.columns(), ["outer_start", "inner_velocity_start"]);
+        assert_eq!(
+            axes(&|a| {
+                a.inner = (None, Some(1.0));
+                a.x_range = (Some(0.0), None);
+            })
+            .starts(&unit),
+            Err(BasinsError::MixedPlanes)
+        );
+        // A chain: no default plane, every axis named.
+        let chain = AnyScene::Cells(Scene {
+            cells: Some(2),
+            ..Scene::paper()
+        });
+        let Err(BasinsError::Unnamed { flag, coordinates }) =
+            axes(&|a| a.x = Some("u:outer1".into())).starts(&chain)
+        else {
+            panic!("--y is required on a chain")
+        };
+        assert_eq!(flag, "--y");
+        assert!(
+            coordinates.starts_with("u:outer0, u:inner0, u:outer1"),
+            "{coordinates}"
+        );
+        assert!(matches!(
+            axes(&|a| a.outer = (Some(-1.0), Some(1.0))).starts(&chain),
+            Err(BasinsError::DefaultPlaneOnUnit { .. })
+        ));
     }
 }

@@ -5,6 +5,7 @@
 
 use crate::output::{finite, number_list, table_row, Header};
 use crate::runs::parallel::{for_each_ordered, Progress};
+use crate::runs::shard::Shard;
 use crate::runs::sweep::Solver;
 use crate::scene::simulator::{run_structure, SimulatedPoint};
 use crate::scene::structure::{Structure, StructureForm};
@@ -194,8 +195,16 @@ pub fn structure_sweep_rows<E>(
 }
 
 /// The header of a structure sweep's JSON document: the scene as written, the solver, the
-/// bodies' names and the number of frequencies.
-pub fn structure_header(form: &StructureForm, solver: Solver, points: usize) -> Header {
+/// bodies' names, the number of frequencies of the whole sweep (`points`) and, for a part of
+/// a sharded sweep, which part it is (`shard`, last, as [`crate::runs::sweep::header`] puts
+/// it: [`crate::runs::shard::merge`] drops it to compare the parts' headers and write the
+/// whole sweep's).
+pub fn structure_header(
+    form: &StructureForm,
+    solver: Solver,
+    points: usize,
+    shard: Option<Shard>,
+) -> Header {
     let mut h = Header::default();
     h.push("scene", &form.scene);
     h.push("form", &"structure");
@@ -203,5 +212,8 @@ pub fn structure_header(form: &StructureForm, solver: Solver, points: usize) -> 
     h.push("bodies", &form.structure.names);
     h.push("observed", &form.structure.names[form.structure.observe]);
     h.push("points", &points);
+    if let Some(s) = shard {
+        h.push("shard", &s);
+    }
     h
 }

@@ -233,7 +233,8 @@ pub struct OrbitSample {
     /// What the row is.
     pub kind: SampleKind,
     /// `(u, u̇)`: `(u_o, u_i, u̇_o, u̇_i)` for the unit; for a chain every cell's `u_o, u_i`
-    /// from the base out, then their velocities.
+    /// from the base out, then their velocities; for a structure every body's displacement in
+    /// the scene's order, then their velocities (the model's coordinates, whatever the model).
     pub state: DVector<f64>,
 }
 
@@ -242,7 +243,8 @@ pub struct OrbitSample {
 pub struct OrbitImpact {
     /// Time with the base at `u_g cos ωt`, s.
     pub time: f64,
-    /// The contact pair (0 for the unit; a chain's pairs numbered from the base).
+    /// The contact pair (0 for the unit; a chain's pairs numbered from the base; a
+    /// structure's stops in file order).
     pub pair: usize,
     /// `+1` side 1 (`r = +Δ`), `−1` side 2.
     pub side: i8,
@@ -340,12 +342,15 @@ fn dvector(x: Vector4<f64>) -> DVector<f64> {
     DVector::from_column_slice(x.as_slice())
 }
 
-/// One cycle of a chain's (or any [`rattle_analytic::LinearModel`]'s) `orbit` sampled from its
+/// One cycle of an `orbit` of any [`rattle_analytic::LinearModel`] (a chain's, or a
+/// structure's: [`crate::scene::structure::Structure::analytic_model`]) sampled from its
 /// closed form on `model`, as [`sample_signature_orbit`] samples the unit's: `samples_per_period`
 /// uniform samples per forcing period from its first canonical impact, every impact as two rows
 /// (before and after), in time order, times the forcing's own. Each flight is the exact forced
 /// flow `exp(Â t)` ([`rattle_analytic::LinearModel::transition`]) from the state after its
-/// impact.
+/// impact; the states are in the model's coordinates ([`OrbitSample::state`]), which the
+/// caller names (a chain's cells: [`crate::output::trajectory::analytic_rows`]; a structure's
+/// bodies: [`crate::output::structure::structure_orbit_trajectory`]).
 pub fn sample_sequence_orbit(
     model: &rattle_analytic::LinearModel,
     orbit: &SequenceOrbit,

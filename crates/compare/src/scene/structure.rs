@@ -217,6 +217,19 @@ pub struct Stop {
     pub restitution: f64,
 }
 
+impl Stop {
+    /// The stop's relative coordinate `r = u[plus] − u[minus]` of the displacements `u` (or
+    /// its rate of the velocities), the frame's end counted as 0: the quantity each solver
+    /// holds in `[−gap_minus, gap_plus]`.
+    ///
+    /// # Panics
+    /// If `u` has no entry for one of the stop's bodies.
+    pub fn relative(&self, u: &[f64]) -> f64 {
+        let at = |end: Option<usize>| end.map_or(0.0, |j| u[j]);
+        at(self.plus) - at(self.minus)
+    }
+}
+
 /// A checked structure with its matrices: `M ü + C u̇ + K u = f_c cos ωt + (f_s + ω f_ω) sin ωt`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Structure {

@@ -37,12 +37,13 @@ Structures (a scene in the structure form: bodies, springs, dashpots, stops and 
 ``structure`` field; :attr:`Scene.form` is ``"structure"``) go through :func:`simulate` (every
 body's amplitude by name; the trajectory with a column per body and per stop; the Lyapunov
 exponents), :func:`orbit` with a signature (an impact sequence of its stops:
-:class:`StructureOrbits`), :func:`compare` (:class:`StructureComparison`) and :func:`sweep`
-(every solver, not ``shard``), each as the command on the same structure. The others
-(:func:`orbit` without a signature, :func:`orbit_trajectory`, :func:`continue_branch`,
-:func:`boundary`, :func:`map`, :func:`basins`) refuse a structure with a :class:`ValueError`
-naming the function and the forms it takes, as the command refuses one (``rattle basins``
-takes a structure; the package's :func:`basins` does not yet).
+:class:`StructureOrbits`), :func:`orbit_trajectory` (a column per body and per stop, as the
+simulated trajectory's), :func:`compare` (:class:`StructureComparison`), :func:`sweep`
+(every solver, whole or in parts) and :func:`basins` (over any two of its bodies'
+displacements and velocities, ``x="u:NAME"``, ``y="v:NAME"``), each as the command on the
+same structure. The others (:func:`orbit` without a signature, :func:`continue_branch`,
+:func:`boundary`, :func:`map`) refuse a structure with a :class:`ValueError` naming the
+function and the forms it takes, as the command refuses one.
 """
 
 import json as _json
@@ -413,7 +414,8 @@ class OrbitCycle:
     :class:`Simulation` so that the two solvers' cycles overlay with the same code), ``orbit`` (the orbit's
     record, as listed in ``orbits.orbits[index]``), ``index``, and ``orbits``, the
     :class:`SignatureOrbits` of every orbit of the signature at that frequency (the command's
-    ``--json`` document; :class:`ChainOrbits` on a chain).
+    ``--json`` document; :class:`ChainOrbits` on a chain, :class:`StructureOrbits` on a
+    structure).
     """
 
     def __init__(self, orbits, index, trajectory, impacts):
@@ -425,8 +427,10 @@ class OrbitCycle:
         self.impact_table = impacts
 
     def __repr__(self):
+        # A unit's orbits list a signature, a chain's and a structure's an impact sequence.
+        signature = self.orbits.__dict__.get("signature", self.orbits.__dict__.get("sequence"))
         return (
-            f"OrbitCycle(signature={self.orbits.signature!r}, period={self.orbits.period}, "
+            f"OrbitCycle(signature={signature!r}, period={self.orbits.period}, "
             f"omega={self.orbits.omega!r}, index={self.index}, rows={len(self.trajectory)})"
         )
 
@@ -851,15 +855,24 @@ def orbit_trajectory(
     and picks one orbit, where :func:`orbit` lists them all, with or without a signature; and
     its result has one type whatever the arguments.
 
-    A structure is refused with a :class:`ValueError` naming this function, as the command
-    refuses ``rattle orbit STRUCTURE --trajectory``.
+    On a structure ``signature`` is an impact sequence of its stops (with one stop the sides
+    alone, ``"+-"``), as ``rattle orbit STRUCTURE --signature SEQUENCE --orbit K --trajectory
+    F.csv``: ``orbits`` is then the :class:`StructureOrbits` of that sequence, and the tables
+    have the columns of a structure's ``simulate(..., trajectory=True)``, a column per body and
+    per stop (``t, kind, base, u_NAME…, v_NAME…, r_K…``; the impacts ``t, stop, side,
+    relative_velocity_before, u_NAME…, v_NAME_before…``).
     """
     native = _native_scene(scene)
     text, rows, impacts = _rattle.orbit_trajectory(
         native, float(omega), signature, period, orbit, samples_per_period
     )
     doc = _json.loads(text)
-    orbits = ChainOrbits(doc) if "sequence" in doc else SignatureOrbits(doc)
+    if doc.get("form") == "structure":
+        orbits = StructureOrbits(doc)
+    elif "sequence" in doc:
+        orbits = ChainOrbits(doc)
+    else:
+        orbits = SignatureOrbits(doc)
     return OrbitCycle(orbits, orbit, Table(rows), Table(impacts))
 
 
@@ -927,8 +940,8 @@ def sweep(
     ``"both"`` also the verdict of :func:`compare`; the rows have a structure's columns
     (``linear_outer_amplitude`` and ``simulated_outer_amplitude`` of the observed body,
     ``linear_body_amplitudes`` and ``simulated_body_amplitudes`` with every body's amplitude
-    in the scene's order, ``simulated_pair_signatures`` per stop…; see :class:`Sweep`), and
-    ``shard`` is refused, as the command refuses ``--shard`` on a structure.
+    in the scene's order, ``simulated_pair_signatures`` per stop…; see :class:`Sweep`);
+    ``shard`` cuts it as it cuts a unit's sweep.
 
     ``shard=(K, N)``: part ``K`` of ``N`` only (a contiguous block of ``omegas``), as
     ``rattle sweep --shard K/N``; :func:`merge` joins the parts into the whole sweep (a

@@ -124,23 +124,61 @@ class Map(Grid):
 
 
 class Basins(Grid):
-    """``rattle basins --out F.json``: one row per start, outer displacement slowest.
-    Columns ``outer_start``, ``inner_start``, ``attractor`` (numbered by first appearance
-    in grid order), ``attractor_words``, ``outer_amplitude``, ``periods_run``;
-    ``to_xarray()`` puts them on the axes ``outer_start`` and ``inner_start``. A part's
-    attractors are numbered within the part until merged."""
+    """``rattle basins --out F.json``: one row per start, the first coordinate slowest.
+    Columns: the two starts' (``outer_start`` and ``inner_start`` on the unit's default
+    plane; on a plane of two named coordinates ``NAME_start`` for a displacement and
+    ``NAME_velocity_start`` for a velocity, e.g. ``ball_start``, ``ball_velocity_start``),
+    ``attractor`` (numbered by first appearance in grid order), ``attractor_words``,
+    ``outer_amplitude`` (on a chain the last cell's outer mass's, on a structure the observed
+    body's), ``periods_run``, and on a chain or a structure ``body_amplitudes`` (every body's
+    amplitude of the motion reached, in body order, a ``;``-separated ``str`` with an empty
+    element for a body without one, as the command writes it). ``to_xarray()`` puts them on
+    the axes of the two starts. A part's attractors are numbered within the part until
+    merged; a part without starts names its start columns as the default plane's."""
 
     _table = "basins"
 
+    def __init__(self, document):
+        """Wraps the command's JSON document (the whole run's, or a part's)."""
+        self.document = document
+        data = _json.loads(document)
+        rows = data.pop("results")
+        self.header = data
+        self.columns = _basins_columns(rows, data["scene"])
+
     def _axes(self):
+        x, y = list(self.columns)[:2]
         n = round(_math.sqrt(len(self)))
         return [
-            ("outer_start", self.columns["outer_start"][::n].copy()),
-            ("inner_start", self.columns["inner_start"][:n].copy()),
+            (x, self.columns[x][::n].copy()),
+            (y, self.columns[y][:n].copy()),
         ]
 
     def __repr__(self):
         return f"Basins(starts={len(self)}, shard={self.shard})"
+
+
+def _basins_columns(rows, scene):
+    """The columns of a basins table from its rows (decoded JSON objects, in the command's
+    column order), read-only: the two starts' (named by their coordinates, numbers), the
+    others of the default plane's table with their kinds, and on a chain or a structure
+    ``body_amplitudes`` (text). Without rows, the names come from the ``scene`` the document
+    holds: the default plane's starts, and ``body_amplitudes`` unless it is a single unit."""
+    kinds = dict(_rattle.table_kinds("basins"))
+    if rows:
+        names = list(rows[0])
+    else:
+        names = list(kinds)
+        chain = (scene.get("cells") or 1) > 1 or len(scene.get("chain") or ()) > 1
+        if "structure" in scene or chain:
+            names.append("body_amplitudes")
+    out = {}
+    for k, name in enumerate(names):
+        kind = "number" if k < 2 else kinds.get(name, "text")
+        out[name] = _tables.column(kind, [r[name] for r in rows])
+    for array in out.values():
+        array.flags.writeable = False
+    return out
 
 
 def _axis(lo, hi, n):
@@ -190,9 +228,10 @@ def _map_part(scene_json, restitution, gap, omega, accuracy, part):
     return _rattle.map_document(_native(scene_json), restitution, gap, omega, *accuracy, part)
 
 
-def _basins_part(scene_json, omega, outer, inner, points, part):
-    """One part of basins, as a Dask task runs it: the part's JSON document."""
-    return _rattle.basins_document(_native(scene_json), omega, outer, inner, points, part)
+def _basins_part(scene_json, omega, outer, inner, points, axes, part):
+    """One part of basins, as a Dask task runs it: the part's JSON document. ``axes`` are
+    ``(x, y, x_min, x_max, y_min, y_max)``, as :func:`basins` takes them."""
+    return _rattle.basins_document(_native(scene_json), omega, outer, inner, points, part, *axes)
 
 
 #: The least work a task is given when a study is cut finer than :data:`TASK_SECONDS` to keep
@@ -322,19 +361,42 @@ def map(
 def basins(
     scene,
     omega,
-    outer=(-2.0, 2.0),
-    inner=(-2.0, 2.0),
+    outer=None,
+    inner=None,
     points=200,
     client=None,
     shard=None,
     parts=None,
     progress=True,
+    x=None,
+    y=None,
+    x_min=None,
+    x_max=None,
+    y_min=None,
+    y_max=None,
 ):
-    """Basins of attraction, as ``rattle basins --out F.json``: ``points × points`` starts
-    at rest, outer displacement over ``outer`` and inner over ``inner`` (``(min, max)``, m,
-    the command's defaults), each run to its steady state at ``omega`` and numbered by the
-    attractor it reaches. Returns a :class:`Basins`, whose ``document`` is the command's
-    file byte for byte.
+    """Basins of attraction, as ``rattle basins --out F.json``: ``points × points`` starts,
+    each run to its steady state at ``omega`` and numbered by the attractor it reaches.
+    Returns a :class:`Basins`, whose ``document`` is the command's file byte for byte.
+
+    The starts, as the command's flags give them (``None``: the flag left out, its default):
+
+    - on the unit, its default plane: outer displacement over ``outer`` and inner over
+      ``inner`` (``(min, max)``, m; ``--outer-min``… ``--inner-max``, default ``(-2, 2)``),
+      the rest at rest;
+    - on any scene, a plane over two coordinates: ``x`` and ``y`` (``--x``, ``--y``) each
+      ``"u:NAME"`` (a body's displacement) or ``"v:NAME"`` (its velocity), over
+      ``[x_min, x_max]`` and ``[y_min, y_max]`` (``--x-min``… ``--y-max``, m or m/s, default
+      ±2), every other coordinate at rest, at time 0. Bodies are named ``outer`` and
+      ``inner`` on the unit, ``outer0``, ``inner0``, ``outer1``… on a chain (cells from 0 at
+      the base), by their own names on a structure. ``x`` and ``y`` are required on a chain or
+      a structure; on the unit they default to ``"u:outer"`` and ``"u:inner"``, whose table is
+      the default plane's. ``outer`` and ``inner`` belong to the unit's default plane: they
+      are refused on a chain or a structure and with ``x``, ``y`` or their ranges.
+
+    On a structure a start outside a stop's clearance is not run (its attractor says so); the
+    table's columns are named by the coordinates, with every body's amplitude
+    (:class:`Basins`).
 
     ``shard=(K, N)``: part ``K`` of ``N`` only (a block of starts in grid order; its
     attractors numbered within the part), as ``--shard K/N``; join parts with
@@ -346,13 +408,18 @@ def basins(
     starts (about one in a hundred, to the period cap), as the whole run does, so a part
     costs that much more than its own starts. Progress, faults and errors as :func:`map`.
 
-    A bad ``omega``, ``points`` or side is a :class:`ValueError` with the command's message
-    (``outer[0]`` for ``--outer-min``); a chain scene too, and a scene in the structure form,
-    naming ``rattle.basins``.
+    A bad ``omega``, ``points``, side or coordinate is a :class:`ValueError` with the
+    command's message, the flag named as here (``outer[0]`` for ``--outer-min``, ``x_min``
+    for ``--x-min``, ``x`` for ``--x``, listing the scene's coordinates).
     """
-    outer = tuple(float(x) for x in _check_axis("outer", outer, 2))
-    inner = tuple(float(x) for x in _check_axis("inner", inner, 2))
-    args = (_scene_json(scene), float(omega), outer, inner, int(points))
+    outer = None if outer is None else tuple(float(v) for v in _check_axis("outer", outer, 2))
+    inner = None if inner is None else tuple(float(v) for v in _check_axis("inner", inner, 2))
+    axes = (
+        None if x is None else str(x),
+        None if y is None else str(y),
+        *(None if v is None else float(v) for v in (x_min, x_max, y_min, y_max)),
+    )
+    args = (_scene_json(scene), float(omega), outer, inner, int(points), axes)
     if client is None or shard is not None:
         return Basins(_basins_part(*args, None if shard is None else tuple(shard)))
     # The checks of the whole grid, before any task is sent (an empty part computes nothing).
