@@ -75,7 +75,9 @@ use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::{
     sequence_orbits, ImpactSequence, LinearModel, SequenceOrbit, Signature, SignatureOrbit,
 };
-use rattle_event_driven::trajectory::{final_cycle_trajectory, TrajectoryOptions};
+use rattle_event_driven::trajectory::{
+    final_cycle_trajectory, sample_trajectory, TrajectoryOptions,
+};
 use rattle_event_driven::SimulationOptions;
 use serde::{Serialize, Serializer};
 use std::io::Write;
@@ -349,17 +351,35 @@ pub enum TrajectoryTables {
     },
 }
 
-/// The final cycle of `simulation` (its last period with `options.fixed_periods`) sampled
-/// from the closed form between events, `samples_per_period` uniform samples per forcing
-/// period plus every impact: `rattle simulate --trajectory`. `options` are those of the run.
+/// Which stretch of a simulated motion [`simulation_trajectory`] samples.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Stretch {
+    /// The final cycle of the run (its last period with `options.fixed_periods`).
+    FinalCycle,
+    /// This many forcing periods continued from where the run ended: with one sample per
+    /// period, the samples are the stroboscopic (Poincaré) section at `t = kT` and the
+    /// impacts the impact map of the settled motion, periodic or not.
+    Continued(u64),
+}
+
+/// Most rows of uniform samples [`simulation_trajectory`] writes for a continued stretch
+/// (periods × samples per period): ten million rows of a two-body CSV are about a gigabyte.
+pub const MAX_CONTINUED_SAMPLES: u64 = 10_000_000;
+
+/// A stretch of `simulation` sampled from the closed form between events, `samples_per_period`
+/// uniform samples per forcing period plus every impact: the final cycle, or a stretch
+/// continued from where the run ended (`rattle simulate --trajectory`, with
+/// `--sampled-periods`). `options` are those of the run.
 ///
 /// # Errors
 /// [`ApiError::Argument`] naming `--samples-per-period` outside
-/// `[1, MAX_SAMPLES_PER_PERIOD]`; [`ApiError::Numerical`] when the cycle cannot be rerun.
+/// `[1, MAX_SAMPLES_PER_PERIOD]`, or `--sampled-periods` of zero or with more than
+/// [`MAX_CONTINUED_SAMPLES`] samples; [`ApiError::Numerical`] when the stretch cannot be run.
 pub fn simulation_trajectory(
     scene: &AnyScene,
     simulation: &Simulation,
     samples_per_period: u64,
+    stretch: Stretch,
     options: &SimulationOptions,
 ) -> Result<TrajectoryTables, ApiError> {
     use crate::output::trajectory::MAX_SAMPLES_PER_PERIOD;
@@ -368,32 +388,47 @@ pub fn simulation_trajectory(
             "--samples-per-period = {samples_per_period} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]"
         )));
     }
+    if let Stretch::Continued(periods) = stretch {
+        if periods == 0 || periods.saturating_mul(samples_per_period) > MAX_CONTINUED_SAMPLES {
+            return Err(ApiError::Argument(format!(
+                "--sampled-periods = {periods} is out of range: must be ≥ 1, with at most \
+                 {MAX_CONTINUED_SAMPLES} samples (periods × --samples-per-period = {samples_per_period})"
+            )));
+        }
+    }
     let sim = simulation.point();
-    let sampling = |base_amplitude| TrajectoryOptions {
-        periods: 1,
-        samples_per_period,
-        base_amplitude,
-        simulation: options.clone(),
+    let sample = |m: &rattle_event_driven::Model, base_amplitude| {
+        let sampling = TrajectoryOptions {
+            periods: 1,
+            samples_per_period,
+            base_amplitude,
+            simulation: options.clone(),
+        };
+        match stretch {
+            Stretch::FinalCycle => final_cycle_trajectory(m, sim.omega, &sim.steady, &sampling),
+            Stretch::Continued(periods) => sample_trajectory(
+                m,
+                sim.omega,
+                &sim.steady.final_state,
+                &TrajectoryOptions {
+                    periods,
+                    ..sampling
+                },
+            ),
+        }
+        .map_err(numerical)
     };
     match scene {
         AnyScene::Cells(scene) => {
             let m = model(scene, sim.omega).map_err(numerical)?;
-            let trajectory =
-                final_cycle_trajectory(&m, sim.omega, &sim.steady, &sampling(scene.base.amplitude))
-                    .map_err(numerical)?;
+            let trajectory = sample(&m, scene.base.amplitude)?;
             let (rows, impacts) = simulated_rows(&trajectory, &scene.cell_pairs());
             Ok(TrajectoryTables::Cells { rows, impacts })
         }
         AnyScene::Structure(form) => {
             let structure = &form.structure;
             let m = structure.event_model(sim.omega).map_err(numerical)?;
-            let trajectory = final_cycle_trajectory(
-                &m,
-                sim.omega,
-                &sim.steady,
-                &sampling(structure.base_amplitude.unwrap_or(0.0)),
-            )
-            .map_err(numerical)?;
+            let trajectory = sample(&m, structure.base_amplitude.unwrap_or(0.0))?;
             let (states, impacts) = structure_trajectory(structure, &trajectory);
             Ok(TrajectoryTables::Structure { states, impacts })
         }

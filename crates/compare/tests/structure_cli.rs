@@ -691,3 +691,78 @@ fn a_structures_sweep_parts_merge_into_the_whole_sweep() {
         assert!(message.contains("different sweeps"), "{message}");
     }
 }
+
+/// `simulate --sampled-periods N --samples-per-period 1` on a structure: the Poincaré section
+/// of the impact damper's settled two-impact motion is one point, at `t = kT` for
+/// `k = 0 … N`, and its impact map holds the two impacts of every period, alternating sides,
+/// each at the clearance.
+#[test]
+fn a_structures_poincare_section_of_a_periodic_motion_is_one_point() {
+    let dir = scene_file("structure", "section.txt", "");
+    let dir = dir.parent().unwrap();
+    let (section, impacts) = (dir.join("section.csv"), dir.join("impacts.csv"));
+    let out = rattle(&[
+        "simulate",
+        "data/scenes/impact-damper.json",
+        "--omega",
+        "1.0",
+        "--trajectory",
+        section.to_str().unwrap(),
+        "--impacts",
+        impacts.to_str().unwrap(),
+        "--samples-per-period",
+        "1",
+        "--sampled-periods",
+        "6",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let (_, rows) = csv_rows(&section);
+    let samples: Vec<_> = rows.iter().filter(|r| r["kind"] == "sample").collect();
+    assert_eq!(samples.len(), 7);
+    let period = std::f64::consts::TAU / 1.0;
+    let first = samples[0];
+    let scale = number(first, "u_ball")
+        .abs()
+        .max(number(first, "v_ball").abs());
+    for (k, s) in samples.iter().enumerate() {
+        assert!(
+            (number(s, "t") - k as f64 * period).abs() < 1e-9 * period,
+            "{s:?}"
+        );
+        // The run ended periodic to its tolerance (1e-9 relative by default); the free ball's
+        // offset is neutral, so the section drifts no faster than that.
+        for name in ["u_primary", "v_primary", "u_ball", "v_ball"] {
+            let d = (number(s, name) - number(first, name)).abs();
+            assert!(d < 1e-8 * scale, "{name} at k = {k}: {d}");
+        }
+    }
+    let (_, hits) = csv_rows(&impacts);
+    assert_eq!(hits.len(), 12);
+    for (k, h) in hits.iter().enumerate() {
+        let side = if k % 2 == 0 {
+            hits[0]["side"].clone()
+        } else {
+            hits[1]["side"].clone()
+        };
+        assert_eq!(h["side"], side, "impact {k}");
+        let r = number(h, "u_ball") - number(h, "u_primary");
+        assert!((r.abs() - 0.8).abs() < 1e-12, "impact {k}: r = {r}");
+    }
+    assert_ne!(hits[0]["side"], hits[1]["side"]);
+    let out = rattle(&[
+        "simulate",
+        "data/scenes/impact-damper.json",
+        "--omega",
+        "1.0",
+        "--trajectory",
+        section.to_str().unwrap(),
+        "--sampled-periods",
+        "0",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--sampled-periods = 0"));
+}

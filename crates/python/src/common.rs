@@ -84,6 +84,7 @@ pub(crate) fn python_names(message: &str) -> String {
         .replace("--tol", "tol")
         .replace("--signature", "signature")
         .replace("--samples-per-period", "samples_per_period")
+        .replace("--sampled-periods", "sampled_periods")
         .replace("--period", "period")
         .replace("--orbit", "orbit")
         .replace("--max-step", "max_step")

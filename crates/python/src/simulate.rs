@@ -8,7 +8,7 @@ use crate::scene::NativeScene;
 use crate::table::{columns, structure_columns, PyColumns};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
-use rattle_compare::api::{self, Simulation, TrajectoryTables};
+use rattle_compare::api::{self, Simulation, Stretch, TrajectoryTables};
 use rattle_compare::output::records::WithLyapunov;
 use rattle_compare::scene::lyapunov::check_periods;
 use rattle_compare::scene::AnyScene;
@@ -16,13 +16,15 @@ use rattle_event_driven::lyapunov::BATCHES;
 
 /// `rattle simulate --json`: the event-driven simulator from rest; with `samples_per_period`,
 /// also the tables `--trajectory` and `--impacts` write (the final cycle, or with `periods`
-/// the last period, sampled from the closed form); with `lyapunov_periods`, the exponents of
+/// the last period, sampled from the closed form; with `sampled_periods`, that many periods
+/// continued from where the run ended, as `--sampled-periods`); with `lyapunov_periods`, the
+/// exponents of
 /// `--lyapunov --lyapunov-periods N` in the document. A scene of either form: a structure's
 /// record names every body, its tables have a column per body and per stop. The facade's
 /// calls, as the command's ([`api::simulate`], [`api::simulation_trajectory`],
 /// [`api::lyapunov`]).
 #[pyfunction]
-#[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations, samples_per_period=None, lyapunov_periods=None))]
+#[pyo3(signature = (scene, omega, periods, tol, steady_tol, max_periods, max_oscillations, samples_per_period=None, lyapunov_periods=None, sampled_periods=None))]
 #[allow(clippy::too_many_arguments, clippy::type_complexity)]
 fn simulate<'py>(
     py: Python<'py>,
@@ -35,6 +37,7 @@ fn simulate<'py>(
     max_oscillations: f64,
     samples_per_period: Option<i64>,
     lyapunov_periods: Option<i64>,
+    sampled_periods: Option<i64>,
 ) -> PyResult<(String, Option<(PyColumns<'py>, PyColumns<'py>)>)> {
     let omega = check_any_frequency(&scene.scene, "omega", omega)?;
     let mut options = options(tol, steady_tol, max_periods, max_oscillations)?;
@@ -42,13 +45,24 @@ fn simulate<'py>(
         options.fixed_periods = Some(positive("periods", n)?);
     }
     let samples = samples_per_period.map(check_samples).transpose()?;
+    let stretch = match sampled_periods {
+        None => Stretch::FinalCycle,
+        // A negative count is out of the range the facade names (`≥ 1`).
+        Some(n) => Stretch::Continued(u64::try_from(n).unwrap_or(0)),
+    };
     let lyapunov = lyapunov_periods.map(checked_lyapunov_periods).transpose()?;
     let scene = &scene.scene;
     let (simulation, tables, exponents) = compute_api(py, python_names, || {
         let simulation = api::simulate(scene, omega, &options)?;
         let tables = samples
             .map(|samples_per_period| {
-                api::simulation_trajectory(scene, &simulation, samples_per_period, &options)
+                api::simulation_trajectory(
+                    scene,
+                    &simulation,
+                    samples_per_period,
+                    stretch,
+                    &options,
+                )
             })
             .transpose()?;
         let exponents = lyapunov

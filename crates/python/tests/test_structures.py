@@ -103,6 +103,25 @@ def test_simulate_with_tables_is_the_commands(rattle_cli, tmp_path, path):
     assert ours.trajectory.kind.dtype == object
 
 
+def test_a_poincare_section_is_the_commands(rattle_cli, tmp_path):
+    scene = rattle.Scene.from_file(DAMPER)
+    ours = rattle.simulate(
+        scene, 1.0, trajectory=True, samples_per_period=1, sampled_periods=6
+    )
+    states, impacts = tmp_path / "states.json", tmp_path / "impacts.json"
+    rattle_cli.json(
+        "simulate", DAMPER, "--omega", 1.0, "--trajectory", states, "--impacts", impacts,
+        "--samples-per-period", 1, "--sampled-periods", 6,
+    )
+    for ours_table, file in ((ours.trajectory, states), (ours.impact_table, impacts)):
+        theirs_table = _table(file)
+        for name, column in theirs_table.items():
+            assert _same_column(ours_table.columns[name], column), name
+    assert list(ours.trajectory.kind).count("sample") == 7
+    with pytest.raises(ValueError, match="sampled_periods = 0"):
+        rattle.simulate(scene, 1.0, trajectory=True, sampled_periods=0)
+
+
 def test_simulate_with_lyapunov_on_a_structure_is_the_commands(rattle_cli):
     scene = rattle.Scene.from_file(OSCILLATOR)
     ours = rattle.simulate(scene, 1.8, lyapunov=True, lyapunov_periods=50)

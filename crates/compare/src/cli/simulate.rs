@@ -3,7 +3,7 @@
 use super::{
     check_omega, heading, load_any, pretty, Accuracy, Common, RattleError, TrajectoryArgs,
 };
-use crate::api::{self, Simulation};
+use crate::api::{self, Simulation, Stretch};
 use crate::output::records::{LyapunovRecord, SimulationRecord, WithLyapunov};
 use crate::scene::lyapunov::check_periods;
 use crate::scene::simulator::SimulatedPoint;
@@ -29,6 +29,12 @@ pub struct SimulateArgs {
     #[command(flatten)]
     #[allow(missing_docs)]
     pub trajectory: TrajectoryArgs,
+    /// Sample N forcing periods continued from where the run ended instead of the final
+    /// cycle: with `--samples-per-period 1` the `sample` rows of --trajectory are the
+    /// stroboscopic (Poincaré) section at t = kT and --impacts the impact map, of a motion
+    /// periodic or not (N ≥ 1, N × samples per period ≤ 10 000 000).
+    #[arg(long, requires = "trajectory")]
+    pub sampled_periods: Option<u64>,
     #[command(flatten)]
     #[allow(missing_docs)]
     pub lyapunov: LyapunovArgs,
@@ -37,18 +43,23 @@ pub struct SimulateArgs {
 /// Writes the trajectory files of `args` for `simulation`, when asked for
 /// ([`api::simulation_trajectory`]).
 fn write_trajectory(
-    args: &TrajectoryArgs,
+    args: &SimulateArgs,
     scene: &AnyScene,
     simulation: &Simulation,
     options: &SimulationOptions,
 ) -> Result<(), RattleError> {
-    if args.trajectory.is_none() {
+    let tables = &args.trajectory;
+    if tables.trajectory.is_none() {
         return Ok(());
     }
-    args.write_tables(api::simulation_trajectory(
+    let stretch = args
+        .sampled_periods
+        .map_or(Stretch::FinalCycle, Stretch::Continued);
+    tables.write_tables(api::simulation_trajectory(
         scene,
         simulation,
-        args.samples_per_period,
+        tables.samples_per_period,
+        stretch,
         options,
     )?)
 }
@@ -82,7 +93,7 @@ pub fn run(args: SimulateArgs) -> Result<String, RattleError> {
     let any = load_any(&args.common.scene)?;
     api::check_frequency(&any, "--omega", omega)?;
     let simulation = api::simulate(&any, omega, &options)?;
-    write_trajectory(&args.trajectory, &any, &simulation, &options)?;
+    write_trajectory(&args, &any, &simulation, &options)?;
     let exponents = if args.lyapunov.lyapunov {
         Some(api::lyapunov(
             &any,

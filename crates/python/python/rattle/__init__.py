@@ -777,6 +777,7 @@ def simulate(
     samples_per_period=SAMPLES_PER_PERIOD,
     lyapunov=False,
     lyapunov_periods=LYAPUNOV_PERIODS,
+    sampled_periods=None,
 ):
     """The event-driven simulator from rest, as ``rattle simulate --json``.
 
@@ -796,7 +797,11 @@ def simulate(
     per cell at each time, ``cell`` numbered from 0 at the base, 0 for the unit), and
     ``impact_table``, every impact of that stretch (``t, pair, side,
     relative_velocity_before, u_o, u_i, v_o_before, v_i_before``, displacements and
-    velocities of the pair's cell).
+    velocities of the pair's cell). With ``sampled_periods=N`` (``--sampled-periods N``) the
+    tables hold ``N`` forcing periods continued from where the run ended instead of the final
+    cycle: with ``samples_per_period=1`` the ``sample`` rows are the stroboscopic (Poincaré)
+    section at ``t = kT`` and ``impact_table`` the impact map, for a motion periodic or not
+    (``N`` ≥ 1, ``N × samples_per_period`` ≤ 10 000 000).
 
     With ``lyapunov=True``, as ``rattle simulate --lyapunov --lyapunov-periods N``: after the
     run, the Lyapunov exponents over ``lyapunov_periods`` more forcing periods (at least 10;
@@ -825,6 +830,7 @@ def simulate(
         float(max_oscillations),
         samples_per_period if trajectory else None,
         lyapunov_periods if lyapunov else None,
+        sampled_periods if trajectory else None,
     )
     if tables is None:
         return Simulation(_json.loads(text))
