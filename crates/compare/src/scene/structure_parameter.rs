@@ -138,13 +138,24 @@ pub enum StructureParameterError {
         reason: String,
     },
     /// The value set makes the structure invalid.
-    #[error("parameter `{path}`: {source}")]
+    #[error("parameter {}", value_message(path, source))]
     Value {
         /// The path as given.
         path: String,
         /// The structure's own refusal, naming the field and its range.
         source: StructureError,
     },
+}
+
+/// The refusal of a value of `path`: the structure's reason, after the path once (the
+/// structure names the field it refuses, which is the path itself unless another field
+/// breaks, such as a body left unheld when a stop's gap changes).
+fn value_message(path: &str, source: &StructureError) -> String {
+    if source.field == path {
+        format!("`{path}`: {}", source.reason)
+    } else {
+        format!("`{path}`: {source}")
+    }
 }
 
 /// The indices a list of `count` entries takes, as words.
@@ -378,7 +389,7 @@ mod tests {
             for other in paths.iter().filter(|&&o| o != text) {
                 let q = param(other);
                 let moves_with = |a: &str, b: &str| {
-                    // `gap` is both sides of stop 0: it moves with each side.
+                    // `gap` is both sides of the first stop: it moves with each side.
                     let gaps = [
                         "structure.stops[0].gap",
                         "structure.stops[0].gap_plus",
