@@ -1,13 +1,16 @@
-//! Maps over restitution, gap and frequency: the regime of the motion and the attenuation
+//! Maps over two scene parameters and frequency: the regime of the motion and the attenuation
 //! bandwidth, simulated and predicted.
 //!
-//! A map is a grid of lines, one per `(e, Δ/u_g)`; along each line the frequency goes **up**,
-//! and the simulator at each frequency starts from the final state of the previous one
-//! (continuation; the first frequency starts from rest). Transients are then short, which is
-//! what makes 640 000 steady states affordable, but the map follows an up-sweep: where
-//! attractors coexist (hysteresis), a unit started from rest may settle elsewhere (see the
-//! `bifurcation` figure and `rattle sweep`). Lines are independent and run in parallel; each
-//! line is sequential, so the output does not depend on the number of threads.
+//! A map is a grid of lines, one per value of its two axes: by default the restitution `e` and
+//! the gap over the base amplitude `Δ/u_g` of the stops of a unit or a chain ([`MapGrid`]), or
+//! any two numbers of a scene of any form named by their JSON paths ([`AnyMapGrid`],
+//! [`MapAxes`]). Along each line the frequency goes **up**, and the simulator at each
+//! frequency starts from the final state of the previous one (continuation; the first
+//! frequency starts from rest). Transients are then short, which is what makes 640 000 steady
+//! states affordable, but the map follows an up-sweep: where attractors coexist (hysteresis),
+//! a unit started from rest may settle elsewhere (see the `bifurcation` figure and `rattle
+//! sweep`). Lines are independent and run in parallel; each line is sequential, so the output
+//! does not depend on the number of threads.
 //!
 //! The simulator runs with map-specific settings ([`MapSettings::default`]): the stroboscopic
 //! state must repeat to [`MAP_PERIODICITY_TOLERANCE`], at most [`MAP_MAX_PERIODS`] periods per
@@ -16,27 +19,38 @@
 //! an undamped point whose transients cannot decay is reported as `no-dissipation`, with no
 //! transmittance. Neither is hidden.
 //!
-//! The analytic prediction at a point: the [`candidates`] of [`crate::verdict`] (stable,
-//! viable symmetric two-impact orbits and, with damping, the linear motion clear of the stops),
-//! chosen by [`Choice::LargestAttracting`]: the **largest** transmittance over the attracting
-//! candidates, so a predicted attenuation holds whichever the unit settles on; with no
-//! candidate there is no prediction.
+//! The analytic prediction at a point of a unit or a chain: the [`candidates`] of
+//! [`crate::verdict`] (stable, viable symmetric two-impact orbits and, with damping, the linear
+//! motion clear of the stops), chosen by [`Choice::LargestAttracting`]: the **largest**
+//! transmittance over the attracting candidates, so a predicted attenuation holds whichever
+//! the unit settles on; with no candidate there is no prediction. On a structure, the linear
+//! steady state where it keeps every stop clear and the free motion decays, and nothing else
+//! ([`line`]).
+//!
+//! The module is split by job: the grid (its axes, each line's scene and the checks,
+//! [`AnyMapGrid::line_scenes`]), one line (its points and bandwidth, [`line`]) and the tables
+//! ([`write_any_map`], [`MapColumns`]).
+//!
+//! [`candidates`]: crate::verdict::candidates
+//! [`Choice::LargestAttracting`]: crate::verdict::Choice::LargestAttracting
 
-use crate::output::{finite, number_list, table_row, writer, Format, Header, TableWriter};
+mod grid;
+mod line;
+mod output;
+
+pub use grid::{scene_at, AnyMapGrid, LineScene, MapAxes, MapGrid};
+pub use line::{line, Bandwidth, MapLine, MapPoint, DECAY_RATE};
+pub use output::{
+    any_header, bands_text, header, write_any_map, write_map, BandwidthRow, MapColumns,
+    MapPointRow, WriteMapError,
+};
+
 use crate::runs::axis::Axis;
-use crate::runs::bands::bands;
 use crate::runs::parallel::{for_each_ordered, Grain, Progress};
 use crate::runs::shard::Shard;
-use crate::scene::analytic::{analyse, OrbitSearch};
-use crate::scene::frequency::{FrequencyBounds, FrequencyError};
-use crate::scene::lyapunov::chaos;
-use crate::scene::simulator::{run, Regime};
-use crate::scene::{Scene, StopsSpec};
-use crate::verdict::{candidates, difference, predicted_transmittance, Choice, Motion};
-use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
+use crate::scene::frequency::FrequencyError;
+use crate::scene::{AnyScene, Scene};
 use rattle_event_driven::SimulationOptions;
-use serde::Serialize;
-use std::io::Write;
 use thiserror::Error;
 
 /// The stroboscopic state of a map point must repeat to this tolerance, relative to the gap
@@ -70,18 +84,6 @@ pub const MAP_CONSERVATIVE_PERIODS: u64 = 40;
 /// that repeats to `ε` can still be `ε / (1 − |μ|)` from its orbit (Floquet multiplier `μ`).
 pub const MAP_MATCH_TOLERANCE: f64 = 1e-3;
 
-/// The grid of a map: restitution `e`, gap relative to the base amplitude `Δ/u_g`, and
-/// angular frequency `ω` (rad/s).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct MapGrid {
-    /// Restitution values, in `[0, 1]`.
-    pub restitution: Axis,
-    /// `Δ/u_g` values, finite and > 0.
-    pub gap_over_base_amplitude: Axis,
-    /// Frequencies, rad/s, finite and > 0.
-    pub omega: Axis,
-}
-
 /// A map grid or setting out of range; the message names the field and its allowed range.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum MapError {
@@ -98,74 +100,29 @@ pub enum MapError {
     /// The scene has no stops: there is no gap or restitution to vary.
     #[error("the scene has no `stops`: a map varies their gap and restitution")]
     NoStops,
+    /// A structure given to the map over restitution and gap, whose axes are a unit's stops.
+    #[error(
+        "scene '{scene}' is in the structure form: the map over restitution and gap takes the \
+         unit and chain forms; give two of the structure's parameters as --x and --y (e.g. \
+         structure.stops[0].gap_plus and structure.stops[0].restitution)"
+    )]
+    NoDefaultAxes {
+        /// The scene's name.
+        scene: String,
+    },
+    /// A parameter axis the scene does not take: a path it does not have, an end outside the
+    /// parameter's range, the same parameter twice, or a line whose scene is refused or cannot
+    /// be run at the grid's frequencies.
+    #[error("{flag}: {message}")]
+    Parameter {
+        /// The flag, with its value (`--x-min = -1`), or the line (`at stops.gap = 0.1, …`).
+        flag: String,
+        /// Why, with the parameter's path and its allowed range.
+        message: String,
+    },
     /// A frequency of the grid that the scene cannot be run at in bounded time.
     #[error(transparent)]
     Frequency(#[from] FrequencyError),
-}
-
-fn check_axis(
-    axis: &Axis,
-    names: [&'static str; 3],
-    valid: impl Fn(f64) -> bool,
-    allowed: &'static str,
-) -> Result<(), MapError> {
-    let [min, max, count] = names;
-    if !valid(axis.min) {
-        return Err(MapError::OutOfRange {
-            field: min,
-            value: axis.min.to_string(),
-            allowed,
-        });
-    }
-    if !valid(axis.max) || axis.max < axis.min {
-        return Err(MapError::OutOfRange {
-            field: max,
-            value: axis.max.to_string(),
-            allowed: "must be in the same range and ≥ the minimum",
-        });
-    }
-    if axis.count == 0 {
-        return Err(MapError::OutOfRange {
-            field: count,
-            value: "0".into(),
-            allowed: "must be ≥ 1",
-        });
-    }
-    Ok(())
-}
-
-impl MapGrid {
-    /// Checks every axis; errors name the command-line field.
-    pub fn validate(&self) -> Result<(), MapError> {
-        check_axis(
-            &self.restitution,
-            ["--restitution-min", "--restitution-max", "--restitutions"],
-            |e| (0.0..=1.0).contains(&e),
-            "must be in [0, 1]",
-        )?;
-        check_axis(
-            &self.gap_over_base_amplitude,
-            ["--gap-min", "--gap-max", "--gaps"],
-            |g| g.is_finite() && g > 0.0,
-            "must be finite and > 0 (gap Δ over base amplitude u_g)",
-        )?;
-        check_axis(
-            &self.omega,
-            ["--omega-min", "--omega-max", "--points"],
-            |w| w.is_finite() && w > 0.0,
-            "must be finite and > 0 (rad/s)",
-        )
-    }
-
-    /// Number of `(e, Δ/u_g)` lines.
-    pub fn lines(&self) -> usize {
-        self.restitution.count * self.gap_over_base_amplitude.count
-    }
-
-    /// Number of steady states the map computes.
-    pub fn points(&self) -> usize {
-        self.restitution.count * self.gap_over_base_amplitude.count * self.omega.count
-    }
 }
 
 /// The simulator's settings for a map.
@@ -217,116 +174,7 @@ impl MapSettings {
     }
 }
 
-/// One point of a map.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MapPoint {
-    /// Angular frequency, rad/s.
-    pub omega: f64,
-    /// The simulated regime (`None` if the simulation failed).
-    pub regime: Option<Regime>,
-    /// Least period `p` of a periodic motion, in forcing periods.
-    pub period: Option<u32>,
-    /// Impacts per forcing period over the final cycle (of a chain: all pairs').
-    pub impacts_per_period: f64,
-    /// Impacts per forcing period of each contact pair, from the base out (empty if the
-    /// simulation failed).
-    pub pair_impacts_per_period: Vec<f64>,
-    /// Simulated `X_o = max|u_o|` over the final cycle (or final stretch); of a chain, the
-    /// last cell's.
-    pub outer_amplitude: f64,
-    /// Simulated `max|u_o,j|` of every cell, from the base out (empty if the simulation
-    /// failed).
-    pub cell_outer_amplitudes: Vec<f64>,
-    /// Simulated `20 log10(X_o/u_g)`; `None` without dissipation or on failure.
-    pub transmittance_db: Option<f64>,
-    /// Why the simulation ended (`decided`, `period-cap`, `event-cap`).
-    pub stopped_by: &'static str,
-    /// Forcing periods simulated at this frequency.
-    pub periods_run: u64,
-    /// Stable viable analytic candidates (symmetric two-impact orbits, and the linear motion
-    /// clear of the stops when damped).
-    pub analytic_candidates: usize,
-    /// The predicted transmittance: the largest over the candidates; `None` without one.
-    pub analytic_transmittance_db: Option<f64>,
-    /// Whether the simulated motion is one of the candidates (to the match tolerance).
-    pub analytic_match: bool,
-    /// A failure of either solver at this point.
-    pub error: Option<String>,
-    /// The largest Lyapunov exponent of a point that did not repeat, 1/s.
-    pub largest_exponent: Option<f64>,
-    /// Its regime: chaotic, quasi-periodic or unsettled.
-    pub lyapunov_regime: Option<LyapunovRegime>,
-}
-
-/// One line of a map: fixed restitution and gap, frequencies ascending.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MapLine {
-    /// Restitution `e`.
-    pub restitution: f64,
-    /// `Δ/u_g`.
-    pub gap_over_base_amplitude: f64,
-    /// The points, by ascending frequency.
-    pub points: Vec<MapPoint>,
-}
-
-/// The attenuation of one line: where `T < 0 dB`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Bandwidth {
-    /// Bands `[from, to]` (rad/s) from the samples, as [`crate::runs::bands::bands`] finds them: from
-    /// the first to the last sample of each run below 0 dB; `to = ∞` when the run reaches the
-    /// last frequency. A point without a value ends a band.
-    pub bands: Vec<(f64, f64)>,
-    /// The attenuation bandwidth, rad/s: the number of samples with `T < 0 dB` times the
-    /// frequency step (each sample stands for one step of the swept range).
-    pub bandwidth: f64,
-    /// The first frequency with `T < 0 dB`, if any.
-    pub first_band_start: Option<f64>,
-    /// Samples with `T < 0 dB`.
-    pub attenuating_points: usize,
-    /// Samples with a value (simulated: a transmittance; analytic: a prediction).
-    pub valued_points: usize,
-}
-
-impl Bandwidth {
-    /// The attenuation of `values` (dB, `None` = no value) sampled at ascending `omegas`
-    /// spaced `step` apart.
-    pub fn of(omegas: &[f64], values: &[Option<f64>], step: f64) -> Bandwidth {
-        let below: Vec<usize> = (0..omegas.len())
-            .filter(|&i| values[i].is_some_and(|t| t < 0.0))
-            .collect();
-        Bandwidth {
-            bands: bands(omegas, values, None),
-            bandwidth: below.len() as f64 * step,
-            first_band_start: below.first().map(|&i| omegas[i]),
-            attenuating_points: below.len(),
-            valued_points: values.iter().filter(|v| v.is_some()).count(),
-        }
-    }
-}
-
-impl MapLine {
-    /// The simulated attenuation along this line (`step`: the frequency step).
-    pub fn simulated_bandwidth(&self, step: f64) -> Bandwidth {
-        let (w, t): (Vec<f64>, Vec<Option<f64>>) = self
-            .points
-            .iter()
-            .map(|p| (p.omega, p.transmittance_db))
-            .unzip();
-        Bandwidth::of(&w, &t, step)
-    }
-
-    /// The predicted attenuation along this line.
-    pub fn analytic_bandwidth(&self, step: f64) -> Bandwidth {
-        let (w, t): (Vec<f64>, Vec<Option<f64>>) = self
-            .points
-            .iter()
-            .map(|p| (p.omega, p.analytic_transmittance_db))
-            .unzip();
-        Bandwidth::of(&w, &t, step)
-    }
-}
-
-/// A whole map.
+/// A whole map over restitution and gap, every line kept.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Map {
     /// The scene whose gap and restitution the map replaces.
@@ -335,159 +183,13 @@ pub struct Map {
     pub grid: MapGrid,
     /// The settings.
     pub settings: MapSettings,
-    /// Lines, restitution-major (all gaps of the first restitution, then the next).
+    /// Lines, restitution-major (all gaps of the first restitution, then the next): `x` the
+    /// restitution, `y` the `Δ/u_g`.
     pub lines: Vec<MapLine>,
 }
 
-/// The scene with its stops replaced by gap `gap_over_base_amplitude · u_g` and restitution
-/// `restitution`: of every cell, for a chain.
-pub fn scene_at(scene: &Scene, restitution: f64, gap_over_base_amplitude: f64) -> Scene {
-    let mut s = scene.clone();
-    s.stops = Some(StopsSpec {
-        gap: gap_over_base_amplitude * scene.base.amplitude,
-        restitution,
-    });
-    // Every cell of a graded chain takes the map's stops.
-    if let Some(chain) = &mut s.chain {
-        for cell in chain {
-            cell.stops = None;
-        }
-    }
-    s
-}
-
-/// One line: up the frequencies at fixed `e` and `Δ/u_g`, each simulation started from the
-/// previous one's final state (the first from rest, and again from rest after a failure).
-pub fn line(
-    scene: &Scene,
-    restitution: f64,
-    gap_over_base_amplitude: f64,
-    omegas: &[f64],
-    settings: &MapSettings,
-) -> MapLine {
-    let scene = scene_at(scene, restitution, gap_over_base_amplitude);
-    let damped = scene.is_damped();
-    let mut options = settings.simulation.clone();
-    if !damped && restitution == 1.0 {
-        options.max_periods = options.max_periods.min(MAP_CONSERVATIVE_PERIODS);
-    }
-    let mut start = crate::scene::simulator::rest(&scene);
-    let mut points = Vec::with_capacity(omegas.len());
-    for &omega in omegas {
-        let mut point = MapPoint {
-            omega,
-            regime: None,
-            period: None,
-            impacts_per_period: f64::NAN,
-            pair_impacts_per_period: Vec::new(),
-            outer_amplitude: f64::NAN,
-            cell_outer_amplitudes: Vec::new(),
-            transmittance_db: None,
-            stopped_by: "",
-            periods_run: 0,
-            analytic_candidates: 0,
-            analytic_transmittance_db: None,
-            analytic_match: false,
-            error: None,
-            largest_exponent: None,
-            lyapunov_regime: None,
-        };
-        let sim = match run(&scene, omega, &start, &options) {
-            Ok(sim) => {
-                start = sim.steady.final_state.clone();
-                point.regime = Some(sim.regime);
-                point.period = sim.steady.period;
-                point.impacts_per_period = sim.steady.impacts_per_period;
-                point.pair_impacts_per_period = sim.pair_impacts_per_period(scene.pair_count());
-                point.outer_amplitude = sim.outer_amplitude;
-                point.cell_outer_amplitudes = sim.cell_outer_amplitudes();
-                point.transmittance_db = sim.transmittance_db;
-                point.stopped_by = sim.stopped_by();
-                point.periods_run = sim.steady.periods_run;
-                if let (Regime::Irregular, Some(periods)) = (sim.regime, settings.lyapunov_periods)
-                {
-                    match chaos(&scene, &sim, periods, &options) {
-                        Ok(c) => {
-                            point.largest_exponent = c.largest_exponent;
-                            point.lyapunov_regime = c.regime;
-                        }
-                        Err(e) => point.error = Some(format!("lyapunov: {e}")),
-                    }
-                }
-                Some(sim)
-            }
-            Err(e) => {
-                start = crate::scene::simulator::rest(&scene);
-                point.error = Some(format!("simulation: {e}"));
-                None
-            }
-        };
-        match analyse(&scene, omega, OrbitSearch::Symmetric) {
-            Ok(analytic) => {
-                let offered = candidates(&scene, &analytic);
-                let attracting: Vec<_> = offered.iter().filter(|c| c.attracting).collect();
-                point.analytic_candidates = attracting.len();
-                point.analytic_transmittance_db =
-                    predicted_transmittance(&offered, Choice::LargestAttracting);
-                if let Some(sim) = &sim {
-                    point.analytic_match = attracting.iter().any(|c| match c.motion {
-                        Motion::Orbit { branch } => analytic
-                            .orbits
-                            .iter()
-                            .find(|(b, _)| *b == branch)
-                            .and_then(|(_, o)| difference(sim, o))
-                            .is_some_and(|d| d.largest() < settings.match_tolerance),
-                        Motion::Linear => {
-                            sim.regime == Regime::NoImpact
-                                && (sim.outer_amplitude - c.outer_amplitude).abs()
-                                    < settings.match_tolerance * c.outer_amplitude
-                        }
-                    });
-                }
-            }
-            Err(e) => {
-                let message = format!("analytic: {e}");
-                point.error = Some(match point.error.take() {
-                    Some(first) => format!("{first}; {message}"),
-                    None => message,
-                });
-            }
-        }
-        points.push(point);
-    }
-    MapLine {
-        restitution,
-        gap_over_base_amplitude,
-        points,
-    }
-}
-
-/// Checks `grid` and `scene` for a map.
-fn check(scene: &Scene, grid: &MapGrid) -> Result<(), MapError> {
-    grid.validate()?;
-    if scene.stops.is_none() {
-        return Err(MapError::NoStops);
-    }
-    let bounds = FrequencyBounds::of(scene);
-    bounds.check("--omega-min", grid.omega.min)?;
-    bounds.check("--omega-max", grid.omega.max)?;
-    Ok(())
-}
-
-/// The `(e, Δ/u_g)` of every line of `grid`, restitution-major.
-fn line_keys(grid: &MapGrid) -> Vec<(f64, f64)> {
-    let gaps = grid.gap_over_base_amplitude.values();
-    grid.restitution
-        .values()
-        .into_iter()
-        .flat_map(|e| gaps.iter().map(move |&g| (e, g)))
-        .collect()
-}
-
-/// Computes the map of `scene` over `grid` line by line — lines in parallel, each line up in
-/// frequency with continuation — and hands each line to `sink` in the order of
-/// [`Map::lines`] as soon as its block of lines is done. The result does not depend on the
-/// number of threads.
+/// [`stream_any`] of the whole map over restitution and gap: every line, in the order of
+/// [`Map::lines`].
 ///
 /// # Errors
 /// [`StreamError::Map`] for a grid out of range or a scene without stops (before anything is
@@ -502,11 +204,7 @@ pub fn stream<E>(
     stream_lines(scene, grid, settings, None, progress, sink)
 }
 
-/// [`stream`] over the lines of one part of the map only (all of them for `None`): part `K`
-/// of `N` is block `K` of `N` nearly equal contiguous blocks of whole lines ([`Shard::range`]
-/// over [`MapGrid::lines`]), since each line continues every frequency from the previous one.
-/// A part beyond the number of lines has none. The lines are those of the whole map, bit for
-/// bit, whatever the number of parts.
+/// [`stream_any`] of the map over restitution and gap.
 ///
 /// # Errors
 /// As [`stream`].
@@ -516,22 +214,64 @@ pub fn stream_lines<E>(
     settings: &MapSettings,
     shard: Option<Shard>,
     progress: &Progress,
+    sink: impl FnMut(MapLine) -> Result<(), E>,
+) -> Result<(), StreamError<E>> {
+    stream_any(
+        &AnyScene::Cells(scene.clone()),
+        &AnyMapGrid::from(*grid),
+        settings,
+        shard,
+        progress,
+        sink,
+    )
+}
+
+/// Computes the map of `scene` over `grid`, on any axes and any form, line by line (lines in
+/// parallel, each line up in frequency with continuation), and hands each line to `sink` in
+/// the order of the grid's lines (x-major) as soon as its block of lines is done; with a
+/// shard, over the lines of that part only: part `K` of `N` is block `K` of `N` nearly equal
+/// contiguous blocks of whole lines ([`Shard::range`] over [`AnyMapGrid::lines`]), since each
+/// line continues every frequency from the previous one. A part beyond the number of lines has
+/// none. The lines are those of the whole map, bit for bit, whatever the number of threads and
+/// of parts.
+///
+/// # Errors
+/// [`StreamError::Map`] for a grid the scene does not take ([`AnyMapGrid::line_scenes`],
+/// before anything is computed); [`StreamError::Sink`] for the first error of `sink`.
+pub fn stream_any<E>(
+    scene: &AnyScene,
+    grid: &AnyMapGrid,
+    settings: &MapSettings,
+    shard: Option<Shard>,
+    progress: &Progress,
+    sink: impl FnMut(MapLine) -> Result<(), E>,
+) -> Result<(), StreamError<E>> {
+    let lines = grid.line_scenes(scene).map_err(StreamError::Map)?;
+    run_lines(&lines, &grid.omega, settings, shard, progress, sink)
+}
+
+/// The lines of `shard` (all for `None`) among `lines`, each up the frequencies of `omega`, in
+/// parallel, handed to `sink` in order.
+fn run_lines<E>(
+    lines: &[LineScene],
+    omega: &Axis,
+    settings: &MapSettings,
+    shard: Option<Shard>,
+    progress: &Progress,
     mut sink: impl FnMut(MapLine) -> Result<(), E>,
 ) -> Result<(), StreamError<E>> {
-    check(scene, grid).map_err(StreamError::Map)?;
-    let omegas = grid.omega.values();
-    let keys = line_keys(grid);
-    let range = shard.map_or(0..keys.len(), |s| s.range(keys.len()));
+    let omegas = omega.values();
+    let range = shard.map_or(0..lines.len(), |s| s.range(lines.len()));
     for_each_ordered(
-        &keys[range],
+        &lines[range],
         Grain::Uneven,
         progress,
-        |&(e, g)| line(scene, e, g, &omegas, settings),
+        |l| line(&l.scene, l.x, l.y, &omegas, settings),
         |l| sink(l).map_err(StreamError::Sink),
     )
 }
 
-/// A failure of [`stream`].
+/// A failure of [`stream_any`].
 #[derive(Debug, Error)]
 pub enum StreamError<E> {
     /// The grid or the scene.
@@ -580,317 +320,4 @@ impl Map {
         let step = self.grid.omega.step();
         self.lines.iter().map(move |l| BandwidthRow::new(l, step))
     }
-}
-
-table_row! {
-    /// One point of a map.
-    pub struct MapPointRow {
-        /// Restitution `e`.
-        pub restitution: Option<f64>,
-        /// `Δ/u_g`.
-        pub gap_over_base_amplitude: Option<f64>,
-        /// Angular frequency, rad/s.
-        pub omega: Option<f64>,
-        /// Simulated regime (empty when the simulation failed).
-        pub simulated_regime: Option<&'static str>,
-        /// Least period of a periodic motion, forcing periods.
-        pub simulated_period: Option<u32>,
-        /// Impacts per forcing period over the final cycle (of a chain: all pairs').
-        pub simulated_impacts_per_period: Option<f64>,
-        /// Impacts per forcing period of each contact pair, from the base out: a list,
-        /// `;`-separated ([`number_list`]).
-        pub simulated_pair_impacts_per_period: Option<String>,
-        /// Simulated `X_o`, m (of a chain: the last cell's).
-        pub simulated_outer_amplitude: Option<f64>,
-        /// Simulated `max|u_o,j|` of every cell, from the base out, m: a list, `;`-separated
-        /// ([`number_list`]).
-        pub simulated_cell_outer_amplitudes: Option<String>,
-        /// Simulated `T`, dB.
-        pub simulated_transmittance_db: Option<f64>,
-        /// Why the simulation ended.
-        pub stopped_by: Option<&'static str>,
-        /// Forcing periods simulated at this frequency.
-        pub periods_run: u64,
-        /// Attracting analytic candidates.
-        pub analytic_candidates: usize,
-        /// The predicted `T`, dB (largest over the attracting candidates).
-        pub analytic_transmittance_db: Option<f64>,
-        /// Whether the simulated motion is one of the candidates.
-        pub analytic_match: bool,
-        /// Where the simulation started: `rest` or `previous-frequency`.
-        pub continued_from: &'static str,
-        /// A failure of either solver.
-        pub error: Option<String>,
-        /// The largest Lyapunov exponent of a point that did not repeat, 1/s.
-        pub largest_exponent: Option<f64>,
-        /// Its regime: `chaotic`, `quasi-periodic` or `unsettled`.
-        pub lyapunov_regime: Option<&'static str>,
-    }
-}
-
-impl MapPointRow {
-    /// The rows of one line, by ascending frequency.
-    pub fn of_line(line: &MapLine) -> impl Iterator<Item = MapPointRow> + '_ {
-        line.points
-            .iter()
-            .enumerate()
-            .map(move |(i, p)| MapPointRow {
-                restitution: finite(line.restitution),
-                gap_over_base_amplitude: finite(line.gap_over_base_amplitude),
-                omega: finite(p.omega),
-                simulated_regime: p.regime.map(Regime::name),
-                simulated_period: p.period,
-                simulated_impacts_per_period: finite(p.impacts_per_period),
-                simulated_pair_impacts_per_period: number_list(&p.pair_impacts_per_period),
-                simulated_outer_amplitude: finite(p.outer_amplitude),
-                simulated_cell_outer_amplitudes: number_list(&p.cell_outer_amplitudes),
-                simulated_transmittance_db: p.transmittance_db.and_then(finite),
-                stopped_by: (!p.stopped_by.is_empty()).then_some(p.stopped_by),
-                periods_run: p.periods_run,
-                analytic_candidates: p.analytic_candidates,
-                analytic_transmittance_db: p.analytic_transmittance_db.and_then(finite),
-                analytic_match: p.analytic_match,
-                continued_from: if i == 0 || line.points[i - 1].regime.is_none() {
-                    "rest"
-                } else {
-                    "previous-frequency"
-                },
-                error: p.error.clone(),
-                largest_exponent: p.largest_exponent.and_then(finite),
-                lyapunov_regime: p.lyapunov_regime.map(LyapunovRegime::name),
-            })
-    }
-}
-
-table_row! {
-    /// The attenuation of one `(e, Δ/u_g)` line of a map.
-    pub struct BandwidthRow {
-        /// Restitution `e`.
-        pub restitution: Option<f64>,
-        /// `Δ/u_g`.
-        pub gap_over_base_amplitude: Option<f64>,
-        /// Simulated bandwidth, rad/s.
-        pub simulated_bandwidth: Option<f64>,
-        /// First simulated frequency with `T < 0 dB`.
-        pub simulated_first_band_start: Option<f64>,
-        /// Simulated bands, `from-to;…` (rad/s).
-        pub simulated_bands: String,
-        /// Simulated samples with `T < 0 dB`.
-        pub simulated_attenuating_points: usize,
-        /// Simulated samples with a value.
-        pub simulated_valued_points: usize,
-        /// Predicted bandwidth, rad/s.
-        pub analytic_bandwidth: Option<f64>,
-        /// First predicted frequency with `T < 0 dB`.
-        pub analytic_first_band_start: Option<f64>,
-        /// Predicted bands, `from-to;…` (rad/s).
-        pub analytic_bands: String,
-        /// Predicted samples with `T < 0 dB`.
-        pub analytic_attenuating_points: usize,
-        /// Samples with a prediction.
-        pub analytic_valued_points: usize,
-        /// Points not settled (irregular, no dissipation, failed).
-        pub unsettled_points: usize,
-        /// Points on the line.
-        pub points: usize,
-    }
-}
-
-impl BandwidthRow {
-    /// The row of `line`, frequencies `step` apart.
-    pub fn new(line: &MapLine, step: f64) -> BandwidthRow {
-        let s = line.simulated_bandwidth(step);
-        let a = line.analytic_bandwidth(step);
-        let unsettled = line
-            .points
-            .iter()
-            .filter(|p| {
-                matches!(
-                    p.regime,
-                    None | Some(Regime::Irregular | Regime::NoDissipation)
-                )
-            })
-            .count();
-        BandwidthRow {
-            restitution: finite(line.restitution),
-            gap_over_base_amplitude: finite(line.gap_over_base_amplitude),
-            simulated_bandwidth: finite(s.bandwidth),
-            simulated_first_band_start: s.first_band_start.and_then(finite),
-            simulated_bands: bands_text(&s.bands),
-            simulated_attenuating_points: s.attenuating_points,
-            simulated_valued_points: s.valued_points,
-            analytic_bandwidth: finite(a.bandwidth),
-            analytic_first_band_start: a.first_band_start.and_then(finite),
-            analytic_bands: bands_text(&a.bands),
-            analytic_attenuating_points: a.attenuating_points,
-            analytic_valued_points: a.valued_points,
-            unsettled_points: unsettled,
-            points: line.points.len(),
-        }
-    }
-}
-
-/// Bands as text: `1.5-2.2;2.9-inf` (rad/s), empty when there is none.
-pub fn bands_text(bands: &[(f64, f64)]) -> String {
-    bands
-        .iter()
-        .map(|(a, b)| {
-            if b.is_infinite() {
-                format!("{a}-inf")
-            } else {
-                format!("{a}-{b}")
-            }
-        })
-        .collect::<Vec<_>>()
-        .join(";")
-}
-
-/// An axis as written in a map's header.
-#[derive(Serialize)]
-struct AxisRecord {
-    min: Option<f64>,
-    max: Option<f64>,
-    count: usize,
-}
-
-impl From<&Axis> for AxisRecord {
-    fn from(a: &Axis) -> Self {
-        AxisRecord {
-            min: finite(a.min),
-            max: finite(a.max),
-            count: a.count,
-        }
-    }
-}
-
-/// What a map was computed with, as written in its header.
-#[derive(Serialize)]
-struct SettingsRecord {
-    frequency_order: &'static str,
-    periodicity_tolerance: f64,
-    max_periods: u64,
-    max_period_multiplicity: u32,
-    root_tolerance: f64,
-    match_tolerance: f64,
-}
-
-/// The header of a map's JSON tables: scene, effects, grid, settings, `count` rows of the
-/// whole map under the key `counted` (`points` or `lines`) and, for a part, which shard it is.
-pub fn header(
-    scene: &Scene,
-    grid: &MapGrid,
-    settings: &MapSettings,
-    counted: &str,
-    count: usize,
-    shard: Option<Shard>,
-) -> Header {
-    #[derive(Serialize)]
-    struct GridRecord {
-        restitution: AxisRecord,
-        gap_over_base_amplitude: AxisRecord,
-        omega: AxisRecord,
-    }
-    let mut h = Header::default();
-    h.push("scene", scene);
-    h.push("effects", &scene.effect_names());
-    h.push(
-        "grid",
-        &GridRecord {
-            restitution: (&grid.restitution).into(),
-            gap_over_base_amplitude: (&grid.gap_over_base_amplitude).into(),
-            omega: (&grid.omega).into(),
-        },
-    );
-    let sim = &settings.simulation;
-    h.push(
-        "settings",
-        &SettingsRecord {
-            frequency_order:
-                "ascending, each frequency started from the previous one's final state",
-            periodicity_tolerance: sim.periodicity_tolerance,
-            max_periods: sim.max_periods,
-            max_period_multiplicity: sim.max_period_multiplicity,
-            root_tolerance: sim.root_tolerance,
-            match_tolerance: settings.match_tolerance,
-        },
-    );
-    h.push(counted, &count);
-    if let Some(s) = shard {
-        h.push("shard", &s);
-    }
-    h
-}
-
-/// A failure of [`write_map`]; each names the table it concerns.
-#[derive(Debug, Error)]
-pub enum WriteMapError {
-    /// The grid or the scene (nothing was computed).
-    #[error(transparent)]
-    Map(MapError),
-    /// The points table could not be written.
-    #[error("{0}")]
-    Points(std::io::Error),
-    /// The bandwidth table could not be written.
-    #[error("{0}")]
-    Bandwidth(std::io::Error),
-}
-
-/// Computes the map (or one part of it, [`stream_lines`]) and writes its points to `points`,
-/// one row per point as each block of lines is done, and, if given, each line's bandwidth to
-/// `bandwidth` at the end: the tables `rattle map --out … --bandwidth-out …` writes, with
-/// the part named in a JSON header's `shard` or a CSV part's first line, `# shard K/N of P
-/// points` (`L lines` for the bandwidth), so that [`crate::runs::shard::merge`] joins the
-/// parts into exactly the whole map's tables.
-///
-/// # Errors
-/// [`WriteMapError`]: the grid or scene (before anything is computed or written), or the
-/// first failure to write either table.
-pub fn write_map<P: Write, B: Write>(
-    scene: &Scene,
-    grid: &MapGrid,
-    settings: &MapSettings,
-    shard: Option<Shard>,
-    points: (Format, P),
-    bandwidth: Option<(Format, B)>,
-    progress: &Progress,
-) -> Result<(), WriteMapError> {
-    check(scene, grid).map_err(WriteMapError::Map)?;
-    let preamble = |total: usize, unit: &str| shard.map(|s| s.csv_preamble_of(total, unit));
-    let mut table: Box<dyn TableWriter<MapPointRow>> = writer(
-        points.0,
-        points.1,
-        &header(scene, grid, settings, "points", grid.points(), shard),
-        preamble(grid.points(), "points").as_deref(),
-    )
-    .map_err(WriteMapError::Points)?;
-    let step = grid.omega.step();
-    let mut bandwidth_rows = Vec::new();
-    stream_lines(scene, grid, settings, shard, progress, |line| {
-        for row in MapPointRow::of_line(&line) {
-            table.row(&row)?;
-        }
-        if bandwidth.is_some() {
-            bandwidth_rows.push(BandwidthRow::new(&line, step));
-        }
-        Ok(())
-    })
-    .map_err(|e| match e {
-        StreamError::Map(e) => WriteMapError::Map(e),
-        StreamError::Sink(e) => WriteMapError::Points(e),
-    })?;
-    table.finish().map_err(WriteMapError::Points)?;
-    if let Some((format, out)) = bandwidth {
-        let mut table: Box<dyn TableWriter<BandwidthRow>> = writer(
-            format,
-            out,
-            &header(scene, grid, settings, "lines", grid.lines(), shard),
-            preamble(grid.lines(), "lines").as_deref(),
-        )
-        .map_err(WriteMapError::Bandwidth)?;
-        for row in &bandwidth_rows {
-            table.row(row).map_err(WriteMapError::Bandwidth)?;
-        }
-        table.finish().map_err(WriteMapError::Bandwidth)?;
-    }
-    Ok(())
 }
