@@ -17,7 +17,7 @@ pub(crate) const DICT_ORIGIN: &str = "dict";
 /// The functions of the package that take a scene in the structure form, as the command's
 /// [`rattle_compare::scene::STRUCTURE_COMMANDS`].
 pub(crate) const STRUCTURE_CALLS: &str = "rattle.simulate, rattle.orbit with a signature, \
-     rattle.compare and rattle.sweep (without shard)";
+     rattle.compare, rattle.sweep (without shard) and rattle.map with x and y";
 
 /// A validated scene of either form, as the command loads it.
 #[pyclass(frozen, module = "rattle._rattle")]

@@ -216,7 +216,6 @@ REFUSALS = {
     "rattle.orbit_trajectory": lambda s: rattle.orbit_trajectory(s, 1.8, "+"),
     "rattle.continue_branch": lambda s: rattle.continue_branch(s, "+", 1.8, 1.0, 2.0),
     "rattle.boundary": lambda s: rattle.boundary(s, "+", "grazing", 1.8, "stops.gap", 0.1, 1.0),
-    "rattle.map": lambda s: rattle.map(s, (0.8, 0.8, 1), (0.5, 0.5, 1), (1.0, 2.0, 2)),
     "rattle.basins": lambda s: rattle.basins(s, 1.8, points=2),
     "rattle.sweep(shard=...)": lambda s: rattle.sweep(s, [1.0, 2.0], shard=(1, 2)),
 }
