@@ -37,12 +37,13 @@ Structures (a scene in the structure form: bodies, springs, dashpots, stops and 
 ``structure`` field; :attr:`Scene.form` is ``"structure"``) go through :func:`simulate` (every
 body's amplitude by name; the trajectory with a column per body and per stop; the Lyapunov
 exponents), :func:`orbit` with a signature (an impact sequence of its stops:
-:class:`StructureOrbits`), :func:`compare` (:class:`StructureComparison`) and :func:`sweep`
-(every solver, not ``shard``), each as the command on the same structure. The others
-(:func:`orbit` without a signature, :func:`orbit_trajectory`, :func:`continue_branch`,
-:func:`boundary`, :func:`map`, :func:`basins`) refuse a structure with a :class:`ValueError`
-naming the function and the forms it takes, as the command refuses one (``rattle basins``
-takes a structure; the package's :func:`basins` does not yet).
+:class:`StructureOrbits`), :func:`compare` (:class:`StructureComparison`), :func:`sweep`
+(every solver, not ``shard``) and :func:`map` over two of its numbers (``x=``, ``y=``), each
+as the command on the same structure. The others (:func:`orbit` without a signature,
+:func:`orbit_trajectory`, :func:`continue_branch`, :func:`boundary`, :func:`basins`) refuse a
+structure with a :class:`ValueError` naming the function and the forms it takes, as the
+command refuses one (``rattle basins`` takes a structure; the package's :func:`basins` does
+not yet); :func:`map` without ``x`` and ``y`` asks for them.
 """
 
 import json as _json
@@ -174,8 +175,9 @@ class Scene:
 
     :attr:`form` says which (``"cells"`` or ``"structure"``). A structure is taken by
     :func:`simulate` (with its trajectory and Lyapunov exponents), :func:`orbit` with a
-    signature, :func:`compare` and :func:`sweep` (without ``shard``), as the command takes
-    one; the other functions refuse it with a :class:`ValueError` naming the function.
+    signature, :func:`compare`, :func:`sweep` (without ``shard``) and :func:`map` with ``x`` and
+    ``y``, as the command takes one; the other functions refuse it with a :class:`ValueError`
+    naming the function.
     """
 
     __slots__ = ("_native",)

@@ -25,10 +25,10 @@
 //! transmittance over the attracting candidates, so a predicted attenuation holds whichever
 //! the unit settles on; with no candidate there is no prediction. On a structure, the linear
 //! steady state where it keeps every stop clear and the free motion decays, and nothing else
-//! ([`line`]).
+//! ([`line()`]).
 //!
 //! The module is split by job: the grid (its axes, each line's scene and the checks,
-//! [`AnyMapGrid::line_scenes`]), one line (its points and bandwidth, [`line`]) and the tables
+//! [`AnyMapGrid::line_scenes`]), one line (its points and bandwidth, [`line()`]) and the tables
 //! ([`write_any_map`], [`MapColumns`]).
 //!
 //! [`candidates`]: crate::verdict::candidates
