@@ -75,8 +75,9 @@ pub const MAP_MAX_PERIODS: u64 = 400;
 /// careful one.
 pub const MAP_LYAPUNOV_PERIODS: u64 = 200;
 
-/// Periods run per point when nothing can dissipate (no damping, `e = 1`): the simulator calls
-/// such a motion `no-dissipation` whatever the cap (unless it repeats), so a short run suffices.
+/// Periods run per point when nothing can dissipate (no dashpot, every stop elastic): the
+/// simulator calls such a motion `no-dissipation` whatever the cap (unless it repeats), so a
+/// short run suffices.
 pub const MAP_CONSERVATIVE_PERIODS: u64 = 40;
 
 /// A simulated two-impact (or impact-free) motion matches an analytic candidate when they
@@ -140,8 +141,8 @@ pub struct MapSettings {
 
 impl Default for MapSettings {
     /// [`MAP_PERIODICITY_TOLERANCE`], [`MAP_MAX_PERIODS`] ([`MAP_CONSERVATIVE_PERIODS`] on
-    /// undamped lines with `e = 1`), [`MAP_MATCH_TOLERANCE`]; the other
-    /// simulator options at their defaults.
+    /// lines where nothing dissipates: no dashpot, every stop elastic), [`MAP_MATCH_TOLERANCE`];
+    /// the other simulator options at their defaults.
     fn default() -> Self {
         Self {
             simulation: SimulationOptions {
