@@ -54,7 +54,6 @@ use crate::runs::boundary::{follow_any, BoundaryOptions, BoundaryRecord};
 use crate::runs::continuation::{
     follow, follow_chain, follow_sequence, FollowError, Followed, SequenceFollowed,
 };
-use crate::runs::map::{write_map, MapError, MapGrid, MapSettings, WriteMapError};
 use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
 use crate::runs::structure_sweep::{structure_sweep_rows, StructureSweepRow};
@@ -83,6 +82,10 @@ use serde::{Serialize, Serializer};
 use std::io::Write;
 use std::path::Path;
 use thiserror::Error;
+
+mod maps;
+
+pub use maps::{map, map_document};
 
 /// A facade call that did not give its result.
 ///
@@ -1157,86 +1160,6 @@ pub fn boundary(scene: &AnyScene, options: &BoundaryOptions) -> Result<BoundaryR
             numerical(e)
         }
     })
-}
-
-/// The map over restitution, gap and frequency of `grid` (each frequency continued from the
-/// previous one): every point written to `points` and, when given, the attenuation bandwidth
-/// of every (e, Δ/u_g) line to `bandwidth`, each in its format, line by line as the lines are
-/// done (only part `shard` of the lines with a shard): `rattle map`.
-///
-/// # Errors
-/// [`ApiError::Argument`] for a grid out of range (naming the axis) or a scene without stops;
-/// [`ApiError::Frequency`] naming `--omega-min` or `--omega-max`; [`ApiError::Write`] naming the
-/// table that could not be written.
-pub fn map<P: Write, B: Write>(
-    scene: &Scene,
-    grid: &MapGrid,
-    settings: &MapSettings,
-    shard: Option<Shard>,
-    points: (Format, P),
-    bandwidth: Option<(Format, B)>,
-    progress: &Progress,
-) -> Result<(), ApiError> {
-    grid.validate().map_err(argument)?;
-    if scene.stops.is_none() {
-        return Err(argument(MapError::NoStops));
-    }
-    check_cells_frequency(scene, "--omega-min", grid.omega.min)?;
-    check_cells_frequency(scene, "--omega-max", grid.omega.max)?;
-    write_map(scene, grid, settings, shard, points, bandwidth, progress).map_err(|e| match e {
-        WriteMapError::Map(e) => argument(e),
-        WriteMapError::Points(source) => ApiError::Write {
-            table: Table::Points,
-            source,
-        },
-        WriteMapError::Bandwidth(source) => ApiError::Write {
-            table: Table::Bandwidth,
-            source,
-        },
-    })
-}
-
-/// [`map`]'s points table as the JSON document `rattle map --out F.json` writes.
-///
-/// # Errors
-/// As [`map`].
-///
-/// # Examples
-///
-/// ```
-/// use rattle_compare::api;
-/// use rattle_compare::runs::axis::Axis;
-/// use rattle_compare::runs::map::{MapGrid, MapSettings};
-/// use rattle_compare::scene::Scene;
-///
-/// let grid = MapGrid {
-///     restitution: Axis::new(0.8, 0.8, 1),
-///     gap_over_base_amplitude: Axis::new(0.5, 0.5, 1),
-///     omega: Axis::new(1.8, 2.2, 3),
-/// };
-/// let text = api::map_document(&Scene::paper(), &grid, &MapSettings::default(), None)?;
-/// let document: serde_json::Value = serde_json::from_str(&text).unwrap();
-/// assert_eq!(document["points"], 3);
-/// assert_eq!(document["results"].as_array().unwrap().len(), 3);
-/// # Ok::<(), rattle_compare::api::ApiError>(())
-/// ```
-pub fn map_document(
-    scene: &Scene,
-    grid: &MapGrid,
-    settings: &MapSettings,
-    shard: Option<Shard>,
-) -> Result<String, ApiError> {
-    let mut out = Vec::new();
-    map(
-        scene,
-        grid,
-        settings,
-        shard,
-        (Format::Json, &mut out),
-        None::<(Format, Vec<u8>)>,
-        &Progress::hidden(),
-    )?;
-    String::from_utf8(out).map_err(numerical)
 }
 
 /// Basins of attraction of a single unit at `omega`: every start at rest of `grid` (outer

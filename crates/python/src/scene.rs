@@ -17,8 +17,8 @@ pub(crate) const DICT_ORIGIN: &str = "dict";
 /// The functions of the package that take a scene in the structure form, as the command's
 /// [`rattle_compare::scene::STRUCTURE_COMMANDS`].
 pub(crate) const STRUCTURE_CALLS: &str = "rattle.simulate, rattle.orbit with a signature, \
-     rattle.orbit_trajectory, rattle.compare, rattle.sweep, rattle.continue_branch, rattle.boundary \
-     and rattle.basins";
+     rattle.orbit_trajectory, rattle.compare, rattle.sweep, rattle.continue_branch, rattle.boundary, \
+     rattle.basins and rattle.map with x and y";
 
 /// A validated scene of either form, as the command loads it.
 #[pyclass(frozen, module = "rattle._rattle")]

@@ -24,7 +24,7 @@ use rattle_compare::output::structure::{structure_trajectory, Cell, NamedTable};
 use rattle_compare::output::trajectory::{analytic_rows, ImpactRow, TrajectoryRow};
 use rattle_compare::output::Row;
 use rattle_compare::runs::basins::{rows as basin_rows, Attractor, BasinCell, BasinRow};
-use rattle_compare::runs::map::{line, MapPointRow, MapSettings};
+use rattle_compare::runs::map::{line, scene_at, MapColumns, MapPointRow, MapSettings};
 use rattle_compare::runs::structure_sweep::{structure_point, StructureSweepRow};
 use rattle_compare::runs::sweep::{point, Solver, SweepRow};
 use rattle_compare::scene::analytic::{OrbitImpact, OrbitSample, SampleKind};
@@ -305,7 +305,8 @@ table_row_kinds!(MapPointRow, {
         lyapunov_periods: None,
         ..MapSettings::default()
     };
-    let line = line(&Scene::paper(), 0.8, 0.5, &[1.0], &settings);
+    let scene = AnyScene::Cells(scene_at(&Scene::paper(), 0.8, 0.5));
+    let line = line(&scene, 0.8, 0.5, &[1.0], &settings);
     let row = MapPointRow::of_line(&line).next();
     row
 });
@@ -529,10 +530,31 @@ pub(crate) fn structure_columns<'py>(
     ))
 }
 
+/// The kinds of a map's points table whose columns `columns` names ([`MapColumns`]): those of
+/// [`MapPointRow`], column for column, under the names the map writes; read once into `cell`.
+fn map_kinds(
+    columns: MapColumns,
+    cell: &'static OnceLock<Vec<(&'static str, Kind)>>,
+) -> PyResult<&'static [(&'static str, Kind)]> {
+    let kinds = kinds::<MapPointRow>()?;
+    Ok(cell.get_or_init(|| {
+        columns
+            .points()
+            .into_iter()
+            .zip(kinds)
+            .map(|(name, &(_, kind))| (name, kind))
+            .collect()
+    }))
+}
+
 /// The kinds of the table called `table`.
 fn table_kinds_of(table: &str) -> PyResult<&'static [(&'static str, Kind)]> {
+    static PARAMETERS: OnceLock<Vec<(&'static str, Kind)>> = OnceLock::new();
+    static STRUCTURE: OnceLock<Vec<(&'static str, Kind)>> = OnceLock::new();
     match table {
         "map" => kinds::<MapPointRow>(),
+        "map-parameters" => map_kinds(MapColumns::PARAMETERS, &PARAMETERS),
+        "map-structure" => map_kinds(MapColumns::STRUCTURE, &STRUCTURE),
         "basins" => kinds::<BasinRow>(),
         "sweep" => kinds::<SweepRow>(),
         "structure-sweep" => kinds::<StructureSweepRow>(),
@@ -542,8 +564,10 @@ fn table_kinds_of(table: &str) -> PyResult<&'static [(&'static str, Kind)]> {
     }
 }
 
-/// The columns of the command's tables, in order: `"map"` (the points), `"basins"`,
-/// `"sweep"`, `"structure-sweep"` (a structure's sweep), `"trajectory"`, `"impacts"`.
+/// The columns of the command's tables, in order: `"map"` (the points of the map over
+/// restitution and gap), `"map-parameters"` (of a unit's or chain's map over two parameters,
+/// `x` and `y`), `"map-structure"` (of a structure's), `"basins"`, `"sweep"`,
+/// `"structure-sweep"` (a structure's sweep), `"trajectory"`, `"impacts"`.
 #[pyfunction]
 fn table_columns(table: &str) -> PyResult<Vec<&'static str>> {
     Ok(table_kinds_of(table)?

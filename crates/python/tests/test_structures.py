@@ -443,7 +443,6 @@ def test_basins_on_the_units_named_plane_is_its_default_plane():
 #: Every call of the package that takes the unit and chain forms only, on a structure.
 REFUSALS = {
     "rattle.orbit(signature=None)": lambda s: rattle.orbit(s, 1.8),
-    "rattle.map": lambda s: rattle.map(s, (0.8, 0.8, 1), (0.5, 0.5, 1), (1.0, 2.0, 2)),
 }
 
 

@@ -77,9 +77,11 @@ pub enum Command {
     /// Joins the parts of a sharded sweep, map or basins (`rattle sweep|map|basins …
     /// --shard K/N`) into the file the unsharded run would write, byte for byte.
     Merge(merge::MergeArgs),
-    /// A map over restitution, gap and frequency (each frequency continued from the previous
-    /// one, up the frequencies): the simulated regime and transmittance at every point, the
-    /// analytic prediction beside it, and the attenuation bandwidth of every (e, Δ/u_g) line.
+    /// A map over two scene parameters and frequency (each frequency continued from the
+    /// previous one, up the frequencies): by default a unit's or chain's restitution and gap,
+    /// with --x and --y any two numbers of a scene of any form by their JSON paths; the
+    /// simulated regime and transmittance at every point, the analytic prediction beside it,
+    /// and the attenuation bandwidth of every line.
     Map(map::MapArgs),
     /// Basins of attraction at one frequency: a grid of starts over two coordinates (on the
     /// unit by default its outer and inner displacement; with --x and --y any body's

@@ -1,7 +1,8 @@
 //! The CSV writer: a column line, then one line per row (the `csv` crate; fields quoted only
 //! where they must be).
 
-use super::{Row, TableWriter};
+use super::TableWriter;
+use serde::Serialize;
 use std::io::Write;
 
 /// Writes a table as CSV.
@@ -27,7 +28,7 @@ impl<W: Write> CsvWriter<W> {
     }
 }
 
-impl<R: Row, W: Write> TableWriter<R> for CsvWriter<W> {
+impl<R: Serialize, W: Write> TableWriter<R> for CsvWriter<W> {
     fn row(&mut self, row: &R) -> std::io::Result<()> {
         Ok(self.inner.serialize(row)?)
     }

@@ -2,7 +2,7 @@
 //! row object per line (so that a document can be read by any JSON parser and shards can be
 //! joined line by line).
 
-use super::{Row, TableWriter};
+use super::TableWriter;
 use serde::Serialize;
 use std::io::Write;
 
@@ -67,7 +67,7 @@ impl<W: Write> JsonWriter<W> {
     }
 }
 
-impl<R: Row, W: Write> TableWriter<R> for JsonWriter<W> {
+impl<R: Serialize, W: Write> TableWriter<R> for JsonWriter<W> {
     fn row(&mut self, row: &R) -> std::io::Result<()> {
         self.out
             .write_all(if self.rows == 0 { b"\n" } else { b",\n" })?;

@@ -1,6 +1,7 @@
 //! The JSON Lines writer: one compact object per row, one row per line, nothing else.
 
-use super::{Row, TableWriter};
+use super::TableWriter;
+use serde::Serialize;
 use std::io::Write;
 
 /// Writes a table as JSON Lines.
@@ -15,7 +16,7 @@ impl<W: Write> JsonLinesWriter<W> {
     }
 }
 
-impl<R: Row, W: Write> TableWriter<R> for JsonLinesWriter<W> {
+impl<R: Serialize, W: Write> TableWriter<R> for JsonLinesWriter<W> {
     fn row(&mut self, row: &R) -> std::io::Result<()> {
         serde_json::to_writer(&mut self.out, row)?;
         self.out.write_all(b"\n")

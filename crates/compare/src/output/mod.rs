@@ -13,12 +13,14 @@ mod csv;
 mod json;
 mod jsonl;
 pub mod records;
+pub mod rename;
 pub mod structure;
 pub mod trajectory;
 
 pub use self::csv::CsvWriter;
 pub use self::json::{Header, JsonWriter};
 pub use self::jsonl::JsonLinesWriter;
+pub use self::rename::Renamed;
 
 use serde::Serialize;
 use std::io::Write;
@@ -131,7 +133,7 @@ impl Format {
 }
 
 /// Writes rows of one table, in order, as they come.
-pub trait TableWriter<R: Row> {
+pub trait TableWriter<R: Serialize> {
     /// Writes one row.
     ///
     /// # Errors
@@ -157,8 +159,23 @@ pub fn writer<'w, R: Row + 'w, W: Write + 'w>(
     header: &Header,
     preamble: Option<&str>,
 ) -> std::io::Result<Box<dyn TableWriter<R> + 'w>> {
+    writer_with_columns(format, out, header, preamble, R::COLUMNS)
+}
+
+/// [`writer`] of rows whose columns are named at run time (a [`Renamed`] row): `columns` is
+/// the CSV column line, which must name the rows' fields in order.
+///
+/// # Errors
+/// As [`writer`].
+pub fn writer_with_columns<'w, R: Serialize + 'w, W: Write + 'w>(
+    format: Format,
+    out: W,
+    header: &Header,
+    preamble: Option<&str>,
+    columns: &[&str],
+) -> std::io::Result<Box<dyn TableWriter<R> + 'w>> {
     Ok(match format {
-        Format::Csv => Box::new(CsvWriter::new(out, preamble, R::COLUMNS)?),
+        Format::Csv => Box::new(CsvWriter::new(out, preamble, columns)?),
         Format::Json => Box::new(JsonWriter::new(out, header)?),
         Format::JsonLines => Box::new(JsonLinesWriter::new(out)),
     })

@@ -133,10 +133,34 @@ pub fn chaos(
     periods: u64,
     simulation: &SimulationOptions,
 ) -> Result<Chaos, SpectrumError> {
+    chaos_of(sim, || spectrum(scene, sim, periods, simulation))
+}
+
+/// [`chaos`] on a structure scene: the exponents' run, when the motion did not repeat, is
+/// [`structure_spectrum`]'s.
+///
+/// # Errors
+/// As [`structure_spectrum`], for a non-periodic motion.
+pub fn structure_chaos(
+    structure: &Structure,
+    sim: &SimulatedPoint,
+    periods: u64,
+    simulation: &SimulationOptions,
+) -> Result<Chaos, SpectrumError> {
+    chaos_of(sim, || {
+        structure_spectrum(structure, sim, periods, simulation)
+    })
+}
+
+/// [`chaos`] of `sim`, the exponents' run of a non-periodic motion given by `spectrum`.
+fn chaos_of(
+    sim: &SimulatedPoint,
+    spectrum: impl FnOnce() -> Result<LyapunovSpectrum, SpectrumError>,
+) -> Result<Chaos, SpectrumError> {
     match sim.regime {
         Regime::NoDissipation => Ok(Chaos::default()),
         Regime::Irregular => {
-            let s = spectrum(scene, sim, periods, simulation)?;
+            let s = spectrum()?;
             Ok(Chaos {
                 largest_exponent: s.largest(),
                 uncertainty: s.largest().map(|_| s.uncertainty),

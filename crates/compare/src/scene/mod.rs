@@ -41,7 +41,7 @@ pub const CHAIN_COMMANDS: &str =
 
 /// The commands that take a scene in the structure form so far.
 pub const STRUCTURE_COMMANDS: &str =
-    "`rattle simulate`, `rattle orbit --signature`, `rattle compare`, `rattle sweep`, `rattle continue`, `rattle boundary`, `rattle boundaries` and `rattle basins`";
+    "`rattle simulate`, `rattle orbit --signature`, `rattle compare`, `rattle sweep`, `rattle continue`, `rattle boundary`, `rattle boundaries`, `rattle basins` and `rattle map --x PATH --y PATH`";
 
 /// A scene of any form: the unit and chain forms ([`Scene`]), or the structure form
 /// ([`structure::StructureScene`]) with its checked [`structure::Structure`].

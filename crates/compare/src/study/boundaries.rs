@@ -144,11 +144,11 @@ impl StudyBoundaries {
                 cells: bandwidth
                     .lines
                     .iter()
-                    .filter(|l| l.gap_over_base_amplitude == nearest)
+                    .filter(|l| l.y == nearest)
                     .flat_map(|l| {
                         l.points.iter().map(move |p| RestitutionCell {
                             omega: p.omega,
-                            restitution: l.restitution,
+                            restitution: l.x,
                             class: RegimeClass::of(p),
                         })
                     })
@@ -174,14 +174,11 @@ impl StudyBoundaries {
 
 /// The `Δ/u_g` of the line of `map` nearest `gap_over_base_amplitude`.
 fn nearest_gap_line(map: &Map, gap_over_base_amplitude: f64) -> Option<f64> {
-    map.lines
-        .iter()
-        .map(|l| l.gap_over_base_amplitude)
-        .min_by(|a, b| {
-            (a - gap_over_base_amplitude)
-                .abs()
-                .total_cmp(&(b - gap_over_base_amplitude).abs())
-        })
+    map.lines.iter().map(|l| l.y).min_by(|a, b| {
+        (a - gap_over_base_amplitude)
+            .abs()
+            .total_cmp(&(b - gap_over_base_amplitude).abs())
+    })
 }
 
 /// The curves of `b` as lines in (ω, parameter / `scale`).
@@ -420,7 +417,7 @@ impl StudyBoundaries {
         let (mut late, mut closed, mut lines) = (0, 0, 0);
         let claimed = super::paper::IMPACTING_BAND;
         for line in &bandwidth.lines {
-            let (g, e) = (line.gap_over_base_amplitude, line.restitution);
+            let (g, e) = (line.y, line.x);
             let (curves, v, label) = if e == e_scene {
                 (&figure.gap_curves, g, format!("e = {e}, Δ/u_g = {g:.4}"))
             } else if g == g_line && e >= RESTITUTION_RANGE.0 {

@@ -404,8 +404,8 @@ impl BandwidthMap {
                 .lines
                 .iter()
                 .map(|l| BandwidthCell {
-                    restitution: l.restitution,
-                    gap_over_base_amplitude: l.gap_over_base_amplitude,
+                    restitution: l.x,
+                    gap_over_base_amplitude: l.y,
                     simulated: l.simulated_bandwidth(step),
                     analytic: l.analytic_bandwidth(step),
                 })
@@ -535,7 +535,7 @@ impl RegimeMap {
             .flat_map(|l| {
                 l.points.iter().map(move |p| RegimeCell {
                     omega: p.omega,
-                    gap_over_base_amplitude: l.gap_over_base_amplitude,
+                    gap_over_base_amplitude: l.y,
                     class: RegimeClass::of(p),
                 })
             })
@@ -551,7 +551,7 @@ impl RegimeMap {
         RegimeMap {
             scene_name: map.scene.name.clone(),
             grid: map.grid,
-            restitution: map.lines.first().map_or(f64::NAN, |l| l.restitution),
+            restitution: map.lines.first().map_or(f64::NAN, |l| l.x),
             cells,
             shares,
         }

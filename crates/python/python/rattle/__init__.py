@@ -39,11 +39,13 @@ body's amplitude by name; the trajectory with a column per body and per stop; th
 exponents), :func:`orbit` with a signature (an impact sequence of its stops:
 :class:`StructureOrbits`), :func:`orbit_trajectory` (a column per body and per stop, as the
 simulated trajectory's), :func:`compare` (:class:`StructureComparison`), :func:`sweep`
-(every solver, whole or in parts) and :func:`basins` (over any two of its bodies'
-displacements and velocities, ``x="u:NAME"``, ``y="v:NAME"``), each as the command on the
-same structure. The others (:func:`orbit` without a signature, :func:`continue_branch`,
-:func:`boundary`, :func:`map`) refuse a structure with a :class:`ValueError` naming the
-function and the forms it takes, as the command refuses one.
+(every solver, whole or in parts), :func:`continue_branch` and :func:`boundary` (an impact
+sequence of the stops, a parameter by its path such as ``"structure.stops[0].gap_plus"``),
+:func:`map` over two of its numbers (``x=``, ``y=``) and :func:`basins` (over any two of its
+bodies' displacements and velocities, ``x="u:NAME"``, ``y="v:NAME"``), each as the command on
+the same structure. :func:`orbit` without a signature refuses a structure with a
+:class:`ValueError` naming the function and the forms it takes, as the command refuses one;
+:func:`map` without ``x`` and ``y`` asks for them.
 """
 
 import json as _json
@@ -175,8 +177,9 @@ class Scene:
 
     :attr:`form` says which (``"cells"`` or ``"structure"``). A structure is taken by
     :func:`simulate` (with its trajectory and Lyapunov exponents), :func:`orbit` with a
-    signature, :func:`compare` and :func:`sweep` (without ``shard``), as the command takes
-    one; the other functions refuse it with a :class:`ValueError` naming the function.
+    signature, :func:`compare`, :func:`sweep` (without ``shard``) and :func:`map` with ``x`` and
+    ``y``, as the command takes one; the other functions refuse it with a :class:`ValueError`
+    naming the function.
     """
 
     __slots__ = ("_native",)

@@ -104,20 +104,80 @@ class Grid:
 
 
 class Map(Grid):
-    """``rattle map --out F.json``: one row per point, lines restitution-major, frequency
-    ascending along each line. Columns as the command's (``restitution``,
-    ``gap_over_base_amplitude``, ``omega``, ``simulated_regime``, …,
-    ``lyapunov_regime``); ``to_xarray()`` puts them on the axes ``restitution``,
-    ``gap_over_base_amplitude`` and ``omega``."""
+    """``rattle map --out F.json``: one row per point, lines x-major (every y of the first
+    x, then the next x), frequency ascending along each line.
+
+    Over restitution and gap (the default), the columns are the command's ``restitution``,
+    ``gap_over_base_amplitude``, ``omega``, ``simulated_regime``, …, ``lyapunov_regime``.
+    Over two parameters (``x=``, ``y=``), the first two are ``x`` and ``y`` whatever the
+    parameters, whose JSON paths are :attr:`x_path` and :attr:`y_path` (the header's
+    ``grid``); on a structure (:attr:`form` ``"structure"``) ``simulated_body_amplitudes``
+    lists every body's amplitude (:meth:`body_amplitudes`) where a unit's map lists every
+    cell's (``simulated_cell_outer_amplitudes``). :attr:`axes` are the grid's values by
+    column; ``to_xarray()`` puts the columns on them."""
 
     _table = "map"
 
-    def _axes(self):
+    def __init__(self, document):
+        """Wraps the command's JSON document (the whole map's, or a part's)."""
+        head = _json.loads(document.split("\n", 1)[0] + "]}")
+        if "x" in head.get("grid", {}):
+            self._table = "map-structure" if head.get("form") == "structure" else "map-parameters"
+        super().__init__(document)
+
+    @property
+    def form(self):
+        """``"cells"`` (a unit or a chain) or ``"structure"``: the scene's form."""
+        return self.header.get("form", "cells")
+
+    @property
+    def x_path(self):
+        """The x axis's parameter as its JSON path (``structure.stops[0].gap_plus``), or
+        ``None`` on the map over restitution and gap."""
+        return self.header["grid"].get("x", {}).get("path")
+
+    @property
+    def y_path(self):
+        """The y axis's parameter as its JSON path, or ``None`` on the map over restitution
+        and gap."""
+        return self.header["grid"].get("y", {}).get("path")
+
+    @property
+    def axes(self):
+        """The grid's values by column, in the rows' order: ``{"x": …, "y": …, "omega": …}``
+        over two parameters, ``{"restitution": …, "gap_over_base_amplitude": …, "omega": …}``
+        over restitution and gap; each a ``float64`` array, ascending."""
         grid = self.header["grid"]
-        return [
-            (name, _axis(grid[name]["min"], grid[name]["max"], grid[name]["count"]))
-            for name in ("restitution", "gap_over_base_amplitude", "omega")
-        ]
+        return {
+            name: _axis(axis["min"], axis["max"], axis["count"]) for name, axis in grid.items()
+        }
+
+    def _axes(self):
+        return list(self.axes.items())
+
+    def to_xarray(self):
+        """As :meth:`Grid.to_xarray`, on the axes :attr:`axes`; over two parameters the
+        Dataset's ``attrs`` hold ``x_path`` and ``y_path``."""
+        ds = super().to_xarray()
+        if self.x_path is not None:
+            ds.attrs.update(x_path=self.x_path, y_path=self.y_path)
+        return ds
+
+    def body_amplitudes(self):
+        """A structure's ``simulated_body_amplitudes`` as a dict of ``float64`` arrays, one
+        per body by name in the scene's order (NaN where the command writes nothing). The map
+        of a unit or a chain has no bodies: :class:`ValueError`."""
+        if self.form != "structure":
+            raise ValueError(
+                "Map.body_amplitudes: the map of a unit or a chain has no bodies "
+                "(its list column is per cell: simulated_cell_outer_amplitudes)"
+            )
+        bodies = self.header["bodies"]
+        values = _np.full((len(self), len(bodies)), _np.nan)
+        for i, cell in enumerate(self.columns["simulated_body_amplitudes"]):
+            if cell:
+                values[i] = [float(v) if v else _math.nan for v in cell.split(";")]
+        return {name: values[:, k].copy() for k, name in enumerate(bodies)}
 
     def __repr__(self):
         return f"Map(points={len(self)}, shard={self.shard})"
@@ -223,9 +283,11 @@ def _native(scene_json):
     return _rattle.NativeScene.from_dict_json(scene_json, [])
 
 
-def _map_part(scene_json, restitution, gap, omega, accuracy, part):
+def _map_part(scene_json, restitution, gap, omega, x, y, accuracy, part):
     """One part of a map, as a Dask task runs it: the part's JSON document."""
-    return _rattle.map_document(_native(scene_json), restitution, gap, omega, *accuracy, part)
+    return _rattle.map_document(
+        _native(scene_json), restitution, gap, omega, *accuracy, part, x, y
+    )
 
 
 def _basins_part(scene_json, omega, outer, inner, points, axes, part):
@@ -293,10 +355,23 @@ def _check_axis(name, value, size):
     return items
 
 
+def _parameter_axis(name, value):
+    """``(path, min, max, count)`` of a parameter axis, checked for its shape."""
+    items = _check_axis(name, value, 4)
+    if not isinstance(items[0], str):
+        raise ValueError(f"{name}[0] must be the parameter's JSON path (a str), not {items[0]!r}")
+    return (items[0], float(items[1]), float(items[2]), int(items[3]))
+
+
+#: The command's default axes: restitution and gap over base amplitude, ``(min, max, count)``.
+DEFAULT_RESTITUTION = (0.0, 1.0, 40)
+DEFAULT_GAP = (0.05, 1.0, 40)
+
+
 def map(
     scene,
-    restitution=(0.0, 1.0, 40),
-    gap=(0.05, 1.0, 40),
+    restitution=None,
+    gap=None,
     omega=(0.1, 4.0, 400),
     max_periods=400,
     tol=None,
@@ -305,15 +380,32 @@ def map(
     shard=None,
     parts=None,
     progress=True,
+    x=None,
+    y=None,
 ):
-    """The map over restitution, gap and frequency, as ``rattle map --out F.json``.
+    """The map over two scene parameters and frequency, as ``rattle map --out F.json``.
 
-    ``restitution``, ``gap`` (``Δ/u_g``) and ``omega`` (rad/s) are ``(min, max, count)``,
-    the command's ``--restitution-min/-max``, ``--restitutions`` and so on, with the same
-    defaults; ``max_periods``, ``tol``, ``steady_tol`` its accuracy options (``None``: the
-    command's defaults). Each ``(restitution, gap)`` line goes up in frequency, every point
-    started from the previous one's final state; lines run in parallel on the Rust thread
-    pool. Returns a :class:`Map`, whose ``document`` is the command's file byte for byte.
+    By default over restitution and gap, as the command without ``--x``/``--y``:
+    ``restitution``, ``gap`` (``Δ/u_g``) and ``omega`` (rad/s) are ``(min, max, count)``, the
+    command's ``--restitution-min/-max``, ``--restitutions`` and so on, with the same defaults
+    (``(0, 1, 40)``, ``(0.05, 1, 40)``, ``(0.1, 4, 400)``); the scene a unit or a chain with
+    stops.
+
+    ``x`` and ``y``: two parameters of a scene of any form, each ``(path, min, max, count)``
+    with ``path`` the parameter's JSON path (``"structure.stops[0].gap_plus"``,
+    ``"unit.inner_mass"``, ``"chain[2].stops.gap"``), the command's ``--x PATH --x-min
+    --x-max --x-count`` and the same of ``--y``; each line's scene is the scene with both set.
+    They come together, and without ``restitution`` and ``gap``. The columns are then ``x``
+    and ``y``, the paths :attr:`Map.x_path` and :attr:`Map.y_path`. On a structure the
+    simulator runs the structure, the observed body's amplitude and transmittance are the
+    point's, every body's amplitude is listed (:meth:`Map.body_amplitudes`), and the analytic
+    prediction is the linear steady state where it keeps every stop clear and the
+    structure's free motion decays (none otherwise).
+
+    ``max_periods``, ``tol``, ``steady_tol`` are the command's accuracy options (``None``: the
+    command's defaults). Each line goes up in frequency, every point started from the previous
+    one's final state; lines run in parallel on the Rust thread pool. Returns a :class:`Map`,
+    whose ``document`` is the command's file byte for byte.
 
     ``shard=(K, N)``: part ``K`` of ``N`` only (a block of whole lines), as ``--shard K/N``;
     join parts with :func:`merge`.
@@ -329,8 +421,9 @@ def map(
     tasks rerun by Dask; an error in a task is raised here.
 
     A grid out of range is a :class:`ValueError` with the command's message, the field named
-    as here (``gap[2]`` for ``--gaps``); a scene without stops too, and a scene in the
-    structure form (the map's axes are a unit's restitution and gap), naming ``rattle.map``.
+    as here (``gap[2]`` for ``--gaps``, ``x[0]`` for ``--x``, ``x[1]`` for ``--x-min``); so
+    is a path the scene does not have, a parameter's value out of its range, a scene without
+    stops on the default axes, and a structure without ``x`` and ``y``.
     """
     defaults = _rattle.map_defaults()
     accuracy = (
@@ -339,22 +432,44 @@ def map(
         int(max_periods),
         float(defaults["max_oscillations"]),
     )
-    axes = [
-        _check_axis(name, value, 3)
-        for name, value in (("restitution", restitution), ("gap", gap), ("omega", omega))
-    ]
-    axes = [(float(a), float(b), int(n)) for a, b, n in axes]
+    omega = _check_axis("omega", omega, 3)
+    omega = (float(omega[0]), float(omega[1]), int(omega[2]))
+    if x is None and y is None:
+        axes = [
+            _check_axis(name, value, 3)
+            for name, value in (
+                ("restitution", DEFAULT_RESTITUTION if restitution is None else restitution),
+                ("gap", DEFAULT_GAP if gap is None else gap),
+            )
+        ]
+        stops = [(float(a), float(b), int(n)) for a, b, n in axes]
+        parameters = (None, None)
+        lines = stops[0][2] * stops[1][2]
+    else:
+        if x is None or y is None:
+            given, missing = ("x", "y") if y is None else ("y", "x")
+            raise ValueError(
+                f"{given}[0] is given without {missing}[0]: a map over two parameters takes "
+                f"both (x[0] PATH y[0] PATH)"
+            )
+        for name, value in (("restitution", restitution), ("gap", gap)):
+            if value is not None:
+                raise ValueError(
+                    f"{name} is not taken with x and y: the map's axes are then the two "
+                    "parameters"
+                )
+        parameters = (_parameter_axis("x", x), _parameter_axis("y", y))
+        stops = [None, None]
+        lines = parameters[0][3] * parameters[1][3]
     scene_json = _scene_json(scene)
+    args = (scene_json, *stops, omega, *parameters, accuracy)
     if client is None or shard is not None:
-        return Map(_map_part(scene_json, *axes, accuracy, None if shard is None else tuple(shard)))
+        return Map(_map_part(*args, None if shard is None else tuple(shard)))
     # The checks of the whole map, before any task is sent.
-    _rattle.map_document(_native(scene_json), *axes, *accuracy, (1, 1 << 62))
-    lines = axes[0][2] * axes[1][2]
+    _map_part(*args, (1, 1 << 62))
     if parts is None:
-        parts = parts_for(lines * axes[2][2] * MAP_SECONDS_PER_POINT, lines, _workers(client))
-    document = _on_client(
-        client, _map_part, (scene_json, *axes, accuracy), int(parts), "map", progress
-    )
+        parts = parts_for(lines * omega[2] * MAP_SECONDS_PER_POINT, lines, _workers(client))
+    document = _on_client(client, _map_part, args, int(parts), "map", progress)
     return Map(document)
 
 
