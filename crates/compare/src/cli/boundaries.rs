@@ -36,8 +36,8 @@ pub struct BoundariesArgs {
     /// (Δ = 0.5, e = 0.8).
     pub scene: Option<PathBuf>,
     /// The scene parameter varied, by its JSON path: stops.gap, stops.restitution,
-    /// unit.inner_stiffness, damping.outer, … (on a structure: structure.stops[0].gap_plus,
-    /// structure.bodies[1].mass, forcing.forces[0].amplitude, …)
+    /// unit.inner_stiffness, damping.outer, … (on a structure: `structure.stops[0].gap_plus`,
+    /// `structure.bodies[1].mass`, `forcing.forces[0].amplitude`, …)
     #[arg(long)]
     pub param: String,
     /// Lowest parameter value followed (within the field's physical range, ≤ the scene's

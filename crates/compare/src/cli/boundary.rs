@@ -39,8 +39,8 @@ pub struct BoundaryArgs {
     pub omega: f64,
     /// The scene parameter varied, by its JSON path: stops.gap, stops.restitution,
     /// unit.inner_stiffness, damping.outer, … (on a chain the whole chain's field, or one
-    /// cell's, e.g. `chain[2].stops.gap`; on a structure: structure.stops[0].gap_plus,
-    /// structure.bodies[1].mass, structure.springs[0].stiffness, forcing.forces[0].amplitude, …)
+    /// cell's, e.g. `chain[2].stops.gap`; on a structure: `structure.stops[0].gap_plus`,
+    /// `structure.bodies[1].mass`, `structure.springs[0].stiffness`, `forcing.forces[0].amplitude`, …)
     #[arg(long)]
     pub param: String,
     /// Lowest parameter value followed (within the field's physical range).
