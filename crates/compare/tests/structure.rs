@@ -477,26 +477,12 @@ fn an_unexcited_undamped_body_makes_the_verdict_neutral() {
     assert!(check.relative_difference.unwrap() < 1e-9);
 }
 
-/// Where the closed form's count of period-1 orbits changes between `lo` and `hi` (its two
-/// orbits meet and vanish at a fold), bisected to rounding.
-fn closed_form_fold(drive: &str, gap: f64, (mut lo, mut hi): (f64, f64)) -> f64 {
-    let count = |omega: f64| {
-        closed_form(drive, gap, 0.8, omega)
-            .period_one_orbits_sampled(omega, 16)
-            .expect("in the closed form's range")
-            .len()
-    };
-    let at_lo = count(lo);
-    assert_ne!(at_lo, count(hi), "no fold in [{lo}, {hi}]");
-    while hi - lo > 4.0 * f64::EPSILON * hi {
-        let mid = 0.5 * (lo + hi);
-        if count(mid) == at_lo {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
+/// The closed form's fold within 1e-3 of `omega` at `gap` (restitution 0.8).
+fn closed_form_fold(drive: &str, gap: f64, omega: f64) -> f64 {
+    closed_form(drive, gap, 0.8, omega)
+        .fold_between(omega - 1e-3, omega + 1e-3)
+        .expect("in the closed form's range")
+        .unwrap_or_else(|| panic!("no fold within 1e-3 of ω = {omega} at gap {gap}"))
 }
 
 /// The continuation of the oscillator's period-1 orbits, through its fold: every point is a
@@ -552,7 +538,7 @@ fn continuation_follows_the_closed_form_branch_through_its_fold() {
         .iter()
         .find(|e| e.kind == rattle_analytic::continuation::EventKind::Fold)
         .expect("the branch folds");
-    let exact = closed_form_fold("frame", 0.5, (fold.omega - 1e-3, fold.omega + 1e-3));
+    let exact = closed_form_fold("frame", 0.5, fold.omega);
     assert!((fold.omega - exact).abs() < 1e-8, "{} {exact}", fold.omega);
     // The record names the body and carries the observed body's amplitude.
     let json = serde_json::to_value(&continued).expect("serializes");
@@ -584,7 +570,7 @@ fn the_fold_boundary_in_the_gap_is_the_closed_form_fold() {
     assert_eq!(record.param, "structure.stops[0].gap_plus");
     assert!(record.at.len() >= 3, "{:?}", record.at);
     for a in &record.at {
-        let exact = closed_form_fold("frame", a.param_value, (a.omega - 1e-3, a.omega + 1e-3));
+        let exact = closed_form_fold("frame", a.param_value, a.omega);
         assert!(
             (a.omega - exact).abs() < 1e-8,
             "gap {}: {} {exact}",

@@ -295,28 +295,6 @@ fn a_structure_trajectory_has_a_column_per_body() {
     assert_eq!(sides.len(), 2, "{text}");
 }
 
-/// Where the closed form's count of period-1 orbits changes between `lo` and `hi` at `gap`
-/// (its two orbits meet at a fold), bisected to rounding.
-fn closed_form_fold(gap: f64, (mut lo, mut hi): (f64, f64)) -> f64 {
-    let count = |omega: f64| {
-        ImpactOscillator { gap, ..reference() }
-            .period_one_orbits_sampled(omega, 16)
-            .unwrap()
-            .len()
-    };
-    let at_lo = count(lo);
-    assert_ne!(at_lo, count(hi), "no fold in [{lo}, {hi}] at gap {gap}");
-    while hi - lo > 4.0 * f64::EPSILON * hi {
-        let mid = 0.5 * (lo + hi);
-        if count(mid) == at_lo {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// `boundaries` on a structure: the events of the motions a sweep settles on, each followed
 /// in the gap; the period-1 fold's curve is the closed form's fold at every gap.
 #[test]
@@ -354,7 +332,10 @@ fn boundaries_on_a_structure_follow_the_closed_form_fold() {
             p["param_value"].as_f64().unwrap(),
             p["omega"].as_f64().unwrap(),
         );
-        let exact = closed_form_fold(gap, (omega - 1e-3, omega + 1e-3));
+        let exact = ImpactOscillator { gap, ..reference() }
+            .fold_between(omega - 1e-3, omega + 1e-3)
+            .unwrap()
+            .unwrap_or_else(|| panic!("no fold near ω = {omega} at gap {gap}"));
         assert!((omega - exact).abs() < 1e-8, "gap {gap}: {omega} {exact}");
     }
     // A path of the unit form is refused on a structure, naming the paths it takes.

@@ -86,6 +86,29 @@ impl ImpactOscillator {
         self.period_one_orbits_sampled(omega, VIABILITY_SAMPLES)
     }
 
+    /// The fold in `[lo, hi]`: where the count of period-1 orbits changes (its two orbits
+    /// meet and vanish), bisected to rounding; `None` when the count is the same at both ends.
+    ///
+    /// # Errors
+    /// [`ReferenceError::OutOfRange`] outside the closed form's range.
+    pub fn fold_between(&self, mut lo: f64, mut hi: f64) -> Result<Option<f64>, ReferenceError> {
+        // The count does not depend on the viability grid: the coarsest one serves.
+        let count = |omega: f64| self.period_one_orbits_sampled(omega, 16).map(|o| o.len());
+        let at_lo = count(lo)?;
+        if at_lo == count(hi)? {
+            return Ok(None);
+        }
+        while hi - lo > 4.0 * f64::EPSILON * hi {
+            let mid = 0.5 * (lo + hi);
+            if count(mid)? == at_lo {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Ok(Some(0.5 * (lo + hi)))
+    }
+
     /// [`Self::period_one_orbits`] with the viability (and the amplitude) checked on
     /// `samples` points of the flight: fewer for a figure, whose points near grazing may then
     /// be misjudged by an excursion below the grid's resolution.
