@@ -613,6 +613,7 @@ mod tests {
                 cosine,
                 sine,
                 sine_per_omega: DVector::zeros(n),
+                harmonics: Vec::new(),
             },
             pairs,
         )
