@@ -67,7 +67,7 @@ impl<'a> ModelBranch<'a> {
         let functionals: Vec<DVector<f64>> = pairs
             .iter()
             .map(|p| {
-                let mut c = DVector::zeros(2 * dofs + 2);
+                let mut c = DVector::zeros(self.model.augmented_size());
                 c.rows_mut(0, dofs).copy_from(&p.direction);
                 c
             })

@@ -1,20 +1,25 @@
 //! The cycle equations of an impact sequence, one implementation for every model: generic over
 //! the dimension `D` of the augmented state `z = (u, u̇, p)`, so that the unit runs them on
-//! stack matrices (`D = 6`) and a chain on heap matrices (`D` dynamic).
+//! stack matrices (`D = 6`) and a chain on heap matrices (`D` dynamic). The phase states `p`
+//! are `(cos θ, sin θ)` of a purely harmonic forcing, or `(cos kθ, sin kθ)` for each order `k`
+//! of a forcing with harmonics ([`crate::problem::forcing`], [`CycleEquations::with_forcing_orders`]);
+//! below, `P` is their number.
 //!
 //! A cycle of `p` forcing periods (`pT`) has `m` impacts at `0 = t₁ < t₂ < … < t_m < pT`,
 //! impact `j` with the augmented impact map `Ĝ_j` and the contact functional `h_j` (its pair's
 //! coordinate), which must equal `c_j` (the stop, `s_j gap`). For fixed `x = (α, t₂ … t_m)`
 //! everything else is linear: with the augmented flow `Φ_j = exp(Â τ_j)` of flight `j` the maps
 //! `Pre_j = Φ_j Ĝ_j Pre_{j−1}` (`Pre_0 = Φ_0`) carry `z₁ = (y₁, p₀)`, the state just after the
-//! first impact and `p₀ = (cos α, sin α)`, to the state just before impact `j + 1`.
+//! first impact and `p₀ = (cos α, sin α)` (with harmonics `(cos kα, sin kα)` for each order),
+//! to the state just before impact `j + 1`.
 //! Periodicity `(I − Ψ_xx) y₁ = Ψ_xp p₀`, `Ψ = Ĝ_0 Pre_{m−1}`, fixes `y₁`; it is solved in the
-//! augmented dimension as `P z₁ = (0, p₀)`, `P` being `I − Ψ` with its last two rows replaced
-//! by `(0, I₂)` (partial pivoting then eliminates exactly as on `I − Ψ_xx`). The `m` contact
+//! augmented dimension as `P z₁ = (0, p₀)`, `P` being `I − Ψ` with its last `P` rows replaced
+//! by `(0, I_P)` (partial pivoting then eliminates exactly as on `I − Ψ_xx`). The `m` contact
 //! conditions `h_jᵀ z(t_j⁻) = c_j` are the residuals.
 //!
-//! Derivatives are exact: `∂Φ_j/∂τ_j = Â Φ_j`, `∂p₀/∂α = (−sin α, cos α)`, and the periodicity
-//! solve differentiated implicitly, `P dz₁ = (dΨ z₁ restricted to the state rows, dp₀)`.
+//! Derivatives are exact: `∂Φ_j/∂τ_j = Â Φ_j`, `∂p₀/∂α = (−sin α, cos α)` (with harmonics
+//! `k (−sin kα, cos kα)` for each order), and the periodicity solve differentiated implicitly,
+//! `P dz₁ = (dΨ z₁ restricted to the state rows, dp₀)`.
 //!
 //! **Rigid modes.** When the model has rigid modes `Φ` (`n × r`, `KΦ = 0`, see
 //! [`crate::problem::rigid`]), every flight and impact map keeps the translations `(Φa, 0)`:
@@ -59,6 +64,7 @@
 
 use crate::cycle::unit_modes::{ModalForcing, UnitModes};
 use crate::orbit::wrap;
+use crate::problem::forcing::{phase_slope, phase_state};
 use nalgebra::allocator::Allocator;
 use nalgebra::{
     Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn, Matrix4, Matrix6, OMatrix,
@@ -76,7 +82,7 @@ pub struct ImpactCondition<D: Dim>
 where
     DefaultAllocator: Allocator<D, D> + Allocator<D>,
 {
-    /// `Ĝ_j = diag(I_n, G, I₂)`: the augmented impact map of its pair.
+    /// `Ĝ_j = diag(I_n, G, I_P)`: the augmented impact map of its pair.
     pub impact_map: OMatrix<f64, D, D>,
     /// `h_j = (w, 0, 0)`: its pair's coordinate as a functional of the augmented state.
     pub contact: OVector<f64, D>,
@@ -102,6 +108,8 @@ where
     stops: Arc<[f64]>,
     /// The rotations of the cycle that map the sequence onto itself.
     symmetries: Arc<[usize]>,
+    /// The order of each pair of phase states (`[1]` for a purely harmonic forcing).
+    orders: Arc<[u32]>,
     cycle: f64,
     /// The unit's modal decomposition of `A` (augmented dimension 6 only, and only where it
     /// is well-conditioned): the fast flow of every flight; `None`: Padé.
@@ -224,6 +232,7 @@ where
             contacts: contacts.into(),
             stops: stops.into(),
             symmetries: symmetries.into(),
+            orders: Arc::new([1]),
             cycle,
             modes: None,
             remember: false,
@@ -239,6 +248,42 @@ where
             border: Some(Arc::new(RigidBorder { shifts, anchors })),
             ..self
         }
+    }
+
+    /// The same equations for a forcing whose phase states are the pairs
+    /// `(cos kθ, sin kθ)` of the orders `orders`, in the order of the augmented state's last
+    /// `2 · orders.len()` rows (`[1]`, the default: `(cos θ, sin θ)` alone; a forcing with
+    /// harmonics: [`crate::HarmonicForcing::orders`]). The phase at the first impact is then
+    /// `(cos kα, sin kα)` for each order, its derivative in `α` `k (−sin kα, cos kα)`.
+    ///
+    /// # Panics
+    /// If `orders` is empty or leaves no mechanical state (`2 · orders.len()` not below the
+    /// augmented dimension).
+    pub fn with_forcing_orders(self, orders: &[u32]) -> Self {
+        assert!(
+            !orders.is_empty() && 2 * orders.len() < self.augmented.nrows(),
+            "one to (augmented dimension − 1)/2 pairs of phase states"
+        );
+        Self {
+            orders: orders.into(),
+            ..self
+        }
+    }
+
+    /// The order of each pair of phase states (`[1]` for a purely harmonic forcing).
+    pub fn forcing_orders(&self) -> &[u32] {
+        &self.orders
+    }
+
+    /// The highest order of the phase states: the forcing's fastest frequency is this times
+    /// `ω` (1 for a purely harmonic forcing).
+    pub fn highest_order(&self) -> u32 {
+        self.orders.iter().copied().fold(1, u32::max)
+    }
+
+    /// Number `P` of phase states: two per order.
+    pub fn phase_states(&self) -> usize {
+        2 * self.orders.len()
     }
 
     /// Whether the periodicity solve is bordered (a model with rigid modes).
@@ -300,7 +345,7 @@ where
     /// (infinite when `K` is singular): the contact residuals carry rounding of about this
     /// many units of the motion's size.
     ///
-    /// With a rigid border, the same of the bordered system without its two phase rows and
+    /// With a rigid border, the same of the bordered system without its phase rows and
     /// columns.
     pub fn conditioning(&self, pre: &[OMatrix<f64, D, D>]) -> f64 {
         let Some(last) = pre.last() else {
@@ -348,9 +393,10 @@ where
         self.stops.len()
     }
 
-    /// Dimension of the mechanical state `(u, u̇)`: the augmented dimension less two.
+    /// Dimension of the mechanical state `(u, u̇)`: the augmented dimension less the phase
+    /// states.
     pub fn states(&self) -> usize {
-        self.augmented.nrows() - 2
+        self.augmented.nrows() - self.phase_states()
     }
 
     /// `c_j` of each impact.
@@ -442,17 +488,19 @@ where
         pre
     }
 
-    /// The LU factors of the periodicity matrix `P` (`I − Ψ` with its last two rows
-    /// `(0, I₂)`), `pre` the maps of one cycle; `None` when it is singular.
+    /// The LU factors of the periodicity matrix `P` (`I − Ψ` with its last `P` rows, the
+    /// phase states', `(0, I_P)`), `pre` the maps of one cycle; `None` when it is singular.
     pub fn periodicity(&self, pre: &[OMatrix<f64, D, D>]) -> Option<LU<f64, D, D>> {
         let last = pre.last()?;
         let psi = &self.g_hats[0] * last;
         let size = psi.nrows();
         let d = D::from_usize(size);
         let mut p = OMatrix::<f64, D, D>::identity_generic(d, d) - psi;
-        p.rows_mut(size - 2, 2).fill(0.0);
-        p[(size - 2, size - 2)] = 1.0;
-        p[(size - 1, size - 1)] = 1.0;
+        let states = self.states();
+        p.rows_mut(states, size - states).fill(0.0);
+        for i in states..size {
+            p[(i, i)] = 1.0;
+        }
         let lu = p.lu();
         lu.is_invertible().then_some(lu)
     }
@@ -464,14 +512,16 @@ where
         let r = border.anchors.len();
         let psi = pre.last().map(|last| &self.g_hats[0] * last);
         let mut b = DMatrix::zeros(size + r, size + r);
-        for i in 0..size - 2 {
+        let states = self.states();
+        for i in 0..states {
             for j in 0..size {
                 let identity = f64::from(u8::from(i == j));
                 b[(i, j)] = identity - psi.as_ref().map_or(0.0, |p| p[(i, j)]);
             }
         }
-        b[(size - 2, size - 2)] = 1.0;
-        b[(size - 1, size - 1)] = 1.0;
+        for i in states..size {
+            b[(i, i)] = 1.0;
+        }
         b.view_mut((0, size), (size, r)).copy_from(&border.shifts);
         for (i, &j) in border.anchors.iter().enumerate() {
             let row = if j == 0 {
@@ -497,13 +547,13 @@ where
     }
 
     /// Solves the periodicity system `solver` for the state rows `state` (zero when `None`),
-    /// phase rows `p` and, when bordered, anchor rows `anchor_rows`: `(z₁, μ)` (`μ` empty
-    /// without border).
+    /// phase rows `p` (`P` entries) and, when bordered, anchor rows `anchor_rows`: `(z₁, μ)`
+    /// (`μ` empty without border).
     fn periodic_solve(
         &self,
         solver: &Periodic<'_, D>,
         state: Option<&OVector<f64, D>>,
-        p: [f64; 2],
+        p: &[f64],
         anchor_rows: impl Fn(usize) -> f64,
     ) -> Option<(OVector<f64, D>, Vec<f64>)> {
         let rhs = self.augmented_vector(state, p);
@@ -549,9 +599,13 @@ where
     }
 
     /// For fixed impact times (the maps `pre`), the residuals as the affine function
-    /// `r₀ + r_c cos α + r_s sin α` of the forcing phase: `(r₀, r_c, r_s)`. Without border
-    /// `r₀` is `−c_j`; `None` when the periodicity solve is singular.
-    pub(crate) fn affine_residuals(&self, pre: &[OMatrix<f64, D, D>]) -> Option<[DVector<f64>; 3]> {
+    /// `r₀ + Σ_i r_i p_i` of the phase states `p` at the first impact (`r₀ + r_c cos α +
+    /// r_s sin α` for a purely harmonic forcing): `(r₀, [r_1 … r_P])`. Without border `r₀` is
+    /// `−c_j`; `None` when the periodicity solve is singular.
+    pub(crate) fn affine_residuals(
+        &self,
+        pre: &[OMatrix<f64, D, D>],
+    ) -> Option<(DVector<f64>, Vec<DVector<f64>>)> {
         let factors = self.periodic_factors(pre)?;
         let solver = factors.view();
         let stops_at = |i: usize| {
@@ -559,29 +613,42 @@ where
                 .as_ref()
                 .map_or(0.0, |b| self.stops[b.anchors[i]])
         };
-        let (z0, mu0) = self.periodic_solve(&solver, None, [0.0, 0.0], stops_at)?;
-        let (zc, muc) = self.periodic_solve(&solver, None, [1.0, 0.0], |_| 0.0)?;
-        let (zs, mus) = self.periodic_solve(&solver, None, [0.0, 1.0], |_| 0.0)?;
-        Some([
-            self.bordered_residuals(pre, &z0, &mu0, true),
-            self.bordered_residuals(pre, &zc, &muc, false),
-            self.bordered_residuals(pre, &zs, &mus, false),
-        ])
+        let phases = self.phase_states();
+        let mut p = vec![0.0; phases];
+        let (z0, mu0) = self.periodic_solve(&solver, None, &p, stops_at)?;
+        let constant = self.bordered_residuals(pre, &z0, &mu0, true);
+        let mut linear = Vec::with_capacity(phases);
+        for i in 0..phases {
+            p[i] = 1.0;
+            let (z, mu) = self.periodic_solve(&solver, None, &p, |_| 0.0)?;
+            p[i] = 0.0;
+            linear.push(self.bordered_residuals(pre, &z, &mu, false));
+        }
+        Some((constant, linear))
     }
 
-    /// The augmented vector with the state rows `state` (zero when `None`) and phase `p`.
+    /// The phase states at the first impact for the base phase `alpha`: `(cos kα, sin kα)`
+    /// for each order ([`Self::forcing_orders`]).
+    pub fn phase_at(&self, alpha: f64) -> Vec<f64> {
+        phase_state(&self.orders, alpha)
+    }
+
+    /// The augmented vector with the state rows `state` (zero when `None`) and phase rows
+    /// `p` (the last `P`).
     pub(crate) fn augmented_vector(
         &self,
         state: Option<&OVector<f64, D>>,
-        p: [f64; 2],
+        p: &[f64],
     ) -> OVector<f64, D> {
         let size = self.augmented.nrows();
         let mut v = match state {
             Some(s) => s.clone(),
             None => OVector::<f64, D>::zeros_generic(D::from_usize(size), Const::<1>),
         };
-        v[size - 2] = p[0];
-        v[size - 1] = p[1];
+        let states = self.states();
+        for (i, value) in p.iter().enumerate() {
+            v[states + i] = *value;
+        }
         v
     }
 
@@ -626,7 +693,7 @@ where
         }
         let lu = self.periodicity(&pre)?;
         let alpha = x[0];
-        let z1 = lu.solve(&self.augmented_vector(None, [alpha.cos(), alpha.sin()]))?;
+        let z1 = lu.solve(&self.augmented_vector(None, &self.phase_at(alpha)))?;
         let residual = self.residuals(&pre, &z1);
         let mut evaluation = CycleEvaluation {
             flights,
@@ -653,7 +720,7 @@ where
         let factors = self.periodic_factors(&pre)?;
         let solver = factors.view();
         let alpha = x[0];
-        let (z1, mu) = self.periodic_solve(&solver, None, [alpha.cos(), alpha.sin()], |i| {
+        let (z1, mu) = self.periodic_solve(&solver, None, &self.phase_at(alpha), |i| {
             self.stops[border.anchors[i]]
         })?;
         let residual = self.bordered_residuals(&pre, &z1, &mu, true);
@@ -750,7 +817,7 @@ where
                 product(&rates[f], &product(&self.g_hats[f], &e.pre[f - 1]))
             })
         };
-        let in_omega = self.column_in(&e, &solver, own, [0.0, 0.0])?;
+        let in_omega = self.column_in(&e, &solver, own, &vec![0.0; self.phase_states()])?;
         let mut jacobian = DMatrix::zeros(m, m + 1);
         jacobian.view_mut((0, 0), (m, m)).copy_from(&in_x);
         jacobian.set_column(m, &in_omega);
@@ -778,8 +845,10 @@ where
         let m = self.impacts();
         let mut jacobian = DMatrix::zeros(m, m);
         // α: only p₀ moves.
-        let alpha_column = self.column_in(e, solver, |_| None, [-alpha.sin(), alpha.cos()])?;
+        let slope = phase_slope(&self.orders, alpha);
+        let alpha_column = self.column_in(e, solver, |_| None, &slope)?;
         jacobian.set_column(0, &alpha_column);
+        let still = vec![0.0; self.phase_states()];
         // t_i (impact i ≥ 1): flight i − 1 grows, flight i shrinks, so the own term of
         // ∂Pre_f is c_f Â Pre_f with c_{i−1} = 1, c_i = −1.
         for i in 1..m {
@@ -787,21 +856,25 @@ where
                 let c = (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
                 (c != 0.0).then(|| product(&self.augmented, &e.pre[f]) * (c * self.cycle))
             };
-            jacobian.set_column(i, &self.column_in(e, solver, own, [0.0, 0.0])?);
+            jacobian.set_column(i, &self.column_in(e, solver, own, &still)?);
         }
         Some(jacobian)
     }
 
     /// The derivative of the residuals along one direction in which flight `f` contributes
     /// `own(f) = ∂Φ_f Ĝ_f Pre_{f−1}` (`∂Φ_0` for the first; `None`: the flight is unchanged)
-    /// and `p₀` moves by `dp0`: `∂Pre_f = Φ_f Ĝ_f ∂Pre_{f−1} + own(f)`, and the periodicity
-    /// solve differentiated. For equations without a rigid border (`lu` factors `P`).
+    /// and the phase states `p₀` move by `dp0` (`P` entries): `∂Pre_f = Φ_f Ĝ_f ∂Pre_{f−1} +
+    /// own(f)`, and the periodicity solve differentiated. For equations without a rigid
+    /// border (`lu` factors `P`).
+    ///
+    /// # Panics
+    /// If `dp0` has more entries than the phase states.
     pub fn column(
         &self,
         e: &CycleEvaluation<D>,
         lu: &LU<f64, D, D>,
         own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
-        dp0: [f64; 2],
+        dp0: &[f64],
     ) -> Option<DVector<f64>> {
         self.column_in(e, &Periodic::Plain(lu), own, dp0)
     }
@@ -812,7 +885,7 @@ where
         e: &CycleEvaluation<D>,
         solver: &Periodic<'_, D>,
         own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
-        dp0: [f64; 2],
+        dp0: &[f64],
     ) -> Option<DVector<f64>> {
         let m = self.impacts();
         // `∂Pre_f` is carried from flight to flight; only `∂Pre_f z₁` is kept (the same
@@ -864,7 +937,7 @@ where
         solver: &Periodic<'_, D>,
         moved_z1: &[Option<OVector<f64, D>>],
         moved_psi: Option<&OVector<f64, D>>,
-        dp0: [f64; 2],
+        dp0: &[f64],
     ) -> Option<DVector<f64>> {
         let border = self.border.as_ref()?;
         let anchor_rows = |i: usize| {

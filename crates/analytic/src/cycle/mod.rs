@@ -228,8 +228,8 @@ impl CycleModel<U6> for Problem {
         0.5 * self.reduced_mass * (1.0 - self.restitution_squared) * rdot * rdot
     }
 
-    fn saltation(&self, _pair: usize, before: &Vector4<f64>, phase: &Vector2<f64>) -> Matrix4<f64> {
-        saltation(&self.flow, &self.g, before, phase)
+    fn saltation(&self, _pair: usize, before: &Vector4<f64>, phase: &[f64]) -> Matrix4<f64> {
+        saltation(&self.flow, &self.g, before, &Vector2::new(phase[0], phase[1]))
     }
 
     fn eigenvalues(&self, monodromy: &Matrix4<f64>) -> Option<Vec<Complex<f64>>> {

@@ -5,16 +5,17 @@
 //! `j` of pair `k_j` on side `s_j`. The forcing phase at the first impact is `α`. For fixed
 //! `x = (α, t₂ … t_m)` everything else is linear: with the augmented flow `Φ_j = exp(Â τ_j)` of
 //! flight `j` (from impact `j` to `j + 1`, the last back to the first of the next cycle) and the
-//! augmented impact map `Ĝ_j = diag(I_n, G_{k_j}, I₂)`, the maps `Pre_j = Φ_j Ĝ_j Pre_{j−1}`
+//! augmented impact map `Ĝ_j = diag(I_n, G_{k_j}, I_P)` (`P` phase states), the maps `Pre_j = Φ_j Ĝ_j Pre_{j−1}`
 //! (`Pre_0 = Φ_0`) carry `(y₁, p₀)`, the state just after the first impact and
-//! `p₀ = (cos α, sin α)`, to the state just before impact `j + 1`. Periodicity
+//! `p₀ = (cos α, sin α)` (with harmonics, `(cos kα, sin kα)` of every order,
+//! [`crate::problem::forcing`]), to the state just before impact `j + 1`. Periodicity
 //! `(I − Ψ_xx) y₁ = Ψ_xp p₀`, `Ψ = Ĝ_0 Pre_{m−1}`, fixes `y₁` (the paper's equation 19,
 //! generalised), and the `m` contact conditions `w_{k_j}ᵀ u(t_j⁻) = s_j gap` are the residuals:
 //! `m` equations in the `m` unknowns `x`.
 //!
 //! Newton uses exact derivatives of the same closed form: `∂Φ_j/∂τ_j = Â Φ_j` (the vector field
-//! at the flight's end), `∂p₀/∂α = (−sin α, cos α)`, and the periodicity solve differentiated
-//! implicitly, `dy₁ = (I − Ψ_xx)⁻¹ (dΨ_xx y₁ + dΨ_xp p₀ + Ψ_xp dp₀)`. No finite differences.
+//! at the flight's end), `∂p₀/∂α = (−sin α, cos α)` (`k (−sin kα, cos kα)` per order), and the
+//! periodicity solve differentiated implicitly, `dy₁ = (I − Ψ_xx)⁻¹ (dΨ_xx y₁ + dΨ_xp p₀ + Ψ_xp dp₀)`. No finite differences.
 //!
 //! A model with rigid modes (free bodies, [`crate::problem::rigid`]) has a singular
 //! `I − Ψ_xx`: its periodicity solve is bordered by the contact conditions of the first impacts
@@ -158,7 +159,7 @@ impl<'a> SequenceProblem<'a> {
         }
         sequence.check(model)?;
         let n = model.dofs();
-        let size = 2 * n + 2;
+        let size = model.augmented_size();
         let impacts = sequence
             .impacts()
             .iter()
@@ -189,6 +190,9 @@ impl<'a> SequenceProblem<'a> {
             sequence_symmetries(sequence),
             f64::from(sequence.period()) * std::f64::consts::TAU / omega,
         );
+        if !model.forcing().harmonics.is_empty() {
+            equations = equations.with_forcing_orders(&model.forcing().orders());
+        }
         if model.has_rigid_modes() {
             let rigid = model.rigid_modes();
             let anchors = anchors(model, sequence)?;
