@@ -21,6 +21,7 @@ pub mod cycle_equations;
 pub mod motion;
 pub mod sequence_orbit;
 pub mod sequence_search;
+pub(crate) mod unit_flights;
 pub(crate) mod unit_modes;
 pub(crate) mod verdicts;
 
@@ -229,7 +230,12 @@ impl CycleModel<U6> for Problem {
     }
 
     fn saltation(&self, _pair: usize, before: &Vector4<f64>, phase: &[f64]) -> Matrix4<f64> {
-        saltation(&self.flow, &self.g, before, &Vector2::new(phase[0], phase[1]))
+        saltation(
+            &self.flow,
+            &self.g,
+            before,
+            &Vector2::new(phase[0], phase[1]),
+        )
     }
 
     fn eigenvalues(&self, monodromy: &Matrix4<f64>) -> Option<Vec<Complex<f64>>> {
