@@ -278,12 +278,6 @@ where
         &self.orders
     }
 
-    /// The highest order of the phase states: the forcing's fastest frequency is this times
-    /// `ω` (1 for a purely harmonic forcing).
-    pub fn highest_order(&self) -> u32 {
-        self.orders.iter().copied().fold(1, u32::max)
-    }
-
     /// Number `P` of phase states: two per order.
     pub fn phase_states(&self) -> usize {
         2 * self.orders.len()

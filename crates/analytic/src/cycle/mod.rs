@@ -50,7 +50,7 @@ use crate::linear::{modes, transmittance_db};
 use crate::orbit::{eigenvalues, impact, relative_displacement, saltation, Side, Violation};
 use crate::sequence::{ImpactSequence, PairImpact};
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError};
-use crate::sequence_search::{grid_intervals, multi_start};
+use crate::sequence_search::{grid_intervals, multi_start, ALPHA_SCAN};
 use crate::signature::Signature;
 use crate::symmetric::OrbitError;
 use crate::unit::{Stops, Unit};
@@ -434,7 +434,10 @@ pub fn signature_orbits_on_grid(
         return Vec::new();
     }
     let problem = Problem::new(unit, stops, omega, signature);
-    multi_start(&problem.equations, grid, |alpha, phases, iterations| {
-        assemble(&problem, signature, alpha, phases, iterations).ok()
-    })
+    multi_start(
+        &problem.equations,
+        grid,
+        ALPHA_SCAN,
+        |alpha, phases, iterations| assemble(&problem, signature, alpha, phases, iterations).ok(),
+    )
 }

@@ -6,7 +6,7 @@
 //! residuals are affine in `(cos α, sin α)` (linear but for the stops; with rigid modes the
 //! bordered residuals of [`crate::cycle_equations`] likewise; with harmonics affine in
 //! `(cos kα, sin kα)` of every order), so each tuple's squared residual is scanned on
-//! `ALPHA_SCAN = 64` values of `α` (more for harmonics above order 4: [`alpha_samples`]) for
+//! `ALPHA_SCAN = 64` values of `α` (`16 K` for a forcing of highest order `K > 4`) for
 //! the cost of one cycle; Newton
 //! ([`crate::sequence_orbit::SequenceNewton`]) starts from every minimum in `α` of every tuple
 //! (up to `FULL_START_TUPLES = 5000` tuples; above, from the minima over the joint grid). Converged
@@ -130,14 +130,19 @@ pub fn sequence_orbits_on_grid(
 ) -> Result<Vec<SequenceOrbit>, SequenceOrbitError> {
     let problem = SequenceProblem::new(model, omega, sequence)?;
     let verdicts = ModelVerdicts::new(&problem);
-    let found = multi_start(problem.equations(), grid, |alpha, phases, iterations| {
-        verdicts.assemble(alpha, phases, iterations).ok()
-    });
+    let samples = alpha_samples(model.forcing().highest_order());
+    let found = multi_start(
+        problem.equations(),
+        grid,
+        samples,
+        |alpha, phases, iterations| verdicts.assemble(alpha, phases, iterations).ok(),
+    );
     Ok(found)
 }
 
 /// The multi-start over a grid of `grid` intervals of the cycle on any cycle equations: every
-/// ordered impact-phase tuple scanned in `α` ([`linear_scan`]), Newton ([`SequenceNewton`])
+/// ordered impact-phase tuple scanned in `α` on `samples` values ([`linear_scan`],
+/// [`alpha_samples`] of the forcing's highest order), Newton ([`SequenceNewton`])
 /// from the start nodes ([`start_nodes`]), each converged solution brought to its canonical
 /// representation, deduplicated within `DEDUP_TOLERANCE = 1e-8` and made into an orbit by
 /// `assemble(α, phases, iterations)` (`None`: dropped). The orbits sorted by `α`; an empty list
@@ -145,6 +150,7 @@ pub fn sequence_orbits_on_grid(
 pub(crate) fn multi_start<D, O>(
     equations: &CycleEquations<D>,
     grid: usize,
+    samples: usize,
     mut assemble: impl FnMut(f64, &[f64], usize) -> Option<O>,
 ) -> Vec<O>
 where
@@ -158,7 +164,6 @@ where
     let steps: Vec<OMatrix<f64, D, D>> = (0..=grid)
         .map(|k| equations.flow(k as f64 * equations.cycle() / grid as f64))
         .collect();
-    let samples = alpha_samples(equations.highest_order());
     let mut scanned: HashMap<Vec<usize>, Vec<f64>> = HashMap::new();
     let mut tuple: Vec<usize> = (0..m).collect();
     loop {

@@ -140,10 +140,20 @@ impl HarmonicForcing {
         2 * (1 + self.harmonics.len())
     }
 
-    /// The highest order (1 without harmonics): the forcing's fastest frequency is this
-    /// times `ω`.
+    /// The highest order of a harmonic that exerts a force (some entry of its vectors not
+    /// zero), 1 otherwise: the forcing's fastest frequency is this times `ω`, which sets the
+    /// multi-start's grid and `α` scan and the pieces of the flights' extremum search. A
+    /// harmonic of amplitude zero does not count, so that it changes no result.
     pub fn highest_order(&self) -> u32 {
-        self.harmonics.iter().map(|h| h.order).fold(1, u32::max)
+        self.harmonics
+            .iter()
+            .filter(|h| {
+                [&h.cosine, &h.sine, &h.sine_per_omega]
+                    .iter()
+                    .any(|v| v.iter().any(|&x| x != 0.0))
+            })
+            .map(|h| h.order)
+            .fold(1, u32::max)
     }
 
     /// `F(ω)` (`n ×` [`HarmonicForcing::phase_states`]): the force is `f = F(ω) p` on the
