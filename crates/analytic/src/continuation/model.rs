@@ -247,3 +247,56 @@ impl BranchModel for ModelBranch<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_models::{fundamental, two_masses_two_pairs, BaseHarmonic};
+
+    /// Continuation's Jacobian in `X = (α, φ₂ … φ_m, ω)` on a model driven by a base motion
+    /// with harmonics (orders 2 and 3, with phases and dashpots) against central differences
+    /// of its residuals: step `1e-6`, truncation `O(1e-12)` and rounding `O(1e-10)` of the
+    /// residuals' size, as the cycle equations' own check.
+    #[test]
+    fn the_jacobian_in_omega_with_harmonics_is_the_derivative() {
+        let harmonic = |order, amplitude, phase| BaseHarmonic {
+            order,
+            amplitude,
+            phase,
+        };
+        let model = two_masses_two_pairs(&[
+            fundamental(0.8),
+            harmonic(2, 0.3, 0.5),
+            harmonic(3, 0.15, -1.2),
+        ]);
+        let sequence = ImpactSequence::parse("0+ 1+ 0-", 1).unwrap_or_else(|e| panic!("{e}"));
+        let branch = ModelBranch::new(&model, sequence).unwrap_or_else(|e| panic!("{e}"));
+        let x = [0.4, 0.3, 0.65, 1.1];
+        let exact = branch
+            .evaluate(&x, true)
+            .unwrap_or_else(|| panic!("singular"))
+            .jacobian;
+        assert_eq!(exact.shape(), (3, 4));
+        let step = 1e-6;
+        let scale = exact.amax();
+        for i in 0..4 {
+            let at = |d: f64| {
+                let mut y = x;
+                y[i] += d;
+                branch
+                    .evaluate(&y, false)
+                    .unwrap_or_else(|| panic!("singular"))
+                    .residual
+            };
+            let quotient = (at(step) - at(-step)) / (2.0 * step);
+            for j in 0..3 {
+                assert!(
+                    (quotient[j] - exact[(j, i)]).abs() <= 1e-7 * scale,
+                    "∂r{j}/∂X{i}: {} vs {}",
+                    quotient[j],
+                    exact[(j, i)]
+                );
+            }
+        }
+    }
+}
