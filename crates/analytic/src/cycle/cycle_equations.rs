@@ -67,7 +67,8 @@ use crate::cycle::unit_flights::{
 };
 use crate::cycle::unit_modes::{ModalForcing, UnitModes};
 use crate::orbit::wrap;
-use crate::problem::forcing::{phase_slope, phase_state};
+use crate::problem::forcing::phase_state;
+use crate::problem::forcing::PhaseRows;
 use nalgebra::allocator::Allocator;
 use nalgebra::{
     Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn, Matrix6, OMatrix, OVector,
@@ -488,10 +489,17 @@ where
         let size = psi.nrows();
         let d = D::from_usize(size);
         let mut p = OMatrix::<f64, D, D>::identity_generic(d, d) - psi;
-        let states = self.states();
-        p.rows_mut(states, size - states).fill(0.0);
-        for i in states..size {
-            p[(i, i)] = 1.0;
+        let phases = self.phase_states();
+        if phases == 2 {
+            // A purely harmonic forcing: two phase rows, written as constants.
+            p.rows_mut(size - 2, 2).fill(0.0);
+            p[(size - 2, size - 2)] = 1.0;
+            p[(size - 1, size - 1)] = 1.0;
+        } else {
+            p.rows_mut(size - phases, phases).fill(0.0);
+            for i in size - phases..size {
+                p[(i, i)] = 1.0;
+            }
         }
         let lu = p.lu();
         lu.is_invertible().then_some(lu)
@@ -545,7 +553,7 @@ where
         &self,
         solver: &Periodic<'_, D>,
         state: Option<&OVector<f64, D>>,
-        p: &[f64],
+        p: PhaseRows<'_>,
         anchor_rows: impl Fn(usize) -> f64,
     ) -> Option<(OVector<f64, D>, Vec<f64>)> {
         let rhs = self.augmented_vector(state, p);
@@ -607,12 +615,12 @@ where
         };
         let phases = self.phase_states();
         let mut p = vec![0.0; phases];
-        let (z0, mu0) = self.periodic_solve(&solver, None, &p, stops_at)?;
+        let (z0, mu0) = self.periodic_solve(&solver, None, PhaseRows::Still, stops_at)?;
         let constant = self.bordered_residuals(pre, &z0, &mu0, true);
         let mut linear = Vec::with_capacity(phases);
         for i in 0..phases {
             p[i] = 1.0;
-            let (z, mu) = self.periodic_solve(&solver, None, &p, |_| 0.0)?;
+            let (z, mu) = self.periodic_solve(&solver, None, PhaseRows::Given(&p), |_| 0.0)?;
             p[i] = 0.0;
             linear.push(self.bordered_residuals(pre, &z, &mu, false));
         }
@@ -625,12 +633,12 @@ where
         phase_state(&self.orders, alpha)
     }
 
-    /// The augmented vector with the state rows `state` (zero when `None`) and phase rows
-    /// `p` (the last `P`).
+    /// The augmented vector with the state rows `state` (zero when `None`) and the phase rows
+    /// (the last `P`) `p`.
     pub(crate) fn augmented_vector(
         &self,
         state: Option<&OVector<f64, D>>,
-        p: &[f64],
+        p: PhaseRows<'_>,
     ) -> OVector<f64, D> {
         let size = self.augmented.nrows();
         let mut v = match state {
@@ -638,9 +646,7 @@ where
             None => OVector::<f64, D>::zeros_generic(D::from_usize(size), Const::<1>),
         };
         let states = self.states();
-        for (i, value) in p.iter().enumerate() {
-            v[states + i] = *value;
-        }
+        p.write(&self.orders, &mut v.as_mut_slice()[states..]);
         v
     }
 
@@ -685,7 +691,7 @@ where
         }
         let lu = self.periodicity(&pre)?;
         let alpha = x[0];
-        let z1 = lu.solve(&self.augmented_vector(None, &self.phase_at(alpha)))?;
+        let z1 = lu.solve(&self.augmented_vector(None, PhaseRows::At(alpha)))?;
         let residual = self.residuals(&pre, &z1);
         let mut evaluation = CycleEvaluation {
             flights,
@@ -712,7 +718,7 @@ where
         let factors = self.periodic_factors(&pre)?;
         let solver = factors.view();
         let alpha = x[0];
-        let (z1, mu) = self.periodic_solve(&solver, None, &self.phase_at(alpha), |i| {
+        let (z1, mu) = self.periodic_solve(&solver, None, PhaseRows::At(alpha), |i| {
             self.stops[border.anchors[i]]
         })?;
         let residual = self.bordered_residuals(&pre, &z1, &mu, true);
@@ -809,7 +815,7 @@ where
                 product(&rates[f], &product(&self.g_hats[f], &e.pre[f - 1]))
             })
         };
-        let in_omega = self.column_in(&e, &solver, own, &vec![0.0; self.phase_states()])?;
+        let in_omega = self.column_in(&e, &solver, own, PhaseRows::Still)?;
         let mut jacobian = DMatrix::zeros(m, m + 1);
         jacobian.view_mut((0, 0), (m, m)).copy_from(&in_x);
         jacobian.set_column(m, &in_omega);
@@ -837,10 +843,8 @@ where
         let m = self.impacts();
         let mut jacobian = DMatrix::zeros(m, m);
         // α: only p₀ moves.
-        let slope = phase_slope(&self.orders, alpha);
-        let alpha_column = self.column_in(e, solver, |_| None, &slope)?;
+        let alpha_column = self.column_in(e, solver, |_| None, PhaseRows::Slope(alpha))?;
         jacobian.set_column(0, &alpha_column);
-        let still = vec![0.0; self.phase_states()];
         // t_i (impact i ≥ 1): flight i − 1 grows, flight i shrinks, so the own term of
         // ∂Pre_f is c_f Â Pre_f with c_{i−1} = 1, c_i = −1.
         for i in 1..m {
@@ -848,7 +852,7 @@ where
                 let c = (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
                 (c != 0.0).then(|| product(&self.augmented, &e.pre[f]) * (c * self.cycle))
             };
-            jacobian.set_column(i, &self.column_in(e, solver, own, &still)?);
+            jacobian.set_column(i, &self.column_in(e, solver, own, PhaseRows::Still)?);
         }
         Some(jacobian)
     }
@@ -868,7 +872,7 @@ where
         own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
         dp0: &[f64],
     ) -> Option<DVector<f64>> {
-        self.column_in(e, &Periodic::Plain(lu), own, dp0)
+        self.column_in(e, &Periodic::Plain(lu), own, PhaseRows::Given(dp0))
     }
 
     /// [`Self::column`] with the periodicity solve `solver`, bordered or not.
@@ -877,7 +881,7 @@ where
         e: &CycleEvaluation<D>,
         solver: &Periodic<'_, D>,
         own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
-        dp0: &[f64],
+        dp0: PhaseRows<'_>,
     ) -> Option<DVector<f64>> {
         let m = self.impacts();
         // `∂Pre_f` is carried from flight to flight; only `∂Pre_f z₁` is kept (the same
@@ -929,7 +933,7 @@ where
         solver: &Periodic<'_, D>,
         moved_z1: &[Option<OVector<f64, D>>],
         moved_psi: Option<&OVector<f64, D>>,
-        dp0: &[f64],
+        dp0: PhaseRows<'_>,
     ) -> Option<DVector<f64>> {
         let border = self.border.as_ref()?;
         let anchor_rows = |i: usize| {

@@ -17,6 +17,7 @@ use crate::cycle_equations::CycleEquations;
 use crate::model::LinearModel;
 use crate::model_flight::eigenvalues;
 use crate::orbit::wrap;
+use crate::problem::forcing::PhaseRows;
 use crate::sequence::ImpactSequence;
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
 use crate::sequence_verdicts::{ModelVerdicts, SequenceOrbit};
@@ -298,7 +299,10 @@ where
     for (t, values) in scanned {
         for k in 0..samples {
             let v = values[k];
-            let around = [(k + samples - 1) % samples, k, (k + 1) % samples];
+            // The neighbours on the circle of samples, without a division.
+            let before = if k == 0 { samples - 1 } else { k - 1 };
+            let after = if k + 1 == samples { 0 } else { k + 1 };
+            let around = [before, k, after];
             let alpha_min = values[around[0]] >= v && values[around[2]] > v;
             if alpha_min
                 && v.is_finite()
@@ -375,7 +379,7 @@ where
     // The contact values for p₀ = (1, 0) and (0, 1): residual j = c_j · p − stop_j.
     let mut coefficients = vec![[0.0; 2]; m];
     for (c, p) in [[1.0, 0.0], [0.0, 1.0]].into_iter().enumerate() {
-        let Some(z) = lu.solve(&equations.augmented_vector(None, &p)) else {
+        let Some(z) = lu.solve(&equations.augmented_vector(None, PhaseRows::Given(&p))) else {
             return vec![f64::INFINITY; samples];
         };
         for (j, v) in equations.contact_values(&pre, &z).into_iter().enumerate() {

@@ -32,8 +32,8 @@
 //! `f_ω` for the fundamental and `k f_ω,k sin φ_k`, `k f_ω,k cos φ_k` for harmonic `k`
 //! ([`HarmonicForcing::columns_rate`]), and the rotation blocks `diag(J, k₁J, …)`: exact for
 //! continuation in `ω`. At the first impact the phase states are `p(α) = (cos kα, sin kα)` for
-//! each order ([`phase_state`]), whose derivative in the base phase `α` is
-//! `k (−sin kα, cos kα)` ([`phase_slope`]).
+//! each order ([`phase_pair`], [`phase_state`]), whose derivative in the base phase `α` is
+//! `k (−sin kα, cos kα)` ([`slope_pair`], [`phase_slope`]).
 //!
 //! A forcing without harmonics has the two phase states of the fundamental alone: the same
 //! augmented size `2n + 2`, matrices and results as a purely harmonic forcing.
@@ -185,38 +185,88 @@ impl HarmonicForcing {
     }
 }
 
-/// The phase states at `θ = alpha` of pairs of the given `orders`: `(cos kα, sin kα)` for each
-/// order `k`, in order (`(cos α, sin α)` exactly for order 1).
-pub fn phase_state(orders: &[u32], alpha: f64) -> Vec<f64> {
-    let mut p = Vec::with_capacity(2 * orders.len());
-    for &k in orders {
-        let (s, c) = if k == 1 {
-            (alpha.sin(), alpha.cos())
-        } else {
-            (f64::from(k) * alpha).sin_cos()
-        };
-        p.push(c);
-        p.push(s);
+/// The phase states `(cos kα, sin kα)` of order `k` at `θ = alpha` (`(cos α, sin α)` exactly
+/// for order 1).
+pub fn phase_pair(order: u32, alpha: f64) -> (f64, f64) {
+    if order == 1 {
+        (alpha.cos(), alpha.sin())
+    } else {
+        let (s, c) = (f64::from(order) * alpha).sin_cos();
+        (c, s)
     }
-    p
 }
 
-/// `d/dα` of [`phase_state`]: `k (−sin kα, cos kα)` for each order `k`
-/// (`(−sin α, cos α)` exactly for order 1).
-pub fn phase_slope(orders: &[u32], alpha: f64) -> Vec<f64> {
-    let mut p = Vec::with_capacity(2 * orders.len());
-    for &k in orders {
-        if k == 1 {
-            p.push(-alpha.sin());
-            p.push(alpha.cos());
-        } else {
-            let kf = f64::from(k);
-            let (s, c) = (kf * alpha).sin_cos();
-            p.push(-kf * s);
-            p.push(kf * c);
+/// `d/dα` of [`phase_pair`]: `k (−sin kα, cos kα)` (`(−sin α, cos α)` exactly for order 1).
+pub fn slope_pair(order: u32, alpha: f64) -> (f64, f64) {
+    if order == 1 {
+        (-alpha.sin(), alpha.cos())
+    } else {
+        let k = f64::from(order);
+        let (s, c) = (k * alpha).sin_cos();
+        (-k * s, k * c)
+    }
+}
+
+/// What the phase rows of an augmented vector hold: written in place
+/// ([`PhaseRows::write`]), so that an evaluation of the cycle equations allocates nothing for
+/// them.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum PhaseRows<'a> {
+    /// The phase states at the base phase `α`: [`phase_pair`] of each order.
+    At(f64),
+    /// Their derivative in `α`: [`slope_pair`] of each order.
+    Slope(f64),
+    /// Zero: the phase at the first impact does not move.
+    Still,
+    /// The given entries, one per phase state.
+    Given(&'a [f64]),
+}
+
+impl PhaseRows<'_> {
+    /// Writes the rows into `rows`, two per order of `orders` (`Given` writes its entries).
+    ///
+    /// # Panics
+    /// If `rows` is shorter than the entries written.
+    #[inline]
+    pub(crate) fn write(self, orders: &[u32], rows: &mut [f64]) {
+        match self {
+            Self::Given(values) => rows[..values.len()].copy_from_slice(values),
+            Self::Still => rows.fill(0.0),
+            Self::At(alpha) | Self::Slope(alpha) => {
+                for (pair, &k) in rows.chunks_exact_mut(2).zip(orders) {
+                    let (c, s) = match self {
+                        Self::At(_) => phase_pair(k, alpha),
+                        _ => slope_pair(k, alpha),
+                    };
+                    pair[0] = c;
+                    pair[1] = s;
+                }
+            }
         }
     }
-    p
+}
+
+/// The phase states at `θ = alpha` of pairs of the given `orders`: [`phase_pair`] of each
+/// order, in order.
+pub fn phase_state(orders: &[u32], alpha: f64) -> Vec<f64> {
+    orders
+        .iter()
+        .flat_map(|&k| {
+            let (c, s) = phase_pair(k, alpha);
+            [c, s]
+        })
+        .collect()
+}
+
+/// `d/dα` of [`phase_state`]: [`slope_pair`] of each order, in order.
+pub fn phase_slope(orders: &[u32], alpha: f64) -> Vec<f64> {
+    orders
+        .iter()
+        .flat_map(|&k| {
+            let (c, s) = slope_pair(k, alpha);
+            [c, s]
+        })
+        .collect()
 }
 
 /// Samples per period of the highest order in [`trig_extremes`]' search: the extrema of a
