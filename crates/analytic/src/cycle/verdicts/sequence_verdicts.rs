@@ -49,7 +49,8 @@ pub struct SequenceOrbit {
     /// The last cell's outer amplitude (the last entry of `cell_outer_amplitudes`).
     pub outer_amplitude: f64,
     /// `20 log10(outer_amplitude / X_s)`, `X_s` the static displacement `(K⁻¹f_c)` of that
-    /// coordinate: `u_g` for a base-driven model.
+    /// coordinate under the fundamental's cosine part `f_c` (the forcing's harmonics leave it
+    /// as it is): `u_g` for a base-driven model.
     pub transmittance_db: f64,
     /// True when no [`SequenceViolation`] was found.
     pub viable: bool,
