@@ -16,6 +16,9 @@
 //! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
 //!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
 //!   state (the model the sequence solver below runs on);
+//! - [`forcing`]: a model's periodic forcing ([`HarmonicForcing`]), the fundamental and any
+//!   higher harmonics of integer order ([`Harmonic`]), each carried by two phase states of the
+//!   augmented state, turning at its own `kω`;
 //! - [`rigid`]: free bodies (a singular stiffness matrix): a model's rigid modes
 //!   ([`LinearModel::rigid_modes`]), the family of its linear motions and whether one stays
 //!   clear of the stops ([`LinearModel::clear_family`]); the cycle equations of such a model
@@ -50,8 +53,9 @@
 //!
 //! An orbit's motion at any time of its cycle is [`UnitMotion`]'s (a unit's orbits).
 //!
-//! The flow between impacts is the exponential of the system augmented with the forcing's two
-//! phase states ([`flow::ForcedFlow`]): exact, and finite at exact resonance.
+//! The flow between impacts is the exponential of the system augmented with the forcing's
+//! phase states (two on the unit, [`flow::ForcedFlow`]; two per harmonic on a model): exact,
+//! and finite at exact resonance.
 //!
 //! The source is in folders by job: [`problem`] (what is solved), [`linear`] (without
 //! stops), [`flow`] (between impacts), [`cycle`] (the cycle equations of any impact sequence,
@@ -74,7 +78,7 @@ use cycle::verdicts;
 pub use cycle::{cycle_equations, motion, sequence_orbit, sequence_search};
 pub use flow::model_flight;
 pub use linear::lattice;
-pub use problem::{chain, model, rigid, sequence, signature, unit};
+pub use problem::{chain, forcing, model, rigid, sequence, signature, unit};
 pub use verdicts::sequence_verdicts;
 
 pub use chain::{chain_response, Cell, ChainResponse, MAX_CELLS};
@@ -94,7 +98,8 @@ pub use lattice::{
 };
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
-    ContactPair, HarmonicForcing, HarmonicState, LinearModel, ModelError, ModelTransition,
+    ContactPair, Harmonic, HarmonicForcing, HarmonicResponse, HarmonicState, LinearModel,
+    ModelError, ModelTransition, MAX_HARMONIC_ORDER,
 };
 pub use motion::UnitMotion;
 pub use orbit::{Orbit, Side, Violation};

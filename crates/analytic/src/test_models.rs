@@ -227,3 +227,120 @@ pub fn symmetric_identities() -> [(Unit, SymmetricIdentities); 2] {
         ),
     ]
 }
+
+/// One harmonic of a base motion `u_g(t) = Σ a cos(kθ + φ)`, `θ = ωt + α`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BaseHarmonic {
+    /// The order `k` (1: the fundamental).
+    pub order: u32,
+    /// The amplitude `a`.
+    pub amplitude: f64,
+    /// The phase `φ` (the fundamental's must be 0: `α` is its phase).
+    pub phase: f64,
+}
+
+/// The base motion `a cos θ`, the fundamental alone.
+pub fn fundamental(amplitude: f64) -> BaseHarmonic {
+    BaseHarmonic {
+        order: 1,
+        amplitude,
+        phase: 0.0,
+    }
+}
+
+/// The forcing of a base motion acting on coordinate `at` of an `n`-DOF model through a spring
+/// `k` and a dashpot `c`: `f = k u_g + c u̇_g` on that coordinate, by hand for each harmonic
+/// `a cos(kθ + φ)`: cosine `k a`, sine `0`, sine per unit of its frequency `−c a`, phase `φ`
+/// (the fundamental's entries when the order is 1; a missing fundamental is zero).
+///
+/// # Panics
+/// If an order-1 entry has a phase other than 0.
+pub fn base_forcing(
+    n: usize,
+    at: usize,
+    spring: f64,
+    dashpot: f64,
+    base: &[BaseHarmonic],
+) -> crate::HarmonicForcing {
+    let on = |v: f64| {
+        let mut f = nalgebra::DVector::zeros(n);
+        f[at] = v;
+        f
+    };
+    let mut forcing = crate::HarmonicForcing::fundamental(on(0.0), on(0.0), on(0.0));
+    for h in base {
+        if h.order == 1 {
+            assert!(h.phase == 0.0, "the fundamental's phase is α");
+            forcing.cosine = on(spring * h.amplitude);
+            forcing.sine_per_omega = on(-dashpot * h.amplitude);
+        } else {
+            forcing.harmonics.push(crate::Harmonic {
+                order: h.order,
+                cosine: on(spring * h.amplitude),
+                sine: on(0.0),
+                sine_per_omega: on(-dashpot * h.amplitude),
+                phase: h.phase,
+            });
+        }
+    }
+    forcing
+}
+
+/// The impact oscillator: a mass `m = 1` on a spring `k = 1` and a dashpot `c = 0.05` to a
+/// moving base `base`, against one stop at `u = +0.5` (side 1; no stop on side 2) with
+/// restitution `e = 0.8`. Its exact linear response: [`oscillator_response`].
+pub fn impact_oscillator(base: &[BaseHarmonic]) -> crate::LinearModel {
+    let one = |v: f64| nalgebra::DMatrix::from_element(1, 1, v);
+    crate::LinearModel::new(
+        one(1.0),
+        one(0.05),
+        one(1.0),
+        base_forcing(1, 0, 1.0, 0.05, base),
+        vec![crate::ContactPair {
+            direction: nalgebra::DVector::from_element(1, 1.0),
+            gap_side1: 0.5,
+            gap_side2: f64::INFINITY,
+            restitution: 0.8,
+        }],
+    )
+    .unwrap_or_else(|e| panic!("the impact oscillator is a model: {e}"))
+}
+
+/// The impact oscillator's ([`impact_oscillator`]) linear displacement at time `t`, frequency
+/// `omega` and base phase `α = 0`, by hand: each harmonic `a cos(kθ + φ)` moves the mass by
+/// `Re{a H(kω) e^{i(kωt + φ)}}` with `H(Ω) = (1 + 0.05 iΩ)/(1 − Ω² + 0.05 iΩ)`, summed.
+pub fn oscillator_response(base: &[BaseHarmonic], omega: f64, t: f64) -> f64 {
+    base.iter()
+        .map(|h| {
+            let w = f64::from(h.order) * omega;
+            let transfer = Complex::new(1.0, 0.05 * w) / Complex::new(1.0 - w * w, 0.05 * w);
+            (transfer * h.amplitude * Complex::from_polar(1.0, w * t + h.phase)).re
+        })
+        .sum()
+}
+
+/// Two masses with two contact pairs: `m₁ = 1` on a spring `1` and a dashpot `0.05` to the
+/// moving base `base`, `m₂ = 0.5` on a spring `0.6` and a dashpot `0.02` to `m₁`
+/// (`K = [[1.6, −0.6], [−0.6, 0.6]]`, `C = [[0.07, −0.02], [−0.02, 0.02]]`). Pair 0: `m₂`
+/// rattling against `m₁` (`r = u₂ − u₁`, stops at `±0.4`, `e = 0.7`); pair 1: `m₁` against the
+/// frame (`r = u₁`, one stop at `+1.5`, `e = 0.8`).
+pub fn two_masses_two_pairs(base: &[BaseHarmonic]) -> crate::LinearModel {
+    let m = |a: [f64; 4]| nalgebra::DMatrix::from_row_slice(2, 2, &a);
+    let pair = |w: [f64; 2], gap_side1: f64, gap_side2: f64, restitution: f64| crate::ContactPair {
+        direction: nalgebra::DVector::from_row_slice(&w),
+        gap_side1,
+        gap_side2,
+        restitution,
+    };
+    crate::LinearModel::new(
+        m([1.0, 0.0, 0.0, 0.5]),
+        m([0.07, -0.02, -0.02, 0.02]),
+        m([1.6, -0.6, -0.6, 0.6]),
+        base_forcing(2, 0, 1.0, 0.05, base),
+        vec![
+            pair([-1.0, 1.0], 0.4, 0.4, 0.7),
+            pair([1.0, 0.0], 1.5, f64::INFINITY, 0.8),
+        ],
+    )
+    .unwrap_or_else(|e| panic!("the two masses are a model: {e}"))
+}

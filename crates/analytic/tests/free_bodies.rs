@@ -43,6 +43,7 @@ impl Damper {
                 cosine: DVector::from_vec(vec![self.force, 0.0]),
                 sine: DVector::zeros(2),
                 sine_per_omega: DVector::zeros(2),
+                harmonics: Vec::new(),
             },
             vec![ContactPair {
                 direction: DVector::from_vec(vec![-1.0, 1.0]),
@@ -207,6 +208,7 @@ fn free_mass(m: f64, c: f64, force: f64) -> LinearModel {
             cosine: DVector::from_element(1, force),
             sine: DVector::zeros(1),
             sine_per_omega: DVector::zeros(1),
+            harmonics: Vec::new(),
         },
         vec![ContactPair {
             direction: DVector::from_element(1, 1.0),
@@ -603,6 +605,7 @@ fn unrestrained_and_unbounded_models_are_refused() {
             cosine: DVector::from_vec(vec![1.0, 0.0, 0.0]),
             sine: DVector::zeros(3),
             sine_per_omega: DVector::zeros(3),
+            harmonics: Vec::new(),
         },
         vec![
             ContactPair {
@@ -642,6 +645,7 @@ fn unrestrained_and_unbounded_models_are_refused() {
                 cosine: DVector::from_vec(vec![1.0, 0.0, 0.0]),
                 sine: DVector::zeros(3),
                 sine_per_omega: DVector::zeros(3),
+                harmonics: Vec::new(),
             },
             vec![ContactPair {
                 direction: DVector::from_vec(vec![-1.0, 1.0, 0.0]),
@@ -755,6 +759,7 @@ fn clear_family_needs_one_offset_for_every_pair() {
                 cosine: DVector::from_vec(vec![0.45, 0.45, 0.0]),
                 sine: DVector::zeros(3),
                 sine_per_omega: DVector::zeros(3),
+                harmonics: Vec::new(),
             },
             vec![pair(0, [2.0, 0.5]), pair(1, second)],
         )

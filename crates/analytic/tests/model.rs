@@ -186,11 +186,15 @@ fn undamped_resonance_has_no_linear_steady_state() {
         cosine: DVector::from_element(1, 1.0),
         sine: DVector::zeros(1),
         sine_per_omega: DVector::zeros(1),
+        harmonics: Vec::new(),
     };
     let model = LinearModel::new(one(1.0), one(0.0), one(1.0), forcing, Vec::new()).unwrap();
     assert_eq!(
         model.linear_steady_state(1.0),
-        Err(ModelError::Unbounded { omega: 1.0 })
+        Err(ModelError::Unbounded {
+            omega: 1.0,
+            order: 1
+        })
     );
     assert!(model.linear_steady_state(0.5).is_ok());
 }
@@ -211,6 +215,7 @@ fn bad_models_are_refused_with_the_field_named() {
         cosine: DVector::from_vec(vec![6.0, 0.0, 0.0, 0.0]),
         sine: DVector::zeros(4),
         sine_per_omega: DVector::from_vec(vec![-0.1, 0.0, 0.0, 0.0]),
+        harmonics: Vec::new(),
     };
     let pair = ContactPair {
         direction: DVector::from_vec(vec![-1.0, 1.0, 0.0, 0.0]),

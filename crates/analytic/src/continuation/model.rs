@@ -67,7 +67,7 @@ impl<'a> ModelBranch<'a> {
         let functionals: Vec<DVector<f64>> = pairs
             .iter()
             .map(|p| {
-                let mut c = DVector::zeros(2 * dofs + 2);
+                let mut c = DVector::zeros(self.model.augmented_size());
                 c.rows_mut(0, dofs).copy_from(&p.direction);
                 c
             })
@@ -243,6 +243,59 @@ impl BranchModel for ModelBranch<'_> {
                     _ => tests.torus,
                 };
                 value.is_finite().then_some(value)
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::test_models::{fundamental, two_masses_two_pairs, BaseHarmonic};
+
+    /// Continuation's Jacobian in `X = (α, φ₂ … φ_m, ω)` on a model driven by a base motion
+    /// with harmonics (orders 2 and 3, with phases and dashpots) against central differences
+    /// of its residuals: step `1e-6`, truncation `O(1e-12)` and rounding `O(1e-10)` of the
+    /// residuals' size, as the cycle equations' own check.
+    #[test]
+    fn the_jacobian_in_omega_with_harmonics_is_the_derivative() {
+        let harmonic = |order, amplitude, phase| BaseHarmonic {
+            order,
+            amplitude,
+            phase,
+        };
+        let model = two_masses_two_pairs(&[
+            fundamental(0.8),
+            harmonic(2, 0.3, 0.5),
+            harmonic(3, 0.15, -1.2),
+        ]);
+        let sequence = ImpactSequence::parse("0+ 1+ 0-", 1).unwrap_or_else(|e| panic!("{e}"));
+        let branch = ModelBranch::new(&model, sequence).unwrap_or_else(|e| panic!("{e}"));
+        let x = [0.4, 0.3, 0.65, 1.1];
+        let exact = branch
+            .evaluate(&x, true)
+            .unwrap_or_else(|| panic!("singular"))
+            .jacobian;
+        assert_eq!(exact.shape(), (3, 4));
+        let step = 1e-6;
+        let scale = exact.amax();
+        for i in 0..4 {
+            let at = |d: f64| {
+                let mut y = x;
+                y[i] += d;
+                branch
+                    .evaluate(&y, false)
+                    .unwrap_or_else(|| panic!("singular"))
+                    .residual
+            };
+            let quotient = (at(step) - at(-step)) / (2.0 * step);
+            for j in 0..3 {
+                assert!(
+                    (quotient[j] - exact[(j, i)]).abs() <= 1e-7 * scale,
+                    "∂r{j}/∂X{i}: {} vs {}",
+                    quotient[j],
+                    exact[(j, i)]
+                );
             }
         }
     }

@@ -1,20 +1,25 @@
 //! The cycle equations of an impact sequence, one implementation for every model: generic over
 //! the dimension `D` of the augmented state `z = (u, u̇, p)`, so that the unit runs them on
-//! stack matrices (`D = 6`) and a chain on heap matrices (`D` dynamic).
+//! stack matrices (`D = 6`) and a chain on heap matrices (`D` dynamic). The phase states `p`
+//! are `(cos θ, sin θ)` of a purely harmonic forcing, or `(cos kθ, sin kθ)` for each order `k`
+//! of a forcing with harmonics ([`crate::problem::forcing`], [`CycleEquations::with_forcing_orders`]);
+//! below, `P` is their number.
 //!
 //! A cycle of `p` forcing periods (`pT`) has `m` impacts at `0 = t₁ < t₂ < … < t_m < pT`,
 //! impact `j` with the augmented impact map `Ĝ_j` and the contact functional `h_j` (its pair's
 //! coordinate), which must equal `c_j` (the stop, `s_j gap`). For fixed `x = (α, t₂ … t_m)`
 //! everything else is linear: with the augmented flow `Φ_j = exp(Â τ_j)` of flight `j` the maps
 //! `Pre_j = Φ_j Ĝ_j Pre_{j−1}` (`Pre_0 = Φ_0`) carry `z₁ = (y₁, p₀)`, the state just after the
-//! first impact and `p₀ = (cos α, sin α)`, to the state just before impact `j + 1`.
+//! first impact and `p₀ = (cos α, sin α)` (with harmonics `(cos kα, sin kα)` for each order),
+//! to the state just before impact `j + 1`.
 //! Periodicity `(I − Ψ_xx) y₁ = Ψ_xp p₀`, `Ψ = Ĝ_0 Pre_{m−1}`, fixes `y₁`; it is solved in the
-//! augmented dimension as `P z₁ = (0, p₀)`, `P` being `I − Ψ` with its last two rows replaced
-//! by `(0, I₂)` (partial pivoting then eliminates exactly as on `I − Ψ_xx`). The `m` contact
+//! augmented dimension as `P z₁ = (0, p₀)`, `P` being `I − Ψ` with its last `P` rows replaced
+//! by `(0, I_P)` (partial pivoting then eliminates exactly as on `I − Ψ_xx`). The `m` contact
 //! conditions `h_jᵀ z(t_j⁻) = c_j` are the residuals.
 //!
-//! Derivatives are exact: `∂Φ_j/∂τ_j = Â Φ_j`, `∂p₀/∂α = (−sin α, cos α)`, and the periodicity
-//! solve differentiated implicitly, `P dz₁ = (dΨ z₁ restricted to the state rows, dp₀)`.
+//! Derivatives are exact: `∂Φ_j/∂τ_j = Â Φ_j`, `∂p₀/∂α = (−sin α, cos α)` (with harmonics
+//! `k (−sin kα, cos kα)` for each order), and the periodicity solve differentiated implicitly,
+//! `P dz₁ = (dΨ z₁ restricted to the state rows, dp₀)`.
 //!
 //! **Rigid modes.** When the model has rigid modes `Φ` (`n × r`, `KΦ = 0`, see
 //! [`crate::problem::rigid`]), every flight and impact map keeps the translations `(Φa, 0)`:
@@ -57,12 +62,17 @@
 //! −h_jᵀ dPre_{j−1} z₁ on anchor rows)`, the same carried products `dPre_f z₁` as without
 //! border.
 
+use crate::cycle::unit_flights::{
+    dynamic_exp, product, remembered_flow, to_unit, unit_exp, unit_modes, UNIT_SIZE,
+};
 use crate::cycle::unit_modes::{ModalForcing, UnitModes};
 use crate::orbit::wrap;
+use crate::problem::forcing::phase_state;
+use crate::problem::forcing::PhaseRows;
 use nalgebra::allocator::Allocator;
 use nalgebra::{
-    Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn, Matrix4, Matrix6, OMatrix,
-    OVector, SMatrix, LU,
+    Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn, Matrix6, OMatrix, OVector,
+    SMatrix, LU,
 };
 use std::sync::Arc;
 
@@ -76,7 +86,7 @@ pub struct ImpactCondition<D: Dim>
 where
     DefaultAllocator: Allocator<D, D> + Allocator<D>,
 {
-    /// `Ĝ_j = diag(I_n, G, I₂)`: the augmented impact map of its pair.
+    /// `Ĝ_j = diag(I_n, G, I_P)`: the augmented impact map of its pair.
     pub impact_map: OMatrix<f64, D, D>,
     /// `h_j = (w, 0, 0)`: its pair's coordinate as a functional of the augmented state.
     pub contact: OVector<f64, D>,
@@ -102,6 +112,8 @@ where
     stops: Arc<[f64]>,
     /// The rotations of the cycle that map the sequence onto itself.
     symmetries: Arc<[usize]>,
+    /// The order of each pair of phase states (`[1]` for a purely harmonic forcing).
+    orders: Arc<[u32]>,
     cycle: f64,
     /// The unit's modal decomposition of `A` (augmented dimension 6 only, and only where it
     /// is well-conditioned): the fast flow of every flight; `None`: Padé.
@@ -224,6 +236,7 @@ where
             contacts: contacts.into(),
             stops: stops.into(),
             symmetries: symmetries.into(),
+            orders: Arc::new([1]),
             cycle,
             modes: None,
             remember: false,
@@ -239,6 +252,36 @@ where
             border: Some(Arc::new(RigidBorder { shifts, anchors })),
             ..self
         }
+    }
+
+    /// The same equations for a forcing whose phase states are the pairs
+    /// `(cos kθ, sin kθ)` of the orders `orders`, in the order of the augmented state's last
+    /// `2 · orders.len()` rows (`[1]`, the default: `(cos θ, sin θ)` alone; a forcing with
+    /// harmonics: [`crate::HarmonicForcing::orders`]). The phase at the first impact is then
+    /// `(cos kα, sin kα)` for each order, its derivative in `α` `k (−sin kα, cos kα)`.
+    ///
+    /// # Panics
+    /// If `orders` is empty or leaves no mechanical state (`2 · orders.len()` not below the
+    /// augmented dimension).
+    pub fn with_forcing_orders(self, orders: &[u32]) -> Self {
+        assert!(
+            !orders.is_empty() && 2 * orders.len() < self.augmented.nrows(),
+            "one to (augmented dimension − 1)/2 pairs of phase states"
+        );
+        Self {
+            orders: orders.into(),
+            ..self
+        }
+    }
+
+    /// The order of each pair of phase states (`[1]` for a purely harmonic forcing).
+    pub fn forcing_orders(&self) -> &[u32] {
+        &self.orders
+    }
+
+    /// Number `P` of phase states: two per order.
+    pub fn phase_states(&self) -> usize {
+        2 * self.orders.len()
     }
 
     /// Whether the periodicity solve is bordered (a model with rigid modes).
@@ -300,7 +343,7 @@ where
     /// (infinite when `K` is singular): the contact residuals carry rounding of about this
     /// many units of the motion's size.
     ///
-    /// With a rigid border, the same of the bordered system without its two phase rows and
+    /// With a rigid border, the same of the bordered system without its phase rows and
     /// columns.
     pub fn conditioning(&self, pre: &[OMatrix<f64, D, D>]) -> f64 {
         let Some(last) = pre.last() else {
@@ -317,11 +360,6 @@ where
         let psi = &self.g_hats[0] * last;
         let s = self.states();
         let k = DMatrix::from_fn(s, s, |i, j| f64::from(u8::from(i == j)) - psi[(i, j)]);
-        let inf_norm = |m: &DMatrix<f64>| {
-            m.row_iter()
-                .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
-                .fold(0.0, f64::max)
-        };
         // The inverse from the LU factors (partial pivoting), not the cofactor formula that
         // `try_inverse` uses up to 4×4, which loses accuracy where `K` is ill-conditioned.
         let inverse = k.clone().lu().try_inverse();
@@ -348,9 +386,10 @@ where
         self.stops.len()
     }
 
-    /// Dimension of the mechanical state `(u, u̇)`: the augmented dimension less two.
+    /// Dimension of the mechanical state `(u, u̇)`: the augmented dimension less the phase
+    /// states.
     pub fn states(&self) -> usize {
-        self.augmented.nrows() - 2
+        self.augmented.nrows() - self.phase_states()
     }
 
     /// `c_j` of each impact.
@@ -442,17 +481,26 @@ where
         pre
     }
 
-    /// The LU factors of the periodicity matrix `P` (`I − Ψ` with its last two rows
-    /// `(0, I₂)`), `pre` the maps of one cycle; `None` when it is singular.
+    /// The LU factors of the periodicity matrix `P` (`I − Ψ` with its last `P` rows, the
+    /// phase states', `(0, I_P)`), `pre` the maps of one cycle; `None` when it is singular.
     pub fn periodicity(&self, pre: &[OMatrix<f64, D, D>]) -> Option<LU<f64, D, D>> {
         let last = pre.last()?;
         let psi = &self.g_hats[0] * last;
         let size = psi.nrows();
         let d = D::from_usize(size);
         let mut p = OMatrix::<f64, D, D>::identity_generic(d, d) - psi;
-        p.rows_mut(size - 2, 2).fill(0.0);
-        p[(size - 2, size - 2)] = 1.0;
-        p[(size - 1, size - 1)] = 1.0;
+        let phases = self.phase_states();
+        if phases == 2 {
+            // A purely harmonic forcing: two phase rows, written as constants.
+            p.rows_mut(size - 2, 2).fill(0.0);
+            p[(size - 2, size - 2)] = 1.0;
+            p[(size - 1, size - 1)] = 1.0;
+        } else {
+            p.rows_mut(size - phases, phases).fill(0.0);
+            for i in size - phases..size {
+                p[(i, i)] = 1.0;
+            }
+        }
         let lu = p.lu();
         lu.is_invertible().then_some(lu)
     }
@@ -464,14 +512,16 @@ where
         let r = border.anchors.len();
         let psi = pre.last().map(|last| &self.g_hats[0] * last);
         let mut b = DMatrix::zeros(size + r, size + r);
-        for i in 0..size - 2 {
+        let states = self.states();
+        for i in 0..states {
             for j in 0..size {
                 let identity = f64::from(u8::from(i == j));
                 b[(i, j)] = identity - psi.as_ref().map_or(0.0, |p| p[(i, j)]);
             }
         }
-        b[(size - 2, size - 2)] = 1.0;
-        b[(size - 1, size - 1)] = 1.0;
+        for i in states..size {
+            b[(i, i)] = 1.0;
+        }
         b.view_mut((0, size), (size, r)).copy_from(&border.shifts);
         for (i, &j) in border.anchors.iter().enumerate() {
             let row = if j == 0 {
@@ -497,13 +547,13 @@ where
     }
 
     /// Solves the periodicity system `solver` for the state rows `state` (zero when `None`),
-    /// phase rows `p` and, when bordered, anchor rows `anchor_rows`: `(z₁, μ)` (`μ` empty
-    /// without border).
+    /// phase rows `p` (`P` entries) and, when bordered, anchor rows `anchor_rows`: `(z₁, μ)`
+    /// (`μ` empty without border).
     fn periodic_solve(
         &self,
         solver: &Periodic<'_, D>,
         state: Option<&OVector<f64, D>>,
-        p: [f64; 2],
+        p: PhaseRows<'_>,
         anchor_rows: impl Fn(usize) -> f64,
     ) -> Option<(OVector<f64, D>, Vec<f64>)> {
         let rhs = self.augmented_vector(state, p);
@@ -549,9 +599,13 @@ where
     }
 
     /// For fixed impact times (the maps `pre`), the residuals as the affine function
-    /// `r₀ + r_c cos α + r_s sin α` of the forcing phase: `(r₀, r_c, r_s)`. Without border
-    /// `r₀` is `−c_j`; `None` when the periodicity solve is singular.
-    pub(crate) fn affine_residuals(&self, pre: &[OMatrix<f64, D, D>]) -> Option<[DVector<f64>; 3]> {
+    /// `r₀ + Σ_i r_i p_i` of the phase states `p` at the first impact (`r₀ + r_c cos α +
+    /// r_s sin α` for a purely harmonic forcing): `(r₀, [r_1 … r_P])`. Without border `r₀` is
+    /// `−c_j`; `None` when the periodicity solve is singular.
+    pub(crate) fn affine_residuals(
+        &self,
+        pre: &[OMatrix<f64, D, D>],
+    ) -> Option<(DVector<f64>, Vec<DVector<f64>>)> {
         let factors = self.periodic_factors(pre)?;
         let solver = factors.view();
         let stops_at = |i: usize| {
@@ -559,29 +613,40 @@ where
                 .as_ref()
                 .map_or(0.0, |b| self.stops[b.anchors[i]])
         };
-        let (z0, mu0) = self.periodic_solve(&solver, None, [0.0, 0.0], stops_at)?;
-        let (zc, muc) = self.periodic_solve(&solver, None, [1.0, 0.0], |_| 0.0)?;
-        let (zs, mus) = self.periodic_solve(&solver, None, [0.0, 1.0], |_| 0.0)?;
-        Some([
-            self.bordered_residuals(pre, &z0, &mu0, true),
-            self.bordered_residuals(pre, &zc, &muc, false),
-            self.bordered_residuals(pre, &zs, &mus, false),
-        ])
+        let phases = self.phase_states();
+        let mut p = vec![0.0; phases];
+        let (z0, mu0) = self.periodic_solve(&solver, None, PhaseRows::Still, stops_at)?;
+        let constant = self.bordered_residuals(pre, &z0, &mu0, true);
+        let mut linear = Vec::with_capacity(phases);
+        for i in 0..phases {
+            p[i] = 1.0;
+            let (z, mu) = self.periodic_solve(&solver, None, PhaseRows::Given(&p), |_| 0.0)?;
+            p[i] = 0.0;
+            linear.push(self.bordered_residuals(pre, &z, &mu, false));
+        }
+        Some((constant, linear))
     }
 
-    /// The augmented vector with the state rows `state` (zero when `None`) and phase `p`.
+    /// The phase states at the first impact for the base phase `alpha`: `(cos kα, sin kα)`
+    /// for each order ([`Self::forcing_orders`]).
+    pub fn phase_at(&self, alpha: f64) -> Vec<f64> {
+        phase_state(&self.orders, alpha)
+    }
+
+    /// The augmented vector with the state rows `state` (zero when `None`) and the phase rows
+    /// (the last `P`) `p`.
     pub(crate) fn augmented_vector(
         &self,
         state: Option<&OVector<f64, D>>,
-        p: [f64; 2],
+        p: PhaseRows<'_>,
     ) -> OVector<f64, D> {
         let size = self.augmented.nrows();
         let mut v = match state {
             Some(s) => s.clone(),
             None => OVector::<f64, D>::zeros_generic(D::from_usize(size), Const::<1>),
         };
-        v[size - 2] = p[0];
-        v[size - 1] = p[1];
+        let states = self.states();
+        p.write(&self.orders, &mut v.as_mut_slice()[states..]);
         v
     }
 
@@ -626,7 +691,7 @@ where
         }
         let lu = self.periodicity(&pre)?;
         let alpha = x[0];
-        let z1 = lu.solve(&self.augmented_vector(None, [alpha.cos(), alpha.sin()]))?;
+        let z1 = lu.solve(&self.augmented_vector(None, PhaseRows::At(alpha)))?;
         let residual = self.residuals(&pre, &z1);
         let mut evaluation = CycleEvaluation {
             flights,
@@ -653,7 +718,7 @@ where
         let factors = self.periodic_factors(&pre)?;
         let solver = factors.view();
         let alpha = x[0];
-        let (z1, mu) = self.periodic_solve(&solver, None, [alpha.cos(), alpha.sin()], |i| {
+        let (z1, mu) = self.periodic_solve(&solver, None, PhaseRows::At(alpha), |i| {
             self.stops[border.anchors[i]]
         })?;
         let residual = self.bordered_residuals(&pre, &z1, &mu, true);
@@ -750,7 +815,7 @@ where
                 product(&rates[f], &product(&self.g_hats[f], &e.pre[f - 1]))
             })
         };
-        let in_omega = self.column_in(&e, &solver, own, [0.0, 0.0])?;
+        let in_omega = self.column_in(&e, &solver, own, PhaseRows::Still)?;
         let mut jacobian = DMatrix::zeros(m, m + 1);
         jacobian.view_mut((0, 0), (m, m)).copy_from(&in_x);
         jacobian.set_column(m, &in_omega);
@@ -778,7 +843,7 @@ where
         let m = self.impacts();
         let mut jacobian = DMatrix::zeros(m, m);
         // α: only p₀ moves.
-        let alpha_column = self.column_in(e, solver, |_| None, [-alpha.sin(), alpha.cos()])?;
+        let alpha_column = self.column_in(e, solver, |_| None, PhaseRows::Slope(alpha))?;
         jacobian.set_column(0, &alpha_column);
         // t_i (impact i ≥ 1): flight i − 1 grows, flight i shrinks, so the own term of
         // ∂Pre_f is c_f Â Pre_f with c_{i−1} = 1, c_i = −1.
@@ -787,23 +852,27 @@ where
                 let c = (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
                 (c != 0.0).then(|| product(&self.augmented, &e.pre[f]) * (c * self.cycle))
             };
-            jacobian.set_column(i, &self.column_in(e, solver, own, [0.0, 0.0])?);
+            jacobian.set_column(i, &self.column_in(e, solver, own, PhaseRows::Still)?);
         }
         Some(jacobian)
     }
 
     /// The derivative of the residuals along one direction in which flight `f` contributes
     /// `own(f) = ∂Φ_f Ĝ_f Pre_{f−1}` (`∂Φ_0` for the first; `None`: the flight is unchanged)
-    /// and `p₀` moves by `dp0`: `∂Pre_f = Φ_f Ĝ_f ∂Pre_{f−1} + own(f)`, and the periodicity
-    /// solve differentiated. For equations without a rigid border (`lu` factors `P`).
+    /// and the phase states `p₀` move by `dp0` (`P` entries): `∂Pre_f = Φ_f Ĝ_f ∂Pre_{f−1} +
+    /// own(f)`, and the periodicity solve differentiated. For equations without a rigid
+    /// border (`lu` factors `P`).
+    ///
+    /// # Panics
+    /// If `dp0` has more entries than the phase states.
     pub fn column(
         &self,
         e: &CycleEvaluation<D>,
         lu: &LU<f64, D, D>,
         own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
-        dp0: [f64; 2],
+        dp0: &[f64],
     ) -> Option<DVector<f64>> {
-        self.column_in(e, &Periodic::Plain(lu), own, dp0)
+        self.column_in(e, &Periodic::Plain(lu), own, PhaseRows::Given(dp0))
     }
 
     /// [`Self::column`] with the periodicity solve `solver`, bordered or not.
@@ -812,7 +881,7 @@ where
         e: &CycleEvaluation<D>,
         solver: &Periodic<'_, D>,
         own: impl Fn(usize) -> Option<OMatrix<f64, D, D>>,
-        dp0: [f64; 2],
+        dp0: PhaseRows<'_>,
     ) -> Option<DVector<f64>> {
         let m = self.impacts();
         // `∂Pre_f` is carried from flight to flight; only `∂Pre_f z₁` is kept (the same
@@ -864,7 +933,7 @@ where
         solver: &Periodic<'_, D>,
         moved_z1: &[Option<OVector<f64, D>>],
         moved_psi: Option<&OVector<f64, D>>,
-        dp0: [f64; 2],
+        dp0: PhaseRows<'_>,
     ) -> Option<DVector<f64>> {
         let border = self.border.as_ref()?;
         let anchor_rows = |i: usize| {
@@ -903,208 +972,6 @@ fn inf_norm(m: &DMatrix<f64>) -> f64 {
         .fold(0.0, f64::max)
 }
 
-/// Augmented dimension of the unit (two degrees of freedom and the two forcing phases).
-const UNIT_SIZE: usize = 6;
-
-/// `a b`: for the unit's stack matrices (`D` = 6) by [`unit_product`], bit for bit
-/// nalgebra's product at a fraction of its cost; otherwise nalgebra's (whose heap product of
-/// larger matrices accumulates in another order).
-fn product<D: Dim>(a: &OMatrix<f64, D, D>, b: &OMatrix<f64, D, D>) -> OMatrix<f64, D, D>
-where
-    DefaultAllocator: Allocator<D, D>,
-{
-    let (rows, columns) = a.shape_generic();
-    // One value returned on every path, built in place (no copy of the result).
-    let mut out = OMatrix::<f64, D, D>::zeros_generic(rows, columns);
-    match (
-        <&[f64; 36]>::try_from(a.as_slice()),
-        <&[f64; 36]>::try_from(b.as_slice()),
-        <&mut [f64; 36]>::try_from(out.as_mut_slice()),
-    ) {
-        (Ok(x), Ok(y), Ok(c)) if D::try_to_usize() == Some(UNIT_SIZE) => unit_product(x, y, c),
-        // nalgebra's `a * b`: the same `gemm` with `α = 1`, `β = 0` (the result is not read).
-        _ => a.mul_to(b, &mut out),
-    }
-    out
-}
-
-/// The product `c` of two 6 × 6 column-major matrices, each entry accumulated as nalgebra's
-/// product of stack matrices does (`c_ij = a_i0 b_0j`, then `c_ij + a_ik b_kj` for
-/// `k = 1 … 5` in order, no fused multiply-add): the same bits, unrolled on the stack. A
-/// column of `c` is the columns of `a` weighted by a column of `b`. With AVX at run time the
-/// same operations are packed four wide ([`unit_product_avx`]): the same bits.
-#[inline]
-fn unit_product(a: &[f64; 36], b: &[f64; 36], c: &mut [f64; 36]) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx") {
-        // SAFETY: the CPU has AVX (checked just above), the only requirement of the
-        // `target_feature` function.
-        unsafe { unit_product_avx(a, b, c) };
-        return;
-    }
-    unit_product_lanes(a, b, c);
-}
-
-/// [`unit_product_lanes`] with AVX intrinsics: rows 0–3 of a column four wide, rows 4–5 two
-/// wide, the same multiplications and additions in the same order (no FMA: each product and
-/// sum rounds as the scalar one does). The paper unit's continuation spent 16 % of its CPU
-/// in the two-wide form.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx")]
-fn unit_product_avx(a: &[f64; 36], b: &[f64; 36], c: &mut [f64; 36]) {
-    use std::arch::x86_64::*;
-    // SAFETY: every load and store stays within the 36 entries of its array (columns of 6
-    // from offsets 0, 6, … 30: rows 0–3 from the offset, rows 4–5 from offset + 4); the
-    // unaligned forms need no alignment.
-    unsafe {
-        let pa = a.as_ptr();
-        let high: [__m256d; 6] = std::array::from_fn(|k| _mm256_loadu_pd(pa.add(6 * k)));
-        let low: [__m128d; 6] = std::array::from_fn(|k| _mm_loadu_pd(pa.add(6 * k + 4)));
-        for j in 0..6 {
-            let w = &b[6 * j..6 * j + 6];
-            let mut sum_high = _mm256_mul_pd(high[0], _mm256_set1_pd(w[0]));
-            let mut sum_low = _mm_mul_pd(low[0], _mm_set1_pd(w[0]));
-            for k in 1..6 {
-                sum_high = _mm256_add_pd(sum_high, _mm256_mul_pd(high[k], _mm256_set1_pd(w[k])));
-                sum_low = _mm_add_pd(sum_low, _mm_mul_pd(low[k], _mm_set1_pd(w[k])));
-            }
-            let out = c.as_mut_ptr().add(6 * j);
-            _mm256_storeu_pd(out, sum_high);
-            _mm_storeu_pd(out.add(4), sum_low);
-        }
-    }
-}
-
-/// The body of [`unit_product`] without AVX.
-#[inline(always)]
-fn unit_product_lanes(a: &[f64; 36], b: &[f64; 36], c: &mut [f64; 36]) {
-    for (column, weights) in c.chunks_exact_mut(6).zip(b.chunks_exact(6)) {
-        let mut sum = [0.0; 6];
-        for (s, &v) in sum.iter_mut().zip(&a[0..6]) {
-            *s = v * weights[0];
-        }
-        for k in 1..6 {
-            for (s, &v) in sum.iter_mut().zip(&a[6 * k..6 * k + 6]) {
-                *s += v * weights[k];
-            }
-        }
-        column.copy_from_slice(&sum);
-    }
-}
-
-/// A unit-sized augmented matrix on the stack (`m` must be 6 × 6).
-fn to_unit<D: Dim>(m: &OMatrix<f64, D, D>) -> Matrix6<f64>
-where
-    DefaultAllocator: Allocator<D, D>,
-{
-    unit_from_columns(m.as_slice())
-}
-
-/// The 6 × 6 matrix of the column-major entries `columns` (outside the generic functions,
-/// whose allocator bounds hide the fixed-size constructors).
-fn unit_from_columns(columns: &[f64]) -> Matrix6<f64> {
-    Matrix6::from_column_slice(columns)
-}
-
-/// How many modal flights a thread remembers ([`remembered_flow`]). A boundary curve's
-/// corrector evaluates, per Newton iteration, the cycle at `Y` and at `Y` moved by its
-/// difference steps: moving `α` or the parameter (the gap, the restitution) leaves every
-/// flight as it was, moving an impact phase leaves all but two; between the evaluation at `Y`
-/// and the parameter's two steps come the phases' and `ω`'s, which add at most
-/// `2 · 2 (n − 1) + 2n = 20` new flights for the `n = 4` impacts the study follows: 32 keep
-/// the flights at `Y` until they are asked again.
-const REMEMBERED_FLIGHTS: usize = 32;
-
-/// One flight of [`REMEMBERED_FLIGHTS`]: its decomposition (held, so that its address names
-/// it), forcing and duration, and its flow.
-struct RememberedFlight {
-    modes: Arc<UnitModes>,
-    forcing: ModalForcing,
-    tau: u64,
-    flow: Matrix6<f64>,
-}
-
-thread_local! {
-    /// The last [`REMEMBERED_FLIGHTS`] modal flights computed on this thread, and where the
-    /// next one goes.
-    static FLIGHTS: std::cell::RefCell<(usize, Vec<RememberedFlight>)> =
-        const { std::cell::RefCell::new((0, Vec::new())) };
-}
-
-/// `modes.flow(forcing, tau)`, or the same flow computed earlier on this thread from the same
-/// decomposition, forcing and duration (bit for bit: the flow is a function of these alone).
-fn remembered_flow(modes: &Arc<UnitModes>, forcing: &ModalForcing, tau: f64) -> Matrix6<f64> {
-    let tau_bits = tau.to_bits();
-    FLIGHTS.with(|cell| {
-        let mut memory = cell.borrow_mut();
-        let (next, flights) = &mut *memory;
-        if let Some(hit) = flights.iter().find(|f| {
-            f.tau == tau_bits && Arc::ptr_eq(&f.modes, modes) && f.forcing.same_bits(forcing)
-        }) {
-            return hit.flow;
-        }
-        let flow = modes.flow(forcing, tau);
-        let entry = RememberedFlight {
-            modes: Arc::clone(modes),
-            forcing: forcing.clone(),
-            tau: tau_bits,
-            flow,
-        };
-        if flights.len() < REMEMBERED_FLIGHTS {
-            flights.push(entry);
-        } else {
-            flights[*next] = entry;
-        }
-        *next = (*next + 1) % REMEMBERED_FLIGHTS;
-        flow
-    })
-}
-
-thread_local! {
-    /// The last modal decomposition made on this thread: a boundary curve builds its unit
-    /// afresh at every parameter value, but the gap and the restitution leave `A` unchanged.
-    static LAST_MODES: std::cell::RefCell<Option<Arc<UnitModes>>> =
-        const { std::cell::RefCell::new(None) };
-}
-
-/// The modal decomposition and forcing for `augmented` when it is the unit's (`D` = 6, of the
-/// structure `[[A, B], [0, ωJ]]`); `None` elsewhere and where `A` has no well-conditioned
-/// eigenbasis (the flights then take Padé's exponential).
-fn unit_modes<D: Dim>(augmented: &OMatrix<f64, D, D>) -> Option<(Arc<UnitModes>, ModalForcing)>
-where
-    DefaultAllocator: Allocator<D, D>,
-{
-    if D::try_to_usize() != Some(UNIT_SIZE) {
-        return None;
-    }
-    let unit = to_unit(augmented);
-    let cached = LAST_MODES.with(|last| last.borrow().clone().filter(|m| m.fits(&unit)));
-    let modes = match cached {
-        Some(m) => m,
-        None => {
-            let system: Matrix4<f64> = unit.fixed_view::<4, 4>(0, 0).into_owned();
-            let m = Arc::new(UnitModes::new(&system).filter(|m| m.fits(&unit))?);
-            LAST_MODES.with(|last| *last.borrow_mut() = Some(Arc::clone(&m)));
-            m
-        }
-    };
-    let forcing = modes.forcing(&unit);
-    Some((modes, forcing))
-}
-
-/// `exp(m)` of the unit's doubled stack matrix (outside the generic impl, as
-/// [`dynamic_exp`]).
-fn unit_exp(
-    m: &SMatrix<f64, { 2 * UNIT_SIZE }, { 2 * UNIT_SIZE }>,
-) -> SMatrix<f64, { 2 * UNIT_SIZE }, { 2 * UNIT_SIZE }> {
-    m.exp()
-}
-
-/// `exp(m)` of a heap matrix (outside the generic impl, whose bounds hide the method).
-fn dynamic_exp(m: &DMatrix<f64>) -> DMatrix<f64> {
-    m.exp()
-}
-
 /// Among the rotations `symmetries` of a cycle (start at impact `k` instead of 0) that keep
 /// its canonical sequence, the representation of `(α, phases)` with the smallest wrapped `α`;
 /// `omega_cycle` is `ω` times the cycle's length.
@@ -1125,94 +992,4 @@ pub(crate) fn smallest_rotation(
         })
         .min_by(|a, b| a.0.total_cmp(&b.0))
         .unwrap_or((wrap(alpha), phases))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The modal evaluation without memory (its flights two at a time, `flow_pair`) equals
-    /// the one with its flights remembered (one at a time, [`remembered_flow`]), bit for bit:
-    /// evaluations that share some flights and not others, of a cycle whose flights include
-    /// equal and short ones (taken by the series).
-    #[test]
-    fn remembered_flights_change_no_bit() {
-        use crate::test_models::{damped_paper_unit, paper_stops};
-        use nalgebra::{Vector2, U6};
-        let (unit, stops) = (damped_paper_unit(), paper_stops());
-        let omega = 1.7;
-        let mut g_hat = Matrix6::identity();
-        g_hat
-            .fixed_view_mut::<2, 2>(2, 2)
-            .copy_from(&stops.impact_map(&unit));
-        let contact = crate::flow::join(
-            &nalgebra::Vector4::new(-1.0, 1.0, 0.0, 0.0),
-            &Vector2::zeros(),
-        );
-        let impacts = [1.0, 1.0, -1.0, -1.0, 1.0]
-            .iter()
-            .map(|&s| ImpactCondition::<U6> {
-                impact_map: g_hat,
-                contact,
-                stop: s * stops.gap,
-            })
-            .collect();
-        let plain = CycleEquations::new(
-            omega,
-            unit.augmented_matrix(omega),
-            impacts,
-            vec![0],
-            std::f64::consts::TAU / omega,
-        )
-        .with_modal_flow();
-        let remembered = plain.clone().with_remembered_flights();
-        let points = [
-            [0.3, 0.2, 0.4, 0.6, 0.8],
-            [0.3, 0.2, 0.4, 0.6, 0.8],
-            [0.3, 0.2, 0.41, 0.6, 0.8],
-            [0.5, 0.001, 0.002, 0.5, 0.501],
-            [0.5, 0.001, 0.002, 0.5, 0.502],
-            [0.1, 0.25, 0.5, 0.75, 0.999],
-        ];
-        for x in &points {
-            let (a, b) = (
-                plain.evaluate_with(x, true),
-                remembered.evaluate_with(x, true),
-            );
-            let (Some(a), Some(b)) = (a, b) else {
-                panic!("both evaluate at {x:?}");
-            };
-            for (fa, fb) in a.flights.iter().zip(&b.flights) {
-                for (u, v) in fa.iter().zip(fb.iter()) {
-                    assert_eq!(u.to_bits(), v.to_bits(), "{x:?}");
-                }
-            }
-            for (u, v) in a.jacobian.iter().zip(b.jacobian.iter()) {
-                assert_eq!(u.to_bits(), v.to_bits(), "{x:?}");
-            }
-        }
-    }
-
-    /// [`product`] of the unit's stack matrices (four wide with AVX) and its two-wide form
-    /// equal nalgebra's product bit for bit, on matrices with entries of every sign and scale
-    /// (and exact zeros, as the flows' phase rows hold).
-    #[test]
-    fn unit_product_is_nalgebras_bit_for_bit() {
-        let mut next = crate::cycle::awkward_entries(0x9E37_79B9_7F4A_7C15);
-        for _ in 0..20_000 {
-            let a = Matrix6::from_fn(|_, _| next());
-            let b = Matrix6::from_fn(|_, _| next());
-            let fast = product(&a, &b);
-            let slow = a * b;
-            let x: &[f64; 36] = a.as_slice().try_into().expect("6 × 6");
-            let y: &[f64; 36] = b.as_slice().try_into().expect("6 × 6");
-            // The form without AVX, which the dispatch of `product` skips on this machine.
-            let mut lanes = [0.0; 36];
-            unit_product_lanes(x, y, &mut lanes);
-            for ((x, y), z) in fast.iter().zip(slow.iter()).zip(lanes.iter()) {
-                assert_eq!(x.to_bits(), y.to_bits(), "{a} {b}");
-                assert_eq!(z.to_bits(), y.to_bits(), "{a} {b}");
-            }
-        }
-    }
 }

@@ -21,6 +21,7 @@ pub mod cycle_equations;
 pub mod motion;
 pub mod sequence_orbit;
 pub mod sequence_search;
+pub(crate) mod unit_flights;
 pub(crate) mod unit_modes;
 pub(crate) mod verdicts;
 
@@ -49,7 +50,7 @@ use crate::linear::{modes, transmittance_db};
 use crate::orbit::{eigenvalues, impact, relative_displacement, saltation, Side, Violation};
 use crate::sequence::{ImpactSequence, PairImpact};
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError};
-use crate::sequence_search::{grid_intervals, multi_start};
+use crate::sequence_search::{grid_intervals, multi_start, ALPHA_SCAN};
 use crate::signature::Signature;
 use crate::symmetric::OrbitError;
 use crate::unit::{Stops, Unit};
@@ -228,8 +229,13 @@ impl CycleModel<U6> for Problem {
         0.5 * self.reduced_mass * (1.0 - self.restitution_squared) * rdot * rdot
     }
 
-    fn saltation(&self, _pair: usize, before: &Vector4<f64>, phase: &Vector2<f64>) -> Matrix4<f64> {
-        saltation(&self.flow, &self.g, before, phase)
+    fn saltation(&self, _pair: usize, before: &Vector4<f64>, phase: &[f64]) -> Matrix4<f64> {
+        saltation(
+            &self.flow,
+            &self.g,
+            before,
+            &Vector2::new(phase[0], phase[1]),
+        )
     }
 
     fn eigenvalues(&self, monodromy: &Matrix4<f64>) -> Option<Vec<Complex<f64>>> {
@@ -428,7 +434,10 @@ pub fn signature_orbits_on_grid(
         return Vec::new();
     }
     let problem = Problem::new(unit, stops, omega, signature);
-    multi_start(&problem.equations, grid, |alpha, phases, iterations| {
-        assemble(&problem, signature, alpha, phases, iterations).ok()
-    })
+    multi_start(
+        &problem.equations,
+        grid,
+        ALPHA_SCAN,
+        |alpha, phases, iterations| assemble(&problem, signature, alpha, phases, iterations).ok(),
+    )
 }

@@ -5,16 +5,17 @@
 //! `j` of pair `k_j` on side `s_j`. The forcing phase at the first impact is `α`. For fixed
 //! `x = (α, t₂ … t_m)` everything else is linear: with the augmented flow `Φ_j = exp(Â τ_j)` of
 //! flight `j` (from impact `j` to `j + 1`, the last back to the first of the next cycle) and the
-//! augmented impact map `Ĝ_j = diag(I_n, G_{k_j}, I₂)`, the maps `Pre_j = Φ_j Ĝ_j Pre_{j−1}`
+//! augmented impact map `Ĝ_j = diag(I_n, G_{k_j}, I_P)` (`P` phase states), the maps `Pre_j = Φ_j Ĝ_j Pre_{j−1}`
 //! (`Pre_0 = Φ_0`) carry `(y₁, p₀)`, the state just after the first impact and
-//! `p₀ = (cos α, sin α)`, to the state just before impact `j + 1`. Periodicity
+//! `p₀ = (cos α, sin α)` (with harmonics, `(cos kα, sin kα)` of every order,
+//! [`crate::problem::forcing`]), to the state just before impact `j + 1`. Periodicity
 //! `(I − Ψ_xx) y₁ = Ψ_xp p₀`, `Ψ = Ĝ_0 Pre_{m−1}`, fixes `y₁` (the paper's equation 19,
 //! generalised), and the `m` contact conditions `w_{k_j}ᵀ u(t_j⁻) = s_j gap` are the residuals:
 //! `m` equations in the `m` unknowns `x`.
 //!
 //! Newton uses exact derivatives of the same closed form: `∂Φ_j/∂τ_j = Â Φ_j` (the vector field
-//! at the flight's end), `∂p₀/∂α = (−sin α, cos α)`, and the periodicity solve differentiated
-//! implicitly, `dy₁ = (I − Ψ_xx)⁻¹ (dΨ_xx y₁ + dΨ_xp p₀ + Ψ_xp dp₀)`. No finite differences.
+//! at the flight's end), `∂p₀/∂α = (−sin α, cos α)` (`k (−sin kα, cos kα)` per order), and the
+//! periodicity solve differentiated implicitly, `dy₁ = (I − Ψ_xx)⁻¹ (dΨ_xx y₁ + dΨ_xp p₀ + Ψ_xp dp₀)`. No finite differences.
 //!
 //! A model with rigid modes (free bodies, [`crate::problem::rigid`]) has a singular
 //! `I − Ψ_xx`: its periodicity solve is bordered by the contact conditions of the first impacts
@@ -158,7 +159,7 @@ impl<'a> SequenceProblem<'a> {
         }
         sequence.check(model)?;
         let n = model.dofs();
-        let size = 2 * n + 2;
+        let size = model.augmented_size();
         let impacts = sequence
             .impacts()
             .iter()
@@ -189,6 +190,9 @@ impl<'a> SequenceProblem<'a> {
             sequence_symmetries(sequence),
             f64::from(sequence.period()) * std::f64::consts::TAU / omega,
         );
+        if !model.forcing().harmonics.is_empty() {
+            equations = equations.with_forcing_orders(&model.forcing().orders());
+        }
         if model.has_rigid_modes() {
             let rigid = model.rigid_modes();
             let anchors = anchors(model, sequence)?;
@@ -541,39 +545,78 @@ mod tests {
     use super::*;
     use crate::test_models::{damped_paper_unit, paper_stops};
 
+    /// `model` with harmonics of orders 2 and 3 added to its forcing, each with every part
+    /// (cosine, sine, sine per `ω` on different coordinates) and a phase, so that every column
+    /// of the harmonics' forcing and its `ω`-rate is exercised.
+    fn with_harmonics(model: &LinearModel) -> LinearModel {
+        let n = model.dofs();
+        let on = |k: usize, v: f64| DVector::from_fn(n, |i, _| if i == k % n { v } else { 0.0 });
+        let mut forcing = model.forcing().clone();
+        forcing.harmonics = vec![
+            crate::model::Harmonic {
+                order: 3,
+                cosine: on(0, 0.7),
+                sine: on(1, 0.2),
+                sine_per_omega: on(0, -0.05),
+                phase: 0.4,
+            },
+            crate::model::Harmonic {
+                order: 2,
+                cosine: on(2, 0.3),
+                sine: on(0, -0.4),
+                sine_per_omega: on(1, 0.08),
+                phase: -1.1,
+            },
+        ];
+        LinearModel::new(
+            model.mass().clone(),
+            model.damping().clone(),
+            model.stiffness().clone(),
+            forcing,
+            model.pairs().to_vec(),
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+
     /// The exact Jacobian against central differences of the residuals (a check of the
-    /// derivation only; the solver never differences): with step `1e-6` the difference
-    /// quotient's truncation is `O(1e-12)` and its rounding `O(1e-10)` of the residuals' size.
+    /// derivation only; the solver never differences), on the two-cell chain and on the same
+    /// chain with harmonics (the `α` column then carries `k (−sin kα, cos kα)` per order):
+    /// with step `1e-6` the difference quotient's truncation is `O(1e-12)` and its rounding
+    /// `O(1e-10)` of the residuals' size.
     #[test]
     fn jacobian_is_the_derivative_of_the_residuals() {
-        let model = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2)
+        let chain = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2)
             .unwrap_or_else(|e| panic!("{e}"));
-        let sequence = ImpactSequence::parse("0+ 1- 0- 1+", 1).unwrap_or_else(|e| panic!("{e}"));
-        let problem =
-            SequenceProblem::new(&model, 2.3, &sequence).unwrap_or_else(|e| panic!("{e}"));
-        let x = [0.7, 0.21, 0.48, 0.83];
-        let equations = problem.equations();
-        let exact = evaluate(equations, &x)
-            .unwrap_or_else(|e| panic!("{e}"))
-            .jacobian;
-        let step = 1e-6;
-        let scale = exact.amax();
-        for i in 0..4 {
-            let shifted = |d: f64| {
-                let mut y = x;
-                y[i] += d;
-                evaluate(equations, &y)
-                    .unwrap_or_else(|e| panic!("{e}"))
-                    .residual
-            };
-            let quotient = (shifted(step) - shifted(-step)) / (2.0 * step);
-            for j in 0..4 {
-                assert!(
-                    (quotient[j] - exact[(j, i)]).abs() <= 1e-7 * scale,
-                    "∂r{j}/∂x{i}: {} vs {}",
-                    quotient[j],
-                    exact[(j, i)]
-                );
+        for model in [with_harmonics(&chain), chain] {
+            let sequence =
+                ImpactSequence::parse("0+ 1- 0- 1+", 1).unwrap_or_else(|e| panic!("{e}"));
+            let problem =
+                SequenceProblem::new(&model, 2.3, &sequence).unwrap_or_else(|e| panic!("{e}"));
+            let x = [0.7, 0.21, 0.48, 0.83];
+            let equations = problem.equations();
+            let exact = evaluate(equations, &x)
+                .unwrap_or_else(|e| panic!("{e}"))
+                .jacobian;
+            let step = 1e-6;
+            let scale = exact.amax();
+            for i in 0..4 {
+                let shifted = |d: f64| {
+                    let mut y = x;
+                    y[i] += d;
+                    evaluate(equations, &y)
+                        .unwrap_or_else(|e| panic!("{e}"))
+                        .residual
+                };
+                let quotient = (shifted(step) - shifted(-step)) / (2.0 * step);
+                for j in 0..4 {
+                    assert!(
+                        (quotient[j] - exact[(j, i)]).abs() <= 1e-7 * scale,
+                        "{} phase states: ∂r{j}/∂x{i}: {} vs {}",
+                        model.phase_states(),
+                        quotient[j],
+                        exact[(j, i)]
+                    );
+                }
             }
         }
     }
@@ -613,6 +656,7 @@ mod tests {
                 cosine,
                 sine,
                 sine_per_omega: DVector::zeros(n),
+                harmonics: Vec::new(),
             },
             pairs,
         )
@@ -621,14 +665,15 @@ mod tests {
 
     /// The bordered residuals of models with rigid modes (one free mass, anchor the first
     /// impact; two free masses, anchors the first two impacts, the second's border row moving
-    /// with the impact times): the exact Jacobian in `x` and its `ω` column against central
-    /// differences, step `1e-6`, truncation `O(1e-12)` and rounding `O(1e-10)` of the
-    /// residuals' size, as for the chain.
+    /// with the impact times; one free mass with harmonics): the exact Jacobian in `x` and its
+    /// `ω` column against central differences, step `1e-6`, truncation `O(1e-12)` and rounding
+    /// `O(1e-10)` of the residuals' size, as for the chain.
     #[test]
     fn bordered_jacobian_is_the_derivative_of_the_residuals() {
         let cases = [
             (free_masses(1), "0+ 0-", vec![0.7, 0.43]),
             (free_masses(2), "0+ 1+ 0- 1-", vec![-0.4, 0.2, 0.55, 0.8]),
+            (with_harmonics(&free_masses(1)), "0+ 0-", vec![0.7, 0.43]),
         ];
         for (model, text, x) in cases {
             let sequence = ImpactSequence::parse(text, 1).unwrap_or_else(|e| panic!("{e}"));
@@ -677,17 +722,25 @@ mod tests {
     }
 
     /// The exact `ω` column of the Jacobian against a central difference of the residuals in
-    /// `ω` (phases fixed as fractions of the cycle): step `1e-6`, truncation `O(1e-12)` and
-    /// rounding `O(1e-10)` of the residuals' size, as above.
+    /// `ω` (phases fixed as fractions of the cycle), on the two-cell chain and on the same
+    /// chain with harmonics (whose `dÂ/dω` carries `k M⁻¹f_ω,k (sin φ_k, cos φ_k)` and the
+    /// rotations' `kJ`): step `1e-6`, truncation `O(1e-12)` and rounding `O(1e-10)` of the
+    /// residuals' size, as above.
     #[test]
     fn omega_column_is_the_derivative_of_the_residuals() {
-        let model = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2)
+        let chain = LinearModel::chain(&damped_paper_unit(), &paper_stops(), 2)
             .unwrap_or_else(|e| panic!("{e}"));
+        for model in [with_harmonics(&chain), chain] {
+            omega_column_of(&model);
+        }
+    }
+
+    fn omega_column_of(model: &LinearModel) {
         let sequence = ImpactSequence::parse("0+ 1- 0- 1+", 1).unwrap_or_else(|e| panic!("{e}"));
         let omega = 2.3;
         let x = [0.7, 0.21, 0.48, 0.83];
         let problem =
-            SequenceProblem::new(&model, omega, &sequence).unwrap_or_else(|e| panic!("{e}"));
+            SequenceProblem::new(model, omega, &sequence).unwrap_or_else(|e| panic!("{e}"));
         let exact = problem
             .equations()
             .evaluate_in_omega(&x, &model.augmented_rate())
@@ -700,7 +753,7 @@ mod tests {
         assert!((exact.columns(0, 4) - &in_x).amax() <= 1e-12 * in_x.amax());
         let step = 1e-6;
         let at = |w: f64| {
-            let p = SequenceProblem::new(&model, w, &sequence).unwrap_or_else(|e| panic!("{e}"));
+            let p = SequenceProblem::new(model, w, &sequence).unwrap_or_else(|e| panic!("{e}"));
             evaluate(p.equations(), &x)
                 .unwrap_or_else(|e| panic!("{e}"))
                 .residual

@@ -4,8 +4,10 @@
 //! The cycle `pT` is cut into `N` grid intervals and every ordered tuple
 //! `0 < φ₂ < … < φ_m < 1` of grid points is scanned. For fixed impact times the contact
 //! residuals are affine in `(cos α, sin α)` (linear but for the stops; with rigid modes the
-//! bordered residuals of [`crate::cycle_equations`] likewise), so each tuple's squared residual is scanned on
-//! `ALPHA_SCAN = 64` values of `α` for the cost of one cycle; Newton
+//! bordered residuals of [`crate::cycle_equations`] likewise; with harmonics affine in
+//! `(cos kα, sin kα)` of every order), so each tuple's squared residual is scanned on
+//! `ALPHA_SCAN = 64` values of `α` (`16 K` for a forcing of highest order `K > 4`) for
+//! the cost of one cycle; Newton
 //! ([`crate::sequence_orbit::SequenceNewton`]) starts from every minimum in `α` of every tuple
 //! (up to `FULL_START_TUPLES = 5000` tuples; above, from the minima over the joint grid). Converged
 //! solutions are brought to the canonical first impact and deduplicated by `(α, phases)`
@@ -15,6 +17,7 @@ use crate::cycle_equations::CycleEquations;
 use crate::model::LinearModel;
 use crate::model_flight::eigenvalues;
 use crate::orbit::wrap;
+use crate::problem::forcing::PhaseRows;
 use crate::sequence::ImpactSequence;
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
 use crate::sequence_verdicts::{ModelVerdicts, SequenceOrbit};
@@ -53,6 +56,14 @@ pub const MAX_TUPLES: usize = 60_000;
 /// they nearly merge (then one start serves both).
 pub(crate) const ALPHA_SCAN: usize = 64;
 
+/// Samples of the `α` scan for a forcing of highest order `K`: [`ALPHA_SCAN`] up to `K = 4`,
+/// `16 K` above. The squared residual is a trigonometric polynomial of degree `2K` in `α`
+/// (at most `2K` local minima); 64 samples keep at least eight per period of its fastest
+/// term up to `K = 4`, and `16 K` keep eight beyond.
+pub(crate) fn alpha_samples(highest_order: u32) -> usize {
+    ALPHA_SCAN.max(16 * highest_order as usize)
+}
+
 /// Two converged solutions are the same orbit when their base phases (after bringing both
 /// to the canonical first impact) and impact phases differ by less than this: Newton pins
 /// them to about `1e-13`, and distinct orbits lie many orders further apart.
@@ -75,8 +86,9 @@ pub(crate) fn grid_intervals(fastest: f64, omega: f64, period: u32, m: usize) ->
 /// Every orbit of `sequence` on `model` at `omega` found by the multi-start, deduplicated,
 /// viable or not, sorted by `α`.
 ///
-/// The grid has `N = max(`[`MIN_GRID`]`, ⌈`[`GRID_PER_OSCILLATION`]` · p · max(ω, ω_n)/ω⌉)`
-/// intervals, `ω_n` the largest modulus of an eigenvalue of the model's system matrix,
+/// The grid has `N = max(`[`MIN_GRID`]`, ⌈`[`GRID_PER_OSCILLATION`]` · p · max(Kω, ω_n)/ω⌉)`
+/// intervals, `ω_n` the largest modulus of an eigenvalue of the model's system matrix and `K`
+/// the forcing's highest order (1 without harmonics),
 /// coarsened until the number of tuples `C(N − 1, m − 1)` is at most [`MAX_TUPLES`] (never
 /// below `max(`[`MIN_GRID`]`, m)`: a sequence of many impacts gets at least one tuple).
 ///
@@ -94,7 +106,8 @@ pub fn sequence_orbits(
         .map(|l| l.iter().fold(0.0, |a: f64, z| a.max(z.norm())))
         .unwrap_or(0.0);
     let m = sequence.impacts().len();
-    let grid = grid_intervals(omega.max(natural), omega, sequence.period(), m);
+    let fastest = f64::from(model.forcing().highest_order()) * omega;
+    let grid = grid_intervals(fastest.max(natural), omega, sequence.period(), m);
     sequence_orbits_on_grid(model, omega, sequence, grid)
 }
 
@@ -118,14 +131,19 @@ pub fn sequence_orbits_on_grid(
 ) -> Result<Vec<SequenceOrbit>, SequenceOrbitError> {
     let problem = SequenceProblem::new(model, omega, sequence)?;
     let verdicts = ModelVerdicts::new(&problem);
-    let found = multi_start(problem.equations(), grid, |alpha, phases, iterations| {
-        verdicts.assemble(alpha, phases, iterations).ok()
-    });
+    let samples = alpha_samples(model.forcing().highest_order());
+    let found = multi_start(
+        problem.equations(),
+        grid,
+        samples,
+        |alpha, phases, iterations| verdicts.assemble(alpha, phases, iterations).ok(),
+    );
     Ok(found)
 }
 
 /// The multi-start over a grid of `grid` intervals of the cycle on any cycle equations: every
-/// ordered impact-phase tuple scanned in `α` ([`linear_scan`]), Newton ([`SequenceNewton`])
+/// ordered impact-phase tuple scanned in `α` on `samples` values ([`linear_scan`],
+/// [`alpha_samples`] of the forcing's highest order), Newton ([`SequenceNewton`])
 /// from the start nodes ([`start_nodes`]), each converged solution brought to its canonical
 /// representation, deduplicated within `DEDUP_TOLERANCE = 1e-8` and made into an orbit by
 /// `assemble(α, phases, iterations)` (`None`: dropped). The orbits sorted by `α`; an empty list
@@ -133,6 +151,7 @@ pub fn sequence_orbits_on_grid(
 pub(crate) fn multi_start<D, O>(
     equations: &CycleEquations<D>,
     grid: usize,
+    samples: usize,
     mut assemble: impl FnMut(f64, &[f64], usize) -> Option<O>,
 ) -> Vec<O>
 where
@@ -150,17 +169,18 @@ where
     let mut tuple: Vec<usize> = (0..m).collect();
     loop {
         if m == 1 || tuple[m - 1] < grid {
-            scanned.insert(tuple.clone(), linear_scan(equations, &steps, &tuple, grid));
+            let scan = linear_scan(equations, &steps, &tuple, grid, samples);
+            scanned.insert(tuple.clone(), scan);
         }
         if !next_tuple(&mut tuple, grid) {
             break;
         }
     }
-    let starts = start_nodes(&scanned, |t| neighbours(t));
+    let starts = start_nodes(&scanned, |t| neighbours(t), samples);
     let solver = SequenceNewton::default();
     let mut found: Vec<(Vec<f64>, O)> = Vec::new();
     for (tuple, k) in starts {
-        let guess = start_guess(tuple, k, grid);
+        let guess = start_guess(tuple, k, grid, samples);
         let Ok(converged) = solver.solve(equations, &guess) else {
             continue;
         };
@@ -257,18 +277,19 @@ pub(crate) fn next_tuple(tuple: &mut [usize], grid: usize) -> bool {
     }
 }
 
-/// Sample `k` of the `α` scan: `−π + 2πk/``ALPHA_SCAN = 64`.
-pub(crate) fn scan_angle(k: usize) -> f64 {
-    -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / ALPHA_SCAN as f64
+/// Sample `k` of an `α` scan of `samples` values: `−π + 2πk/samples`.
+pub(crate) fn scan_angle(k: usize, samples: usize) -> f64 {
+    -std::f64::consts::PI + std::f64::consts::TAU * k as f64 / samples as f64
 }
 
 /// The starts of a multi-start over `scanned` (impact-index tuple → residual on the `α`
-/// scan): each node `(tuple, k)` that is a finite local minimum in `α` and, when there are
-/// more than `FULL_START_TUPLES = 5000` tuples, also over the tuple's `neighbours` in the joint
-/// grid; in sorted order.
+/// scan of `samples` values): each node `(tuple, k)` that is a finite local minimum in `α`
+/// and, when there are more than `FULL_START_TUPLES = 5000` tuples, also over the tuple's
+/// `neighbours` in the joint grid; in sorted order.
 pub(crate) fn start_nodes<'a, I>(
     scanned: &'a HashMap<Vec<usize>, Vec<f64>>,
     neighbours: impl Fn(&'a [usize]) -> I,
+    samples: usize,
 ) -> Vec<(&'a Vec<usize>, usize)>
 where
     I: Iterator<Item = Vec<usize>>,
@@ -276,9 +297,12 @@ where
     let every = scanned.len() <= FULL_START_TUPLES;
     let mut starts = Vec::new();
     for (t, values) in scanned {
-        for k in 0..ALPHA_SCAN {
+        for k in 0..samples {
             let v = values[k];
-            let around = [(k + ALPHA_SCAN - 1) % ALPHA_SCAN, k, (k + 1) % ALPHA_SCAN];
+            // The neighbours on the circle of samples, without a division.
+            let before = if k == 0 { samples - 1 } else { k - 1 };
+            let after = if k + 1 == samples { 0 } else { k + 1 };
+            let around = [before, k, after];
             let alpha_min = values[around[0]] >= v && values[around[2]] > v;
             if alpha_min
                 && v.is_finite()
@@ -297,24 +321,25 @@ where
     starts
 }
 
-/// The Newton guess of node `(tuple, k)`: `α` the `k`-th scan angle, the impact phases the
-/// tuple's grid points over `grid`.
-pub(crate) fn start_guess(tuple: &[usize], k: usize, grid: usize) -> Vec<f64> {
-    let mut guess = vec![scan_angle(k); tuple.len()];
+/// The Newton guess of node `(tuple, k)`: `α` the `k`-th of `samples` scan angles, the impact
+/// phases the tuple's grid points over `grid`.
+pub(crate) fn start_guess(tuple: &[usize], k: usize, grid: usize, samples: usize) -> Vec<f64> {
+    let mut guess = vec![scan_angle(k, samples); tuple.len()];
     for i in 1..tuple.len() {
         guess[i] = tuple[i] as f64 / grid as f64;
     }
     guess
 }
 
-/// For impact times on grid points `tuple`, the squared contact residual on the `α` scan
-/// (linear in `(cos α, sin α)` for fixed times: one cycle's cost). Infinite where the
-/// periodicity solve is singular.
+/// For impact times on grid points `tuple`, the squared contact residual on the `α` scan of
+/// `samples` values (affine in the phase states for fixed times: one cycle's cost). Infinite
+/// where the periodicity solve is singular.
 fn linear_scan<D>(
     equations: &CycleEquations<D>,
     steps: &[OMatrix<f64, D, D>],
     tuple: &[usize],
     grid: usize,
+    samples: usize,
 ) -> Vec<f64>
 where
     D: DimMin<D, Output = D>,
@@ -328,37 +353,43 @@ where
         })
         .collect();
     let pre = equations.pre_maps(&flights);
-    if equations.is_bordered() {
-        // A model with rigid modes: the residuals are affine in (cos α, sin α).
-        let Some([constant, cosine, sine]) = equations.affine_residuals(&pre) else {
-            return vec![f64::INFINITY; ALPHA_SCAN];
+    if equations.is_bordered() || equations.phase_states() > 2 {
+        // A model with rigid modes or harmonics: the residuals are affine in the phase states.
+        let Some((constant, linear)) = equations.affine_residuals(&pre) else {
+            return vec![f64::INFINITY; samples];
         };
-        return (0..ALPHA_SCAN)
+        return (0..samples)
             .map(|k| {
-                let (c, s) = (scan_angle(k).cos(), scan_angle(k).sin());
+                let p = equations.phase_at(scan_angle(k, samples));
                 (0..m)
-                    .map(|j| (constant[j] + cosine[j] * c + sine[j] * s).powi(2))
+                    .map(|j| {
+                        let r = linear
+                            .iter()
+                            .zip(&p)
+                            .fold(constant[j], |sum, (l, v)| sum + l[j] * v);
+                        r.powi(2)
+                    })
                     .sum()
             })
             .collect();
     }
     let Some(lu) = equations.periodicity(&pre) else {
-        return vec![f64::INFINITY; ALPHA_SCAN];
+        return vec![f64::INFINITY; samples];
     };
     // The contact values for p₀ = (1, 0) and (0, 1): residual j = c_j · p − stop_j.
     let mut coefficients = vec![[0.0; 2]; m];
     for (c, p) in [[1.0, 0.0], [0.0, 1.0]].into_iter().enumerate() {
-        let Some(z) = lu.solve(&equations.augmented_vector(None, p)) else {
-            return vec![f64::INFINITY; ALPHA_SCAN];
+        let Some(z) = lu.solve(&equations.augmented_vector(None, PhaseRows::Given(&p))) else {
+            return vec![f64::INFINITY; samples];
         };
         for (j, v) in equations.contact_values(&pre, &z).into_iter().enumerate() {
             coefficients[j][c] = v;
         }
     }
     let stops = equations.stops();
-    (0..ALPHA_SCAN)
+    (0..samples)
         .map(|k| {
-            let (c, s) = (scan_angle(k).cos(), scan_angle(k).sin());
+            let (c, s) = (scan_angle(k, samples).cos(), scan_angle(k, samples).sin());
             (0..m)
                 .map(|j| (coefficients[j][0] * c + coefficients[j][1] * s - stops[j]).powi(2))
                 .sum()

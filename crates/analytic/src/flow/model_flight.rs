@@ -3,8 +3,9 @@
 //! the state, and the eigenvalues of a monodromy matrix of any size.
 //!
 //! The same methods as the unit's fixed-size [`crate::flow::ForcedFlow`], on the model's
-//! augmented matrix `Â` (`(2n + 2) × (2n + 2)`): on pieces of the flight no longer than
-//! `1/max(ω, |λ|)` every functional `c · z(t)` *is* its degree-24 Taylor polynomial to machine
+//! augmented matrix `Â` (`(2n + P) × (2n + P)`, `P` the forcing's phase states: two without
+//! harmonics): on pieces of the flight no longer than `1/max(Kω, |λ|)` (`K` the forcing's
+//! highest order) every functional `c · z(t)` *is* its degree-24 Taylor polynomial to machine
 //! precision, and its extrema are found among the piece's ends and the roots of its derivative
 //! (by the unit's exclusion search); integrals of quadratic forms come from Van Loan's block
 //! exponential.
@@ -36,9 +37,13 @@ impl ModelFlight {
         };
         let (k, c) = (row_norm(0), row_norm(n));
         let natural = 0.5 * (c + (c * c + 4.0 * k).sqrt());
+        let fastest = match model.forcing().highest_order() {
+            1 => omega,
+            order => f64::from(order) * omega,
+        };
         Self {
             augmented,
-            rate: natural.max(omega),
+            rate: natural.max(fastest),
         }
     }
 
@@ -52,7 +57,7 @@ impl ModelFlight {
     /// no extremum can fall between samples.
     ///
     /// # Panics
-    /// If `start` or a functional does not have `2n + 2` entries.
+    /// If `start` or a functional does not have `2n + P` entries.
     pub fn extrema(
         &self,
         start: &DVector<f64>,
@@ -68,7 +73,7 @@ impl ModelFlight {
     /// along the whole flight has `max = −∞`, `min = +∞` (and `NaN` times).
     ///
     /// # Panics
-    /// If `start` or a functional does not have `2n + 2` entries.
+    /// If `start` or a functional does not have `2n + P` entries.
     pub fn mixed_extrema(
         &self,
         start: &DVector<f64>,
@@ -143,7 +148,7 @@ impl ModelFlight {
     /// integrates to `Σ Q_ij W_ij`: one exponential serves every energy term of a flight.
     ///
     /// # Panics
-    /// If `start` does not have `2n + 2` entries.
+    /// If `start` does not have `2n + P` entries.
     pub fn second_moment(&self, start: &DVector<f64>, tau: f64) -> DMatrix<f64> {
         let m = self.augmented.nrows();
         let mut c = DMatrix::zeros(2 * m, 2 * m);

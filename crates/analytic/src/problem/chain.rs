@@ -235,6 +235,7 @@ pub(crate) fn assemble(
         cosine,
         sine: DVector::zeros(n),
         sine_per_omega,
+        harmonics: Vec::new(),
     };
     Ok(ChainMatrices {
         mass,

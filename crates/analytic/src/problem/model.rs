@@ -12,6 +12,7 @@
 //! augmented matrix and linear steady state, and that the general sequence solver on it finds
 //! the fixed-size solver's orbits.
 
+use crate::problem::forcing::trig_extremes;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use thiserror::Error;
 
@@ -60,14 +61,17 @@ pub enum ModelError {
         /// Number of independent rigid directions free of both dashpots and pairs.
         free: usize,
     },
-    /// The linear steady state does not exist: `K − ω²M + iωC` is singular (an undamped
-    /// resonance).
+    /// The linear steady state does not exist: `K − (kω)²M + ikωC` is singular for the
+    /// fundamental (`k = 1`) or a harmonic of order `k` (an undamped resonance at `kω`).
     #[error(
-        "no bounded linear steady state at omega = {omega}: K - omega^2 M + i omega C is singular"
+        "no bounded linear steady state at omega = {omega}: K - (k omega)^2 M + i k omega C is \
+         singular for the forcing's harmonic of order k = {order}"
     )]
     Unbounded {
-        /// The forcing frequency.
+        /// The forcing frequency `ω`.
         omega: f64,
+        /// The order `k` of the harmonic at resonance: 1 for the fundamental.
+        order: u32,
     },
 }
 
@@ -85,26 +89,12 @@ pub(crate) fn singular_pivot_ratio(dofs: usize) -> f64 {
     dofs as f64 * f64::EPSILON
 }
 
-/// Harmonic forcing `f(t) = f_c cos θ + (f_s + ω f_ω) sin θ`, `θ = ωt + α`.
-///
-/// The `ω`-proportional sine part carries base dashpots (`−c ω u_g sin θ`), so that the
-/// derivative in `ω` stays exact for continuation: `∂f/∂ω = f_ω sin θ` at fixed `θ`.
-#[derive(Debug, Clone, PartialEq)]
-pub struct HarmonicForcing {
-    /// `f_c`: amplitude of the cosine part.
-    pub cosine: DVector<f64>,
-    /// `f_s`: the frequency-independent amplitude of the sine part.
-    pub sine: DVector<f64>,
-    /// `f_ω`: the sine amplitude per unit `ω`.
-    pub sine_per_omega: DVector<f64>,
-}
+pub use crate::problem::forcing::{Harmonic, HarmonicForcing};
 
-impl HarmonicForcing {
-    /// The sine amplitude at `omega`: `f_s + ω f_ω`.
-    pub fn sine_at(&self, omega: f64) -> DVector<f64> {
-        &self.sine + &self.sine_per_omega * omega
-    }
-}
+/// Highest order of a [`Harmonic`]: the multi-start over impact phases samples the base phase
+/// and the cycle more finely the higher the order ([`crate::sequence_search`]), so its work
+/// and memory grow with it; 16 keeps them within four times a single harmonic's.
+pub const MAX_HARMONIC_ORDER: u32 = 16;
 
 /// One contact pair: the relative coordinate `r = wᵀu`, stops at `r = +gap_side1` (side 1,
 /// `+` in a signature) and `r = −gap_side2` (side 2, `-`), Newton restitution along `w`. A gap
@@ -211,14 +201,42 @@ fn check_vector(name: &str, vector: &DVector<f64>, dofs: usize) -> Result<(), Mo
     Ok(())
 }
 
+/// Checks the harmonics of a forcing on `dofs` degrees of freedom: orders from 2 to
+/// [`MAX_HARMONIC_ORDER`], each once; vectors of `dofs` finite entries; a finite phase.
+fn check_harmonics(harmonics: &[Harmonic], dofs: usize) -> Result<(), ModelError> {
+    for (i, h) in harmonics.iter().enumerate() {
+        let field = |name: &str| format!("forcing.harmonics[{i}].{name}");
+        let repeated = harmonics[..i]
+            .iter()
+            .any(|earlier| earlier.order == h.order);
+        if !(2..=MAX_HARMONIC_ORDER).contains(&h.order) || repeated {
+            return Err(out_of_range(
+                field("order"),
+                f64::from(h.order),
+                "an integer from 2 to 16, unlike every other harmonic's order",
+            ));
+        }
+        check_vector(&field("cosine"), &h.cosine, dofs)?;
+        check_vector(&field("sine"), &h.sine, dofs)?;
+        check_vector(&field("sine_per_omega"), &h.sine_per_omega, dofs)?;
+        if !h.phase.is_finite() {
+            return Err(out_of_range(field("phase"), h.phase, "finite"));
+        }
+    }
+    Ok(())
+}
+
 impl LinearModel {
     /// A checked model.
     ///
     /// # Errors
     /// - [`ModelError::Dimension`] if the mass matrix is empty or not square, or `C`, `K`, the
-    ///   forcing or a pair's direction does not have `n` entries per dimension;
+    ///   forcing (its harmonics' vectors included) or a pair's direction does not have `n`
+    ///   entries per dimension;
     /// - [`ModelError::OutOfRange`] naming the first non-finite entry, a pair's gap that is not
-    ///   `> 0`, or a restitution outside `[0, 1]`;
+    ///   `> 0`, a restitution outside `[0, 1]`, or a harmonic's order outside
+    ///   `2 ..= `[`MAX_HARMONIC_ORDER`] or repeated (`forcing.harmonics[i].order`) or its
+    ///   phase not finite;
     /// - [`ModelError::Structure`] if `M`, `C` or `K` is not symmetric, `M` not positive
     ///   definite, `K` or `C` not positive semidefinite (no bounded motion), or a pair's
     ///   direction is zero;
@@ -265,6 +283,7 @@ impl LinearModel {
         check_vector("forcing.cosine", &forcing.cosine, dofs)?;
         check_vector("forcing.sine", &forcing.sine, dofs)?;
         check_vector("forcing.sine_per_omega", &forcing.sine_per_omega, dofs)?;
+        check_harmonics(&forcing.harmonics, dofs)?;
         for (p, pair) in pairs.iter().enumerate() {
             check_vector(&format!("pairs[{p}].direction"), &pair.direction, dofs)?;
             if pair.direction.amax() == 0.0 {
@@ -368,12 +387,38 @@ impl LinearModel {
         a
     }
 
-    /// The system augmented with the forcing's phase states `p = (cos θ, sin θ)`:
-    /// `ż = Â z`, `z = (x, p)`, `Â = [[A, B], [0, W]]`, `W = [[0, −ω], [ω, 0]]`,
-    /// `B = [[0, 0], [M⁻¹f_c, M⁻¹(f_s + ω f_ω)]]`. Its exponential is the exact forced flow.
+    /// Number of phase states of the forcing: two for the fundamental, two per harmonic
+    /// ([`HarmonicForcing::phase_states`]).
+    pub fn phase_states(&self) -> usize {
+        self.forcing.phase_states()
+    }
+
+    /// Size of the augmented state `z = (u, u̇, p)`: `2n` plus the phase states (`2n + 2`
+    /// without harmonics).
+    pub fn augmented_size(&self) -> usize {
+        2 * self.dofs() + self.phase_states()
+    }
+
+    /// The phase states `p = (cos kθ, sin kθ)` of every order ([`HarmonicForcing::orders`]) at
+    /// `θ = alpha`: the augmented state's phase rows at the first impact.
+    pub fn phase_at(&self, alpha: f64) -> DVector<f64> {
+        DVector::from_vec(crate::problem::forcing::phase_state(
+            &self.forcing.orders(),
+            alpha,
+        ))
+    }
+
+    /// The system augmented with the forcing's phase states
+    /// `p = (cos θ, sin θ, cos k₁θ, sin k₁θ, …)` (see [`crate::problem::forcing`]):
+    /// `ż = Â z`, `z = (x, p)`, `Â = [[A, B], [0, W]]`, `W = diag(ωJ, k₁ωJ, …)`,
+    /// `J = [[0, −1], [1, 0]]`, `B = [[0], [M⁻¹F(ω)]]` with the force columns `F(ω)`
+    /// ([`HarmonicForcing::columns`]): `M⁻¹f_c`, `M⁻¹(f_s + ω f_ω)`, then two per harmonic.
+    /// Its exponential is the exact forced flow. Without harmonics it is
+    /// `(2n + 2) × (2n + 2)`.
     pub fn augmented_matrix(&self, omega: f64) -> DMatrix<f64> {
         let n = self.dofs();
-        let mut m = DMatrix::zeros(2 * n + 2, 2 * n + 2);
+        let size = self.augmented_size();
+        let mut m = DMatrix::zeros(size, size);
         m.view_mut((0, 0), (2 * n, 2 * n))
             .copy_from(&self.system_matrix());
         let bc = &self.mass_inverse * &self.forcing.cosine;
@@ -382,18 +427,43 @@ impl LinearModel {
         m.view_mut((n, 2 * n + 1), (n, 1)).copy_from(&bs);
         m[(2 * n, 2 * n + 1)] = -omega;
         m[(2 * n + 1, 2 * n)] = omega;
+        for (i, h) in self.forcing.harmonics.iter().enumerate() {
+            let at = 2 * n + 2 + 2 * i;
+            let (c, s) = h.columns_at(omega);
+            m.view_mut((n, at), (n, 1))
+                .copy_from(&(&self.mass_inverse * c));
+            m.view_mut((n, at + 1), (n, 1))
+                .copy_from(&(&self.mass_inverse * s));
+            let rate = f64::from(h.order) * omega;
+            m[(at, at + 1)] = -rate;
+            m[(at + 1, at)] = rate;
+        }
         m
     }
 
-    /// `dÂ/dω` of [`LinearModel::augmented_matrix`]: `M⁻¹f_ω` in the sine column of the
-    /// velocity rows and the phase rotation's `[[0, −1], [1, 0]]`; exact for continuation.
+    /// `dÂ/dω` of [`LinearModel::augmented_matrix`], exact for continuation (`Â` is affine in
+    /// `ω`): `M⁻¹F'` in the velocity rows of the phase columns (`M⁻¹f_ω` in the fundamental's
+    /// sine column, `k M⁻¹f_ω,k (sin φ_k, cos φ_k)` in harmonic `k`'s,
+    /// [`HarmonicForcing::columns_rate`]) and the rotations' `diag(J, k₁J, …)`.
     pub fn augmented_rate(&self) -> DMatrix<f64> {
         let n = self.dofs();
-        let mut m = DMatrix::zeros(2 * n + 2, 2 * n + 2);
+        let size = self.augmented_size();
+        let mut m = DMatrix::zeros(size, size);
         m.view_mut((n, 2 * n + 1), (n, 1))
             .copy_from(&(&self.mass_inverse * &self.forcing.sine_per_omega));
         m[(2 * n, 2 * n + 1)] = -1.0;
         m[(2 * n + 1, 2 * n)] = 1.0;
+        for (i, h) in self.forcing.harmonics.iter().enumerate() {
+            let at = 2 * n + 2 + 2 * i;
+            let (c, s) = h.columns_rate();
+            m.view_mut((n, at), (n, 1))
+                .copy_from(&(&self.mass_inverse * c));
+            m.view_mut((n, at + 1), (n, 1))
+                .copy_from(&(&self.mass_inverse * s));
+            let k = f64::from(h.order);
+            m[(at, at + 1)] = -k;
+            m[(at + 1, at)] = k;
+        }
         m
     }
 
@@ -413,51 +483,98 @@ impl LinearModel {
             - (minv_w * w.transpose()) * ((1.0 + contact.restitution) / effective)
     }
 
-    /// The linear steady state (no contact) at `omega`: `u(t) = U_c cos θ + U_s sin θ`, from
-    /// the real `2n × 2n` system `(K − ω²M) U_c + ωC U_s = f_c`,
-    /// `−ωC U_c + (K − ω²M) U_s = f_s + ω f_ω`. With rigid modes this is one member of a
-    /// family (the one without a constant offset along the rigid modes): whether the motion
-    /// clear of the stops exists is [`LinearModel::clear_family`]'s question, not this
-    /// member's.
+    /// The linear steady state (no contact) at `omega`: the fundamental's
+    /// `U_c cos θ + U_s sin θ`, from the real `2n × 2n` system
+    /// `(K − ω²M) U_c + ωC U_s = f_c`, `−ωC U_c + (K − ω²M) U_s = f_s + ω f_ω`, and each
+    /// harmonic's response `U_c,k cos kθ + U_s,k sin kθ`, from the same system at `kω` with the
+    /// harmonic's force on `(cos kθ, sin kθ)` ([`Harmonic::columns_at`]): the system is linear,
+    /// so the steady state is their sum. A harmonic whose force is zero at `omega` responds
+    /// with zero, without a solve. With rigid modes this is one member of a family (the one
+    /// without a constant offset along the rigid modes): whether the motion clear of the stops
+    /// exists is [`LinearModel::clear_family`]'s question, not this member's.
     ///
     /// # Errors
-    /// [`ModelError::Unbounded`] if the system is singular to within
-    /// `singular_pivot_ratio` (an undamped resonance).
+    /// [`ModelError::Unbounded`] if the system of the fundamental, or of a harmonic with a
+    /// force, is singular to within `singular_pivot_ratio` (an undamped resonance at `ω` or
+    /// `kω`).
     pub fn linear_steady_state(&self, omega: f64) -> Result<HarmonicState, ModelError> {
+        let (cosine, sine) =
+            self.steady_harmonic(omega, 1, &self.forcing.cosine, &self.forcing.sine_at(omega))?;
+        let mut harmonics = Vec::with_capacity(self.forcing.harmonics.len());
+        for h in &self.forcing.harmonics {
+            let (c, s) = h.columns_at(omega);
+            let (cosine, sine) = if c.amax() == 0.0 && s.amax() == 0.0 {
+                (c, s)
+            } else {
+                self.steady_harmonic(omega, h.order, &c, &s)?
+            };
+            harmonics.push(HarmonicResponse {
+                order: h.order,
+                cosine,
+                sine,
+            });
+        }
+        Ok(HarmonicState {
+            cosine,
+            sine,
+            harmonics,
+        })
+    }
+
+    /// The steady response `(U_c, U_s)` to the force `f_c cos kθ + f_s sin kθ` at the
+    /// frequency `kω` (`order` = `k`), by LU of the real `2n × 2n` system.
+    ///
+    /// # Errors
+    /// [`ModelError::Unbounded`] when the system is singular to within
+    /// `singular_pivot_ratio`.
+    fn steady_harmonic(
+        &self,
+        omega: f64,
+        order: u32,
+        cosine: &DVector<f64>,
+        sine: &DVector<f64>,
+    ) -> Result<(DVector<f64>, DVector<f64>), ModelError> {
         let n = self.dofs();
-        let dynamic = &self.stiffness - &self.mass * (omega * omega);
-        let coupling = &self.damping * omega;
+        let frequency = if order == 1 {
+            omega
+        } else {
+            f64::from(order) * omega
+        };
+        let dynamic = &self.stiffness - &self.mass * (frequency * frequency);
+        let coupling = &self.damping * frequency;
         let mut system = DMatrix::zeros(2 * n, 2 * n);
         system.view_mut((0, 0), (n, n)).copy_from(&dynamic);
         system.view_mut((0, n), (n, n)).copy_from(&coupling);
         system.view_mut((n, 0), (n, n)).copy_from(&-&coupling);
         system.view_mut((n, n), (n, n)).copy_from(&dynamic);
         let mut rhs = DVector::zeros(2 * n);
-        rhs.rows_mut(0, n).copy_from(&self.forcing.cosine);
-        rhs.rows_mut(n, n).copy_from(&self.forcing.sine_at(omega));
+        rhs.rows_mut(0, n).copy_from(cosine);
+        rhs.rows_mut(n, n).copy_from(sine);
         let lu = system.lu();
         let pivots = lu.u().diagonal().map(f64::abs);
         let (smallest, largest) = (pivots.min(), pivots.max());
+        let unbounded = ModelError::Unbounded { omega, order };
         if smallest.is_nan() || smallest <= singular_pivot_ratio(n) * largest {
-            return Err(ModelError::Unbounded { omega });
+            return Err(unbounded);
         }
-        let solution = lu.solve(&rhs).ok_or(ModelError::Unbounded { omega })?;
-        Ok(HarmonicState {
-            cosine: solution.rows(0, n).into_owned(),
-            sine: solution.rows(n, n).into_owned(),
-        })
+        let solution = lu.solve(&rhs).ok_or(unbounded)?;
+        Ok((
+            solution.rows(0, n).into_owned(),
+            solution.rows(n, n).into_owned(),
+        ))
     }
 }
 
 /// The forced flow of a [`LinearModel`] over a time `t`, the blocks of `exp(Â t)`:
-/// `x(t) = E x(0) + F p(0)`, `p(t) = R p(0)`, `x = (u, u̇)`, `p = (cos θ, sin θ)`.
+/// `x(t) = E x(0) + F p(0)`, `p(t) = R p(0)`, `x = (u, u̇)`, `p` the `P` phase states
+/// (`(cos θ, sin θ)` without harmonics, `P = 2`; see [`LinearModel::phase_at`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ModelTransition {
     /// `E(t)` (`2n × 2n`): the free flow, also the variational flow.
     pub homogeneous: DMatrix<f64>,
-    /// `F(t)` (`2n × 2`): the response to the initial forcing phase.
+    /// `F(t)` (`2n × P`): the response to the initial forcing phase.
     pub forced: DMatrix<f64>,
-    /// `R(ωt)` (`2 × 2`): the rotation of the forcing phase.
+    /// `R(t)` (`P × P`): the rotation of the phase states, `kωt` for the pair of order `k`.
     pub rotation: DMatrix<f64>,
 }
 
@@ -472,24 +589,28 @@ impl LinearModel {
     /// The exact forced flow over time `t` at `omega`: `exp(Â t)` of
     /// [`LinearModel::augmented_matrix`], split into blocks.
     pub fn transition(&self, omega: f64, t: f64) -> ModelTransition {
-        let n2 = 2 * self.dofs();
+        let (n2, phases) = (2 * self.dofs(), self.phase_states());
         let full = (self.augmented_matrix(omega) * t).exp();
         ModelTransition {
             homogeneous: full.view((0, 0), (n2, n2)).into_owned(),
-            forced: full.view((0, n2), (n2, 2)).into_owned(),
-            rotation: full.view((n2, n2), (2, 2)).into_owned(),
+            forced: full.view((0, n2), (n2, phases)).into_owned(),
+            rotation: full.view((n2, n2), (phases, phases)).into_owned(),
         }
     }
 
-    /// The vector field `ẋ = A x + b(p)` of the state `x = (u, u̇)` at forcing phase
-    /// `p = (cos θ, sin θ)`.
+    /// The vector field `ẋ = A x + M⁻¹F(ω) p` of the state `x = (u, u̇)` at the phase states
+    /// `p` (`(cos θ, sin θ)`, then `(cos kθ, sin kθ)` per harmonic: [`LinearModel::phase_at`]).
     ///
     /// # Panics
-    /// If `x` does not have `2n` entries or `p` two.
+    /// If `x` does not have `2n` entries or `p` fewer than [`LinearModel::phase_states`].
     pub fn vector_field(&self, omega: f64, x: &DVector<f64>, p: &DVector<f64>) -> DVector<f64> {
         let n = self.dofs();
         let mut field = self.system_matrix() * x;
-        let force = &self.forcing.cosine * p[0] + self.forcing.sine_at(omega) * p[1];
+        let mut force = &self.forcing.cosine * p[0] + self.forcing.sine_at(omega) * p[1];
+        for (i, h) in self.forcing.harmonics.iter().enumerate() {
+            let (c, s) = h.columns_at(omega);
+            force += c * p[2 + 2 * i] + s * p[3 + 2 * i];
+        }
         let mut accelerations = field.rows_mut(n, n);
         accelerations += &self.mass_inverse * force;
         field
@@ -537,25 +658,82 @@ impl LinearModel {
     }
 }
 
-/// A harmonic motion `u(t) = U_c cos θ + U_s sin θ`, `θ = ωt + α`.
+/// The response `U_c cos kθ + U_s sin kθ` to one harmonic of order `k` of the forcing.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HarmonicResponse {
+    /// The order `k` (the harmonic's, [`Harmonic::order`]).
+    pub order: u32,
+    /// `U_c,k`.
+    pub cosine: DVector<f64>,
+    /// `U_s,k`.
+    pub sine: DVector<f64>,
+}
+
+/// A periodic motion `u(t) = U_c cos θ + U_s sin θ + Σ_k (U_c,k cos kθ + U_s,k sin kθ)`,
+/// `θ = ωt + α`: the fundamental's response and one per harmonic of the forcing (none for a
+/// purely harmonic forcing).
 #[derive(Debug, Clone, PartialEq)]
 pub struct HarmonicState {
     /// `U_c`.
     pub cosine: DVector<f64>,
     /// `U_s`.
     pub sine: DVector<f64>,
+    /// The responses to the forcing's harmonics, in the forcing's order.
+    pub harmonics: Vec<HarmonicResponse>,
 }
 
 impl HarmonicState {
-    /// Amplitude `max_t |u_k(t)| = √(U_c,k² + U_s,k²)` of every coordinate.
-    pub fn amplitudes(&self) -> DVector<f64> {
-        self.cosine.zip_map(&self.sine, f64::hypot)
+    /// The displacements `u` at `θ`.
+    pub fn displacements(&self, theta: f64) -> DVector<f64> {
+        let mut u = &self.cosine * theta.cos() + &self.sine * theta.sin();
+        for h in &self.harmonics {
+            let (s, c) = (f64::from(h.order) * theta).sin_cos();
+            u += &h.cosine * c + &h.sine * s;
+        }
+        u
     }
 
-    /// Amplitude of the relative coordinate `r = wᵀu` of `pair`: the linear motion stays
-    /// clear of its stops exactly when this is `≤` the smaller gap.
+    /// The terms `(k, a, b)` of the coordinate `cᵀu`, `cᵀu = Σ a cos kθ + b sin kθ`.
+    fn terms(&self, c: impl Fn(&DVector<f64>) -> f64) -> Vec<(u32, f64, f64)> {
+        std::iter::once((1, c(&self.cosine), c(&self.sine)))
+            .chain(
+                self.harmonics
+                    .iter()
+                    .map(|h| (h.order, c(&h.cosine), c(&h.sine))),
+            )
+            .collect()
+    }
+
+    /// Amplitude `max_t |u_k(t)|` of every coordinate: `√(U_c,k² + U_s,k²)` without
+    /// harmonics (or with harmonics of zero response), otherwise the extremes of the
+    /// trigonometric polynomial, sampled and polished by Newton to rounding.
+    pub fn amplitudes(&self) -> DVector<f64> {
+        if self.harmonics.is_empty() {
+            return self.cosine.zip_map(&self.sine, f64::hypot);
+        }
+        DVector::from_fn(self.cosine.len(), |k, _| {
+            let (low, high) = trig_extremes(&self.terms(|v| v[k]));
+            high.max(-low)
+        })
+    }
+
+    /// `(min, max)` over a period of the relative coordinate `r = wᵀu` of `pair`:
+    /// `(−A, A)`, `A = √((wᵀU_c)² + (wᵀU_s)²)`, without harmonics. The linear motion stays
+    /// clear of its stops exactly when `max ≤ gap_side1` and `−min ≤ gap_side2`.
+    pub fn relative_extremes(&self, pair: &ContactPair) -> (f64, f64) {
+        trig_extremes(&self.terms(|v| pair.relative(v)))
+    }
+
+    /// Amplitude `max_t |r(t)|` of the relative coordinate `r = wᵀu` of `pair`: the linear
+    /// motion stays clear of its stops when this is `≤` the smaller gap (exactly so without
+    /// harmonics, whose motion is symmetric; [`HarmonicState::relative_extremes`] tells each
+    /// side).
     pub fn relative_amplitude(&self, pair: &ContactPair) -> f64 {
-        pair.relative(&self.cosine).hypot(pair.relative(&self.sine))
+        if self.harmonics.is_empty() {
+            return pair.relative(&self.cosine).hypot(pair.relative(&self.sine));
+        }
+        let (low, high) = self.relative_extremes(pair);
+        high.max(-low)
     }
 }
 

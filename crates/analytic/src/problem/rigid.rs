@@ -12,12 +12,13 @@
 //! [`crate::model::RIGID_EIGENVALUE`]` · n · max |λ|` (all of them when `K = 0`), orthonormal.
 //!
 //! **Boundedness.** `K` and `C` must be positive semidefinite (a negative eigenvalue beyond
-//! the same rounding allowance is refused: it has no bounded motion). The forcing is harmonic,
-//! of zero mean over a period, so no constant force acts on a rigid mode and its forced motion
-//! is bounded: for `Kφ = 0` the pencil `K − ω²M + iωC` is not singular along `φ` at `ω > 0`
-//! (`φᴴ(−ω²M + iωC)φ` has the real part `−ω² φᵀMφ < 0`), and the linear steady state of
-//! [`LinearModel::linear_steady_state`] exists as for a model without rigid modes (unless an
-//! elastic mode is an undamped resonance). A constant force, which would make a rigid mode
+//! the same rounding allowance is refused: it has no bounded motion). The forcing is a sum of
+//! harmonics of orders `k ≥ 1`, of zero mean over a period, so no constant force acts on a
+//! rigid mode and its forced motion is bounded: for `Kφ = 0` the pencil `K − (kω)²M + ikωC` is
+//! not singular along `φ` at `ω > 0` (`φᴴ(−(kω)²M + ikωC)φ` has the real part
+//! `−(kω)² φᵀMφ < 0`), and the linear steady state of [`LinearModel::linear_steady_state`]
+//! exists as for a model without rigid modes (unless an elastic mode is an undamped resonance
+//! of the fundamental or of a harmonic). A constant force, which would make a rigid mode
 //! drift, cannot be expressed by [`crate::HarmonicForcing`]. A rigid mode along which
 //! neither a dashpot (`CΦa = 0`) nor a contact pair (`wᵀΦa = 0` for every pair) acts keeps any
 //! velocity it is given forever: such a free body drifts, and the model is refused
@@ -26,17 +27,19 @@
 //! every rigid mode ([`crate::SequenceOrbitError::UnrestrainedRigidMode`]).
 //!
 //! **The family of linear motions.** With rigid modes the linear steady state is not one
-//! motion but a family: `u(t) = U_c cos θ + U_s sin θ + Φa` for every offset `a ∈ ℝʳ` (the rigid
+//! motion but a family: `u(t) = U(θ) + Φa` for every offset `a ∈ ℝʳ` (the rigid
 //! velocities must vanish, or the motion drifts). [`LinearModel::linear_steady_state`] gives
 //! the member `a = 0`, the only one without a constant part; [`LinearModel::clear_family`]
 //! decides whether some member stays clear of every stop. Pair `p`'s relative coordinate is
-//! `r_p(t) = ρ_p(t) + b_pᵀa`, `ρ_p = w_pᵀ(U_c cos θ + U_s sin θ)` of amplitude `A_p` and
-//! `b_p = Φᵀw_p`. It stays inside `[−gap_side2, gap_side1]` exactly when
-//! `A_p − gap_side2 ≤ b_pᵀa ≤ gap_side1 − A_p`: for a pair whose coordinate involves a rigid
-//! mode (`b_p ≠ 0`) some offset exists alone when the peak-to-peak `2A_p ≤ gap_side1 +
-//! gap_side2`; for any other pair the condition is `A_p ≤ min(gap_side1, gap_side2)` (the
-//! condition of a model without rigid modes). Since the offsets are shared by the pairs, the
-//! family exists when the slabs `A_p − gap_side2 ≤ b_pᵀa ≤ gap_side1 − A_p` of all pairs
+//! `r_p(t) = ρ_p(t) + b_pᵀa`, `ρ_p = w_pᵀU(θ)` between its extremes `ρ_p⁻ ≤ ρ_p ≤ ρ_p⁺`
+//! (`∓A_p` for a purely harmonic forcing, `A_p` the amplitude of `w_pᵀ(U_c cos θ + U_s sin θ)`;
+//! see [`crate::HarmonicState::relative_extremes`]) and `b_p = Φᵀw_p`. It stays inside
+//! `[−gap_side2, gap_side1]` exactly when `−gap_side2 − ρ_p⁻ ≤ b_pᵀa ≤ gap_side1 − ρ_p⁺`: for
+//! a pair whose coordinate involves a rigid mode (`b_p ≠ 0`) some offset exists alone when the
+//! peak-to-peak `ρ_p⁺ − ρ_p⁻ ≤ gap_side1 + gap_side2`; for any other pair the condition is
+//! `ρ_p⁺ ≤ gap_side1` and `−ρ_p⁻ ≤ gap_side2` (the condition of a model without rigid modes;
+//! `A_p ≤ min(gap_side1, gap_side2)` for a purely harmonic forcing). Since the offsets are
+//! shared by the pairs, the family exists when the slabs of all pairs
 //! intersect: decided exactly by Fourier–Motzkin elimination of `a`'s `r` entries (the pairs
 //! are few), which also gives one member (each entry chosen in the middle of its interval,
 //! the last eliminated first).
@@ -47,16 +50,22 @@ use nalgebra::{DMatrix, DVector};
 /// How the linear motion (the family member without offset) meets one pair's stops.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PairClearance {
-    /// `A_p`: amplitude of the pair's relative coordinate in the member without offset.
+    /// `A_p`: amplitude `max_t |ρ_p(t)|` of the pair's relative coordinate in the member
+    /// without offset.
     pub amplitude: f64,
+    /// `(min_t ρ_p, max_t ρ_p)`: `(−A_p, A_p)` for a purely harmonic forcing; a forcing with
+    /// harmonics may reach further to one side than to the other.
+    pub extremes: (f64, f64),
     /// Whether the pair's coordinate involves a rigid mode (`|Φᵀw| > `[`crate::model::RIGID_COUPLING`]`|w|`).
     pub involves_rigid: bool,
-    /// The pair's own condition: `2A_p ≤ gap_side1 + gap_side2` when it involves a rigid mode
-    /// (some offset keeps it clear), `A_p ≤ min(gap_side1, gap_side2)` otherwise.
+    /// The pair's own condition: the peak-to-peak `max ρ_p − min ρ_p ≤ gap_side1 + gap_side2`
+    /// when it involves a rigid mode (some offset keeps it clear), `max ρ_p ≤ gap_side1` and
+    /// `−min ρ_p ≤ gap_side2` otherwise (`A_p ≤ min(gap_side1, gap_side2)` for a purely
+    /// harmonic forcing).
     pub clear: bool,
 }
 
-/// The family of linear steady states `U_c cos θ + U_s sin θ + Φa` at one frequency, and
+/// The family of linear steady states `U(θ) + Φa` at one frequency, and
 /// whether some member stays clear of every stop ([`LinearModel::clear_family`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ClearFamily {
@@ -67,7 +76,8 @@ pub struct ClearFamily {
     /// Each pair's own condition, in the order of [`LinearModel::pairs`].
     pub pairs: Vec<PairClearance>,
     /// Whether one offset keeps every pair clear at once: the slabs
-    /// `A_p − gap_side2 ≤ (Φᵀw_p)ᵀa ≤ gap_side1 − A_p` intersect (a touch counts as clear).
+    /// `−gap_side2 − min ρ_p ≤ (Φᵀw_p)ᵀa ≤ gap_side1 − max ρ_p` intersect (a touch counts as
+    /// clear).
     pub exists: bool,
     /// One such offset `a` (`r` entries) when `exists`: the motion `u + Φa` is clear.
     pub offset: Option<DVector<f64>>,
@@ -175,28 +185,31 @@ pub(crate) fn clear_family(
     let mut clearances = Vec::with_capacity(pairs.len());
     let mut every_pair = true;
     for pair in pairs {
-        let amplitude = state.relative_amplitude(pair);
+        let (low, high) = state.relative_extremes(pair);
+        let amplitude = high.max(-low);
         let b = rigid.transpose() * &pair.direction;
         let involves_rigid = r > 0 && couples(&b, &pair.direction);
         let clear = if involves_rigid {
-            2.0 * amplitude <= pair.gap_side1 + pair.gap_side2
+            high - low <= pair.gap_side1 + pair.gap_side2
         } else {
-            amplitude <= pair.gap_side1.min(pair.gap_side2)
+            high <= pair.gap_side1 && -low <= pair.gap_side2
         };
         every_pair &= clear;
         clearances.push(PairClearance {
             amplitude,
+            extremes: (low, high),
             involves_rigid,
             clear,
         });
         if involves_rigid {
-            // bᵀa ≤ gap_side1 − A and −bᵀa ≤ gap_side2 − A (an infinite gap: no inequality).
-            for (sign, gap) in [(1.0, pair.gap_side1), (-1.0, pair.gap_side2)] {
+            // bᵀa ≤ gap_side1 − max ρ and −bᵀa ≤ gap_side2 + min ρ (an infinite gap: no
+            // inequality).
+            for (sign, gap, reach) in [(1.0, pair.gap_side1, high), (-1.0, pair.gap_side2, -low)] {
                 if gap.is_finite() {
                     inequalities.push(Inequality {
                         c: b.iter().map(|v| sign * v).collect(),
-                        d: gap - amplitude,
-                        size: gap + amplitude,
+                        d: gap - reach,
+                        size: gap + reach.abs(),
                     });
                 }
             }
@@ -218,10 +231,11 @@ pub(crate) fn clear_family(
 
 impl LinearModel {
     /// The family of linear steady states at `omega` (the motion without contact,
-    /// `U_c cos θ + U_s sin θ + Φa` for every offset `a` along the rigid modes `Φ`) and
-    /// whether some member stays clear of every stop: see the module's derivation. Without
-    /// rigid modes the family is the one steady state, and it exists exactly when every pair's
-    /// relative amplitude is at most its smaller gap.
+    /// `U(θ) + Φa` for every offset `a` along the rigid modes `Φ`, `U(θ)` the sum of the
+    /// fundamental's and the harmonics' responses) and whether some member stays clear of
+    /// every stop: see the module's derivation. Without rigid modes the family is the one
+    /// steady state, and it exists exactly when every pair's relative coordinate stays within
+    /// its stops (for a purely harmonic forcing: its amplitude is at most its smaller gap).
     ///
     /// # Errors
     /// As [`LinearModel::linear_steady_state`] ([`ModelError::Unbounded`] at an undamped

@@ -15,9 +15,7 @@ use crate::flow::Extrema;
 use crate::orbit::{STABILITY_MARGIN, VIABILITY_TOLERANCE};
 use crate::sequence::PairImpact;
 use nalgebra::allocator::Allocator;
-use nalgebra::{
-    Cholesky, Complex, Const, DefaultAllocator, Dim, DimMin, Matrix2, OMatrix, OVector, Vector2, U2,
-};
+use nalgebra::{Cholesky, Complex, Const, DefaultAllocator, Dim, DimMin, OMatrix, OVector, U2};
 use serde::Serialize;
 
 /// Energy scale floor of the energy residual's reference, as a fraction of the static energy
@@ -163,12 +161,13 @@ where
     /// The energy an impact of `pair` at relative velocity `rdot` dissipates.
     fn impact_loss(&self, pair: usize, rdot: f64) -> f64;
 
-    /// The saltation matrix of an impact of `pair` from `before` at forcing phase `phase`.
+    /// The saltation matrix of an impact of `pair` from `before` at the phase states `phase`
+    /// (the augmented state's phase rows: `(cos θ, sin θ)`, then two per harmonic).
     fn saltation(
         &self,
         pair: usize,
         before: &OVector<f64, Self::State>,
-        phase: &Vector2<f64>,
+        phase: &[f64],
     ) -> OMatrix<f64, Self::State, Self::State>
     where
         DefaultAllocator: Allocator<Self::State, Self::State> + Allocator<Self::State>;
@@ -243,7 +242,7 @@ where
     let impacts = model.impacts();
     let m = impacts.len();
     let s = model.state_dim();
-    let size = equations.states() + 2;
+    let states = equations.states();
     let mut x = phases.to_vec();
     x[0] = alpha;
     let e = equations.evaluate_with(&x, false)?;
@@ -253,10 +252,10 @@ where
         .iter()
         .map(|z| z.generic_view((0, 0), (s, Const::<1>)).into_owned())
         .collect();
-    let p_at: Vec<Vector2<f64>> = (0..m)
+    let p_at: Vec<Vec<f64>> = (0..m)
         .map(|j| {
             let z = if j == 0 { &e.z1 } else { &before[j] };
-            z.fixed_rows::<2>(size - 2).into_owned()
+            z.iter().skip(states).copied().collect()
         })
         .collect();
     let states_after: Vec<OVector<f64, M::State>> = (0..m)
@@ -284,8 +283,9 @@ where
             let mut z = e.z1.clone();
             z.generic_view_mut((0, 0), (s, Const::<1>))
                 .copy_from(&states_after[f]);
-            z[size - 2] = p_at[f][0];
-            z[size - 1] = p_at[f][1];
+            for (i, p) in p_at[f].iter().enumerate() {
+                z[states + i] = *p;
+            }
             z
         })
         .collect();
@@ -439,9 +439,7 @@ pub(crate) fn energy_reference(
 
 /// The [`EnergyForms`] of a model with mass `M`, damping `C` and harmonic force
 /// `f = f_c p₀ + f_s p₁` at `omega`, on the augmented state `z = (u, u̇, p)` of dimension `d`:
-/// the forcing's power `u̇ᵀ(f_c p₀ + f_s p₁)`, the dashpots' dissipation `u̇ᵀCu̇` and the
-/// exchange bound `½(ω u̇ᵀMu̇ + fᵀM⁻¹f/ω)` (its compliance term zero when `M` is not positive
-/// definite, which a validated model's never is).
+/// [`energy_forms_of`] with the force's two columns.
 ///
 /// # Panics
 /// If `d` is not `2n + 2` for the `n × n` matrices.
@@ -457,24 +455,60 @@ where
     DefaultAllocator:
         Allocator<D, D> + Allocator<N, N> + Allocator<N> + Allocator<N, U2> + Allocator<U2, N>,
 {
+    let n = mass.shape_generic().0;
+    let mut force = OMatrix::<f64, N, U2>::zeros_generic(n, U2);
+    force.column_mut(0).copy_from(cosine);
+    force.column_mut(1).copy_from(sine);
+    energy_forms_of(d, mass, damping, &force, omega)
+}
+
+/// The [`EnergyForms`] of a model with mass `M`, damping `C` and periodic force `f = F p` on
+/// the phase states `p` (the `P` columns of `force`, [`crate::HarmonicForcing::columns`]) at
+/// `omega`, on the augmented state `z = (u, u̇, p)` of dimension `d = 2n + P`: the forcing's
+/// power `u̇ᵀF p`, the dashpots' dissipation `u̇ᵀCu̇` and the exchange bound
+/// `½(ω u̇ᵀMu̇ + fᵀM⁻¹f/ω)` (its compliance term zero when `M` is not positive definite, which a
+/// validated model's never is). The pointwise bound `|u̇ᵀf| ≤ ½(ω u̇ᵀMu̇ + fᵀM⁻¹f/ω)` holds for
+/// any force, harmonics included.
+///
+/// # Panics
+/// If `d` is not `2n + P` for the `n × n` matrices and the `n × P` force.
+pub(crate) fn energy_forms_of<D: Dim, N: Dim, P: Dim>(
+    d: D,
+    mass: &OMatrix<f64, N, N>,
+    damping: &OMatrix<f64, N, N>,
+    force: &OMatrix<f64, N, P>,
+    omega: f64,
+) -> EnergyForms<D>
+where
+    DefaultAllocator:
+        Allocator<D, D> + Allocator<N, N> + Allocator<N, P> + Allocator<P, N> + Allocator<P, P>,
+{
     let n = mass.nrows();
-    assert_eq!(d.value(), 2 * n + 2, "the augmented dimension is 2n + 2");
+    let phases = force.ncols();
+    assert_eq!(
+        d.value(),
+        2 * n + phases,
+        "the augmented dimension is 2n plus the phase states"
+    );
     let zeros = || OMatrix::<f64, D, D>::zeros_generic(d, d);
     let (mut work, mut dissipation, mut exchange) = (zeros(), zeros(), zeros());
     for i in 0..n {
-        // ½(b + bᵀ), b carrying f_c p₀ + f_s p₁ into the velocity rows.
-        for (column, force) in [(2 * n, cosine[i]), (2 * n + 1, sine[i])] {
-            work[(n + i, column)] = force * 0.5;
-            work[(column, n + i)] = force * 0.5;
+        // ½(b + bᵀ), b carrying F p into the velocity rows.
+        for k in 0..phases {
+            let column = 2 * n + k;
+            work[(n + i, column)] = force[(i, k)] * 0.5;
+            work[(column, n + i)] = force[(i, k)] * 0.5;
         }
         for j in 0..n {
             dissipation[(n + i, n + j)] = damping[(i, j)];
             exchange[(n + i, n + j)] = mass[(i, j)] * (0.5 * omega);
         }
     }
-    if let Some(compliance) = compliance(mass, cosine, sine, omega) {
-        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-            exchange[(2 * n + i, 2 * n + j)] = compliance[(i, j)];
+    if let Some(compliance) = compliance(mass, force, omega) {
+        for i in 0..phases {
+            for j in 0..phases {
+                exchange[(2 * n + i, 2 * n + j)] = compliance[(i, j)];
+            }
         }
     }
     EnergyForms {
@@ -484,22 +518,17 @@ where
     }
 }
 
-/// `fᵀM⁻¹f / 2ω` of the force `f = (f_c, f_s)` (`2 × 2`), by the Cholesky factor of `M`;
-/// `None` when `M` is not positive definite.
-fn compliance<N: Dim>(
+/// `FᵀM⁻¹F / 2ω` of the force columns `F` (`P × P`), by the Cholesky factor of `M`; `None`
+/// when `M` is not positive definite.
+fn compliance<N: Dim, P: Dim>(
     mass: &OMatrix<f64, N, N>,
-    cosine: &OVector<f64, N>,
-    sine: &OVector<f64, N>,
+    force: &OMatrix<f64, N, P>,
     omega: f64,
-) -> Option<Matrix2<f64>>
+) -> Option<OMatrix<f64, P, P>>
 where
-    DefaultAllocator: Allocator<N, N> + Allocator<N> + Allocator<N, U2> + Allocator<U2, N>,
+    DefaultAllocator: Allocator<N, N> + Allocator<N, P> + Allocator<P, N> + Allocator<P, P>,
 {
-    let n = mass.shape_generic().0;
-    let mut force = OMatrix::<f64, N, U2>::zeros_generic(n, U2);
-    force.column_mut(0).copy_from(cosine);
-    force.column_mut(1).copy_from(sine);
     let cholesky = Cholesky::new(mass.clone())?;
-    let solved = cholesky.solve(&force);
+    let solved = cholesky.solve(force);
     Some(force.transpose() * solved * (0.5 / omega))
 }

@@ -11,9 +11,9 @@ use crate::model_flight::{eigenvalues, ModelFlight};
 use crate::sequence::{ImpactSequence, PairImpact};
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
 use crate::signature::Signature;
-use crate::verdicts::{energy_forms, CycleModel, EnergyForms};
+use crate::verdicts::{energy_forms, energy_forms_of, CycleModel, EnergyForms};
 pub use crate::verdicts::{EnergyBalance, SequenceViolation, ENERGY_EXCHANGE_FRACTION};
-use nalgebra::{Complex, DMatrix, DVector, Dyn, Vector2};
+use nalgebra::{Complex, DMatrix, DVector, Dyn};
 use serde::{Serialize, Serializer};
 
 /// A periodic orbit of an impact sequence on a [`LinearModel`], and its verdicts.
@@ -49,7 +49,8 @@ pub struct SequenceOrbit {
     /// The last cell's outer amplitude (the last entry of `cell_outer_amplitudes`).
     pub outer_amplitude: f64,
     /// `20 log10(outer_amplitude / X_s)`, `X_s` the static displacement `(K⁻¹f_c)` of that
-    /// coordinate: `u_g` for a base-driven model.
+    /// coordinate under the fundamental's cosine part `f_c` (the forcing's harmonics leave it
+    /// as it is): `u_g` for a base-driven model.
     pub transmittance_db: f64,
     /// True when no [`SequenceViolation`] was found.
     pub viable: bool,
@@ -131,7 +132,7 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
         let model = problem.model();
         let omega = problem.omega();
         let n = model.dofs();
-        let size = 2 * n + 2;
+        let size = model.augmented_size();
         let coordinates = (0..n)
             .map(|k| {
                 let mut c = DVector::zeros(size);
@@ -148,14 +149,25 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
                 (c, [pair.gap_side1, pair.gap_side2])
             })
             .collect();
-        let forms = energy_forms(
-            Dyn(size),
-            model.mass(),
-            model.damping(),
-            &model.forcing().cosine,
-            &model.forcing().sine_at(omega),
-            omega,
-        );
+        let forcing = model.forcing();
+        let forms = if forcing.harmonics.is_empty() {
+            energy_forms(
+                Dyn(size),
+                model.mass(),
+                model.damping(),
+                &forcing.cosine,
+                &forcing.sine_at(omega),
+                omega,
+            )
+        } else {
+            energy_forms_of(
+                Dyn(size),
+                model.mass(),
+                model.damping(),
+                &forcing.columns(omega),
+                omega,
+            )
+        };
         let statics = if model.has_rigid_modes() {
             rigid_statics(model)
         } else {
@@ -331,8 +343,8 @@ impl CycleModel<Dyn> for ModelVerdicts<'_, '_> {
         0.5 * (1.0 - restitution.powi(2)) * rdot * rdot / self.flexibility[pair]
     }
 
-    fn saltation(&self, pair: usize, before: &DVector<f64>, phase: &Vector2<f64>) -> DMatrix<f64> {
-        let p = DVector::from_column_slice(phase.as_slice());
+    fn saltation(&self, pair: usize, before: &DVector<f64>, phase: &[f64]) -> DMatrix<f64> {
+        let p = DVector::from_column_slice(phase);
         self.problem
             .model()
             .saltation(self.problem.omega(), pair, before, &p)

@@ -162,6 +162,7 @@ impl Structure {
                 cosine: self.forcing_cos.clone(),
                 sine: self.forcing_sin.clone(),
                 sine_per_omega: self.forcing_sin_per_omega.clone(),
+                harmonics: Vec::new(),
             },
             pairs,
         )
