@@ -51,7 +51,10 @@ pub use lyapunov::{
     lyapunov_after_steady_state, lyapunov_exponents, LyapunovError, LyapunovOptions,
     LyapunovSpectrum, Regime, DEFAULT_ALIGNMENT_PERIODS, DEFAULT_LYAPUNOV_PERIODS,
 };
-pub use model::{CellParameters, CellStops, ContactPair, Model, ModelError, MAX_CELLS};
+pub use model::{
+    CellParameters, CellStops, ContactPair, Harmonic, Model, ModelError, MAX_CELLS,
+    MAX_HARMONIC_ORDER,
+};
 pub use newton::{
     periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
     MAX_NEWTON_ITERATIONS, NEUTRAL_TRANSLATION, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
