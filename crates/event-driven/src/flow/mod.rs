@@ -39,7 +39,7 @@ mod tests;
 
 use crate::expsum::{ModeTerm, LANES};
 pub use flight::Flight;
-use flight::Form;
+use flight::{Form, HarmonicStart};
 use nalgebra::{Complex, DMatrix, DVector};
 #[cfg(target_arch = "x86_64")]
 use packed::{add_column, add_scaled_avx, modal_coordinates_avx, AVX_COLUMN, PACKED_MODES};
@@ -135,12 +135,25 @@ pub struct LinearFlow {
     /// rate zero). Formed once: building them and checking the rates at every flight would
     /// cost a chain some 3 % of its instructions.
     joint_modes: Option<Vec<ModeTerm>>,
-    /// The forced steady response, when no mode is resonant with the forcing and there is
-    /// no rigid mode.
+    /// The higher harmonics of the forcing (orders `k ≥ 2`, none of zero amplitude), each with
+    /// its modal forcing on `e^{±ikωt}`; empty for a forcing at `ω` alone.
+    harmonics: Vec<FlowHarmonic>,
+    /// The forced steady response, when no mode is resonant with the forcing, there is no
+    /// rigid mode and the forcing has no higher harmonic.
     steady: Option<SteadyResponse>,
     /// The rigid modes ([`rigid`]), if any: the modes above are then the elastic ones only
     /// (`2(n − r)` of them), `V⁻¹` their rows of `W⁻¹`.
     rigid: Option<Box<rigid::RigidModes>>,
+}
+
+/// One higher harmonic of a flow's forcing, `f_c,k cos kωt + f_s,k sin kωt`: its rate `kω`
+/// and its modal forcing `g⁺_k`, `g⁻_k` on `e^{ikωt}` and `e^{−ikωt}`, as the fundamental's.
+#[derive(Debug, Clone)]
+struct FlowHarmonic {
+    order: u32,
+    rate: f64,
+    plus: DVector<C64>,
+    minus: DVector<C64>,
 }
 
 /// The forced steady response in modal coordinates,
@@ -242,7 +255,7 @@ fn pencil_modes(
 }
 
 /// `V⁻¹` of the eigenvectors `modes` (elastic rates only), and with rigid `shapes` the rigid
-/// modes' own coordinates: `W = [V_e | (R, 0) | (0, R)]` is inverted once, the elastic
+/// modes' own coordinates (their particular solutions from the forcing and its harmonics): `W = [V_e | (R, 0) | (0, R)]` is inverted once, the elastic
 /// coordinates its first `elastic` rows, the rigid positions and velocities its last `2r`.
 ///
 /// # Errors
@@ -253,7 +266,7 @@ fn modal_inverse(
     shapes: DMatrix<f64>,
     elastic: usize,
     minv: &DMatrix<f64>,
-    forcing: (&DVector<f64>, &DVector<f64>, &DVector<f64>),
+    (forcing, harmonics): (rigid::Forcing<'_>, &[rigid::HarmonicForce<'_>]),
     omega: f64,
 ) -> Result<ModalInverse, FlowError> {
     let n = modes.nrows() / 2;
@@ -289,7 +302,7 @@ fn modal_inverse(
             return Err(FlowError::Defective(condition));
         }
         let rows = full.rows(elastic, 2 * r).into_owned();
-        let rigid = rigid::RigidModes::new(shapes, &rows, minv, forcing, omega);
+        let rigid = rigid::RigidModes::new(shapes, &rows, minv, (forcing, harmonics), omega);
         Ok((full.rows(0, elastic).into_owned(), Some(Box::new(rigid))))
     }
 }
@@ -417,19 +430,24 @@ impl LinearFlow {
     /// # Errors
     /// As [`LinearFlow::new`].
     pub(crate) fn of_model(model: &crate::Model, omega: f64) -> Result<Self, FlowError> {
-        LinearFlow::new(
-            &model.mass,
-            model.damping.as_ref(),
-            &model.stiffness,
-            &model.forcing_cos,
-            &model.forcing_sin,
-            &DVector::zeros(model.mass.nrows()),
+        let harmonics: Vec<crate::Harmonic> = model.active_harmonics().cloned().collect();
+        LinearFlow::with_harmonics(
+            (&model.mass, model.damping.as_ref(), &model.stiffness),
+            (
+                &model.forcing_cos,
+                &model.forcing_sin,
+                &DVector::zeros(model.mass.nrows()),
+            ),
+            &harmonics,
             omega,
         )
     }
 
     /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + f₀` (`damping` `None`: no
     /// damping terms at all).
+    ///
+    /// # Errors
+    /// As [`LinearFlow::with_harmonics`].
     pub fn new(
         mass: &DMatrix<f64>,
         damping: Option<&DMatrix<f64>>,
@@ -439,7 +457,35 @@ impl LinearFlow {
         forcing_constant: &DVector<f64>,
         omega: f64,
     ) -> Result<Self, FlowError> {
+        LinearFlow::with_harmonics(
+            (mass, damping, stiffness),
+            (forcing_cos, forcing_sin, forcing_constant),
+            &[],
+            omega,
+        )
+    }
+
+    /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + Σ_k (f_c,k cos kωt +
+    /// f_s,k sin kωt) + f₀`, the matrices `(M, C, K)` (`C` `None`: no damping terms at all),
+    /// the forcing `(f_c, f_s, f₀)` and the higher `harmonics` (orders `k ≥ 2`, each vector of
+    /// `n` entries; a harmonic of zero amplitude is left out). Without harmonics it is the
+    /// flow of [`LinearFlow::new`], bit for bit. With them every flight is in the
+    /// resonance-safe general form: each harmonic adds to mode `λ` the particular terms
+    /// `g^±_k φ(λ, ±ikω, s)`, finite (secular) where `kω` meets an undamped natural
+    /// frequency, and to each rigid mode the particular solution `−F_k/(kω)²`.
+    ///
+    /// # Errors
+    /// [`FlowError::SingularMass`], [`FlowError::Defective`], [`FlowError::NotFinite`],
+    /// [`FlowError::NoConvergence`] and [`FlowError::UnbalancedRigidModes`] when the modal
+    /// flow does not exist.
+    pub fn with_harmonics(
+        (mass, damping, stiffness): (&DMatrix<f64>, Option<&DMatrix<f64>>, &DMatrix<f64>),
+        (forcing_cos, forcing_sin, forcing_constant): (&DVector<f64>, &DVector<f64>, &DVector<f64>),
+        harmonics: &[crate::Harmonic],
+        omega: f64,
+    ) -> Result<Self, FlowError> {
         let n = mass.nrows();
+        let harmonics: Vec<&crate::Harmonic> = harmonics.iter().filter(|h| !h.is_zero()).collect();
         let (minv, a) = first_order(mass, damping, stiffness)?;
         // The rigid modes apart (`rigid`): the elastic rates are the reduced system's.
         let shapes = rigid::shapes(stiffness, damping)?;
@@ -455,7 +501,18 @@ impl LinearFlow {
         }
         let modes = pencil_modes(mass, damping, stiffness, &rates)?;
         let forcing = (forcing_cos, forcing_sin, forcing_constant);
-        let (inverse, rigid) = modal_inverse(&modes, shapes, rates.len(), &minv, forcing, omega)?;
+        let rigid_harmonics: Vec<rigid::HarmonicForce<'_>> = harmonics
+            .iter()
+            .map(|h| (h.order as f64 * omega, &h.cos, &h.sin))
+            .collect();
+        let (inverse, rigid) = modal_inverse(
+            &modes,
+            shapes,
+            rates.len(),
+            &minv,
+            (forcing, &rigid_harmonics),
+            omega,
+        )?;
         let lift = |f: DVector<C64>| {
             let mut b = DVector::<C64>::zeros(2 * n);
             let accel = minv.map(|v| C64::new(v, 0.0)) * f;
@@ -467,6 +524,19 @@ impl LinearFlow {
         let plus = lift(f.clone());
         let minus = lift(f.map(|c| c.conj()));
         let constant = lift(forcing_constant.map(|v| C64::new(v, 0.0)));
+        // Each harmonic as the fundamental: `F_k = (f_c,k − i f_s,k)/2` on `e^{ikωt}`.
+        let harmonics: Vec<FlowHarmonic> = harmonics
+            .iter()
+            .map(|h| {
+                let f = DVector::from_fn(n, |i, _| C64::new(h.cos[i], -h.sin[i]) * 0.5);
+                FlowHarmonic {
+                    order: h.order,
+                    rate: h.order as f64 * omega,
+                    plus: lift(f.clone()),
+                    minus: lift(f.map(|c| c.conj())),
+                }
+            })
+            .collect();
         let period = std::f64::consts::TAU / omega;
         let kept = kept_modes(&rates);
         let kept_sizes: Vec<(f64, f64)> = kept
@@ -478,8 +548,10 @@ impl LinearFlow {
             .collect();
         let w = C64::new(0.0, omega);
         let has_constant = constant.iter().any(|c| *c != C64::default());
-        // A flow with rigid modes flies in the general form, which carries them.
+        // A flow with rigid modes or higher harmonics flies in the general form, which carries
+        // them.
         let steady = (rigid.is_none()
+            && harmonics.is_empty()
             && rates.iter().all(|&l| {
                 let forced_at_zero = has_constant && resonant(-l, period);
                 !(resonant(w - l, period) || resonant(-w - l, period) || forced_at_zero)
@@ -534,6 +606,7 @@ impl LinearFlow {
             kept_sizes,
             kept_peaks,
             joint_modes,
+            harmonics,
             steady,
             rigid,
         })
@@ -679,20 +752,29 @@ impl LinearFlow {
 
     /// The linear steady state `y(t)` (length `2n`) at time `t`, the motion with every free
     /// transient decayed: each elastic mode's forced response
-    /// `Re Σ_k v_k (g⁺_k e^{iωt}/(iω − λ_k) + g⁻_k e^{−iωt}/(−iω − λ_k) − g⁰_k/λ_k)`. With
+    /// `Re Σ_k v_k (g⁺_k e^{iωt}/(iω − λ_k) + g⁻_k e^{−iωt}/(−iω − λ_k) − g⁰_k/λ_k)`, plus
+    /// the same at `kω` for each higher harmonic (the responses of a linear system add). With
     /// rigid modes the steady state is a family (a rigid mode keeps any constant position):
     /// this is its zero-mean member, each rigid mode on the particular solution
-    /// `q = −Re(F e^{iωt})/ω²` alone.
+    /// `q = −Re(F e^{iωt})/ω² − Σ_k Re(F_k e^{ikωt})/(kω)²` alone.
     ///
     /// # Errors
-    /// [`FlowError::Resonant`] when a mode is resonant with the forcing (or, under a constant
-    /// force, a mode has rate 0), [`FlowError::RigidDrift`] when a constant force acts on a
-    /// rigid mode.
+    /// [`FlowError::Resonant`] when a mode is resonant with the forcing or one of its
+    /// harmonics (or, under a constant force, a mode has rate 0), [`FlowError::RigidDrift`]
+    /// when a constant force acts on a rigid mode.
     pub fn linear_steady_state(&self, t: f64) -> Result<DVector<f64>, FlowError> {
         let m = 2 * self.dofs;
         let w = C64::new(0.0, self.omega);
         let (sin, cos) = crate::trig::sin_cos(self.omega * t);
         let phase = C64::new(cos, sin);
+        let harmonic_phases: Vec<C64> = self
+            .harmonics
+            .iter()
+            .map(|h| {
+                let (sin, cos) = crate::trig::sin_cos(h.rate * t);
+                C64::new(cos, sin)
+            })
+            .collect();
         let has_constant = self.constant.iter().any(|c| *c != C64::default());
         let mut y = DVector::zeros(m);
         for (k, &l) in self.rates.iter().enumerate() {
@@ -704,14 +786,33 @@ impl LinearFlow {
             if has_constant {
                 z -= self.constant[k] / l;
             }
+            for (h, &phase) in self.harmonics.iter().zip(&harmonic_phases) {
+                let wk = C64::new(0.0, h.rate);
+                if resonant(wk - l, self.period) || resonant(-wk - l, self.period) {
+                    return Err(FlowError::Resonant);
+                }
+                z += h.plus[k] / (wk - l) * phase + h.minus[k] / (-wk - l) * phase.conj();
+            }
             for i in 0..m {
                 y[i] += (self.modes[(i, k)] * z).re;
             }
         }
         if let Some(rigid) = &self.rigid {
-            rigid.add_steady_state(phase, self.omega, y.as_mut_slice())?;
+            rigid.add_steady_state((phase, &harmonic_phases), self.omega, y.as_mut_slice())?;
         }
         Ok(y)
+    }
+
+    /// The orders `k ≥ 2` of the flow's higher harmonics, in their order (none of zero
+    /// amplitude); empty for a forcing at `ω` alone.
+    pub fn harmonic_orders(&self) -> Vec<u32> {
+        self.harmonics.iter().map(|h| h.order).collect()
+    }
+
+    /// `e^{ikωt₀}` of each higher harmonic, from the fundamental's phase `e^{iωt₀}`: its
+    /// `k`-th power (by squaring, a few roundings per doubling of `k`).
+    fn harmonic_phases(&self, phase: C64) -> Vec<C64> {
+        self.harmonics.iter().map(|h| phase.powu(h.order)).collect()
     }
 
     /// Whether flights use the steady forced response (no mode resonant with the forcing); at
@@ -787,19 +888,32 @@ impl LinearFlow {
                     phase,
                 }
             }
-            None => Form::General {
-                start: match &self.rigid {
-                    None => &self.inverse * y.map(|v| C64::new(v, 0.0)),
-                    Some(rigid) => rigid.start(
-                        &self.inverse * y.map(|v| C64::new(v, 0.0)),
-                        y,
-                        phase,
-                        self.omega,
-                    ),
-                },
-                plus: self.plus.map(|g| g * phase),
-                minus: self.minus.map(|g| g * phase.conj()),
-            },
+            None => {
+                let harmonic_phases = self.harmonic_phases(phase);
+                Form::General {
+                    start: match &self.rigid {
+                        None => &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                        Some(rigid) => rigid.start(
+                            &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                            y,
+                            (phase, &harmonic_phases),
+                            self.omega,
+                        ),
+                    },
+                    plus: self.plus.map(|g| g * phase),
+                    minus: self.minus.map(|g| g * phase.conj()),
+                    harmonics: self
+                        .harmonics
+                        .iter()
+                        .zip(&harmonic_phases)
+                        .map(|(h, &phase)| HarmonicStart {
+                            rate: C64::new(0.0, h.rate),
+                            plus: h.plus.map(|g| g * phase),
+                            minus: h.minus.map(|g| g * phase.conj()),
+                        })
+                        .collect(),
+                }
+            }
         };
         Flight { flow: self, form }
     }
