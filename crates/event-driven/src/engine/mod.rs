@@ -181,8 +181,12 @@ struct Pair {
     /// bound grows by it times `|Δu̇_i|` across the impact.
     impact_weights: Vec<f64>,
     /// A bound on the forcing's part of `r̈`, `Σ_rows |(M⁻¹d)_i| (|f_ci| + |f_si|)`
-    /// ([`acceleration_bound`]).
+    /// ([`acceleration_bound`]), each higher harmonic's amplitudes added likewise.
     forcing_size: f64,
+    /// Per higher harmonic of the forcing (none of zero amplitude), its rate `kω` and its
+    /// part of `r̈`, `(M⁻¹d)·f_c,k` on `cos kωτ` and `(M⁻¹d)·f_s,k` on `sin kωτ`; empty for a
+    /// forcing at `ω` alone.
+    harmonic_forcing: Vec<(f64, f64, f64)>,
 }
 
 /// Contact entries ([`Pair::contact_entries`]) up to which a contact may form only them.
@@ -325,7 +329,19 @@ impl<'m> Engine<'m> {
                     .collect();
                 contact_entries.sort_unstable();
                 contact_entries.dedup();
-                let (weights, forcing_size) = acceleration_bound(&acceleration_rows, 2 * n);
+                let (weights, mut forcing_size) = acceleration_bound(&acceleration_rows, 2 * n);
+                let harmonic_forcing: Vec<(f64, f64, f64)> = model
+                    .active_harmonics()
+                    .map(|h| {
+                        let rate = h.order as f64 * omega;
+                        (rate, mobility.dot(&h.cos), mobility.dot(&h.sin))
+                    })
+                    .collect();
+                for h in model.active_harmonics() {
+                    forcing_size += (0..n)
+                        .map(|i| mobility[i].abs() * (h.cos[i].abs() + h.sin[i].abs()))
+                        .sum::<f64>();
+                }
                 let acceleration_sizes = free.kept_entry_sizes(&weights);
                 let impact_weights = impact_mobility
                     .iter()
@@ -339,6 +355,7 @@ impl<'m> Engine<'m> {
                     contact_modes,
                     impact_weights,
                     forcing_size,
+                    harmonic_forcing,
                     impact_compliance: model_d.dot(model_mobility),
                     spec: *c,
                     direction: d,
@@ -368,8 +385,11 @@ impl<'m> Engine<'m> {
                 pairs.iter().map(|p| &p.relative_displacement).collect();
             free.joint_weights(&functionals)
         });
-        // The searches' fastest rate as `|re| + |im|`: at most `√2 |λ|`, or the forcing's `ω`.
-        let fastest = (std::f64::consts::SQRT_2 * free.fastest_rate()).max(omega);
+        // The searches' fastest rate as `|re| + |im|`: at most `√2 |λ|`, or the forcing's
+        // fastest harmonic `kω`.
+        let top_order = model.active_harmonics().map(|h| h.order).max().unwrap_or(1);
+        let fastest =
+            (std::f64::consts::SQRT_2 * free.fastest_rate()).max(omega * top_order as f64);
         // One pair only: with several, searching their summaries past the section cost more
         // than the flights it saved (chain8, callgrind: +3.5 %).
         let carries_sections = model.contacts.len() == 1

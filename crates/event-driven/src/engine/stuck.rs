@@ -30,11 +30,14 @@ pub(super) struct Stuck {
 }
 
 /// The contact force of one held pair:
-/// `λ = state · (ũ, ũ̇) + constant + Re{harmonic e^{iωt}}`; held while `side · λ < 0`.
+/// `λ = state · (ũ, ũ̇) + constant + Re{harmonic e^{iωt}} + Σ_k Re{H_k e^{ikωt}}`; held while
+/// `side · λ < 0`.
 pub(super) struct HeldForce {
     pub(super) state: DVector<f64>,
     pub(super) constant: f64,
     pub(super) harmonic: nalgebra::Complex<f64>,
+    /// Per higher harmonic of the forcing, its rate `kω` and `H_k`.
+    pub(super) harmonics: Vec<(f64, nalgebra::Complex<f64>)>,
 }
 
 impl Engine<'_> {
@@ -140,7 +143,23 @@ impl Engine<'_> {
         let fc = &tt * &self.model.forcing_cos;
         let fs = &tt * &self.model.forcing_sin;
         let f0 = -(&tt * (k * &offset));
-        let flow = LinearFlow::new(&mr, cr.as_ref(), &kr, &fc, &fs, &f0, self.omega)?;
+        // The harmonics on the reduced coordinates, `Tᵀ f_k` (a harmonic along the held
+        // directions only forces the contact force, not the reduced flow).
+        let harmonics: Vec<crate::Harmonic> = self
+            .model
+            .active_harmonics()
+            .map(|h| crate::Harmonic {
+                order: h.order,
+                cos: &tt * &h.cos,
+                sin: &tt * &h.sin,
+            })
+            .collect();
+        let flow = LinearFlow::with_harmonics(
+            (&mr, cr.as_ref(), &kr),
+            (&fc, &fs, &f0),
+            &harmonics,
+            self.omega,
+        )?;
         // λ = −W⁻¹DM⁻¹(f − C u̇ − K u), u = Tũ + u*, u̇ = Tũ̇.
         let mob = mobilities.transpose();
         let a = solve(&mob * k * &t);
@@ -150,6 +169,14 @@ impl Engine<'_> {
             solve(&mob * DMatrix::from_column_slice(n, 1, self.model.forcing_cos.as_slice()));
         let fsin =
             solve(&mob * DMatrix::from_column_slice(n, 1, self.model.forcing_sin.as_slice()));
+        // Per harmonic, `(kω, W⁻¹DM⁻¹f_c,k, W⁻¹DM⁻¹f_s,k)`, as the fundamental's.
+        let column =
+            |f: &DVector<f64>| solve(&mob * DMatrix::from_column_slice(n, 1, f.as_slice()));
+        let harmonic_parts: Vec<(f64, DMatrix<f64>, DMatrix<f64>)> = self
+            .model
+            .active_harmonics()
+            .map(|h| (h.order as f64 * self.omega, column(&h.cos), column(&h.sin)))
+            .collect();
         let forces = (0..h)
             .map(|row| {
                 let mut state = DVector::zeros(2 * nr);
@@ -161,6 +188,12 @@ impl Engine<'_> {
                     state,
                     constant: constants[(row, 0)],
                     harmonic: nalgebra::Complex::new(-fcos[(row, 0)], fsin[(row, 0)]),
+                    harmonics: harmonic_parts
+                        .iter()
+                        .map(|(rate, c, s)| {
+                            (*rate, nalgebra::Complex::new(-c[(row, 0)], s[(row, 0)]))
+                        })
+                        .collect(),
                 }
             })
             .collect();
@@ -299,6 +332,18 @@ impl Engine<'_> {
                 ],
                 rate: nalgebra::Complex::new(0.0, self.omega),
             });
+            for &(rate, harmonic) in &force.harmonics {
+                let (sin, cos) = crate::trig::sin_cos(rate * tau);
+                lambda.terms.push(crate::expsum::Term {
+                    poly: [
+                        harmonic * nalgebra::Complex::new(cos, sin),
+                        Default::default(),
+                        Default::default(),
+                        Default::default(),
+                    ],
+                    rate: nalgebra::Complex::new(0.0, rate),
+                });
+            }
             let hold = if side > 0 { lambda.negated() } else { lambda };
             // `hold` ≥ 0 at the start: the release is its first exit from [0, ∞).
             if let Some((s, _)) = hold.first_exit(
