@@ -27,17 +27,23 @@ pub(super) enum Form<'a> {
         deviation: Vec<C64>,
         phase: C64,
     },
-    /// `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`, finite at resonance. The forcing
-    /// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`, and
-    /// likewise each higher harmonic's at `μ = ±ikω`. `start` holds the modes' `z(0)`, then,
-    /// with rigid modes, each one's start packed in `2 +` harmonics entries
-    /// ([`RigidModes::start`](super::rigid::RigidModes::start)).
-    General {
-        start: DVector<C64>,
-        plus: DVector<C64>,
-        minus: DVector<C64>,
-        harmonics: Vec<HarmonicStart>,
-    },
+    /// `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`, finite at resonance ([`GeneralStart`]),
+    /// boxed: a flight is moved by value through the event loop, and the steady-response
+    /// form's is the smaller.
+    General(Box<GeneralStart>),
+}
+
+/// A flight in the general form: `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`. The forcing
+/// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`, and likewise
+/// each higher harmonic's at `μ = ±ikω`. `start` holds the modes' `z(0)`, then, with rigid
+/// modes, each one's start packed in `2 +` harmonics entries
+/// ([`RigidModes::start`](super::rigid::RigidModes::start)).
+#[derive(Debug, Clone)]
+pub(super) struct GeneralStart {
+    pub(super) start: DVector<C64>,
+    pub(super) plus: DVector<C64>,
+    pub(super) minus: DVector<C64>,
+    pub(super) harmonics: Vec<HarmonicStart>,
 }
 
 /// One higher harmonic of a flight in the general form: its rate `ikω` and its modal forcing
@@ -89,10 +95,11 @@ fn phi_shared(lambda: C64, el: C64, mu: C64, em: C64, s: f64, period: f64) -> C6
 impl Flight<'_> {
     /// The flight's storage for its modal deviation (empty for the resonance-safe form), for
     /// the next [`LinearFlow::flight_at_phase`].
+    #[inline]
     pub(crate) fn into_storage(self) -> Vec<C64> {
         match self.form {
             Form::Steady { deviation, .. } => deviation,
-            Form::General { .. } => Vec::new(),
+            Form::General(_) => Vec::new(),
         }
     }
 
@@ -149,12 +156,13 @@ impl Flight<'_> {
                     f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
-            Form::General {
-                start,
-                plus,
-                minus,
-                harmonics,
-            } => {
+            Form::General(general) => {
+                let GeneralStart {
+                    start,
+                    plus,
+                    minus,
+                    harmonics,
+                } = &**general;
                 let w = C64::new(0.0, f.omega);
                 let em = ep.conj();
                 let zero = C64::new(0.0, 0.0);
@@ -420,12 +428,13 @@ impl Flight<'_> {
                     });
                 }
             }
-            Form::General {
-                start,
-                plus,
-                minus,
-                harmonics,
-            } => {
+            Form::General(general) => {
+                let GeneralStart {
+                    start,
+                    plus,
+                    minus,
+                    harmonics,
+                } = &**general;
                 let per_mode = 4 + 4 * harmonics.len();
                 let per_rigid = 2 + harmonics.len();
                 let mut terms =
