@@ -134,32 +134,9 @@ impl Engine<'_> {
             let x = ddt.try_inverse().ok_or_else(dependent)? * &gaps;
             constraint.transpose() * x
         };
-        let m = &self.model.mass;
         let k = &self.model.stiffness;
         let tt = t.transpose();
-        let mr = &tt * m * &t;
-        let kr = &tt * k * &t;
-        let cr = self.model.damping.as_ref().map(|c| &tt * c * &t);
-        let fc = &tt * &self.model.forcing_cos;
-        let fs = &tt * &self.model.forcing_sin;
-        let f0 = -(&tt * (k * &offset));
-        // The harmonics on the reduced coordinates, `Tᵀ f_k` (a harmonic along the held
-        // directions only forces the contact force, not the reduced flow).
-        let harmonics: Vec<crate::Harmonic> = self
-            .model
-            .active_harmonics()
-            .map(|h| crate::Harmonic {
-                order: h.order,
-                cos: &tt * &h.cos,
-                sin: &tt * &h.sin,
-            })
-            .collect();
-        let flow = LinearFlow::with_harmonics(
-            (&mr, cr.as_ref(), &kr),
-            (&fc, &fs, &f0),
-            &harmonics,
-            self.omega,
-        )?;
+        let flow = self.reduced_flow(&t, &offset)?;
         // λ = −W⁻¹DM⁻¹(f − C u̇ − K u), u = Tũ + u*, u̇ = Tũ̇.
         let mob = mobilities.transpose();
         let a = solve(&mob * k * &t);
@@ -218,6 +195,43 @@ impl Engine<'_> {
             reaction,
         });
         Ok(self.stuck.len() - 1)
+    }
+
+    /// The reduced flow on `u = T ũ + u*` (`basis` `T`, `offset` `u*`):
+    /// `TᵀMT ũ̈ + TᵀCT ũ̇ + TᵀKT ũ = Tᵀ(f − K u*)`, every harmonic of the forcing projected
+    /// as the fundamental is (a harmonic along the held directions only forces the contact
+    /// forces, and leaves the reduced flow).
+    ///
+    /// # Errors
+    /// [`FlowError`] when the reduced flow does not exist.
+    fn reduced_flow(
+        &self,
+        basis: &DMatrix<f64>,
+        offset: &DVector<f64>,
+    ) -> Result<LinearFlow, FlowError> {
+        let (t, m, k) = (basis, &self.model.mass, &self.model.stiffness);
+        let tt = t.transpose();
+        let mr = &tt * m * t;
+        let kr = &tt * k * t;
+        let cr = self.model.damping.as_ref().map(|c| &tt * c * t);
+        let fc = &tt * &self.model.forcing_cos;
+        let fs = &tt * &self.model.forcing_sin;
+        let f0 = -(&tt * (k * offset));
+        let harmonics: Vec<crate::Harmonic> = self
+            .model
+            .active_harmonics()
+            .map(|h| crate::Harmonic {
+                order: h.order,
+                cos: &tt * &h.cos,
+                sin: &tt * &h.sin,
+            })
+            .collect();
+        LinearFlow::with_harmonics(
+            (&mr, cr.as_ref(), &kr),
+            (&fc, &fs, &f0),
+            &harmonics,
+            self.omega,
+        )
     }
 
     /// The held set after pair `pair` sticks on `side` in `mode`.
