@@ -136,8 +136,9 @@ fn max_difference(a: &[f64], b: &[f64]) -> f64 {
 
 /// The same seconds of motion from rest: the second-harmonic model over `periods` periods of
 /// `rate/2`, the one-harmonic model over twice as many of `rate`. Returns the impacts compared
-/// and the largest time and state differences (the state relative to its largest entry).
-fn compare_runs(twin: &Twin, periods: u64) -> (usize, f64, f64) {
+/// and the sticks, and the largest time and state differences (the state relative to its
+/// largest entry).
+fn compare_runs(twin: &Twin, periods: u64) -> (usize, usize, f64, f64) {
     let n = twin.single.dofs();
     let start = Start::rest(n);
     let a = trajectory(&twin.second, twin.rate / 2.0, periods, &start);
@@ -163,7 +164,14 @@ fn compare_runs(twin: &Twin, periods: u64) -> (usize, f64, f64) {
     dy = dy
         .max(max_difference(&end_a.displacements, &end_b.displacements))
         .max(max_difference(&end_a.velocities, &end_b.velocities));
-    (a.impacts.len(), dt, dy / size.max(1.0))
+    let sticks = |t: &Trajectory| {
+        t.rows
+            .iter()
+            .filter(|r| r.kind == RowKind::AfterStick)
+            .count()
+    };
+    assert_eq!(sticks(&a), sticks(&b), "sticks");
+    (a.impacts.len(), sticks(&a), dt, dy / size.max(1.0))
 }
 
 #[test]
@@ -179,9 +187,17 @@ fn a_second_harmonic_at_omega_is_the_fundamental_at_twice_omega() {
         // Chaotic: rounding grows tenfold every few impacts, so a short stretch only.
         ("free body", Twin::free_body(2.0, 0.5, 0.8), 3),
     ] {
-        let (impacts, dt, dy) = compare_runs(&twin, periods);
+        let (impacts, sticks, dt, dy) = compare_runs(&twin, periods);
         let period = std::f64::consts::TAU / (twin.rate / 2.0);
-        println!("{name}: {impacts} impacts, |Δt| ≤ {dt:.2e} s, |Δy| ≤ {dy:.2e} (relative)");
+        println!(
+            "{name}: {impacts} impacts, {sticks} sticks, |Δt| ≤ {dt:.2e} s, |Δy| ≤ {dy:.2e} \
+             (relative)"
+        );
+        assert_eq!(
+            sticks > 0,
+            name.contains("sticks"),
+            "{name}: {sticks} sticks"
+        );
         assert!(dt <= tolerance * period, "{name}: times differ by {dt:e}");
         assert!(dy <= tolerance, "{name}: states differ by {dy:e}");
     }
