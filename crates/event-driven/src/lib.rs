@@ -27,6 +27,12 @@
 //! and the Lyapunov spectrum. A steady state in which no impact reaches them is a family
 //! ([`SteadyState::family`], [`NewtonError::Family`]).
 //!
+//! The forcing may carry higher harmonics of the fundamental, `f(t) = Σ_k (f_c,k cos kωt +
+//! f_s,k sin kωt)` with integer orders `k ≥ 2` ([`Model::with_harmonics`]): the period stays
+//! `2π/ω`, each harmonic adds its exact particular solution at `kω` to the flow (secular
+//! where `kω` meets an undamped natural frequency), and the events, the tangent flow and the
+//! stuck phases see it. A model without them runs exactly as before, bit for bit.
+//!
 //! Only the effects a model has are simulated: no contact pairs, no event search; no damping
 //! matrix, no damping terms, and the oscillating rates purely imaginary, as a conservative
 //! system's are (the Schur form's rounding-level real parts removed).
@@ -51,7 +57,10 @@ pub use lyapunov::{
     lyapunov_after_steady_state, lyapunov_exponents, LyapunovError, LyapunovOptions,
     LyapunovSpectrum, Regime, DEFAULT_ALIGNMENT_PERIODS, DEFAULT_LYAPUNOV_PERIODS,
 };
-pub use model::{CellParameters, CellStops, ContactPair, Model, ModelError, MAX_CELLS};
+pub use model::{
+    CellParameters, CellStops, ContactPair, Harmonic, Model, ModelError, MAX_CELLS,
+    MAX_HARMONIC_ORDER,
+};
 pub use newton::{
     periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
     MAX_NEWTON_ITERATIONS, NEUTRAL_TRANSLATION, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,

@@ -124,7 +124,36 @@ pub struct CellParameters {
     pub stops: Option<CellStops>,
 }
 
-/// `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt`, with contact pairs.
+/// Highest order of a [`Harmonic`]: a harmonic of order `k` makes the searches step at an
+/// eighth of its period `2π/(kω)`, so an order far beyond any physical forcing's would only
+/// slow every flight down.
+pub const MAX_HARMONIC_ORDER: u32 = 1000;
+
+/// One higher harmonic of the forcing, `f_c cos kωt + f_s sin kωt` (`k = order`): the model
+/// is then forced by `f_c cos ωt + f_s sin ωt + Σ_harmonics (f_c,k cos kωt + f_s,k sin kωt)`,
+/// still of period `2π/ω`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Harmonic {
+    /// The order `k`, an integer in `2..=`[`MAX_HARMONIC_ORDER`] (the fundamental, order 1,
+    /// is the model's own forcing).
+    pub order: u32,
+    /// `f_c,k`, one entry per degree of freedom, finite.
+    pub cos: DVector<f64>,
+    /// `f_s,k`, one entry per degree of freedom, finite.
+    pub sin: DVector<f64>,
+}
+
+impl Harmonic {
+    /// Whether both amplitude vectors are zero: such a harmonic forces nothing, and the
+    /// simulator leaves it out (the model then flies exactly as without it).
+    pub fn is_zero(&self) -> bool {
+        self.cos.iter().chain(self.sin.iter()).all(|&v| v == 0.0)
+    }
+}
+
+/// `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + Σ_k (f_c,k cos kωt + f_s,k sin kωt)`, with
+/// contact pairs; the higher harmonics (orders `k ≥ 2`) are optional
+/// ([`Model::with_harmonics`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Model {
     pub(crate) mass: DMatrix<f64>,
@@ -132,6 +161,8 @@ pub struct Model {
     pub(crate) damping: Option<DMatrix<f64>>,
     pub(crate) forcing_cos: DVector<f64>,
     pub(crate) forcing_sin: DVector<f64>,
+    /// The higher harmonics, as given (orders distinct, each `≥ 2`).
+    pub(crate) harmonics: Vec<Harmonic>,
     pub(crate) contacts: Vec<ContactPair>,
     /// Per contact: `d` and `M⁻¹d`.
     pub(crate) directions: Vec<(DVector<f64>, DVector<f64>)>,
@@ -233,9 +264,65 @@ impl Model {
             damping,
             forcing_cos,
             forcing_sin,
+            harmonics: Vec::new(),
             contacts,
             directions,
         })
+    }
+
+    /// The model with the higher harmonics `harmonics` added to its forcing (replacing any it
+    /// had): `f(t) = f_c cos ωt + f_s sin ωt + Σ (f_c,k cos kωt + f_s,k sin kωt)`, in any order
+    /// of the orders. An empty list gives the model back as [`Self::new`] built it, and a
+    /// harmonic whose amplitudes are all zero forces nothing ([`Harmonic::is_zero`]).
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] naming the field: `harmonics[i].order` outside
+    /// `2..=`[`MAX_HARMONIC_ORDER`] or equal to an earlier harmonic's order,
+    /// `harmonics[i].cos` or `harmonics[i].sin` (its value the number of entries) not of one
+    /// entry per degree of freedom, and `harmonics[i].cos[j]` or `harmonics[i].sin[j]` not
+    /// finite.
+    pub fn with_harmonics(mut self, harmonics: Vec<Harmonic>) -> Result<Model, ModelError> {
+        let n = self.dofs();
+        for (i, h) in harmonics.iter().enumerate() {
+            let order = h.order as f64;
+            check(
+                &format!("harmonics[{i}].order"),
+                order,
+                (2..=MAX_HARMONIC_ORDER).contains(&h.order),
+                "an integer in 2..=1000 (order 1 is the model's own forcing)",
+            )?;
+            check(
+                &format!("harmonics[{i}].order"),
+                order,
+                harmonics[..i].iter().all(|g| g.order != h.order),
+                "distinct from every other harmonic's order",
+            )?;
+            for (name, amplitudes) in [("cos", &h.cos), ("sin", &h.sin)] {
+                check(
+                    &format!("harmonics[{i}].{name}"),
+                    amplitudes.len() as f64,
+                    amplitudes.len() == n,
+                    "one entry per degree of freedom (the model's n)",
+                )?;
+                for (j, &v) in amplitudes.iter().enumerate() {
+                    check(&format!("harmonics[{i}].{name}[{j}]"), v, true, "finite")?;
+                }
+            }
+        }
+        self.harmonics = harmonics;
+        Ok(self)
+    }
+
+    /// The higher harmonics of the forcing (orders `≥ 2`), as given to
+    /// [`Self::with_harmonics`]; empty for a model forced at `ω` alone.
+    pub fn harmonics(&self) -> &[Harmonic] {
+        &self.harmonics
+    }
+
+    /// The harmonics that force anything (not [`Harmonic::is_zero`]): the ones the
+    /// simulator's flows and events carry.
+    pub(crate) fn active_harmonics(&self) -> impl Iterator<Item = &Harmonic> {
+        self.harmonics.iter().filter(|h| !h.is_zero())
     }
 
     /// The mass-in-mass unit of one `cell`: DOF 0 the outer mass `u_o`, DOF 1 the inner mass

@@ -137,13 +137,19 @@ fn neutral_translations(shapes: &DMatrix<f64>, jacobian: &DMatrix<f64>) -> usize
 }
 
 /// `model` with its forcing advanced by `time` (`f(t) → f(t + time)`), so that a section at
-/// the forcing phase `ω·time` becomes the section `t = 0`. `time = 0` returns an exact copy.
+/// the forcing phase `ω·time` becomes the section `t = 0`: the fundamental's amplitudes
+/// rotated by `ω·time`, each higher harmonic's by `kω·time`. `time = 0` returns an exact copy.
 pub(crate) fn shifted(model: &Model, omega: f64, time: f64) -> Model {
     let mut out = model.clone();
     if time != 0.0 {
         let (sin, cos) = crate::trig::sin_cos(omega * time);
         out.forcing_cos = &model.forcing_cos * cos + &model.forcing_sin * sin;
         out.forcing_sin = &model.forcing_sin * cos - &model.forcing_cos * sin;
+        for (shifted, h) in out.harmonics.iter_mut().zip(&model.harmonics) {
+            let (sin, cos) = crate::trig::sin_cos(h.order as f64 * omega * time);
+            shifted.cos = &h.cos * cos + &h.sin * sin;
+            shifted.sin = &h.sin * cos - &h.cos * sin;
+        }
     }
     out
 }

@@ -34,6 +34,10 @@ impl Engine<'_> {
         if let Some(c) = &m.damping {
             f -= c * y.rows(n, n);
         }
+        for h in m.active_harmonics() {
+            let (sin, cos) = crate::trig::sin_cos(h.order as f64 * self.omega * tau);
+            f += &h.cos * cos + &h.sin * sin;
+        }
         &self.inverse_mass * f
     }
 
@@ -82,11 +86,14 @@ impl Engine<'_> {
     /// Relative acceleration `r̈` of pair `p` in free flight at state `y`, phase time `tau`:
     /// `(M⁻¹d) · (f(τ) − K u − C u̇)`, summed row by row over the nonzero entries only
     /// ([`Pair::acceleration_rows`]): the terms left out are exact zeros, so the value is the
-    /// dense sum's.
+    /// dense sum's. The higher harmonics' part ([`Pair::harmonic_forcing`]) is added after.
+    /// Inlined, as it is without harmonics: a contact's decision reads it once.
+    #[inline(always)]
     pub(super) fn free_relative_acceleration(&self, p: &Pair, y: &DVector<f64>, tau: f64) -> f64 {
         let (sin, cos) = self.forcing_at(tau);
         let y = y.as_slice();
-        p.acceleration_rows
+        let mut acceleration = p
+            .acceleration_rows
             .iter()
             .map(|r| {
                 let mut f = r.forcing.0 * cos + r.forcing.1 * sin;
@@ -94,6 +101,25 @@ impl Engine<'_> {
                     f -= v * y[j];
                 }
                 r.mobility * f
+            })
+            .sum();
+        if !p.harmonic_forcing.is_empty() {
+            acceleration += Self::harmonic_relative_acceleration(p, tau);
+        }
+        acceleration
+    }
+
+    /// The higher harmonics' part of pair `p`'s `r̈` at phase time `tau`,
+    /// `Σ_k (M⁻¹d)·(f_c,k cos kωτ + f_s,k sin kωτ)` (out of line: a forcing at `ω` alone
+    /// never comes here).
+    #[cold]
+    #[inline(never)]
+    fn harmonic_relative_acceleration(p: &Pair, tau: f64) -> f64 {
+        p.harmonic_forcing
+            .iter()
+            .map(|&(rate, on_cos, on_sin)| {
+                let (sin, cos) = crate::trig::sin_cos(rate * tau);
+                on_cos * cos + on_sin * sin
             })
             .sum()
     }

@@ -181,8 +181,12 @@ struct Pair {
     /// bound grows by it times `|Δu̇_i|` across the impact.
     impact_weights: Vec<f64>,
     /// A bound on the forcing's part of `r̈`, `Σ_rows |(M⁻¹d)_i| (|f_ci| + |f_si|)`
-    /// ([`acceleration_bound`]).
+    /// ([`acceleration_bound`]), each higher harmonic's amplitudes added likewise.
     forcing_size: f64,
+    /// Per higher harmonic of the forcing (none of zero amplitude), its rate `kω` and its
+    /// part of `r̈`, `(M⁻¹d)·f_c,k` on `cos kωτ` and `(M⁻¹d)·f_s,k` on `sin kωτ`; empty for a
+    /// forcing at `ω` alone.
+    harmonic_forcing: Vec<(f64, f64, f64)>,
 }
 
 /// Contact entries ([`Pair::contact_entries`]) up to which a contact may form only them.
@@ -283,72 +287,7 @@ impl<'m> Engine<'m> {
             .contacts
             .iter()
             .enumerate()
-            .map(|(index, c)| {
-                let d = c.direction(n);
-                let mut position = DVector::zeros(2 * n);
-                position.rows_mut(0, n).copy_from(&d);
-                let mobility = &minv * &d;
-                let compliance = d.dot(&mobility);
-                let relative_displacement = free.functional(&position);
-                let drag = match &model.damping {
-                    Some(damping) => &minv * (damping * &mobility),
-                    None => DVector::zeros(n),
-                };
-                let acceleration_rows: Vec<AccelerationRow> = (0..n)
-                    .filter(|&i| mobility[i] != 0.0)
-                    .map(|i| AccelerationRow {
-                        mobility: mobility[i],
-                        forcing: (model.forcing_cos[i], model.forcing_sin[i]),
-                        coefficients: (0..n)
-                            .flat_map(|j| {
-                                let k = (j, model.stiffness[(i, j)]);
-                                let c = (n + j, model.damping.as_ref().map_or(0.0, |c| c[(i, j)]));
-                                [k, c]
-                            })
-                            .filter(|&(_, v)| v != 0.0)
-                            .collect(),
-                    })
-                    .collect();
-                let (model_d, model_mobility) = &model.directions[index];
-                let nonzero = |v: &DVector<f64>| -> Vec<(usize, f64)> {
-                    v.iter()
-                        .enumerate()
-                        .filter(|&(_, &x)| x != 0.0)
-                        .map(|(i, &x)| (i, x))
-                        .collect()
-                };
-                let (direction_entries, impact_mobility) = (nonzero(&d), nonzero(model_mobility));
-                let mut contact_entries: Vec<usize> = direction_entries
-                    .iter()
-                    .chain(&impact_mobility)
-                    .map(|&(i, _)| n + i)
-                    .collect();
-                contact_entries.sort_unstable();
-                contact_entries.dedup();
-                let (weights, forcing_size) = acceleration_bound(&acceleration_rows, 2 * n);
-                let acceleration_sizes = free.kept_entry_sizes(&weights);
-                let impact_weights = impact_mobility
-                    .iter()
-                    .map(|&(i, _)| weights[n + i])
-                    .collect();
-                let contact_modes = contact_modes(&free, &contact_entries, &acceleration_sizes);
-                Pair {
-                    direction_entries,
-                    impact_mobility,
-                    contact_entries,
-                    contact_modes,
-                    impact_weights,
-                    forcing_size,
-                    impact_compliance: model_d.dot(model_mobility),
-                    spec: *c,
-                    direction: d,
-                    mobility,
-                    compliance,
-                    drag,
-                    relative_displacement,
-                    acceleration_rows,
-                }
-            })
+            .map(|(index, c)| Pair::new(model, (&free, &minv), (index, c), omega))
             .collect();
         let displacements = (0..n)
             .map(|j| {
@@ -368,8 +307,11 @@ impl<'m> Engine<'m> {
                 pairs.iter().map(|p| &p.relative_displacement).collect();
             free.joint_weights(&functionals)
         });
-        // The searches' fastest rate as `|re| + |im|`: at most `√2 |λ|`, or the forcing's `ω`.
-        let fastest = (std::f64::consts::SQRT_2 * free.fastest_rate()).max(omega);
+        // The searches' fastest rate as `|re| + |im|`: at most `√2 |λ|`, or the forcing's
+        // fastest harmonic `kω`.
+        let top_order = model.active_harmonics().map(|h| h.order).max().unwrap_or(1);
+        let fastest =
+            (std::f64::consts::SQRT_2 * free.fastest_rate()).max(omega * top_order as f64);
         // One pair only: with several, searching their summaries past the section cost more
         // than the flights it saved (chain8, callgrind: +3.5 %).
         let carries_sections = model.contacts.len() == 1
@@ -428,6 +370,96 @@ impl<'m> Engine<'m> {
         let (sin, cos) = crate::trig::sin_cos(self.omega * tau);
         self.forcing.set((tau, sin, cos));
         (sin, cos)
+    }
+}
+
+impl Pair {
+    /// The geometry of contact pair `c` (the model's `index`-th) in the free flow `free`
+    /// (`minv` = `M⁻¹`) at forcing frequency `omega`.
+    fn new(
+        model: &Model,
+        (free, minv): (&LinearFlow, &DMatrix<f64>),
+        (index, c): (usize, &ContactPair),
+        omega: f64,
+    ) -> Pair {
+        let n = model.dofs();
+        let d = c.direction(n);
+        let mut position = DVector::zeros(2 * n);
+        position.rows_mut(0, n).copy_from(&d);
+        let mobility = minv * &d;
+        let compliance = d.dot(&mobility);
+        let relative_displacement = free.functional(&position);
+        let drag = match &model.damping {
+            Some(damping) => minv * (damping * &mobility),
+            None => DVector::zeros(n),
+        };
+        let acceleration_rows: Vec<AccelerationRow> = (0..n)
+            .filter(|&i| mobility[i] != 0.0)
+            .map(|i| AccelerationRow {
+                mobility: mobility[i],
+                forcing: (model.forcing_cos[i], model.forcing_sin[i]),
+                coefficients: (0..n)
+                    .flat_map(|j| {
+                        let k = (j, model.stiffness[(i, j)]);
+                        let c = (n + j, model.damping.as_ref().map_or(0.0, |c| c[(i, j)]));
+                        [k, c]
+                    })
+                    .filter(|&(_, v)| v != 0.0)
+                    .collect(),
+            })
+            .collect();
+        let (model_d, model_mobility) = &model.directions[index];
+        let nonzero = |v: &DVector<f64>| -> Vec<(usize, f64)> {
+            v.iter()
+                .enumerate()
+                .filter(|&(_, &x)| x != 0.0)
+                .map(|(i, &x)| (i, x))
+                .collect()
+        };
+        let (direction_entries, impact_mobility) = (nonzero(&d), nonzero(model_mobility));
+        let mut contact_entries: Vec<usize> = direction_entries
+            .iter()
+            .chain(&impact_mobility)
+            .map(|&(i, _)| n + i)
+            .collect();
+        contact_entries.sort_unstable();
+        contact_entries.dedup();
+        let (weights, mut forcing_size) = acceleration_bound(&acceleration_rows, 2 * n);
+        let harmonic_forcing: Vec<(f64, f64, f64)> = model
+            .active_harmonics()
+            .map(|h| {
+                let rate = h.order as f64 * omega;
+                (rate, mobility.dot(&h.cos), mobility.dot(&h.sin))
+            })
+            .collect();
+        for h in model.active_harmonics() {
+            forcing_size += (0..n)
+                .map(|i| mobility[i].abs() * (h.cos[i].abs() + h.sin[i].abs()))
+                .sum::<f64>();
+        }
+        let acceleration_sizes = free.kept_entry_sizes(&weights);
+        let impact_weights = impact_mobility
+            .iter()
+            .map(|&(i, _)| weights[n + i])
+            .collect();
+        let contact_modes = contact_modes(free, &contact_entries, &acceleration_sizes);
+        Pair {
+            direction_entries,
+            impact_mobility,
+            contact_entries,
+            contact_modes,
+            impact_weights,
+            forcing_size,
+            harmonic_forcing,
+            impact_compliance: model_d.dot(model_mobility),
+            spec: *c,
+            direction: d,
+            mobility,
+            compliance,
+            drag,
+            relative_displacement,
+            acceleration_rows,
+        }
     }
 }
 

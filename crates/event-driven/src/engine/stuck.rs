@@ -30,11 +30,14 @@ pub(super) struct Stuck {
 }
 
 /// The contact force of one held pair:
-/// `λ = state · (ũ, ũ̇) + constant + Re{harmonic e^{iωt}}`; held while `side · λ < 0`.
+/// `λ = state · (ũ, ũ̇) + constant + Re{harmonic e^{iωt}} + Σ_k Re{H_k e^{ikωt}}`; held while
+/// `side · λ < 0`.
 pub(super) struct HeldForce {
     pub(super) state: DVector<f64>,
     pub(super) constant: f64,
     pub(super) harmonic: nalgebra::Complex<f64>,
+    /// Per higher harmonic of the forcing, its rate `kω` and `H_k`.
+    pub(super) harmonics: Vec<(f64, nalgebra::Complex<f64>)>,
 }
 
 impl Engine<'_> {
@@ -131,16 +134,9 @@ impl Engine<'_> {
             let x = ddt.try_inverse().ok_or_else(dependent)? * &gaps;
             constraint.transpose() * x
         };
-        let m = &self.model.mass;
         let k = &self.model.stiffness;
         let tt = t.transpose();
-        let mr = &tt * m * &t;
-        let kr = &tt * k * &t;
-        let cr = self.model.damping.as_ref().map(|c| &tt * c * &t);
-        let fc = &tt * &self.model.forcing_cos;
-        let fs = &tt * &self.model.forcing_sin;
-        let f0 = -(&tt * (k * &offset));
-        let flow = LinearFlow::new(&mr, cr.as_ref(), &kr, &fc, &fs, &f0, self.omega)?;
+        let flow = self.reduced_flow(&t, &offset)?;
         // λ = −W⁻¹DM⁻¹(f − C u̇ − K u), u = Tũ + u*, u̇ = Tũ̇.
         let mob = mobilities.transpose();
         let a = solve(&mob * k * &t);
@@ -150,6 +146,14 @@ impl Engine<'_> {
             solve(&mob * DMatrix::from_column_slice(n, 1, self.model.forcing_cos.as_slice()));
         let fsin =
             solve(&mob * DMatrix::from_column_slice(n, 1, self.model.forcing_sin.as_slice()));
+        // Per harmonic, `(kω, W⁻¹DM⁻¹f_c,k, W⁻¹DM⁻¹f_s,k)`, as the fundamental's.
+        let column =
+            |f: &DVector<f64>| solve(&mob * DMatrix::from_column_slice(n, 1, f.as_slice()));
+        let harmonic_parts: Vec<(f64, DMatrix<f64>, DMatrix<f64>)> = self
+            .model
+            .active_harmonics()
+            .map(|h| (h.order as f64 * self.omega, column(&h.cos), column(&h.sin)))
+            .collect();
         let forces = (0..h)
             .map(|row| {
                 let mut state = DVector::zeros(2 * nr);
@@ -161,6 +165,12 @@ impl Engine<'_> {
                     state,
                     constant: constants[(row, 0)],
                     harmonic: nalgebra::Complex::new(-fcos[(row, 0)], fsin[(row, 0)]),
+                    harmonics: harmonic_parts
+                        .iter()
+                        .map(|(rate, c, s)| {
+                            (*rate, nalgebra::Complex::new(-c[(row, 0)], s[(row, 0)]))
+                        })
+                        .collect(),
                 }
             })
             .collect();
@@ -185,6 +195,43 @@ impl Engine<'_> {
             reaction,
         });
         Ok(self.stuck.len() - 1)
+    }
+
+    /// The reduced flow on `u = T ũ + u*` (`basis` `T`, `offset` `u*`):
+    /// `TᵀMT ũ̈ + TᵀCT ũ̇ + TᵀKT ũ = Tᵀ(f − K u*)`, every harmonic of the forcing projected
+    /// as the fundamental is (a harmonic along the held directions only forces the contact
+    /// forces, and leaves the reduced flow).
+    ///
+    /// # Errors
+    /// [`FlowError`] when the reduced flow does not exist.
+    fn reduced_flow(
+        &self,
+        basis: &DMatrix<f64>,
+        offset: &DVector<f64>,
+    ) -> Result<LinearFlow, FlowError> {
+        let (t, m, k) = (basis, &self.model.mass, &self.model.stiffness);
+        let tt = t.transpose();
+        let mr = &tt * m * t;
+        let kr = &tt * k * t;
+        let cr = self.model.damping.as_ref().map(|c| &tt * c * t);
+        let fc = &tt * &self.model.forcing_cos;
+        let fs = &tt * &self.model.forcing_sin;
+        let f0 = -(&tt * (k * offset));
+        let harmonics: Vec<crate::Harmonic> = self
+            .model
+            .active_harmonics()
+            .map(|h| crate::Harmonic {
+                order: h.order,
+                cos: &tt * &h.cos,
+                sin: &tt * &h.sin,
+            })
+            .collect();
+        LinearFlow::with_harmonics(
+            (&mr, cr.as_ref(), &kr),
+            (&fc, &fs, &f0),
+            &harmonics,
+            self.omega,
+        )
     }
 
     /// The held set after pair `pair` sticks on `side` in `mode`.
@@ -299,6 +346,18 @@ impl Engine<'_> {
                 ],
                 rate: nalgebra::Complex::new(0.0, self.omega),
             });
+            for &(rate, harmonic) in &force.harmonics {
+                let (sin, cos) = crate::trig::sin_cos(rate * tau);
+                lambda.terms.push(crate::expsum::Term {
+                    poly: [
+                        harmonic * nalgebra::Complex::new(cos, sin),
+                        Default::default(),
+                        Default::default(),
+                        Default::default(),
+                    ],
+                    rate: nalgebra::Complex::new(0.0, rate),
+                });
+            }
             let hold = if side > 0 { lambda.negated() } else { lambda };
             // `hold` ≥ 0 at the start: the release is its first exit from [0, ∞).
             if let Some((s, _)) = hold.first_exit(

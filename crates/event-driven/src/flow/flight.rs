@@ -27,15 +27,32 @@ pub(super) enum Form<'a> {
         deviation: Vec<C64>,
         phase: C64,
     },
-    /// `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`, finite at resonance. The forcing
-    /// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`. `start`
-    /// holds the modes' `z(0)`, then, with rigid modes, each one's start packed in two
-    /// entries ([`RigidModes::start`](super::rigid::RigidModes::start)).
-    General {
-        start: DVector<C64>,
-        plus: DVector<C64>,
-        minus: DVector<C64>,
-    },
+    /// `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`, finite at resonance ([`GeneralStart`]),
+    /// boxed: a flight is moved by value through the event loop, and the steady-response
+    /// form's is the smaller.
+    General(Box<GeneralStart>),
+}
+
+/// A flight in the general form: `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`. The forcing
+/// coefficients carry the start phase: `G⁺ = g⁺ e^{iωt₀}`, `G⁻ = g⁻ e^{−iωt₀}`, and likewise
+/// each higher harmonic's at `μ = ±ikω`. `start` holds the modes' `z(0)`, then, with rigid
+/// modes, each one's start packed in `2 +` harmonics entries
+/// ([`RigidModes::start`](super::rigid::RigidModes::start)).
+#[derive(Debug, Clone)]
+pub(super) struct GeneralStart {
+    pub(super) start: DVector<C64>,
+    pub(super) plus: DVector<C64>,
+    pub(super) minus: DVector<C64>,
+    pub(super) harmonics: Vec<HarmonicStart>,
+}
+
+/// One higher harmonic of a flight in the general form: its rate `ikω` and its modal forcing
+/// at the flight's start, `G⁺_k = g⁺_k e^{ikωt₀}`, `G⁻_k = g⁻_k e^{−ikωt₀}`.
+#[derive(Debug, Clone)]
+pub(super) struct HarmonicStart {
+    pub(super) rate: C64,
+    pub(super) plus: DVector<C64>,
+    pub(super) minus: DVector<C64>,
 }
 
 /// `φ(λ, μ, s) = ∫₀ˢ e^{λ(s−σ)} e^{μσ} dσ` as terms in `s`, resonance-safe.
@@ -78,10 +95,11 @@ fn phi_shared(lambda: C64, el: C64, mu: C64, em: C64, s: f64, period: f64) -> C6
 impl Flight<'_> {
     /// The flight's storage for its modal deviation (empty for the resonance-safe form), for
     /// the next [`LinearFlow::flight_at_phase`].
+    #[inline]
     pub(crate) fn into_storage(self) -> Vec<C64> {
         match self.form {
             Form::Steady { deviation, .. } => deviation,
-            Form::General { .. } => Vec::new(),
+            Form::General(_) => Vec::new(),
         }
     }
 
@@ -138,10 +156,18 @@ impl Flight<'_> {
                     f.add_mode(k, zk, y.as_mut_slice());
                 }
             }
-            Form::General { start, plus, minus } => {
+            Form::General(general) => {
+                let GeneralStart {
+                    start,
+                    plus,
+                    minus,
+                    harmonics,
+                } = &**general;
                 let w = C64::new(0.0, f.omega);
                 let em = ep.conj();
                 let zero = C64::new(0.0, 0.0);
+                // Each harmonic's `e^{ikωs}`, once for all modes.
+                let harmonic_exps: Vec<C64> = harmonics.iter().map(|h| cexp(h.rate, s)).collect();
                 for &(k, weight) in &f.kept {
                     let l = f.rates[k];
                     let el = cexp(l, s);
@@ -152,12 +178,17 @@ impl Flight<'_> {
                         zk += f.constant[k]
                             * phi_shared(l, el, zero, C64::new(1.0, 0.0), s, f.period);
                     }
+                    for (h, &e) in harmonics.iter().zip(&harmonic_exps) {
+                        zk += h.plus[k] * phi_shared(l, el, h.rate, e, s, f.period)
+                            + h.minus[k] * phi_shared(l, el, -h.rate, e.conj(), s, f.period);
+                    }
                     let zk = zk * weight;
                     f.add_mode(k, zk, y.as_mut_slice());
                 }
                 if let Some(modes) = &f.rigid {
                     let starts = &start.as_slice()[f.rates.len()..];
-                    modes.add_state(starts, s, ep, f.omega, y.as_mut_slice());
+                    let exps = (ep, &harmonic_exps[..]);
+                    modes.add_state(starts, s, exps, f.omega, y.as_mut_slice());
                 }
             }
         }
@@ -397,8 +428,17 @@ impl Flight<'_> {
                     });
                 }
             }
-            Form::General { start, plus, minus } => {
-                let mut terms = Vec::with_capacity(4 * f.rates.len() + 2 * f.rigid_modes());
+            Form::General(general) => {
+                let GeneralStart {
+                    start,
+                    plus,
+                    minus,
+                    harmonics,
+                } = &**general;
+                let per_mode = 4 + 4 * harmonics.len();
+                let per_rigid = 2 + harmonics.len();
+                let mut terms =
+                    Vec::with_capacity(per_mode * f.rates.len() + per_rigid * f.rigid_modes());
                 for (k, &l) in f.rates.iter().enumerate() {
                     let wk = weights[k];
                     terms.push(Term {
@@ -409,6 +449,11 @@ impl Flight<'_> {
                     phi_terms(l, -w, f.period, wk * minus[k], &mut terms);
                     if f.constant[k] != zero {
                         phi_terms(l, zero, f.period, wk * f.constant[k], &mut terms);
+                    }
+                    // Each harmonic's particular terms, resonance-safe at its own rate `±ikω`.
+                    for h in harmonics {
+                        phi_terms(l, h.rate, f.period, wk * h.plus[k], &mut terms);
+                        phi_terms(l, -h.rate, f.period, wk * h.minus[k], &mut terms);
                     }
                 }
                 if let Some(modes) = &f.rigid {

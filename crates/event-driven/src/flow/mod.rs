@@ -26,11 +26,22 @@
 //! block `(1, s; 0, 1)`. A body held by a dashpot alone (`K r = 0`, `C r ≠ 0`) is no rigid
 //! mode: its zero rate is simple, with the eigenvector `(r, 0)`, and the modal flow holds it.
 //!
+//! Higher harmonics of the forcing (`Re(F_k e^{ikωt})`, integer `k ≥ 2`) enter as the
+//! fundamental does, each with its own modal forcing `g^±_k` on `e^{±ikωt}`: a mode gains
+//! `Σ_k g^±_k φ(λ, ±ikω, s)`, resonance-safe per order (the `s e^{λs}` form where
+//! `|ikω − λ| T` is below `10⁻⁴`), and a rigid mode the particular solution `−F_k/(kω)²`
+//! (its rate 0 meets no `kω`). A flow with harmonics flies in the general form, so the
+//! steady-response form, its summaries, carries and packed kernels stay those of the
+//! forcing at `ω` alone, unchanged; a functional of a flight gains one term of rate `ikω`
+//! per harmonic, which the event search bounds as any other term (its derivatives scale
+//! with `kω`), so the first contact keeps its guarantee.
+//!
 //! This module builds the flow (eigen-decomposition, modal forcing, steady response); a
 //! flight from a state and its evaluation (states, modal coordinates, exponential sums and
 //! their summaries) are in `flight`, and the AVX kernels of both in `packed`.
 
 mod flight;
+mod modes;
 #[cfg(target_arch = "x86_64")]
 mod packed;
 mod rigid;
@@ -39,7 +50,12 @@ mod tests;
 
 use crate::expsum::{ModeTerm, LANES};
 pub use flight::Flight;
-use flight::Form;
+use flight::{Form, GeneralStart, HarmonicStart};
+pub(crate) use modes::eigenvalues;
+use modes::{
+    conservative_rates, first_order, joint_modes, kept_modes, kept_peaks, modal_inverse,
+    pencil_modes,
+};
 use nalgebra::{Complex, DMatrix, DVector};
 #[cfg(target_arch = "x86_64")]
 use packed::{add_column, add_scaled_avx, modal_coordinates_avx, AVX_COLUMN, PACKED_MODES};
@@ -82,19 +98,6 @@ pub enum FlowError {
 /// Below this `|μ − λ|·T` a forcing rate counts as resonant with a mode.
 const RESONANCE: f64 = 1e-4;
 
-/// A modal basis whose condition number (Frobenius) reaches this is defective (e.g. exactly
-/// critically damped): modal coordinates would lose more than ten of the sixteen digits.
-const DEFECTIVE_CONDITION: f64 = 1e10;
-
-/// Iteration cap of each Schur decomposition tried for the eigenvalues (nalgebra's QR
-/// iterations; a convergent one takes a few per eigenvalue).
-const SCHUR_ITERATIONS: usize = 1000;
-
-/// Shifts (times the matrix's largest entry) of the retries when the Schur iteration on the
-/// matrix and its transpose fails: a shift moves the spectrum off a symmetric configuration
-/// that stalls the iteration; 0.37 is deliberately not a simple fraction.
-const SCHUR_SHIFTS: [f64; 2] = [0.5, -0.37];
-
 /// The modal flow of one linear system at one forcing frequency.
 #[derive(Debug, Clone)]
 pub struct LinearFlow {
@@ -135,12 +138,25 @@ pub struct LinearFlow {
     /// rate zero). Formed once: building them and checking the rates at every flight would
     /// cost a chain some 3 % of its instructions.
     joint_modes: Option<Vec<ModeTerm>>,
-    /// The forced steady response, when no mode is resonant with the forcing and there is
-    /// no rigid mode.
+    /// The higher harmonics of the forcing (orders `k ≥ 2`, none of zero amplitude), each with
+    /// its modal forcing on `e^{±ikωt}`; empty for a forcing at `ω` alone.
+    harmonics: Vec<FlowHarmonic>,
+    /// The forced steady response, when no mode is resonant with the forcing, there is no
+    /// rigid mode and the forcing has no higher harmonic.
     steady: Option<SteadyResponse>,
     /// The rigid modes ([`rigid`]), if any: the modes above are then the elastic ones only
     /// (`2(n − r)` of them), `V⁻¹` their rows of `W⁻¹`.
     rigid: Option<Box<rigid::RigidModes>>,
+}
+
+/// One higher harmonic of a flow's forcing, `f_c,k cos kωt + f_s,k sin kωt`: its rate `kω`
+/// and its modal forcing `g⁺_k`, `g⁻_k` on `e^{ikωt}` and `e^{−ikωt}`, as the fundamental's.
+#[derive(Debug, Clone)]
+struct FlowHarmonic {
+    order: u32,
+    rate: f64,
+    plus: DVector<C64>,
+    minus: DVector<C64>,
 }
 
 /// The forced steady response in modal coordinates,
@@ -199,122 +215,6 @@ pub(crate) struct JointWeights {
     constant: Vec<f64>,
 }
 
-/// The inverse of the elastic modes and, with rigid modes, their coordinates.
-type ModalInverse = (DMatrix<C64>, Option<Box<rigid::RigidModes>>);
-/// The eigenvectors `(φ, λφ)` of the rates `rates`, as columns: each `φ` the right singular
-/// vector of the smallest singular value of the pencil `λ²M + λC + K`.
-///
-/// # Errors
-/// [`FlowError::Defective`] when a singular value decomposition fails.
-fn pencil_modes(
-    mass: &DMatrix<f64>,
-    damping: Option<&DMatrix<f64>>,
-    stiffness: &DMatrix<f64>,
-    rates: &[C64],
-) -> Result<DMatrix<C64>, FlowError> {
-    let n = mass.nrows();
-    let mut modes = DMatrix::<C64>::zeros(2 * n, rates.len());
-    let mc = mass.map(|v| C64::new(v, 0.0));
-    let kc = stiffness.map(|v| C64::new(v, 0.0));
-    let cc = damping.map(|c| c.map(|v| C64::new(v, 0.0)));
-    for (k, &lambda) in rates.iter().enumerate() {
-        let mut pencil = &mc * (lambda * lambda) + &kc;
-        if let Some(c) = &cc {
-            pencil += c * lambda;
-        }
-        let svd = pencil.svd(false, true);
-        let v_t = svd.v_t.ok_or(FlowError::Defective(f64::INFINITY))?;
-        let (imin, _) =
-            svd.singular_values
-                .iter()
-                .enumerate()
-                .fold(
-                    (0, f64::INFINITY),
-                    |acc, (i, &s)| if s < acc.1 { (i, s) } else { acc },
-                );
-        let shape: DVector<C64> = v_t.row(imin).adjoint();
-        for i in 0..n {
-            modes[(i, k)] = shape[i];
-            modes[(n + i, k)] = shape[i] * lambda;
-        }
-    }
-    Ok(modes)
-}
-
-/// `V⁻¹` of the eigenvectors `modes` (elastic rates only), and with rigid `shapes` the rigid
-/// modes' own coordinates: `W = [V_e | (R, 0) | (0, R)]` is inverted once, the elastic
-/// coordinates its first `elastic` rows, the rigid positions and velocities its last `2r`.
-///
-/// # Errors
-/// [`FlowError::Defective`] when the basis is singular or its condition reaches
-/// [`DEFECTIVE_CONDITION`].
-fn modal_inverse(
-    modes: &DMatrix<C64>,
-    shapes: DMatrix<f64>,
-    elastic: usize,
-    minv: &DMatrix<f64>,
-    forcing: (&DVector<f64>, &DVector<f64>, &DVector<f64>),
-    omega: f64,
-) -> Result<ModalInverse, FlowError> {
-    let n = modes.nrows() / 2;
-    if shapes.ncols() == 0 {
-        let inverse = modes
-            .clone()
-            .try_inverse()
-            .ok_or(FlowError::Defective(f64::INFINITY))?;
-        let condition = modes.norm() * inverse.norm();
-        if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
-            return Err(FlowError::Defective(condition));
-        }
-        Ok((inverse, None))
-    } else {
-        // `W = [V_e | (R, 0) | (0, R)]`: the elastic coordinates are the first rows of
-        // `W⁻¹`, the rigid positions and velocities its last `2r`.
-        let r = shapes.ncols();
-        let mut basis = DMatrix::<C64>::zeros(2 * n, 2 * n);
-        basis.view_mut((0, 0), (2 * n, elastic)).copy_from(modes);
-        for j in 0..r {
-            for i in 0..n {
-                let v = C64::new(shapes[(i, j)], 0.0);
-                basis[(i, elastic + j)] = v;
-                basis[(n + i, elastic + r + j)] = v;
-            }
-        }
-        let full = basis
-            .clone()
-            .try_inverse()
-            .ok_or(FlowError::Defective(f64::INFINITY))?;
-        let condition = basis.norm() * full.norm();
-        if condition.is_nan() || condition >= DEFECTIVE_CONDITION {
-            return Err(FlowError::Defective(condition));
-        }
-        let rows = full.rows(elastic, 2 * r).into_owned();
-        let rigid = rigid::RigidModes::new(shapes, &rows, minv, forcing, omega);
-        Ok((full.rows(0, elastic).into_owned(), Some(Box::new(rigid))))
-    }
-}
-
-/// The modes that carry a real motion, with their weights: a real system has real rates and
-/// exact conjugate pairs (real Schur form), each pair folded into one mode of weight 2;
-/// anything else keeps every mode.
-fn kept_modes(rates: &[C64]) -> Vec<(usize, f64)> {
-    let partner = |k: usize| rates.iter().position(|r| *r == rates[k].conj());
-    let pairs_exact = rates
-        .iter()
-        .enumerate()
-        .all(|(k, r)| r.im == 0.0 || partner(k).is_some());
-    if pairs_exact {
-        rates
-            .iter()
-            .enumerate()
-            .filter(|(_, r)| r.im >= 0.0)
-            .map(|(k, r)| (k, if r.im > 0.0 { 2.0 } else { 1.0 }))
-            .collect()
-    } else {
-        (0..rates.len()).map(|k| (k, 1.0)).collect()
-    }
-}
-
 /// Whether a forcing rate `μ = λ + δ` counts as resonant with the mode of rate `λ`.
 fn resonant(delta: C64, period: f64) -> bool {
     (delta.re.abs() + delta.im.abs()) * period <= RESONANCE
@@ -328,88 +228,6 @@ fn cexp(mu: C64, s: f64) -> C64 {
     C64::new(r * cos, r * sin)
 }
 
-/// The eigenvalues of the system matrix `a`, by the real Schur form with a bounded QR
-/// iteration; when it does not converge, on the transpose, then on shifted copies `a + σI`
-/// (nalgebra's unbounded iteration can cycle forever on some finite matrices).
-pub(crate) fn eigenvalues(a: &DMatrix<f64>) -> Result<Vec<C64>, FlowError> {
-    if !a.iter().all(|v| v.is_finite()) {
-        return Err(FlowError::NotFinite);
-    }
-    let n = a.nrows();
-    // A system of no coordinates (a structure held on its stops in every direction) has no
-    // rates.
-    if n == 0 {
-        return Ok(Vec::new());
-    }
-    let scale = a.amax().max(f64::MIN_POSITIVE);
-    let identity = DMatrix::<f64>::identity(n, n);
-    for (matrix, shift) in [
-        (a.clone(), 0.0),
-        (a.transpose(), 0.0),
-        (
-            a + &identity * (SCHUR_SHIFTS[0] * scale),
-            SCHUR_SHIFTS[0] * scale,
-        ),
-        (
-            a - &identity * (-SCHUR_SHIFTS[1] * scale),
-            SCHUR_SHIFTS[1] * scale,
-        ),
-    ] {
-        if let Some(schur) =
-            nalgebra::linalg::Schur::try_new(matrix, f64::EPSILON, SCHUR_ITERATIONS)
-        {
-            return Ok(schur
-                .complex_eigenvalues()
-                .iter()
-                .map(|l| l - shift)
-                .collect());
-        }
-    }
-    Err(FlowError::NoConvergence)
-}
-
-/// Real parts of an undamped system's oscillating rates at most this many times `ε·|μ|` are
-/// rounding (the Schur form leaves a few `1e-17` where they are zero) and are made exactly 0.
-/// Far above the Schur form's rounding (a few `ε·|μ|`), far below any real damping's share
-/// (a damping ratio of `1e-13`).
-pub(crate) const CONSERVATIVE_ROUNDING: f64 = 1e3;
-
-/// The rates of a system with no damping terms: its oscillating modes (`im μ ≠ 0`) conserve
-/// energy, so a real part at rounding level ([`CONSERVATIVE_ROUNDING`]) is made exactly 0;
-/// conjugate pairs stay exact conjugates. An undamped flight then counts as bounded and is
-/// searched on the fixed grid of cached exponentials, not the horizon grid's fresh ones (the
-/// `steady_sweep` example, half its runs undamped, shows the gain: see the performance page,
-/// `docs/performance.md`).
-fn conservative_rates(rates: &mut [C64]) {
-    for r in rates.iter_mut() {
-        if r.im != 0.0 && r.re.abs() <= CONSERVATIVE_ROUNDING * f64::EPSILON * r.norm() {
-            r.re = 0.0;
-        }
-    }
-}
-
-/// `M⁻¹` and the first-order system matrix `A = [0 I; −M⁻¹K −M⁻¹C]` (no `C` block without
-/// `damping`) of `M ü + C u̇ + K u`.
-///
-/// # Errors
-/// [`FlowError::SingularMass`] when `mass` has no inverse.
-fn first_order(
-    mass: &DMatrix<f64>,
-    damping: Option<&DMatrix<f64>>,
-    stiffness: &DMatrix<f64>,
-) -> Result<(DMatrix<f64>, DMatrix<f64>), FlowError> {
-    let n = mass.nrows();
-    let minv = mass.clone().try_inverse().ok_or(FlowError::SingularMass)?;
-    let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
-    a.view_mut((0, n), (n, n)).fill_with_identity();
-    a.view_mut((n, 0), (n, n))
-        .copy_from(&(-(&minv * stiffness)));
-    if let Some(c) = damping {
-        a.view_mut((n, n), (n, n)).copy_from(&(-(&minv * c)));
-    }
-    Ok((minv, a))
-}
-
 impl LinearFlow {
     /// The free flow of `model` (its masses, dampings, stiffnesses and forcing, no constant
     /// force) at forcing frequency `omega`: the flight between its events.
@@ -417,19 +235,24 @@ impl LinearFlow {
     /// # Errors
     /// As [`LinearFlow::new`].
     pub(crate) fn of_model(model: &crate::Model, omega: f64) -> Result<Self, FlowError> {
-        LinearFlow::new(
-            &model.mass,
-            model.damping.as_ref(),
-            &model.stiffness,
-            &model.forcing_cos,
-            &model.forcing_sin,
-            &DVector::zeros(model.mass.nrows()),
+        let harmonics: Vec<crate::Harmonic> = model.active_harmonics().cloned().collect();
+        LinearFlow::with_harmonics(
+            (&model.mass, model.damping.as_ref(), &model.stiffness),
+            (
+                &model.forcing_cos,
+                &model.forcing_sin,
+                &DVector::zeros(model.mass.nrows()),
+            ),
+            &harmonics,
             omega,
         )
     }
 
     /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + f₀` (`damping` `None`: no
     /// damping terms at all).
+    ///
+    /// # Errors
+    /// As [`LinearFlow::with_harmonics`].
     pub fn new(
         mass: &DMatrix<f64>,
         damping: Option<&DMatrix<f64>>,
@@ -439,7 +262,39 @@ impl LinearFlow {
         forcing_constant: &DVector<f64>,
         omega: f64,
     ) -> Result<Self, FlowError> {
+        LinearFlow::with_harmonics(
+            (mass, damping, stiffness),
+            (forcing_cos, forcing_sin, forcing_constant),
+            &[],
+            omega,
+        )
+    }
+
+    /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + Σ_k (f_c,k cos kωt +
+    /// f_s,k sin kωt) + f₀`, the matrices `(M, C, K)` (`C` `None`: no damping terms at all),
+    /// the forcing `(f_c, f_s, f₀)` and the higher `harmonics` (orders `k ≥ 2`, each vector of
+    /// `n` entries; a harmonic of zero amplitude is left out). Without harmonics it is the
+    /// flow of [`LinearFlow::new`], bit for bit. With them every flight is in the
+    /// resonance-safe general form: each harmonic adds to mode `λ` the particular terms
+    /// `g^±_k φ(λ, ±ikω, s)`, finite (secular) where `kω` meets an undamped natural
+    /// frequency, and to each rigid mode the particular solution `−F_k/(kω)²`.
+    ///
+    /// # Errors
+    /// [`FlowError::SingularMass`], [`FlowError::Defective`], [`FlowError::NotFinite`],
+    /// [`FlowError::NoConvergence`] and [`FlowError::UnbalancedRigidModes`] when the modal
+    /// flow does not exist.
+    ///
+    /// # Panics
+    /// If a harmonic's vectors are not of `n` entries ([`crate::Model::with_harmonics`]
+    /// checks them).
+    pub fn with_harmonics(
+        (mass, damping, stiffness): (&DMatrix<f64>, Option<&DMatrix<f64>>, &DMatrix<f64>),
+        (forcing_cos, forcing_sin, forcing_constant): (&DVector<f64>, &DVector<f64>, &DVector<f64>),
+        harmonics: &[crate::Harmonic],
+        omega: f64,
+    ) -> Result<Self, FlowError> {
         let n = mass.nrows();
+        let harmonics: Vec<&crate::Harmonic> = harmonics.iter().filter(|h| !h.is_zero()).collect();
         let (minv, a) = first_order(mass, damping, stiffness)?;
         // The rigid modes apart (`rigid`): the elastic rates are the reduced system's.
         let shapes = rigid::shapes(stiffness, damping)?;
@@ -455,7 +310,18 @@ impl LinearFlow {
         }
         let modes = pencil_modes(mass, damping, stiffness, &rates)?;
         let forcing = (forcing_cos, forcing_sin, forcing_constant);
-        let (inverse, rigid) = modal_inverse(&modes, shapes, rates.len(), &minv, forcing, omega)?;
+        let rigid_harmonics: Vec<rigid::HarmonicForce<'_>> = harmonics
+            .iter()
+            .map(|h| (h.order as f64 * omega, &h.cos, &h.sin))
+            .collect();
+        let (inverse, rigid) = modal_inverse(
+            &modes,
+            shapes,
+            rates.len(),
+            &minv,
+            (forcing, &rigid_harmonics),
+            omega,
+        )?;
         let lift = |f: DVector<C64>| {
             let mut b = DVector::<C64>::zeros(2 * n);
             let accel = minv.map(|v| C64::new(v, 0.0)) * f;
@@ -467,6 +333,19 @@ impl LinearFlow {
         let plus = lift(f.clone());
         let minus = lift(f.map(|c| c.conj()));
         let constant = lift(forcing_constant.map(|v| C64::new(v, 0.0)));
+        // Each harmonic as the fundamental: `F_k = (f_c,k − i f_s,k)/2` on `e^{ikωt}`.
+        let harmonics: Vec<FlowHarmonic> = harmonics
+            .iter()
+            .map(|h| {
+                let f = DVector::from_fn(n, |i, _| C64::new(h.cos[i], -h.sin[i]) * 0.5);
+                FlowHarmonic {
+                    order: h.order,
+                    rate: h.order as f64 * omega,
+                    plus: lift(f.clone()),
+                    minus: lift(f.map(|c| c.conj())),
+                }
+            })
+            .collect();
         let period = std::f64::consts::TAU / omega;
         let kept = kept_modes(&rates);
         let kept_sizes: Vec<(f64, f64)> = kept
@@ -478,8 +357,10 @@ impl LinearFlow {
             .collect();
         let w = C64::new(0.0, omega);
         let has_constant = constant.iter().any(|c| *c != C64::default());
-        // A flow with rigid modes flies in the general form, which carries them.
+        // A flow with rigid modes or higher harmonics flies in the general form, which carries
+        // them.
         let steady = (rigid.is_none()
+            && harmonics.is_empty()
             && rates.iter().all(|&l| {
                 let forced_at_zero = has_constant && resonant(-l, period);
                 !(resonant(w - l, period) || resonant(-w - l, period) || forced_at_zero)
@@ -534,6 +415,7 @@ impl LinearFlow {
             kept_sizes,
             kept_peaks,
             joint_modes,
+            harmonics,
             steady,
             rigid,
         })
@@ -679,20 +561,29 @@ impl LinearFlow {
 
     /// The linear steady state `y(t)` (length `2n`) at time `t`, the motion with every free
     /// transient decayed: each elastic mode's forced response
-    /// `Re Σ_k v_k (g⁺_k e^{iωt}/(iω − λ_k) + g⁻_k e^{−iωt}/(−iω − λ_k) − g⁰_k/λ_k)`. With
+    /// `Re Σ_k v_k (g⁺_k e^{iωt}/(iω − λ_k) + g⁻_k e^{−iωt}/(−iω − λ_k) − g⁰_k/λ_k)`, plus
+    /// the same at `kω` for each higher harmonic (the responses of a linear system add). With
     /// rigid modes the steady state is a family (a rigid mode keeps any constant position):
     /// this is its zero-mean member, each rigid mode on the particular solution
-    /// `q = −Re(F e^{iωt})/ω²` alone.
+    /// `q = −Re(F e^{iωt})/ω² − Σ_k Re(F_k e^{ikωt})/(kω)²` alone.
     ///
     /// # Errors
-    /// [`FlowError::Resonant`] when a mode is resonant with the forcing (or, under a constant
-    /// force, a mode has rate 0), [`FlowError::RigidDrift`] when a constant force acts on a
-    /// rigid mode.
+    /// [`FlowError::Resonant`] when a mode is resonant with the forcing or one of its
+    /// harmonics (or, under a constant force, a mode has rate 0), [`FlowError::RigidDrift`]
+    /// when a constant force acts on a rigid mode.
     pub fn linear_steady_state(&self, t: f64) -> Result<DVector<f64>, FlowError> {
         let m = 2 * self.dofs;
         let w = C64::new(0.0, self.omega);
         let (sin, cos) = crate::trig::sin_cos(self.omega * t);
         let phase = C64::new(cos, sin);
+        let harmonic_phases: Vec<C64> = self
+            .harmonics
+            .iter()
+            .map(|h| {
+                let (sin, cos) = crate::trig::sin_cos(h.rate * t);
+                C64::new(cos, sin)
+            })
+            .collect();
         let has_constant = self.constant.iter().any(|c| *c != C64::default());
         let mut y = DVector::zeros(m);
         for (k, &l) in self.rates.iter().enumerate() {
@@ -704,14 +595,33 @@ impl LinearFlow {
             if has_constant {
                 z -= self.constant[k] / l;
             }
+            for (h, &phase) in self.harmonics.iter().zip(&harmonic_phases) {
+                let wk = C64::new(0.0, h.rate);
+                if resonant(wk - l, self.period) || resonant(-wk - l, self.period) {
+                    return Err(FlowError::Resonant);
+                }
+                z += h.plus[k] / (wk - l) * phase + h.minus[k] / (-wk - l) * phase.conj();
+            }
             for i in 0..m {
                 y[i] += (self.modes[(i, k)] * z).re;
             }
         }
         if let Some(rigid) = &self.rigid {
-            rigid.add_steady_state(phase, self.omega, y.as_mut_slice())?;
+            rigid.add_steady_state((phase, &harmonic_phases), self.omega, y.as_mut_slice())?;
         }
         Ok(y)
+    }
+
+    /// The orders `k ≥ 2` of the flow's higher harmonics, in their order (none of zero
+    /// amplitude); empty for a forcing at `ω` alone.
+    pub fn harmonic_orders(&self) -> Vec<u32> {
+        self.harmonics.iter().map(|h| h.order).collect()
+    }
+
+    /// `e^{ikωt₀}` of each higher harmonic, from the fundamental's phase `e^{iωt₀}`: its
+    /// `k`-th power (by squaring, a few roundings per doubling of `k`).
+    fn harmonic_phases(&self, phase: C64) -> Vec<C64> {
+        self.harmonics.iter().map(|h| phase.powu(h.order)).collect()
     }
 
     /// Whether flights use the steady forced response (no mode resonant with the forcing); at
@@ -787,19 +697,32 @@ impl LinearFlow {
                     phase,
                 }
             }
-            None => Form::General {
-                start: match &self.rigid {
-                    None => &self.inverse * y.map(|v| C64::new(v, 0.0)),
-                    Some(rigid) => rigid.start(
-                        &self.inverse * y.map(|v| C64::new(v, 0.0)),
-                        y,
-                        phase,
-                        self.omega,
-                    ),
-                },
-                plus: self.plus.map(|g| g * phase),
-                minus: self.minus.map(|g| g * phase.conj()),
-            },
+            None => {
+                let harmonic_phases = self.harmonic_phases(phase);
+                Form::General(Box::new(GeneralStart {
+                    start: match &self.rigid {
+                        None => &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                        Some(rigid) => rigid.start(
+                            &self.inverse * y.map(|v| C64::new(v, 0.0)),
+                            y,
+                            (phase, &harmonic_phases),
+                            self.omega,
+                        ),
+                    },
+                    plus: self.plus.map(|g| g * phase),
+                    minus: self.minus.map(|g| g * phase.conj()),
+                    harmonics: self
+                        .harmonics
+                        .iter()
+                        .zip(&harmonic_phases)
+                        .map(|(h, &phase)| HarmonicStart {
+                            rate: C64::new(0.0, h.rate),
+                            plus: h.plus.map(|g| g * phase),
+                            minus: h.minus.map(|g| g * phase.conj()),
+                        })
+                        .collect(),
+                }))
+            }
         };
         Flight { flow: self, form }
     }
@@ -923,42 +846,4 @@ impl LinearFlow {
             constant,
         }
     }
-}
-
-/// The modes of [`LinearFlow::joint_modes`]: each kept mode `(k, weight)` with its rate and
-/// sizes, then the forced part at `iω` as `add_decaying` adds it (weight 1 is exact), every
-/// deviation zero; `None` where [`Flight::summarize_all`] gives no summaries.
-fn joint_modes(
-    rates: &[C64],
-    kept: &[(usize, f64)],
-    kept_sizes: &[(f64, f64)],
-    omega: f64,
-) -> Option<Vec<ModeTerm>> {
-    if rates.iter().any(|r| r.re > 0.0)
-        || kept.is_empty()
-        || kept_sizes.iter().any(|&(rate, _)| rate == 0.0)
-    {
-        return None;
-    }
-    let mut modes: Vec<ModeTerm> = kept
-        .iter()
-        .zip(kept_sizes)
-        .map(|(&(k, weight), &sizes)| ModeTerm::new(rates[k], weight, sizes))
-        .collect();
-    let forcing = C64::new(0.0, omega);
-    let rate = forcing.re.abs() + forcing.im.abs();
-    modes.push(ModeTerm::new(forcing, 1.0, (rate, rate * rate * rate)));
-    Some(modes)
-}
-
-/// [`LinearFlow::kept_peaks`] of the eigenvectors `modes` (as columns, `2n` rows).
-fn kept_peaks(modes: &DMatrix<C64>, kept: &[(usize, f64)]) -> Vec<(f64, f64)> {
-    let n = modes.nrows() / 2;
-    let peak = |k: usize, rows: std::ops::Range<usize>| {
-        rows.map(|i| modes[(i, k)])
-            .fold(0.0, |m: f64, v| m.max(v.re.abs()).max(v.im.abs()))
-    };
-    kept.iter()
-        .map(|&(k, _)| (peak(k, 0..n), peak(k, n..2 * n)))
-        .collect()
 }

@@ -40,6 +40,10 @@
 //! hold as they are (their terms are polynomials times exponentials), and search with their
 //! guarantee (the polynomial's derivatives enter every bound).
 //!
+//! Each higher harmonic `Re(F_k e^{ikωt})` of the forcing adds its own particular solution
+//! `P_k = −F_k/(kω)²` the same way (a rigid mode's rate 0 meets no `kω > 0`): a term of rate
+//! `ikω` in the position, `ikω P_k` in the velocity, and in every functional.
+//!
 //! A constant force on a rigid mode (`g₀ ≠ 0`) accelerates it without bound: a flight stays
 //! exact, but no steady state exists ([`FlowError::RigidDrift`] from
 //! [`LinearFlow::linear_steady_state`](super::LinearFlow::linear_steady_state)). Without it
@@ -48,6 +52,12 @@
 
 use super::{FlowError, C64};
 use nalgebra::{DMatrix, DVector};
+
+/// The fundamental's forcing `(f_c, f_s, f₀)` on `cos ωt`, `sin ωt` and the constant.
+pub(crate) type Forcing<'a> = (&'a DVector<f64>, &'a DVector<f64>, &'a DVector<f64>);
+
+/// A higher harmonic of the forcing: its rate `kω` and amplitudes `(f_c,k, f_s,k)`.
+pub(crate) type HarmonicForce<'a> = (f64, &'a DVector<f64>, &'a DVector<f64>);
 
 /// Singular values of `K` (and of `C` on `K`'s null space) at most this many times the
 /// largest are rounding of an exact zero: a thousand rounding units, far above the few units
@@ -66,6 +76,9 @@ pub(crate) struct RigidModes {
     pub(crate) velocity_rows: DMatrix<f64>,
     /// The particular solution's amplitudes `P_j = −F_j/ω²` of the harmonic forcing.
     pub(crate) forced: Vec<C64>,
+    /// Per higher harmonic, its rate `kω` and its particular solution's amplitudes
+    /// `P_kj = −F_kj/(kω)²`.
+    pub(crate) harmonics: Vec<(f64, Vec<C64>)>,
     /// The constant accelerations `g₀_j` of the constant force.
     pub(crate) constant: Vec<f64>,
 }
@@ -180,12 +193,16 @@ pub(crate) fn reduced_system(
 
 impl RigidModes {
     /// The rigid modes of `shapes` given the rows of `W⁻¹` that extract their coordinates
-    /// (`rows`, `2r × 2n`: positions then velocities), `M⁻¹` and the forcing.
+    /// (`rows`, `2r × 2n`: positions then velocities), `M⁻¹`, the forcing and its higher
+    /// harmonics.
     pub(crate) fn new(
         shapes: DMatrix<f64>,
         rows: &DMatrix<C64>,
         minv: &DMatrix<f64>,
-        (forcing_cos, forcing_sin, forcing_constant): (&DVector<f64>, &DVector<f64>, &DVector<f64>),
+        ((forcing_cos, forcing_sin, forcing_constant), harmonics): (
+            Forcing<'_>,
+            &[HarmonicForce<'_>],
+        ),
         omega: f64,
     ) -> Self {
         let r = shapes.ncols();
@@ -203,16 +220,28 @@ impl RigidModes {
             acceleration(forcing_sin),
             acceleration(forcing_constant),
         );
-        let forced = gc
+        let particular = |gc: &[f64], gs: &[f64], rate: f64| -> Vec<C64> {
+            gc.iter()
+                .zip(gs)
+                .map(|(&c, &s)| -C64::new(c, -s) / (rate * rate))
+                .collect()
+        };
+        let forced = particular(&gc, &gs, omega);
+        let harmonics = harmonics
             .iter()
-            .zip(&gs)
-            .map(|(&c, &s)| -C64::new(c, -s) / (omega * omega))
+            .map(|&(rate, cos, sin)| {
+                (
+                    rate,
+                    particular(&acceleration(cos), &acceleration(sin), rate),
+                )
+            })
             .collect();
         RigidModes {
             shapes,
             position_rows,
             velocity_rows,
             forced,
+            harmonics,
             constant,
         }
     }
@@ -222,56 +251,90 @@ impl RigidModes {
         self.shapes.ncols()
     }
 
+    /// Entries per rigid mode in a flight's start ([`Self::start`]): the deviations, the
+    /// fundamental's particular amplitude, then each harmonic's.
+    fn stride(&self) -> usize {
+        2 + self.harmonics.len()
+    }
+
     /// A flight's start in the general form: the modes' coordinates `elastic`, then per
-    /// rigid mode two entries, `h_q + i h_p` (the deviations from the particular solution)
-    /// and `P e^{iωt₀}` (the particular solution's amplitude at the start), from state `y` at
-    /// forcing phase `e^{iωt₀}`.
+    /// rigid mode [`Self::stride`] entries, `h_q + i h_p` (the deviations from the particular
+    /// solution), `P e^{iωt₀}` (the particular solution's amplitude at the start) and each
+    /// harmonic's `P_k e^{ikωt₀}`, from state `y` at forcing phase `e^{iωt₀}` and the
+    /// harmonics' phases `e^{ikωt₀}`.
     #[cold]
     #[inline(never)]
     pub(crate) fn start(
         &self,
         elastic: DVector<C64>,
         y: &DVector<f64>,
-        phase: C64,
+        (phase, harmonic_phases): (C64, &[C64]),
         omega: f64,
     ) -> DVector<C64> {
         let count = elastic.len();
-        let mut out = elastic.resize_vertically(count + 2 * self.count(), C64::default());
+        let stride = self.stride();
+        let mut out = elastic.resize_vertically(count + stride * self.count(), C64::default());
         for j in 0..self.count() {
+            let at = count + stride * j;
             let q = self.position_rows.row(j).dot(&y.transpose());
             let p = self.velocity_rows.row(j).dot(&y.transpose());
             let forced = self.forced[j] * phase;
-            out[count + 2 * j] = C64::new(q - forced.re, p - (forced * C64::new(0.0, omega)).re);
-            out[count + 2 * j + 1] = forced;
+            let (mut hq, mut hp) = (q - forced.re, p - (forced * C64::new(0.0, omega)).re);
+            for (h, ((rate, amplitudes), &phase)) in
+                self.harmonics.iter().zip(harmonic_phases).enumerate()
+            {
+                let forced = amplitudes[j] * phase;
+                hq -= forced.re;
+                hp -= (forced * C64::new(0.0, *rate)).re;
+                out[at + 2 + h] = forced;
+            }
+            out[at] = C64::new(hq, hp);
+            out[at + 1] = forced;
         }
         out
     }
 
     /// Rigid mode `j`'s position and velocity at `s` into a flight whose start on it is
-    /// `(h_q + i h_p, P e^{iωt₀})` ([`Self::start`]), given the forcing's `e^{iωs}`.
+    /// `(h_q + i h_p, P e^{iωt₀}, P_k e^{ikωt₀}…)` ([`Self::start`]), given the forcing's
+    /// `e^{iωs}` and the harmonics' `e^{ikωs}`.
     fn at(
         &self,
         j: usize,
-        (deviation, forced): (C64, C64),
+        start: &[C64],
         s: f64,
-        ep: C64,
+        (ep, harmonic_exps): (C64, &[C64]),
         omega: f64,
     ) -> (f64, f64) {
+        let (deviation, forced) = (start[0], start[1]);
         let g0 = self.constant[j];
         let oscillating = forced * ep;
-        let q = deviation.re + deviation.im * s + 0.5 * g0 * s * s + oscillating.re;
-        let p = deviation.im + g0 * s + (oscillating * C64::new(0.0, omega)).re;
+        let mut q = deviation.re + deviation.im * s + 0.5 * g0 * s * s + oscillating.re;
+        let mut p = deviation.im + g0 * s + (oscillating * C64::new(0.0, omega)).re;
+        for (((rate, _), &forced), &e) in self.harmonics.iter().zip(&start[2..]).zip(harmonic_exps)
+        {
+            let oscillating = forced * e;
+            q += oscillating.re;
+            p += (oscillating * C64::new(0.0, *rate)).re;
+        }
         (q, p)
     }
 
-    /// Adds the rigid modes' state at `s` into `y` (length `2n`), from their `starts` (two
-    /// entries each, [`Self::start`]).
+    /// Adds the rigid modes' state at `s` into `y` (length `2n`), from their `starts`
+    /// ([`Self::stride`] entries each, [`Self::start`]), given the forcing's `e^{iωs}` and
+    /// the harmonics' `e^{ikωs}`.
     #[cold]
     #[inline(never)]
-    pub(crate) fn add_state(&self, starts: &[C64], s: f64, ep: C64, omega: f64, y: &mut [f64]) {
+    pub(crate) fn add_state(
+        &self,
+        starts: &[C64],
+        s: f64,
+        exps: (C64, &[C64]),
+        omega: f64,
+        y: &mut [f64],
+    ) {
         let n = self.shapes.nrows();
-        for (j, start) in starts.chunks_exact(2).enumerate() {
-            let (q, p) = self.at(j, (start[0], start[1]), s, ep, omega);
+        for (j, start) in starts.chunks_exact(self.stride()).enumerate() {
+            let (q, p) = self.at(j, start, s, exps, omega);
             for i in 0..n {
                 let shape = self.shapes[(i, j)];
                 y[i] += shape * q;
@@ -297,7 +360,8 @@ impl RigidModes {
 
     /// The terms of `Σ_j a_j q_j(s) + b_j p_j(s)` for the functional's rigid `weights`
     /// (`a_j + i b_j`) over a flight from `starts` ([`Self::start`]): each mode's polynomial
-    /// `α + β s + γ s²` (rate 0) and its oscillating part `(a + iωb) P e^{iωt₀}` (rate `iω`).
+    /// `α + β s + γ s²` (rate 0), its oscillating part `(a + iωb) P e^{iωt₀}` (rate `iω`) and
+    /// each harmonic's `(a + ikωb) P_k e^{ikωt₀}` (rate `ikω`).
     #[cold]
     #[inline(never)]
     pub(crate) fn terms(
@@ -309,7 +373,11 @@ impl RigidModes {
     ) {
         let zero = C64::default();
         let real = |v: f64| C64::new(v, 0.0);
-        for (j, (w, start)) in weights.iter().zip(starts.chunks_exact(2)).enumerate() {
+        for (j, (w, start)) in weights
+            .iter()
+            .zip(starts.chunks_exact(self.stride()))
+            .enumerate()
+        {
             let (a, b) = (w.re, w.im);
             let (deviation, forced) = (start[0], start[1]);
             let g0 = self.constant[j];
@@ -326,6 +394,12 @@ impl RigidModes {
                 poly: [C64::new(a, omega * b) * forced, zero, zero, zero],
                 rate: C64::new(0.0, omega),
             });
+            for ((rate, _), &forced) in self.harmonics.iter().zip(&start[2..]) {
+                out.push(crate::expsum::Term {
+                    poly: [C64::new(a, rate * b) * forced, zero, zero, zero],
+                    rate: C64::new(0.0, *rate),
+                });
+            }
         }
     }
 
@@ -348,25 +422,34 @@ impl RigidModes {
     }
 
     /// The rigid part of the linear steady state at time `t`: the zero-mean particular
-    /// solution `q = Re(P e^{iωt})`, `p = Re(iωP e^{iωt})`, added into `y`.
+    /// solution `q = Re(P e^{iωt}) + Σ_k Re(P_k e^{ikωt})`, `p` its derivative, added into
+    /// `y`, given the phases `e^{iωt}` and the harmonics' `e^{ikωt}`.
     ///
     /// # Errors
     /// [`FlowError::RigidDrift`] when a constant force acts on a rigid mode.
     pub(crate) fn add_steady_state(
         &self,
-        phase: C64,
+        (phase, harmonic_phases): (C64, &[C64]),
         omega: f64,
         y: &mut [f64],
     ) -> Result<(), FlowError> {
         if let Some(j) = self.constant.iter().position(|&g| g != 0.0) {
             return Err(FlowError::RigidDrift(j));
         }
-        let starts: Vec<C64> = self
-            .forced
-            .iter()
-            .flat_map(|&p| [C64::default(), p * phase])
+        let starts: Vec<C64> = (0..self.count())
+            .flat_map(|j| {
+                let harmonics = self
+                    .harmonics
+                    .iter()
+                    .zip(harmonic_phases)
+                    .map(move |((_, amplitudes), &phase)| amplitudes[j] * phase);
+                [C64::default(), self.forced[j] * phase]
+                    .into_iter()
+                    .chain(harmonics)
+            })
             .collect();
-        self.add_state(&starts, 0.0, C64::new(1.0, 0.0), omega, y);
+        let ones = vec![C64::new(1.0, 0.0); self.harmonics.len()];
+        self.add_state(&starts, 0.0, (C64::new(1.0, 0.0), &ones), omega, y);
         Ok(())
     }
 }
