@@ -1,0 +1,211 @@
+//! The checked structure: its matrices, its stops as contact pairs and its floating groups,
+//! and each solver's model built from it ([`Structure::event_model`],
+//! [`Structure::analytic_model`]).
+
+use nalgebra::{DMatrix, DVector};
+
+/// One stop, resolved: a contact pair `r = u[plus] − u[minus]` (`None`: the frame).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stop {
+    /// The body counted positive in `r` (`None`: the frame).
+    pub plus: Option<usize>,
+    /// The body counted negative in `r` (`None`: the frame).
+    pub minus: Option<usize>,
+    /// Distance to side 1; `+∞`: no stop there.
+    pub gap_plus: f64,
+    /// Distance to side 2; `+∞`: no stop there.
+    pub gap_minus: f64,
+    /// Newton restitution.
+    pub restitution: f64,
+}
+
+impl Stop {
+    /// The stop's relative coordinate `r = u[plus] − u[minus]` of the displacements `u` (or
+    /// its rate of the velocities), the frame's end counted as 0: the quantity each solver
+    /// holds in `[−gap_minus, gap_plus]`.
+    ///
+    /// # Panics
+    /// If `u` has no entry for one of the stop's bodies.
+    pub fn relative(&self, u: &[f64]) -> f64 {
+        let at = |end: Option<usize>| end.map_or(0.0, |j| u[j]);
+        at(self.plus) - at(self.minus)
+    }
+}
+
+/// A checked structure with its matrices: `M ü + C u̇ + K u = f_c cos ωt + (f_s + ω f_ω) sin ωt`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Structure {
+    /// The bodies' names, in coordinate order.
+    pub names: Vec<String>,
+    /// `M` (diagonal: the bodies' masses).
+    pub mass: DMatrix<f64>,
+    /// `K`, assembled from the springs (those to the frame or base on the diagonal only).
+    pub stiffness: DMatrix<f64>,
+    /// `C`, assembled from the dashpots; `None` when every dashpot is zero (or there is none).
+    pub damping: Option<DMatrix<f64>>,
+    /// `f_c`: the base's springs times `u_g`, plus each force's `F cos φ`.
+    pub forcing_cos: DVector<f64>,
+    /// `f_s`: each force's `−F sin φ`.
+    pub forcing_sin: DVector<f64>,
+    /// `f_ω`: the base's dashpots times `−u_g` (the sine part per unit `ω`).
+    pub forcing_sin_per_omega: DVector<f64>,
+    /// The contact pairs.
+    pub stops: Vec<Stop>,
+    /// `u_g`, when the base moves.
+    pub base_amplitude: Option<f64>,
+    /// The observed body.
+    pub observe: usize,
+    /// Per body, the group it floats in when no chain of springs ties it to the frame or the
+    /// base (an id shared by the bodies of one group), `None` when springs hold it. A floating
+    /// group's position is not set by the linear dynamics (`K` is singular on its
+    /// translation): its motion clear of the stops is a family, offset anywhere the stops
+    /// allow.
+    pub floating: Vec<Option<usize>>,
+}
+
+impl Structure {
+    /// Whether the structure has floating bodies ([`Structure::floating`]).
+    pub fn has_floating(&self) -> bool {
+        self.floating.iter().any(Option::is_some)
+    }
+
+    /// Whether `stop`'s relative coordinate moves with a floating group's offset: its ends
+    /// lie in different groups and one at least floats (the frame never does).
+    pub fn floats(&self, stop: &Stop) -> bool {
+        let group = |end: Option<usize>| end.and_then(|j| self.floating[j]);
+        let (a, b) = (group(stop.minus), group(stop.plus));
+        (a.is_some() || b.is_some()) && a != b
+    }
+
+    /// Degrees of freedom (bodies).
+    pub fn dofs(&self) -> usize {
+        self.names.len()
+    }
+
+    /// `f_s + ω f_ω`: the sine part of the forcing at `omega`.
+    pub fn forcing_sin_at(&self, omega: f64) -> DVector<f64> {
+        &self.forcing_sin + &self.forcing_sin_per_omega * omega
+    }
+
+    /// The event-driven simulator's model at `omega`: the matrices as assembled, a contact
+    /// pair per stop (a side without a stop has gap `+∞`), damping terms only where a dashpot
+    /// is not zero.
+    ///
+    /// # Errors
+    /// [`rattle_event_driven::ModelError`] for `omega` not finite and `> 0`.
+    pub fn event_model(
+        &self,
+        omega: f64,
+    ) -> Result<rattle_event_driven::Model, rattle_event_driven::ModelError> {
+        if !(omega.is_finite() && omega > 0.0) {
+            return Err(rattle_event_driven::ModelError::OutOfRange {
+                field: "omega".into(),
+                value: omega,
+                allowed: "> 0",
+            });
+        }
+        let contacts = self
+            .stops
+            .iter()
+            .map(|s| rattle_event_driven::ContactPair {
+                plus_dof: s.plus,
+                minus_dof: s.minus,
+                gap_plus: s.gap_plus,
+                gap_minus: s.gap_minus,
+                restitution: s.restitution,
+            })
+            .collect();
+        rattle_event_driven::Model::new(
+            self.mass.clone(),
+            self.stiffness.clone(),
+            self.damping.clone(),
+            self.forcing_cos.clone(),
+            self.forcing_sin_at(omega),
+            contacts,
+        )
+    }
+
+    /// The analytic solver's model: the same matrices, each stop a contact pair of direction
+    /// `w = e_plus − e_minus` (the frame's entry left out).
+    ///
+    /// # Errors
+    /// [`rattle_analytic::ModelError`] when the analytic model's own checks refuse it (they
+    /// accept every checked structure).
+    pub fn analytic_model(
+        &self,
+    ) -> Result<rattle_analytic::LinearModel, rattle_analytic::ModelError> {
+        let n = self.dofs();
+        let pairs = self
+            .stops
+            .iter()
+            .map(|s| {
+                let mut w = DVector::zeros(n);
+                if let Some(i) = s.plus {
+                    w[i] = 1.0;
+                }
+                if let Some(i) = s.minus {
+                    w[i] = -1.0;
+                }
+                rattle_analytic::ContactPair {
+                    direction: w,
+                    gap_side1: s.gap_plus,
+                    gap_side2: s.gap_minus,
+                    restitution: s.restitution,
+                }
+            })
+            .collect();
+        rattle_analytic::LinearModel::new(
+            self.mass.clone(),
+            self.damping.clone().unwrap_or_else(|| DMatrix::zeros(n, n)),
+            self.stiffness.clone(),
+            rattle_analytic::HarmonicForcing {
+                cosine: self.forcing_cos.clone(),
+                sine: self.forcing_sin.clone(),
+                sine_per_omega: self.forcing_sin_per_omega.clone(),
+            },
+            pairs,
+        )
+    }
+
+    /// The start at rest at `t = 0`: the `2n` state entries zero.
+    pub fn rest(&self) -> rattle_event_driven::Start {
+        rattle_event_driven::Start::rest(self.dofs())
+    }
+
+    /// The transmittance `20 log10(X / u_g)` of the observed body's amplitude `X`, when the
+    /// base moves and the value is finite.
+    pub fn transmittance_db(&self, amplitude: f64) -> Option<f64> {
+        self.base_amplitude
+            .map(|ug| rattle_analytic::linear::transmittance_db(amplitude, ug))
+            .filter(|t| t.is_finite())
+    }
+
+    /// The impact sequence of the stops `text` over `period` forcing periods: `<stop><side>`
+    /// tokens (`0+ 1- 0- 1+`), or with one stop the side characters alone (`+-` reads as
+    /// `0+ 0-`).
+    ///
+    /// # Errors
+    /// [`rattle_analytic::SequenceError`] for a text that does not parse or a period out of
+    /// range.
+    pub fn sequence(
+        &self,
+        text: &str,
+        period: u32,
+    ) -> Result<rattle_analytic::ImpactSequence, rattle_analytic::SequenceError> {
+        let bare = !text.is_empty() && text.chars().all(|c| matches!(c, '+' | '-'));
+        let text = if self.stops.len() == 1 && bare {
+            text.chars()
+                .map(|c| format!("0{c}"))
+                .collect::<Vec<_>>()
+                .join(" ")
+        } else {
+            text.to_owned()
+        };
+        rattle_analytic::ImpactSequence::parse(&text, period)
+    }
+
+    /// Whether some dashpot is not zero.
+    pub fn is_damped(&self) -> bool {
+        self.damping.is_some()
+    }
+}
