@@ -5,7 +5,7 @@ mod imports;
 mod rust;
 
 use crate::root;
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 /// The modules of `rattle-compare` from the bottom up: a module may use those at its own rank
@@ -528,4 +528,137 @@ fn a_long_function_is_found() {
         Some("f".to_owned())
     );
     assert_eq!(opens_function("let fn_name = 1;"), None);
+}
+
+/// Longest a Rust source file may be, in lines: a longer one is split by job into a module
+/// folder, its `mod.rs` re-exporting each part's items (as `runs/basins/` is split).
+const MAX_FILE_LINES: usize = 1000;
+
+/// The folders of every crate (`crates/NAME/…`) whose Rust files are held to
+/// [`MAX_FILE_LINES`].
+const CRATE_FOLDERS: [&str; 4] = ["src", "tests", "examples", "benches"];
+
+/// Whether `relative`, a path from the repository's root, is a Rust file held to
+/// [`MAX_FILE_LINES`]: under one of a crate's [`CRATE_FOLDERS`] or under `xtask/src`, and in
+/// no `target` or hidden folder (build output, not source).
+fn is_source_file(relative: &str) -> bool {
+    let parts: Vec<&str> = relative.split(['/', '\\']).collect();
+    let held = match parts.as_slice() {
+        ["crates", _, folder, _, ..] => CRATE_FOLDERS.contains(folder),
+        ["xtask", "src", _, ..] => true,
+        _ => false,
+    };
+    let built = parts[..parts.len() - 1]
+        .iter()
+        .any(|p| *p == "target" || p.starts_with('.'));
+    held && !built && relative.ends_with(".rs")
+}
+
+/// The Rust files of the repository at `root` that [`is_source_file`] picks, by path from the
+/// root (`/`-separated), with their text.
+fn source_files(root: &Path) -> BTreeMap<String, String> {
+    let mut stack = vec![root.join("xtask/src")];
+    for entry in std::fs::read_dir(root.join("crates")).expect("crates/ is readable") {
+        let krate = entry.expect("directory entries are readable").path();
+        stack.extend(CRATE_FOLDERS.iter().map(|f| krate.join(f)));
+    }
+    stack.retain(|d| d.is_dir());
+    let mut out = BTreeMap::new();
+    while let Some(dir) = stack.pop() {
+        for entry in std::fs::read_dir(&dir).expect("source folders are readable") {
+            let path = entry.expect("directory entries are readable").path();
+            let name = path
+                .file_name()
+                .and_then(|n| n.to_str())
+                .unwrap_or_default();
+            let relative = path
+                .strip_prefix(root)
+                .unwrap_or(&path)
+                .to_string_lossy()
+                .replace('\\', "/");
+            if path.is_dir() {
+                if !(name == "target" || name.starts_with('.')) {
+                    stack.push(path);
+                }
+            } else if is_source_file(&relative) {
+                let text = std::fs::read_to_string(&path).expect("source files are readable");
+                out.insert(relative, text);
+            }
+        }
+    }
+    out
+}
+
+/// Every file of `sources` (path and text) longer than `max` lines, with its length, in path
+/// order.
+fn long_files(sources: &BTreeMap<String, String>, max: usize) -> Vec<(String, usize)> {
+    sources
+        .iter()
+        .map(|(path, text)| (path.clone(), text.lines().count()))
+        .filter(|(_, length)| *length > max)
+        .collect()
+}
+
+#[test]
+fn no_source_file_over_1000_lines() {
+    let sources = source_files(&root());
+    assert!(
+        sources.len() > 100,
+        "only {} files checked: has the repository moved?",
+        sources.len()
+    );
+    let long: Vec<String> = long_files(&sources, MAX_FILE_LINES)
+        .into_iter()
+        .map(|(path, length)| format!("{path}: {length} lines"))
+        .collect();
+    assert!(
+        long.is_empty(),
+        "source files over {MAX_FILE_LINES} lines (split each by job into a module folder, its \
+         `mod.rs` re-exporting the parts' items):\n{}",
+        long.join("\n")
+    );
+}
+
+#[test]
+fn a_long_source_file_is_found() {
+    let lines = |n: usize| "fn f() {}\n".repeat(n);
+    let planted: BTreeMap<String, String> = [
+        ("crates/a/src/lib.rs", lines(MAX_FILE_LINES)),
+        ("crates/a/src/deep/long.rs", lines(MAX_FILE_LINES + 1)),
+        ("crates/python/tests/t.rs", lines(1200)),
+        ("xtask/src/main.rs", lines(3)),
+    ]
+    .into_iter()
+    .map(|(path, text)| (path.to_owned(), text))
+    .collect();
+    assert_eq!(
+        long_files(&planted, MAX_FILE_LINES),
+        [
+            ("crates/a/src/deep/long.rs".to_owned(), 1001),
+            ("crates/python/tests/t.rs".to_owned(), 1200)
+        ]
+    );
+    for picked in [
+        "crates/a/src/lib.rs",
+        "crates/python/src/deep/m.rs",
+        "crates/a/tests/t.rs",
+        "crates/a/examples/e.rs",
+        "crates/a/benches/b.rs",
+        "xtask/src/tidy/rust.rs",
+    ] {
+        assert!(is_source_file(picked), "{picked} is left out");
+    }
+    for skipped in [
+        "crates/a/target/debug/build/x.rs",
+        "crates/a/src/target/x.rs",
+        "crates/a/src/.cache/x.rs",
+        "target/debug/x.rs",
+        "crates/a/peers/x.rs",
+        "crates/a/build.rs",
+        "crates/a/src/notes.md",
+        "xtask/build.rs",
+        "docs/x.rs",
+    ] {
+        assert!(!is_source_file(skipped), "{skipped} is picked");
+    }
 }
