@@ -92,9 +92,7 @@ pub fn random_scene(seed: u64, index: u64) -> (Scene, f64) {
         outer_stiffness: rng.uniform(0.5, 10.0),
         inner_stiffness: rng.uniform(0.5, 10.0),
     };
-    let base = BaseSpec {
-        amplitude: rng.uniform(0.1, 3.0),
-    };
+    let base = BaseSpec::fundamental(rng.uniform(0.1, 3.0));
     let stops = StopsSpec {
         gap: rng.uniform(0.05, 2.0),
         restitution: rng.uniform(0.0, 1.0),

@@ -46,7 +46,7 @@ fn scenes() -> impl Strategy<Value = (Scene, f64)> {
                     outer_stiffness: ko,
                     inner_stiffness: ki,
                 },
-                base: BaseSpec { amplitude: ug },
+                base: BaseSpec::fundamental(ug),
                 stops: Some(StopsSpec {
                     gap,
                     restitution: e,
@@ -215,7 +215,7 @@ fn regression_release_grace_does_not_leak_into_the_next_period() {
             outer_stiffness: 4.289977251413697,
             inner_stiffness: 0.5,
         },
-        base: BaseSpec { amplitude: 0.1 },
+        base: BaseSpec::fundamental(0.1),
         stops: Some(StopsSpec {
             gap: 0.05,
             restitution: 0.48946877913933634,

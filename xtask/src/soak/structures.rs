@@ -89,13 +89,12 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
             on: name(rng.below(n as u64) as usize),
             amplitude: rng.uniform(0.1, 3.0),
             phase: rng.uniform(-3.0, 3.0),
+            harmonics: Vec::new(),
         }]
     } else {
         Vec::new()
     };
-    let base = tied_to_base.then(|| BaseSpec {
-        amplitude: rng.uniform(0.1, 3.0),
-    });
+    let base = tied_to_base.then(|| BaseSpec::fundamental(rng.uniform(0.1, 3.0)));
     let omega = rng.uniform(0.3, 5.0);
     // Drawn after the rest, so that the structures without one are those of the same index
     // before free bodies were drawn.

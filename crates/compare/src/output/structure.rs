@@ -20,10 +20,50 @@ pub struct StructureAt {
     pub form: &'static str,
     /// Angular frequency, rad/s.
     pub omega: Option<f64>,
-    /// The structure's active effects: `stops`, `damping`.
+    /// The structure's active effects: `stops`, `damping`, `harmonics`.
     pub effects: Vec<&'static str>,
     /// The observed body: the one behind `outer_amplitude` and `transmittance_db`.
     pub observed: String,
+    /// The forcing's higher harmonics as the scene gives them (absent: the fundamental alone).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub harmonics: Vec<HarmonicRecord>,
+}
+
+/// One higher harmonic of a structure's forcing, as the scene gives it:
+/// `amplitude · cos(order · ωt + phase)` of the base motion or of a force.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+pub struct HarmonicRecord {
+    /// What it drives: `base`, or the body a force acts on.
+    pub on: String,
+    /// The order `k ≥ 2`.
+    pub order: u32,
+    /// Its amplitude: m for the base, N for a force.
+    pub amplitude: f64,
+    /// Its phase against the fundamental's `ωt`, rad.
+    pub phase: f64,
+}
+
+impl HarmonicRecord {
+    /// Every harmonic of `scene`'s forcing: the base's, then each force's, in file order.
+    pub fn of(scene: &StructureScene) -> Vec<HarmonicRecord> {
+        let record = |on: &str, h: &crate::scene::HarmonicSpec| HarmonicRecord {
+            on: on.to_owned(),
+            order: h.order,
+            amplitude: h.amplitude,
+            phase: h.phase,
+        };
+        let base = scene.forcing.base.iter().flat_map(|b| {
+            b.harmonics
+                .iter()
+                .map(|h| record(crate::scene::structure::BASE, h))
+        });
+        let forces = scene
+            .forcing
+            .forces
+            .iter()
+            .flat_map(|f| f.harmonics.iter().map(|h| record(&f.on, h)));
+        base.chain(forces).collect()
+    }
 }
 
 impl StructureAt {
@@ -36,12 +76,16 @@ impl StructureAt {
         if structure.is_damped() {
             effects.push("damping");
         }
+        if !structure.harmonics.is_empty() {
+            effects.push("harmonics");
+        }
         Self {
             scene: scene.name.clone(),
             form: "structure",
             omega: finite(omega),
             effects,
             observed: structure.names[structure.observe].clone(),
+            harmonics: HarmonicRecord::of(scene),
         }
     }
 }

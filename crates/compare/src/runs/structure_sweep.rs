@@ -105,12 +105,9 @@ impl StructureSweepRow {
         self.linear_transmittance_db = s
             .base_amplitude
             .and_then(|ug| finite(transmittance_db(amplitudes[s.observe], ug)));
-        self.linear_touches_stops = Some(
-            model
-                .pairs()
-                .iter()
-                .any(|pair| state.relative_amplitude(pair) > pair.gap_side1.min(pair.gap_side2)),
-        );
+        self.linear_touches_stops = Some(crate::verdict::structure::linear_reaches_stops(
+            &model, &state,
+        ));
         self.linear_body_amplitudes = number_list(&amplitudes);
     }
 

@@ -361,6 +361,7 @@ pub fn sample_sequence_orbit(
     let cycle = f64::from(orbit.period) * period;
     let shift = (orbit.alpha / omega).rem_euclid(period);
     let impacts_in_order = orbit.sequence.impacts();
+    let orders = model.forcing().orders();
     // Each impact's time from the first, the state just after it and the forcing phase there.
     let starts: Vec<(f64, DVector<f64>, DVector<f64>)> = impacts_in_order
         .iter()
@@ -372,7 +373,7 @@ pub fn sample_sequence_orbit(
             (
                 t,
                 model.impact_state(impact.pair, &before),
-                DVector::from_column_slice(&[theta.cos(), theta.sin()]),
+                DVector::from_vec(rattle_analytic::forcing::phase_state(&orders, theta)),
             )
         })
         .collect();

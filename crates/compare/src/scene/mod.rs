@@ -62,9 +62,48 @@ impl AnyScene {
     /// that does not exist or has no bounded motion.
     pub fn parse(text: &str, origin: &str) -> Result<AnyScene, SceneError> {
         if !is_structure(text) {
-            return Scene::parse(text, origin).map(AnyScene::Cells);
+            return AnyScene::of_cells(deserialize(text, origin)?, origin);
         }
         let scene: structure::StructureScene = deserialize(text, origin)?;
+        AnyScene::of_structure(scene, origin)
+    }
+
+    /// A scene in the unit or chain form, checked: as itself when its base motion is the
+    /// fundamental alone, else written as a structure ([`Scene::structure_scene`]), the road
+    /// that solves harmonic forcing.
+    ///
+    /// # Errors
+    /// As [`Scene::validated`] for the scene without its harmonics; [`SceneError::Harmonic`]
+    /// naming a harmonic out of range (`base.harmonics[i]`).
+    pub fn of_cells(mut scene: Scene, origin: &str) -> Result<AnyScene, SceneError> {
+        let harmonics = std::mem::take(&mut scene.base.harmonics);
+        let scene = scene.validated(origin)?;
+        if harmonics.is_empty() {
+            return Ok(AnyScene::Cells(scene));
+        }
+        check_harmonics("base.harmonics", &harmonics).map_err(|(field, reason)| {
+            SceneError::Harmonic {
+                origin: origin.to_owned(),
+                field,
+                reason,
+            }
+        })?;
+        let base = BaseSpec {
+            amplitude: scene.base.amplitude,
+            harmonics,
+        };
+        AnyScene::of_structure(scene.structure_scene(base), origin)
+    }
+
+    /// A scene in the structure form with its checked structure.
+    ///
+    /// # Errors
+    /// [`SceneError::Structure`] naming the field that does not exist or has no bounded
+    /// motion.
+    pub fn of_structure(
+        scene: structure::StructureScene,
+        origin: &str,
+    ) -> Result<AnyScene, SceneError> {
         let structure = scene.structure().map_err(|source| SceneError::Structure {
             origin: origin.to_owned(),
             source,
@@ -204,6 +243,28 @@ pub enum SceneError {
         /// The field's JSON path and the reason.
         source: structure::StructureError,
     },
+    /// A harmonic of a base motion out of its range.
+    #[error("{origin}: {field}: {reason}")]
+    Harmonic {
+        /// The file, or `built-in`.
+        origin: String,
+        /// The JSON path, e.g. `base.harmonics[0].order`.
+        field: String,
+        /// What is wrong, with the allowed range.
+        reason: String,
+    },
+    /// A unit or chain scene whose base has harmonics, given where the unit's own road (the
+    /// single sine) is taken.
+    #[error(
+        "{origin}: base.harmonics: this command solves the unit and chain forms under the \
+         fundamental alone; a scene whose base has harmonics runs in the structure form \
+         (bodies `outer`, `inner`; in a chain `outer0`, `inner0`, …), taken by {commands}",
+        commands = STRUCTURE_COMMANDS
+    )]
+    CellsHarmonics {
+        /// The file, or `built-in`.
+        origin: String,
+    },
     /// A structure scene given where only the unit and chain forms are taken.
     #[error(
         "{origin}: structure: the structure form is taken by {commands} so far; this command \
@@ -244,12 +305,84 @@ pub struct UnitSpec {
     pub inner_stiffness: f64,
 }
 
-/// The base motion `u_g cos(ω t)`.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+/// The base motion `u_g cos(ω t) + Σ a_k cos(kωt + φ_k)`: the fundamental and any higher
+/// harmonics ([`HarmonicSpec`]), all of the period `2π/ω`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BaseSpec {
-    /// `u_g`, m.
+    /// `u_g`, m: the fundamental's amplitude.
     pub amplitude: f64,
+    /// The higher harmonics, each order once (empty: the fundamental alone).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub harmonics: Vec<HarmonicSpec>,
+}
+
+impl BaseSpec {
+    /// The base motion `u_g cos ωt` of the fundamental alone.
+    pub fn fundamental(amplitude: f64) -> Self {
+        Self {
+            amplitude,
+            harmonics: Vec::new(),
+        }
+    }
+}
+
+/// Highest order of a [`HarmonicSpec`]: the analytic solver's
+/// [`rattle_analytic::MAX_HARMONIC_ORDER`] (its multi-start over impact phases samples more
+/// finely the higher the order), the lower of the two solvers' caps, so that every periodic
+/// study runs on a scene that parses.
+pub const MAX_HARMONIC_ORDER: u32 =
+    if rattle_analytic::MAX_HARMONIC_ORDER < rattle_event_driven::MAX_HARMONIC_ORDER {
+        rattle_analytic::MAX_HARMONIC_ORDER
+    } else {
+        rattle_event_driven::MAX_HARMONIC_ORDER
+    };
+
+/// One higher harmonic `a cos(kωt + φ)` of a base motion or a force: integer order `k ≥ 2`,
+/// so the forcing keeps the period `2π/ω`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HarmonicSpec {
+    /// `k`, an integer in `2..=`[`MAX_HARMONIC_ORDER`], each order once per list.
+    pub order: u32,
+    /// `a`: m for the base, N for a force; finite.
+    pub amplitude: f64,
+    /// `φ`, rad, finite (default 0): the harmonic's phase against the fundamental's `ωt`.
+    #[serde(default)]
+    pub phase: f64,
+}
+
+/// The reason `harmonics` (the list at JSON path `field`) is refused, if it is: an order out
+/// of `2..=`[`MAX_HARMONIC_ORDER`] or repeated, an amplitude or phase not finite.
+pub fn check_harmonics(field: &str, harmonics: &[HarmonicSpec]) -> Result<(), (String, String)> {
+    for (i, h) in harmonics.iter().enumerate() {
+        let at = format!("{field}[{i}]");
+        if !(2..=MAX_HARMONIC_ORDER).contains(&h.order) {
+            return Err((
+                format!("{at}.order"),
+                format!(
+                    "{} is out of range: must be an integer in 2..={MAX_HARMONIC_ORDER} (order 1 \
+                     is the fundamental)",
+                    h.order
+                ),
+            ));
+        }
+        if harmonics[..i].iter().any(|g| g.order == h.order) {
+            return Err((
+                format!("{at}.order"),
+                format!("{} is repeated: each order once per list", h.order),
+            ));
+        }
+        for (name, v) in [("amplitude", h.amplitude), ("phase", h.phase)] {
+            if !v.is_finite() {
+                return Err((
+                    format!("{at}.{name}"),
+                    format!("{v} is out of range: must be finite"),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The stops at `r = u_i − u_o = ±gap`.
@@ -345,8 +478,9 @@ impl Scene {
     /// # Errors
     /// [`SceneError::Format`] for malformed JSON, an unknown field or a wrong type (with the
     /// field's path, line and column); [`SceneError::Value`] for a value out of its range;
-    /// [`SceneError::StructureForm`] for a scene in the structure form ([`AnyScene::parse`]
-    /// takes it).
+    /// [`SceneError::StructureForm`] for a scene in the structure form and
+    /// [`SceneError::CellsHarmonics`] for one whose base has harmonics ([`AnyScene::parse`]
+    /// takes both).
     pub fn parse(text: &str, origin: &str) -> Result<Scene, SceneError> {
         if is_structure(text) {
             return Err(SceneError::StructureForm {
@@ -362,8 +496,14 @@ impl Scene {
     ///
     /// # Errors
     /// [`SceneError::Chain`] for the chain's length, [`SceneError::Value`] or
-    /// [`SceneError::CellValue`] for a value out of its range.
+    /// [`SceneError::CellValue`] for a value out of its range, [`SceneError::CellsHarmonics`]
+    /// when the base has harmonics ([`AnyScene::of_cells`] takes such a scene).
     pub fn validated(self, origin: &str) -> Result<Scene, SceneError> {
+        if !self.base.harmonics.is_empty() {
+            return Err(SceneError::CellsHarmonics {
+                origin: origin.to_owned(),
+            });
+        }
         let scene = self.normalized(origin)?;
         scene.validate_in(origin)?;
         Ok(scene)
@@ -519,7 +659,7 @@ impl Scene {
         Scene {
             name: self.name.clone(),
             unit: cell.unit.unwrap_or(self.unit),
-            base: self.base,
+            base: self.base.clone(),
             stops: cell.stops.or(self.stops),
             damping: cell.damping.or(self.damping),
             cells: None,

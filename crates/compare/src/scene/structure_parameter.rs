@@ -1,6 +1,7 @@
 //! A number of a scene in the structure form named by its JSON path, read and set: the
 //! parameter a two-parameter study varies beside the frequency on a structure
-//! (`structure.stops[0].gap_plus`, `structure.bodies[1].mass`, `forcing.forces[0].amplitude`).
+//! (`structure.stops[0].gap_plus`, `structure.bodies[1].mass`, `forcing.forces[0].amplitude`,
+//! `forcing.base.harmonics[0].amplitude`, `forcing.forces[0].harmonics[1].phase`).
 //!
 //! The paths are the scene file's own: a list's entry by its index from 0, then its field.
 //! `structure.stops[K].gap` names both sides' distance and is taken only on a stop whose two
@@ -39,11 +40,19 @@ pub enum StructureField {
     ForceAmplitude,
     /// `forcing.forces[K].phase`, rad.
     ForcePhase,
+    /// `forcing.base.harmonics[K].amplitude`, m.
+    BaseHarmonicAmplitude,
+    /// `forcing.base.harmonics[K].phase`, rad.
+    BaseHarmonicPhase,
+    /// `forcing.forces[J].harmonics[K].amplitude`, N.
+    ForceHarmonicAmplitude,
+    /// `forcing.forces[J].harmonics[K].phase`, rad.
+    ForceHarmonicPhase,
 }
 
 impl StructureField {
     /// Every field, in the order of the scene format.
-    pub const ALL: [StructureField; 10] = [
+    pub const ALL: [StructureField; 14] = [
         StructureField::Mass,
         StructureField::Stiffness,
         StructureField::Damping,
@@ -54,6 +63,10 @@ impl StructureField {
         StructureField::BaseAmplitude,
         StructureField::ForceAmplitude,
         StructureField::ForcePhase,
+        StructureField::BaseHarmonicAmplitude,
+        StructureField::BaseHarmonicPhase,
+        StructureField::ForceHarmonicAmplitude,
+        StructureField::ForceHarmonicPhase,
     ];
 
     /// The list the field's entry belongs to (`structure.stops`), `None` for the base.
@@ -67,8 +80,23 @@ impl StructureField {
             | StructureField::GapMinus
             | StructureField::Restitution => Some("structure.stops"),
             StructureField::BaseAmplitude => None,
-            StructureField::ForceAmplitude | StructureField::ForcePhase => Some("forcing.forces"),
+            StructureField::ForceAmplitude
+            | StructureField::ForcePhase
+            | StructureField::ForceHarmonicAmplitude
+            | StructureField::ForceHarmonicPhase => Some("forcing.forces"),
+            StructureField::BaseHarmonicAmplitude | StructureField::BaseHarmonicPhase => {
+                Some("forcing.base.harmonics")
+            }
         }
+    }
+
+    /// Whether the field is a force harmonic's: its path has two indices,
+    /// `forcing.forces[J].harmonics[K]`.
+    pub fn of_force_harmonic(self) -> bool {
+        matches!(
+            self,
+            StructureField::ForceHarmonicAmplitude | StructureField::ForceHarmonicPhase
+        )
     }
 
     /// The field's name within its entry (`gap_plus`), or the whole path for the base.
@@ -82,14 +110,22 @@ impl StructureField {
             StructureField::GapMinus => "gap_minus",
             StructureField::Restitution => "restitution",
             StructureField::BaseAmplitude => "forcing.base.amplitude",
-            StructureField::ForceAmplitude => "amplitude",
-            StructureField::ForcePhase => "phase",
+            StructureField::ForceAmplitude
+            | StructureField::BaseHarmonicAmplitude
+            | StructureField::ForceHarmonicAmplitude => "amplitude",
+            StructureField::ForcePhase
+            | StructureField::BaseHarmonicPhase
+            | StructureField::ForceHarmonicPhase => "phase",
         }
     }
 
-    /// The path's pattern, `structure.stops[K].gap_plus`.
+    /// The path's pattern, `structure.stops[K].gap_plus`
+    /// (`forcing.forces[J].harmonics[K].phase` for a force harmonic's).
     pub fn pattern(self) -> String {
         match self.list() {
+            Some(list) if self.of_force_harmonic() => {
+                format!("{list}[J].harmonics[K].{}", self.name())
+            }
             Some(list) => format!("{list}[K].{}", self.name()),
             None => self.name().to_owned(),
         }
@@ -101,8 +137,11 @@ impl StructureField {
 pub struct StructureParameter {
     /// The field.
     pub field: StructureField,
-    /// The entry of the field's list (0 for the base, which has none).
+    /// The entry of the field's list (0 for the base, which has none; the force for a force
+    /// harmonic's field).
     pub index: usize,
+    /// The entry of a force's `harmonics` for a force harmonic's field (0 for any other).
+    pub harmonic: usize,
 }
 
 /// Why a structure parameter path cannot be read or used on a scene. Every message names the
@@ -123,8 +162,8 @@ pub enum StructureParameterError {
     IndexOutOfRange {
         /// The path as given.
         path: String,
-        /// The list, e.g. `structure.stops`.
-        list: &'static str,
+        /// The list, e.g. `structure.stops` or `forcing.forces[0].harmonics`.
+        list: String,
         /// Its length in the scene.
         count: usize,
     },
@@ -178,22 +217,45 @@ impl FromStr for StructureParameter {
             return Ok(StructureParameter {
                 field: StructureField::BaseAmplitude,
                 index: 0,
+                harmonic: 0,
             });
         }
+        // `<list>[<index>].<name>`, the name `harmonics[<k>].<field>` for a force harmonic.
+        let entry = |text: &str| -> Option<(usize, String)> {
+            let (index, name) = text.split_once("].")?;
+            Some((index.parse().ok()?, name.to_owned()))
+        };
         let (list, rest) = path.split_once('[').ok_or_else(unknown)?;
-        let (index, name) = rest.split_once("].").ok_or_else(unknown)?;
-        let index: usize = index.parse().map_err(|_| unknown())?;
+        let (index, name) = entry(rest).ok_or_else(unknown)?;
+        let (harmonic, name, two) = match name.strip_prefix("harmonics[") {
+            Some(inner) => {
+                let (k, name) = entry(inner).ok_or_else(unknown)?;
+                (k, name, true)
+            }
+            None => (0, name, false),
+        };
         let field = StructureField::ALL
             .into_iter()
-            .find(|f| f.list() == Some(list) && f.name() == name)
+            .find(|f| f.list() == Some(list) && f.name() == name && f.of_force_harmonic() == two)
             .ok_or_else(unknown)?;
-        Ok(StructureParameter { field, index })
+        Ok(StructureParameter {
+            field,
+            index,
+            harmonic,
+        })
     }
 }
 
 impl fmt::Display for StructureParameter {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self.field.list() {
+            Some(list) if self.field.of_force_harmonic() => write!(
+                f,
+                "{list}[{}].harmonics[{}].{}",
+                self.index,
+                self.harmonic,
+                self.field.name()
+            ),
             Some(list) => write!(f, "{list}[{}].{}", self.index, self.field.name()),
             None => f.write_str(self.field.name()),
         }
@@ -249,7 +311,7 @@ impl StructureParameter {
         };
         let out_of_range = |count: usize| StructureParameterError::IndexOutOfRange {
             path: path.clone(),
-            list: self.field.list().unwrap_or_default(),
+            list: self.field.list().unwrap_or_default().to_owned(),
             count,
         };
         let k = self.index;
@@ -294,6 +356,29 @@ impl StructureParameter {
                 } else {
                     &mut force.amplitude
                 }
+            }
+            StructureField::BaseHarmonicAmplitude | StructureField::BaseHarmonicPhase => {
+                let base = forcing.base.as_mut().ok_or_else(|| {
+                    absent("the scene's base does not move (no `forcing.base`)".into())
+                })?;
+                let n = base.harmonics.len();
+                harmonic_slot(
+                    base.harmonics.get_mut(k).ok_or_else(|| out_of_range(n))?,
+                    self.field,
+                )
+            }
+            StructureField::ForceHarmonicAmplitude | StructureField::ForceHarmonicPhase => {
+                let n = forcing.forces.len();
+                let force = forcing.forces.get_mut(k).ok_or_else(|| out_of_range(n))?;
+                let count = force.harmonics.len();
+                let h = force.harmonics.get_mut(self.harmonic).ok_or_else(|| {
+                    StructureParameterError::IndexOutOfRange {
+                        path: path.clone(),
+                        list: format!("forcing.forces[{k}].harmonics"),
+                        count,
+                    }
+                })?;
+                harmonic_slot(h, self.field)
             }
             StructureField::Restitution => {
                 let n = stops.len();
@@ -341,6 +426,14 @@ impl StructureParameter {
     }
 }
 
+/// A harmonic's amplitude or phase, as `field` names it.
+fn harmonic_slot(h: &mut crate::scene::HarmonicSpec, field: StructureField) -> &mut f64 {
+    match field {
+        StructureField::BaseHarmonicPhase | StructureField::ForceHarmonicPhase => &mut h.phase,
+        _ => &mut h.amplitude,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -352,8 +445,11 @@ mod tests {
           "dashpots": [{"between": ["base", "primary"], "damping": 0.05}],
           "stops":    [{"between": ["primary", "ball"], "gap": 0.4, "restitution": 0.6},
                        {"between": ["frame", "primary"], "gap_plus": 2.0, "restitution": 0.9}]},
-        "forcing": {"base": {"amplitude": 0.2},
-                    "forces": [{"on": "primary", "amplitude": 0.1, "phase": 0.3}]}}"#;
+        "forcing": {"base": {"amplitude": 0.2,
+                             "harmonics": [{"order": 3, "amplitude": 0.05, "phase": 0.2}]},
+                    "forces": [{"on": "primary", "amplitude": 0.1, "phase": 0.3,
+                                "harmonics": [{"order": 2, "amplitude": 0.02},
+                                              {"order": 3, "amplitude": 0.01, "phase": 1.0}]}]}}"#;
 
     fn scene() -> StructureScene {
         serde_json::from_str(DAMPER).expect("the scene parses")
@@ -378,6 +474,10 @@ mod tests {
             "forcing.base.amplitude",
             "forcing.forces[0].amplitude",
             "forcing.forces[0].phase",
+            "forcing.base.harmonics[0].amplitude",
+            "forcing.base.harmonics[0].phase",
+            "forcing.forces[0].harmonics[0].amplitude",
+            "forcing.forces[0].harmonics[1].phase",
         ];
         for text in paths {
             let p = param(text);
@@ -435,6 +535,9 @@ mod tests {
             "structure.stops[x].gap",
             "structure.stops[0]gap",
             "forcing.forces[0].mass",
+            "forcing.forces[0].harmonics[0].order",
+            "forcing.base.harmonics[0].harmonics[0].phase",
+            "forcing.forces[0].harmonics[x].phase",
         ] {
             let e = text.parse::<StructureParameter>().expect_err(text);
             assert!(e.to_string().contains(text), "{e}");
@@ -464,6 +567,22 @@ mod tests {
             .with_value(&scene(), 1.5)
             .expect_err("above 1");
         assert!(e.to_string().contains("[0, 1]"), "{e}");
+        let e = param("forcing.forces[0].harmonics[2].phase")
+            .value(&scene())
+            .expect_err("2 harmonics");
+        let text = e.to_string();
+        assert!(
+            text.contains("forcing.forces[0].harmonics has 2 entries") && text.contains("0..=1"),
+            "{text}"
+        );
+        let e = param("forcing.base.harmonics[0].phase")
+            .with_value(&scene(), f64::INFINITY)
+            .expect_err("not finite");
+        let text = e.to_string();
+        assert!(
+            text.contains("forcing.base.harmonics[0].phase") && text.contains("finite"),
+            "{text}"
+        );
         let mut still = scene();
         still.forcing.base = None;
         let e = param("forcing.base.amplitude")

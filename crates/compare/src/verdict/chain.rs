@@ -645,10 +645,11 @@ fn confirm(
     let omega = orbit.omega;
     let length = f64::from(orbit.period) * std::f64::consts::TAU / omega;
     let t = 0.5 * orbit.impact_phases.get(1).copied().unwrap_or(1.0) * length;
-    let (sin, cos) = orbit.alpha.sin_cos();
+    let phases =
+        rattle_analytic::forcing::phase_state(&model_of_chain.forcing().orders(), orbit.alpha);
     let (x, _) = model_of_chain.transition(omega, t).apply(
         &DVector::from_column_slice(&orbit.state_after_impact),
-        &DVector::from_column_slice(&[cos, sin]),
+        &DVector::from_vec(phases),
     );
     let start = Start {
         state: x.clone(),

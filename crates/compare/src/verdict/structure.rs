@@ -61,14 +61,27 @@ pub fn structure_cross_check(
     )
 }
 
+/// Whether the linear steady `state` of `model` reaches a stop: the relative coordinate's
+/// highest value beyond side 1's distance, or its lowest beyond side 2's (a forcing with
+/// harmonics swings further one way than the other).
+pub fn linear_reaches_stops(
+    model: &rattle_analytic::LinearModel,
+    state: &rattle_analytic::HarmonicState,
+) -> bool {
+    model.pairs().iter().any(|pair| {
+        let (low, high) = state.relative_extremes(pair);
+        high > pair.gap_side1 || -low > pair.gap_side2
+    })
+}
+
 /// A periodic motion without impacts beside the structure's linear steady state.
 ///
 /// A floating body's linear motion is a family (its offset is free), so the simulated motion
 /// is one member of it: the floating bodies' amplitudes are not compared, and the stops are
 /// reached only when no offset of the floating bodies keeps every one of them clear at once
 /// (each stop that moves with an offset needs at least its peak-to-peak `2|R|` within its
-/// clearance `gap_plus + gap_minus`). Without floating bodies a stop is reached when `|R|`
-/// exceeds its nearer side.
+/// clearance `gap_plus + gap_minus`). Without floating bodies a stop is reached as
+/// [`linear_reaches_stops`] tells.
 fn linear_check(structure: &Structure, check: &mut ChainCheck) {
     let linear = structure
         .analytic_model()
@@ -106,10 +119,7 @@ fn linear_check(structure: &Structure, check: &mut ChainCheck) {
             }
         }
     } else {
-        model
-            .pairs()
-            .iter()
-            .any(|pair| state.relative_amplitude(pair) > pair.gap_side1.min(pair.gap_side2))
+        linear_reaches_stops(&model, &state)
     };
     let held = |v: &[f64]| -> Vec<f64> {
         v.iter()

@@ -40,12 +40,13 @@
 //! that springs and dashpots hold, which finds the floating ones and those nothing holds, and
 //! the checked structure with each solver's model.
 
+mod cells;
 mod grounding;
 mod model;
 mod resolve;
 mod spec;
 
-pub use model::{Stop, Structure};
+pub use model::{ForcingHarmonic, Stop, Structure};
 pub use resolve::StructureError;
 pub use spec::{
     BodySpec, DashpotSpec, ForceSpec, ForcingSpec, SpringSpec, StopSpec, StructureForm,

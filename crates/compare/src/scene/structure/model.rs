@@ -32,7 +32,38 @@ impl Stop {
     }
 }
 
-/// A checked structure with its matrices: `M ü + C u̇ + K u = f_c cos ωt + (f_s + ω f_ω) sin ωt`.
+/// One higher harmonic of a structure's forcing, of order `k`:
+/// `f_c cos(kωt + φ) + (f_s + kω f_ω) sin(kωt + φ)`, the base's harmonic of that order and
+/// the forces' summed. `φ` is the base harmonic's phase (0 when only forces have the order,
+/// whose phases are then folded into `f_c` and `f_s`): with a dashpot to the base, the part
+/// proportional to `kω` stays a sine of `kωt + φ`, so its derivative in `ω` stays exact.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ForcingHarmonic {
+    /// `k ≥ 2`.
+    pub order: u32,
+    /// `f_c`: the base's springs times `a_k`, plus each force's `F_k cos(φ_k − φ)`.
+    pub cosine: DVector<f64>,
+    /// `f_s`: each force's `−F_k sin(φ_k − φ)`.
+    pub sine: DVector<f64>,
+    /// `f_ω`: the base's dashpots times `−a_k`, per unit of the harmonic's frequency `kω`.
+    pub sine_per_omega: DVector<f64>,
+    /// `φ`, rad.
+    pub phase: f64,
+}
+
+impl ForcingHarmonic {
+    /// The force's amplitudes on `cos kωt` and `sin kωt` at `omega`: `f_c cos(x + φ) +
+    /// s sin(x + φ)` expanded, `(f_c cos φ + s sin φ, s cos φ − f_c sin φ)`,
+    /// `s = f_s + kω f_ω`.
+    pub fn amplitudes_at(&self, omega: f64) -> (DVector<f64>, DVector<f64>) {
+        let s = &self.sine + &self.sine_per_omega * (f64::from(self.order) * omega);
+        let (sp, cp) = self.phase.sin_cos();
+        (&self.cosine * cp + &s * sp, &s * cp - &self.cosine * sp)
+    }
+}
+
+/// A checked structure with its matrices: `M ü + C u̇ + K u = f_c cos ωt + (f_s + ω f_ω) sin ωt`
+/// plus the higher harmonics ([`ForcingHarmonic`]).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Structure {
     /// The bodies' names, in coordinate order.
@@ -49,9 +80,11 @@ pub struct Structure {
     pub forcing_sin: DVector<f64>,
     /// `f_ω`: the base's dashpots times `−u_g` (the sine part per unit `ω`).
     pub forcing_sin_per_omega: DVector<f64>,
+    /// The forcing's higher harmonics, by increasing order (empty: the fundamental alone).
+    pub harmonics: Vec<ForcingHarmonic>,
     /// The contact pairs.
     pub stops: Vec<Stop>,
-    /// `u_g`, when the base moves.
+    /// `u_g` (the fundamental's amplitude), when the base moves.
     pub base_amplitude: Option<f64>,
     /// The observed body.
     pub observe: usize,
@@ -89,7 +122,7 @@ impl Structure {
 
     /// The event-driven simulator's model at `omega`: the matrices as assembled, a contact
     /// pair per stop (a side without a stop has gap `+∞`), damping terms only where a dashpot
-    /// is not zero.
+    /// is not zero, and the harmonics' amplitudes at `omega`.
     ///
     /// # Errors
     /// [`rattle_event_driven::ModelError`] for `omega` not finite and `> 0`.
@@ -115,18 +148,34 @@ impl Structure {
                 restitution: s.restitution,
             })
             .collect();
-        rattle_event_driven::Model::new(
+        let model = rattle_event_driven::Model::new(
             self.mass.clone(),
             self.stiffness.clone(),
             self.damping.clone(),
             self.forcing_cos.clone(),
             self.forcing_sin_at(omega),
             contacts,
+        )?;
+        if self.harmonics.is_empty() {
+            return Ok(model);
+        }
+        model.with_harmonics(
+            self.harmonics
+                .iter()
+                .map(|h| {
+                    let (cos, sin) = h.amplitudes_at(omega);
+                    rattle_event_driven::Harmonic {
+                        order: h.order,
+                        cos,
+                        sin,
+                    }
+                })
+                .collect(),
         )
     }
 
-    /// The analytic solver's model: the same matrices, each stop a contact pair of direction
-    /// `w = e_plus − e_minus` (the frame's entry left out).
+    /// The analytic solver's model: the same matrices and harmonics, each stop a contact pair
+    /// of direction `w = e_plus − e_minus` (the frame's entry left out).
     ///
     /// # Errors
     /// [`rattle_analytic::ModelError`] when the analytic model's own checks refuse it (they
@@ -162,7 +211,17 @@ impl Structure {
                 cosine: self.forcing_cos.clone(),
                 sine: self.forcing_sin.clone(),
                 sine_per_omega: self.forcing_sin_per_omega.clone(),
-                harmonics: Vec::new(),
+                harmonics: self
+                    .harmonics
+                    .iter()
+                    .map(|h| rattle_analytic::Harmonic {
+                        order: h.order,
+                        cosine: h.cosine.clone(),
+                        sine: h.sine.clone(),
+                        sine_per_omega: h.sine_per_omega.clone(),
+                        phase: h.phase,
+                    })
+                    .collect(),
             },
             pairs,
         )

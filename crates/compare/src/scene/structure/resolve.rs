@@ -3,9 +3,10 @@
 //! what has no bounded motion refused, naming the JSON path and the reason.
 
 use super::grounding::Grounding;
-use super::model::{Stop, Structure};
+use super::model::{ForcingHarmonic, Stop, Structure};
 use super::spec::{StopSpec, StructureScene};
 use super::{End, BASE, FRAME, MAX_BODIES};
+use crate::scene::{check_harmonics, HarmonicSpec};
 use nalgebra::{DMatrix, DVector};
 use thiserror::Error;
 
@@ -155,6 +156,7 @@ impl StructureScene {
         }
         let (base_amplitude, forcing_cos, forcing_sin, forcing_sin_per_omega) =
             self.forcing_vectors(&names, &base_springs, &base_dashpots)?;
+        let harmonics = self.forcing_harmonics(&names, &base_springs, &base_dashpots)?;
         let observe = match &self.observe {
             None => n - 1,
             Some(name) => names.iter().position(|b| b == name).ok_or_else(|| {
@@ -173,6 +175,7 @@ impl StructureScene {
             forcing_cos,
             forcing_sin,
             forcing_sin_per_omega,
+            harmonics,
             stops,
             base_amplitude,
             observe,
@@ -243,13 +246,82 @@ impl StructureScene {
             cos[body] += force.amplitude * c;
             sin[body] -= force.amplitude * s;
         }
-        if base_amplitude.is_none() && self.forcing.forces.iter().all(|f| f.amplitude == 0.0) {
+        let silent = |f: &super::spec::ForceSpec| {
+            f.amplitude == 0.0 && f.harmonics.iter().all(|h| h.amplitude == 0.0)
+        };
+        if base_amplitude.is_none() && self.forcing.forces.iter().all(silent) {
             return Err(refuse(
                 "forcing",
                 "drives nothing: give `base` (with elements tied to \"base\") or `forces`",
             ));
         }
         Ok((base_amplitude, cos, sin, sin_per_omega))
+    }
+
+    /// The forcing's higher harmonics, one per order by increasing order: the base's (its
+    /// springs times `a_k`, its dashpots times `−a_k` per unit `kω`, at its phase) and the
+    /// forces' on their bodies (their phases folded in against it).
+    fn forcing_harmonics(
+        &self,
+        names: &[String],
+        base_springs: &DVector<f64>,
+        base_dashpots: &DVector<f64>,
+    ) -> Result<Vec<ForcingHarmonic>, StructureError> {
+        let n = names.len();
+        let checked = |field: String, list: &[HarmonicSpec]| {
+            check_harmonics(&field, list).map_err(|(field, reason)| refuse(field, reason))
+        };
+        let mut harmonics: Vec<ForcingHarmonic> = Vec::new();
+        let mut of_order = |order: u32, phase: f64| -> usize {
+            match harmonics.iter().position(|h| h.order == order) {
+                Some(i) => i,
+                None => {
+                    harmonics.push(ForcingHarmonic {
+                        order,
+                        cosine: DVector::zeros(n),
+                        sine: DVector::zeros(n),
+                        sine_per_omega: DVector::zeros(n),
+                        phase,
+                    });
+                    harmonics.len() - 1
+                }
+            }
+        };
+        let mut slots = Vec::new();
+        if let Some(base) = &self.forcing.base {
+            checked("forcing.base.harmonics".to_owned(), &base.harmonics)?;
+            for h in &base.harmonics {
+                slots.push((of_order(h.order, h.phase), None, *h));
+            }
+        }
+        for (j, force) in self.forcing.forces.iter().enumerate() {
+            checked(format!("forcing.forces[{j}].harmonics"), &force.harmonics)?;
+            let body = names.iter().position(|b| *b == force.on).ok_or_else(|| {
+                refuse(
+                    format!("forcing.forces[{j}].on"),
+                    format!("no body named {:?}", force.on),
+                )
+            })?;
+            for h in &force.harmonics {
+                slots.push((of_order(h.order, 0.0), Some(body), *h));
+            }
+        }
+        for (i, body, h) in slots {
+            let entry = &mut harmonics[i];
+            match body {
+                None => {
+                    entry.cosine += base_springs * h.amplitude;
+                    entry.sine_per_omega -= base_dashpots * h.amplitude;
+                }
+                Some(j) => {
+                    let (s, c) = (h.phase - entry.phase).sin_cos();
+                    entry.cosine[j] += h.amplitude * c;
+                    entry.sine[j] -= h.amplitude * s;
+                }
+            }
+        }
+        harmonics.sort_by_key(|h| h.order);
+        Ok(harmonics)
     }
 }
 

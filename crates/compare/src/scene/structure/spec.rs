@@ -95,7 +95,8 @@ pub struct StopSpec {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ForcingSpec {
-    /// The base motion `u_g cos ωt`, through the springs and dashpots tied to `"base"`.
+    /// The base motion `u_g cos ωt` and its harmonics, through the springs and dashpots tied
+    /// to `"base"`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub base: Option<crate::scene::BaseSpec>,
     /// Forces on bodies.
@@ -103,17 +104,20 @@ pub struct ForcingSpec {
     pub forces: Vec<ForceSpec>,
 }
 
-/// A harmonic force `F cos(ωt + φ)` on one body.
+/// A periodic force `F cos(ωt + φ) + Σ F_k cos(kωt + φ_k)` on one body.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ForceSpec {
     /// The body's name.
     pub on: String,
-    /// `F`, N, finite.
+    /// `F`, N, finite: the fundamental's amplitude.
     pub amplitude: f64,
     /// `φ`, rad, finite (default 0).
     #[serde(default)]
     pub phase: f64,
+    /// The higher harmonics, each order once (empty: the fundamental alone).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub harmonics: Vec<crate::scene::HarmonicSpec>,
 }
 
 /// A scene in the structure form with its checked structure.
