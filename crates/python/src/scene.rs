@@ -7,6 +7,7 @@ use pyo3::exceptions::{PyFileNotFoundError, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use rattle_compare::output::structure::StructureAt;
 use rattle_compare::scene::structure::{StructureForm, StructureScene};
+use rattle_compare::scene::structure_parameter::StructureParameter;
 use rattle_compare::scene::{AnyScene, Scene, SceneError};
 use std::path::PathBuf;
 
@@ -72,7 +73,9 @@ fn scene_error(error: SceneError) -> PyErr {
         | SceneError::CellValue { .. }
         | SceneError::Chain { .. }
         | SceneError::Structure { .. }
-        | SceneError::StructureForm { .. } => PyValueError::new_err(error.to_string()),
+        | SceneError::StructureForm { .. }
+        | SceneError::Harmonic { .. }
+        | SceneError::CellsHarmonics { .. } => PyValueError::new_err(error.to_string()),
     }
 }
 
@@ -102,13 +105,12 @@ impl NativeScene {
                 .map(|scene| NativeScene { scene })
                 .map_err(scene_error);
         }
-        let structure = match checked {
-            Err(e @ (SceneError::Format { .. } | SceneError::Read { .. })) => {
-                return Err(scene_error(e))
-            }
-            Ok(AnyScene::Structure(_)) | Err(SceneError::Structure { .. }) => true,
-            Ok(AnyScene::Cells(_)) | Err(_) => false,
-        };
+        if let Err(e @ (SceneError::Format { .. } | SceneError::Read { .. })) = checked {
+            return Err(scene_error(e));
+        }
+        // The form is the document's (a unit whose base has harmonics parses as a structure).
+        let structure = serde_json::from_str::<serde_json::Value>(text)
+            .is_ok_and(|document| document.get("structure").is_some());
         if structure {
             let mut scene: StructureScene =
                 serde_json::from_str(text).map_err(|e| PyValueError::new_err(e.to_string()))?;
@@ -134,11 +136,8 @@ impl NativeScene {
         for (path, value) in &non_finite {
             set_number(&mut scene, path, *value)?;
         }
-        scene
-            .validated(DICT_ORIGIN)
-            .map(|scene| NativeScene {
-                scene: AnyScene::Cells(scene),
-            })
+        AnyScene::of_cells(scene, DICT_ORIGIN)
+            .map(|scene| NativeScene { scene })
             .map_err(scene_error)
     }
 
@@ -194,6 +193,18 @@ fn set_number(scene: &mut Scene, path: &str, value: f64) -> PyResult<()> {
         "unit.outer_stiffness" => Some(&mut scene.unit.outer_stiffness),
         "unit.inner_stiffness" => Some(&mut scene.unit.inner_stiffness),
         "base.amplitude" => Some(&mut scene.base.amplitude),
+        _ if path.starts_with("base.harmonics[") => path
+            .strip_prefix("base.harmonics[")
+            .and_then(|rest| rest.split_once("]."))
+            .and_then(|(k, field)| Some((k.parse::<usize>().ok()?, field)))
+            .and_then(|(k, field)| {
+                let h = scene.base.harmonics.get_mut(k)?;
+                match field {
+                    "amplitude" => Some(&mut h.amplitude),
+                    "phase" => Some(&mut h.phase),
+                    _ => None,
+                }
+            }),
         "stops.gap" => scene.stops.as_mut().map(|s| &mut s.gap),
         "stops.restitution" => scene.stops.as_mut().map(|s| &mut s.restitution),
         "damping.outer" => scene.damping.as_mut().map(|d| &mut d.outer),
@@ -212,58 +223,15 @@ fn set_number(scene: &mut Scene, path: &str, value: f64) -> PyResult<()> {
 }
 
 /// Sets the number at `path` (e.g. `structure.bodies[0].mass`) of the structure scene
-/// `scene` to `value`.
+/// `scene` to `value`, unchecked: the scene is checked once every number is back.
 fn set_structure_number(scene: &mut StructureScene, path: &str, value: f64) -> PyResult<()> {
-    let refused = || {
-        PyValueError::new_err(format!(
-            "{DICT_ORIGIN}: {path}: {value} is not a value of the scene format"
-        ))
-    };
-    // `list[index].field` at the start of `rest`: the index and the field.
-    let indexed = |rest: &str, list: &str| -> Option<(usize, String)> {
-        let rest = rest.strip_prefix(list)?.strip_prefix('[')?;
-        let (index, field) = rest.split_once("].")?;
-        Some((index.parse().ok()?, field.to_owned()))
-    };
-    let spec = &mut scene.structure;
-    let field: Option<&mut f64> = if let Some((j, f)) = indexed(path, "structure.bodies") {
-        spec.bodies
-            .get_mut(j)
-            .and_then(|b| (f == "mass").then_some(&mut b.mass))
-    } else if let Some((j, f)) = indexed(path, "structure.springs") {
-        spec.springs
-            .get_mut(j)
-            .and_then(|s| (f == "stiffness").then_some(&mut s.stiffness))
-    } else if let Some((j, f)) = indexed(path, "structure.dashpots") {
-        spec.dashpots
-            .get_mut(j)
-            .and_then(|d| (f == "damping").then_some(&mut d.damping))
-    } else if let Some((j, f)) = indexed(path, "structure.stops") {
-        spec.stops.get_mut(j).and_then(|s| match f.as_str() {
-            "gap" => s.gap.as_mut(),
-            "gap_plus" => s.gap_plus.as_mut(),
-            "gap_minus" => s.gap_minus.as_mut(),
-            "restitution" => Some(&mut s.restitution),
-            _ => None,
+    path.parse::<StructureParameter>()
+        .and_then(|p| p.set_unchecked(scene, value))
+        .map_err(|_| {
+            PyValueError::new_err(format!(
+                "{DICT_ORIGIN}: {path}: {value} is not a value of the scene format"
+            ))
         })
-    } else if let Some((j, f)) = indexed(path, "forcing.forces") {
-        scene
-            .forcing
-            .forces
-            .get_mut(j)
-            .and_then(|force| match f.as_str() {
-                "amplitude" => Some(&mut force.amplitude),
-                "phase" => Some(&mut force.phase),
-                _ => None,
-            })
-    } else if path == "forcing.base.amplitude" {
-        scene.forcing.base.as_mut().map(|b| &mut b.amplitude)
-    } else {
-        None
-    };
-    let field = field.ok_or_else(refused)?;
-    *field = value;
-    Ok(())
 }
 
 /// Registers the scene class.

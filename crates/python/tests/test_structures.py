@@ -467,3 +467,36 @@ def test_the_command_refuses_the_same_calls(rattle_cli, tmp_path, args):
     args = [tmp_path / a if isinstance(a, str) and "." in a else a for a in args]
     message = rattle_cli.error(args[0], OSCILLATOR, *args[1:])
     assert "structure form" in message, message
+
+
+HARMONICS = SCENES / "paper-two-harmonics.json"
+
+
+def test_a_unit_with_base_harmonics_runs_as_its_structure(rattle_cli):
+    document = json.loads(HARMONICS.read_text())
+    scene = rattle.Scene.from_file(HARMONICS)
+    assert scene.form == "structure"
+    assert rattle.Scene.from_dict(document) == scene
+    assert "harmonics" in scene.effects
+    ours = rattle.compare(scene, 2.2)
+    theirs = rattle_cli.json("compare", HARMONICS, "--omega", 2.2)
+    assert ours.to_dict() == theirs
+    assert theirs["class"] == "agreement"
+    assert [h["order"] for h in theirs["harmonics"]] == [2, 3]
+
+
+def test_a_harmonics_bad_value_is_named_by_its_path():
+    document = json.loads(HARMONICS.read_text())
+    document["base"]["harmonics"][1]["amplitude"] = math.nan
+    with pytest.raises(ValueError, match=r"dict: base\.harmonics\[1\]\.amplitude: NaN"):
+        rattle.Scene.from_dict(document)
+    document["base"]["harmonics"][1]["amplitude"] = 0.1
+    document["base"]["harmonics"][1]["order"] = 1
+    with pytest.raises(ValueError, match=r"base\.harmonics\[1\]\.order: 1 is out of range"):
+        rattle.Scene.from_dict(document)
+    oscillator = json.loads(OSCILLATOR.read_text())
+    oscillator["forcing"]["forces"][0]["harmonics"] = [{"order": 2, "amplitude": math.inf}]
+    with pytest.raises(
+        ValueError, match=r"forcing\.forces\[0\]\.harmonics\[0\]\.amplitude: inf"
+    ):
+        rattle.Scene.from_dict(oscillator)

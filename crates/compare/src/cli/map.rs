@@ -47,7 +47,7 @@ pub struct MapArgs {
     /// The x axis's parameter, by its JSON path in the scene: `unit.inner_mass`,
     /// `chain[2].stops.gap`, `damping.outer`, … on a unit or chain,
     /// `structure.stops[0].gap_plus`, `structure.bodies[1].mass`, `forcing.forces[0].amplitude`,
-    /// … on a structure. With --y; the map's columns are then `x` and `y` (the paths are in a
+    /// `forcing.base.harmonics[0].amplitude`, … on a structure. With --y; the map's columns are then `x` and `y` (the paths are in a
     /// JSON table's `grid`).
     #[arg(long, value_name = "PATH")]
     pub x: Option<String>,

@@ -10,7 +10,9 @@
 //! }
 //! ```
 //! `unit` and `base` are required; `stops` and `damping` are optional effects. Unknown fields
-//! are refused. Frequencies are not part of a scene.
+//! are refused. Frequencies are not part of a scene. A base motion may carry higher harmonics
+//! (`"harmonics": [{"order": 2, "amplitude": 0.3, "phase": 0.5}]`, [`HarmonicSpec`]); such a
+//! scene runs in the structure form ([`AnyScene::of_cells`], [`Scene::structure_scene`]).
 //!
 //! This module holds the format and its validation; [`analytic`] and [`simulator`] adapt a
 //! scene to each solver and name what the solver finds ([`analytic::AnalyticPoint`],

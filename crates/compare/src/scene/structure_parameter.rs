@@ -297,6 +297,21 @@ impl StructureParameter {
         })
     }
 
+    /// Writes `value` at the path in `scene` without checking the structure: for a caller
+    /// that sets several numbers and checks the scene once, as [`StructureScene::structure`]
+    /// does.
+    ///
+    /// # Errors
+    /// As [`StructureParameter::value`].
+    pub fn set_unchecked(
+        &self,
+        scene: &mut StructureScene,
+        value: f64,
+    ) -> Result<(), StructureParameterError> {
+        *self.slot(scene)? = value;
+        Ok(())
+    }
+
     /// The number the path names in `scene`, the scene rewritten where setting it needs (a
     /// stop written with `gap` written side by side for `gap_plus` or `gap_minus`; a stop with
     /// equal sides written with `gap` for `gap`).

@@ -163,7 +163,11 @@ class Scene:
          "damping": {"outer": 0.0, "inner": 0.0}}
 
     ``unit`` and ``base`` are required, ``stops`` and ``damping`` optional (``cells`` or
-    ``chain`` make a chain); unknown fields are refused. A document with a ``structure`` field
+    ``chain`` make a chain); unknown fields are refused. A base motion may carry harmonics,
+    ``"base": {"amplitude": 0.9, "harmonics": [{"order": 2, "amplitude": 0.3, "phase": 0.5}]}``
+    (orders 2 to 16; ``docs/scenes.md``): such a scene runs as its structure (bodies
+    ``outer``, ``inner``; in a chain ``outer0``, ``inner0``, …) and its :attr:`form` is
+    ``"structure"``. Forces of a structure take ``harmonics`` likewise. A document with a ``structure`` field
     is in the structure form (``docs/structure.md``)::
 
         {"name": "impact-oscillator",
@@ -175,11 +179,10 @@ class Scene:
          "forcing": {"forces": [{"on": "x", "amplitude": 1.0, "phase": 0.0}]},
          "observe": "x"}
 
-    :attr:`form` says which (``"cells"`` or ``"structure"``). A structure is taken by
-    :func:`simulate` (with its trajectory and Lyapunov exponents), :func:`orbit` with a
-    signature, :func:`compare`, :func:`sweep` (without ``shard``) and :func:`map` with ``x`` and
-    ``y``, as the command takes one; the other functions refuse it with a :class:`ValueError`
-    naming the function.
+    :attr:`form` says which (``"cells"`` or ``"structure"``). A structure is taken by every
+    function as the command takes one, but :func:`orbit` without a signature refuses it with a
+    :class:`ValueError` naming the function, and :func:`map` without ``x`` and ``y`` asks for
+    them.
     """
 
     __slots__ = ("_native",)
@@ -213,7 +216,9 @@ class Scene:
         if not isinstance(d, dict):
             raise TypeError(f"a scene is a dict, not {type(d).__name__}")
         non_finite = []
-        finite = _finite_copy(d, "", non_finite, lists="structure" in d)
+        base = d.get("base")
+        lists = "structure" in d or (isinstance(base, dict) and "harmonics" in base)
+        finite = _finite_copy(d, "", non_finite, lists=lists)
         text = _json.dumps(finite, default=_plain)
         return cls(_rattle.NativeScene.from_dict_json(text, non_finite))
 
@@ -236,7 +241,7 @@ class Scene:
     def effects(self):
         """The active effects, as outputs list them: ``["stops"]``, ``["stops", "damping"]``…
         (a structure's as its records' heading lists them: ``stops`` when it has stops,
-        ``damping`` when it has a dashpot)."""
+        ``damping`` when it has a dashpot, ``harmonics`` when its forcing has harmonics)."""
         return list(self._native.effects)
 
     def to_dict(self):

@@ -21,7 +21,8 @@
 //!   pairs, numbered from 0 in file order.
 //! - `forcing.base.amplitude` is `u_g`; `forcing.forces[j]` is `F cos(ωt + φ)` on body `on`
 //!   (`amplitude` `F`, `phase` `φ` in radians, default 0). At least one of the two drives the
-//!   structure.
+//!   structure. Each may carry `harmonics` ([`crate::scene::HarmonicSpec`]), `a cos(kωt + φ)`
+//!   of integer order `k ≥ 2`, summed order by order into [`Structure::harmonics`].
 //! - `observe` (default: the last body) is the body whose amplitude outputs call the outer
 //!   amplitude and whose transmittance (against `u_g`) they report.
 //!
