@@ -1,0 +1,287 @@
+//! The response of a model to a non-periodic signal, from rest at `t = 0` over a duration
+//! `T`: exact between events, every impact found with the event search's guarantee.
+//!
+//! The structure is the model's (its mass, damping and stiffness matrices and its contact
+//! pairs with their gaps, sides and restitution; free bodies held by stops fly as the
+//! periodic flow flies them, as rigid modes); its own periodic forcing is not applied.
+//! The forcing is `f(t) = d s(t) + v ṡ(t)` ([`Excitation`]): a base motion `s = u_g(t)`
+//! acting through springs (`d`, the stiffness to the base) and dashpots (`v`, the damping to
+//! the base), or a force signal on one body (`d = e_body`, `v = 0`). The scalar `s(t)`
+//! ([`Signal`]) is made of segments on which it is affine or a finite sum of sinusoids
+//! (sampled records interpolated piecewise linearly, tone bursts, stepped sweeps), zero
+//! after the last.
+//!
+//! **The flow.** On each segment the forcing is a polynomial of degree one or a sum of
+//! exponentials, so each modal coordinate is a finite sum of (polynomial × exponential) terms
+//! in closed form, resonance-safe: a sinusoid at (or near) a natural frequency, or at `ν = 0`,
+//! gives the secular or limit particular solution, and a rigid mode under an affine force the
+//! cubic of a free body (see `modal`). Segment boundaries are events: a flight ends there and
+//! the next starts from the state reached, under the next segment's forcing. A flight also
+//! ends after [`MAX_FLIGHT_SCALES`] time scales, which bounds the growth of its polynomial
+//! terms (the state is carried exactly across).
+//!
+//! **Contacts.** Each pair's relative displacement over a flight is such a sum
+//! ([`crate::expsum::ExpSum`]), and its first exit from `[−gap_minus, gap_plus]` is found by
+//! [`ExpSum::first_exit`](crate::expsum::ExpSum::first_exit): intervals are discarded only
+//! on rigorous derivative bounds, so no impact between steps is missed, however close two
+//! crossings are; the crossing is polished to the time tolerance
+//! ([`ResponseOptions::root_tolerance`] of the time scale). The earliest contact of all
+//! pairs ends the flight (ties to the lower pair index). An approach faster than the
+//! velocities' rounding is an impact: Newton's restitution `ṙ⁺ = −e ṙ⁻` along the contact
+//! direction, momentum kept ([`Model::apply_impact`], the periodic engine's contact law). A
+//! slower touch is a graze, stepped past. The thresholds are the periodic engine's, with
+//! the time scale `2π/max(|λ|, ν)` for its period.
+//!
+//! **Sticking is refused.** A pair that would come to rest on its stop (restitution 0, or a
+//! rebound slower than the resting velocity while the stop pushes), or whose chatter would
+//! accumulate within a `10⁻⁵` of the time scale, ends the run with
+//! [`ResponseError::Sticking`]: the constrained (stuck) phases of the periodic engine are not
+//! carried over to a time-varying forcing here.
+//!
+//! **Output.** Every impact (time, pair, side, `ṙ⁻`, the kinetic energy it took), the state
+//! at requested times, and a summary: per-coordinate RMS and peak of the displacement over
+//! `[0, T]`, the energy dissipated by the dashpots and by the impacts, the work done by the
+//! forcing and the final energy, so that `work = E(T) + dissipated` can be checked
+//! ([`ResponseSummary`] says how each is computed). Uniform samples are streamed to a
+//! callback ([`respond_sampled`]).
+
+mod modal;
+mod run;
+mod signal;
+
+use crate::flow::FlowError;
+use crate::model::Model;
+use nalgebra::DVector;
+use serde::Serialize;
+use thiserror::Error;
+
+pub use signal::{Segment, Shape, Signal, SignalError, Sinusoid, MAX_SINUSOIDS};
+
+/// A flight lasts at most this many time scales (`2π/max(|λ|, ν)`): the polynomial terms of
+/// rigid modes and secular responses stay small over it.
+pub const MAX_FLIGHT_SCALES: f64 = 16.0;
+
+/// At most this many time scales (`2π/max(|λ|, ν)`, the fastest oscillation's period) in a
+/// response: `T × max(|λ|, ν) / 2π ≤ 10⁷` oscillations.
+pub const MAX_DURATION_SCALES: f64 = 1e7;
+
+/// Default [`ResponseOptions::max_events`].
+pub const DEFAULT_MAX_EVENTS: u64 = 1_000_000;
+
+/// At most this many uniform samples in [`respond_sampled`].
+pub const MAX_SAMPLES: u64 = 10_000_000;
+
+/// How the signal forces the structure: `f(t) = d s(t) + v ṡ(t)`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Excitation {
+    /// `d`, one entry per degree of freedom: the force per unit `s`.
+    pub on_signal: DVector<f64>,
+    /// `v`, one entry per degree of freedom: the force per unit `ṡ`.
+    pub on_rate: DVector<f64>,
+}
+
+impl Excitation {
+    /// `f = d s + v ṡ`: for a base motion `s = u_g`, `d` the stiffness and `v` the damping
+    /// tying each degree of freedom to the base.
+    pub fn new(on_signal: DVector<f64>, on_rate: DVector<f64>) -> Excitation {
+        Excitation { on_signal, on_rate }
+    }
+
+    /// A force `s(t)` on degree of freedom `dof` of `n`: `d = e_dof`, `v = 0`.
+    ///
+    /// # Panics
+    /// If `dof ≥ n`.
+    pub fn force(n: usize, dof: usize) -> Excitation {
+        let mut d = DVector::zeros(n);
+        d[dof] = 1.0;
+        Excitation::new(d, DVector::zeros(n))
+    }
+}
+
+/// What to compute.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ResponseOptions {
+    /// `T > 0`, s, at most [`MAX_DURATION_SCALES`] time scales.
+    pub duration: f64,
+    /// Times at which to report the state, each in `[0, T]`, in any order (reported in the
+    /// order given).
+    pub at: Vec<f64>,
+    /// Contact times are resolved to this fraction of the time scale.
+    pub root_tolerance: f64,
+    /// At most this many impacts and grazes: a run that needs more ends with
+    /// [`ResponseError::EventCap`].
+    pub max_events: u64,
+}
+
+impl ResponseOptions {
+    /// Over `duration`, no states asked, the default tolerance and cap.
+    pub fn over(duration: f64) -> ResponseOptions {
+        ResponseOptions {
+            duration,
+            at: Vec::new(),
+            root_tolerance: crate::DEFAULT_ROOT_TOLERANCE,
+            max_events: DEFAULT_MAX_EVENTS,
+        }
+    }
+}
+
+/// Why there is no response.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum ResponseError {
+    /// An input out of range, named ([`SignalError::OutOfRange`]).
+    #[error(transparent)]
+    Input(#[from] SignalError),
+    /// The modal flow of the model's matrices does not exist.
+    #[error("flow: {0}")]
+    Flow(#[from] FlowError),
+    /// A pair would stick on its stop, or chatter to rest on it: not simulated here.
+    #[error(
+        "contact pair {pair} comes to rest on side {side} at t = {time} (sticking or chatter \
+         is not simulated under a signal)"
+    )]
+    Sticking {
+        /// When.
+        time: f64,
+        /// Which pair.
+        pair: usize,
+        /// `1`: the `+gap_plus` side, `2`: the `−gap_minus` side.
+        side: u8,
+    },
+    /// More impacts and grazes than [`ResponseOptions::max_events`].
+    #[error("more than {cap} impacts and grazes by t = {time}")]
+    EventCap {
+        /// The cap.
+        cap: u64,
+        /// When it was passed.
+        time: f64,
+    },
+}
+
+/// One impact.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResponseImpact {
+    /// Its time, s.
+    pub t: f64,
+    /// The contact pair (index into the model's).
+    pub pair: usize,
+    /// `1`: the `+gap_plus` side, `2`: the `−gap_minus` side.
+    pub side: u8,
+    /// `ṙ⁻`, the relative velocity just before.
+    pub relative_velocity_before: f64,
+    /// The kinetic energy it took, `½u̇⁻ᵀMu̇⁻ − ½u̇⁺ᵀMu̇⁺` from the velocities before and
+    /// after (`½μ(1 − e²)ṙ⁻²` up to rounding, never negative beyond it).
+    pub energy_lost: f64,
+}
+
+/// The state at one time.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResponseState {
+    /// The time, s.
+    pub t: f64,
+    /// `u`.
+    pub displacements: Vec<f64>,
+    /// `u̇` (just after an impact at exactly `t`).
+    pub velocities: Vec<f64>,
+}
+
+/// What the run amounts to over `[0, T]`.
+///
+/// The integrals (RMS, dashpot dissipation, work) are Gauss–Legendre quadratures of the
+/// exact flights, eight nodes on pieces of each flight at most `1/(2 max(|λ|, ν))` long:
+/// the integrands' fastest rate is at most `2 max(|λ|, ν)`, so each piece's rule errs by
+/// about `10⁻²³` of its length times the integrand's size, rounding-level. The peaks are the
+/// exact flights' maxima ([`crate::expsum::ExpSum::max_abs`], to `10⁻¹³` relative).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResponseSummary {
+    /// Impacts.
+    pub impacts: u64,
+    /// Grazes (touches without an approach, stepped past).
+    pub grazes: u64,
+    /// Flights (between segment boundaries, events and the flight cap).
+    pub flights: u64,
+    /// Per coordinate, `√(∫₀ᵀ u_j² dt / T)`.
+    pub rms: Vec<f64>,
+    /// Per coordinate, `max |u_j|` over `[0, T]`.
+    pub peak: Vec<f64>,
+    /// `∫₀ᵀ u̇ᵀ C u̇ dt`.
+    pub dissipated_by_dashpots: f64,
+    /// `Σ` of the impacts' [`ResponseImpact::energy_lost`].
+    pub dissipated_by_impacts: f64,
+    /// `∫₀ᵀ f(t)ᵀ u̇ dt`.
+    pub work: f64,
+    /// `E(T) = ½u̇ᵀMu̇ + ½uᵀKu` at `T` (`E(0) = 0`: the run starts at rest).
+    pub final_energy: f64,
+}
+
+impl ResponseSummary {
+    /// `work − E(T) − dissipated`: zero up to the quadratures' and the contact times'
+    /// accuracy.
+    pub fn energy_imbalance(&self) -> f64 {
+        self.work - self.final_energy - self.dissipated_by_dashpots - self.dissipated_by_impacts
+    }
+}
+
+/// The response.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Response {
+    /// `T`, s.
+    pub duration: f64,
+    /// The time scale `2π/max(|λ|, ν)` (`T` when that is longer), s.
+    pub time_scale: f64,
+    /// Every impact, in time order.
+    pub impacts: Vec<ResponseImpact>,
+    /// The states at [`ResponseOptions::at`], in its order.
+    pub states: Vec<ResponseState>,
+    /// The state at `T`.
+    pub final_state: ResponseState,
+    /// The summary.
+    pub summary: ResponseSummary,
+}
+
+/// A uniform sample of [`respond_sampled`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SampledState<'a> {
+    /// The time `jT/N`, s.
+    pub t: f64,
+    /// `u`.
+    pub displacements: &'a [f64],
+    /// `u̇` (just after an impact at exactly `t`).
+    pub velocities: &'a [f64],
+}
+
+/// The response of `model`'s structure to `excitation` by `signal`, from rest at `t = 0`.
+///
+/// # Errors
+/// [`ResponseError::Input`] naming the field (`excitation.on_signal`, `excitation.on_rate`
+/// and their entries, `duration`, `at[i]`, `root_tolerance`), [`ResponseError::Flow`],
+/// [`ResponseError::Sticking`] and [`ResponseError::EventCap`].
+pub fn respond(
+    model: &Model,
+    excitation: &Excitation,
+    signal: &Signal,
+    options: &ResponseOptions,
+) -> Result<Response, ResponseError> {
+    run::run(model, excitation, signal, options, None)
+}
+
+/// [`respond`], streaming the states at the `samples + 1` uniform times `t_j = jT/N`
+/// (`N = samples`, `j = 0..=N`) to `sink` in time order, as the run reaches them.
+///
+/// # Errors
+/// As [`respond`], and [`ResponseError::Input`] naming `samples` (in `1..=`[`MAX_SAMPLES`]).
+pub fn respond_sampled(
+    model: &Model,
+    excitation: &Excitation,
+    signal: &Signal,
+    options: &ResponseOptions,
+    samples: u64,
+    sink: &mut dyn FnMut(SampledState<'_>),
+) -> Result<Response, ResponseError> {
+    signal::check(
+        || "samples".into(),
+        samples as f64,
+        (1..=MAX_SAMPLES).contains(&samples),
+        "in 1..=10000000",
+    )?;
+    run::run(model, excitation, signal, options, Some((samples, sink)))
+}

@@ -1,0 +1,529 @@
+//! The event loop of a response: flights between segment boundaries and contacts, the
+//! contacts' restitution, and what the run records of each flight.
+
+use super::modal::{Basis, Functional, ModalForce};
+use super::signal::{check, Signal};
+use super::*;
+use crate::expsum::{ExpSum, SearchStack};
+
+/// A contact is an excursion beyond a stop deeper than this fraction of the largest gap (plus
+/// the positions' rounding): the periodic engine's threshold.
+const CONTACT_DEPTH: f64 = 1e-12;
+
+/// Positions are known to this relative rounding of their size.
+const POSITION_ROUNDING: f64 = 1e-14;
+
+/// Velocities are known to this relative rounding of their size: a slower approach is a
+/// graze, not an impact.
+const VELOCITY_ROUNDING: f64 = 1e-13;
+
+/// A rebound slower than this fraction of `scale_rate × gap` with the stop pushing is a pair
+/// at rest on its stop.
+const RESTING_VELOCITY: f64 = 1e-10;
+
+/// After a graze, the pair's contacts are ignored for this fraction of the time scale, so
+/// that rounding does not find the same touch again.
+const GRACE: f64 = 1e-10;
+
+/// Chatter that would accumulate within this fraction of the time scale is a pair coming to
+/// rest on its stop.
+const CHATTER: f64 = 1e-5;
+
+/// Relative accuracy of the peaks.
+const PEAK_TOLERANCE: f64 = 1e-13;
+
+/// Smallest scale divided by.
+const SCALE_FLOOR: f64 = 1e-300;
+
+/// Gauss–Legendre nodes (on `[−1, 1]`, the positive half) and weights, eight points: exact
+/// for polynomials of degree 15.
+const GAUSS: [(f64, f64); 4] = [
+    (0.183_434_642_495_649_8, 0.362_683_783_378_362),
+    (0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+    (0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
+];
+
+/// One watched contact pair.
+struct Watched {
+    pair: usize,
+    relative: Functional,
+    lo: f64,
+    hi: f64,
+    /// `d`.
+    direction: DVector<f64>,
+    /// `M⁻¹d`.
+    mobility: DVector<f64>,
+}
+
+/// Everything fixed for the run.
+struct Runner<'a> {
+    model: &'a Model,
+    excitation: &'a Excitation,
+    signal: &'a Signal,
+    basis: Basis,
+    forces: (ModalForce, ModalForce),
+    watched: Vec<Watched>,
+    displacements: Vec<Functional>,
+    duration: f64,
+    time_scale: f64,
+    time_tolerance: f64,
+    gap_scale: f64,
+    resting_velocity: f64,
+    grace: f64,
+    chatter: f64,
+    max_flight: f64,
+    quadrature_piece: f64,
+    max_events: u64,
+}
+
+/// What the run accumulates.
+struct Record {
+    impacts: Vec<ResponseImpact>,
+    grazes: u64,
+    flights: u64,
+    squares: Vec<f64>,
+    peak: Vec<f64>,
+    dashpots: f64,
+    work: f64,
+    /// `(time, index into at)`, by time; the next one to serve.
+    at: Vec<(f64, usize)>,
+    next_at: usize,
+    states: Vec<Option<ResponseState>>,
+    /// Uniform samples: their count `N`, the next `j`.
+    samples: Option<u64>,
+    next_sample: u64,
+}
+
+fn state_of(t: f64, y: &DVector<f64>) -> ResponseState {
+    let n = y.len() / 2;
+    ResponseState {
+        t,
+        displacements: y.as_slice()[..n].to_vec(),
+        velocities: y.as_slice()[n..].to_vec(),
+    }
+}
+
+/// Checks the inputs: the excitation's vectors, the duration, the requested times and the
+/// tolerances.
+fn check_inputs(
+    model: &Model,
+    excitation: &Excitation,
+    options: &ResponseOptions,
+) -> Result<(), SignalError> {
+    let n = model.dofs();
+    for (name, v) in [
+        ("on_signal", &excitation.on_signal),
+        ("on_rate", &excitation.on_rate),
+    ] {
+        check(
+            || format!("excitation.{name}"),
+            v.len() as f64,
+            v.len() == n,
+            "one entry per degree of freedom",
+        )?;
+        for (i, &x) in v.iter().enumerate() {
+            check(|| format!("excitation.{name}[{i}]"), x, true, "finite")?;
+        }
+    }
+    let duration = options.duration;
+    check(|| "duration".into(), duration, duration > 0.0, "> 0")?;
+    for (i, &t) in options.at.iter().enumerate() {
+        check(
+            || format!("at[{i}]"),
+            t,
+            (0.0..=duration).contains(&t),
+            "in [0, duration]",
+        )?;
+    }
+    let tol = options.root_tolerance;
+    check(
+        || "root_tolerance".into(),
+        tol,
+        tol > 0.0 && tol < 1e-3,
+        "in (0, 1e-3)",
+    )?;
+    Ok(())
+}
+
+/// The run of [`respond`] and [`respond_sampled`].
+pub(super) fn run(
+    model: &Model,
+    excitation: &Excitation,
+    signal: &Signal,
+    options: &ResponseOptions,
+    sampling: Option<(u64, &mut dyn FnMut(SampledState<'_>))>,
+) -> Result<Response, ResponseError> {
+    let (samples, mut sink) = match sampling {
+        Some((count, sink)) => (Some(count), Some(sink)),
+        None => (None, None),
+    };
+    check_inputs(model, excitation, options)?;
+    let runner = Runner::new(model, excitation, signal, options)?;
+    let n = model.dofs();
+    let mut order: Vec<(f64, usize)> = options.at.iter().copied().zip(0..).collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut record = Record {
+        impacts: Vec::new(),
+        grazes: 0,
+        flights: 0,
+        squares: vec![0.0; n],
+        peak: vec![0.0; n],
+        dashpots: 0.0,
+        work: 0.0,
+        at: order,
+        next_at: 0,
+        states: vec![None; options.at.len()],
+        samples,
+        next_sample: 0,
+    };
+    let mut y = DVector::zeros(2 * n);
+    let mut t = 0.0;
+    let mut grace = vec![f64::NEG_INFINITY; runner.watched.len()];
+    let mut stack = SearchStack::default();
+    let mut sum = ExpSum::default();
+    while t < runner.duration {
+        let segment = signal.segment_at(t);
+        let segment_end = segment.map_or(f64::INFINITY, |i| signal.segments()[i].end);
+        let end = runner.duration.min(segment_end).min(t + runner.max_flight);
+        let horizon = end - t;
+        let forcing =
+            Basis::flight_forcing((&runner.forces.0, &runner.forces.1), signal, segment, t);
+        let flight = runner.basis.flight(&y, &forcing, horizon);
+        record.flights += 1;
+        // Every pair's first exit, the earliest kept; a pair in its grace time that reaches
+        // its edge first ends the flight at its grace's end, without an event.
+        let position_size = y.as_slice()[..n]
+            .iter()
+            .fold(0.0, |m: f64, v| m.max(v.abs()));
+        let depth = CONTACT_DEPTH * runner.gap_scale + POSITION_ROUNDING * position_size;
+        let mut contact: Option<(f64, usize, i8)> = None;
+        let mut step = horizon;
+        for (w, watched) in runner.watched.iter().enumerate() {
+            let within = contact.map_or(step, |c| c.0).min(step);
+            runner.basis.expand(&flight, &watched.relative, &mut sum);
+            let found = sum.first_exit(
+                watched.lo,
+                watched.hi,
+                within,
+                runner.time_tolerance,
+                depth,
+                &mut stack,
+            );
+            if let Some((s, side)) = found {
+                if t + s < grace[w] {
+                    step = step.min(grace[w] - t);
+                } else if contact.is_none_or(|c| s < c.0) {
+                    contact = Some((s, w, side));
+                }
+            }
+        }
+        let contact = contact.filter(|c| c.0 <= step);
+        let span = contact.map_or(step, |c| c.0);
+        let t_end = if span == horizon { end } else { t + span };
+        runner.record_flight(
+            &mut record,
+            &flight,
+            (segment, t, t_end, span),
+            sink.as_deref_mut(),
+        );
+        runner.basis.state_into(&flight, span, &mut y);
+        t = t_end;
+        if let Some((_, w, side)) = contact {
+            runner.contact(&mut record, &mut y, (t, w, side), &mut grace)?;
+        }
+    }
+    // The requested times at `T`, and the last sample: the state reached.
+    while record.next_at < record.at.len() {
+        let (_, index) = record.at[record.next_at];
+        record.states[index] = Some(state_of(runner.duration, &y));
+        record.next_at += 1;
+    }
+    if let (Some(count), Some(sink)) = (record.samples, sink.as_mut()) {
+        while record.next_sample <= count {
+            let ts = runner.sample_time(record.next_sample, count);
+            sink(SampledState {
+                t: ts,
+                displacements: &y.as_slice()[..n],
+                velocities: &y.as_slice()[n..],
+            });
+            record.next_sample += 1;
+        }
+    }
+    Ok(runner.report(record, &y))
+}
+
+impl<'a> Runner<'a> {
+    fn new(
+        model: &'a Model,
+        excitation: &'a Excitation,
+        signal: &'a Signal,
+        options: &ResponseOptions,
+    ) -> Result<Self, ResponseError> {
+        let n = model.dofs();
+        let basis = Basis::new(model)?;
+        let duration = options.duration;
+        let fastest = basis
+            .fastest_rate()
+            .max(signal.fastest_frequency())
+            .max(std::f64::consts::TAU / duration);
+        let time_scale = std::f64::consts::TAU / fastest;
+        check(
+            || "duration".into(),
+            duration,
+            duration / time_scale <= MAX_DURATION_SCALES,
+            "at most 1e7 time scales 2π/max(|λ|, ν) (the fastest oscillation's period)",
+        )?;
+        let forces = (
+            basis.force(&excitation.on_signal),
+            basis.force(&excitation.on_rate),
+        );
+        let minv = model
+            .mass
+            .clone()
+            .try_inverse()
+            .ok_or(FlowError::SingularMass)?;
+        let watched = model
+            .contacts
+            .iter()
+            .enumerate()
+            .map(|(pair, c)| {
+                let direction = c.direction(n);
+                let mut position = DVector::zeros(2 * n);
+                position.rows_mut(0, n).copy_from(&direction);
+                Watched {
+                    pair,
+                    relative: basis.functional(&position),
+                    lo: -c.gap_minus,
+                    hi: c.gap_plus,
+                    mobility: &minv * &direction,
+                    direction,
+                }
+            })
+            .collect();
+        let displacements = (0..n)
+            .map(|j| {
+                let mut c = DVector::zeros(2 * n);
+                c[j] = 1.0;
+                basis.functional(&c)
+            })
+            .collect();
+        let gap_scale = model
+            .contacts
+            .iter()
+            .flat_map(|c| [c.gap_plus, c.gap_minus])
+            .filter(|g| g.is_finite())
+            .fold(0.0, f64::max)
+            .max(SCALE_FLOOR);
+        Ok(Runner {
+            model,
+            excitation,
+            signal,
+            basis,
+            forces,
+            watched,
+            displacements,
+            duration,
+            time_scale,
+            time_tolerance: options.root_tolerance * time_scale,
+            gap_scale,
+            resting_velocity: RESTING_VELOCITY * fastest * gap_scale,
+            grace: GRACE * time_scale,
+            chatter: CHATTER * time_scale,
+            max_flight: MAX_FLIGHT_SCALES * time_scale,
+            quadrature_piece: 0.5 / fastest,
+            max_events: options.max_events,
+        })
+    }
+
+    /// The uniform sample time `jT/N`.
+    fn sample_time(&self, j: u64, count: u64) -> f64 {
+        if j == count {
+            self.duration
+        } else {
+            j as f64 * self.duration / count as f64
+        }
+    }
+
+    /// The force `f(t) = d s(t) + v ṡ(t)` by segment `segment`'s form.
+    fn force_at(&self, segment: Option<usize>, t: f64) -> DVector<f64> {
+        let (s, rate) = self.signal.value_and_rate_in(segment, t);
+        &self.excitation.on_signal * s + &self.excitation.on_rate * rate
+    }
+
+    /// `½u̇ᵀMu̇`.
+    fn kinetic(&self, y: &DVector<f64>) -> f64 {
+        let n = self.model.dofs();
+        let v = y.rows(n, n);
+        0.5 * v.dot(&(&self.model.mass * v))
+    }
+
+    /// What the run records of a flight from `t0` over `span` (to `t1`): its integrals, its
+    /// peaks, and the requested and sampled states in `[t0, t1)`.
+    fn record_flight<'o>(
+        &self,
+        record: &mut Record,
+        flight: &super::modal::Flight,
+        (segment, t0, t1, span): (Option<usize>, f64, f64, f64),
+        mut sink: Option<&mut (dyn FnMut(SampledState<'_>) + 'o)>,
+    ) {
+        let n = self.model.dofs();
+        let mut y = DVector::zeros(2 * n);
+        while record.next_at < record.at.len() && record.at[record.next_at].0 < t1 {
+            let (ta, index) = record.at[record.next_at];
+            self.basis.state_into(flight, (ta - t0).max(0.0), &mut y);
+            record.states[index] = Some(state_of(ta, &y));
+            record.next_at += 1;
+        }
+        if let (Some(count), Some(sink)) = (record.samples, sink.as_mut()) {
+            while record.next_sample <= count {
+                let ts = self.sample_time(record.next_sample, count);
+                if ts >= t1 {
+                    break;
+                }
+                self.basis.state_into(flight, (ts - t0).max(0.0), &mut y);
+                sink(SampledState {
+                    t: ts,
+                    displacements: &y.as_slice()[..n],
+                    velocities: &y.as_slice()[n..],
+                });
+                record.next_sample += 1;
+            }
+        }
+        if span <= 0.0 {
+            return;
+        }
+        // Gauss–Legendre on pieces at most `quadrature_piece` long.
+        let pieces = (span / self.quadrature_piece).ceil().max(1.0);
+        let h = span / pieces;
+        let damping = self.model.damping.as_ref();
+        for p in 0..pieces as u64 {
+            let mid = (p as f64 + 0.5) * h;
+            for &(x, w) in &GAUSS {
+                for s in [mid - 0.5 * h * x, mid + 0.5 * h * x] {
+                    let weight = 0.5 * h * w;
+                    self.basis.state_into(flight, s, &mut y);
+                    let (u, v) = (y.rows(0, n), y.rows(n, n));
+                    let f = self.force_at(segment, t0 + s);
+                    record.work += weight * f.dot(&v);
+                    if let Some(c) = damping {
+                        record.dashpots += weight * v.dot(&(c * v));
+                    }
+                    for (sq, &uj) in record.squares.iter_mut().zip(u.iter()) {
+                        *sq += weight * uj * uj;
+                    }
+                }
+            }
+        }
+        let mut sum = ExpSum::default();
+        for (peak, u) in record.peak.iter_mut().zip(&self.displacements) {
+            self.basis.expand(flight, u, &mut sum);
+            let tolerance = PEAK_TOLERANCE * (1.0 + *peak);
+            *peak = sum.max_abs(span, *peak, tolerance);
+        }
+    }
+
+    /// A contact of watched pair `w` on `side` at `t`, the state `y` just before: an impact
+    /// if the pair approaches (restitution, recorded), a graze otherwise (its grace set);
+    /// [`ResponseError::Sticking`] when the stop would hold the pair.
+    fn contact(
+        &self,
+        record: &mut Record,
+        y: &mut DVector<f64>,
+        (t, w, side): (f64, usize, i8),
+        grace: &mut [f64],
+    ) -> Result<(), ResponseError> {
+        if record.impacts.len() as u64 + record.grazes >= self.max_events {
+            return Err(ResponseError::EventCap {
+                cap: self.max_events,
+                time: t,
+            });
+        }
+        let n = self.model.dofs();
+        let watched = &self.watched[w];
+        let pair = watched.pair;
+        let rdot = watched.direction.dot(&y.rows(n, n));
+        let velocity_size = y.as_slice()[n..]
+            .iter()
+            .fold(0.0, |m: f64, v| m.max(v.abs()));
+        let velocity_round = VELOCITY_ROUNDING * velocity_size;
+        let approaching = rdot * side as f64 > velocity_round;
+        let side_number = if side > 0 { 1 } else { 2 };
+        if approaching {
+            let before = self.kinetic(y);
+            self.model.apply_impact(pair, y, None);
+            let after = self.kinetic(y);
+            record.impacts.push(ResponseImpact {
+                t,
+                pair,
+                side: side_number,
+                relative_velocity_before: rdot,
+                energy_lost: before - after,
+            });
+        }
+        // The stop pushes when the free relative acceleration points into it.
+        let mut f =
+            self.force_at(self.signal.segment_at(t), t) - &self.model.stiffness * y.rows(0, n);
+        if let Some(c) = &self.model.damping {
+            f -= c * y.rows(n, n);
+        }
+        let push = watched.mobility.dot(&f) * side as f64;
+        let rdot_after = watched.direction.dot(&y.rows(n, n));
+        let e = self.model.contacts[pair].restitution;
+        let accumulation = if push > 0.0 && e < 1.0 {
+            2.0 * rdot_after.abs() / (push * (1.0 - e))
+        } else {
+            f64::INFINITY
+        };
+        let rests = push > 0.0
+            && (rdot_after.abs() <= self.resting_velocity + velocity_round
+                || accumulation < self.chatter
+                || !approaching);
+        if rests {
+            return Err(ResponseError::Sticking {
+                time: t,
+                pair,
+                side: side_number,
+            });
+        }
+        if !approaching {
+            record.grazes += 1;
+            grace[w] = t + self.grace;
+        }
+        Ok(())
+    }
+
+    /// The response from what the run recorded, and the state `y` at `T`.
+    fn report(&self, record: Record, y: &DVector<f64>) -> Response {
+        let n = self.model.dofs();
+        let u = y.rows(0, n);
+        let potential = 0.5 * u.dot(&(&self.model.stiffness * u));
+        let summary = ResponseSummary {
+            impacts: record.impacts.len() as u64,
+            grazes: record.grazes,
+            flights: record.flights,
+            rms: record
+                .squares
+                .iter()
+                .map(|s| (s / self.duration).sqrt())
+                .collect(),
+            peak: record.peak,
+            dissipated_by_dashpots: record.dashpots,
+            dissipated_by_impacts: record.impacts.iter().map(|i| i.energy_lost).sum(),
+            work: record.work,
+            final_energy: self.kinetic(y) + potential,
+        };
+        Response {
+            duration: self.duration,
+            time_scale: self.time_scale,
+            impacts: record.impacts,
+            states: record
+                .states
+                .into_iter()
+                .map(|s| s.expect("every requested time is served"))
+                .collect(),
+            final_state: state_of(self.duration, y),
+            summary,
+        }
+    }
+}
