@@ -258,8 +258,8 @@ fn linear_models_follow_their_closed_forms() {
 #[test]
 fn resonance_and_free_bodies_take_their_limit_forms() {
     // Undamped m ü + k u = F cos ω_n t from rest: u = F t sin(ω_n t)/(2 m ω_n), secular.
-    let (m, k, force) = (2.0, 8.0, 0.7);
-    let wn = (k / m as f64).sqrt();
+    let (m, k, force): (f64, f64, f64) = (2.0, 8.0, 0.7);
+    let wn = (k / m).sqrt();
     let model = linear_model(
         &DMatrix::from_element(1, 1, m),
         None,
@@ -400,7 +400,7 @@ fn sampled_cosine(omega: f64, per_period: usize, periods: usize) -> Signal {
 /// rest has decayed by `e^{−ζω_n t} < 10⁻¹²`.
 #[test]
 fn a_sampled_cosine_reaches_the_periodic_steady_state() {
-    let (m, c, k, omega) = (1.0, 0.2, 1.0, 1.3);
+    let (m, c, k, omega): (f64, f64, f64, f64) = (1.0, 0.2, 1.0, 1.3);
     let model = Model::new(
         DMatrix::from_element(1, 1, m),
         DMatrix::from_element(1, 1, k),
@@ -420,7 +420,7 @@ fn a_sampled_cosine_reaches_the_periodic_steady_state() {
     assert_eq!(steady.status, Status::Periodic);
     let section = steady.stroboscopic[0].clone();
     let period = std::f64::consts::TAU / omega;
-    let wn = (k / m as f64).sqrt();
+    let wn = (k / m).sqrt();
     let zeta = c / (2.0 * m * wn);
     let wd = wn * (1.0 - zeta * zeta).sqrt();
     let periods = 60;

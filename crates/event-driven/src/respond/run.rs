@@ -44,6 +44,9 @@ const GAUSS: [(f64, f64); 4] = [
     (0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
 ];
 
+/// Where uniform samples go.
+pub(super) type Sink<'s> = &'s mut dyn FnMut(SampledState<'_>);
+
 /// One watched contact pair.
 struct Watched {
     pair: usize,
@@ -152,7 +155,7 @@ pub(super) fn run(
     excitation: &Excitation,
     signal: &Signal,
     options: &ResponseOptions,
-    sampling: Option<(u64, &mut dyn FnMut(SampledState<'_>))>,
+    sampling: Option<(u64, Sink<'_>)>,
 ) -> Result<Response, ResponseError> {
     let (samples, mut sink) = match sampling {
         Some((count, sink)) => (Some(count), Some(sink)),

@@ -110,7 +110,7 @@ impl Signal {
                 "0 for the first segment, the previous segment's end for the others",
             )?;
             let end_ok = seg.end > seg.start && (seg.end.is_finite() || i == last);
-            if !(end_ok && !seg.end.is_nan()) {
+            if !end_ok {
                 return Err(SignalError::OutOfRange {
                     field: format!("segments[{i}].end"),
                     value: seg.end,
