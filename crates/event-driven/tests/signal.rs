@@ -696,3 +696,170 @@ fn bad_input_is_refused_by_name() {
         "samples"
     );
 }
+
+/// Near resonance (`ν = ω_n + δ`, undamped, from rest) the motion is the beat
+/// `u = F (cos νt − cos ω_n t)/(m(ω_n² − ν²))`, written here without cancellation:
+/// `cos νt − cos ω_n t = 2 sin((ω_n + ν)t/2) sin((ω_n − ν)t/2)`. Detunings on both sides of
+/// the series' threshold.
+#[test]
+fn near_resonance_stays_exact() {
+    let (m, k, force): (f64, f64, f64) = (1.0, 4.0, 0.5);
+    let wn = (k / m).sqrt();
+    let model = linear_model(
+        &DMatrix::from_element(1, 1, m),
+        None,
+        &DMatrix::from_element(1, 1, k),
+    );
+    let times: Vec<f64> = (0..=20).map(|j| 1.9 * j as f64).collect();
+    for delta in [1e-9, 1e-6, 1e-4, 1e-2] {
+        let nu = wn + delta;
+        let signal = Signal::from_segments(vec![Segment {
+            start: 0.0,
+            end: f64::INFINITY,
+            shape: Shape::Sinusoids(vec![Sinusoid {
+                frequency: nu,
+                cos: force,
+                sin: 0.0,
+            }]),
+        }])
+        .unwrap();
+        let response = respond(
+            &model,
+            &Excitation::force(1, 0),
+            &signal,
+            &options(40.0, times.clone()),
+        )
+        .unwrap();
+        let exact = |t: f64| {
+            let g = force / (m * (wn + nu));
+            let (half_sum, half_diff) = (0.5 * (wn + nu) * t, 0.5 * (wn - nu) * t);
+            // (cos νt − cos ω_n t)/(ω_n − ν) and its derivative, each without cancellation.
+            let sinc = |x: f64| if x == 0.0 { 1.0 } else { x.sin() / x };
+            let u = g * half_sum.sin() * t * sinc(half_diff);
+            let v = g * (wn * half_sum.cos() * t * sinc(half_diff) + (nu * t).sin());
+            [u, v]
+        };
+        let scale = times
+            .iter()
+            .flat_map(|&t| exact(t))
+            .fold(0.0, |a: f64, v| a.max(v.abs()));
+        let worst = response
+            .states
+            .iter()
+            .zip(&times)
+            .map(|(s, &t)| relative_error(&state(s), &exact(t), scale))
+            .fold(0.0, f64::max);
+        println!("detuned by {delta:e}: {worst:e}");
+        assert!(worst <= 1e-10, "detuned by {delta:e}: {worst:e}");
+    }
+}
+
+#[test]
+fn bursts_and_sweeps_are_their_definitions() {
+    let (amplitude, omega, cycles) = (1.3, 2.5, 4.0);
+    let burst = Signal::tone_burst(amplitude, omega, cycles).unwrap();
+    let end = std::f64::consts::TAU * cycles / omega;
+    assert_eq!(burst.end(), end);
+    for j in 0..=200 {
+        let t = 0.06 * j as f64;
+        let expected = if t < end {
+            amplitude * 0.5 * (1.0 - (omega * t / cycles).cos()) * (omega * t).sin()
+        } else {
+            0.0
+        };
+        let (s, _) = burst.value_and_rate(t);
+        assert!((s - expected).abs() <= 1e-14, "t {t}: {s} vs {expected}");
+    }
+    let steps = [(1.0, 0.5, 2.0), (1.5, -0.7, 1.0), (3.0, 0.2, 0.5)];
+    let sweep = Signal::stepped_sweep(&steps).unwrap();
+    let mut start = 0.0;
+    for &(nu, a, duration) in &steps {
+        for j in 0..10 {
+            let t = start + duration * j as f64 / 10.0;
+            let (s, rate) = sweep.value_and_rate(t);
+            let (sn, cs) = (nu * (t - start)).sin_cos();
+            assert!((s - a * sn).abs() <= 1e-14, "t {t}");
+            assert!((rate - a * nu * cs).abs() <= 1e-14, "t {t}");
+        }
+        start += duration;
+    }
+    assert_eq!(sweep.value_and_rate(start + 0.1), (0.0, 0.0));
+    // The sweep drives the unit through impacts, the state carried across its steps; the
+    // streamed samples are the requested states at the same times, bit for bit.
+    let model = paper_unit(1.0, Some(LIGHT_DAMPING), Some((0.05, 0.9)));
+    let count = 40;
+    let duration = 6.0;
+    let at: Vec<f64> = (0..=count)
+        .rev()
+        .map(|j| {
+            if j == count {
+                duration
+            } else {
+                j as f64 * duration / count as f64
+            }
+        })
+        .collect();
+    let mut streamed = Vec::new();
+    let response = respond_sampled(
+        &model,
+        &base_excitation(LIGHT_DAMPING.0),
+        &sweep,
+        &options(duration, at.clone()),
+        count,
+        &mut |s| {
+            streamed.push((
+                s.t,
+                s.displacements
+                    .iter()
+                    .chain(s.velocities)
+                    .copied()
+                    .collect::<Vec<f64>>(),
+            ))
+        },
+    )
+    .unwrap();
+    assert!(response.summary.impacts > 0);
+    assert_eq!(streamed.len(), count as usize + 1);
+    for (s, (t, y)) in response.states.iter().rev().zip(&streamed) {
+        assert_eq!(s.t, *t);
+        assert_eq!(&state(s), y, "t {t}");
+    }
+    assert_eq!(response.states[0], response.final_state);
+}
+
+#[test]
+fn sticking_and_too_many_events_are_refused() {
+    let omega = 0.8;
+    let signal = Signal::from_segments(vec![Segment {
+        start: 0.0,
+        end: f64::INFINITY,
+        shape: Shape::Sinusoids(vec![Sinusoid {
+            frequency: omega,
+            cos: BASE_AMPLITUDE,
+            sin: 0.0,
+        }]),
+    }])
+    .unwrap();
+    // A plastic stop (e = 0) holds the pair at its first impact.
+    let plastic = paper_unit(omega, Some(LIGHT_DAMPING), Some((0.25, 0.0)));
+    let result = respond(
+        &plastic,
+        &base_excitation(LIGHT_DAMPING.0),
+        &signal,
+        &options(30.0, Vec::new()),
+    );
+    assert!(
+        matches!(result, Err(ResponseError::Sticking { pair: 0, .. })),
+        "{result:?}"
+    );
+    let model = paper_unit(omega, Some(LIGHT_DAMPING), Some((0.25, 0.8)));
+    let capped = ResponseOptions {
+        max_events: 3,
+        ..options(30.0, Vec::new())
+    };
+    let result = respond(&model, &base_excitation(LIGHT_DAMPING.0), &signal, &capped);
+    assert!(
+        matches!(result, Err(ResponseError::EventCap { cap: 3, .. })),
+        "{result:?}"
+    );
+}
