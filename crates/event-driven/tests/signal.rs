@@ -300,6 +300,47 @@ fn resonance_and_free_bodies_take_their_limit_forms() {
         .fold(0.0, f64::max);
     println!("resonant: {worst:e}");
     assert!(worst <= 1e-10, "resonant: {worst:e}");
+    // Its RMS over [0, T]: ∫ t² sin² ω_n t = T³/6 − ½[t² sin at/a + 2t cos at/a² −
+    // 2 sin at/a³]₀ᵀ, a = 2ω_n; its peak: the largest |u| on a fine grid, refined by golden
+    // section about it.
+    let duration = 40.0;
+    let g = force / (2.0 * m * wn);
+    let aa = 2.0 * wn;
+    let (sa, ca) = (aa * duration).sin_cos();
+    let integral = duration.powi(3) / 6.0
+        - 0.5
+            * (duration * duration * sa / aa + 2.0 * duration * ca / (aa * aa)
+                - 2.0 * sa / (aa * aa * aa));
+    let rms = g * (integral / duration).sqrt();
+    let u = |t: f64| (g * t * (wn * t).sin()).abs();
+    let grid = 400_000;
+    let best = (0..=grid)
+        .map(|i| duration * i as f64 / grid as f64)
+        .max_by(|a, b| u(*a).total_cmp(&u(*b)))
+        .unwrap();
+    let (mut lo, mut hi) = (
+        (best - duration / grid as f64).max(0.0),
+        (best + duration / grid as f64).min(duration),
+    );
+    for _ in 0..200 {
+        let (x1, x2) = (hi - 0.618 * (hi - lo), lo + 0.618 * (hi - lo));
+        if u(x1) < u(x2) {
+            lo = x1;
+        } else {
+            hi = x2;
+        }
+    }
+    let peak = u(0.5 * (lo + hi));
+    let summary = &response.summary;
+    let (rms_error, peak_error) = (
+        (summary.rms[0] - rms).abs() / rms,
+        (summary.peak[0] - peak).abs() / peak,
+    );
+    println!("resonant: RMS {rms_error:e}, peak {peak_error:e}");
+    assert!(
+        rms_error <= 1e-12 && peak_error <= 1e-12,
+        "{rms_error:e} {peak_error:e}"
+    );
 
     // A free body (a rigid mode) under a ramp then a constant and a sinusoid at ν = 0 and at
     // ν: q̈ = s(t)/m, exactly a cubic, a parabola and a double integral of the sinusoid.

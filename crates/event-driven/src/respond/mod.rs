@@ -189,8 +189,15 @@ pub struct ResponseState {
 /// The integrals (RMS, dashpot dissipation, work) are Gauss–Legendre quadratures of the
 /// exact flights, eight nodes on pieces of each flight at most `1/(2 max(|λ|, ν))` long:
 /// the integrands' fastest rate is at most `2 max(|λ|, ν)`, so each piece's rule errs by
-/// about `10⁻²³` of its length times the integrand's size, rounding-level. The peaks are the
-/// exact flights' maxima ([`crate::expsum::ExpSum::max_abs`], to `10⁻¹³` relative).
+/// about `10⁻²³` of its length times the integrand's size, rounding-level.
+///
+/// The peaks are the largest `|u_j|` among the flights' ends, the quadrature nodes and the
+/// zeros of `u̇_j` bracketed between consecutive ones (a sign change of the exact `u̇_j`,
+/// solved by the Illinois method to rounding): the exact maximum, unless `u̇_j` has two zeros
+/// between consecutive points (at most `0.092/max(|λ|, ν)` apart), where the maximum missed
+/// exceeds the points' by at most `sup|ü_j| δ²/4` (`δ` the two zeros' distance). A
+/// branch-and-bound on derivative bounds would be certified, but costs a bisection down to
+/// the tolerance wherever the response is at rounding level (from rest).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct ResponseSummary {
     /// Impacts.

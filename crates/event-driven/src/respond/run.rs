@@ -29,15 +29,20 @@ const GRACE: f64 = 1e-10;
 /// rest on its stop.
 const CHATTER: f64 = 1e-5;
 
-/// Relative accuracy of the peaks.
-const PEAK_TOLERANCE: f64 = 1e-13;
+/// Iterations of the Illinois search for a zero of `u̇_j` (a peak of `u_j`): each at least
+/// halves the bracket every other step, so 120 reach any double's resolution.
+const PEAK_ITERATIONS: usize = 120;
 
 /// Smallest scale divided by.
 const SCALE_FLOOR: f64 = 1e-300;
 
-/// Gauss–Legendre nodes (on `[−1, 1]`, the positive half) and weights, eight points: exact
-/// for polynomials of degree 15.
-const GAUSS: [(f64, f64); 4] = [
+/// Gauss–Legendre nodes on `[−1, 1]`, rising, and weights, eight points: exact for
+/// polynomials of degree 15.
+const GAUSS: [(f64, f64); 8] = [
+    (-0.960_289_856_497_536_3, 0.101_228_536_290_376_3),
+    (-0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
+    (-0.525_532_409_916_329, 0.313_706_645_877_887_3),
+    (-0.183_434_642_495_649_8, 0.362_683_783_378_362),
     (0.183_434_642_495_649_8, 0.362_683_783_378_362),
     (0.525_532_409_916_329, 0.313_706_645_877_887_3),
     (0.796_666_477_413_626_7, 0.222_381_034_453_374_5),
@@ -67,7 +72,6 @@ struct Runner<'a> {
     basis: Basis,
     forces: (ModalForce, ModalForce),
     watched: Vec<Watched>,
-    displacements: Vec<Functional>,
     duration: f64,
     time_scale: f64,
     time_tolerance: f64,
@@ -304,13 +308,6 @@ impl<'a> Runner<'a> {
                 }
             })
             .collect();
-        let displacements = (0..n)
-            .map(|j| {
-                let mut c = DVector::zeros(2 * n);
-                c[j] = 1.0;
-                basis.functional(&c)
-            })
-            .collect();
         let gap_scale = model
             .contacts
             .iter()
@@ -325,7 +322,6 @@ impl<'a> Runner<'a> {
             basis,
             forces,
             watched,
-            displacements,
             duration,
             time_scale,
             time_tolerance: options.root_tolerance * time_scale,
@@ -396,34 +392,88 @@ impl<'a> Runner<'a> {
         if span <= 0.0 {
             return;
         }
-        // Gauss–Legendre on pieces at most `quadrature_piece` long.
+        // Gauss–Legendre on pieces at most `quadrature_piece` long; the points visited in
+        // time order (the flight's ends and the nodes), each coordinate's peak taken there
+        // and at the zeros of its velocity bracketed between consecutive points.
         let pieces = (span / self.quadrature_piece).ceil().max(1.0);
         let h = span / pieces;
         let damping = self.model.damping.as_ref();
-        for p in 0..pieces as u64 {
+        self.basis.state_into(flight, 0.0, &mut y);
+        let mut previous = (0.0, y.clone());
+        let nodes = (0..pieces as u64).flat_map(|p| {
             let mid = (p as f64 + 0.5) * h;
-            for &(x, w) in &GAUSS {
-                for s in [mid - 0.5 * h * x, mid + 0.5 * h * x] {
-                    let weight = 0.5 * h * w;
-                    self.basis.state_into(flight, s, &mut y);
-                    let (u, v) = (y.rows(0, n), y.rows(n, n));
-                    let f = self.force_at(segment, t0 + s);
-                    record.work += weight * f.dot(&v);
-                    if let Some(c) = damping {
-                        record.dashpots += weight * v.dot(&(c * v));
-                    }
-                    for (sq, &uj) in record.squares.iter_mut().zip(u.iter()) {
-                        *sq += weight * uj * uj;
-                    }
+            GAUSS
+                .iter()
+                .map(move |&(x, w)| (mid + 0.5 * h * x, 0.5 * h * w))
+        });
+        for (s, weight) in nodes.chain(std::iter::once((span, 0.0))) {
+            self.basis.state_into(flight, s, &mut y);
+            if weight != 0.0 {
+                let (u, v) = (y.rows(0, n), y.rows(n, n));
+                let f = self.force_at(segment, t0 + s);
+                record.work += weight * f.dot(&v);
+                if let Some(c) = damping {
+                    record.dashpots += weight * v.dot(&(c * v));
+                }
+                for (sq, &uj) in record.squares.iter_mut().zip(u.iter()) {
+                    *sq += weight * uj * uj;
                 }
             }
+            for j in 0..n {
+                let mut peak = record.peak[j].max(previous.1[j].abs()).max(y[j].abs());
+                let (va, vb) = (previous.1[n + j], y[n + j]);
+                if va * vb < 0.0 {
+                    peak = peak.max(self.turning_point(flight, j, (previous.0, va), (s, vb)));
+                }
+                record.peak[j] = peak;
+            }
+            previous = (s, y.clone());
         }
-        let mut sum = ExpSum::default();
-        for (peak, u) in record.peak.iter_mut().zip(&self.displacements) {
-            self.basis.expand(flight, u, &mut sum);
-            let tolerance = PEAK_TOLERANCE * (1.0 + *peak);
-            *peak = sum.max_abs(span, *peak, tolerance);
+    }
+
+    /// `|u_j|` where `u̇_j` vanishes between `a` and `b` (its values there of opposite
+    /// signs), by the Illinois variant of regula falsi on the flight's exact `u̇_j`.
+    fn turning_point(
+        &self,
+        flight: &super::modal::Flight,
+        j: usize,
+        (mut a, mut fa): (f64, f64),
+        (mut b, mut fb): (f64, f64),
+    ) -> f64 {
+        let n = self.model.dofs();
+        let mut y = DVector::zeros(2 * n);
+        let mut side = 0;
+        for _ in 0..PEAK_ITERATIONS {
+            let mut x = (a * fb - b * fa) / (fb - fa);
+            if !(x > a && x < b) {
+                x = 0.5 * (a + b);
+            }
+            if x <= a || x >= b {
+                break;
+            }
+            self.basis.state_into(flight, x, &mut y);
+            let fx = y[n + j];
+            if fx == 0.0 {
+                a = x;
+                b = x;
+                break;
+            }
+            if (fx < 0.0) == (fa < 0.0) {
+                (a, fa) = (x, fx);
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
+            } else {
+                (b, fb) = (x, fx);
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
+            }
         }
+        self.basis.state_into(flight, 0.5 * (a + b), &mut y);
+        y[j].abs()
     }
 
     /// A contact of watched pair `w` on `side` at `t`, the state `y` just before: an impact
