@@ -208,6 +208,10 @@ pub(super) fn run(
         let mut step = horizon;
         for (w, watched) in runner.watched.iter().enumerate() {
             let within = contact.map_or(step, |c| c.0).min(step);
+            if within <= 0.0 {
+                // A contact at the flight's start: no other pair can come earlier.
+                break;
+            }
             runner.basis.expand(&flight, &watched.relative, &mut sum);
             let found = sum.first_exit(
                 watched.lo,
