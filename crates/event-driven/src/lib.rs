@@ -39,8 +39,8 @@
 //!
 //! Beside the periodic forcing, the same structure responds to a non-periodic signal from
 //! rest, `f(t) = d s(t) + v ṡ(t)` with `s` piecewise affine or a sum of sinusoids (a sampled
-//! record, a tone burst, a stepped sweep): exact between segment boundaries and impacts,
-//! every impact found with the same guarantee ([`respond()`]).
+//! record, a tone burst, a stepped sweep): exact between segment boundaries and events,
+//! every impact found with the same guarantee, sticking as above ([`respond()`]).
 //!
 //! Its sines and cosines are musl's, not the platform's (`trig`): the event core derives
 //! its numerics on its own, apart from the analytic solver's.
@@ -72,8 +72,8 @@ pub use newton::{
     MAX_NEWTON_ITERATIONS, NEUTRAL_TRANSLATION, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
 };
 pub use respond::{
-    respond, respond_sampled, Excitation, Response, ResponseError, ResponseImpact, ResponseOptions,
-    ResponseState, ResponseSummary, SampledState, Signal, SignalError,
+    respond, respond_sampled, Excitation, Response, ResponseError, ResponseHold, ResponseImpact,
+    ResponseOptions, ResponseState, ResponseSummary, SampledState, Signal, SignalError,
 };
 pub use simulate::{
     simulate, simulate_watched, ImpactRecord, SimulationError, SimulationOptions, Start, Status,

@@ -30,22 +30,29 @@
 //! velocities' rounding is an impact: Newton's restitution `ṙ⁺ = −e ṙ⁻` along the contact
 //! direction, momentum kept ([`Model::apply_impact`], the periodic engine's contact law). A
 //! slower touch is a graze, stepped past. The thresholds are the periodic engine's, with
-//! the time scale `2π/max(|λ|, ν)` for its period.
+//! the time scale `2π/max(|λ|, ν)` for its period ([`ResponseOptions::time_scale`]).
 //!
-//! **Sticking is refused.** A pair that would come to rest on its stop (restitution 0, or a
-//! rebound slower than the resting velocity while the stop pushes), or whose chatter would
-//! accumulate within a `10⁻⁵` of the time scale, ends the run with
-//! [`ResponseError::Sticking`]: the constrained (stuck) phases of the periodic engine are not
-//! carried over to a time-varying forcing here.
+//! **Sticking.** A pair that comes to rest on its stop (restitution 0, or a rebound slower
+//! than the resting velocity while the stop pushes), or whose chatter would end within
+//! `10⁻⁵` of the time scale, sticks, as in the periodic engine: a plastic step sets its
+//! relative velocity to zero, and the structure then moves on the constrained flow with the
+//! held pairs' relative displacements fixed (`phase`), exact in closed form as the free flow
+//! is, the signal projected onto it. Each held pair's contact force is a sum of terms over a
+//! flight too, searched for its first zero (the release); the other pairs are watched for
+//! contact in the constrained flow with the same guarantee, and their impacts keep the held
+//! pairs on their stops. Held directions that are dependent end the run
+//! ([`ResponseError::DependentHolds`]).
 //!
-//! **Output.** Every impact (time, pair, side, `ṙ⁻`, the kinetic energy it took), the state
-//! at requested times, and a summary: per-coordinate RMS and peak of the displacement over
-//! `[0, T]`, the energy dissipated by the dashpots and by the impacts, the work done by the
-//! forcing and the final energy, so that `work = E(T) + dissipated` can be checked
-//! ([`ResponseSummary`] says how each is computed). Uniform samples are streamed to a
+//! **Output.** Every impact (time, pair, side, `ṙ⁻`, the kinetic energy it took), every stick
+//! and release, the state at requested times, and a summary: per-coordinate RMS and peak of
+//! the displacement over `[0, T]`, the energy dissipated by the dashpots and by the impacts
+//! and sticks, the work done by the forcing and the final energy, so that
+//! `work = E(T) + dissipated` can be checked (the held stops do no work: `D u̇ = 0`;
+//! [`ResponseSummary`] says how each is computed). Uniform samples are streamed to a
 //! callback ([`respond_sampled`]).
 
 mod modal;
+mod phase;
 mod run;
 mod signal;
 
@@ -108,8 +115,14 @@ pub struct ResponseOptions {
     pub at: Vec<f64>,
     /// Contact times are resolved to this fraction of the time scale.
     pub root_tolerance: f64,
-    /// At most this many impacts and grazes: a run that needs more ends with
-    /// [`ResponseError::EventCap`].
+    /// The time scale the contact thresholds are relative to (the time tolerance, the chatter
+    /// cut, the resting velocity `10⁻¹⁰ × 2π/scale × gap`, the grace after a graze or a
+    /// release), s; `None`: `2π/max(|λ|, ν)`, the fastest oscillation's period. The periodic
+    /// simulator's are relative to the forcing period `2π/ω`: the same scale gives the same
+    /// decisions.
+    pub time_scale: Option<f64>,
+    /// At most this many impacts, grazes, sticks and releases: a run that needs more ends
+    /// with [`ResponseError::EventCap`].
     pub max_events: u64,
 }
 
@@ -120,6 +133,7 @@ impl ResponseOptions {
             duration,
             at: Vec::new(),
             root_tolerance: crate::DEFAULT_ROOT_TOLERANCE,
+            time_scale: None,
             max_events: DEFAULT_MAX_EVENTS,
         }
     }
@@ -134,21 +148,17 @@ pub enum ResponseError {
     /// The modal flow of the model's matrices does not exist.
     #[error("flow: {0}")]
     Flow(#[from] FlowError),
-    /// A pair would stick on its stop, or chatter to rest on it: not simulated here.
-    #[error(
-        "contact pair {pair} comes to rest on side {side} at t = {time} (sticking or chatter \
-         is not simulated under a signal)"
-    )]
-    Sticking {
-        /// When.
+    /// Pairs held on their stops at once whose directions are dependent (or more than the
+    /// degrees of freedom): their contact forces are not determined.
+    #[error("the held contact pairs {pairs:?} are dependent at t = {time}")]
+    DependentHolds {
+        /// The held pairs.
+        pairs: Vec<usize>,
+        /// When the set formed.
         time: f64,
-        /// Which pair.
-        pair: usize,
-        /// `1`: the `+gap_plus` side, `2`: the `−gap_minus` side.
-        side: u8,
     },
-    /// More impacts and grazes than [`ResponseOptions::max_events`].
-    #[error("more than {cap} impacts and grazes by t = {time}")]
+    /// More impacts, grazes, sticks and releases than [`ResponseOptions::max_events`].
+    #[error("more than {cap} impacts, grazes, sticks and releases by t = {time}")]
     EventCap {
         /// The cap.
         cap: u64,
@@ -170,6 +180,22 @@ pub struct ResponseImpact {
     pub relative_velocity_before: f64,
     /// The kinetic energy it took, `½u̇⁻ᵀMu̇⁻ − ½u̇⁺ᵀMu̇⁺` from the velocities before and
     /// after (`½μ(1 − e²)ṙ⁻²` up to rounding, never negative beyond it).
+    pub energy_lost: f64,
+}
+
+/// A pair coming to rest on a stop (a stick) or leaving it (a release).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ResponseHold {
+    /// Its time, s.
+    pub t: f64,
+    /// The contact pair.
+    pub pair: usize,
+    /// `1`: the `+gap_plus` side, `2`: the `−gap_minus` side.
+    pub side: u8,
+    /// `true`: a stick, `false`: a release.
+    pub stick: bool,
+    /// The kinetic energy the stick's plastic step took (after the impact, if any, at the
+    /// same time): `0` for a release.
     pub energy_lost: f64,
 }
 
@@ -204,6 +230,10 @@ pub struct ResponseSummary {
     pub impacts: u64,
     /// Grazes (touches without an approach, stepped past).
     pub grazes: u64,
+    /// Sticks (a pair coming to rest on its stop).
+    pub sticks: u64,
+    /// Releases (a held pair leaving its stop).
+    pub releases: u64,
     /// Flights (between segment boundaries, events and the flight cap).
     pub flights: u64,
     /// Per coordinate, `√(∫₀ᵀ u_j² dt / T)`.
@@ -212,7 +242,7 @@ pub struct ResponseSummary {
     pub peak: Vec<f64>,
     /// `∫₀ᵀ u̇ᵀ C u̇ dt`.
     pub dissipated_by_dashpots: f64,
-    /// `Σ` of the impacts' [`ResponseImpact::energy_lost`].
+    /// `Σ` of the impacts' and the sticks' `energy_lost`.
     pub dissipated_by_impacts: f64,
     /// `∫₀ᵀ f(t)ᵀ u̇ dt`.
     pub work: f64,
@@ -237,6 +267,8 @@ pub struct Response {
     pub time_scale: f64,
     /// Every impact, in time order.
     pub impacts: Vec<ResponseImpact>,
+    /// Every stick and release, in time order.
+    pub holds: Vec<ResponseHold>,
     /// The states at [`ResponseOptions::at`], in its order.
     pub states: Vec<ResponseState>,
     /// The state at `T`.
@@ -260,8 +292,9 @@ pub struct SampledState<'a> {
 ///
 /// # Errors
 /// [`ResponseError::Input`] naming the field (`excitation.on_signal`, `excitation.on_rate`
-/// and their entries, `duration`, `at[i]`, `root_tolerance`), [`ResponseError::Flow`],
-/// [`ResponseError::Sticking`] and [`ResponseError::EventCap`].
+/// and their entries, `duration`, `at[i]`, `root_tolerance`, `time_scale`),
+/// [`ResponseError::Flow`], [`ResponseError::DependentHolds`] and
+/// [`ResponseError::EventCap`].
 pub fn respond(
     model: &Model,
     excitation: &Excitation,

@@ -197,29 +197,47 @@ pub(crate) struct Flight {
     velocities: Vec<Vec<Term>>,
 }
 
+impl FlightForcing {
+    /// The forcing with the constant modal force `extra` added (the held stops' share in a
+    /// constrained flow).
+    pub(crate) fn with_constant(mut self, extra: &ModalForce) -> FlightForcing {
+        self.constant = Some(match self.constant.take() {
+            None => extra.clone(),
+            Some(c) => ModalForce {
+                elastic: c
+                    .elastic
+                    .iter()
+                    .zip(&extra.elastic)
+                    .map(|(a, b)| a + b)
+                    .collect(),
+                rigid: c
+                    .rigid
+                    .iter()
+                    .zip(&extra.rigid)
+                    .map(|(a, b)| a + b)
+                    .collect(),
+            },
+        });
+        self
+    }
+}
+
 impl Basis {
-    /// The basis of `model`'s mass, damping and stiffness.
+    /// The basis of the matrices `(M, C, K)` (`C` `None`: no damping terms), of any size
+    /// (none: a structure held on its stops in every direction has no coordinates left).
     ///
     /// # Errors
     /// As [`LinearFlow::new`] when the modal flow does not exist.
-    pub(crate) fn new(model: &Model) -> Result<Basis, FlowError> {
-        let n = model.dofs();
+    pub(crate) fn new(
+        mass: &DMatrix<f64>,
+        damping: Option<&DMatrix<f64>>,
+        stiffness: &DMatrix<f64>,
+    ) -> Result<Basis, FlowError> {
+        let n = mass.nrows();
         let zero = DVector::zeros(n);
-        let flow = LinearFlow::new(
-            &model.mass,
-            model.damping.as_ref(),
-            &model.stiffness,
-            &zero,
-            &zero,
-            &zero,
-            1.0,
-        )?;
+        let flow = LinearFlow::new(mass, damping, stiffness, &zero, &zero, &zero, 1.0)?;
         let b = flow.basis();
-        let minv = model
-            .mass
-            .clone()
-            .try_inverse()
-            .ok_or(FlowError::SingularMass)?;
+        let minv = mass.clone().try_inverse().ok_or(FlowError::SingularMass)?;
         Ok(Basis {
             n,
             rates: b.rates.to_vec(),
@@ -232,6 +250,14 @@ impl Basis {
             }),
             minv,
         })
+    }
+
+    /// The basis of `model`'s mass, damping and stiffness.
+    ///
+    /// # Errors
+    /// As [`Self::new`].
+    pub(crate) fn of_model(model: &Model) -> Result<Basis, FlowError> {
+        Basis::new(&model.mass, model.damping.as_ref(), &model.stiffness)
     }
 
     /// The fastest elastic rate `max |λ_k|` (`0` for none).

@@ -1,7 +1,8 @@
 //! The event loop of a response: flights between segment boundaries and contacts, the
 //! contacts' restitution, and what the run records of each flight.
 
-use super::modal::{Basis, Functional, ModalForce};
+use super::modal::Flight;
+use super::phase::Phase;
 use super::signal::{check, Signal};
 use super::*;
 use crate::expsum::{ExpSum, SearchStack};
@@ -52,16 +53,13 @@ const GAUSS: [(f64, f64); 8] = [
 /// Where uniform samples go.
 pub(super) type Sink<'s> = &'s mut dyn FnMut(SampledState<'_>);
 
-/// One watched contact pair.
-struct Watched {
-    pair: usize,
-    relative: Functional,
-    lo: f64,
-    hi: f64,
+/// One contact pair's geometry.
+struct Geometry {
     /// `d`.
     direction: DVector<f64>,
-    /// `M⁻¹d`.
-    mobility: DVector<f64>,
+    /// `−gap_minus`, `gap_plus`.
+    lo: f64,
+    hi: f64,
 }
 
 /// Everything fixed for the run.
@@ -69,9 +67,9 @@ struct Runner<'a> {
     model: &'a Model,
     excitation: &'a Excitation,
     signal: &'a Signal,
-    basis: Basis,
-    forces: (ModalForce, ModalForce),
-    watched: Vec<Watched>,
+    pairs: Vec<Geometry>,
+    /// The fastest rate of the free flow and the signal (`≥ 2π/T`).
+    fastest: f64,
     duration: f64,
     time_scale: f64,
     time_tolerance: f64,
@@ -80,13 +78,13 @@ struct Runner<'a> {
     grace: f64,
     chatter: f64,
     max_flight: f64,
-    quadrature_piece: f64,
     max_events: u64,
 }
 
 /// What the run accumulates.
 struct Record {
     impacts: Vec<ResponseImpact>,
+    holds: Vec<ResponseHold>,
     grazes: u64,
     flights: u64,
     squares: Vec<f64>,
@@ -100,6 +98,15 @@ struct Record {
     /// Uniform samples: their count `N`, the next `j`.
     samples: Option<u64>,
     next_sample: u64,
+}
+
+/// `1` for side 1 (`+gap_plus`, `+1`), `2` for side 2.
+fn side_number(side: i8) -> u8 {
+    if side > 0 {
+        1
+    } else {
+        2
+    }
 }
 
 fn state_of(t: f64, y: &DVector<f64>) -> ResponseState {
@@ -150,6 +157,9 @@ fn check_inputs(
         tol > 0.0 && tol < 1e-3,
         "in (0, 1e-3)",
     )?;
+    if let Some(scale) = options.time_scale {
+        check(|| "time_scale".into(), scale, scale > 0.0, "> 0")?;
+    }
     Ok(())
 }
 
@@ -166,12 +176,14 @@ pub(super) fn run(
         None => (None, None),
     };
     check_inputs(model, excitation, options)?;
-    let runner = Runner::new(model, excitation, signal, options)?;
+    let free = Phase::free(model, excitation)?;
+    let runner = Runner::new(model, (excitation, signal), &free, options)?;
     let n = model.dofs();
     let mut order: Vec<(f64, usize)> = options.at.iter().copied().zip(0..).collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut record = Record {
         impacts: Vec::new(),
+        holds: Vec::new(),
         grazes: 0,
         flights: 0,
         squares: vec![0.0; n],
@@ -184,64 +196,114 @@ pub(super) fn run(
         samples,
         next_sample: 0,
     };
+    let mut phases = vec![free];
+    let mut current = 0;
     let mut y = DVector::zeros(2 * n);
     let mut t = 0.0;
-    let mut grace = vec![f64::NEG_INFINITY; runner.watched.len()];
+    let mut grace = vec![f64::NEG_INFINITY; runner.pairs.len()];
     let mut stack = SearchStack::default();
     let mut sum = ExpSum::default();
     while t < runner.duration {
+        let phase = &phases[current];
         let segment = signal.segment_at(t);
         let segment_end = segment.map_or(f64::INFINITY, |i| signal.segments()[i].end);
         let end = runner.duration.min(segment_end).min(t + runner.max_flight);
         let horizon = end - t;
-        let forcing =
-            Basis::flight_forcing((&runner.forces.0, &runner.forces.1), signal, segment, t);
-        let flight = runner.basis.flight(&y, &forcing, horizon);
+        let flight = phase.flight(&y, (signal, segment), t, horizon);
         record.flights += 1;
-        // Every pair's first exit, the earliest kept; a pair in its grace time that reaches
-        // its edge first ends the flight at its grace's end, without an event.
+        // The first release: a held pair's push first reaching zero.
+        let mut release: Option<(f64, usize)> = None;
+        for k in 0..phase.held.len() {
+            phase.push(&flight, k, (signal, segment), t, &mut sum);
+            let within = release.map_or(horizon, |r| r.0);
+            if within <= 0.0 {
+                break;
+            }
+            let found = sum.first_exit(
+                0.0,
+                f64::INFINITY,
+                within,
+                runner.time_tolerance,
+                0.0,
+                &mut stack,
+            );
+            if let Some((s, _)) = found {
+                if release.is_none_or(|r| s < r.0) {
+                    release = Some((s, k));
+                }
+            }
+        }
+        // Every other pair's first exit, the earliest kept; a pair in its grace time that
+        // reaches its edge first ends the flight at its grace's end, without an event.
         let position_size = y.as_slice()[..n]
             .iter()
             .fold(0.0, |m: f64, v| m.max(v.abs()));
         let depth = CONTACT_DEPTH * runner.gap_scale + POSITION_ROUNDING * position_size;
         let mut contact: Option<(f64, usize, i8)> = None;
-        let mut step = horizon;
-        for (w, watched) in runner.watched.iter().enumerate() {
+        let watch_horizon = release.map_or(horizon, |r| r.0);
+        let mut step = watch_horizon;
+        for (pair, geometry) in runner.pairs.iter().enumerate() {
+            if phase.holds(pair) {
+                continue;
+            }
             let within = contact.map_or(step, |c| c.0).min(step);
             if within <= 0.0 {
-                // A contact at the flight's start: no other pair can come earlier.
+                // An event at the flight's start: no other pair can come earlier.
                 break;
             }
-            runner.basis.expand(&flight, &watched.relative, &mut sum);
+            phase.gap(&flight, pair, &mut sum);
             let found = sum.first_exit(
-                watched.lo,
-                watched.hi,
+                geometry.lo,
+                geometry.hi,
                 within,
                 runner.time_tolerance,
                 depth,
                 &mut stack,
             );
             if let Some((s, side)) = found {
-                if t + s < grace[w] {
-                    step = step.min(grace[w] - t);
+                if t + s < grace[pair] {
+                    step = step.min(grace[pair] - t);
                 } else if contact.is_none_or(|c| s < c.0) {
-                    contact = Some((s, w, side));
+                    contact = Some((s, pair, side));
                 }
             }
         }
+        // A contact at a release's instant is resolved first; the release is found again
+        // at once by the next flight.
         let contact = contact.filter(|c| c.0 <= step);
+        let released = release.filter(|r| contact.is_none() && r.0 <= step);
         let span = contact.map_or(step, |c| c.0);
         let t_end = if span == horizon { end } else { t + span };
         runner.record_flight(
             &mut record,
-            &flight,
+            (phase, &flight),
             (segment, t, t_end, span),
             sink.as_deref_mut(),
         );
-        runner.basis.state_into(&flight, span, &mut y);
+        phase.state_into(&flight, span, &mut y);
         t = t_end;
-        if let Some((_, w, side)) = contact {
-            runner.contact(&mut record, &mut y, (t, w, side), &mut grace)?;
+        if let Some((_, pair, side)) = contact {
+            current = runner.contact(
+                (&mut phases, current),
+                &mut record,
+                &mut y,
+                (t, pair, side),
+                &mut grace,
+            )?;
+        } else if let Some((_, k)) = released {
+            let (pair, side) = phases[current].held[k];
+            let mut held = phases[current].held.clone();
+            held.remove(k);
+            record.holds.push(ResponseHold {
+                t,
+                pair,
+                side: side_number(side),
+                stick: false,
+                energy_lost: 0.0,
+            });
+            grace[pair] = t + runner.grace;
+            runner.count_event(&record, t)?;
+            current = runner.settle((&mut phases, &held), &mut record, &y, t, &mut grace)?;
         }
     }
     // The requested times at `T`, and the last sample: the state reached.
@@ -267,14 +329,13 @@ pub(super) fn run(
 impl<'a> Runner<'a> {
     fn new(
         model: &'a Model,
-        excitation: &'a Excitation,
-        signal: &'a Signal,
+        (excitation, signal): (&'a Excitation, &'a Signal),
+        free: &Phase,
         options: &ResponseOptions,
     ) -> Result<Self, ResponseError> {
         let n = model.dofs();
-        let basis = Basis::new(model)?;
         let duration = options.duration;
-        let fastest = basis
+        let fastest = free
             .fastest_rate()
             .max(signal.fastest_frequency())
             .max(std::f64::consts::TAU / duration);
@@ -285,31 +346,15 @@ impl<'a> Runner<'a> {
             duration / time_scale <= MAX_DURATION_SCALES,
             "at most 1e7 time scales 2π/max(|λ|, ν) (the fastest oscillation's period)",
         )?;
-        let forces = (
-            basis.force(&excitation.on_signal),
-            basis.force(&excitation.on_rate),
-        );
-        let minv = model
-            .mass
-            .clone()
-            .try_inverse()
-            .ok_or(FlowError::SingularMass)?;
-        let watched = model
+        let time_scale = options.time_scale.unwrap_or(time_scale);
+        let scale_rate = std::f64::consts::TAU / time_scale;
+        let pairs = model
             .contacts
             .iter()
-            .enumerate()
-            .map(|(pair, c)| {
-                let direction = c.direction(n);
-                let mut position = DVector::zeros(2 * n);
-                position.rows_mut(0, n).copy_from(&direction);
-                Watched {
-                    pair,
-                    relative: basis.functional(&position),
-                    lo: -c.gap_minus,
-                    hi: c.gap_plus,
-                    mobility: &minv * &direction,
-                    direction,
-                }
+            .map(|c| Geometry {
+                direction: c.direction(n),
+                lo: -c.gap_minus,
+                hi: c.gap_plus,
             })
             .collect();
         let gap_scale = model
@@ -323,18 +368,16 @@ impl<'a> Runner<'a> {
             model,
             excitation,
             signal,
-            basis,
-            forces,
-            watched,
+            pairs,
+            fastest,
             duration,
             time_scale,
             time_tolerance: options.root_tolerance * time_scale,
             gap_scale,
-            resting_velocity: RESTING_VELOCITY * fastest * gap_scale,
+            resting_velocity: RESTING_VELOCITY * scale_rate * gap_scale,
             grace: GRACE * time_scale,
             chatter: CHATTER * time_scale,
             max_flight: MAX_FLIGHT_SCALES * time_scale,
-            quadrature_piece: 0.5 / fastest,
             max_events: options.max_events,
         })
     }
@@ -366,7 +409,7 @@ impl<'a> Runner<'a> {
     fn record_flight<'o>(
         &self,
         record: &mut Record,
-        flight: &super::modal::Flight,
+        (phase, flight): (&Phase, &Flight),
         (segment, t0, t1, span): (Option<usize>, f64, f64, f64),
         mut sink: Option<&mut (dyn FnMut(SampledState<'_>) + 'o)>,
     ) {
@@ -374,7 +417,7 @@ impl<'a> Runner<'a> {
         let mut y = DVector::zeros(2 * n);
         while record.next_at < record.at.len() && record.at[record.next_at].0 < t1 {
             let (ta, index) = record.at[record.next_at];
-            self.basis.state_into(flight, (ta - t0).max(0.0), &mut y);
+            phase.state_into(flight, (ta - t0).max(0.0), &mut y);
             record.states[index] = Some(state_of(ta, &y));
             record.next_at += 1;
         }
@@ -384,7 +427,7 @@ impl<'a> Runner<'a> {
                 if ts >= t1 {
                     break;
                 }
-                self.basis.state_into(flight, (ts - t0).max(0.0), &mut y);
+                phase.state_into(flight, (ts - t0).max(0.0), &mut y);
                 sink(SampledState {
                     t: ts,
                     displacements: &y.as_slice()[..n],
@@ -396,13 +439,14 @@ impl<'a> Runner<'a> {
         if span <= 0.0 {
             return;
         }
-        // Gauss–Legendre on pieces at most `quadrature_piece` long; the points visited in
+        // Gauss–Legendre on pieces at most `1/(2 max(|λ|, ν))` long; the points visited in
         // time order (the flight's ends and the nodes), each coordinate's peak taken there
         // and at the zeros of its velocity bracketed between consecutive points.
-        let pieces = (span / self.quadrature_piece).ceil().max(1.0);
+        let piece = 0.5 / self.fastest.max(phase.fastest_rate());
+        let pieces = (span / piece).ceil().max(1.0);
         let h = span / pieces;
         let damping = self.model.damping.as_ref();
-        self.basis.state_into(flight, 0.0, &mut y);
+        phase.state_into(flight, 0.0, &mut y);
         let mut previous = (0.0, y.clone());
         let nodes = (0..pieces as u64).flat_map(|p| {
             let mid = (p as f64 + 0.5) * h;
@@ -411,7 +455,7 @@ impl<'a> Runner<'a> {
                 .map(move |&(x, w)| (mid + 0.5 * h * x, 0.5 * h * w))
         });
         for (s, weight) in nodes.chain(std::iter::once((span, 0.0))) {
-            self.basis.state_into(flight, s, &mut y);
+            phase.state_into(flight, s, &mut y);
             if weight != 0.0 {
                 let (u, v) = (y.rows(0, n), y.rows(n, n));
                 let f = self.force_at(segment, t0 + s);
@@ -427,7 +471,8 @@ impl<'a> Runner<'a> {
                 let mut peak = record.peak[j].max(previous.1[j].abs()).max(y[j].abs());
                 let (va, vb) = (previous.1[n + j], y[n + j]);
                 if va * vb < 0.0 {
-                    peak = peak.max(self.turning_point(flight, j, (previous.0, va), (s, vb)));
+                    peak =
+                        peak.max(self.turning_point((phase, flight), j, (previous.0, va), (s, vb)));
                 }
                 record.peak[j] = peak;
             }
@@ -439,7 +484,7 @@ impl<'a> Runner<'a> {
     /// signs), by the Illinois variant of regula falsi on the flight's exact `u̇_j`.
     fn turning_point(
         &self,
-        flight: &super::modal::Flight,
+        (phase, flight): (&Phase, &Flight),
         j: usize,
         (mut a, mut fa): (f64, f64),
         (mut b, mut fb): (f64, f64),
@@ -455,7 +500,7 @@ impl<'a> Runner<'a> {
             if x <= a || x >= b {
                 break;
             }
-            self.basis.state_into(flight, x, &mut y);
+            phase.state_into(flight, x, &mut y);
             let fx = y[n + j];
             if fx == 0.0 {
                 a = x;
@@ -476,78 +521,140 @@ impl<'a> Runner<'a> {
                 side = 1;
             }
         }
-        self.basis.state_into(flight, 0.5 * (a + b), &mut y);
+        phase.state_into(flight, 0.5 * (a + b), &mut y);
         y[j].abs()
     }
 
-    /// A contact of watched pair `w` on `side` at `t`, the state `y` just before: an impact
-    /// if the pair approaches (restitution, recorded), a graze otherwise (its grace set);
-    /// [`ResponseError::Sticking`] when the stop would hold the pair.
-    fn contact(
-        &self,
-        record: &mut Record,
-        y: &mut DVector<f64>,
-        (t, w, side): (f64, usize, i8),
-        grace: &mut [f64],
-    ) -> Result<(), ResponseError> {
-        if record.impacts.len() as u64 + record.grazes >= self.max_events {
+    /// Counts one more event (impact, graze, stick or release) at `t` against the cap.
+    fn count_event(&self, record: &Record, t: f64) -> Result<(), ResponseError> {
+        let events = record.impacts.len() as u64 + record.grazes + record.holds.len() as u64;
+        if events >= self.max_events {
             return Err(ResponseError::EventCap {
                 cap: self.max_events,
                 time: t,
             });
         }
+        Ok(())
+    }
+
+    /// The phase of the pairs `held` (built on first use), after releasing at once, one at a
+    /// time, any held pair whose push at the state `y` (time `t`) is already negative (the
+    /// contact forces shift when a set changes); its index in `phases`.
+    fn settle(
+        &self,
+        (phases, held): (&mut Vec<Phase>, &[(usize, i8)]),
+        record: &mut Record,
+        y: &DVector<f64>,
+        t: f64,
+        grace: &mut [f64],
+    ) -> Result<usize, ResponseError> {
+        let mut held = held.to_vec();
+        loop {
+            let index = match phases.iter().position(|p| p.held == held) {
+                Some(i) => i,
+                None => {
+                    phases.push(Phase::held(self.model, self.excitation, &held, t)?);
+                    phases.len() - 1
+                }
+            };
+            let f = self.force_at(self.signal.segment_at(t), t);
+            let pushes = phases[index].pushes_at(self.model, y, &f);
+            let pulling = pushes
+                .iter()
+                .enumerate()
+                .filter(|(_, &p)| p < 0.0)
+                .min_by(|a, b| a.1.total_cmp(b.1))
+                .map(|(k, _)| k);
+            let Some(k) = pulling else {
+                return Ok(index);
+            };
+            let (pair, side) = held.remove(k);
+            self.count_event(record, t)?;
+            record.holds.push(ResponseHold {
+                t,
+                pair,
+                side: side_number(side),
+                stick: false,
+                energy_lost: 0.0,
+            });
+            grace[pair] = t + self.grace;
+        }
+    }
+
+    /// A contact of pair `pair` on `side` at `t`, the state `y` just before, in phase
+    /// `current`: an impact if the pair approaches (restitution with the held pairs kept,
+    /// recorded), then a stick if the stop holds it (the rebound slower than the resting
+    /// velocity, or chatter that would end within [`CHATTER`] of the time scale, with the
+    /// stop pushing), else a graze (its grace set). The phase index after it.
+    fn contact(
+        &self,
+        (phases, current): (&mut Vec<Phase>, usize),
+        record: &mut Record,
+        y: &mut DVector<f64>,
+        (t, pair, side): (f64, usize, i8),
+        grace: &mut [f64],
+    ) -> Result<usize, ResponseError> {
+        self.count_event(record, t)?;
         let n = self.model.dofs();
-        let watched = &self.watched[w];
-        let pair = watched.pair;
-        let rdot = watched.direction.dot(&y.rows(n, n));
+        let phase = &phases[current];
+        let direction = &self.pairs[pair].direction;
+        let rdot = direction.dot(&y.rows(n, n));
         let velocity_size = y.as_slice()[n..]
             .iter()
             .fold(0.0, |m: f64, v| m.max(v.abs()));
         let velocity_round = VELOCITY_ROUNDING * velocity_size;
         let approaching = rdot * side as f64 > velocity_round;
-        let side_number = if side > 0 { 1 } else { 2 };
+        let e = self.model.contacts[pair].restitution;
         if approaching {
             let before = self.kinetic(y);
-            self.model.apply_impact(pair, y, None);
+            phase.restitute(self.model, pair, y, e);
             let after = self.kinetic(y);
             record.impacts.push(ResponseImpact {
                 t,
                 pair,
-                side: side_number,
+                side: side_number(side),
                 relative_velocity_before: rdot,
                 energy_lost: before - after,
             });
         }
-        // The stop pushes when the free relative acceleration points into it.
-        let mut f =
-            self.force_at(self.signal.segment_at(t), t) - &self.model.stiffness * y.rows(0, n);
-        if let Some(c) = &self.model.damping {
-            f -= c * y.rows(n, n);
-        }
-        let push = watched.mobility.dot(&f) * side as f64;
-        let rdot_after = watched.direction.dot(&y.rows(n, n));
-        let e = self.model.contacts[pair].restitution;
+        // The stop pushes when the relative acceleration (the held pairs' forces included)
+        // points into it.
+        let f = self.force_at(self.signal.segment_at(t), t);
+        let push = direction.dot(&phase.acceleration(self.model, y, &f)) * side as f64;
+        let rdot_after = direction.dot(&y.rows(n, n));
         let accumulation = if push > 0.0 && e < 1.0 {
             2.0 * rdot_after.abs() / (push * (1.0 - e))
         } else {
             f64::INFINITY
         };
-        let rests = push > 0.0
+        let sticks = push > 0.0
             && (rdot_after.abs() <= self.resting_velocity + velocity_round
                 || accumulation < self.chatter
                 || !approaching);
-        if rests {
-            return Err(ResponseError::Sticking {
-                time: t,
+        if sticks {
+            // Plastic: the relative velocity to zero, momentum kept.
+            let before = self.kinetic(y);
+            phase.restitute(self.model, pair, y, 0.0);
+            let after = self.kinetic(y);
+            self.count_event(record, t)?;
+            record.holds.push(ResponseHold {
+                t,
                 pair,
-                side: side_number,
+                side: side_number(side),
+                stick: true,
+                energy_lost: before - after,
             });
+            let mut held = phase.held.clone();
+            held.retain(|h| h.0 != pair);
+            held.push((pair, side));
+            held.sort_unstable();
+            return self.settle((phases, &held), record, y, t, grace);
         }
         if !approaching {
             record.grazes += 1;
-            grace[w] = t + self.grace;
+            grace[pair] = t + self.grace;
         }
-        Ok(())
+        Ok(current)
     }
 
     /// The response from what the run recorded, and the state `y` at `T`.
@@ -566,7 +673,14 @@ impl<'a> Runner<'a> {
                 .collect(),
             peak: record.peak,
             dissipated_by_dashpots: record.dashpots,
-            dissipated_by_impacts: record.impacts.iter().map(|i| i.energy_lost).sum(),
+            sticks: record.holds.iter().filter(|h| h.stick).count() as u64,
+            releases: record.holds.iter().filter(|h| !h.stick).count() as u64,
+            dissipated_by_impacts: record
+                .impacts
+                .iter()
+                .map(|i| i.energy_lost)
+                .chain(record.holds.iter().map(|h| h.energy_lost))
+                .sum(),
             work: record.work,
             final_energy: self.kinetic(y) + potential,
         };
@@ -574,6 +688,7 @@ impl<'a> Runner<'a> {
             duration: self.duration,
             time_scale: self.time_scale,
             impacts: record.impacts,
+            holds: record.holds,
             states: record
                 .states
                 .into_iter()

@@ -1,7 +1,11 @@
 //! The scalar signal `s(t)` of a response: contiguous segments from `t = 0`, each affine or a
 //! finite sum of sinusoids, zero after the last.
 
+use crate::expsum::Term;
+use nalgebra::Complex;
 use serde::Serialize;
+
+type C64 = Complex<f64>;
 use thiserror::Error;
 
 /// A signal (or a response's input) refused, naming the field.
@@ -327,6 +331,49 @@ impl Signal {
                             r + s.frequency * (s.sin * cos - s.cos * sin),
                         )
                     }),
+                }
+            }
+        }
+    }
+
+    /// `α s(t₀ + σ) + β ṡ(t₀ + σ)` on segment `segment` (`None`: past the end, nothing) as
+    /// terms in `σ`, added to `out`: a polynomial of degree one for an affine segment,
+    /// `Re((α + iνβ) A e^{iνσ})`, `A = (c − i s) e^{iνt₀}`, per sinusoid.
+    pub(crate) fn add_terms(
+        &self,
+        segment: Option<usize>,
+        t0: f64,
+        (alpha, beta): (f64, f64),
+        out: &mut Vec<Term>,
+    ) {
+        let Some(i) = segment else { return };
+        let seg = &self.segments[i];
+        let zero = C64::new(0.0, 0.0);
+        let real = |v: f64| C64::new(v, 0.0);
+        match &seg.shape {
+            Shape::Affine { value, slope } => {
+                let s0 = value + slope * (t0 - seg.start);
+                out.push(Term {
+                    poly: [
+                        real(alpha * s0 + beta * slope),
+                        real(alpha * slope),
+                        zero,
+                        zero,
+                    ],
+                    rate: zero,
+                });
+            }
+            Shape::Sinusoids(list) => {
+                for x in list {
+                    let nu = x.frequency;
+                    let (sin, cos) = crate::trig::sin_cos(nu * t0);
+                    let a = C64::new(x.cos, -x.sin) * C64::new(cos, sin);
+                    let c = C64::new(alpha, nu * beta) * a;
+                    let rate = C64::new(0.0, nu);
+                    out.push(Term {
+                        poly: [c, zero, zero, zero],
+                        rate,
+                    });
                 }
             }
         }
