@@ -162,7 +162,7 @@ pub enum ResponseError {
     EventCap {
         /// The cap.
         cap: u64,
-        /// When it was passed.
+        /// The time of the event past the cap.
         time: f64,
     },
 }
@@ -263,7 +263,9 @@ impl ResponseSummary {
 pub struct Response {
     /// `T`, s.
     pub duration: f64,
-    /// The time scale `2π/max(|λ|, ν)` (`T` when that is longer), s.
+    /// The time scale the contact thresholds are relative to
+    /// ([`ResponseOptions::time_scale`]; by default `2π/max(|λ|, ν)`, or `T` when that is
+    /// longer), s.
     pub time_scale: f64,
     /// Every impact, in time order.
     pub impacts: Vec<ResponseImpact>,
