@@ -22,6 +22,17 @@ use nalgebra::{DMatrix, DVector};
 /// than this is dependent on the ones kept (the periodic engine's threshold).
 const BASIS_DROP: f64 = 1e-8;
 
+/// Adds the constant `c` to the sum `out` (as [`ExpSum::shifted`], in place).
+fn add_constant(out: &mut ExpSum, c: f64) {
+    if c != 0.0 {
+        let zero = nalgebra::Complex::new(0.0, 0.0);
+        out.terms.push(crate::expsum::Term {
+            poly: [nalgebra::Complex::new(c, 0.0), zero, zero, zero],
+            rate: zero,
+        });
+    }
+}
+
 /// One held pair's push `−σλ` as `state · (ũ, ũ̇) + constant + α s + β ṡ`.
 struct Push {
     state: Functional,
@@ -292,9 +303,7 @@ impl Phase {
     pub(super) fn gap(&self, flight: &Flight, pair: usize, out: &mut ExpSum) {
         let (functional, constant) = &self.gaps[pair];
         self.basis.expand(flight, functional, out);
-        if *constant != 0.0 {
-            *out = out.shifted(*constant);
-        }
+        add_constant(out, *constant);
     }
 
     /// The push of the `k`-th held pair over `flight` (from `t0` in segment `segment`) as a
@@ -309,9 +318,7 @@ impl Phase {
     ) {
         let push = &self.pushes[k];
         self.basis.expand(flight, &push.state, out);
-        if push.constant != 0.0 {
-            *out = out.shifted(push.constant);
-        }
+        add_constant(out, push.constant);
         signal.add_terms(segment, t0, (push.on_signal, push.on_rate), &mut out.terms);
     }
 

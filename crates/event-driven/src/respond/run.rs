@@ -53,6 +53,14 @@ const GAUSS: [(f64, f64); 8] = [
 /// Where uniform samples go.
 pub(super) type Sink<'s> = &'s mut dyn FnMut(SampledState<'_>);
 
+/// What ends a flight besides its horizon.
+enum Event {
+    /// Pair `.0` reaches its stop on side `.1`.
+    Contact(usize, i8),
+    /// The `.0`-th held pair's stop lets go.
+    Release(usize),
+}
+
 /// One contact pair's geometry.
 struct Geometry {
     /// `d`.
@@ -211,68 +219,13 @@ pub(super) fn run(
         let horizon = end - t;
         let flight = phase.flight(&y, (signal, segment), t, horizon);
         record.flights += 1;
-        // The first release: a held pair's push first reaching zero.
-        let mut release: Option<(f64, usize)> = None;
-        for k in 0..phase.held.len() {
-            phase.push(&flight, k, (signal, segment), t, &mut sum);
-            let within = release.map_or(horizon, |r| r.0);
-            if within <= 0.0 {
-                break;
-            }
-            let found = sum.first_exit(
-                0.0,
-                f64::INFINITY,
-                within,
-                runner.time_tolerance,
-                0.0,
-                &mut stack,
-            );
-            if let Some((s, _)) = found {
-                if release.is_none_or(|r| s < r.0) {
-                    release = Some((s, k));
-                }
-            }
-        }
-        // Every other pair's first exit, the earliest kept; a pair in its grace time that
-        // reaches its edge first ends the flight at its grace's end, without an event.
-        let position_size = y.as_slice()[..n]
-            .iter()
-            .fold(0.0, |m: f64, v| m.max(v.abs()));
-        let depth = CONTACT_DEPTH * runner.gap_scale + POSITION_ROUNDING * position_size;
-        let mut contact: Option<(f64, usize, i8)> = None;
-        let watch_horizon = release.map_or(horizon, |r| r.0);
-        let mut step = watch_horizon;
-        for (pair, geometry) in runner.pairs.iter().enumerate() {
-            if phase.holds(pair) {
-                continue;
-            }
-            let within = contact.map_or(step, |c| c.0).min(step);
-            if within <= 0.0 {
-                // An event at the flight's start: no other pair can come earlier.
-                break;
-            }
-            phase.gap(&flight, pair, &mut sum);
-            let found = sum.first_exit(
-                geometry.lo,
-                geometry.hi,
-                within,
-                runner.time_tolerance,
-                depth,
-                &mut stack,
-            );
-            if let Some((s, side)) = found {
-                if t + s < grace[pair] {
-                    step = step.min(grace[pair] - t);
-                } else if contact.is_none_or(|c| s < c.0) {
-                    contact = Some((s, pair, side));
-                }
-            }
-        }
-        // A contact at a release's instant is resolved first; the release is found again
-        // at once by the next flight.
-        let contact = contact.filter(|c| c.0 <= step);
-        let released = release.filter(|r| contact.is_none() && r.0 <= step);
-        let span = contact.map_or(step, |c| c.0);
+        let (span, event) = runner.first_event(
+            (phase, &flight),
+            (segment, t, horizon),
+            &y,
+            &grace,
+            (&mut stack, &mut sum),
+        );
         let t_end = if span == horizon { end } else { t + span };
         runner.record_flight(
             &mut record,
@@ -282,7 +235,7 @@ pub(super) fn run(
         );
         phase.state_into(&flight, span, &mut y);
         t = t_end;
-        if let Some((_, pair, side)) = contact {
+        if let Some(Event::Contact(pair, side)) = event {
             current = runner.contact(
                 (&mut phases, current),
                 &mut record,
@@ -290,7 +243,7 @@ pub(super) fn run(
                 (t, pair, side),
                 &mut grace,
             )?;
-        } else if let Some((_, k)) = released {
+        } else if let Some(Event::Release(k)) = event {
             let (pair, side) = phases[current].held[k];
             let mut held = phases[current].held.clone();
             held.remove(k);
@@ -380,6 +333,75 @@ impl<'a> Runner<'a> {
             max_flight: MAX_FLIGHT_SCALES * time_scale,
             max_events: options.max_events,
         })
+    }
+
+    /// The first event of `flight` (from `t` in segment `segment`, over `horizon`) in
+    /// `phase`, and the time to it: a held pair's release (its push first reaching zero), a
+    /// contact of another pair (every pair searched up to the earliest found so far), or,
+    /// for a pair in its grace time that reaches its edge first, the end of its grace
+    /// without an event (`None`, as at the horizon). A contact at a release's instant is
+    /// resolved first; the release is found again at once by the next flight.
+    fn first_event(
+        &self,
+        (phase, flight): (&Phase, &Flight),
+        (segment, t, horizon): (Option<usize>, f64, f64),
+        y: &DVector<f64>,
+        grace: &[f64],
+        (stack, sum): (&mut SearchStack, &mut ExpSum),
+    ) -> (f64, Option<Event>) {
+        let n = self.model.dofs();
+        let signal = self.signal;
+        let mut release: Option<(f64, usize)> = None;
+        for k in 0..phase.held.len() {
+            let within = release.map_or(horizon, |r| r.0);
+            if within <= 0.0 {
+                break;
+            }
+            phase.push(flight, k, (signal, segment), t, sum);
+            let found = sum.first_exit(0.0, f64::INFINITY, within, self.time_tolerance, 0.0, stack);
+            if let Some((s, _)) = found {
+                if release.is_none_or(|r| s < r.0) {
+                    release = Some((s, k));
+                }
+            }
+        }
+        let position_size = y.as_slice()[..n]
+            .iter()
+            .fold(0.0, |m: f64, v| m.max(v.abs()));
+        let depth = CONTACT_DEPTH * self.gap_scale + POSITION_ROUNDING * position_size;
+        let mut contact: Option<(f64, usize, i8)> = None;
+        let mut step = release.map_or(horizon, |r| r.0);
+        for (pair, geometry) in self.pairs.iter().enumerate() {
+            if phase.holds(pair) {
+                continue;
+            }
+            let within = contact.map_or(step, |c| c.0).min(step);
+            if within <= 0.0 {
+                // An event at the flight's start: no other pair can come earlier.
+                break;
+            }
+            phase.gap(flight, pair, sum);
+            let found = sum.first_exit(
+                geometry.lo,
+                geometry.hi,
+                within,
+                self.time_tolerance,
+                depth,
+                stack,
+            );
+            if let Some((s, side)) = found {
+                if t + s < grace[pair] {
+                    step = step.min(grace[pair] - t);
+                } else if contact.is_none_or(|c| s < c.0) {
+                    contact = Some((s, pair, side));
+                }
+            }
+        }
+        match (contact.filter(|c| c.0 <= step), release) {
+            (Some((s, pair, side)), _) => (s, Some(Event::Contact(pair, side))),
+            (None, Some((s, k))) if s <= step => (s, Some(Event::Release(k))),
+            _ => (step, None),
+        }
     }
 
     /// The uniform sample time `jT/N`.
