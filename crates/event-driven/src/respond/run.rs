@@ -244,6 +244,7 @@ pub(super) fn run(
                 &mut grace,
             )?;
         } else if let Some(Event::Release(k)) = event {
+            runner.count_event(&record, t)?;
             let (pair, side) = phases[current].held[k];
             let mut held = phases[current].held.clone();
             held.remove(k);
@@ -255,7 +256,6 @@ pub(super) fn run(
                 energy_lost: 0.0,
             });
             grace[pair] = t + runner.grace;
-            runner.count_event(&record, t)?;
             current = runner.settle((&mut phases, &held), &mut record, &y, t, &mut grace)?;
         }
     }
