@@ -37,6 +37,11 @@
 //! matrix, no damping terms, and the oscillating rates purely imaginary, as a conservative
 //! system's are (the Schur form's rounding-level real parts removed).
 //!
+//! Beside the periodic forcing, the same structure responds to a non-periodic signal from
+//! rest, `f(t) = d s(t) + v ṡ(t)` with `s` piecewise affine or a sum of sinusoids (a sampled
+//! record, a tone burst, a stepped sweep): exact between segment boundaries and events,
+//! every impact found with the same guarantee, sticking as above ([`respond()`]).
+//!
 //! Its sines and cosines are musl's, not the platform's (`trig`): the event core derives
 //! its numerics on its own, apart from the analytic solver's.
 #![deny(missing_docs)]
@@ -47,6 +52,7 @@ pub mod flow;
 pub mod lyapunov;
 pub mod model;
 pub mod newton;
+pub mod respond;
 pub mod simulate;
 #[cfg(any(test, feature = "fixtures"))]
 pub mod test_models;
@@ -64,6 +70,10 @@ pub use model::{
 pub use newton::{
     periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
     MAX_NEWTON_ITERATIONS, NEUTRAL_TRANSLATION, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
+};
+pub use respond::{
+    respond, respond_sampled, Excitation, Response, ResponseError, ResponseHold, ResponseImpact,
+    ResponseOptions, ResponseState, ResponseSummary, SampledState, Signal, SignalError,
 };
 pub use simulate::{
     simulate, simulate_watched, ImpactRecord, SimulationError, SimulationOptions, Start, Status,

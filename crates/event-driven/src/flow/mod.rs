@@ -149,6 +149,18 @@ pub struct LinearFlow {
     rigid: Option<Box<rigid::RigidModes>>,
 }
 
+/// The modal basis of a flow ([`LinearFlow::basis`]).
+pub(crate) struct ModalBasis<'a> {
+    /// The elastic rates `λ_k`.
+    pub(crate) rates: &'a [C64],
+    /// Their eigenvectors `V` as columns (`2n × m`).
+    pub(crate) modes: &'a DMatrix<C64>,
+    /// `V⁻¹`'s rows for the elastic coordinates (`m × 2n`).
+    pub(crate) inverse: &'a DMatrix<C64>,
+    /// With rigid modes: `R` (`n × r`), `X_q` and `X_p` (`r × 2n` each).
+    pub(crate) rigid: Option<(&'a DMatrix<f64>, &'a DMatrix<f64>, &'a DMatrix<f64>)>,
+}
+
 /// One higher harmonic of a flow's forcing, `f_c,k cos kωt + f_s,k sin kωt`: its rate `kω`
 /// and its modal forcing `g⁺_k`, `g⁻_k` on `e^{ikωt}` and `e^{−ikωt}`, as the fundamental's.
 #[derive(Debug, Clone)]
@@ -507,6 +519,23 @@ impl LinearFlow {
     /// Degrees of freedom.
     pub fn dofs(&self) -> usize {
         self.dofs
+    }
+
+    /// The modal basis as built: the elastic rates `λ_k`, their eigenvectors `V` (columns,
+    /// `2n` rows), the rows of `V⁻¹` giving a state's elastic coordinates, and with rigid
+    /// modes their shapes `R` and the rows `X_q`, `X_p` giving their positions and velocities
+    /// (`y = Re Σ_k V_k z_k + (R q, R p)`): what a flow under another forcing
+    /// ([`crate::respond`]) is built on.
+    pub(crate) fn basis(&self) -> ModalBasis<'_> {
+        ModalBasis {
+            rates: &self.rates,
+            modes: &self.modes,
+            inverse: &self.inverse,
+            rigid: self
+                .rigid
+                .as_deref()
+                .map(|r| (&r.shapes, &r.position_rows, &r.velocity_rows)),
+        }
     }
 
     /// The fastest free rate `max |λ_k|` of the system (rad/s).
