@@ -7,7 +7,6 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use rattle_compare::api::{self, ApiError};
 use rattle_compare::runs::shard::Shard;
-use rattle_compare::scene::frequency::FrequencyBounds;
 use rattle_compare::scene::simulator::Accuracy;
 use rattle_compare::scene::{AnyScene, Scene};
 use rattle_event_driven::SimulationOptions;
@@ -104,14 +103,6 @@ pub(crate) fn check_omega(name: &str, omega: f64) -> PyResult<f64> {
             "{name} = {omega} is out of range: must be finite and > 0 (rad/s)"
         )))
     }
-}
-
-/// `omega` if `scene` can be run at it in bounded time; else the command's message, naming
-/// `name` ([`FrequencyBounds`]).
-pub(crate) fn check_frequency(scene: &Scene, name: &str, omega: f64) -> PyResult<f64> {
-    FrequencyBounds::of(scene)
-        .check(name, omega)
-        .map_err(|e| PyValueError::new_err(e.to_string()))
 }
 
 /// `omega` if `scene`, of either form, can be run at it in bounded time; else the command's

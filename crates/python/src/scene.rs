@@ -28,17 +28,6 @@ pub(crate) struct NativeScene {
     pub(crate) scene: AnyScene,
 }
 
-impl NativeScene {
-    /// The scene in the unit or chain form, or the `ValueError` refusing a structure for
-    /// `call`, naming it and the forms it takes.
-    pub(crate) fn cells(&self, call: &str) -> PyResult<&Scene> {
-        match &self.scene {
-            AnyScene::Cells(scene) => Ok(scene),
-            AnyScene::Structure(form) => Err(structure_refused(form, call)),
-        }
-    }
-}
-
 /// The `ValueError` refusing the structure scene `form` for `call`.
 pub(crate) fn structure_refused(form: &StructureForm, call: &str) -> PyErr {
     PyValueError::new_err(format!(
