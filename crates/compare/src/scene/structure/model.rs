@@ -82,6 +82,13 @@ pub struct Structure {
     pub forcing_sin_per_omega: DVector<f64>,
     /// The forcing's higher harmonics, by increasing order (empty: the fundamental alone).
     pub harmonics: Vec<ForcingHarmonic>,
+    /// The force on each body per unit base displacement: the stiffness of the springs tied
+    /// to the base (a base motion `u_g(t)` of any shape pushes with
+    /// `base_stiffness · u_g + base_damping · u̇_g`).
+    pub base_stiffness: DVector<f64>,
+    /// The force on each body per unit base velocity: the damping of the dashpots tied to the
+    /// base.
+    pub base_damping: DVector<f64>,
     /// The contact pairs.
     pub stops: Vec<Stop>,
     /// `u_g` (the fundamental's amplitude), when the base moves.

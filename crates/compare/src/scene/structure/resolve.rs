@@ -176,6 +176,8 @@ impl StructureScene {
             forcing_sin,
             forcing_sin_per_omega,
             harmonics,
+            base_stiffness: base_springs,
+            base_damping: base_dashpots,
             stops,
             base_amplitude,
             observe,
