@@ -42,8 +42,8 @@ pub struct SoakArgs {
     /// Random bad scenes to refuse (in-process; the first 200 also through `rattle simulate`).
     #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
     bad_scenes: u64,
-    /// Random structures (bodies, springs, dashpots, one-sided and asymmetric stops, forces)
-    /// to run through both solvers.
+    /// Random structures (bodies, springs, dashpots, one-sided and asymmetric stops, forces,
+    /// harmonics) to run through both solvers.
     #[arg(long, default_value_t = 2_000, value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
     structures: u64,
     /// Seed of the random scenes (scene `k` is drawn from `seed` and `k` alone).

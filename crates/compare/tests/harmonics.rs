@@ -279,3 +279,74 @@ fn harmonics_out_of_range_are_refused_naming_the_field() {
     assert!(matches!(e, SceneError::CellsHarmonics { .. }), "{e}");
     assert!(e.to_string().contains("structure form"), "{e}");
 }
+
+/// Each solver's own tangent flow gives the orbit's Floquet multipliers: the analytic one
+/// differentiates its cycle equations, the simulator integrates its variational flow with
+/// saltations. Both are polished to about `1e-12`; their multipliers agree to `1e-8` of the
+/// largest (the simulator's Newton stops at its tolerance, the derivatives follow it).
+const MULTIPLIERS: f64 = 1e-8;
+
+#[test]
+fn every_orbit_of_a_sequence_under_two_harmonics_is_the_simulators_periodic_orbit() {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../data/scenes/paper-two-harmonics.json"
+    ))
+    .expect("the gallery scene");
+    let AnyScene::Structure(form) = parse(&text) else {
+        panic!("a unit with harmonics runs as a structure");
+    };
+    let s = &form.structure;
+    let model = s.analytic_model().expect("an analytic model");
+    let options = SimulationOptions::default();
+    let mut checked = 0;
+    for (signature, omega) in [("+-", 2.95), ("+-", 3.0), ("+-", 3.4), ("+-", 4.0)] {
+        let sequence = s.sequence(signature, 1).expect("a sequence");
+        let orbits = rattle_analytic::sequence_orbits(&model, omega, &sequence).expect("solves");
+        assert!(orbits.iter().any(|o| o.viable), "{signature} at {omega}");
+        let event = s.event_model(omega).expect("an event model");
+        // A viable orbit is a motion of the structure (no penetration, no impact but its own):
+        // the simulator's map has it as a fixed point, stable or not.
+        for orbit in orbits.iter().filter(|o| o.viable) {
+            // The state midway through the first flight, from the analytic orbit's own flow;
+            // the simulator's Newton on its stroboscopic map starts there.
+            let cycle = TAU / omega;
+            let t = 0.5 * orbit.impact_phases.get(1).copied().unwrap_or(1.0) * cycle;
+            let phases =
+                rattle_analytic::forcing::phase_state(&model.forcing().orders(), orbit.alpha);
+            let (mid, _) = model.transition(omega, t).apply(
+                &nalgebra::DVector::from_column_slice(&orbit.state_after_impact),
+                &nalgebra::DVector::from_vec(phases),
+            );
+            let start = rattle_event_driven::Start {
+                state: mid.clone(),
+                time: t + orbit.alpha / omega,
+            };
+            let found = rattle_event_driven::periodic_orbit(&event, omega, &start, 1, &options)
+                .unwrap_or_else(|e| panic!("{signature} at {omega}: {e}"));
+            let d = (&found.state - &mid).amax() / mid.amax();
+            assert!(
+                d <= BOTH_SOLVERS,
+                "{signature} at {omega}: states differ by {d:e}"
+            );
+            let moduli = |m: &[nalgebra::Complex<f64>]| {
+                let mut v: Vec<f64> = m.iter().map(|z| z.norm()).collect();
+                v.sort_by(f64::total_cmp);
+                v
+            };
+            let (a, b) = (
+                moduli(&orbit.floquet_multipliers),
+                moduli(&found.floquet_multipliers),
+            );
+            let largest = a.last().copied().unwrap_or(1.0).max(1.0);
+            for (x, y) in a.iter().zip(&b) {
+                assert!(
+                    (x - y).abs() <= MULTIPLIERS * largest,
+                    "{signature} at {omega}: multipliers {a:?} against {b:?}"
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 4, "{checked} orbits checked");
+}

@@ -1,9 +1,9 @@
 //! Random structures through both solvers: one to four bodies, each held by a spring to the
 //! frame, the base or an earlier body; one to three stops between two bodies or a body and the
-//! frame, two-sided, asymmetric or one-sided; driven by the base, by forces, or both; and one
-//! structure in three carries a free body (no spring, no dashpot) in a two-sided clearance of
-//! a body or between two walls of the frame, as an impact damper's. Per structure, at a random
-//! frequency:
+//! frame, two-sided, asymmetric or one-sided; driven by the base, by forces, or both, one
+//! structure in two with one to three higher harmonics on each; and one structure in three
+//! carries a free body (no spring, no dashpot) in a two-sided clearance of a body or between
+//! two walls of the frame, as an impact damper's. Per structure, at a random frequency:
 //! - 20 periods from rest are finite, never pass a stop (beyond 1e-9 of the motion's size),
 //!   and no impact gains energy or changes the momentum of the bodies it involves (1e-12);
 //! - the cross-check of `rattle compare` is never a contradiction, and a periodic impacting
@@ -19,7 +19,7 @@ use rattle_compare::scene::structure::{
     BodySpec, DashpotSpec, ForceSpec, ForcingSpec, SpringSpec, StopSpec, Structure, StructureScene,
     StructureSpec,
 };
-use rattle_compare::scene::BaseSpec;
+use rattle_compare::scene::{BaseSpec, HarmonicSpec};
 use rattle_compare::verdict::structure::structure_cross_check;
 use rattle_event_driven::SimulationOptions;
 use rayon::prelude::*;
@@ -116,6 +116,17 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
             restitution: rng.uniform(0.0, 1.0),
         });
     }
+    // Drawn last, so that the structures without harmonics are those of the same index
+    // before harmonics were drawn: one structure in two has them on its base or its force.
+    let (mut base, mut forces) = (base, forces);
+    if rng.below(2) == 0 {
+        if let Some(base) = base.as_mut() {
+            base.harmonics = random_harmonics(&mut rng, base.amplitude);
+        }
+        if let Some(force) = forces.first_mut() {
+            force.harmonics = random_harmonics(&mut rng, force.amplitude);
+        }
+    }
     let scene = StructureScene {
         name: format!("soak-structure-{index}"),
         structure: StructureSpec {
@@ -129,6 +140,20 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
         observe: Some(name(n - 1)),
     };
     (scene, omega)
+}
+
+/// One to three harmonics of distinct orders in `2..=6`, each of amplitude up to half the
+/// fundamental's `amplitude` at a random phase: a forcing of the same period that bends its
+/// shape, with orders whose searches stay cheap.
+fn random_harmonics(rng: &mut Rng, amplitude: f64) -> Vec<HarmonicSpec> {
+    let mut orders: Vec<u32> = (2..=6).collect();
+    (0..1 + rng.below(3))
+        .map(|_| HarmonicSpec {
+            order: orders.remove(rng.below(orders.len() as u64) as usize),
+            amplitude: rng.uniform(0.0, 0.5) * amplitude,
+            phase: rng.uniform(-3.0, 3.0),
+        })
+        .collect()
 }
 
 /// 20 periods from rest are finite, inside every stop, and no impact gains energy or changes
