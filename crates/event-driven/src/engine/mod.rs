@@ -84,32 +84,32 @@ pub(crate) use trace::{Trace, TracedImpact};
 /// A contact is an excursion beyond a stop deeper than this fraction of the gap scale (plus the
 /// rounding of the positions, [`POSITION_ROUNDING`]): a motion that touches a stop to rounding
 /// does not impact (no event storms at a graze).
-const CONTACT_DEPTH: f64 = 1e-12;
+pub(crate) const CONTACT_DEPTH: f64 = 1e-12;
 
 /// Positions are known to this relative rounding of their size (`~100 ε`): an excursion beyond
 /// a stop smaller than that, relative to the largest position, is no contact (introduced for
 /// the base-amplitude-1e6 scene, whose positions dwarf the gap).
-const POSITION_ROUNDING: f64 = 1e-14;
+pub(crate) const POSITION_ROUNDING: f64 = 1e-14;
 
 /// Velocities are known to this relative rounding of their size (`~1000 ε`, as they come out of
 /// sums of exponentials of size comparable to the largest velocity): a slower approach is a
 /// graze, not an impact.
-const VELOCITY_ROUNDING: f64 = 1e-13;
+pub(crate) const VELOCITY_ROUNDING: f64 = 1e-13;
 
 /// A relative velocity below this fraction of `ω × gap` after an impact, with the stop pushing,
 /// is a pair at rest on the stop: it sticks.
-const RESTING_VELOCITY: f64 = 1e-10;
+pub(crate) const RESTING_VELOCITY: f64 = 1e-10;
 
 /// After a release the pair leaves the stop with zero relative velocity and acceleration;
 /// rounding must not read that as a new contact, so contacts are ignored for this fraction of a
 /// period (a hundred times the default root tolerance).
-const RELEASE_GRACE: f64 = 1e-10;
+pub(crate) const RELEASE_GRACE: f64 = 1e-10;
 
 /// Chatter is cut short when the remaining bounces would all fit in this fraction of a period:
 /// the pair then sticks at once (the state error is of order the remaining relative velocity
 /// times that time). Smaller values spend thousands of bounces per chatter on accumulations
 /// whose remaining time is far below any output's resolution.
-const CHATTER: f64 = 1e-5;
+pub(crate) const CHATTER: f64 = 1e-5;
 
 /// Undamped motion with no impact for this many periods is reported as `NoDissipation`: nothing
 /// will ever dissipate its transients (unless a later beat reaches a stop; the status says so).

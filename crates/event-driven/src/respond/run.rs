@@ -5,30 +5,13 @@ use super::modal::Flight;
 use super::phase::Phase;
 use super::signal::{check, Signal};
 use super::*;
+// The contact, graze, rest and chatter thresholds are the periodic engine's, each a fraction of
+// this run's gap, position, velocity and time scales.
+use crate::engine::{
+    CHATTER, CONTACT_DEPTH, POSITION_ROUNDING, RELEASE_GRACE as GRACE, RESTING_VELOCITY,
+    VELOCITY_ROUNDING,
+};
 use crate::expsum::{ExpSum, SearchStack};
-
-/// A contact is an excursion beyond a stop deeper than this fraction of the largest gap (plus
-/// the positions' rounding): the periodic engine's threshold.
-const CONTACT_DEPTH: f64 = 1e-12;
-
-/// Positions are known to this relative rounding of their size.
-const POSITION_ROUNDING: f64 = 1e-14;
-
-/// Velocities are known to this relative rounding of their size: a slower approach is a
-/// graze, not an impact.
-const VELOCITY_ROUNDING: f64 = 1e-13;
-
-/// A rebound slower than this fraction of `scale_rate × gap` with the stop pushing is a pair
-/// at rest on its stop.
-const RESTING_VELOCITY: f64 = 1e-10;
-
-/// After a graze, the pair's contacts are ignored for this fraction of the time scale, so
-/// that rounding does not find the same touch again.
-const GRACE: f64 = 1e-10;
-
-/// Chatter that would accumulate within this fraction of the time scale is a pair coming to
-/// rest on its stop.
-const CHATTER: f64 = 1e-5;
 
 /// Iterations of the Illinois search for a zero of `u̇_j` (a peak of `u_j`): each at least
 /// halves the bracket every other step, so 120 reach any double's resolution.
