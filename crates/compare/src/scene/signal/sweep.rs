@@ -327,7 +327,7 @@ mod tests {
         let built = spec.build(15.0, 0.5).unwrap();
         // Steps of 10/3 s at 1, 1.5, 2 rad/s, the last held to 15 s.
         let (s, _) = built.signal.value_and_rate(12.0);
-        let start = 20.0 / 3.0;
+        let start: f64 = 20.0 / 3.0;
         assert!((s - 0.5 * (2.0 * (12.0 - start)).sin()).abs() < 1e-12);
         assert!((built.signal.end() - 15.0).abs() < 1e-12);
     }
