@@ -174,6 +174,7 @@ fn a_sampled_harmonic_reaches_the_periodic_steady_state() {
         let record = api::respond(&scene, &request).unwrap();
         let bounds = interpolation_bounds(per_period, omega);
         let mut worst: f64 = 0.0;
+        #[allow(clippy::needless_range_loop)] // j indexes four lists alike
         for state in &record.at {
             for j in 0..2 {
                 let du = (state.displacements[j] - orbit.state[j]).abs();

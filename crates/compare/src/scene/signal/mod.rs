@@ -5,7 +5,7 @@
 //!
 //! - `F.csv`: a record, columns `t,u_g` (a base displacement, m) or `t,F` (a force, N, on the
 //!   body `--on` names), `t` from 0 and strictly increasing; the signal is the piecewise-linear
-//!   interpolation of the samples, held at the last value after the last ([`file`]);
+//!   interpolation of the samples, held at the last value after the last ([`mod@file`]);
 //! - `tone-burst:omega=W,cycles=N[,amplitude=A]`: the Hann-windowed burst
 //!   `A·½(1 − cos(ωt/N))·sin ωt` on `[0, 2πN/ω]`, zero after, exactly three sinusoids;
 //! - `sweep:from=W1,to=W2,rate=R[,amplitude=A][,steps=N]`: a linear sine sweep at `R` rad/s²,
@@ -339,7 +339,7 @@ impl SignalSpec {
     /// `default_amplitude`.
     ///
     /// # Errors
-    /// [`SignalSpecError`] naming the field: a file's ([`file::read`]), a sweep's or a
+    /// [`SignalSpecError`] naming the field: a file's ([`file::read_columns`]), a sweep's or a
     /// random record's too many segments ([`MAX_SEGMENTS`]), a PSD file's.
     pub fn build(
         &self,

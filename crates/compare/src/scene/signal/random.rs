@@ -378,7 +378,7 @@ impl Xoshiro {
         loop {
             let (x, y) = (self.symmetric(), self.symmetric());
             let r2 = x * x + y * y;
-            if r2 <= 1.0 && r2 >= 1e-12 {
+            if (1e-12..=1.0).contains(&r2) {
                 let r = r2.sqrt();
                 return (x / r, y / r);
             }
