@@ -18,6 +18,7 @@
 //! | [`boundary`] | `rattle boundary` | [`BoundaryRecord`](crate::runs::boundary::BoundaryRecord) |
 //! | [`map`], [`map_document`] | `rattle map` | the map's tables |
 //! | [`basins`], [`plane_basins`] | `rattle basins` | [`Basins`](crate::runs::basins::Basins) and its table |
+//! | [`respond`], [`prepare_response`] | `rattle respond` | [`RespondRecord`](crate::output::respond::RespondRecord), samples one by one |
 //!
 //! Errors are values ([`ApiError`]): bad input names the parameter (or the scene's field) and
 //! its allowed range; a solver that fails says why.
@@ -67,11 +68,16 @@ mod basins;
 mod branches;
 mod maps;
 mod orbits;
+mod respond;
 
 pub use basins::{basins, plane_basins};
 pub use branches::{boundary, continuation, Continuation, ContinuedBranches};
 pub use maps::{map, map_document};
 pub use orbits::{orbit_trajectory, orbits, signature_orbits, Orbits, SignatureOrbits};
+pub use respond::{
+    prepare_response, respond, PreparedResponse, ResponseRequest, DEFAULT_MAX_SAMPLES,
+    DEFAULT_SAMPLES_PER_PERIOD,
+};
 
 /// A facade call that did not give its result.
 ///

@@ -811,6 +811,7 @@ fn every_option_the_guide_names_exists() {
         "merge",
         "map",
         "basins",
+        "respond",
     ];
     let mut known = std::collections::BTreeSet::new();
     for command in commands {

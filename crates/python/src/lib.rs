@@ -33,6 +33,7 @@ mod continuation;
 mod map;
 mod merge;
 mod orbit;
+mod respond;
 mod scene;
 mod simulate;
 mod sweep;
@@ -58,6 +59,7 @@ fn _rattle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     map::register(m)?;
     basins::register(m)?;
     merge::register(m)?;
+    respond::register(m)?;
     table::register(m)?;
     Ok(())
 }

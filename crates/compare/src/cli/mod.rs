@@ -12,6 +12,7 @@ pub mod family;
 pub mod map;
 pub mod merge;
 pub mod orbit;
+pub mod respond;
 pub mod simulate;
 pub mod structure;
 pub mod sweep;
@@ -89,6 +90,12 @@ pub enum Command {
     /// to its steady state and numbered by the attractor it reaches (signature and amplitude,
     /// or not periodic), in parallel, written to a file.
     Basins(basins::BasinsArgs),
+    /// The exact response to a non-periodic signal from rest over a duration T: a record
+    /// file (base displacement, or a force on one body), a tone burst, a sine sweep
+    /// (continuous or stepped) or a random base motion, in place of the scene's harmonic base
+    /// motion; every impact, the states at chosen times, every body's RMS and peak, the
+    /// energy balance, and the uniformly sampled response written to a file.
+    Respond(respond::RespondArgs),
 }
 
 /// A failure of a command, with its exit code.
@@ -159,6 +166,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Merge(args) => merge::run(args),
         Command::Map(args) => map::run(args),
         Command::Basins(args) => basins::run(args),
+        Command::Respond(args) => respond::run(args),
     }
 }
 

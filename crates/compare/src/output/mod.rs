@@ -14,6 +14,7 @@ mod json;
 mod jsonl;
 pub mod records;
 pub mod rename;
+pub mod respond;
 pub mod structure;
 pub mod trajectory;
 

@@ -378,45 +378,105 @@ impl NamedTable {
         path: &std::path::Path,
         format: crate::output::Format,
     ) -> Result<(), crate::output::OutputError> {
-        use crate::output::Format;
-        use std::io::Write;
         let io = |source| crate::output::OutputError::Io {
             path: path.to_owned(),
             source,
         };
         let file = std::fs::File::create(path).map_err(io)?;
-        let mut out = std::io::BufWriter::new(file);
-        let json = |row: &[Cell]| {
-            serde_json::to_string(&NamedRow(&self.columns, row)).map_err(std::io::Error::other)
+        let mut out =
+            NamedWriter::new(format, std::io::BufWriter::new(file), &self.columns).map_err(io)?;
+        for row in &self.rows {
+            out.row(row).map_err(io)?;
+        }
+        out.finish().map_err(io)
+    }
+}
+
+/// Writes the rows of a table whose columns are named at run time, one at a time as they
+/// come: CSV (a line of column names, a line per row), JSON (`{"results": [ {column: cell,
+/// …}, … ]}`, a row per line) or JSON Lines (an object per line).
+pub struct NamedWriter<W: std::io::Write> {
+    format: crate::output::Format,
+    columns: Vec<String>,
+    csv: Option<::csv::Writer<W>>,
+    out: Option<W>,
+    rows: usize,
+}
+
+impl<W: std::io::Write> NamedWriter<W> {
+    /// Starts the table of `columns` on `out` in `format`.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn new(
+        format: crate::output::Format,
+        mut out: W,
+        columns: &[String],
+    ) -> std::io::Result<Self> {
+        use crate::output::Format;
+        let mut writer = NamedWriter {
+            format,
+            columns: columns.to_vec(),
+            csv: None,
+            out: None,
+            rows: 0,
         };
         match format {
             Format::Csv => {
                 let mut csv = ::csv::WriterBuilder::new()
                     .has_headers(false)
                     .from_writer(out);
-                csv.write_record(&self.columns).map_err(|e| io(e.into()))?;
-                for row in &self.rows {
-                    csv.write_record(row.iter().map(Cell::text))
-                        .map_err(|e| io(e.into()))?;
-                }
-                csv.flush().map_err(io)
+                csv.write_record(columns)?;
+                writer.csv = Some(csv);
             }
             Format::Json => {
-                write!(out, "{{\"results\":[").map_err(io)?;
-                for (k, row) in self.rows.iter().enumerate() {
-                    let sep = if k == 0 { "\n" } else { ",\n" };
-                    write!(out, "{sep}{}", json(row).map_err(io)?).map_err(io)?;
-                }
-                writeln!(out, "\n]}}").map_err(io)?;
-                out.flush().map_err(io)
+                write!(out, "{{\"results\":[")?;
+                writer.out = Some(out);
             }
-            Format::JsonLines => {
-                for row in &self.rows {
-                    writeln!(out, "{}", json(row).map_err(io)?).map_err(io)?;
-                }
-                out.flush().map_err(io)
-            }
+            Format::JsonLines => writer.out = Some(out),
         }
+        Ok(writer)
+    }
+
+    /// Writes one row, a cell per column.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn row(&mut self, row: &[Cell]) -> std::io::Result<()> {
+        use crate::output::Format;
+        self.rows += 1;
+        if let Some(csv) = self.csv.as_mut() {
+            return Ok(csv.write_record(row.iter().map(Cell::text))?);
+        }
+        let json =
+            serde_json::to_string(&NamedRow(&self.columns, row)).map_err(std::io::Error::other)?;
+        let Some(out) = self.out.as_mut() else {
+            return Ok(());
+        };
+        match self.format {
+            Format::Json => {
+                let sep = if self.rows == 1 { "\n" } else { ",\n" };
+                write!(out, "{sep}{json}")
+            }
+            _ => writeln!(out, "{json}"),
+        }
+    }
+
+    /// Ends the table and flushes.
+    ///
+    /// # Errors
+    /// The writer's.
+    pub fn finish(mut self) -> std::io::Result<()> {
+        if let Some(mut csv) = self.csv.take() {
+            return csv.flush();
+        }
+        if let Some(mut out) = self.out.take() {
+            if self.format == crate::output::Format::Json {
+                writeln!(out, "\n]}}")?;
+            }
+            out.flush()?;
+        }
+        Ok(())
     }
 }
 

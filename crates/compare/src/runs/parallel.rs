@@ -74,6 +74,16 @@ impl Progress {
         self.bar.inc(1);
     }
 
+    /// One step done, for a run that reports its own steps (`rattle respond`'s samples).
+    pub fn step(&self) {
+        self.tick();
+    }
+
+    /// Clears the bar at the end of a run that reports its own steps.
+    pub fn done(&self) {
+        self.finish();
+    }
+
     fn finish(&self) {
         self.bar.finish_and_clear();
     }

@@ -25,6 +25,7 @@ pub mod frequency;
 pub mod lyapunov;
 pub mod parameter;
 pub mod phase;
+pub mod signal;
 pub mod simulator;
 pub mod structure;
 pub mod structure_parameter;

@@ -84,6 +84,8 @@ __all__ = [
     "merge",
     "Map",
     "Basins",
+    "Response",
+    "respond",
     "DEFAULTS",
     "CONTINUATION_DEFAULTS",
     "BOUNDARY_DEFAULTS",
@@ -1104,6 +1106,55 @@ def boundary(
         },
     )
     return Boundary(_json.loads(text))
+
+
+class Response(Record):
+    """``rattle respond --json``: ``scene``, ``bodies``, ``input`` (``"base"`` or
+    ``"force"``), ``on``, ``duration``, ``signal`` (its ``kind``, parameters and derived
+    numbers), ``time_scale``, ``impacts`` (``t``, ``pair``, ``side``,
+    ``relative_velocity_before``), ``holds``, ``at`` and ``final_state`` (``t``,
+    ``displacements``, ``velocities``, bodies in ``bodies``' order) and ``summary``
+    (``impacts``, ``rms`` and ``peak`` by body name, ``energy_dissipated``, ``work``,
+    ``final_energy``, ``energy_balance_residual``…).
+
+    ``samples`` is the uniformly sampled response, a :class:`Table` with the columns
+    ``rattle respond --out F.csv`` writes: ``t``, ``u_g`` (or ``F``), ``u:NAME…``,
+    ``v:NAME…`` (as attributes too, with ``:`` read as ``_``: ``samples.u_outer``). It is
+    not part of :meth:`to_dict`.
+    """
+
+    def __init__(self, data, samples):
+        """Wraps the command's document and the sampled table."""
+        super().__init__(data)
+        self.__dict__["samples"] = samples
+
+
+def respond(scene, signal, duration, at=None, on=None, samples=None):
+    """The exact response from rest to a non-periodic signal, as ``rattle respond SCENE
+    --signal SIGNAL --duration DURATION --at AT --on ON --json``, with the sampled response
+    of ``--out F --samples SAMPLES``.
+
+    ``signal`` is the command's ``--signal`` text: a ``.csv`` record (``t,u_g`` or ``t,F``
+    with ``on`` the body), ``tone-burst:omega=W,cycles=N[,amplitude=A]``,
+    ``sweep:from=W1,to=W2,rate=R[,amplitude=A][,steps=N]`` or
+    ``random:band=LO-HI,rms=A,seed=S[,psd=FILE]`` (see ``docs/respond.md``). ``at``: times in
+    ``[0, duration]`` at which to report the state. ``samples``: the sample intervals of the
+    table (default: 64 per period of the fastest of the structure's natural frequencies and
+    the signal's, at most 1 000 000). Returns a :class:`Response`, the command's document bit
+    for bit; bad input raises ``ValueError`` naming the parameter or the signal's field.
+    """
+    text, columns = _rattle.respond(
+        _native_scene(scene),
+        str(signal),
+        float(duration),
+        None if at is None else [float(v) for v in at],
+        on,
+        samples,
+    )
+    table = Table(columns)
+    for name, column in list(table.columns.items()):
+        table.__dict__.setdefault(name.replace(":", "_"), column)
+    return Response(_json.loads(text), table)
 
 
 # Maps and basins, whole, in parts or on a Dask cluster (``_grids``); defined last, since
