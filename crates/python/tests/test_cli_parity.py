@@ -139,16 +139,20 @@ def test_scene_files_give_the_commands_results(rattle_cli, path):
     document = json.loads(path.read_text())
     scene = rattle.Scene.from_file(path)
     assert scene.to_dict() == rattle.Scene.from_dict(document).to_dict()
-    if "structure" in document:
-        # The structure form: simulate, orbit with a signature, compare and sweep take it
-        # (test_structures.py); orbit without a signature refuses it by name, as the command.
+    if "structure" in document or "harmonics" in document["base"]:
+        # The structure form (a unit whose base has harmonics runs as its structure):
+        # simulate, orbit with a signature, compare and sweep take it (test_structures.py);
+        # orbit without a signature refuses it by name, as the command.
         assert scene.form == "structure"
         assert "structure form" in rattle_cli.error("orbit", path, "--omega", 2.0)
         with pytest.raises(ValueError, match="structure form"):
             rattle.orbit(scene, 2.0)
         result = rattle.simulate(scene, 2.0)
         assert result.to_dict() == rattle_cli.json("simulate", path, "--omega", 2.0)
-        names = [b["name"] for b in document["structure"]["bodies"]]
+        if "structure" in document:
+            names = [b["name"] for b in document["structure"]["bodies"]]
+        else:
+            names = ["outer", "inner"]
         assert list(result.to_dict()["body_amplitudes"]) == names
         return
     assert scene.form == "cells"
