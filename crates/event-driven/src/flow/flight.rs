@@ -168,8 +168,9 @@ impl Flight<'_> {
 
     /// [`Self::state_into`], given `exponentials`: `e^{μ_j s}` of the terms of any functional
     /// [`Self::expand`]ed from this flight, in their order (as a search over that functional
-    /// leaves them at the contact it found). They replace the exponentials of the modes and
-    /// the forcing when the flight follows the steady response; otherwise they are ignored.
+    /// leaves them at the contact it found). They replace the exponentials of the modes, the
+    /// forcing and its harmonics when the flight follows the steady response; otherwise they
+    /// are ignored.
     pub fn state_at(&self, s: f64, exponentials: &[C64], y: &mut DVector<f64>) {
         self.state_with(s, Some(exponentials), y);
     }
@@ -260,9 +261,10 @@ impl Flight<'_> {
     /// the state at `s` into the flight, into `z` (the kept modes', in their order), given
     /// `exponentials` as for [`Self::state_at`], which forms the state from the same
     /// coordinates, the same bits: `(h_k e^{λ_k s} + P⁺_k F + P⁻_k F̄ + P⁰_k)·weight`, `F`
-    /// the forcing's phase at `s`. With AVX and the exponentials there given, `h_k e^{λ_k
-    /// s}` too, into `carried`, bit for bit [`Self::deviation_at`]'s (else `carried` is
-    /// left empty). `false` (nothing written) for the general form.
+    /// the forcing's phase at `s` (each harmonic's terms added before the weight). Without
+    /// harmonics, with AVX and the exponentials there given, `h_k e^{λ_k s}` too, into
+    /// `carried`, bit for bit [`Self::deviation_at`]'s (else `carried` is left empty).
+    /// `false` (nothing written) for the general form.
     pub(crate) fn modal_state(
         &self,
         s: f64,
@@ -370,9 +372,11 @@ impl Flight<'_> {
         let forcing = C64::new(0.0, f.omega);
         let rate = forcing.re.abs() + forcing.im.abs();
         sum.add_mode(functional.forced * phase, forcing, rate, rate * rate * rate);
-        for (mu, c) in self.harmonic_terms(functional) {
-            let rate = mu.re.abs() + mu.im.abs();
-            sum.add_mode(c, mu, rate, rate * rate * rate);
+        if !f.harmonics.is_empty() {
+            for (mu, c) in self.harmonic_terms(functional) {
+                let rate = mu.re.abs() + mu.im.abs();
+                sum.add_mode(c, mu, rate, rate * rate * rate);
+            }
         }
         if functional.constant != 0.0 {
             sum.add_decaying::<true>(C64::new(functional.constant, 0.0), C64::default());
@@ -420,13 +424,15 @@ impl Flight<'_> {
         deviations.clear();
         deviations.extend(modes.iter().zip(deviation).map(|(m, &h)| m.weighted(h)));
         deviations.push(modes[f.kept.len()].weighted(*phase));
-        let harmonic_modes = &modes[f.kept.len() + 1..];
-        deviations.extend(
-            harmonic_modes
-                .iter()
-                .zip(harmonic_phases)
-                .map(|(m, &phase)| m.weighted(phase)),
-        );
+        if !harmonic_phases.is_empty() {
+            let harmonic_modes = &modes[f.kept.len() + 1..];
+            deviations.extend(
+                harmonic_modes
+                    .iter()
+                    .zip(harmonic_phases)
+                    .map(|(m, &phase)| m.weighted(phase)),
+            );
+        }
         coefficients.resize(joint.blocks.len(), [0.0; 2 * LANES]);
         let per_block = modes.len();
         // Every summary is written below: storage of the right length is only kept.
@@ -510,11 +516,13 @@ impl Flight<'_> {
                     poly: [functional.forced * phase, zero, zero, zero],
                     rate: w,
                 });
-                out.terms
-                    .extend(self.harmonic_terms(functional).map(|(rate, c)| Term {
-                        poly: [c, zero, zero, zero],
-                        rate,
-                    }));
+                if !f.harmonics.is_empty() {
+                    out.terms
+                        .extend(self.harmonic_terms(functional).map(|(rate, c)| Term {
+                            poly: [c, zero, zero, zero],
+                            rate,
+                        }));
+                }
                 if functional.constant != 0.0 {
                     out.terms.push(Term {
                         poly: [C64::new(functional.constant, 0.0), zero, zero, zero],

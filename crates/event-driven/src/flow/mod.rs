@@ -50,6 +50,8 @@ mod packed;
 mod rigid;
 mod steady;
 #[cfg(test)]
+mod steady_tests;
+#[cfg(test)]
 mod tests;
 
 use crate::expsum::{ModeTerm, LANES};
@@ -619,6 +621,9 @@ impl LinearFlow {
     /// `e^{ikωt₀}` of each higher harmonic, from the fundamental's phase `e^{iωt₀}`: its
     /// `k`-th power (by squaring, a few roundings per doubling of `k`).
     fn harmonic_phases(&self, phase: C64) -> Vec<C64> {
+        if self.harmonics.is_empty() {
+            return Vec::new();
+        }
         self.harmonics.iter().map(|h| phase.powu(h.order)).collect()
     }
 

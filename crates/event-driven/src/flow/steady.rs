@@ -133,6 +133,9 @@ impl SteadyResponse {
     #[inline(always)]
     pub(super) fn at(&self, j: usize, phase: C64, harmonic_phases: &[C64]) -> C64 {
         let mut z = self.plus[j] * phase + self.minus[j] * phase.conj() + self.constant[j];
+        if self.harmonics.is_empty() {
+            return z;
+        }
         for (h, &f) in self.harmonics.iter().zip(harmonic_phases) {
             z += h.plus[j] * f + h.minus[j] * f.conj();
         }
