@@ -16,6 +16,13 @@
 //! (two impacts per period), and an 8-cell chain of the paper's cell with the same stops at
 //! `ω = 2`. Runs do not polish the final cycle (no Newton solve at the end). The medians and
 //! their ratios to the fundamental alone are on the performance page (`docs/performance.md`).
+//!
+//! Each structure's forcings with harmonics run twice: as the simulator flies them (the
+//! steady-response form, each harmonic's periodic response part of the flow's steady response)
+//! and with every flight in the resonance-safe general form (`Model::with_general_form`, the
+//! form a flow keeps where a harmonic is resonant with an undamped mode or the structure has
+//! free bodies), in groups named `harmonics, general form: …`: what the steady form saves, in
+//! the same run.
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::DVector;
@@ -110,9 +117,11 @@ impl<'a> Case<'a> {
 /// periods), `samples` samples each. A run's time holds a part that does not grow with its
 /// length (the flows' set-up and the observed final stretch), so the cost per impact of a long
 /// simulation is the difference of the two medians over the difference of their impacts.
+///
+/// With `general`, only the forcings with harmonics, each flight in the general form.
 fn compare(
     c: &mut Criterion,
-    group_name: &str,
+    (group_name, general): (&str, bool),
     (settle, lengths, samples): (u64, [u64; 2], usize),
     build: impl Fn(&[u32]) -> Model,
     check: impl Fn(&Case),
@@ -120,7 +129,14 @@ fn compare(
     let mut group = c.benchmark_group(group_name);
     group.sample_size(samples);
     for (label, orders) in forcings() {
-        let model = build(&orders);
+        if general && orders.is_empty() {
+            continue;
+        }
+        let model = if general {
+            build(&orders).with_general_form()
+        } else {
+            build(&orders)
+        };
         let start = simulate(&model, OMEGA, &Start::rest(model.dofs()), &fixed(settle))
             .expect("settles")
             .final_state;
@@ -141,43 +157,56 @@ fn compare(
     group.finish();
 }
 
-/// The paper unit: 500 and 2000 periods, two impacts in each.
+/// The paper unit: 500 and 2000 periods, two impacts in each; in the steady-response form and
+/// in the general form.
 fn unit(c: &mut Criterion) {
-    compare(
-        c,
-        "harmonics: paper unit, ω = 2",
-        (500, [500, 2000], 20),
-        |orders| {
-            paper_unit(OMEGA, Some(LIGHT_DAMPING), Some((GAP, RESTITUTION)))
-                .with_harmonics(base_harmonics(2, orders))
-                .expect("valid harmonics")
-        },
-        // The fundamental alone settles on two impacts per period; the harmonics keep them.
-        |case| {
-            let periods = case.options.fixed_periods.expect("a fixed run");
-            assert_eq!(case.impacts, 2 * periods, "two impacts per period");
-            assert!(!case.sticking, "the unit does not stick");
-        },
-    );
+    for name in [
+        ("harmonics: paper unit, ω = 2", false),
+        ("harmonics, general form: paper unit, ω = 2", true),
+    ] {
+        compare(
+            c,
+            name,
+            (500, [500, 2000], 20),
+            |orders| {
+                paper_unit(OMEGA, Some(LIGHT_DAMPING), Some((GAP, RESTITUTION)))
+                    .with_harmonics(base_harmonics(2, orders))
+                    .expect("valid harmonics")
+            },
+            // The fundamental alone settles on two impacts per period; the harmonics keep them.
+            |case| {
+                let periods = case.options.fixed_periods.expect("a fixed run");
+                assert_eq!(case.impacts, 2 * periods, "two impacts per period");
+                assert!(!case.sticking, "the unit does not stick");
+            },
+        );
+    }
 }
 
-/// The 8-cell chain: 50 and 200 periods, some 18 impacts in each.
+/// The 8-cell chain: 50 and 200 periods, some 18 impacts in each; in the steady-response form
+/// and in the general form.
 fn chain(c: &mut Criterion) {
     let stops = Some(CellStops::symmetric(GAP, RESTITUTION));
-    compare(
-        c,
-        "harmonics: 8-cell chain, ω = 2",
-        // Criterion's fewest samples: a run with 8 harmonics takes over a second.
-        (500, [50, 200], 10),
-        |orders| {
-            paper_chain(CELLS, OMEGA, Some(LIGHT_DAMPING), stops)
-                .with_harmonics(base_harmonics(2 * CELLS, orders))
-                .expect("valid harmonics")
-        },
-        // The chain's impacts per run differ a little between forcings: the names carry each
-        // run's own count.
-        |_| {},
-    );
+    for name in [
+        ("harmonics: 8-cell chain, ω = 2", false),
+        ("harmonics, general form: 8-cell chain, ω = 2", true),
+    ] {
+        compare(
+            c,
+            name,
+            // Criterion's fewest samples: a run with 8 harmonics in the general form takes over
+            // a second.
+            (500, [50, 200], 10),
+            |orders| {
+                paper_chain(CELLS, OMEGA, Some(LIGHT_DAMPING), stops)
+                    .with_harmonics(base_harmonics(2 * CELLS, orders))
+                    .expect("valid harmonics")
+            },
+            // The chain's impacts per run differ a little between forcings: the names carry
+            // each run's own count.
+            |_| {},
+        );
+    }
 }
 
 criterion_group! {

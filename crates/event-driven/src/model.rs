@@ -166,6 +166,9 @@ pub struct Model {
     pub(crate) contacts: Vec<ContactPair>,
     /// Per contact: `d` and `M⁻¹d`.
     pub(crate) directions: Vec<(DVector<f64>, DVector<f64>)>,
+    /// Whether every flight flies in the resonance-safe general form
+    /// ([`Self::with_general_form`]).
+    pub(crate) general_form: bool,
 }
 
 impl Model {
@@ -267,6 +270,7 @@ impl Model {
             harmonics: Vec::new(),
             contacts,
             directions,
+            general_form: false,
         })
     }
 
@@ -311,6 +315,15 @@ impl Model {
         }
         self.harmonics = harmonics;
         Ok(self)
+    }
+
+    /// The model with every free and stuck flight in the resonance-safe general form, whether
+    /// or not the flow's steady-response form exists: the same motion to rounding, slower. It
+    /// is the reference the steady-response form is checked against, not for use.
+    #[doc(hidden)]
+    pub fn with_general_form(mut self) -> Model {
+        self.general_form = true;
+        self
     }
 
     /// The higher harmonics of the forcing (orders `≥ 2`), as given to

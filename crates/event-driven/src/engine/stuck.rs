@@ -226,12 +226,17 @@ impl Engine<'_> {
                 sin: &tt * &h.sin,
             })
             .collect();
-        LinearFlow::with_harmonics(
+        let flow = LinearFlow::with_harmonics(
             (&mr, cr.as_ref(), &kr),
             (&fc, &fs, &f0),
             &harmonics,
             self.omega,
-        )
+        )?;
+        Ok(if self.model.general_form {
+            flow.without_steady_response()
+        } else {
+            flow
+        })
     }
 
     /// The held set after pair `pair` sticks on `side` in `mode`.

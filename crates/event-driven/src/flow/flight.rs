@@ -19,13 +19,15 @@ pub struct Flight<'a> {
 #[derive(Debug, Clone)]
 pub(super) enum Form<'a> {
     /// `z(s) = e^{λs} ∘ h + z_p(t₀ + s)`: the deviation `h = z(0) − z_p(t₀)` from the steady
-    /// response decays (or persists) mode by mode; `phase = e^{iωt₀}`. `deviation` holds the
+    /// response decays (or persists) mode by mode; `phase = e^{iωt₀}`, `harmonic_phases`
+    /// each higher harmonic's `e^{ikωt₀}` (empty without harmonics). `deviation` holds the
     /// kept modes' only, in the order of [`LinearFlow::kept`] (contiguous: the loops over
     /// them read it in order).
     Steady {
         response: &'a SteadyResponse,
         deviation: Vec<C64>,
         phase: C64,
+        harmonic_phases: Vec<C64>,
     },
     /// `z(s) = e^{λs} ∘ z(0) + Σ G φ(λ, μ, s)`, finite at resonance ([`GeneralStart`]),
     /// boxed: a flight is moved by value through the event loop, and the steady-response
@@ -103,6 +105,55 @@ impl Flight<'_> {
         }
     }
 
+    /// In the steady-response form, each higher harmonic's term of `functional`: its rate
+    /// `ikω` and coefficient `A_k e^{ikωt₀}`, in the flow's order of its harmonics (a harmonic
+    /// the functional has no part of, e.g. one prepared by another flow, with coefficient 0:
+    /// a steady-form expansion always holds one term per harmonic); none in the general form.
+    fn harmonic_terms<'s>(
+        &'s self,
+        functional: &'s Functional,
+    ) -> impl Iterator<Item = (C64, C64)> + 's {
+        let (harmonics, phases): (&[_], &[C64]) = match &self.form {
+            Form::Steady {
+                response,
+                harmonic_phases,
+                ..
+            } => (&response.harmonics, harmonic_phases),
+            Form::General(_) => (&[], &[]),
+        };
+        harmonics
+            .iter()
+            .zip(phases)
+            .enumerate()
+            .map(move |(i, (h, &phase))| {
+                let a = functional.harmonic.get(i).copied().unwrap_or_default();
+                (C64::new(0.0, h.rate), a * phase)
+            })
+    }
+
+    /// Each higher harmonic's phase `e^{ikω(t₀ + s)}` at `s` into the flight, from its start
+    /// phase and `e^{ikωs}`: the exponential `known` lists (after the kept modes' and the
+    /// forcing's, as [`Self::expand`] orders the terms), or evaluated.
+    fn harmonic_forced(&self, s: f64, known: Option<&[C64]>, harmonic_phases: &[C64]) -> Vec<C64> {
+        let f = self.flow;
+        let first = f.kept.len() + 1;
+        let rates = f
+            .steady
+            .iter()
+            .flat_map(|p| p.harmonics.iter().map(|h| h.rate));
+        rates
+            .zip(harmonic_phases)
+            .enumerate()
+            .map(|(i, (rate, &phase))| {
+                let e = match known {
+                    Some(e) => e[first + i],
+                    None => cexp(C64::new(0.0, rate), s),
+                };
+                e * phase
+            })
+            .collect()
+    }
+
     /// The state `y(s)` at time `s` into the flight.
     pub fn state(&self, s: f64) -> DVector<f64> {
         let mut y = DVector::zeros(2 * self.flow.dofs);
@@ -117,8 +168,9 @@ impl Flight<'_> {
 
     /// [`Self::state_into`], given `exponentials`: `e^{μ_j s}` of the terms of any functional
     /// [`Self::expand`]ed from this flight, in their order (as a search over that functional
-    /// leaves them at the contact it found). They replace the exponentials of the modes and
-    /// the forcing when the flight follows the steady response; otherwise they are ignored.
+    /// leaves them at the contact it found). They replace the exponentials of the modes, the
+    /// forcing and its harmonics when the flight follows the steady response; otherwise they
+    /// are ignored.
     pub fn state_at(&self, s: f64, exponentials: &[C64], y: &mut DVector<f64>) {
         self.state_with(s, Some(exponentials), y);
     }
@@ -128,8 +180,8 @@ impl Flight<'_> {
         // Zeroed as a slice: nalgebra's element iterator takes some 360 instructions for a
         // chain's 32 entries.
         y.as_mut_slice().fill(0.0);
-        // `expand` lists the kept modes, then the forcing.
-        let known = exponentials.filter(|e| e.len() > f.kept.len());
+        // `expand` lists the kept modes, then the forcing, then each harmonic.
+        let known = exponentials.filter(|e| e.len() > f.kept.len() + f.steady_harmonics());
         // Shared exponentials: e^{±iωs} once for all modes.
         let ep = match known {
             Some(e) if matches!(self.form, Form::Steady { .. }) => e[f.kept.len()],
@@ -140,8 +192,19 @@ impl Flight<'_> {
                 response: p,
                 deviation,
                 phase,
+                harmonic_phases,
             } => {
                 let forced = ep * phase;
+                if !harmonic_phases.is_empty() {
+                    let harmonic = self.harmonic_forced(s, known, harmonic_phases);
+                    for (j, &(k, weight)) in f.kept.iter().enumerate() {
+                        let el = known.map_or_else(|| cexp(f.rates[k], s), |e| e[j]);
+                        let forcing = (deviation[j] * el, forced, &harmonic[..]);
+                        let zk = p.coordinate_with_harmonics(j, forcing, weight);
+                        f.add_mode(k, zk, y.as_mut_slice());
+                    }
+                    return;
+                }
                 // A chain's state with AVX when the CPU has it (the same bits).
                 #[cfg(target_arch = "x86_64")]
                 if 2 * f.dofs >= AVX_COLUMN && std::arch::is_x86_feature_detected!("avx") {
@@ -198,9 +261,10 @@ impl Flight<'_> {
     /// the state at `s` into the flight, into `z` (the kept modes', in their order), given
     /// `exponentials` as for [`Self::state_at`], which forms the state from the same
     /// coordinates, the same bits: `(h_k e^{λ_k s} + P⁺_k F + P⁻_k F̄ + P⁰_k)·weight`, `F`
-    /// the forcing's phase at `s`. With AVX and the exponentials there given, `h_k e^{λ_k
-    /// s}` too, into `carried`, bit for bit [`Self::deviation_at`]'s (else `carried` is
-    /// left empty). `false` (nothing written) for the general form.
+    /// the forcing's phase at `s` (each harmonic's terms added before the weight). Without
+    /// harmonics, with AVX and the exponentials there given, `h_k e^{λ_k s}` too, into
+    /// `carried`, bit for bit [`Self::deviation_at`]'s (else `carried` is left empty).
+    /// `false` (nothing written) for the general form.
     pub(crate) fn modal_state(
         &self,
         s: f64,
@@ -212,11 +276,13 @@ impl Flight<'_> {
             response: p,
             deviation,
             phase,
+            harmonic_phases,
         } = &self.form
         else {
             return false;
         };
-        let known = (exponentials.len() > f.kept.len()).then_some(exponentials);
+        let known =
+            (exponentials.len() > f.kept.len() + f.steady_harmonics()).then_some(exponentials);
         let ep = match known {
             Some(e) => e[f.kept.len()],
             None => cexp(C64::new(0.0, f.omega), s),
@@ -224,6 +290,14 @@ impl Flight<'_> {
         let forced = ep * phase;
         z.clear();
         carried.clear();
+        if !harmonic_phases.is_empty() {
+            let harmonic = self.harmonic_forced(s, known, harmonic_phases);
+            z.extend(f.kept.iter().enumerate().map(|(j, &(k, weight))| {
+                let el = known.map_or_else(|| cexp(f.rates[k], s), |e| e[j]);
+                p.coordinate_with_harmonics(j, (deviation[j] * el, forced, &harmonic), weight)
+            }));
+            return true;
+        }
         #[cfg(target_arch = "x86_64")]
         if let Some(e) = known {
             if f.kept.len() >= PACKED_MODES && std::arch::is_x86_feature_detected!("avx") {
@@ -298,6 +372,12 @@ impl Flight<'_> {
         let forcing = C64::new(0.0, f.omega);
         let rate = forcing.re.abs() + forcing.im.abs();
         sum.add_mode(functional.forced * phase, forcing, rate, rate * rate * rate);
+        if !f.harmonics.is_empty() {
+            for (mu, c) in self.harmonic_terms(functional) {
+                let rate = mu.re.abs() + mu.im.abs();
+                sum.add_mode(c, mu, rate, rate * rate * rate);
+            }
+        }
         if functional.constant != 0.0 {
             sum.add_decaying::<true>(C64::new(functional.constant, 0.0), C64::default());
         }
@@ -319,7 +399,10 @@ impl Flight<'_> {
     ) -> bool {
         let f = self.flow;
         let Form::Steady {
-            deviation, phase, ..
+            deviation,
+            phase,
+            harmonic_phases,
+            ..
         } = &self.form
         else {
             return false;
@@ -327,8 +410,10 @@ impl Flight<'_> {
         let Some(template) = &f.joint_modes else {
             return false;
         };
+        let rows = f.kept.len() + 1 + harmonic_phases.len();
         if !horizon.is_finite()
-            || joint.blocks.len() != joint.count.div_ceil(LANES) * (f.kept.len() + 1)
+            || template.len() != rows
+            || joint.blocks.len() != joint.count.div_ceil(LANES) * rows
         {
             return false;
         }
@@ -339,6 +424,15 @@ impl Flight<'_> {
         deviations.clear();
         deviations.extend(modes.iter().zip(deviation).map(|(m, &h)| m.weighted(h)));
         deviations.push(modes[f.kept.len()].weighted(*phase));
+        if !harmonic_phases.is_empty() {
+            let harmonic_modes = &modes[f.kept.len() + 1..];
+            deviations.extend(
+                harmonic_modes
+                    .iter()
+                    .zip(harmonic_phases)
+                    .map(|(m, &phase)| m.weighted(phase)),
+            );
+        }
         coefficients.resize(joint.blocks.len(), [0.0; 2 * LANES]);
         let per_block = modes.len();
         // Every summary is written below: storage of the right length is only kept.
@@ -385,10 +479,11 @@ impl Flight<'_> {
         out: &mut ExpSum,
     ) {
         let f = self.flow;
-        let kept = f.kept.len();
-        let count = kept + 1 + usize::from(functional.constant != 0.0);
+        // The kept modes, the forcing and each harmonic: a block's rows per functional.
+        let per_block = f.kept.len() + 1 + f.steady_harmonics();
+        let count = per_block + usize::from(functional.constant != 0.0);
         let (block, lane) = (slot / LANES, slot % LANES);
-        let rows = coefficients.get(block * (kept + 1)..(block + 1) * (kept + 1));
+        let rows = coefficients.get(block * per_block..(block + 1) * per_block);
         match (&self.form, rows) {
             (Form::Steady { .. }, Some(rows)) if out.terms.len() == count => {
                 for (t, row) in out.terms.iter_mut().zip(rows) {
@@ -421,6 +516,13 @@ impl Flight<'_> {
                     poly: [functional.forced * phase, zero, zero, zero],
                     rate: w,
                 });
+                if !f.harmonics.is_empty() {
+                    out.terms
+                        .extend(self.harmonic_terms(functional).map(|(rate, c)| Term {
+                            poly: [c, zero, zero, zero],
+                            rate,
+                        }));
+                }
                 if functional.constant != 0.0 {
                     out.terms.push(Term {
                         poly: [C64::new(functional.constant, 0.0), zero, zero, zero],

@@ -27,24 +27,30 @@
 //! mode: its zero rate is simple, with the eigenvector `(r, 0)`, and the modal flow holds it.
 //!
 //! Higher harmonics of the forcing (`Re(F_k e^{ikωt})`, integer `k ≥ 2`) enter as the
-//! fundamental does, each with its own modal forcing `g^±_k` on `e^{±ikωt}`: a mode gains
-//! `Σ_k g^±_k φ(λ, ±ikω, s)`, resonance-safe per order (the `s e^{λs}` form where
-//! `|ikω − λ| T` is below `10⁻⁴`), and a rigid mode the particular solution `−F_k/(kω)²`
-//! (its rate 0 meets no `kω`). A flow with harmonics flies in the general form, so the
-//! steady-response form, its summaries, carries and packed kernels stay those of the
-//! forcing at `ω` alone, unchanged; a functional of a flight gains one term of rate `ikω`
-//! per harmonic, which the event search bounds as any other term (its derivatives scale
-//! with `kω`), so the first contact keeps its guarantee.
+//! fundamental does, each with its own modal forcing `g^±_k` on `e^{±ikωt}`: in the general
+//! form a mode gains `Σ_k g^±_k φ(λ, ±ikω, s)`, resonance-safe per order (the `s e^{λs}` form
+//! where `|ikω − λ| T` is below `10⁻⁴`), and a rigid mode the particular solution
+//! `−F_k/(kω)²` (its rate 0 meets no `kω`). Where no harmonic is resonant either, the steady
+//! response holds each harmonic's part, `P^±_k = g^±_k/(±ikω − λ)` (`steady`), and a flight in
+//! the steady-response form gains one exponential per harmonic, of rate `ikω`, after the
+//! forcing's: its summaries, joint summaries, carries across contacts and sections work as
+//! without harmonics. The AVX kernels of a flight's state and modal coordinates serve the
+//! forcing at `ω` alone; with harmonics those are formed mode by mode. A functional's term of
+//! rate `ikω` the event search bounds as any other term (its derivatives scale with `kω`), so
+//! the first contact keeps its guarantee.
 //!
-//! This module builds the flow (eigen-decomposition, modal forcing, steady response); a
-//! flight from a state and its evaluation (states, modal coordinates, exponential sums and
-//! their summaries) are in `flight`, and the AVX kernels of both in `packed`.
+//! This module builds the flow (eigen-decomposition, modal forcing); its steady response is in
+//! `steady`, a flight from a state and its evaluation (states, modal coordinates, exponential
+//! sums and their summaries) in `flight`, and the AVX kernels of both in `packed`.
 
 mod flight;
 mod modes;
 #[cfg(target_arch = "x86_64")]
 mod packed;
 mod rigid;
+mod steady;
+#[cfg(test)]
+mod steady_tests;
 #[cfg(test)]
 mod tests;
 
@@ -59,6 +65,7 @@ use modes::{
 use nalgebra::{Complex, DMatrix, DVector};
 #[cfg(target_arch = "x86_64")]
 use packed::{add_column, add_scaled_avx, modal_coordinates_avx, AVX_COLUMN, PACKED_MODES};
+use steady::SteadyResponse;
 use thiserror::Error;
 
 type C64 = Complex<f64>;
@@ -141,8 +148,8 @@ pub struct LinearFlow {
     /// The higher harmonics of the forcing (orders `k ≥ 2`, none of zero amplitude), each with
     /// its modal forcing on `e^{±ikωt}`; empty for a forcing at `ω` alone.
     harmonics: Vec<FlowHarmonic>,
-    /// The forced steady response, when no mode is resonant with the forcing, there is no
-    /// rigid mode and the forcing has no higher harmonic.
+    /// The forced steady response (of the fundamental and of every higher harmonic), when no
+    /// mode is resonant with the forcing or any of its harmonics and there is no rigid mode.
     steady: Option<SteadyResponse>,
     /// The rigid modes ([`rigid`]), if any: the modes above are then the elastic ones only
     /// (`2(n − r)` of them), `V⁻¹` their rows of `W⁻¹`.
@@ -171,42 +178,9 @@ struct FlowHarmonic {
     minus: DVector<C64>,
 }
 
-/// The forced steady response in modal coordinates,
-/// `z_p(t) = P⁺ e^{iωt} + P⁻ e^{−iωt} + P⁰`, `P^±_k = g^±_k/(±iω − λ_k)`, `P⁰_k = −g⁰_k/λ_k`.
-#[derive(Debug, Clone)]
-struct SteadyResponse {
-    plus: Vec<C64>,
-    minus: Vec<C64>,
-    constant: Vec<C64>,
-}
-
-impl SteadyResponse {
-    /// Kept mode `j`'s coordinate `(h_j e^{λ_j s} + P⁺_j F + P⁻_j F̄ + P⁰_j)·weight` from its
-    /// decayed deviation `h_j e^{λ_j s}` and the forcing's phase `F` at `s`: the one form
-    /// of it ([`Flight::state_at`] adds the state from these, [`Flight::modal_state`] hands
-    /// them out; `packed::pair_coordinates_avx` packs the same operations two modes at a
-    /// time).
-    #[inline(always)]
-    fn coordinate(&self, j: usize, decayed: C64, forced: C64, weight: f64) -> C64 {
-        (decayed + self.plus[j] * forced + self.minus[j] * forced.conj() + self.constant[j])
-            * weight
-    }
-
-    /// The response of the kept modes only, in the order of `kept` (contiguous, as the
-    /// flights' deviations are).
-    fn of_kept(self, kept: &[(usize, f64)]) -> Self {
-        let pick = |v: &[C64]| kept.iter().map(|&(k, _)| v[k]).collect();
-        Self {
-            plus: pick(&self.plus),
-            minus: pick(&self.minus),
-            constant: pick(&self.constant),
-        }
-    }
-}
-
 /// A linear functional `c · y` of the state, prepared for fast flights: its modal weights
 /// `Vᵀc` and, when the flow has a steady response, that response's contribution
-/// `Re(forced e^{iωt}) + constant`.
+/// `Re(forced e^{iωt}) + constant + Σ_k Re(harmonic_k e^{ikωt})`.
 #[derive(Debug, Clone)]
 pub struct Functional {
     /// `Vᵀc` over the modes, then, with rigid modes, each one's weights `a_j + i b_j` on its
@@ -214,12 +188,15 @@ pub struct Functional {
     weights: DVector<C64>,
     forced: C64,
     constant: f64,
+    /// Each higher harmonic's forced part, in the flow's order of its harmonics (empty
+    /// without a steady response or without harmonics).
+    harmonic: Vec<C64>,
 }
 
 /// Several functionals prepared for [`Flight::summarize_all`]: in blocks of [`LANES`]
 /// functionals, per kept mode, their modal weights `[Re w₀, …, Re w₃, Im w₀, …, Im w₃]`, then
-/// their forced parts likewise (a last block filled up with zeros), and each functional's
-/// constant.
+/// their forced parts likewise, then each higher harmonic's forced parts likewise (a last
+/// block filled up with zeros), and each functional's constant.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct JointWeights {
     count: usize,
@@ -248,7 +225,7 @@ impl LinearFlow {
     /// As [`LinearFlow::new`].
     pub(crate) fn of_model(model: &crate::Model, omega: f64) -> Result<Self, FlowError> {
         let harmonics: Vec<crate::Harmonic> = model.active_harmonics().cloned().collect();
-        LinearFlow::with_harmonics(
+        let flow = LinearFlow::with_harmonics(
             (&model.mass, model.damping.as_ref(), &model.stiffness),
             (
                 &model.forcing_cos,
@@ -257,7 +234,12 @@ impl LinearFlow {
             ),
             &harmonics,
             omega,
-        )
+        )?;
+        Ok(if model.general_form {
+            flow.without_steady_response()
+        } else {
+            flow
+        })
     }
 
     /// The flow of `M ü + C u̇ + K u = f_c cos ωt + f_s sin ωt + f₀` (`damping` `None`: no
@@ -286,10 +268,13 @@ impl LinearFlow {
     /// f_s,k sin kωt) + f₀`, the matrices `(M, C, K)` (`C` `None`: no damping terms at all),
     /// the forcing `(f_c, f_s, f₀)` and the higher `harmonics` (orders `k ≥ 2`, each vector of
     /// `n` entries; a harmonic of zero amplitude is left out). Without harmonics it is the
-    /// flow of [`LinearFlow::new`], bit for bit. With them every flight is in the
-    /// resonance-safe general form: each harmonic adds to mode `λ` the particular terms
-    /// `g^±_k φ(λ, ±ikω, s)`, finite (secular) where `kω` meets an undamped natural
-    /// frequency, and to each rigid mode the particular solution `−F_k/(kω)²`.
+    /// flow of [`LinearFlow::new`], bit for bit. With them, where no mode is resonant with the
+    /// forcing or a harmonic and there is no rigid mode, the steady response holds each
+    /// harmonic's periodic response at `kω` and flights are in the steady-response form, one
+    /// exponential per harmonic added. Otherwise flights are in the resonance-safe general
+    /// form: each harmonic adds to mode `λ` the particular terms `g^±_k φ(λ, ±ikω, s)`,
+    /// finite (secular) where `kω` meets an undamped natural frequency, and to each rigid
+    /// mode the particular solution `−F_k/(kω)²`.
     ///
     /// # Errors
     /// [`FlowError::SingularMass`], [`FlowError::Defective`], [`FlowError::NotFinite`],
@@ -367,34 +352,19 @@ impl LinearFlow {
                 (rate, rate * rate * rate)
             })
             .collect();
-        let w = C64::new(0.0, omega);
-        let has_constant = constant.iter().any(|c| *c != C64::default());
-        // A flow with rigid modes or higher harmonics flies in the general form, which carries
-        // them.
-        let steady = (rigid.is_none()
-            && harmonics.is_empty()
-            && rates.iter().all(|&l| {
-                let forced_at_zero = has_constant && resonant(-l, period);
-                !(resonant(w - l, period) || resonant(-w - l, period) || forced_at_zero)
-            }))
-        .then(|| SteadyResponse {
-            plus: rates
-                .iter()
-                .zip(plus.iter())
-                .map(|(&l, &g)| g / (w - l))
-                .collect(),
-            minus: rates
-                .iter()
-                .zip(minus.iter())
-                .map(|(&l, &g)| g / (-w - l))
-                .collect(),
-            constant: rates
-                .iter()
-                .zip(constant.iter())
-                .map(|(&l, &g)| if has_constant { -g / l } else { C64::default() })
-                .collect(),
-        })
-        .map(|response| response.of_kept(&kept));
+        // A flow with rigid modes flies in the general form, which carries them.
+        let steady = rigid
+            .is_none()
+            .then(|| {
+                SteadyResponse::new(
+                    &rates,
+                    (&plus, &minus, &constant, &harmonics),
+                    omega,
+                    period,
+                )
+            })
+            .flatten()
+            .map(|response| response.of_kept(&kept));
         let apart = |m: &DMatrix<C64>| {
             (
                 m.as_slice().iter().map(|c| c.re).collect(),
@@ -408,8 +378,9 @@ impl LinearFlow {
             .collect();
         let mode_columns = apart(&modes);
         let kept_peaks = kept_peaks(&modes, &kept);
-        let joint_modes =
-            joint_modes(&rates, &kept, &kept_sizes, omega).filter(|_| rigid.is_none());
+        let harmonic_rates: Vec<f64> = harmonics.iter().map(|h| h.rate).collect();
+        let joint_modes = joint_modes(&rates, &kept, &kept_sizes, (omega, &harmonic_rates))
+            .filter(|_| rigid.is_none());
         Ok(Self {
             dofs: n,
             omega,
@@ -650,13 +621,33 @@ impl LinearFlow {
     /// `e^{ikωt₀}` of each higher harmonic, from the fundamental's phase `e^{iωt₀}`: its
     /// `k`-th power (by squaring, a few roundings per doubling of `k`).
     fn harmonic_phases(&self, phase: C64) -> Vec<C64> {
+        if self.harmonics.is_empty() {
+            return Vec::new();
+        }
         self.harmonics.iter().map(|h| phase.powu(h.order)).collect()
     }
 
-    /// Whether flights use the steady forced response (no mode resonant with the forcing); at
-    /// or near resonance they use the resonance-safe `φ` form instead.
+    /// Whether flights use the steady forced response (no mode resonant with the forcing or
+    /// any of its harmonics, no rigid mode); at or near resonance they use the resonance-safe
+    /// `φ` form instead.
     pub fn has_steady_response(&self) -> bool {
         self.steady.is_some()
+    }
+
+    /// The higher harmonics the steady response carries (each one's term in a steady-form
+    /// expansion, after the forcing's): the flow's harmonics with a steady response, none
+    /// without.
+    fn steady_harmonics(&self) -> usize {
+        self.steady.as_ref().map_or(0, |p| p.harmonics.len())
+    }
+
+    /// The flow with every flight in the general form, whether or not the steady response
+    /// exists: the reference the steady-response form is checked against
+    /// ([`crate::Model::with_general_form`]).
+    pub(crate) fn without_steady_response(mut self) -> Self {
+        self.steady = None;
+        self.joint_modes = None;
+        self
     }
 
     /// The flight from state `y` (length `2n`) at forcing phase time `t0` (the forcing is
@@ -686,6 +677,8 @@ impl LinearFlow {
                     storage.resize(self.kept.len(), C64::default());
                 }
                 let mut deviation = storage;
+                // Each harmonic's phase `e^{ikωt₀}` (none without harmonics: no allocation).
+                let harmonic_phases = self.harmonic_phases(phase);
                 let y = y.as_slice();
                 let (rows_re, rows_im) = &self.inverse_rows;
                 // A chain's modal coordinates `V⁻¹y` with AVX, two modes to a register, but for
@@ -704,7 +697,7 @@ impl LinearFlow {
                             let row = k * m..(k + 1) * m;
                             self.modal_coordinate((&rows_re[row.clone()], &rows_im[row]), y)
                         };
-                        *h = z - (p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j]);
+                        *h = z - p.at(j, phase, &harmonic_phases);
                     }
                     return Flight {
                         flow: self,
@@ -712,18 +705,20 @@ impl LinearFlow {
                             response: p,
                             deviation,
                             phase,
+                            harmonic_phases,
                         },
                     };
                 }
                 for (j, (h, &(k, _))) in deviation.iter_mut().zip(&self.kept).enumerate() {
                     let row = k * m..(k + 1) * m;
                     let z = self.modal_coordinate((&rows_re[row.clone()], &rows_im[row]), y);
-                    *h = z - (p.plus[j] * phase + p.minus[j] * phase.conj() + p.constant[j]);
+                    *h = z - p.at(j, phase, &harmonic_phases);
                 }
                 Form::Steady {
                     response: p,
                     deviation,
                     phase,
+                    harmonic_phases,
                 }
             }
             None => {
@@ -781,6 +776,7 @@ impl LinearFlow {
                 response: p,
                 deviation,
                 phase,
+                harmonic_phases: self.harmonic_phases(phase),
             },
         })
     }
@@ -848,6 +844,18 @@ impl LinearFlow {
                     forced[i - LANES].im
                 }
             }));
+            for h in 0..self.steady_harmonics() {
+                let forced: [C64; LANES] = std::array::from_fn(|l| {
+                    lane(l, &|f| f.harmonic.get(h).copied().unwrap_or_default())
+                });
+                joint.blocks.push(std::array::from_fn(|i| {
+                    if i < LANES {
+                        forced[i].re
+                    } else {
+                        forced[i - LANES].im
+                    }
+                }));
+            }
         }
         joint
             .constant
@@ -861,18 +869,15 @@ impl LinearFlow {
         if let Some(rigid) = &self.rigid {
             weights = rigid.weights(weights, c);
         }
-        let (mut forced, mut constant) = (C64::default(), 0.0);
-        if let Some(p) = &self.steady {
-            for (j, &(k, weight)) in self.kept.iter().enumerate() {
-                // Re[w P⁻ e^{−iωt}] = Re[conj(w P⁻) e^{iωt}].
-                forced += (weights[k] * p.plus[j] + (weights[k] * p.minus[j]).conj()) * weight;
-                constant += (weights[k] * p.constant[j]).re * weight;
-            }
-        }
+        let (forced, constant, harmonic) = match &self.steady {
+            Some(p) => p.functional_parts(&weights, &self.kept),
+            None => (C64::default(), 0.0, Vec::new()),
+        };
         Functional {
             weights,
             forced,
             constant,
+            harmonic,
         }
     }
 }

@@ -220,13 +220,14 @@ pub(super) fn first_order(
 }
 
 /// The modes of [`LinearFlow::joint_modes`]: each kept mode `(k, weight)` with its rate and
-/// sizes, then the forced part at `iω` as `add_decaying` adds it (weight 1 is exact), every
+/// sizes, then the forced part at `iω` as `add_decaying` adds it (weight 1 is exact), then
+/// each higher harmonic's at `ikω` (`harmonics`, the rates `kω` in order) likewise, every
 /// deviation zero; `None` where [`Flight::summarize_all`] gives no summaries.
 pub(super) fn joint_modes(
     rates: &[C64],
     kept: &[(usize, f64)],
     kept_sizes: &[(f64, f64)],
-    omega: f64,
+    (omega, harmonics): (f64, &[f64]),
 ) -> Option<Vec<ModeTerm>> {
     if rates.iter().any(|r| r.re > 0.0)
         || kept.is_empty()
@@ -239,9 +240,11 @@ pub(super) fn joint_modes(
         .zip(kept_sizes)
         .map(|(&(k, weight), &sizes)| ModeTerm::new(rates[k], weight, sizes))
         .collect();
-    let forcing = C64::new(0.0, omega);
-    let rate = forcing.re.abs() + forcing.im.abs();
-    modes.push(ModeTerm::new(forcing, 1.0, (rate, rate * rate * rate)));
+    for omega in std::iter::once(omega).chain(harmonics.iter().copied()) {
+        let forcing = C64::new(0.0, omega);
+        let rate = forcing.re.abs() + forcing.im.abs();
+        modes.push(ModeTerm::new(forcing, 1.0, (rate, rate * rate * rate)));
+    }
     Some(modes)
 }
 

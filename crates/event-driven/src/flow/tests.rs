@@ -279,6 +279,7 @@ fn a_chains_state_is_its_modes_summed_entry_by_entry() {
             response: p,
             deviation,
             phase,
+            ..
         } = &flight.form
         else {
             panic!("steady response");
