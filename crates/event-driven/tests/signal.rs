@@ -178,16 +178,7 @@ fn resonance_takes_its_secular_form() {
         let g = force / (2.0 * m * wn);
         [g * t * s, g * (s + wn * t * c)]
     };
-    let scale = times
-        .iter()
-        .flat_map(|&t| exact(t))
-        .fold(0.0, |a: f64, v| a.max(v.abs()));
-    let worst = response
-        .states
-        .iter()
-        .zip(&times)
-        .map(|(s, &t)| relative_error(&state(s), &exact(t), scale))
-        .fold(0.0, f64::max);
+    let worst = worst_against(&response.states, &times, exact);
     println!("resonant: {worst:e}");
     assert!(worst <= 1e-10, "resonant: {worst:e}");
     // Its RMS over [0, T]: ∫ t² sin² ω_n t = T³/6 − ½[t² sin at/a + 2t cos at/a² −
@@ -301,16 +292,7 @@ fn a_free_body_takes_its_polynomial_form() {
             [q + p * (t - 5.0), p]
         }
     };
-    let scale = times
-        .iter()
-        .flat_map(|&t| exact(t))
-        .fold(0.0, |a: f64, v| a.max(v.abs()));
-    let worst = response
-        .states
-        .iter()
-        .zip(&times)
-        .map(|(s, &t)| relative_error(&state(s), &exact(t), scale))
-        .fold(0.0, f64::max);
+    let worst = worst_against(&response.states, &times, exact);
     println!("free body: {worst:e}");
     assert!(worst <= 1e-10, "free body: {worst:e}");
 }
@@ -632,16 +614,7 @@ fn near_resonance_stays_exact() {
             let v = g * (wn * half_sum.cos() * t * sinc(half_diff) + (nu * t).sin());
             [u, v]
         };
-        let scale = times
-            .iter()
-            .flat_map(|&t| exact(t))
-            .fold(0.0, |a: f64, v| a.max(v.abs()));
-        let worst = response
-            .states
-            .iter()
-            .zip(&times)
-            .map(|(s, &t)| relative_error(&state(s), &exact(t), scale))
-            .fold(0.0, f64::max);
+        let worst = worst_against(&response.states, &times, exact);
         println!("detuned by {delta:e}: {worst:e}");
         assert!(worst <= 1e-10, "detuned by {delta:e}: {worst:e}");
     }

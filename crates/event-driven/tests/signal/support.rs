@@ -227,3 +227,21 @@ pub fn compare_with_periodic(
     );
     response
 }
+
+/// The largest error of the response's `states` at `times` against `exact(t)` (the state
+/// `[u…, u̇…]`), relative to the largest entry of the exact states at those times.
+pub fn worst_against<F: Fn(f64) -> E, E: AsRef<[f64]>>(
+    states: &[ResponseState],
+    times: &[f64],
+    exact: F,
+) -> f64 {
+    let scale = times
+        .iter()
+        .flat_map(|&t| exact(t).as_ref().to_vec())
+        .fold(0.0, |a: f64, v| a.max(v.abs()));
+    states
+        .iter()
+        .zip(times)
+        .map(|(s, &t)| relative_error(&state(s), exact(t).as_ref(), scale))
+        .fold(0.0, f64::max)
+}
