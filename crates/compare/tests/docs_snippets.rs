@@ -772,7 +772,6 @@ const OTHER_PROGRAMS_OPTIONS: &[(&str, &str)] = &[
     ("cargo xtask", "--structures"),
     ("criterion", "--measurement-time"),
     ("criterion", "--noplot"),
-    ("criterion", "--profile-time"),
     ("criterion", "--warm-up-time"),
     ("sbatch", "--array"),
     ("sbatch", "--cpus-per-task"),
