@@ -156,16 +156,7 @@ fn resonance_takes_its_secular_form() {
         &DMatrix::from_element(1, 1, k),
     );
     let times: Vec<f64> = (0..=30).map(|j| 1.3 * j as f64).collect();
-    let signal = Signal::from_segments(vec![Segment {
-        start: 0.0,
-        end: f64::INFINITY,
-        shape: Shape::Sinusoids(vec![Sinusoid {
-            frequency: wn,
-            cos: force,
-            sin: 0.0,
-        }]),
-    }])
-    .unwrap();
+    let signal = cosine(wn, force);
     let response = respond(
         &model,
         &Excitation::force(1, 0),
@@ -588,16 +579,7 @@ fn near_resonance_stays_exact() {
     let times: Vec<f64> = (0..=20).map(|j| 1.9 * j as f64).collect();
     for delta in [1e-9, 1e-6, 1e-4, 1e-2] {
         let nu = wn + delta;
-        let signal = Signal::from_segments(vec![Segment {
-            start: 0.0,
-            end: f64::INFINITY,
-            shape: Shape::Sinusoids(vec![Sinusoid {
-                frequency: nu,
-                cos: force,
-                sin: 0.0,
-            }]),
-        }])
-        .unwrap();
+        let signal = cosine(nu, force);
         let response = respond(
             &model,
             &Excitation::force(1, 0),
@@ -737,16 +719,7 @@ fn sticking_follows_the_periodic_simulator() {
 #[test]
 fn too_many_events_are_refused() {
     let omega = 0.8;
-    let signal = Signal::from_segments(vec![Segment {
-        start: 0.0,
-        end: f64::INFINITY,
-        shape: Shape::Sinusoids(vec![Sinusoid {
-            frequency: omega,
-            cos: BASE_AMPLITUDE,
-            sin: 0.0,
-        }]),
-    }])
-    .unwrap();
+    let signal = cosine(omega, BASE_AMPLITUDE);
     let model = paper_unit(omega, Some(LIGHT_DAMPING), Some((0.25, 0.8)));
     let capped = ResponseOptions {
         max_events: 3,

@@ -245,3 +245,17 @@ pub fn worst_against<F: Fn(f64) -> E, E: AsRef<[f64]>>(
         .map(|(s, &t)| relative_error(&state(s), exact(t).as_ref(), scale))
         .fold(0.0, f64::max)
 }
+
+/// The signal `amplitude · cos(frequency · t)` from `t = 0` on, one sinusoid segment.
+pub fn cosine(frequency: f64, amplitude: f64) -> Signal {
+    Signal::from_segments(vec![Segment {
+        start: 0.0,
+        end: f64::INFINITY,
+        shape: Shape::Sinusoids(vec![Sinusoid {
+            frequency,
+            cos: amplitude,
+            sin: 0.0,
+        }]),
+    }])
+    .expect("a sinusoid of finite frequency is a signal")
+}
