@@ -17,8 +17,8 @@
 
 use crate::root;
 use clap::Args;
-use rattle_analytic::flow::ForcedFlow;
 use rattle_analytic::symmetric_orbits;
+use rattle_analytic::ForcedFlow;
 use rattle_compare::scene::simulator::{model, run as simulate};
 use rattle_compare::scene::{BaseSpec, DampingSpec, Scene, StopsSpec, UnitSpec};
 use rattle_compare::verdict::{compare, Starts};

@@ -6,7 +6,7 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use nalgebra::{Matrix6, Vector2, Vector4};
-use rattle_analytic::flow::join;
+use rattle_analytic::join;
 use rattle_analytic::test_models::{paper_stops, paper_unit};
 use rattle_analytic::{signature_orbits, CycleEquations, ImpactCondition, Signature};
 

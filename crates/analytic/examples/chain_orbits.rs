@@ -5,12 +5,12 @@
 //!
 //! `cargo run --release -p rattle-analytic --example chain_orbits -- [CELLS] [OMEGA] [SEQUENCE]
 //! [PERIOD] [--refine]`, defaults `2 3.3 "0+ 1- 0- 1+" 1`.
-use rattle_analytic::cycle::{GRID_PER_OSCILLATION, MIN_GRID};
-use rattle_analytic::model_flight::eigenvalues;
+use rattle_analytic::eigenvalues;
 use rattle_analytic::test_models::{damped_paper_unit, paper_stops};
 use rattle_analytic::{
     sequence_orbits, sequence_orbits_on_grid, ImpactSequence, LinearModel, SequenceOrbit,
 };
+use rattle_analytic::{GRID_PER_OSCILLATION, MIN_GRID};
 use std::time::Instant;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -4,82 +4,88 @@
 //! inside an outer mass `m_o`, which a moving base drives through a spring `k_o`
 //! (`u_g cos ωt`). This crate gives, without any time stepping:
 //!
-//! - [`linear`]: the modes and the steady state of the unit without stops;
-//! - [`symmetric`]: the symmetric two-impact orbits (`β = ½`) of Nigm and Shabana, by the
-//!   half-period symmetry, both branches;
-//! - [`family`]: orbits whose side-2 impact comes `βT` after the side-1 impact, for any `β`:
-//!   the gap `Δ*(β)` that admits them, and the asymmetric orbits of a given gap;
-//! - [`signature`] and [`cycle`]: orbits of any impact signature (`+-`, `++--`, … over `p`
-//!   forcing periods) by the Nigm–Shabana method with Newton on exact derivatives, found by
-//!   a systematic multi-start ([`signature_orbits`]) or from a guess ([`solve_signature`]),
-//!   with viability, Floquet multipliers and the cycle's energy balance;
-//! - [`model`]: a general linear model with contact pairs ([`LinearModel`]): the unit and
-//!   chains of `N` cells in series, their impact maps, forced flow matrix and linear steady
-//!   state (the model the sequence solver below runs on);
-//! - [`forcing`]: a model's periodic forcing ([`HarmonicForcing`]), the fundamental and any
-//!   higher harmonics of integer order ([`Harmonic`]), each carried by two phase states of the
-//!   augmented state, turning at its own `kω`;
-//! - [`rigid`]: free bodies (a singular stiffness matrix): a model's rigid modes
+//! - the modes and the steady state of the unit without stops ([`modes`],
+//!   [`linear_response`]);
+//! - the symmetric two-impact orbits (`β = ½`) of Nigm and Shabana, by the half-period
+//!   symmetry, both branches ([`symmetric_orbits`]);
+//! - orbits whose side-2 impact comes `βT` after the side-1 impact, for any `β`: the gap
+//!   `Δ*(β)` that admits them ([`gap_for_beta`]) and the asymmetric orbits of a given gap
+//!   ([`asymmetric_orbits`]);
+//! - orbits of any impact [`Signature`] (`+-`, `++--`, … over `p` forcing periods) by the
+//!   Nigm–Shabana method with Newton on exact derivatives, found by a systematic multi-start
+//!   ([`signature_orbits`]) or from a guess ([`solve_signature`]), with viability, Floquet
+//!   multipliers and the cycle's energy balance ([`SignatureOrbit`]);
+//! - a general linear model with contact pairs ([`LinearModel`]): the unit and chains of `N`
+//!   cells in series, their impact maps, forced flow matrix and linear steady state (the model
+//!   the sequence solver below runs on);
+//! - a model's periodic forcing ([`HarmonicForcing`]), the fundamental and any higher harmonics
+//!   of integer order ([`Harmonic`]), each carried by two phase states of the augmented state
+//!   ([`phase_state`]), turning at its own `kω`;
+//! - free bodies (a singular stiffness matrix): a model's rigid modes
 //!   ([`LinearModel::rigid_modes`]), the family of its linear motions and whether one stays
-//!   clear of the stops ([`LinearModel::clear_family`]); the cycle equations of such a model
-//!   border their periodicity solve with contact conditions ([`cycle_equations`]);
-//! - [`chain`]: chains of cells in series, graded or not ([`Cell`], at most [`MAX_CELLS`]),
-//!   and the linear chain's steady state by transfer matrices ([`chain_response`]), finite at
-//!   every local resonance and unbounded only at the chain's own undamped resonances;
-//! - [`lattice`]: the infinite lattice of identical cells: Bloch waves, attenuation per cell
+//!   clear of the stops ([`LinearModel::clear_family`], [`ClearFamily`]); the cycle equations
+//!   of such a model border their periodicity solve with contact conditions
+//!   ([`ImpactCondition`]);
+//! - chains of cells in series, graded or not ([`Cell`], at most [`MAX_CELLS`]), and the linear
+//!   chain's steady state by transfer matrices ([`chain_response`]), finite at every local
+//!   resonance and unbounded only at the chain's own undamped resonances;
+//! - the infinite lattice of identical cells: Bloch waves, attenuation per cell
 //!   ([`bloch_wave`]), band edges and stop bands of the undamped lattice in closed form
 //!   ([`band_edges`], [`stop_bands`]);
-//! - [`sequence`]: impact sequences of several pairs, the time-ordered `(pair, side)` impacts
-//!   over a cycle ([`ImpactSequence`]; one pair's is a [`Signature`]);
-//! - [`cycle_equations`]: the cycle equations of an impact sequence (residuals, exact Jacobian
-//!   in the unknowns and in `ω`), written once and generic over the augmented dimension: the
+//! - impact sequences of several pairs, the time-ordered `(pair, side)` impacts over a cycle
+//!   ([`ImpactSequence`]; one pair's is a [`Signature`]);
+//! - the cycle equations of an impact sequence (residuals, exact Jacobian in the unknowns and
+//!   in `ω`; [`CycleEquations`]), written once and generic over the augmented dimension: the
 //!   unit's signature solver runs them on stack matrices, a model's on heap matrices, with one
-//!   Newton ([`SequenceNewton`]) and one multi-start;
-//! - [`sequence_orbit`], [`sequence_verdicts`] and [`sequence_search`]: orbits of any impact
-//!   sequence on any [`LinearModel`] (the signature solver generalised: problem, Newton solver
-//!   and state; amplitudes, viability per pair, Floquet multipliers and energy balance; the
-//!   multi-start [`sequence_orbits`]), with [`model_flight`]'s rigorous extrema and integrals;
-//!   the verdicts (viability per pair, multipliers with saltation, the [`EnergyBalance`]) are
-//!   assembled once for every model, the unit's signature orbits included;
-//! - [`continuation`]: pseudo-arclength continuation in `ω` of orbits of any signature of the
-//!   unit ([`continue_orbit`]) and of any impact sequence of a [`LinearModel`] such as a chain
-//!   ([`continue_sequence`]) through folds, with exact derivatives in `ω`, the bifurcation events
-//!   on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing, vanishing
-//!   impact) located to `1e-8` in `ω` (branch points to rounding, by a regular defining system), and the branches that leave at them, each followed
-//!   once (a branch onto one followed, or onto its mirror image, ends there);
-//! - for every orbit ([`orbit::Orbit`]): the outer amplitude from rigorous extrema, viability
-//!   (no penetration between impacts, impacts approached from inside) and Floquet multipliers
-//!   from the monodromy matrix with saltation matrices.
+//!   Newton ([`SequenceNewton`] on a [`SequenceProblem`]) and one multi-start;
+//! - orbits of any impact sequence on any [`LinearModel`] (the signature solver generalised:
+//!   amplitudes, viability per pair, Floquet multipliers and energy balance; the multi-start
+//!   [`sequence_orbits`], from a guess [`solve_sequence`]), with [`ModelFlight`]'s rigorous
+//!   extrema and integrals; the verdicts (viability per pair, multipliers with saltation, the
+//!   [`EnergyBalance`]) are assembled once for every model, the unit's signature orbits
+//!   included;
+//! - pseudo-arclength continuation in `ω` of orbits of any signature of the unit
+//!   ([`continue_orbit`]) and of any impact sequence of a [`LinearModel`] such as a chain
+//!   ([`continue_sequence`]) through folds, with exact derivatives in `ω`, the bifurcation
+//!   events on the branch (fold, branch point, period doubling, Neimark–Sacker, grazing,
+//!   vanishing impact; [`Event`]) located to `1e-8` in `ω` (branch points to rounding, by a
+//!   regular defining system), and the branches that leave at them, each followed once (a
+//!   branch onto one followed, or onto its mirror image, ends there); and the exact
+//!   two-parameter curves where such an event occurs ([`follow_boundary`],
+//!   [`follow_sequence_boundary`]);
+//! - for every orbit ([`Orbit`]): the outer amplitude from rigorous extrema, viability (no
+//!   penetration between impacts, impacts approached from inside) and Floquet multipliers from
+//!   the monodromy matrix with saltation matrices.
 //!
 //! An orbit's motion at any time of its cycle is [`UnitMotion`]'s (a unit's orbits).
 //!
 //! The flow between impacts is the exponential of the system augmented with the forcing's
-//! phase states (two on the unit, [`flow::ForcedFlow`]; two per harmonic on a model): exact,
-//! and finite at exact resonance.
+//! phase states (two on the unit, [`ForcedFlow`]; two per harmonic on a model): exact, and
+//! finite at exact resonance.
 //!
-//! The source is in folders by job: [`problem`] (what is solved), [`linear`] (without
-//! stops), [`flow`] (between impacts), [`cycle`] (the cycle equations of any impact sequence,
-//! their Newton and search, the unit's signature orbits and the verdicts), [`closed_form`]
-//! (the two-impact closed forms) and [`continuation`]; each module is also at the crate's root
-//! (`rattle_analytic::unit`, `rattle_analytic::cycle_equations`, …).
+//! Every public item has one path, at the crate's root (`rattle_analytic::Unit`,
+//! `rattle_analytic::continue_orbit`, …). The source is in private folders by job: `problem`
+//! (what is solved), `linear` (without stops), `flow` (between impacts), `cycle` (the cycle
+//! equations of any impact sequence, their Newton and search, the unit's signature orbits and
+//! the verdicts), `closed_form` (the two-impact closed forms) and `continuation`.
 #![deny(missing_docs)]
 
-pub mod closed_form;
-pub mod continuation;
-pub mod cycle;
-pub mod flow;
-pub mod linear;
-pub mod problem;
+mod closed_form;
+mod continuation;
+mod cycle;
+mod flow;
+mod linear;
+mod problem;
 #[cfg(any(test, feature = "fixtures"))]
 pub mod test_models;
 
-pub use closed_form::{family, orbit, symmetric};
+use closed_form::{family, orbit, symmetric};
 use cycle::verdicts;
-pub use cycle::{cycle_equations, motion, sequence_orbit, sequence_search};
-pub use flow::model_flight;
-pub use linear::lattice;
-pub use problem::{chain, forcing, model, rigid, sequence, signature, unit};
-pub use verdicts::sequence_verdicts;
+use cycle::{cycle_equations, motion, sequence_orbit, sequence_search};
+use flow::model_flight;
+use linear::lattice;
+use problem::{chain, forcing, model, rigid, sequence, signature, unit};
+use verdicts::sequence_verdicts;
 
 pub use chain::{chain_response, Cell, ChainResponse, MAX_CELLS};
 pub use continuation::{
@@ -114,3 +120,16 @@ pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};
 pub use verdicts::{EnergyBalance, SequenceViolation, ENERGY_EXCHANGE_FRACTION};
+
+pub use continuation::{CORRECTOR_ACCEPTANCE, DEFAULT_MAX_DEPTH};
+pub use family::{FamilyError, GAP_ACCEPTANCE, NEAR_HALF};
+pub use flow::{join, Augmented, Extrema, ForcedFlow, Transition};
+pub use forcing::phase_state;
+pub use linear::transmittance_db;
+pub use model::{RIGID_COUPLING, RIGID_EIGENVALUE};
+pub use model_flight::{eigenvalues, ModelFlight};
+pub use orbit::{STABILITY_MARGIN, VIABILITY_TOLERANCE};
+pub use sequence::MAX_SEQUENCE_IMPACTS;
+pub use sequence_orbit::{NEWTON_ACCEPTANCE, NEWTON_ITERATIONS};
+pub use sequence_search::{GRID_PER_OSCILLATION, MAX_TUPLES, MIN_GRID};
+pub use signature::{MAX_CYCLE_IMPACTS, MAX_CYCLE_PERIOD, MAX_IMPACTS, MAX_PERIOD};

@@ -4,9 +4,9 @@
 //! own multipliers and the rigorous extrema of the flow, not with the boundary's code.
 
 use nalgebra::{Complex, Vector2, Vector4};
-use rattle_analytic::flow::{join, Augmented, ForcedFlow};
 use rattle_analytic::test_models::{paper_stops, paper_unit};
 use rattle_analytic::*;
+use rattle_analytic::{join, Augmented, ForcedFlow};
 
 mod common;
 
@@ -42,7 +42,7 @@ fn guess_of(alpha: f64, phases: &[f64]) -> Vec<f64> {
 fn curve(
     unit_at: fn(f64) -> Result<(Unit, Stops), UnitError>,
     signature: &Signature,
-    event: &continuation::Event,
+    event: &Event,
     param: f64,
     at: &[f64],
     range: (f64, f64),
@@ -227,7 +227,7 @@ fn period_doubling_curve_over_the_gap_is_where_continuation_finds_it() {
     for p in boundary.points.iter().step_by(5) {
         let d = multiplier_distance(&paper_at_gap, &boundary.signature, p, -1.0);
         assert!(d < 1e-8, "|μ + 1| = {d:e} at gap {}", p.param_value);
-        assert!(p.residual <= continuation::CORRECTOR_ACCEPTANCE);
+        assert!(p.residual <= CORRECTOR_ACCEPTANCE);
     }
     assert_eq!(boundary.ends.len(), 2);
 }

@@ -4,10 +4,10 @@
 //! for the period doubling, rigorous extrema for the grazing).
 
 use nalgebra::{Matrix4, Matrix6, Vector2, Vector4};
-use rattle_analytic::continuation::CORRECTOR_ACCEPTANCE;
-use rattle_analytic::flow::{join, Augmented, ForcedFlow};
 use rattle_analytic::test_models::{paper_stops, paper_unit};
+use rattle_analytic::CORRECTOR_ACCEPTANCE;
 use rattle_analytic::*;
+use rattle_analytic::{join, Augmented, ForcedFlow};
 
 mod common;
 

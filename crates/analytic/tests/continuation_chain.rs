@@ -49,9 +49,9 @@ fn multiplier_distance(a: &[Complex<f64>], b: &[Complex<f64>]) -> f64 {
 
 /// Agreement of the unknowns and amplitudes of a continuation point with the orbit solver's
 /// at the same frequency, where the fixed-frequency problem is well conditioned: the
-/// corrector's fallback acceptance ([`continuation::CORRECTOR_ACCEPTANCE`]) relative to the
+/// corrector's fallback acceptance ([`CORRECTOR_ACCEPTANCE`]) relative to the
 /// motion's size (both solvers stop at `1e-13` of it otherwise).
-const AGREEMENT: f64 = continuation::CORRECTOR_ACCEPTANCE;
+const AGREEMENT: f64 = CORRECTOR_ACCEPTANCE;
 
 /// Agreement of two computations of the Floquet multipliers (the issue's `1e-8`): the
 /// eigenvalues of a non-normal monodromy are less well conditioned than the orbit.

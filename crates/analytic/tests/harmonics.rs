@@ -22,7 +22,7 @@ const SAME_SYSTEM: f64 = 1e-10;
 /// orbit solver (`tests/continuation_chain.rs`): points to the corrector's fallback acceptance
 /// (points near the branch point, where `R_x` is singular, are pinned no better), multipliers
 /// to `1e-8` (the eigenvalues of a non-normal monodromy), events located to `1e-12` in `ω`.
-const CORRECTOR_AGREEMENT: f64 = continuation::CORRECTOR_ACCEPTANCE;
+const CORRECTOR_AGREEMENT: f64 = CORRECTOR_ACCEPTANCE;
 const MULTIPLIER_AGREEMENT: f64 = 1e-8;
 const EVENT_AGREEMENT: f64 = 1e-12;
 

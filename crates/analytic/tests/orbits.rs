@@ -2,14 +2,14 @@
 //! and its verdicts (viability, Floquet multipliers) must match independent checks.
 
 use nalgebra::{Complex, Matrix4, Vector2, Vector4};
-use rattle_analytic::family::{GAP_ACCEPTANCE, NEAR_HALF};
-use rattle_analytic::flow::ForcedFlow;
-use rattle_analytic::orbit::VIABILITY_TOLERANCE;
 use rattle_analytic::test_models::{
     damped_paper_unit, paper_modes, paper_stops, paper_unit, symmetric_identities,
     unreachable_stops,
 };
+use rattle_analytic::ForcedFlow;
+use rattle_analytic::VIABILITY_TOLERANCE;
 use rattle_analytic::*;
+use rattle_analytic::{GAP_ACCEPTANCE, NEAR_HALF};
 
 fn r(x: &Vector4<f64>) -> f64 {
     x[1] - x[0]

@@ -2,10 +2,10 @@
 //! equations propagated independently, energy balance, Liouville, and refused inputs.
 
 use nalgebra::{Complex, Vector2, Vector4};
-use rattle_analytic::flow::ForcedFlow;
 use rattle_analytic::test_models::{
     damped_paper_unit, paper_stops, paper_unit, symmetric_identities,
 };
+use rattle_analytic::ForcedFlow;
 use rattle_analytic::{
     signature_orbits, signature_orbits_on_grid, solve_signature, symmetric_orbits, OrbitError,
     Side, Signature, SignatureOrbit, Stops, Unit, Violation,
@@ -268,7 +268,7 @@ fn cycle_energy_balances_and_monodromy_obeys_liouville() {
                         (got - want).abs() <= 1e-11 * size,
                         "{text}/{period} ω = {omega}: det {got} vs {want}"
                     );
-                    assert!(o.newton_iterations <= rattle_analytic::cycle::NEWTON_ITERATIONS + 1);
+                    assert!(o.newton_iterations <= rattle_analytic::NEWTON_ITERATIONS + 1);
                     checked += 1;
                 }
             }

@@ -14,7 +14,7 @@
 //! earlier one; many retracing points, or long branches on an earlier one, are a branch
 //! followed twice.
 
-use rattle_analytic::continuation::{Branch, ContinuationPoint};
+use rattle_analytic::{Branch, ContinuationPoint};
 use rattle_compare::scene::Scene;
 use rattle_compare::study::{Study, StudySize};
 use rattle_event_driven::SimulationOptions;

@@ -312,8 +312,7 @@ fn every_orbit_of_a_sequence_under_two_harmonics_is_the_simulators_periodic_orbi
             // the simulator's Newton on its stroboscopic map starts there.
             let cycle = TAU / omega;
             let t = 0.5 * orbit.impact_phases.get(1).copied().unwrap_or(1.0) * cycle;
-            let phases =
-                rattle_analytic::forcing::phase_state(&model.forcing().orders(), orbit.alpha);
+            let phases = rattle_analytic::phase_state(&model.forcing().orders(), orbit.alpha);
             let (mid, _) = model.transition(omega, t).apply(
                 &nalgebra::DVector::from_column_slice(&orbit.state_after_impact),
                 &nalgebra::DVector::from_vec(phases),

@@ -7,8 +7,8 @@
 use nalgebra::{Vector2, Vector4};
 use proptest::prelude::*;
 use proptest::test_runner::{TestCaseError, TestRunner};
-use rattle_analytic::flow::ForcedFlow;
 use rattle_analytic::symmetric_orbits;
+use rattle_analytic::ForcedFlow;
 use rattle_compare::scene::simulator::{model, run};
 use rattle_compare::scene::{BaseSpec, DampingSpec, Scene, StopsSpec, UnitSpec};
 use rattle_compare::verdict::{compare, Starts};

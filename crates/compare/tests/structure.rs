@@ -490,7 +490,7 @@ fn closed_form_fold(drive: &str, gap: f64, omega: f64) -> f64 {
 /// form's.
 #[test]
 fn continuation_follows_the_closed_form_branch_through_its_fold() {
-    use rattle_analytic::continuation::ContinuationSettings;
+    use rattle_analytic::ContinuationSettings;
     use rattle_compare::api::{self, ContinuedBranches};
     let text = oscillator_scene("frame", 0.5, 0.8);
     let scene = api::parse(&text).expect("a valid scene");
@@ -536,7 +536,7 @@ fn continuation_follows_the_closed_form_branch_through_its_fold() {
         .continuation
         .events
         .iter()
-        .find(|e| e.kind == rattle_analytic::continuation::EventKind::Fold)
+        .find(|e| e.kind == rattle_analytic::EventKind::Fold)
         .expect("the branch folds");
     let exact = closed_form_fold("frame", 0.5, fold.omega);
     assert!((fold.omega - exact).abs() < 1e-8, "{} {exact}", fold.omega);

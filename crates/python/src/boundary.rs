@@ -6,7 +6,7 @@ use crate::common::{compute_api, json, python_names};
 use crate::scene::NativeScene;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rattle_analytic::continuation::BoundarySettings;
+use rattle_analytic::BoundarySettings;
 use rattle_compare::api;
 use rattle_compare::runs::boundary::BoundaryOptions;
 

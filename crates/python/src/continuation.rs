@@ -6,7 +6,7 @@ use crate::scene::NativeScene;
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use rattle_analytic::continuation::ContinuationSettings;
+use rattle_analytic::ContinuationSettings;
 use rattle_analytic::Signature;
 use rattle_compare::api;
 use rattle_compare::scene::AnyScene;

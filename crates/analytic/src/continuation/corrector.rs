@@ -17,7 +17,7 @@ pub(crate) const CORRECTOR_ITERATIONS: usize = 8;
 /// divides it by 4). Measured: on the paper unit's symmetric branch near `ω = 2.465` (close to the second natural frequency
 /// `√6`, where the periodicity solve is ill-conditioned) the evaluation of the residuals
 /// scatters by up to `4e-11` of the motion's size from one rounding to the next, above
-/// [`crate::cycle::NEWTON_ACCEPTANCE`]; this bound is a factor 2.5 above that scatter.
+/// [`crate::NEWTON_ACCEPTANCE`]; this bound is a factor 2.5 above that scatter.
 pub const CORRECTOR_ACCEPTANCE: f64 = 1e-10;
 
 /// Rounding of the contact residuals in units of `ε · cond(K)` (times the motion's size),

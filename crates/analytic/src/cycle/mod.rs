@@ -54,13 +54,11 @@ use crate::sequence_search::{grid_intervals, multi_start, ALPHA_SCAN};
 use crate::signature::Signature;
 use crate::symmetric::OrbitError;
 use crate::unit::{Stops, Unit};
+use crate::verdicts::EnergyBalance;
 use crate::verdicts::{energy_forms, CycleModel, EnergyForms, SequenceViolation};
-pub use crate::verdicts::{EnergyBalance, ENERGY_EXCHANGE_FRACTION};
 use nalgebra::{Complex, Matrix2, Matrix4, Matrix6, SMatrix, Vector2, Vector4, U4, U6};
 
-pub use crate::sequence_orbit::{NEWTON_ACCEPTANCE, NEWTON_ITERATIONS};
 pub(crate) use crate::sequence_orbit::{NEWTON_TOLERANCE, STEP_ROUNDING};
-pub use crate::sequence_search::{GRID_PER_OSCILLATION, MAX_TUPLES, MIN_GRID};
 
 type Matrix12 = SMatrix<f64, 12, 12>;
 
@@ -105,7 +103,7 @@ pub struct SignatureOrbit {
     pub energy: EnergyBalance,
     /// `|work − dissipation − impact losses|` relative to the reference of every path
     /// ([`crate::SequenceOrbit::energy_residual`]): the largest of `|work|`,
-    /// `dissipation + losses`, [`ENERGY_EXCHANGE_FRACTION`]` · exchange_bound` and
+    /// `dissipation + losses`, [`crate::ENERGY_EXCHANGE_FRACTION`]` · exchange_bound` and
     /// `ENERGY_FLOOR = 1e-6`` k_o u_g²`.
     pub energy_residual: f64,
     /// Newton iterations taken to converge.
@@ -272,7 +270,7 @@ fn orbit_error(e: SequenceOrbitError) -> OrbitError {
 /// [`OrbitError::InvalidGuess`] when `guess` does not have `n` finite entries with ordered
 /// phases in `(0, 1)`; [`OrbitError::SingularCycle`] when the periodicity solve or the Newton
 /// Jacobian is singular; [`OrbitError::NoConvergence`] when Newton does not reach
-/// `NEWTON_TOLERANCE = 1e-13` within [`NEWTON_ITERATIONS`].
+/// `NEWTON_TOLERANCE = 1e-13` within [`crate::NEWTON_ITERATIONS`].
 pub fn solve_signature(
     unit: &Unit,
     stops: &Stops,
@@ -379,8 +377,8 @@ fn second_moment(flow: &ForcedFlow, start: &Augmented, tau: f64) -> Matrix6<f64>
 /// Every orbit of `signature` found by a systematic multi-start over impact phases,
 /// deduplicated, viable or not, sorted by `α`.
 ///
-/// The cycle `pT` is cut into `N = max(`[`MIN_GRID`]`, ⌈`[`GRID_PER_OSCILLATION`]` · p ·
-/// max(ω, ω_n)/ω⌉)` intervals: [`GRID_PER_OSCILLATION`] points per period of the fastest
+/// The cycle `pT` is cut into `N = max(`[`crate::MIN_GRID`]`, ⌈`[`crate::GRID_PER_OSCILLATION`]` · p ·
+/// max(ω, ω_n)/ω⌉)` intervals: [`crate::GRID_PER_OSCILLATION`] points per period of the fastest
 /// oscillation of the motion (the forcing or the highest natural frequency `ω_n`). Every
 /// ordered tuple `0 < φ₂ < … < φₙ < 1` of grid points is scanned. The phase `α` is not a
 /// Newton guess from a coarse grid: for fixed impact times the contact residuals are

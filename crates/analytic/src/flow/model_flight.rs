@@ -163,7 +163,7 @@ impl ModelFlight {
 }
 
 /// The eigenvalues of a square matrix by the real Schur form with a bounded QR iteration,
-/// with the fallbacks of [`crate::orbit::eigenvalues`] (the transpose, then shifted copies):
+/// with the fallbacks of the unit's closed-form eigenvalues (the transpose, then shifted copies):
 /// `None` for a non-finite matrix or when every attempt fails.
 pub fn eigenvalues(m: &DMatrix<f64>) -> Option<Vec<Complex<f64>>> {
     if !m.iter().all(|v| v.is_finite()) {

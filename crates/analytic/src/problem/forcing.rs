@@ -33,7 +33,7 @@
 //! ([`HarmonicForcing::columns_rate`]), and the rotation blocks `diag(J, k₁J, …)`: exact for
 //! continuation in `ω`. At the first impact the phase states are `p(α) = (cos kα, sin kα)` for
 //! each order ([`phase_pair`], [`phase_state`]), whose derivative in the base phase `α` is
-//! `k (−sin kα, cos kα)` ([`slope_pair`], [`phase_slope`]).
+//! `k (−sin kα, cos kα)` ([`slope_pair`]).
 //!
 //! A forcing without harmonics has the two phase states of the fundamental alone: the same
 //! augmented size `2n + 2`, matrices and results as a purely harmonic forcing.
@@ -246,24 +246,13 @@ impl PhaseRows<'_> {
     }
 }
 
-/// The phase states at `θ = alpha` of pairs of the given `orders`: [`phase_pair`] of each
+/// The phase states at `θ = alpha` of pairs of the given `orders`: `(cos kθ, sin kθ)` of each
 /// order, in order.
 pub fn phase_state(orders: &[u32], alpha: f64) -> Vec<f64> {
     orders
         .iter()
         .flat_map(|&k| {
             let (c, s) = phase_pair(k, alpha);
-            [c, s]
-        })
-        .collect()
-}
-
-/// `d/dα` of [`phase_state`]: [`slope_pair`] of each order, in order.
-pub fn phase_slope(orders: &[u32], alpha: f64) -> Vec<f64> {
-    orders
-        .iter()
-        .flat_map(|&k| {
-            let (c, s) = slope_pair(k, alpha);
             [c, s]
         })
         .collect()
@@ -398,7 +387,13 @@ mod tests {
         assert_eq!(p[0].to_bits(), alpha.cos().to_bits());
         assert_eq!(p[1].to_bits(), alpha.sin().to_bits());
         assert!((p[2] - (3.0 * alpha).cos()).abs() <= f64::EPSILON);
-        let slope = phase_slope(&orders, alpha);
+        let slope: Vec<f64> = orders
+            .iter()
+            .flat_map(|&k| {
+                let (c, s) = slope_pair(k, alpha);
+                [c, s]
+            })
+            .collect();
         assert_eq!(slope[0].to_bits(), (-alpha.sin()).to_bits());
         let step = 1e-6;
         let (up, down) = (

@@ -92,7 +92,7 @@ pub(crate) fn singular_pivot_ratio(dofs: usize) -> f64 {
 pub use crate::problem::forcing::{Harmonic, HarmonicForcing};
 
 /// Highest order of a [`Harmonic`]: the multi-start over impact phases samples the base phase
-/// and the cycle more finely the higher the order ([`crate::sequence_search`]), so its work
+/// and the cycle more finely the higher the order ([`crate::sequence_orbits`]), so its work
 /// and memory grow with it; 16 keeps them within four times a single harmonic's.
 pub const MAX_HARMONIC_ORDER: u32 = 16;
 
@@ -246,7 +246,7 @@ impl LinearModel {
     /// A singular `K` is accepted: its null vectors are the model's rigid modes (free bodies,
     /// [`LinearModel::rigid_modes`]), handled by the linear steady state
     /// ([`LinearModel::clear_family`]) and the cycle equations
-    /// ([`crate::cycle_equations`]).
+    /// ([`crate::CycleEquations`]).
     pub fn new(
         mass: DMatrix<f64>,
         damping: DMatrix<f64>,
@@ -362,14 +362,14 @@ impl LinearModel {
 
     /// The rigid modes: an orthonormal basis `Φ` (`n × r`) of the null space of `K`, `r = 0`
     /// (no columns) for a model without free bodies. A translation along a column is kept by
-    /// every flight and impact map ([`crate::problem::rigid`]).
+    /// every flight and impact map ([`crate::ClearFamily`]).
     pub fn rigid_modes(&self) -> &DMatrix<f64> {
         &self.rigid_modes
     }
 
     /// Whether `K` is singular: the model has free bodies (rigid modes), its linear steady
     /// states are a family ([`LinearModel::clear_family`]) and its cycle equations bordered
-    /// ([`crate::cycle_equations`]).
+    /// ([`crate::CycleEquations`]).
     pub fn has_rigid_modes(&self) -> bool {
         self.rigid_modes.ncols() > 0
     }
@@ -409,7 +409,7 @@ impl LinearModel {
     }
 
     /// The system augmented with the forcing's phase states
-    /// `p = (cos θ, sin θ, cos k₁θ, sin k₁θ, …)` (see [`crate::problem::forcing`]):
+    /// `p = (cos θ, sin θ, cos k₁θ, sin k₁θ, …)` (see [`crate::HarmonicForcing`]):
     /// `ż = Â z`, `z = (x, p)`, `Â = [[A, B], [0, W]]`, `W = diag(ωJ, k₁ωJ, …)`,
     /// `J = [[0, −1], [1, 0]]`, `B = [[0], [M⁻¹F(ω)]]` with the force columns `F(ω)`
     /// ([`HarmonicForcing::columns`]): `M⁻¹f_c`, `M⁻¹(f_s + ω f_ω)`, then two per harmonic.

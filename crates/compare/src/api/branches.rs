@@ -12,7 +12,7 @@ use crate::runs::continuation::{
 use crate::scene::structure::{Structure, StructureForm};
 use crate::scene::AnyScene;
 use crate::verdict::chain::ChainOrbitsError;
-use rattle_analytic::continuation::ContinuationSettings;
+use rattle_analytic::ContinuationSettings;
 use rattle_analytic::{sequence_orbits, Signature};
 use serde::{Serialize, Serializer};
 
@@ -63,7 +63,7 @@ impl Serialize for Continuation {
 /// # Examples
 ///
 /// ```
-/// use rattle_analytic::continuation::ContinuationSettings;
+/// use rattle_analytic::ContinuationSettings;
 /// use rattle_compare::api;
 /// use rattle_compare::scene::{AnyScene, Scene};
 ///

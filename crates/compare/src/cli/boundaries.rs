@@ -17,9 +17,9 @@ use crate::study::{compared_seeds, study_continuation, two_impact_seeds, StudySi
 use crate::verdict::structure::structure_cross_check;
 use crate::verdict::{compare, Starts};
 use clap::Args;
-use rattle_analytic::continuation::BoundarySettings;
-use rattle_analytic::continuation::{continue_sequence_after, Continuation};
+use rattle_analytic::BoundarySettings;
 use rattle_analytic::ImpactSequence;
+use rattle_analytic::{continue_sequence_after, Continuation};
 use rattle_event_driven::SimulationOptions;
 use std::fmt::Write as _;
 use std::io::IsTerminal;

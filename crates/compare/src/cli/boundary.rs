@@ -7,7 +7,7 @@ use crate::api;
 use crate::output::{finite, table_row, Format};
 use crate::runs::boundary::{BoundaryOptions, BoundaryRecord};
 use clap::Args;
-use rattle_analytic::continuation::BoundarySettings;
+use rattle_analytic::BoundarySettings;
 use std::fmt::Write as _;
 use std::path::PathBuf;
 

@@ -8,7 +8,7 @@ use crate::output::{finite, number_list, table_row, Format};
 use crate::runs::continuation::{Followed, SequenceFollowed};
 use crate::scene::structure::Structure;
 use clap::Args;
-use rattle_analytic::continuation::{ContinuationPoint, ContinuationSettings};
+use rattle_analytic::{ContinuationPoint, ContinuationSettings};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 

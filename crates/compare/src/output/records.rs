@@ -554,7 +554,7 @@ pub struct ContinuationPointRecord {
 
 impl ContinuationPointRecord {
     /// The record of a unit's point `p` (without `cell_outer_amplitudes`).
-    pub fn new(p: &rattle_analytic::continuation::ContinuationPoint) -> Self {
+    pub fn new(p: &rattle_analytic::ContinuationPoint) -> Self {
         Self {
             branch: p.branch,
             omega: finite(p.omega),
@@ -571,7 +571,7 @@ impl ContinuationPointRecord {
     }
 
     /// The record of a chain's point `p`, with every cell's outer amplitude.
-    pub fn of_chain(p: &rattle_analytic::continuation::ContinuationPoint) -> Self {
+    pub fn of_chain(p: &rattle_analytic::ContinuationPoint) -> Self {
         Self {
             cell_outer_amplitudes: Some(
                 p.cell_outer_amplitudes.iter().map(|&a| finite(a)).collect(),
@@ -582,10 +582,7 @@ impl ContinuationPointRecord {
 
     /// The record of a structure's point `p`: the observed body's amplitude and transmittance,
     /// with every body's amplitude.
-    pub fn of_structure(
-        structure: &Structure,
-        p: &rattle_analytic::continuation::ContinuationPoint,
-    ) -> Self {
+    pub fn of_structure(structure: &Structure, p: &rattle_analytic::ContinuationPoint) -> Self {
         let observed = p.amplitudes.get(structure.observe).copied();
         Self {
             outer_amplitude: observed.and_then(finite),

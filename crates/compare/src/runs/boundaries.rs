@@ -21,7 +21,7 @@ use crate::scene::parameter::{AnyParameterError, ParameterError, SceneParameter}
 use crate::scene::structure::StructureForm;
 use crate::scene::structure_parameter::{StructureParameter, StructureParameterError};
 use crate::scene::Scene;
-use rattle_analytic::continuation::{
+use rattle_analytic::{
     follow_boundary, follow_sequence_boundary, BoundaryError, BoundarySettings, BoundaryStart,
     Continuation, Event, SequenceBoundaryStart,
 };

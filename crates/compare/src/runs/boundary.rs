@@ -9,7 +9,7 @@ use crate::scene::parameter::{AnyParameter, AnyParameterError, ParameterError, S
 use crate::scene::structure::StructureForm;
 use crate::scene::structure_parameter::{StructureParameter, StructureParameterError};
 use crate::scene::{AnyScene, Scene};
-use rattle_analytic::continuation::{
+use rattle_analytic::{
     continue_orbit, continue_sequence, follow_boundary, follow_sequence_boundary, Boundary,
     BoundaryError, BoundaryPoint, BoundarySettings, BoundarySpecialPoint, BoundaryStart,
     ContinuationError, ContinuationSettings, Event, EventKind, SequenceBoundaryStart, SpecialKind,

@@ -10,7 +10,7 @@ use crate::scene::analytic::orbits_of_signature;
 use crate::scene::structure::StructureForm;
 use crate::scene::Scene;
 use crate::verdict::chain::{chain_orbits, ChainOrbitsError};
-use rattle_analytic::continuation::{
+use rattle_analytic::{
     continue_orbit_after, continue_sequence_after, Branch, BranchEnd, Continuation,
     ContinuationError, ContinuationPoint, ContinuationSettings, Event,
 };
@@ -142,7 +142,7 @@ pub struct Branches {
 impl Branches {
     /// Follows `start` unless it lies on a branch already followed here (or on its mirror
     /// image); returns whether it was followed. Its branches end where they run onto one
-    /// followed here ([`rattle_analytic::continuation::EndReason::Joins`]) and its events
+    /// followed here ([`rattle_analytic::EndReason::Joins`]) and its events
     /// are listed unless listed here already.
     ///
     /// # Errors

@@ -10,7 +10,7 @@ use crate::runs::sweep::Solver;
 use crate::scene::simulator::{run_structure, SimulatedPoint};
 use crate::scene::structure::{Structure, StructureForm};
 use crate::verdict::structure::structure_cross_check;
-use rattle_analytic::linear::transmittance_db;
+use rattle_analytic::transmittance_db;
 use rattle_event_driven::SimulationOptions;
 
 table_row! {

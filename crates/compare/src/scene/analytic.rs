@@ -373,7 +373,7 @@ pub fn sample_sequence_orbit(
             (
                 t,
                 model.impact_state(impact.pair, &before),
-                DVector::from_vec(rattle_analytic::forcing::phase_state(&orders, theta)),
+                DVector::from_vec(rattle_analytic::phase_state(&orders, theta)),
             )
         })
         .collect();

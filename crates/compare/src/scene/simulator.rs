@@ -5,7 +5,7 @@ use crate::scene::analytic::orbit_state;
 use crate::scene::structure::Structure;
 use crate::scene::{phase, Scene};
 use nalgebra::{DVector, Vector4};
-use rattle_analytic::linear::transmittance_db;
+use rattle_analytic::transmittance_db;
 use rattle_analytic::{Orbit, Signature};
 use rattle_event_driven::{
     simulate, simulate_watched, CellParameters, CellStops, ImpactRecord, Model, ModelError,

@@ -15,7 +15,7 @@ use crate::runs::map::Map;
 use crate::runs::parallel::Progress;
 use crate::scene::parameter::{Field, SceneParameter};
 use crate::study::plots::{RegimeClass, RegimeMap};
-use rattle_analytic::continuation::BoundarySettings;
+use rattle_analytic::BoundarySettings;
 use std::path::{Path, PathBuf};
 
 /// The gaps the curves are followed over, m: 0.1–1 on the paper's unit (`u_g = 1`).

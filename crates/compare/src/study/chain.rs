@@ -11,7 +11,7 @@ use crate::runs::parallel::{parallel_map, Grain, Progress};
 use crate::scene::simulator::{rest, run};
 use crate::scene::Scene;
 use crate::study::map_scene;
-use rattle_analytic::lattice::{bloch_wave, stop_bands, StopBand};
+use rattle_analytic::{bloch_wave, stop_bands, StopBand};
 use rattle_analytic::{chain_response, Cell};
 use rattle_event_driven::SimulationOptions;
 use serde::Serialize;

@@ -25,8 +25,8 @@ use plots::{
     BetaFamily, Bifurcation, Confirmation, FrequencyResponse, ImpactRow, ImpactTimeResponse,
     LinearPanel, LinearTimeResponse, Member, Plots, RegimeMap, Samples, Transmittance,
 };
-use rattle_analytic::continuation::ContinuationSettings;
 use rattle_analytic::gap_for_beta;
+use rattle_analytic::ContinuationSettings;
 use rattle_analytic::{Signature, SignatureOrbit};
 use rattle_event_driven::SimulationOptions;
 use std::sync::mpsc::{Receiver, Sender};

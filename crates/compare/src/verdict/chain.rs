@@ -43,10 +43,10 @@ pub enum ChainReason {
     /// Beyond: the simulator's Newton could not polish the periodic cycle.
     NotPolished,
     /// Beyond: more impacts per cycle than an impact sequence holds
-    /// ([`rattle_analytic::signature::MAX_CYCLE_IMPACTS`]).
+    /// ([`rattle_analytic::MAX_CYCLE_IMPACTS`]).
     TooManyImpacts,
     /// Beyond: a cycle longer than an impact sequence holds (`p` above
-    /// [`rattle_analytic::signature::MAX_CYCLE_PERIOD`]).
+    /// [`rattle_analytic::MAX_CYCLE_PERIOD`]).
     PeriodTooLong,
     /// Beyond: a cell without stops (the analytic chain needs a contact pair in every cell).
     CellWithoutStops,
@@ -645,8 +645,7 @@ fn confirm(
     let omega = orbit.omega;
     let length = f64::from(orbit.period) * std::f64::consts::TAU / omega;
     let t = 0.5 * orbit.impact_phases.get(1).copied().unwrap_or(1.0) * length;
-    let phases =
-        rattle_analytic::forcing::phase_state(&model_of_chain.forcing().orders(), orbit.alpha);
+    let phases = rattle_analytic::phase_state(&model_of_chain.forcing().orders(), orbit.alpha);
     let (x, _) = model_of_chain.transition(omega, t).apply(
         &DVector::from_column_slice(&orbit.state_after_impact),
         &DVector::from_vec(phases),

@@ -12,7 +12,7 @@ use crate::sequence::{ImpactSequence, PairImpact};
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
 use crate::signature::Signature;
 use crate::verdicts::{energy_forms, energy_forms_of, CycleModel, EnergyForms};
-pub use crate::verdicts::{EnergyBalance, SequenceViolation, ENERGY_EXCHANGE_FRACTION};
+use crate::verdicts::{EnergyBalance, SequenceViolation};
 use nalgebra::{Complex, DMatrix, DVector, Dyn};
 use serde::{Serialize, Serializer};
 
@@ -69,7 +69,7 @@ pub struct SequenceOrbit {
     pub energy: EnergyBalance,
     /// `|forcing_work − dashpot_dissipation − impact_losses|` relative to the largest of
     /// `|forcing_work|`, `dashpot_dissipation + impact_losses`,
-    /// [`ENERGY_EXCHANGE_FRACTION`]` · exchange_bound` (so that a conservative orbit's residual
+    /// [`crate::ENERGY_EXCHANGE_FRACTION`]` · exchange_bound` (so that a conservative orbit's residual
     /// measures rounding against the energy it exchanges) and `ENERGY_FLOOR = 1e-6``· f_cᵀK⁻¹f_c`.
     pub energy_residual: f64,
     /// Newton iterations taken.

@@ -16,7 +16,7 @@ use crate::scene::simulator::{run, run_structure, Regime, SimulateError, Simulat
 use crate::scene::structure::Structure;
 use crate::scene::{AnyScene, Scene};
 use crate::verdict::{candidates, difference, predicted_transmittance, Choice, Motion};
-use rattle_analytic::linear::transmittance_db;
+use rattle_analytic::transmittance_db;
 use rattle_analytic::{LinearModel, ModelError};
 use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
 use rattle_event_driven::{SimulationOptions, Start};

@@ -243,7 +243,7 @@ impl Structure {
     /// base moves and the value is finite.
     pub fn transmittance_db(&self, amplitude: f64) -> Option<f64> {
         self.base_amplitude
-            .map(|ug| rattle_analytic::linear::transmittance_db(amplitude, ug))
+            .map(|ug| rattle_analytic::transmittance_db(amplitude, ug))
             .filter(|t| t.is_finite())
     }
 
