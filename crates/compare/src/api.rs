@@ -56,10 +56,8 @@ use crate::scene::{AnyScene, Scene, SceneError};
 use crate::verdict::chain::chain_cross_check;
 use crate::verdict::structure::{record as structure_compare_record, structure_cross_check};
 use crate::verdict::{chain::ChainCheck, cross_check};
-use rattle_event_driven::trajectory::{
-    final_cycle_trajectory, sample_trajectory, TrajectoryOptions,
-};
 use rattle_event_driven::SimulationOptions;
+use rattle_event_driven::{final_cycle_trajectory, sample_trajectory, TrajectoryOptions};
 use serde::{Serialize, Serializer};
 use std::path::Path;
 use thiserror::Error;

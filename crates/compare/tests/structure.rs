@@ -396,7 +396,7 @@ fn a_chain_as_a_structure_is_the_chain() {
 /// sign change.
 #[test]
 fn a_body_held_on_the_frame_leaves_when_the_push_changes_sign() {
-    use rattle_event_driven::trajectory::{sample_trajectory, TrajectoryOptions};
+    use rattle_event_driven::{sample_trajectory, TrajectoryOptions};
     let (gap, omega) = (0.5, 0.6);
     let s = structure(&oscillator_scene("frame", gap, 0.0));
     let model = s.event_model(omega).unwrap();

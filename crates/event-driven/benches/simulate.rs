@@ -3,9 +3,9 @@
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion, Throughput};
 use nalgebra::DVector;
-use rattle_event_driven::expsum::SearchStack;
-use rattle_event_driven::flow::LinearFlow;
 use rattle_event_driven::test_models::{paper_unit, LIGHT_DAMPING};
+use rattle_event_driven::LinearFlow;
+use rattle_event_driven::SearchStack;
 use rattle_event_driven::{simulate, SimulationOptions, Start};
 
 fn impacts(c: &mut Criterion) {

@@ -1,7 +1,7 @@
 //! Exact event-driven simulation of linear structures with impacting contact pairs.
 //!
 //! Between events the motion is the closed-form modal flow of `M ü + C u̇ + K u = f(t)`
-//! ([`flow`]); each coordinate is a finite sum of exponential terms ([`expsum`]) whose first
+//! ([`LinearFlow`]); each coordinate is a finite sum of exponential terms ([`ExpSum`]) whose first
 //! crossing of a stop is found with a guarantee (derivative bounds exclude intervals; no
 //! sampling can skip a grazing double crossing) and polished by Newton. Impacts apply Newton's
 //! restitution along the contact direction, conserving momentum. Accumulating impacts (chatter)
@@ -11,11 +11,11 @@
 //!
 //! Periodic orbits are also found directly, by Newton on the stroboscopic map with its exact
 //! Jacobian (flight propagators and impact saltation matrices), whatever their stability
-//! ([`newton`]); a periodic run is polished that way at its end ([`SteadyState::orbit`]).
+//! ([`periodic_orbit`]); a periodic run is polished that way at its end ([`SteadyState::orbit`]).
 //!
 //! The same tangent flow, extended through sticking and re-orthonormalised once per period,
-//! gives the Lyapunov spectrum ([`lyapunov`]); a traced run of the same engine samples a
-//! stretch of motion exactly, events included ([`trajectory`]).
+//! gives the Lyapunov spectrum ([`lyapunov_exponents`]); a traced run of the same engine
+//! samples a stretch of motion exactly, events included ([`sample_trajectory`]).
 //!
 //! Chains of impacting cells ([`Model::chain`], the metamaterial) are models with one contact
 //! pair per cell; any pairs may stick, chatter or fly at the same time, each watched with the
@@ -44,24 +44,31 @@
 //!
 //! Its sines and cosines are musl's, not the platform's (`trig`): the event core derives
 //! its numerics on its own, apart from the analytic solver's.
+//!
+//! Every public item has one path, at the crate's root (`rattle_event_driven::Model`,
+//! `rattle_event_driven::simulate`, …); the source is in private modules by job.
 #![deny(missing_docs)]
 
 mod engine;
-pub mod expsum;
-pub mod flow;
-pub mod lyapunov;
-pub mod model;
-pub mod newton;
-pub mod respond;
-pub mod simulate;
+mod expsum;
+mod flow;
+mod lyapunov;
+mod model;
+mod newton;
+mod respond;
+mod simulate;
 #[cfg(any(test, feature = "fixtures"))]
 pub mod test_models;
-pub mod trajectory;
+mod trajectory;
 mod trig;
 
+pub use expsum::{ExpSum, SearchStack, SharedPoints, Term, Tolerances};
+pub use flow::{Flight, FlowError, Functional, LinearFlow};
+
 pub use lyapunov::{
-    lyapunov_after_steady_state, lyapunov_exponents, LyapunovError, LyapunovOptions,
-    LyapunovSpectrum, Regime, DEFAULT_ALIGNMENT_PERIODS, DEFAULT_LYAPUNOV_PERIODS,
+    lyapunov_after_steady_state, lyapunov_exponents, system_matrix, LyapunovError, LyapunovOptions,
+    LyapunovSpectrum, Regime, BATCHES, DEFAULT_ALIGNMENT_PERIODS, DEFAULT_LYAPUNOV_PERIODS,
+    MAX_BRIDGE_POINTS, UNCERTAINTY_FACTOR,
 };
 pub use model::{
     CellParameters, CellStops, ContactPair, Harmonic, Model, ModelError, MAX_CELLS,
@@ -73,7 +80,9 @@ pub use newton::{
 };
 pub use respond::{
     respond, respond_sampled, Excitation, Response, ResponseError, ResponseHold, ResponseImpact,
-    ResponseOptions, ResponseState, ResponseSummary, SampledState, Signal, SignalError,
+    ResponseOptions, ResponseState, ResponseSummary, SampledState, Segment, Shape, Signal,
+    SignalError, Sinusoid, DEFAULT_RESPONSE_MAX_EVENTS, MAX_DURATION_SCALES, MAX_FLIGHT_SCALES,
+    MAX_RESPONSE_SAMPLES, MAX_SINUSOIDS,
 };
 pub use simulate::{
     simulate, simulate_watched, ImpactRecord, SimulationError, SimulationOptions, Start, Status,
@@ -84,5 +93,6 @@ pub use simulate::{
 };
 pub use trajectory::{
     final_cycle_trajectory, sample_trajectory, RowKind, Trajectory, TrajectoryError,
-    TrajectoryImpact, TrajectoryOptions, TrajectoryRow,
+    TrajectoryImpact, TrajectoryOptions, TrajectoryRow, DEFAULT_SAMPLES_PER_PERIOD,
+    MAX_TRAJECTORY_SAMPLES,
 };

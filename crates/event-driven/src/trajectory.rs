@@ -20,7 +20,7 @@ pub const DEFAULT_SAMPLES_PER_PERIOD: u64 = 200;
 
 /// At most this many uniform samples in one trajectory (periods × samples per period): 10⁷
 /// rows of a few numbers each are already hundreds of megabytes of CSV.
-pub const MAX_SAMPLES: u64 = 10_000_000;
+pub const MAX_TRAJECTORY_SAMPLES: u64 = 10_000_000;
 
 /// What to sample.
 #[derive(Debug, Clone, PartialEq)]
@@ -121,7 +121,7 @@ pub enum TrajectoryError {
 /// # Errors
 /// [`TrajectoryError::Simulation`] for inputs [`crate::simulate()`] refuses or a failed run,
 /// [`TrajectoryError::OutOfRange`] for zero periods or samples per period, or more than
-/// [`MAX_SAMPLES`] samples, and [`TrajectoryError::BaseAmplitude`] for a non-finite base
+/// [`MAX_TRAJECTORY_SAMPLES`] samples, and [`TrajectoryError::BaseAmplitude`] for a non-finite base
 /// amplitude.
 pub fn sample_trajectory(
     model: &Model,
@@ -142,11 +142,11 @@ pub fn sample_trajectory(
         return Err(out_of_range("samples_per_period", 0, ">= 1".into()));
     }
     let samples = options.periods.saturating_mul(options.samples_per_period);
-    if samples > MAX_SAMPLES {
+    if samples > MAX_TRAJECTORY_SAMPLES {
         return Err(out_of_range(
             "periods × samples_per_period",
             samples,
-            format!("<= {MAX_SAMPLES}"),
+            format!("<= {MAX_TRAJECTORY_SAMPLES}"),
         ));
     }
     if !options.base_amplitude.is_finite() {

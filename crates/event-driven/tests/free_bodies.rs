@@ -4,8 +4,8 @@
 //! with its Lyapunov spectrum; and the neutral family of a damper whose ball never impacts.
 
 use nalgebra::{DMatrix, DVector};
-use rattle_event_driven::expsum::SearchStack;
-use rattle_event_driven::flow::LinearFlow;
+use rattle_event_driven::LinearFlow;
+use rattle_event_driven::SearchStack;
 use rattle_event_driven::*;
 use std::f64::consts::{PI, TAU};
 
@@ -624,7 +624,7 @@ fn a_constant_force_on_a_free_mass_has_no_steady_state_but_flies_exactly() {
     .expect("a free mass has a flow");
     assert_eq!(
         flow.linear_steady_state(0.0),
-        Err(rattle_event_driven::flow::FlowError::RigidDrift(0))
+        Err(rattle_event_driven::FlowError::RigidDrift(0))
     );
     let y = flow
         .flight(&DVector::from_vec(vec![0.1, -0.2]), 0.3)
@@ -661,13 +661,13 @@ fn a_gap_resting_on_its_edge_has_no_exit() {
     let zero = C64::default();
     let (lo, hi) = (0.342_693_660_141_455_36, 0.854_836_860_293_133_7);
     for (edge, level) in [(-1.0, lo), (1.0, hi)] {
-        let rest = expsum::ExpSum {
+        let rest = ExpSum {
             terms: vec![
-                expsum::Term {
+                Term {
                     poly: [C64::new(level, 0.0), zero, C64::new(-0.0, 0.0), zero],
                     rate: zero,
                 },
-                expsum::Term {
+                Term {
                     poly: [zero; 4],
                     rate: C64::new(0.0, 0.7),
                 },

@@ -7,8 +7,8 @@
 //! resonant with an undamped mode has no steady form and flies as the general one, bit for bit.
 
 use nalgebra::{DMatrix, DVector};
-use rattle_event_driven::flow::LinearFlow;
 use rattle_event_driven::test_models::{paper_chain, paper_unit, LIGHT_DAMPING, OUTER_STIFFNESS};
+use rattle_event_driven::LinearFlow;
 use rattle_event_driven::*;
 
 /// Largest relative difference allowed between the two forms' impact times (over the period)

@@ -6,7 +6,7 @@
 //! tangent flow is the stroboscopic map's derivative; bad harmonics are refused.
 
 use nalgebra::{Complex, DMatrix, DVector};
-use rattle_event_driven::flow::LinearFlow;
+use rattle_event_driven::LinearFlow;
 use rattle_event_driven::*;
 
 type C64 = Complex<f64>;
@@ -418,7 +418,7 @@ fn an_undamped_model_at_resonance_with_its_second_harmonic_grows_secularly() {
     assert!(!flow.has_steady_response());
     assert!(matches!(
         flow.linear_steady_state(0.0),
-        Err(flow::FlowError::Resonant)
+        Err(FlowError::Resonant)
     ));
     let flight = flow.flight(&DVector::zeros(2), 0.0);
     let x = flight.value_of(&DVector::from_vec(vec![1.0, 0.0]));

@@ -5,9 +5,9 @@
 //! degenerate scenes.
 
 use nalgebra::{Complex, Matrix4};
-use rattle_event_driven::lyapunov::BATCHES;
 use rattle_event_driven::test_models::{far_stops_unit, linear_damped_unit, paper_unit};
 use rattle_event_driven::test_models::{INNER_MASS, LIGHT_DAMPING, OUTER_MASS};
+use rattle_event_driven::BATCHES;
 use rattle_event_driven::*;
 
 /// The chaotic point of the paper's unit (light damping, `Δ = 0.25`, `e = 0.8`) found by a

@@ -38,7 +38,7 @@ fn max_entry(a: &DMatrix<f64>) -> f64 {
 fn the_propagator_is_the_matrix_exponential() {
     let omega = 2.0;
     let model = paper_unit(omega, Some(LIGHT_DAMPING), None);
-    let flow = rattle_event_driven::flow::LinearFlow::new(
+    let flow = rattle_event_driven::LinearFlow::new(
         model.mass(),
         Some(&DMatrix::from_row_slice(2, 2, &[0.15, -0.05, -0.05, 0.05])),
         &DMatrix::from_row_slice(2, 2, &[9.0, -3.0, -3.0, 3.0]),

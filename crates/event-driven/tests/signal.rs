@@ -8,9 +8,9 @@
 mod support;
 
 use nalgebra::{Complex, DMatrix, DVector};
-use rattle_event_driven::respond::{Segment, Shape, Sinusoid};
 use rattle_event_driven::test_models::{paper_unit, BASE_AMPLITUDE, LIGHT_DAMPING};
 use rattle_event_driven::*;
+use rattle_event_driven::{Segment, Shape, Sinusoid};
 use support::*;
 
 type C64 = Complex<f64>;

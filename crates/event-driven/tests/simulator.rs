@@ -2,11 +2,11 @@
 //! conservation laws of an impact, and the hard cases of the validation page (`docs/validation.md`).
 
 use nalgebra::{DMatrix, DVector};
-use rattle_event_driven::flow::LinearFlow;
 use rattle_event_driven::test_models::{
     far_stops_unit, free_flight_to_a_stop, linear_damped_unit, paper_cell, paper_impact,
     paper_unit, LinearSteadyState, LIGHT_DAMPING,
 };
+use rattle_event_driven::LinearFlow;
 use rattle_event_driven::*;
 
 const M: [f64; 2] = [2.0, 1.0];

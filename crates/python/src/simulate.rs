@@ -12,7 +12,7 @@ use rattle_compare::api::{self, Simulation, Stretch, TrajectoryTables};
 use rattle_compare::output::records::WithLyapunov;
 use rattle_compare::scene::lyapunov::check_periods;
 use rattle_compare::scene::AnyScene;
-use rattle_event_driven::lyapunov::BATCHES;
+use rattle_event_driven::BATCHES;
 
 /// `rattle simulate --json`: the event-driven simulator from rest; with `samples_per_period`,
 /// also the tables `--trajectory` and `--impacts` write (the final cycle, or with `periods`

@@ -9,11 +9,11 @@ use crate::scene::frequency::FrequencyBounds;
 use crate::scene::signal::{BuiltSignal, Input, SignalSpec};
 use crate::scene::structure::Structure;
 use crate::scene::AnyScene;
-use rattle_event_driven::respond::{
-    respond_sampled, Excitation, ResponseError, ResponseOptions, SignalError, MAX_DURATION_SCALES,
-    MAX_SAMPLES,
-};
 use rattle_event_driven::{respond as engine_respond, Model};
+use rattle_event_driven::{
+    respond_sampled, Excitation, ResponseError, ResponseOptions, SignalError, MAX_DURATION_SCALES,
+    MAX_RESPONSE_SAMPLES,
+};
 use std::f64::consts::TAU;
 
 /// The default sampling of the table: this many samples per period of the fastest of the
@@ -21,7 +21,7 @@ use std::f64::consts::TAU;
 pub const DEFAULT_SAMPLES_PER_PERIOD: f64 = 64.0;
 
 /// At most this many samples by default (more with an explicit count, up to
-/// [`MAX_SAMPLES`]).
+/// [`MAX_RESPONSE_SAMPLES`]).
 pub const DEFAULT_MAX_SAMPLES: u64 = 1_000_000;
 
 /// What to respond to: `rattle respond SCENE --signal SPEC --duration T --at … --on BODY`.
@@ -225,9 +225,9 @@ impl PreparedResponse {
         let response = match samples {
             None => engine_respond(&self.model, &self.excitation, signal, &self.options),
             Some(count) => {
-                if !(1..=MAX_SAMPLES).contains(&count) {
+                if !(1..=MAX_RESPONSE_SAMPLES).contains(&count) {
                     return Err(ApiError::Argument(format!(
-                        "--samples = {count} is out of range: must be in [1, {MAX_SAMPLES}]"
+                        "--samples = {count} is out of range: must be in [1, {MAX_RESPONSE_SAMPLES}]"
                     )));
                 }
                 let mut failed: Option<ApiError> = None;

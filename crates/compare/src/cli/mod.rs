@@ -196,7 +196,7 @@ pub struct TrajectoryArgs {
     #[arg(long)]
     pub trajectory: Option<PathBuf>,
     /// Uniform samples per forcing period of --trajectory, in [1, 100000].
-    #[arg(long, default_value_t = rattle_event_driven::trajectory::DEFAULT_SAMPLES_PER_PERIOD, requires = "trajectory")]
+    #[arg(long, default_value_t = rattle_event_driven::DEFAULT_SAMPLES_PER_PERIOD, requires = "trajectory")]
     pub samples_per_period: u64,
     /// Write every impact of the sampled stretch to this file: columns `t, pair, side,
     /// relative_velocity_before, u_o, u_i, v_o_before, v_i_before` (the pair's cell's

@@ -9,8 +9,8 @@ use crate::scene::lyapunov::check_periods;
 use crate::scene::simulator::SimulatedPoint;
 use crate::scene::{AnyScene, Scene};
 use clap::Args;
-use rattle_event_driven::lyapunov::DEFAULT_LYAPUNOV_PERIODS;
 use rattle_event_driven::SimulationOptions;
+use rattle_event_driven::DEFAULT_LYAPUNOV_PERIODS;
 use std::fmt::Write as _;
 
 /// Arguments of `rattle simulate`.
@@ -193,7 +193,7 @@ fn table(
 
 impl LyapunovArgs {
     /// Checks the flags: with `--lyapunov`, at least
-    /// [`BATCHES`](rattle_event_driven::lyapunov::BATCHES) periods ([`check_periods`]).
+    /// [`BATCHES`](rattle_event_driven::BATCHES) periods ([`check_periods`]).
     ///
     /// # Errors
     /// [`RattleError::Argument`] naming `--lyapunov-periods` and its range.

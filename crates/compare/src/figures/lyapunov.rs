@@ -5,7 +5,7 @@ use crate::figures::plot::{axes, err, text, Figure};
 use crate::study::chaos::ChaosSample;
 use plotters::coord::Shift;
 use plotters::prelude::*;
-use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
+use rattle_event_driven::Regime as LyapunovRegime;
 
 /// The figure's data.
 #[derive(Debug, Clone)]

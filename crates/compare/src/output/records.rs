@@ -718,10 +718,7 @@ pub struct LyapunovRecord {
 
 impl LyapunovRecord {
     /// The record of `spectrum`, computed on the motion `sim`.
-    pub fn new(
-        sim: &SimulatedPoint,
-        spectrum: &rattle_event_driven::lyapunov::LyapunovSpectrum,
-    ) -> Self {
+    pub fn new(sim: &SimulatedPoint, spectrum: &rattle_event_driven::LyapunovSpectrum) -> Self {
         Self {
             lyapunov_exponents: spectrum.exponents.iter().map(|&v| finite(v)).collect(),
             lyapunov_uncertainty: finite(spectrum.uncertainty),

@@ -5,7 +5,7 @@ use crate::output::finite;
 use crate::output::records::ByBody;
 use crate::scene::signal::{Input, SignalDescription};
 use crate::scene::structure::Structure;
-use rattle_event_driven::respond::{Response, ResponseState};
+use rattle_event_driven::{Response, ResponseState};
 use serde::Serialize;
 
 /// One impact of the response.

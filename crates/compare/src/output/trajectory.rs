@@ -3,7 +3,7 @@
 
 use super::{finite, table_row};
 use crate::scene::analytic::{OrbitImpact, OrbitSample, SampleKind};
-use rattle_event_driven::trajectory::{RowKind, Trajectory};
+use rattle_event_driven::{RowKind, Trajectory};
 
 /// Largest number of uniform samples per forcing period of a trajectory (`--samples-per-period`,
 /// the Python package's `samples_per_period`): a period drawn with 10⁵ points is smooth at any

@@ -4,7 +4,7 @@
 use crate::scene::simulator::{model, Regime, SimulatedPoint};
 use crate::scene::structure::Structure;
 use crate::scene::Scene;
-use rattle_event_driven::lyapunov::{
+use rattle_event_driven::{
     lyapunov_after_steady_state, LyapunovError, LyapunovOptions, LyapunovSpectrum,
     Regime as LyapunovRegime, BATCHES,
 };
@@ -101,9 +101,9 @@ pub fn non_periodic_regime(
 }
 
 /// Forcing periods of the exponents' run at a non-periodic point of a sweep: the library's
-/// default, [`rattle_event_driven::lyapunov::DEFAULT_LYAPUNOV_PERIODS`] (the largest exponent
+/// default, [`rattle_event_driven::DEFAULT_LYAPUNOV_PERIODS`] (the largest exponent
 /// of a chaotic point of the paper's unit known to 3 % of itself).
-pub const SWEEP_LYAPUNOV_PERIODS: u64 = rattle_event_driven::lyapunov::DEFAULT_LYAPUNOV_PERIODS;
+pub const SWEEP_LYAPUNOV_PERIODS: u64 = rattle_event_driven::DEFAULT_LYAPUNOV_PERIODS;
 
 /// The largest exponent of a motion and, for a motion that does not repeat, its regime: the
 /// sweep's and the map's columns.

@@ -9,10 +9,8 @@ use crate::scene::lyapunov::{
 };
 use crate::scene::simulator::{model, run, SimulateError};
 use crate::scene::Scene;
-use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
-use rattle_event_driven::trajectory::{
-    sample_trajectory, RowKind, TrajectoryError, TrajectoryOptions,
-};
+use rattle_event_driven::Regime as LyapunovRegime;
+use rattle_event_driven::{sample_trajectory, RowKind, TrajectoryError, TrajectoryOptions};
 use rattle_event_driven::{ModelError, SimulationOptions};
 use std::fmt::Write as _;
 use thiserror::Error;

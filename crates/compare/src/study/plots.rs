@@ -4,7 +4,7 @@ use crate::runs::map::{Bandwidth, Map, MapGrid, MapPoint};
 use crate::scene::analytic::{linear_displacements, orbit_state, AnalyticPoint};
 use crate::scene::simulator::{Regime, SimulatedPoint};
 use crate::verdict::{Class, ComparedPoint};
-use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
+use rattle_event_driven::Regime as LyapunovRegime;
 
 /// Samples `(t, u_o, u_i)` of a motion.
 pub type Samples = Vec<(f64, f64, f64)>;

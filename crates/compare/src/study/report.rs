@@ -450,7 +450,7 @@ fn chaos_section(r: &mut String, chaos: &[ChaosSample]) {
 
 /// How the frequencies of `chaos` divide by regime, in words.
 fn regime_counts(chaos: &[ChaosSample]) -> String {
-    use rattle_event_driven::lyapunov::Regime as L;
+    use rattle_event_driven::Regime as L;
     let count = |regime: Option<L>| {
         chaos
             .iter()

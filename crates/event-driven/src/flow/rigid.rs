@@ -460,7 +460,7 @@ impl crate::Model {
     /// Rigid modes `r` of the structure: the dimension of the common null space of its
     /// stiffness and damping matrices (`K r = C r = 0`), one per direction a free body (held
     /// by neither a spring nor a dashpot, e.g. a mass in a clearance with contact pairs only)
-    /// moves in. The simulator flies them exactly as rigid bodies ([`crate::flow`]); a
+    /// moves in. The simulator flies them exactly as rigid bodies ([`crate::LinearFlow`]); a
     /// steady state without impacts on them is a family ([`crate::SteadyState::family`]).
     ///
     /// # Errors

@@ -73,10 +73,10 @@ pub const MAX_FLIGHT_SCALES: f64 = 16.0;
 pub const MAX_DURATION_SCALES: f64 = 1e7;
 
 /// Default [`ResponseOptions::max_events`].
-pub const DEFAULT_MAX_EVENTS: u64 = 1_000_000;
+pub const DEFAULT_RESPONSE_MAX_EVENTS: u64 = 1_000_000;
 
 /// At most this many uniform samples in [`respond_sampled`].
-pub const MAX_SAMPLES: u64 = 10_000_000;
+pub const MAX_RESPONSE_SAMPLES: u64 = 10_000_000;
 
 /// How the signal forces the structure: `f(t) = d s(t) + v ṡ(t)`.
 #[derive(Debug, Clone, PartialEq)]
@@ -134,7 +134,7 @@ impl ResponseOptions {
             at: Vec::new(),
             root_tolerance: crate::DEFAULT_ROOT_TOLERANCE,
             time_scale: None,
-            max_events: DEFAULT_MAX_EVENTS,
+            max_events: DEFAULT_RESPONSE_MAX_EVENTS,
         }
     }
 }
@@ -310,7 +310,7 @@ pub fn respond(
 /// (`N = samples`, `j = 0..=N`) to `sink` in time order, as the run reaches them.
 ///
 /// # Errors
-/// As [`respond`], and [`ResponseError::Input`] naming `samples` (in `1..=`[`MAX_SAMPLES`]).
+/// As [`respond`], and [`ResponseError::Input`] naming `samples` (in `1..=`[`MAX_RESPONSE_SAMPLES`]).
 pub fn respond_sampled(
     model: &Model,
     excitation: &Excitation,
@@ -322,7 +322,7 @@ pub fn respond_sampled(
     signal::check(
         || "samples".into(),
         samples as f64,
-        (1..=MAX_SAMPLES).contains(&samples),
+        (1..=MAX_RESPONSE_SAMPLES).contains(&samples),
         "in 1..=10000000",
     )?;
     run::run(model, excitation, signal, options, Some((samples, sink)))

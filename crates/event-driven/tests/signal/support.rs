@@ -2,8 +2,8 @@
 //! exponential, the comparison with the periodic simulator, and small helpers.
 
 use nalgebra::{Complex, DMatrix, DVector};
-use rattle_event_driven::respond::{Segment, Shape, Sinusoid};
 use rattle_event_driven::*;
+use rattle_event_driven::{Segment, Shape, Sinusoid};
 
 type C64 = Complex<f64>;
 

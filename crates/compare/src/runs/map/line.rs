@@ -18,7 +18,7 @@ use crate::scene::{AnyScene, Scene};
 use crate::verdict::{candidates, difference, predicted_transmittance, Choice, Motion};
 use rattle_analytic::transmittance_db;
 use rattle_analytic::{LinearModel, ModelError};
-use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
+use rattle_event_driven::Regime as LyapunovRegime;
 use rattle_event_driven::{SimulationOptions, Start};
 
 /// A mode of a structure's free motion decays when the real part of its eigenvalue is below

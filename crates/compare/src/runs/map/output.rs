@@ -14,7 +14,7 @@ use crate::runs::shard::Shard;
 use crate::scene::parameter::AnyParameter;
 use crate::scene::simulator::Regime;
 use crate::scene::{AnyScene, Scene};
-use rattle_event_driven::lyapunov::Regime as LyapunovRegime;
+use rattle_event_driven::Regime as LyapunovRegime;
 use serde::Serialize;
 use std::io::Write;
 use thiserror::Error;

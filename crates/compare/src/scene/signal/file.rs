@@ -3,7 +3,7 @@
 //! skipped).
 
 use super::{shown, BuiltSignal, Input, SignalDescription, SignalSpecError};
-use rattle_event_driven::respond::Signal;
+use rattle_event_driven::Signal;
 use std::path::Path;
 
 /// The two columns of a file: its header's second column and its rows `(x, y)`.

@@ -20,7 +20,7 @@ pub mod file;
 pub mod random;
 pub mod sweep;
 
-use rattle_event_driven::respond::{Signal, Sinusoid};
+use rattle_event_driven::{Signal, Sinusoid};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 use thiserror::Error;

@@ -27,7 +27,7 @@
 
 use super::{sinusoid, BuiltSignal, Input, Params, SignalDescription, SignalSpecError};
 use super::{MAX_SEGMENTS, SIGNAL_ACCURACY};
-use rattle_event_driven::respond::{Segment, Shape, Signal, Sinusoid, MAX_SINUSOIDS};
+use rattle_event_driven::{Segment, Shape, Signal, Sinusoid, MAX_SINUSOIDS};
 use serde::Serialize;
 use std::f64::consts::TAU;
 use std::path::PathBuf;

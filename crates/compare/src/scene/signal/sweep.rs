@@ -22,7 +22,7 @@
 
 use super::{sinusoid, BuiltSignal, Input, Params, SignalDescription, SignalSpecError};
 use super::{MAX_SEGMENTS, SIGNAL_ACCURACY};
-use rattle_event_driven::respond::{Segment, Shape, Signal};
+use rattle_event_driven::{Segment, Shape, Signal};
 use serde::Serialize;
 
 /// A sweep as written.
