@@ -662,3 +662,86 @@ fn a_long_source_file_is_found() {
         assert!(!is_source_file(skipped), "{skipped} is picked");
     }
 }
+
+/// The crates whose every public item has one path, at the crate's root: their modules are
+/// private (the test fixtures behind the `fixtures` feature aside).
+const FLAT_CRATES: [&str; 2] = [
+    "crates/analytic/src/lib.rs",
+    "crates/event-driven/src/lib.rs",
+];
+
+/// The second public paths in `sources` (path and text): a file that declares `pub mod m`
+/// and also re-exports from `m` (`pub use m::…`, `pub use self::m::…`) gives each re-exported
+/// item two paths; a crate of [`FLAT_CRATES`] that declares a public module other than
+/// `test_models` gives its items a path besides the root's. Each as `path: line`.
+fn second_public_paths(sources: &BTreeMap<String, String>) -> Vec<String> {
+    let mut out = Vec::new();
+    for (path, text) in sources {
+        let code = rust::code_text(text);
+        let public: BTreeSet<&str> = code
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("pub mod "))
+            .map(|rest| rest.trim_end_matches(';').trim())
+            .collect();
+        for line in code.lines().map(str::trim) {
+            let Some(used) = line.strip_prefix("pub use ") else {
+                continue;
+            };
+            let used = used.strip_prefix("self::").unwrap_or(used);
+            let module = used.split("::").next().unwrap_or_default();
+            if used.contains("::") && public.contains(module) {
+                out.push(format!("{path}: {line}"));
+            }
+        }
+        if FLAT_CRATES.contains(&path.as_str()) {
+            out.extend(
+                public
+                    .iter()
+                    .filter(|m| **m != "test_models")
+                    .map(|m| format!("{path}: pub mod {m};")),
+            );
+        }
+    }
+    out
+}
+
+#[test]
+fn every_public_item_has_one_path() {
+    let sources = source_files(&root());
+    for flat in FLAT_CRATES {
+        assert!(sources.contains_key(flat), "{flat} is not read");
+    }
+    let second = second_public_paths(&sources);
+    assert!(
+        second.is_empty(),
+        "items with a second public path (keep the module private and the item at one \
+         path):\n{}",
+        second.join("\n")
+    );
+}
+
+#[test]
+fn a_second_public_path_is_found() {
+    let planted: BTreeMap<String, String> = [
+        (
+            "crates/analytic/src/lib.rs",
+            "mod flow;\npub mod linear;\n#[cfg(feature = \"fixtures\")]\npub mod test_models;\n\
+             pub use flow::join;\n",
+        ),
+        (
+            "crates/a/src/output/mod.rs",
+            "pub mod rename;\nmod csv;\npub use self::rename::Renamed;\npub use csv::Writer;\n",
+        ),
+        ("crates/a/src/lib.rs", "pub mod api;\npub use std::fmt;\n"),
+    ]
+    .into_iter()
+    .map(|(path, text)| (path.to_owned(), text.to_owned()))
+    .collect();
+    assert_eq!(
+        second_public_paths(&planted),
+        [
+            "crates/a/src/output/mod.rs: pub use self::rename::Renamed;",
+            "crates/analytic/src/lib.rs: pub mod linear;",
+        ]
+    );
+}

@@ -13,7 +13,7 @@ mod csv;
 mod json;
 mod jsonl;
 pub mod records;
-pub mod rename;
+mod rename;
 pub mod respond;
 pub mod structure;
 pub mod trajectory;
