@@ -375,12 +375,8 @@ pub fn simulation_trajectory(
     stretch: Stretch,
     options: &SimulationOptions,
 ) -> Result<TrajectoryTables, ApiError> {
-    use crate::output::trajectory::MAX_SAMPLES_PER_PERIOD;
-    if !(1..=MAX_SAMPLES_PER_PERIOD).contains(&samples_per_period) {
-        return Err(ApiError::Argument(format!(
-            "--samples-per-period = {samples_per_period} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]"
-        )));
-    }
+    crate::output::trajectory::check_samples_per_period(samples_per_period.into())
+        .map_err(ApiError::Argument)?;
     if let Stretch::Continued(periods) = stretch {
         if periods == 0 || periods.saturating_mul(samples_per_period) > MAX_CONTINUED_SAMPLES {
             return Err(ApiError::Argument(format!(

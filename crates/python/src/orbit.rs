@@ -7,7 +7,7 @@ use crate::table::{columns, structure_columns, PyColumns};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use rattle_compare::api::{self, TrajectoryTables};
-use rattle_compare::output::trajectory::MAX_SAMPLES_PER_PERIOD;
+use rattle_compare::output::trajectory::check_samples_per_period;
 use rattle_compare::scene::analytic::OrbitSearch;
 use rattle_compare::scene::structure::StructureForm;
 use rattle_compare::scene::{AnyScene, Scene};
@@ -122,17 +122,11 @@ fn chain_orbit(
     signature_orbits(py, any, omega, text, period)
 }
 
-/// `samples_per_period` if in the command's range `[1, MAX_SAMPLES_PER_PERIOD]`; else the
-/// command's message for `--samples-per-period`, named as the Python parameter.
+/// `samples_per_period` if in the command's range `[1, 100000]`; else the
+/// command's message ([`check_samples_per_period`]), named as the Python parameter.
 pub(crate) fn check_samples(samples_per_period: i64) -> PyResult<u64> {
-    u64::try_from(samples_per_period)
-        .ok()
-        .filter(|n| (1..=MAX_SAMPLES_PER_PERIOD).contains(n))
-        .ok_or_else(|| {
-            PyValueError::new_err(format!(
-                "samples_per_period = {samples_per_period} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]"
-            ))
-        })
+    check_samples_per_period(samples_per_period.into())
+        .map_err(|message| PyValueError::new_err(python_names(&message)))
 }
 
 /// `rattle orbit --signature SIG --period P --orbit K --trajectory F --impacts I --json`: the

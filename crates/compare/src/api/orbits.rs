@@ -312,12 +312,8 @@ pub fn orbit_trajectory(
     orbit: usize,
     samples_per_period: u64,
 ) -> Result<TrajectoryTables, ApiError> {
-    use crate::output::trajectory::MAX_SAMPLES_PER_PERIOD;
-    if !(1..=MAX_SAMPLES_PER_PERIOD).contains(&samples_per_period) {
-        return Err(ApiError::Argument(format!(
-            "--samples-per-period = {samples_per_period} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]"
-        )));
-    }
+    crate::output::trajectory::check_samples_per_period(samples_per_period.into())
+        .map_err(ApiError::Argument)?;
     if orbit >= found.len() {
         let omega = match found {
             SignatureOrbits::Unit { record, .. } => record.at.omega,

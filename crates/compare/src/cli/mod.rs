@@ -18,7 +18,7 @@ pub mod structure;
 pub mod sweep;
 
 use crate::api::{ApiError, TrajectoryTables};
-use crate::output::trajectory::{ImpactRow, TrajectoryRow, MAX_SAMPLES_PER_PERIOD};
+use crate::output::trajectory::{check_samples_per_period, ImpactRow, TrajectoryRow};
 use crate::output::{write_table, Format, Header, OutputError};
 use crate::scene::frequency::{FrequencyBounds, FrequencyError};
 use crate::scene::{AnyScene, Scene, SceneError};
@@ -260,12 +260,7 @@ impl TrajectoryArgs {
     /// # Errors
     /// [`RattleError::Argument`] naming the option; an unknown file extension.
     pub fn check(&self) -> Result<(), RattleError> {
-        if !(1..=MAX_SAMPLES_PER_PERIOD).contains(&self.samples_per_period) {
-            return Err(RattleError::Argument(format!(
-                "--samples-per-period = {} is out of range: must be in [1, {MAX_SAMPLES_PER_PERIOD}]",
-                self.samples_per_period
-            )));
-        }
+        check_samples_per_period(self.samples_per_period.into()).map_err(RattleError::Argument)?;
         if let Some(p) = &self.trajectory {
             crate::output::Format::of(p, "--trajectory")?;
         }

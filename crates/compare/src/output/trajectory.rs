@@ -10,6 +10,24 @@ use rattle_event_driven::{RowKind, Trajectory};
 /// zoom, and a 16-period cycle then still fits in a few hundred megabytes of CSV.
 pub const MAX_SAMPLES_PER_PERIOD: u64 = 100_000;
 
+/// `samples_per_period` when it is in `[1, MAX_SAMPLES_PER_PERIOD]`; else the message that
+/// names `--samples-per-period` and its range (the one check of the command, the library and
+/// the Python package).
+///
+/// # Errors
+/// The message, when `samples_per_period` is out of range.
+pub fn check_samples_per_period(samples_per_period: i128) -> Result<u64, String> {
+    u64::try_from(samples_per_period)
+        .ok()
+        .filter(|n| (1..=MAX_SAMPLES_PER_PERIOD).contains(n))
+        .ok_or_else(|| {
+            format!(
+                "--samples-per-period = {samples_per_period} is out of range: must be in [1, \
+                 {MAX_SAMPLES_PER_PERIOD}]"
+            )
+        })
+}
+
 table_row! {
     /// One state of a trajectory.
     pub struct TrajectoryRow {
