@@ -9,8 +9,7 @@ use pyo3::prelude::*;
 use rattle_compare::api::{self, TrajectoryTables};
 use rattle_compare::output::trajectory::check_samples_per_period;
 use rattle_compare::scene::analytic::OrbitSearch;
-use rattle_compare::scene::structure::StructureForm;
-use rattle_compare::scene::{AnyScene, Scene};
+use rattle_compare::scene::AnyScene;
 
 /// `rattle orbit --json`: the linear steady state and every two-impact orbit, or, with a
 /// signature, every orbit of that signature; on a chain or a structure (with a signature
@@ -27,99 +26,55 @@ fn orbit(
 ) -> PyResult<String> {
     let any = &scene.scene;
     let omega = check_any_frequency(any, "omega", omega)?;
-    let scene = match any {
-        AnyScene::Structure(form) => {
-            return structure_orbit(py, form, any, omega, signature, period, symmetric_only)
-        }
-        AnyScene::Cells(scene) => scene,
-    };
-    if scene.is_chain() {
-        return chain_orbit(py, any, scene, omega, signature, period, symmetric_only);
-    }
     let Some(text) = signature else {
-        if period != 1 {
-            return Err(PyValueError::new_err(
-                "period applies to an orbit of a given signature: pass signature too",
-            ));
-        }
-        let search = if symmetric_only {
-            OrbitSearch::Symmetric
-        } else {
-            OrbitSearch::All
-        };
-        let found = compute_api(py, python_names, || api::orbits(any, omega, search))?;
-        return json(&found);
+        return two_impact_orbits(py, any, omega, period, symmetric_only);
     };
     if symmetric_only {
         return Err(PyValueError::new_err(
             "symmetric_only and signature exclude each other",
         ));
     }
-    signature_orbits(py, any, omega, text, period)
-}
-
-/// `rattle orbit --signature TEXT --period P --json` on `scene`, of any form.
-fn signature_orbits(
-    py: Python<'_>,
-    scene: &AnyScene,
-    omega: f64,
-    text: &str,
-    period: i64,
-) -> PyResult<String> {
     let period = u32::try_from(period).unwrap_or(0);
     let found = compute_api(py, python_names, || {
-        api::signature_orbits(scene, omega, text, period)
+        api::signature_orbits(any, omega, text, period)
     })?;
     json(&found)
 }
 
-/// [`orbit`] on a structure: `rattle orbit STRUCTURE --signature SEQUENCE --period P --json`
-/// (an impact sequence of its stops: `<stop><side>` tokens, or with one stop the sides
-/// alone); without a signature, refused by name (a structure's orbits are those of an impact
-/// sequence).
-fn structure_orbit(
+/// [`orbit`] without a signature: `rattle orbit --json` on a unit (the linear steady state and
+/// every two-impact orbit, the symmetric ones alone with `symmetric_only`); refused by name on
+/// a structure and on a chain, whose orbits are those of an impact sequence.
+fn two_impact_orbits(
     py: Python<'_>,
-    form: &StructureForm,
     any: &AnyScene,
     omega: f64,
-    signature: Option<&str>,
     period: i64,
     symmetric_only: bool,
 ) -> PyResult<String> {
-    let Some(text) = signature else {
-        return Err(structure_refused(form, "rattle.orbit(signature=None)"));
-    };
-    if symmetric_only {
+    match any {
+        AnyScene::Structure(form) => {
+            return Err(structure_refused(form, "rattle.orbit(signature=None)"));
+        }
+        AnyScene::Cells(scene) if scene.is_chain() => {
+            unit_only(scene, "rattle.orbit(signature=None)")?;
+            return Err(PyValueError::new_err(
+                "signature: a chain's orbits are those of an impact sequence of its pairs",
+            ));
+        }
+        AnyScene::Cells(_) => {}
+    }
+    if period != 1 {
         return Err(PyValueError::new_err(
-            "symmetric_only and signature exclude each other",
+            "period applies to an orbit of a given signature: pass signature too",
         ));
     }
-    signature_orbits(py, any, omega, text, period)
-}
-
-/// [`orbit`] on a chain: `rattle orbit --signature SEQUENCE --period P --json`; without a
-/// signature, the command's refusal of a chain.
-fn chain_orbit(
-    py: Python<'_>,
-    any: &AnyScene,
-    scene: &Scene,
-    omega: f64,
-    signature: Option<&str>,
-    period: i64,
-    symmetric_only: bool,
-) -> PyResult<String> {
-    let Some(text) = signature else {
-        unit_only(scene, "rattle.orbit(signature=None)")?;
-        return Err(PyValueError::new_err(
-            "signature: a chain's orbits are those of an impact sequence of its pairs",
-        ));
+    let search = if symmetric_only {
+        OrbitSearch::Symmetric
+    } else {
+        OrbitSearch::All
     };
-    if symmetric_only {
-        return Err(PyValueError::new_err(
-            "symmetric_only and signature exclude each other",
-        ));
-    }
-    signature_orbits(py, any, omega, text, period)
+    let found = compute_api(py, python_names, || api::orbits(any, omega, search))?;
+    json(&found)
 }
 
 /// `samples_per_period` if in the command's range `[1, 100000]`; else the
