@@ -114,49 +114,6 @@ mod tests {
         }
     }
 
-/// `x_j ← Σ_k x_k e^{2πi kj/n}` in place (`n` a power of two): iterative radix-2
-    /// Cooley–Tukey, its twiddles each from `libm::sincos` (no recurrence), no fused operations.
-    fn old_inverse_fft(re: &mut [f64], im: &mut [f64]) {
-        let n = re.len();
-        if n <= 1 {
-            return;
-        }
-        let bits = n.trailing_zeros();
-        for i in 0..n {
-            let j = i.reverse_bits() >> (usize::BITS - bits);
-            if j > i {
-                re.swap(i, j);
-                im.swap(i, j);
-            }
-        }
-        let twiddles: Vec<(f64, f64)> = (0..n / 2)
-            .map(|m| {
-                let (s, c) = libm::sincos(TAU * m as f64 / n as f64);
-                (c, s)
-            })
-            .collect();
-        let mut len = 2;
-        while len <= n {
-            let stride = n / len;
-            let half = len / 2;
-            for start in (0..n).step_by(len) {
-                for j in 0..half {
-                    let (wr, wi) = twiddles[j * stride];
-                    let (a, b) = (start + j, start + j + half);
-                    let vr = re[b] * wr - im[b] * wi;
-                    let vi = re[b] * wi + im[b] * wr;
-                    re[b] = re[a] - vr;
-                    im[b] = im[a] - vi;
-                    re[a] += vr;
-                    im[a] += vi;
-                }
-            }
-            len *= 2;
-        }
-    }
-    #[test]
-    fn old_equals_new() { for n in [1usize,2,8,64,1024,4096] { let (mut a, mut b) = record(n); let (mut c, mut d) = (a.clone(), b.clone()); old_inverse_fft(&mut a, &mut b); inverse(&mut c, &mut d); assert!(a.iter().zip(&c).all(|(x,y)| x.to_bits()==y.to_bits())); assert!(b.iter().zip(&d).all(|(x,y)| x.to_bits()==y.to_bits())); } }
-
     #[test]
     fn forward_then_inverse_is_n_times_the_record() {
         let (re0, im0) = record(256);
