@@ -150,6 +150,17 @@ impl FrequencyBounds {
     }
 }
 
+/// The undamped natural frequencies of `structure`'s `M` and `K` (its stops removed), rad/s,
+/// ascending; a rigid mode's zero (at most [`RIGID_RATE`] of the fastest) left out.
+pub fn structure_natural_frequencies(structure: &Structure) -> Vec<f64> {
+    let mass: Vec<f64> = structure.mass.diagonal().iter().copied().collect();
+    let mut rates = eigenfrequencies(&mass, &structure.stiffness);
+    let fastest = rates.iter().copied().fold(0.0, f64::max);
+    rates.retain(|&r| r > RIGID_RATE * fastest);
+    rates.sort_by(f64::total_cmp);
+    rates
+}
+
 /// The undamped natural frequencies (rad/s) of the scene's cells in series without stops:
 /// outer mass `j` tied to outer mass `j − 1` by its `k_o` (the first to the base), inner mass
 /// `j` to outer mass `j` by its `k_i`.
