@@ -14,7 +14,8 @@
 //!
 //! **Segments.** `--segment` rounded to the nearest `2^m` samples; by default the longest
 //! `2^m` samples that cut a record into at least [`DEFAULT_SEGMENTS`] segments. The
-//! frequencies estimated are the bins `ω_j = 2πj/(LΔt)`, `j ≥ 1`, inside `[LO, HI]`.
+//! frequencies estimated are the bins `ω_j = 2πj/(LΔt)`, `j ≥ 1`, at least
+//! [`MAIN_LOBE_BINS`] bins inside `[LO, HI]`: `LO + 2Δω ≤ ω_j ≤ HI − 2Δω`.
 //!
 //! **Order.** Runs are `(level, seed)` pairs, level by level in the order given and seeds
 //! ascending within a level; they are computed in parallel, and each level's segment sums are
@@ -51,6 +52,12 @@ pub const MAX_TRANSIENT_FRACTION: f64 = 0.5;
 /// about 7.6 effective averages per record, enough for a confidence radius that is not
 /// dominated by the `F` quantile's tail (`α^{−1/(n−1)} − 1` is 0.6 at `n = 7.6`, 95 %).
 pub const DEFAULT_SEGMENTS: usize = 8;
+
+/// The Hann window's main lobe reaches this many bins either side of its centre: an
+/// estimated frequency keeps that far inside the band, so that its lobe sees input on both
+/// sides (nearer the band's edges `H₁` would average `H` over one side of the lobe only, a
+/// bias of first order in the bin spacing).
+pub const MAIN_LOBE_BINS: usize = 2;
 
 /// At most this many records (seeds) per level: each is a run from rest.
 pub const MAX_SEEDS: u64 = 100_000;
@@ -250,15 +257,17 @@ pub fn plan(input: &PlanInput, options: &TransmissionOptions) -> Result<Plan, St
         e => format!("--segment: {e}"),
     })?;
     let spacing = 2.0 * PI / (segment as f64 * dt);
-    let low = ((lo / spacing).ceil() as usize).max(1);
-    let high = ((hi / spacing).floor() as usize).min(segment / 2);
+    let low = ((lo / spacing).ceil() as usize + MAIN_LOBE_BINS).max(1);
+    let high = ((hi / spacing).floor() as usize)
+        .saturating_sub(MAIN_LOBE_BINS)
+        .min(segment / 2);
     if high < low {
         return range(
             "--segment",
             segment as f64 * dt,
             &format!(
-                "long enough that a frequency 2πj/segment falls in the band {lo}–{hi} rad/s \
-                 (spacing {spacing} rad/s)"
+                "long enough that a frequency 2πj/segment lies two spacings inside the band \
+                 {lo}–{hi} rad/s (spacing {spacing} rad/s)"
             ),
         );
     }
