@@ -78,7 +78,10 @@ fn linear_estimate() -> TransmissionRecord {
 fn on_a_linear_scene_h1_is_within_its_radius_of_the_exact_response_everywhere_in_the_band() {
     let record = linear_estimate();
     let level = &record.levels[0];
-    assert_eq!(level.impacts, 0, "the stop is never reached: the scene is linear");
+    assert_eq!(
+        level.impacts, 0,
+        "the stop is never reached: the scene is linear"
+    );
     assert_eq!(level.records, 4);
     assert!(level.rows.len() > 100, "{} frequencies", level.rows.len());
     let (bad, worst) = outside(&level.rows, estimate, linear);
@@ -94,7 +97,11 @@ fn on_a_linear_scene_h1_is_within_its_radius_of_the_exact_response_everywhere_in
         h * (1.0 + 3.0 * row.h1_radius.unwrap() / h.norm())
     };
     let (bad, _) = outside(&level.rows, moved, linear);
-    assert_eq!(bad.len(), level.rows.len(), "moved by 3r, every point is outside");
+    assert_eq!(
+        bad.len(),
+        level.rows.len(),
+        "moved by 3r, every point is outside"
+    );
     // … or the reference of a structure 2 % stiffer in frequency (ω_n = 1.02).
     let structure = match scene() {
         AnyScene::Structure(form) => form.structure,
@@ -164,7 +171,9 @@ fn shards_merged_equal_the_whole() {
         serde_json::to_string(&merged).unwrap(),
         serde_json::to_string(&whole).unwrap()
     );
-    let missing = api::merge_transmission(&parts[..2]).unwrap_err().to_string();
+    let missing = api::merge_transmission(&parts[..2])
+        .unwrap_err()
+        .to_string();
     assert!(missing.contains("need each of 1..=3 once"), "{missing}");
 }
 

@@ -63,10 +63,7 @@ fn merge_transmission(args: &MergeArgs, parts: &[String]) -> Result<String, Ratt
         .zip(&args.parts)
         .map(|(text, path)| {
             serde_json::from_str(text).map_err(|e| {
-                RattleError::Argument(format!(
-                    "{}: not a transmission part ({e})",
-                    path.display()
-                ))
+                RattleError::Argument(format!("{}: not a transmission part ({e})", path.display()))
             })
         })
         .collect::<Result<_, _>>()?;

@@ -84,8 +84,10 @@ fn format_of(path: &Path) -> Result<Format, RattleError> {
 
 /// Writes `text` to `path` through a temporary file beside it, renamed when complete
 /// (removed on failure): no half-written file.
-fn write_whole(path: &Path, write: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>)
-    -> Result<(), RattleError> {
+fn write_whole(
+    path: &Path,
+    write: impl FnOnce(&mut dyn std::io::Write) -> std::io::Result<()>,
+) -> Result<(), RattleError> {
     let io = |source| {
         RattleError::Output(OutputError::Io {
             path: path.to_owned(),
@@ -125,7 +127,8 @@ pub fn write_record(
     write_whole(path, |out| match &text {
         Some(text) => out.write_all(text.as_bytes()),
         None => {
-            let mut table = writer::<TransmissionRow, _>(Format::Csv, out, &Header::default(), None)?;
+            let mut table =
+                writer::<TransmissionRow, _>(Format::Csv, out, &Header::default(), None)?;
             for row in record.rows() {
                 table.row(&row)?;
             }
@@ -172,7 +175,8 @@ pub fn run(args: TransmissionArgs) -> Result<String, RattleError> {
         let runs = shard.range(prepared.runs().len()).len();
         let progress = Progress::new("transmission runs", runs, true);
         let part = prepared.run_part(shard, &progress)?;
-        let text = serde_json::to_string(&part).map_err(|e| RattleError::Numerical(e.to_string()))?;
+        let text =
+            serde_json::to_string(&part).map_err(|e| RattleError::Numerical(e.to_string()))?;
         write_whole(path, |out| out.write_all(format!("{text}\n").as_bytes()))?;
         return Ok(format!(
             "wrote {} (part {}/{}: {runs} of {} runs)\n",
@@ -243,7 +247,10 @@ pub fn summary(r: &TransmissionRecord) -> String {
                 .rows
                 .iter()
                 .filter_map(|row| value(row).map(|v| (v, row.omega)))
-                .fold((f64::NAN, f64::NAN), |best, x| if best.0 >= x.0 { best } else { x })
+                .fold(
+                    (f64::NAN, f64::NAN),
+                    |best, x| if best.0 >= x.0 { best } else { x },
+                )
         };
         let (h, wh) = peak(&|row| row.h1_magnitude);
         let (l, wl) = peak(&|row| row.linear_magnitude);

@@ -153,7 +153,8 @@ pub fn plan(input: &PlanInput, options: &TransmissionOptions) -> Result<Plan, St
             return range(&format!("--levels[{i}]"), level, "finite and > 0 (m)");
         }
     }
-    if !(1..=MAX_SEEDS).contains(&options.seeds) || input.seed.checked_add(options.seeds - 1).is_none()
+    if !(1..=MAX_SEEDS).contains(&options.seeds)
+        || input.seed.checked_add(options.seeds - 1).is_none()
     {
         return range(
             "--seeds",
@@ -193,9 +194,7 @@ pub fn plan(input: &PlanInput, options: &TransmissionOptions) -> Result<Plan, St
             match input.slowest_decay_rate {
                 Some(sigma) if sigma > 0.0 && TRANSIENT_TIME_CONSTANTS / sigma < cap => (
                     TRANSIENT_TIME_CONSTANTS / sigma,
-                    format!(
-                        "10 time constants 1/σ of the least-damped mode (σ = {sigma:.6} 1/s)"
-                    ),
+                    format!("10 time constants 1/σ of the least-damped mode (σ = {sigma:.6} 1/s)"),
                 ),
                 Some(sigma) => (
                     cap,
@@ -204,7 +203,10 @@ pub fn plan(input: &PlanInput, options: &TransmissionOptions) -> Result<Plan, St
                          1/s) would be longer"
                     ),
                 ),
-                None => (cap, "half of T: the structure has no elastic mode".to_owned()),
+                None => (
+                    cap,
+                    "half of T: the structure has no elastic mode".to_owned(),
+                ),
             }
         }
     };
@@ -533,16 +535,21 @@ pub fn merge_parts(parts: &[TransmissionPart]) -> Result<TransmissionRecord, Str
     let first = parts.first().ok_or("no parts to merge")?;
     check_cover(&parts.iter().map(|p| p.shard).collect::<Vec<_>>())?;
     for p in parts {
-        if (&p.scene, &p.observe, &p.settings, &p.linear, &p.reference, p.total_runs)
-            != (
-                &first.scene,
-                &first.observe,
-                &first.settings,
-                &first.linear,
-                &first.reference,
-                first.total_runs,
-            )
-        {
+        if (
+            &p.scene,
+            &p.observe,
+            &p.settings,
+            &p.linear,
+            &p.reference,
+            p.total_runs,
+        ) != (
+            &first.scene,
+            &first.observe,
+            &first.settings,
+            &first.linear,
+            &first.reference,
+            first.total_runs,
+        ) {
             return Err(format!(
                 "part {}/{} comes from a different estimate (scene, settings or reference differ)",
                 p.shard.index, p.shard.count
@@ -551,11 +558,12 @@ pub fn merge_parts(parts: &[TransmissionPart]) -> Result<TransmissionRecord, Str
     }
     let mut ordered: Vec<&TransmissionPart> = parts.iter().collect();
     ordered.sort_by_key(|p| p.shard.index);
-    let runs: Vec<RunSums> = ordered.iter().flat_map(|p| p.runs.iter().cloned()).collect();
+    let runs: Vec<RunSums> = ordered
+        .iter()
+        .flat_map(|p| p.runs.iter().cloned())
+        .collect();
     let expected = runs_of(&first.settings);
-    if runs.len() != first.total_runs
-        || runs.iter().map(|r| r.run).ne(expected.iter().copied())
-    {
+    if runs.len() != first.total_runs || runs.iter().map(|r| r.run).ne(expected.iter().copied()) {
         return Err(format!(
             "{} runs in the parts for the {} of the estimate",
             runs.len(),

@@ -100,8 +100,10 @@ mod tests {
 
     #[test]
     fn the_fft_is_the_direct_sum() {
-        for (sign, transform) in [(1.0, inverse as fn(&mut [f64], &mut [f64])), (-1.0, forward)]
-        {
+        for (sign, transform) in [
+            (1.0, inverse as fn(&mut [f64], &mut [f64])),
+            (-1.0, forward),
+        ] {
             let (mut re, mut im) = record(64);
             let (sr, si) = direct(&re, &im, sign);
             transform(&mut re, &mut im);

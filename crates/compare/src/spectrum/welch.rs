@@ -60,7 +60,9 @@ pub enum WelchError {
     #[error("segment = {0} samples is out of range: must be a power of two ≥ 4")]
     Segment(usize),
     /// The overlap is not in `[0, 1)`, or leaves no step between segments.
-    #[error("overlap = {0} is out of range: must be in [0, 1) and leave a step of at least one sample")]
+    #[error(
+        "overlap = {0} is out of range: must be in [0, 1) and leave a step of at least one sample"
+    )]
     Overlap(f64),
 }
 
@@ -276,7 +278,9 @@ impl SegmentSums {
             .collect();
         let times = |v: &[f64]| v.iter().zip(&scale).map(|(a, c)| a * c).collect();
         Spectra {
-            omega: bins.map(|j| 2.0 * PI * j as f64 / (l as f64 * dt)).collect(),
+            omega: bins
+                .map(|j| 2.0 * PI * j as f64 / (l as f64 * dt))
+                .collect(),
             sxx: times(&self.xx),
             syy: times(&self.yy),
             sxy_re: times(&self.xy_re),
@@ -434,7 +438,10 @@ mod tests {
         let s = welch.sums(&x, &x, 0..l / 2 + 1).spectra(dt);
         let spacing = 2.0 * PI / (l as f64 * dt);
         let total: f64 = s.sxx.iter().sum::<f64>() * spacing;
-        assert!((total - weighted).abs() < 1e-14 * weighted, "{total} {weighted}");
+        assert!(
+            (total - weighted).abs() < 1e-14 * weighted,
+            "{total} {weighted}"
+        );
     }
 
     #[test]
@@ -507,7 +514,10 @@ mod tests {
                 .sum::<f64>()
                 * h
                 / 3.0;
-            assert!((tail - alpha).abs() < 1e-9 * alpha.max(1.0), "{m} {alpha}: {tail}");
+            assert!(
+                (tail - alpha).abs() < 1e-9 * alpha.max(1.0),
+                "{m} {alpha}: {tail}"
+            );
         }
         // The radius is F/(n − 1) times the residual ratio.
         let (n, g, ratio, alpha) = (6.0, 0.9, 2.0, 0.05);
