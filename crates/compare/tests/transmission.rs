@@ -230,10 +230,13 @@ fn the_command_writes_parts_that_merge_into_the_whole_table() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A change to a request.
+type Change = dyn Fn(&mut TransmissionRequest);
+
 #[test]
 fn bad_input_is_refused_naming_the_option() {
     let scene = scene();
-    let refused = |change: &dyn Fn(&mut TransmissionRequest)| {
+    let refused = |change: &Change| {
         let mut request = small_request();
         change(&mut request);
         match api::prepare_transmission(&scene, &request) {
@@ -241,7 +244,7 @@ fn bad_input_is_refused_naming_the_option() {
             other => panic!("not refused as an argument: {other:?}"),
         }
     };
-    let cases: [(&str, &dyn Fn(&mut TransmissionRequest)); 12] = [
+    let cases: [(&str, &Change); 12] = [
         ("--duration = -1", &|r| r.duration = -1.0),
         ("--signal tone-burst", &|r| {
             r.signal = "tone-burst:omega=1,cycles=3".into()

@@ -74,10 +74,12 @@ pub fn prepare_transmission(
     }
     let spec = match SignalSpec::parse(&request.signal).map_err(super::argument)? {
         SignalSpec::Random(spec) => spec,
-        _ => return Err(ApiError::Argument(format!(
+        _ => {
+            return Err(ApiError::Argument(format!(
             "--signal {}: must be a random base motion, random:band=LO-HI,rms=A,seed=S[,psd=FILE]",
             request.signal
-        ))),
+        )))
+        }
     };
     // The first run, built: a scene or a signal the response refuses is refused here.
     let first = prepared_run(scene, &spec, request, spec.rms, spec.seed)?;
