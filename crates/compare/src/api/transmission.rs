@@ -13,7 +13,7 @@ use crate::runs::transmission::{
     finish, linear_summary, merge_parts, plan, run_all, Plan, PlanInput, RunKey, RunRecords,
     TransmissionOptions, TransmissionPart, PART_KIND,
 };
-use crate::scene::frequency::structure_natural_frequencies;
+use crate::scene::frequency::{structure_natural_frequencies, structure_slowest_decay_rate};
 use crate::scene::signal::random::RandomSpec;
 use crate::scene::signal::SignalSpec;
 use crate::scene::AnyScene;
@@ -84,7 +84,7 @@ pub fn prepare_transmission(
     // The first run, built: a scene or a signal the response refuses is refused here.
     let first = prepared_run(scene, &spec, request, spec.rms, spec.seed)?;
     let structure = first.structure();
-    let rate = structure.slowest_decay_rate();
+    let rate = structure_slowest_decay_rate(structure);
     let input = PlanInput {
         signal: &request.signal,
         band: spec.band,

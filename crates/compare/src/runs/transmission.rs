@@ -132,6 +132,91 @@ fn range<T>(option: &str, value: impl std::fmt::Display, allowed: &str) -> Resul
     ))
 }
 
+/// The transient cut, s, and how it was chosen: `transient` (in `[0, T)`), or by default
+/// [`TRANSIENT_TIME_CONSTANTS`] time constants of the least-damped mode, at most
+/// [`MAX_TRANSIENT_FRACTION`] of `T`.
+fn transient_cut(input: &PlanInput, transient: Option<f64>) -> Result<(f64, String), String> {
+    let duration = input.duration;
+    Ok(match transient {
+        Some(t) => {
+            if !(t.is_finite() && t >= 0.0 && t < duration) {
+                return range("--transient", t, &format!("in [0, T = {duration}) (s)"));
+            }
+            (t, "given".to_owned())
+        }
+        None => {
+            let cap = MAX_TRANSIENT_FRACTION * duration;
+            match input.slowest_decay_rate {
+                Some(sigma) if sigma > 0.0 && TRANSIENT_TIME_CONSTANTS / sigma < cap => (
+                    TRANSIENT_TIME_CONSTANTS / sigma,
+                    format!("10 time constants 1/σ of the least-damped mode (σ = {sigma:.6} 1/s)"),
+                ),
+                Some(sigma) => (
+                    cap,
+                    format!(
+                        "half of T: 10 time constants of the least-damped mode (σ = {sigma:.6} \
+                         1/s) would be longer"
+                    ),
+                ),
+                None => (
+                    cap,
+                    "half of T: the structure has no elastic mode".to_owned(),
+                ),
+            }
+        }
+    })
+}
+
+/// `L`: `--segment` (s) rounded to the nearest `2^m` samples of `dt`, within `[4, record]`;
+/// by default the longest `2^m` that cuts the `record` samples into at least
+/// [`DEFAULT_SEGMENTS`] segments.
+fn segment_samples(
+    options: &TransmissionOptions,
+    duration: f64,
+    dt: f64,
+    record: usize,
+) -> Result<usize, String> {
+    Ok(match options.segment {
+        Some(s) => {
+            if !(s.is_finite() && s > 0.0) {
+                return range("--segment", s, "finite and > 0 (s)");
+            }
+            let exponent = (s / dt).log2().round().clamp(0.0, 62.0);
+            let l = 1usize << exponent as u32;
+            if l < 4 || l > record {
+                return range(
+                    "--segment",
+                    s,
+                    &format!(
+                        "between 4 samples ({} s) and the record after the transient cut ({} \
+                         samples, {} s), rounded to 2^m samples of Δt = {dt} s",
+                        4.0 * dt,
+                        record,
+                        record as f64 * dt
+                    ),
+                );
+            }
+            l
+        }
+        None => {
+            let mut l = 1usize << (usize::BITS - 1 - record.leading_zeros());
+            let step = |l: usize| (l - (options.overlap * l as f64).round() as usize).max(1);
+            while l >= 4 && 1 + (record - l) / step(l) < DEFAULT_SEGMENTS {
+                l /= 2;
+            }
+            if l < 4 {
+                return range(
+                    "--duration",
+                    duration,
+                    "long enough that the record after the transient cut holds 8 segments of at \
+                     least 4 samples",
+                );
+            }
+            l
+        }
+    })
+}
+
 /// The plan of `options` on `input`.
 ///
 /// # Errors
@@ -182,75 +267,10 @@ pub fn plan(input: &PlanInput, options: &TransmissionOptions) -> Result<Plan, St
     if !(0.0..1.0).contains(&options.overlap) {
         return range("--overlap", options.overlap, "in [0, 1)");
     }
-    let (cut, rule) = match options.transient {
-        Some(t) => {
-            if !(t.is_finite() && t >= 0.0 && t < duration) {
-                return range("--transient", t, &format!("in [0, T = {duration}) (s)"));
-            }
-            (t, "given".to_owned())
-        }
-        None => {
-            let cap = MAX_TRANSIENT_FRACTION * duration;
-            match input.slowest_decay_rate {
-                Some(sigma) if sigma > 0.0 && TRANSIENT_TIME_CONSTANTS / sigma < cap => (
-                    TRANSIENT_TIME_CONSTANTS / sigma,
-                    format!("10 time constants 1/σ of the least-damped mode (σ = {sigma:.6} 1/s)"),
-                ),
-                Some(sigma) => (
-                    cap,
-                    format!(
-                        "half of T: 10 time constants of the least-damped mode (σ = {sigma:.6} \
-                         1/s) would be longer"
-                    ),
-                ),
-                None => (
-                    cap,
-                    "half of T: the structure has no elastic mode".to_owned(),
-                ),
-            }
-        }
-    };
+    let (cut, rule) = transient_cut(input, options.transient)?;
     let first = ((cut / dt).ceil() as u64).min(samples);
     let record = (samples - first + 1) as usize;
-    let segment = match options.segment {
-        Some(s) => {
-            if !(s.is_finite() && s > 0.0) {
-                return range("--segment", s, "finite and > 0 (s)");
-            }
-            let exponent = (s / dt).log2().round().clamp(0.0, 62.0);
-            let l = 1usize << exponent as u32;
-            if l < 4 || l > record {
-                return range(
-                    "--segment",
-                    s,
-                    &format!(
-                        "between 4 samples ({} s) and the record after the transient cut ({} \
-                         samples, {} s), rounded to 2^m samples of Δt = {dt} s",
-                        4.0 * dt,
-                        record,
-                        record as f64 * dt
-                    ),
-                );
-            }
-            l
-        }
-        None => {
-            let mut l = 1usize << (usize::BITS - 1 - record.leading_zeros());
-            let step = |l: usize| (l - (options.overlap * l as f64).round() as usize).max(1);
-            while l >= 4 && 1 + (record - l) / step(l) < DEFAULT_SEGMENTS {
-                l /= 2;
-            }
-            if l < 4 {
-                return range(
-                    "--duration",
-                    duration,
-                    "long enough that the record after the transient cut holds 8 segments of at \
-                     least 4 samples",
-                );
-            }
-            l
-        }
-    };
+    let segment = segment_samples(options, duration, dt, record)?;
     let welch = Welch::new(segment, options.overlap).map_err(|e| match e {
         crate::spectrum::welch::WelchError::Overlap(v) => format!(
             "--overlap = {v} is out of range: must be in [0, 1) and leave a step of at least one \

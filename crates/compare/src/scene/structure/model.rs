@@ -293,30 +293,6 @@ impl Structure {
         (h.re.is_finite() && h.im.is_finite()).then_some(h)
     }
 
-    /// The slowest decay rate of the free motion with the stops removed: the least `−Re λ`
-    /// over the eigenvalues `λ` of `[[0, I], [−M⁻¹K, −M⁻¹C]]` that are not a rigid mode's
-    /// zero (`|λ|` at most [`crate::scene::frequency::RIGID_RATE`] of the largest), 1/s; `0`
-    /// for an undamped mode, `None` when there is no elastic mode.
-    pub fn slowest_decay_rate(&self) -> Option<f64> {
-        let n = self.dofs();
-        let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
-        for i in 0..n {
-            a[(i, n + i)] = 1.0;
-            let m = self.mass[(i, i)];
-            for j in 0..n {
-                a[(n + i, j)] = -self.stiffness[(i, j)] / m;
-                a[(n + i, n + j)] = -self.damping.as_ref().map_or(0.0, |d| d[(i, j)]) / m;
-            }
-        }
-        let rates = a.complex_eigenvalues();
-        let largest = rates.iter().map(|l| l.norm()).fold(0.0, f64::max);
-        rates
-            .iter()
-            .filter(|l| l.norm() > crate::scene::frequency::RIGID_RATE * largest)
-            .map(|l| (-l.re).max(0.0))
-            .reduce(f64::min)
-    }
-
     /// Whether some dashpot is not zero.
     pub fn is_damped(&self) -> bool {
         self.damping.is_some()
