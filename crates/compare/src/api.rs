@@ -82,7 +82,7 @@ pub use respond::{
 };
 pub use transmission::{
     merge_transmission, prepare_transmission, transmission, PreparedTransmission,
-    TransmissionRequest,
+    TransmissionOptions, TransmissionPart, TransmissionRequest,
 };
 
 /// A facade call that did not give its result.

@@ -227,6 +227,27 @@ fn the_command_writes_parts_that_merge_into_the_whole_table() {
         document["levels"][0]["rows"].as_array().unwrap().len() * 2,
         whole.lines().count() - 1
     );
+    // A part must be a .json file; a transmission estimate is not JSON Lines.
+    for (extra, expected) in [
+        (
+            &["--shard", "1/2", "--out", "p.csv"][..],
+            "--shard: a part is written to --out F.json",
+        ),
+        (
+            &["--out", "t.jsonl"][..],
+            "--out t.jsonl: must be .csv or .json",
+        ),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_rattle"))
+            .args(with(&common, extra))
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{extra:?}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(stderr.contains(expected), "{extra:?}: {stderr}");
+    }
+    assert!(!dir.join("p.csv").exists() && !dir.join("t.jsonl").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
 

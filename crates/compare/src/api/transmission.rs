@@ -11,8 +11,9 @@ use crate::runs::parallel::Progress;
 use crate::runs::shard::Shard;
 use crate::runs::transmission::{
     finish, linear_summary, merge_parts, plan, run_all, Plan, PlanInput, RunKey, RunRecords,
-    TransmissionOptions, TransmissionPart, PART_KIND,
+    PART_KIND,
 };
+pub use crate::runs::transmission::{TransmissionOptions, TransmissionPart};
 use crate::scene::frequency::{structure_natural_frequencies, structure_slowest_decay_rate};
 use crate::scene::signal::random::RandomSpec;
 use crate::scene::signal::SignalSpec;
