@@ -25,7 +25,7 @@
 //! `ρ_k = Σ_n w_n w_{n+kD} / Σ_n w_n²` (the window's overlap with itself shifted by `kD`,
 //! zero once `kD ≥ L`; `1/6` for Hann at 50 % to rounding, `Σ sin²cos²/Σ sin⁴` over the
 //! overlapping half), so the mean of `K` of them has the variance of
-//! `n = K / (1 + 2 Σ_{k=1}^{K−1} (1 − k/K) ρ_k²)` independent ones (Welch 1967, eq. 9):
+//! `n = K / (1 + 2 Σ_{k=1}^{K−1} (1 − k/K) ρ_k²)` independent ones (Welch 1967):
 //! the **effective number of averages** ([`Welch::effective_averages`]; `K/(1 + 2ρ₁²)` for
 //! large `K` at 50 %). Records that are independent of each other (different seeds) add
 //! their segment sums and their effective averages ([`SegmentSums::add`]).
