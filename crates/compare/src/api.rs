@@ -19,7 +19,7 @@
 //! | [`map`], [`map_document`] | `rattle map` | the map's tables |
 //! | [`basins`], [`plane_basins`] | `rattle basins` | [`Basins`](crate::runs::basins::Basins) and its table |
 //! | [`respond`], [`prepare_response`] | `rattle respond` | [`RespondRecord`](crate::output::respond::RespondRecord), samples one by one |
-//! | [`transmission`], [`prepare_transmission`], [`merge_transmission`] | `rattle transmission` | [`TransmissionRecord`](crate::output::transmission::TransmissionRecord), or a shard's [`TransmissionPart`](crate::runs::transmission::TransmissionPart) |
+//! | [`transmission`], [`prepare_transmission`], [`merge_transmission`] | `rattle transmission` | [`TransmissionRecord`](crate::output::transmission::TransmissionRecord), or a shard's [`TransmissionPart`] |
 //!
 //! Errors are values ([`ApiError`]): bad input names the parameter (or the scene's field) and
 //! its allowed range; a solver that fails says why.
