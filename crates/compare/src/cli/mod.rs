@@ -101,7 +101,8 @@ pub enum Command {
     /// The transmissibility from the base to the observed body under random base motion,
     /// estimated by Welch's method (Hann segments, overlapped) from records from rest at one
     /// or more levels, averaged over seeds, in parallel: H1 = Sxy/Sxx with its confidence
-    /// radius, the coherence and √(Syy/Sxx) at every frequency of the band, beside the exact
+    /// radius, the coherence and √(Syy/Sxx) at every frequency 2πj/segment at least two
+    /// spacings inside the band, beside the exact
     /// linear response of the structure with its stops removed; whole, or one part of the
     /// runs with --shard.
     Transmission(transmission::TransmissionArgs),

@@ -36,8 +36,11 @@ pub struct TransmissionArgs {
     #[arg(long, default_value_t = 1)]
     pub seeds: u64,
     /// The segment length, s, rounded to the nearest 2^m samples, at least 4 samples and at
-    /// most the record left after the transient cut (default: the longest 2^m samples that
-    /// cut that record into at least 8 segments).
+    /// most the record left after the transient cut, long enough that a frequency 2πj/segment
+    /// lies two spacings inside the band, and giving more than one effective average per
+    /// level (default: the longest 2^m samples that cut that record into at least 8
+    /// segments). The estimated frequencies are those 2πj/segment at least two spacings
+    /// inside the band (the Hann window's main lobe).
     #[arg(long, allow_hyphen_values = true)]
     pub segment: Option<f64>,
     /// The overlap of consecutive segments, in [0, 1).
