@@ -10,8 +10,8 @@ use std::path::{Path, PathBuf};
 
 /// The modules of `rattle-compare` from the bottom up: a module may use those at its own rank
 /// or below, never one above it (data flows one way, from scene to figure).
-const LAYERS: [&str; 9] = [
-    "scene", "output", "verdict", "runs", "peers", "study", "figures", "api", "cli",
+const LAYERS: [&str; 10] = [
+    "spectrum", "scene", "output", "verdict", "runs", "peers", "study", "figures", "api", "cli",
 ];
 
 fn rust_files(dir: &Path) -> Vec<PathBuf> {

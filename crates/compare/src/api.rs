@@ -19,6 +19,7 @@
 //! | [`map`], [`map_document`] | `rattle map` | the map's tables |
 //! | [`basins`], [`plane_basins`] | `rattle basins` | [`Basins`](crate::runs::basins::Basins) and its table |
 //! | [`respond`], [`prepare_response`] | `rattle respond` | [`RespondRecord`](crate::output::respond::RespondRecord), samples one by one |
+//! | [`transmission`], [`prepare_transmission`], [`merge_transmission`] | `rattle transmission` | [`TransmissionRecord`](crate::output::transmission::TransmissionRecord), or a shard's [`TransmissionPart`] |
 //!
 //! Errors are values ([`ApiError`]): bad input names the parameter (or the scene's field) and
 //! its allowed range; a solver that fails says why.
@@ -67,6 +68,7 @@ mod branches;
 mod maps;
 mod orbits;
 mod respond;
+mod transmission;
 
 pub use basins::{basins, plane_basins};
 pub use branches::{boundary, continuation, Continuation, ContinuedBranches};
@@ -75,6 +77,10 @@ pub use orbits::{orbit_trajectory, orbits, signature_orbits, Orbits, SignatureOr
 pub use respond::{
     prepare_response, respond, PreparedResponse, ResponseRequest, DEFAULT_MAX_SAMPLES,
     DEFAULT_SAMPLES_PER_PERIOD,
+};
+pub use transmission::{
+    merge_transmission, prepare_transmission, transmission, PreparedTransmission,
+    TransmissionOptions, TransmissionPart, TransmissionRequest,
 };
 
 /// A facade call that did not give its result.

@@ -35,6 +35,7 @@
 //! | [`verdict`] | the analytic candidates and how the two solvers relate at one frequency |
 //! | [`output`] | typed rows and records, one writer per format |
 //! | [`scene`] | the scene format, its validation, and the adapters to each solver |
+//! | [`spectrum`] | the FFT and Welch's estimator of a transfer function from two records |
 //! | [`references`] | closed-form answers computed apart from both solvers, to check them against |
 #![deny(missing_docs)]
 
@@ -47,5 +48,6 @@ pub mod peers;
 pub mod references;
 pub mod runs;
 pub mod scene;
+pub mod spectrum;
 pub mod study;
 pub mod verdict;

@@ -813,6 +813,7 @@ fn every_option_the_guide_names_exists() {
         "map",
         "basins",
         "respond",
+        "transmission",
     ];
     let mut known = std::collections::BTreeSet::new();
     for command in commands {

@@ -89,6 +89,20 @@ pub fn prepare_response(
         }
     }
     let spec = SignalSpec::parse(&request.signal).map_err(|e| ApiError::Argument(e.to_string()))?;
+    prepare_spec(scene, &spec, request)
+}
+
+/// [`prepare_response`] of a signal already read (`request.signal` is its text, for the
+/// messages): `rattle transmission` builds each run's random signal from one spec.
+///
+/// # Errors
+/// As [`prepare_response`], but for `--signal`'s syntax, already read.
+pub(crate) fn prepare_spec(
+    scene: &AnyScene,
+    spec: &SignalSpec,
+    request: &ResponseRequest,
+) -> Result<PreparedResponse, ApiError> {
+    let duration = request.duration;
     if request.on.is_some() && !spec.is_file() {
         return Err(ApiError::Argument(format!(
             "--on is for a force record (a .csv file with the columns t,F); --signal {} is a \

@@ -16,6 +16,7 @@ pub mod respond;
 pub mod simulate;
 pub mod structure;
 pub mod sweep;
+pub mod transmission;
 
 use crate::api::{ApiError, TrajectoryTables};
 use crate::output::trajectory::{check_samples_per_period, ImpactRow, TrajectoryRow};
@@ -76,7 +77,8 @@ pub enum Command {
     /// of `compare` at every frequency); whole, or one part of it with --shard.
     Sweep(sweep::SweepArgs),
     /// Joins the parts of a sharded sweep, map or basins (`rattle sweep|map|basins …
-    /// --shard K/N`) into the file the unsharded run would write, byte for byte.
+    /// --shard K/N`) into the file the unsharded run would write, byte for byte; the parts
+    /// of a sharded transmission estimate into its document (.json) or table (.csv).
     Merge(merge::MergeArgs),
     /// A map over two scene parameters and frequency (each frequency continued from the
     /// previous one, up the frequencies): by default a unit's or chain's restitution and gap,
@@ -96,6 +98,14 @@ pub enum Command {
     /// motion; every impact, the states at chosen times, every body's RMS and peak, the
     /// energy balance, and the uniformly sampled response written to a file.
     Respond(respond::RespondArgs),
+    /// The transmissibility from the base to the observed body under random base motion,
+    /// estimated by Welch's method (Hann segments, overlapped) from records from rest at one
+    /// or more levels, averaged over seeds, in parallel: H1 = Sxy/Sxx with its confidence
+    /// radius, the coherence and √(Syy/Sxx) at every frequency 2πj/segment at least two
+    /// spacings inside the band, beside the exact
+    /// linear response of the structure with its stops removed; whole, or one part of the
+    /// runs with --shard.
+    Transmission(transmission::TransmissionArgs),
 }
 
 /// A failure of a command, with its exit code.
@@ -167,6 +177,7 @@ pub fn run(cli: Cli) -> Result<String, RattleError> {
         Command::Map(args) => map::run(args),
         Command::Basins(args) => basins::run(args),
         Command::Respond(args) => respond::run(args),
+        Command::Transmission(args) => transmission::run(args),
     }
 }
 

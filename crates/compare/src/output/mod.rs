@@ -17,6 +17,7 @@ mod rename;
 pub mod respond;
 pub mod structure;
 pub mod trajectory;
+pub mod transmission;
 
 pub use self::csv::CsvWriter;
 pub use self::json::{Header, JsonWriter};

@@ -16,6 +16,7 @@ pub mod parallel;
 pub mod shard;
 pub mod structure_sweep;
 pub mod sweep;
+pub mod transmission;
 
 /// Joins the parts of a sharded sweep, map (its points or its bandwidth table) or basins (all
 /// JSON or all CSV, in any order) into exactly the text the unsharded run writes: basins'

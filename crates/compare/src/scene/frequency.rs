@@ -150,6 +150,41 @@ impl FrequencyBounds {
     }
 }
 
+/// The undamped natural frequencies of `structure`'s `M` and `K` (its stops removed), rad/s,
+/// ascending; a rigid mode's zero (at most [`RIGID_RATE`] of the fastest) left out.
+pub fn structure_natural_frequencies(structure: &Structure) -> Vec<f64> {
+    let mass: Vec<f64> = structure.mass.diagonal().iter().copied().collect();
+    let mut rates = eigenfrequencies(&mass, &structure.stiffness);
+    let fastest = rates.iter().copied().fold(0.0, f64::max);
+    rates.retain(|&r| r > RIGID_RATE * fastest);
+    rates.sort_by(f64::total_cmp);
+    rates
+}
+
+/// The slowest decay rate of `structure`'s free motion with the stops removed: the least
+/// `−Re λ` over the eigenvalues `λ` of `[[0, I], [−M⁻¹K, −M⁻¹C]]` that are not a rigid mode's
+/// zero (`|λ|` at most [`RIGID_RATE`] of the largest), 1/s; `0` for an undamped mode, `None`
+/// when there is no elastic mode.
+pub fn structure_slowest_decay_rate(structure: &Structure) -> Option<f64> {
+    let n = structure.dofs();
+    let mut a = DMatrix::<f64>::zeros(2 * n, 2 * n);
+    for i in 0..n {
+        a[(i, n + i)] = 1.0;
+        let m = structure.mass[(i, i)];
+        for j in 0..n {
+            a[(n + i, j)] = -structure.stiffness[(i, j)] / m;
+            a[(n + i, n + j)] = -structure.damping.as_ref().map_or(0.0, |d| d[(i, j)]) / m;
+        }
+    }
+    let rates = a.complex_eigenvalues();
+    let largest = rates.iter().map(|l| l.norm()).fold(0.0, f64::max);
+    rates
+        .iter()
+        .filter(|l| l.norm() > RIGID_RATE * largest)
+        .map(|l| (-l.re).max(0.0))
+        .reduce(f64::min)
+}
+
 /// The undamped natural frequencies (rad/s) of the scene's cells in series without stops:
 /// outer mass `j` tied to outer mass `j − 1` by its `k_o` (the first to the base), inner mass
 /// `j` to outer mass `j` by its `k_i`.

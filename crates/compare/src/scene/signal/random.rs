@@ -20,8 +20,8 @@
 //!
 //! **What is solved.** With at most [`MAX_SINUSOIDS`] lines the multisine is one segment of
 //! sinusoids, solved exactly. With more, it is sampled at `N = 2^m` uniform times `t_j = jT/N`
-//! by an inverse FFT (radix 2, its twiddles `e^{2πim/N}` from the `libm` crate's `sincos`,
-//! the same bits everywhere) and the record interpolated linearly, which errs by at most
+//! by an inverse FFT ([`crate::spectrum::fft::inverse`]: radix 2, its twiddles
+//! `e^{2πim/N}` from the `libm` crate's `sincos`, the same bits everywhere) and the record interpolated linearly, which errs by at most
 //! `(h²/8) max|ü_g| ≤ (h²/8) Σ a_k ω_k²` (`h = T/N`): `N` is the smallest power of two that
 //! makes this at most `10⁻³ × rms` (`interpolation_bound` in the description).
 
@@ -260,50 +260,9 @@ pub fn record(lines: &[Sinusoid], duration: f64, n: usize) -> Vec<f64> {
         re[k] = s.cos;
         im[k] = -s.sin;
     }
-    inverse_fft(&mut re, &mut im);
+    crate::spectrum::fft::inverse(&mut re, &mut im);
     re.push(re[0]);
     re
-}
-
-/// `x_j ← Σ_k x_k e^{2πi kj/n}` in place (`n` a power of two): iterative radix-2
-/// Cooley–Tukey, its twiddles each from `libm::sincos` (no recurrence), no fused operations.
-fn inverse_fft(re: &mut [f64], im: &mut [f64]) {
-    let n = re.len();
-    if n <= 1 {
-        return;
-    }
-    let bits = n.trailing_zeros();
-    for i in 0..n {
-        let j = i.reverse_bits() >> (usize::BITS - bits);
-        if j > i {
-            re.swap(i, j);
-            im.swap(i, j);
-        }
-    }
-    let twiddles: Vec<(f64, f64)> = (0..n / 2)
-        .map(|m| {
-            let (s, c) = libm::sincos(TAU * m as f64 / n as f64);
-            (c, s)
-        })
-        .collect();
-    let mut len = 2;
-    while len <= n {
-        let stride = n / len;
-        let half = len / 2;
-        for start in (0..n).step_by(len) {
-            for j in 0..half {
-                let (wr, wi) = twiddles[j * stride];
-                let (a, b) = (start + j, start + j + half);
-                let vr = re[b] * wr - im[b] * wi;
-                let vi = re[b] * wi + im[b] * wr;
-                re[b] = re[a] - vr;
-                im[b] = im[a] - vi;
-                re[a] += vr;
-                im[a] += vi;
-            }
-        }
-        len *= 2;
-    }
 }
 
 /// The PSD file's shape `S(ω_k)` at `frequencies`: linear between its rows, zero outside.
@@ -389,27 +348,6 @@ impl Xoshiro {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn the_fft_is_the_direct_sum() {
-        let n = 64;
-        let mut re: Vec<f64> = (0..n).map(|k| ((k * 7 % 11) as f64 - 5.0) / 3.0).collect();
-        let mut im: Vec<f64> = (0..n).map(|k| ((k * 5 % 13) as f64 - 6.0) / 4.0).collect();
-        let (r0, i0) = (re.clone(), im.clone());
-        inverse_fft(&mut re, &mut im);
-        for j in 0..n {
-            let (mut sr, mut si) = (0.0, 0.0);
-            for k in 0..n {
-                let (s, c) = (TAU * (k * j) as f64 / n as f64).sin_cos();
-                sr += r0[k] * c - i0[k] * s;
-                si += r0[k] * s + i0[k] * c;
-            }
-            assert!(
-                (re[j] - sr).abs() < 1e-12 && (im[j] - si).abs() < 1e-12,
-                "{j}"
-            );
-        }
-    }
 
     #[test]
     fn the_generator_is_the_reference_sequence() {

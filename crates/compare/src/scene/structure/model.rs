@@ -2,7 +2,7 @@
 //! and each solver's model built from it ([`Structure::event_model`],
 //! [`Structure::analytic_model`]).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{Complex, DMatrix, DVector};
 
 /// One stop, resolved: a contact pair `r = u[plus] − u[minus]` (`None`: the frame).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -269,6 +269,28 @@ impl Structure {
             text.to_owned()
         };
         rattle_analytic::ImpactSequence::parse(&text, period)
+    }
+
+    /// The observed body's displacement per unit base displacement at `omega` (rad/s) with the
+    /// stops removed: `H(ω) = e_obsᵀ (K − ω²M + iωC)⁻¹ (k_b + iω c_b)`, `k_b` and `c_b` the
+    /// springs' and dashpots' ties to the base ([`Structure::base_stiffness`],
+    /// [`Structure::base_damping`]), for `u_g = Re(U e^{iωt})`, `u_obs = Re(H U e^{iωt})`.
+    /// `None` where `K − ω²M + iωC` is singular (an undamped natural frequency).
+    pub fn base_response(&self, omega: f64) -> Option<Complex<f64>> {
+        let n = self.dofs();
+        let damping = |r: usize, c: usize| self.damping.as_ref().map_or(0.0, |d| d[(r, c)]);
+        let dynamic = DMatrix::from_fn(n, n, |r, c| {
+            Complex::new(
+                self.stiffness[(r, c)] - omega * omega * self.mass[(r, c)],
+                omega * damping(r, c),
+            )
+        });
+        let force = DVector::from_fn(n, |r, _| {
+            Complex::new(self.base_stiffness[r], omega * self.base_damping[r])
+        });
+        let u = dynamic.lu().solve(&force)?;
+        let h = u[self.observe];
+        (h.re.is_finite() && h.im.is_finite()).then_some(h)
     }
 
     /// Whether some dashpot is not zero.
