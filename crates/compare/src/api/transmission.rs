@@ -18,7 +18,7 @@ use crate::scene::frequency::{structure_natural_frequencies, structure_slowest_d
 use crate::scene::signal::random::RandomSpec;
 use crate::scene::signal::SignalSpec;
 use crate::scene::AnyScene;
-use rattle_event_driven::respond::MAX_SAMPLES;
+use rattle_event_driven::MAX_RESPONSE_SAMPLES;
 
 /// What to estimate: `rattle transmission SCENE --signal random:… --duration T …`.
 #[derive(Debug, Clone, PartialEq)]
@@ -94,7 +94,7 @@ pub fn prepare_transmission(
         psd: spec.psd.as_deref().map(|p| p.display().to_string()),
         duration,
         slowest_decay_rate: rate,
-        max_samples: MAX_SAMPLES,
+        max_samples: MAX_RESPONSE_SAMPLES,
     };
     let plan = plan(&input, &request.options).map_err(ApiError::Argument)?;
     let frequencies = plan.frequencies();

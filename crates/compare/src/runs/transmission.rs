@@ -110,7 +110,7 @@ pub struct PlanInput<'a> {
     pub duration: f64,
     /// The linear structure's slowest decay rate ([`LinearSummary::slowest_decay_rate`]).
     pub slowest_decay_rate: Option<f64>,
-    /// At most this many samples in one record ([`rattle_event_driven::respond::MAX_SAMPLES`]).
+    /// At most this many samples in one record ([`rattle_event_driven::MAX_RESPONSE_SAMPLES`]).
     pub max_samples: u64,
 }
 
