@@ -21,7 +21,7 @@ use std::f64::consts::TAU;
 
 /// Cells of the chain the tone burst runs along: enough for the stop band's decay to show
 /// (the lattice's `|Im q|` of about 1.2 per cell at [`BURST_OMEGAS`]`[1]` takes a wave down
-/// about fifty times over four cells), few enough for every trace to read.
+/// by `e^(−4.9)`, about 140 times, over four cells), few enough for every trace to read.
 pub const BURST_CELLS: usize = 5;
 /// The tone bursts' frequencies, rad/s: 1.1 lies in the lattice's acoustic pass band (below
 /// its local-resonance stop band, 1.61–2.12 rad/s for the paper's cell), 1.9 inside that stop
@@ -35,8 +35,8 @@ pub const BURST_CYCLES: f64 = 16.0;
 /// drives the cells onto their stops while the stop band's, decaying along the chain, leaves
 /// the far cells clear of them.
 pub const BURST_AMPLITUDE: f64 = 0.3;
-/// Duration of each burst's response, s: the slower burst (`2πN/ω` = 91 s at 1.1 rad/s) and
-/// about ten periods of the chain's slowest mode after it, to show the ringing it leaves.
+/// Duration of each burst's response, s: the longer burst (`2πN/ω` = 91 s at 1.1 rad/s) and
+/// about ten of its periods after it, to show the ringing it leaves.
 pub const BURST_DURATION: f64 = 150.0;
 /// Interval of the traces' samples, s: 60 per period of the fastest burst line
 /// (`ω(1 + 1/N)` ≈ 2 rad/s), a smooth curve at the figure's width.
@@ -46,14 +46,15 @@ pub const BURST_SAMPLE_STEP: f64 = 0.05;
 pub const SWEEP_OMEGAS: (f64, f64) = (0.1, 4.0);
 /// The sweep's rate, rad/s²: over the unit's jump near 1.2–1.7 rad/s a forcing period (about
 /// 4.5 s) changes the frequency by about 0.02 rad/s, slow enough for the envelope to follow
-/// the motion the forcing holds (the damped unit's transients decay over some 40 s) yet keep
-/// the whole sweep at 780 s, about a quarter of a second of CPU each way.
+/// the motion the forcing holds (the damped unit's transients decay with a time constant of
+/// about `2m_o/c_o` = 40 s) yet keep the whole sweep at 780 s, about a quarter of a second of
+/// CPU each way.
 pub const SWEEP_RATE: f64 = 0.005;
 /// The rate of `--quick`, rad/s²: ten times faster, a smoke test of the pipeline.
 const QUICK_SWEEP_RATE: f64 = 0.05;
-/// Interval of the sweep's samples, s: 60 per period at the sweep's highest frequency; the
-/// per-cycle maximum of `|u_o|` they give is below the true one by at most
-/// `(ω Δt)²/8 ≈ 8·10⁻⁴` of it (about 0.007 dB).
+/// Interval of the sweep's samples, s: 60 per period at the sweep's highest frequency; for a
+/// sinusoid the per-cycle maximum of `|u_o|` they give is below the true one by at most
+/// `1 − cos(ωΔt/2) ≈ (ωΔt)²/8 = 1.3·10⁻³` of it (about 0.01 dB).
 pub const SWEEP_SAMPLE_STEP: f64 = 0.025;
 /// A sweep's jump is where its envelope first falls this far below its peak after it, dB:
 /// half the amplitude, well beyond the envelope's ripple on either side of the jump (at most
