@@ -1,5 +1,5 @@
-//! Non-periodic signals through the scene's cell (`rattle respond`'s exact response from
-//! rest): a Hann tone burst along a short chain, in a pass band and in a stop band of the
+//! Non-periodic signals through the scene's cell (the exact response from rest that
+//! `rattle respond` runs, [`rattle_event_driven::respond`]): a Hann tone burst along a short chain, in a pass band and in a stop band of the
 //! lattice (`figures/tone-burst`), and a slow linear sine sweep of the single cell up and down
 //! the paper's axis (`figures/sweep-up-down`), whose envelopes jump at different frequencies.
 //!
@@ -8,14 +8,13 @@
 //! decays, and a sweep's envelope is that of the transients rather than of the motion the
 //! forcing holds.
 
-use crate::api::{prepare_response, ResponseRequest};
-use crate::runs::parallel::Progress;
-use crate::scene::signal::SignalDescription;
-use crate::scene::{AnyScene, Scene};
+use crate::scene::signal::{SignalDescription, SignalSpec};
+use crate::scene::Scene;
 use crate::study::chain::chain_of;
 use crate::study::map_scene;
 use rattle_analytic::lattice::{bloch_wave, stop_bands, StopBand};
 use rattle_analytic::Cell;
+use rattle_event_driven::respond::{respond_sampled, Excitation, Response, ResponseOptions};
 use serde::Serialize;
 use std::f64::consts::TAU;
 
@@ -169,31 +168,61 @@ pub struct SignalStudy {
     pub sweep: SweepStudy,
 }
 
-/// The response of `scene` to `signal` over `duration`, sampled every `step`: each row
-/// `[t, u_g, u…, u̇…]` to `row`, with the body names; returns the run's record.
+/// What [`respond_rows`] returns beside the rows: the engine's response and the signal as
+/// built.
+struct Responded {
+    response: Response,
+    description: SignalDescription,
+}
+
+/// The response of `scene` (the unit or chain form, as `rattle respond` runs it) to the base
+/// motion `signal` over `duration`, from rest, sampled every `step`: each row
+/// `[t, u_g, u…, u̇…]` to `row`, with the body names.
 fn respond_rows(
     scene: &Scene,
     signal: &str,
     duration: f64,
     step: f64,
     row: &mut dyn FnMut(&[String], &[f64]),
-) -> Result<crate::output::respond::RespondRecord, String> {
-    let any = AnyScene::of_cells(scene.clone(), &scene.name).map_err(|e| e.to_string())?;
-    let request = ResponseRequest {
-        signal: signal.to_owned(),
-        duration,
-        at: Vec::new(),
-        on: None,
-    };
-    let prepared = prepare_response(&any, &request).map_err(|e| e.to_string())?;
-    let names = prepared.structure().names.clone();
+) -> Result<Responded, String> {
+    let fail = |e: &dyn std::fmt::Display| format!("{}, {signal}: {e}", scene.name);
+    let structure = scene
+        .structure_scene(scene.base.clone())
+        .structure()
+        .map_err(|e| fail(&e))?;
+    let amplitude = structure.base_amplitude.unwrap_or(1.0);
+    let built = SignalSpec::parse(signal)
+        .and_then(|spec| spec.build(duration, amplitude))
+        .map_err(|e| fail(&e))?;
+    // Any valid frequency: the response ignores the model's periodic forcing.
+    let model = structure.event_model(1.0).map_err(|e| fail(&e))?;
+    let excitation = Excitation::new(
+        structure.base_stiffness.clone(),
+        structure.base_damping.clone(),
+    );
     let samples = (duration / step).round().max(1.0) as u64;
-    prepared
-        .run(Some(samples), &Progress::hidden(), &mut |r| {
-            row(&names, r);
-            Ok(())
-        })
-        .map_err(|e| format!("{signal}: {e}"))
+    let names = structure.names.clone();
+    let mut values = Vec::with_capacity(2 + 2 * names.len());
+    let response = respond_sampled(
+        &model,
+        &excitation,
+        &built.signal,
+        &ResponseOptions::over(duration),
+        samples,
+        &mut |s| {
+            values.clear();
+            values.push(s.t);
+            values.push(built.signal.value_and_rate(s.t).0);
+            values.extend_from_slice(s.displacements);
+            values.extend_from_slice(s.velocities);
+            row(&names, &values);
+        },
+    )
+    .map_err(|e| fail(&e))?;
+    Ok(Responded {
+        response,
+        description: built.description,
+    })
 }
 
 /// The column of `name`'s displacement in a row `[t, u_g, u…, u̇…]`.
@@ -215,10 +244,12 @@ fn burst_panel(
     let (mut times, mut base) = (Vec::new(), Vec::new());
     let mut outer = vec![Vec::new(); cells];
     let mut columns: Option<Vec<usize>> = None;
-    let record = respond_rows(&chain, &signal, BURST_DURATION, step, &mut |names, r| {
+    let mut names = Vec::new();
+    let record = respond_rows(&chain, &signal, BURST_DURATION, step, &mut |bodies, r| {
         let cols = columns.get_or_insert_with(|| {
+            names = bodies.to_vec();
             (0..cells)
-                .filter_map(|j| displacement_column(names, &format!("outer{j}")))
+                .filter_map(|j| displacement_column(bodies, &format!("outer{j}")))
                 .collect()
         });
         times.push(r[0]);
@@ -227,20 +258,21 @@ fn burst_panel(
             series.push(r[c]);
         }
     })?;
-    let peak_of = |name: String| {
-        record
-            .summary
-            .peak
-            .0
-            .iter()
-            .find(|(n, _)| *n == name)
-            .and_then(|(_, x)| *x)
-            .unwrap_or(f64::NAN)
-    };
-    let peaks = (0..cells).map(|j| peak_of(format!("outer{j}"))).collect();
-    let impacts: Vec<(f64, usize)> = record.impacts.iter().map(|i| (i.t, i.pair)).collect();
+    let peaks = (0..cells)
+        .map(|j| {
+            displacement_column(&names, &format!("outer{j}"))
+                .and_then(|c| record.response.summary.peak.get(c - 2).copied())
+                .unwrap_or(f64::NAN)
+        })
+        .collect();
+    let impacts: Vec<(f64, usize)> = record
+        .response
+        .impacts
+        .iter()
+        .map(|i| (i.t, i.pair))
+        .collect();
     let unit_cell = Cell::of_unit(&map_scene(scene).unit_model());
-    let burst_duration = match record.signal {
+    let burst_duration = match record.description {
         SignalDescription::ToneBurst { burst_duration, .. } => burst_duration,
         _ => TAU * BURST_CYCLES / omega,
     };
@@ -387,8 +419,8 @@ fn sweep_run(
         envelope: points,
         peak,
         jump,
-        impacts: record.summary.impacts,
-        segments: match record.signal {
+        impacts: record.response.summary.impacts,
+        segments: match record.description {
             SignalDescription::Sweep(s) => s.segments,
             _ => 0,
         },
