@@ -1,7 +1,8 @@
 //! Non-periodic signals through the scene's cell (the exact response from rest that
-//! `rattle respond` runs, [`rattle_event_driven::respond`]): a Hann tone burst along a short chain, in a pass band and in a stop band of the
-//! lattice (`figures/tone-burst`), and a slow linear sine sweep of the single cell up and down
-//! the paper's axis (`figures/sweep-up-down`), whose envelopes jump at different frequencies.
+//! `rattle respond` runs, [`mod@rattle_event_driven::respond`]): a Hann tone burst along a
+//! short chain, in a pass band and in a stop band of the lattice (`figures/tone-burst`), and a
+//! slow linear sine sweep of the single cell up and down the paper's axis
+//! (`figures/sweep-up-down`), whose envelopes jump at different frequencies.
 //!
 //! Both run on the scene's cell damped lightly as the maps and the chains are
 //! ([`map_scene`]): without damping the free oscillation a burst or a sweep leaves never
