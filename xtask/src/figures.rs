@@ -26,6 +26,7 @@ use rattle_compare::study::gallery::{
 };
 use rattle_compare::study::paper::READING_B_GAP_FACTOR;
 use rattle_compare::study::report::{agreement, report, siconos_section};
+use rattle_compare::study::signals::{signal_study, signals_section, SignalStudy};
 use rattle_compare::study::{maps, MapSizes, Study, StudySize};
 use rattle_event_driven::SimulationOptions;
 use std::path::{Path, PathBuf};
@@ -146,6 +147,7 @@ struct Computed {
     boundaries: StudyBoundaries,
     oscillator: OscillatorStudy,
     damper: DamperStudy,
+    signals: Result<SignalStudy, String>,
 }
 
 /// The scene's copy with the gap of the study's second reading.
@@ -175,6 +177,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
     let (mut main, mut other, mut elastic, mut maps_done) = (None, None, None, None);
     let (mut basins, mut samples, mut poincare, mut chains) = (None, None, None, None);
     let (mut boundaries, mut oscillator, mut damper) = (None, None, None);
+    let mut signals = None;
     // Stages handed out longest first: another thread takes the earliest spawned, this one
     // the latest.
     rayon::scope(|s| {
@@ -219,6 +222,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
                 damper_study(points, branch)
             }))
         });
+        s.spawn(|_| signals = Some(clock.stage("signals", || signal_study(scene, quick))));
     });
     // Every slot is filled once the scope has ended (a stage's panic is carried on by it).
     let filled = "every stage has run";
@@ -234,6 +238,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
         boundaries: boundaries.expect(filled),
         oscillator: oscillator.expect(filled),
         damper: damper.expect(filled),
+        signals: signals.expect(filled),
     }
 }
 
@@ -348,7 +353,8 @@ fn draw_study(c: &Computed, precision: &WorkPrecision, dir: &Path) -> Result<Vec
     Ok(written)
 }
 
-/// The basins, Lyapunov, Poincaré, chain and boundaries figures.
+/// The basins, Lyapunov, Poincaré, chain, boundaries, impact oscillator, impact damper and
+/// signal figures.
 fn draw_the_rest(c: &Computed, dir: &Path) -> Result<Vec<PathBuf>, String> {
     let name = &c.main.scene.name;
     let mut written = figures::draw_basins(
@@ -386,6 +392,10 @@ fn draw_the_rest(c: &Computed, dir: &Path) -> Result<Vec<PathBuf>, String> {
     );
     written.extend(figures::draw_impact_oscillator(&c.oscillator, dir).map_err(|e| e.to_string())?);
     written.extend(figures::draw_impact_damper(&c.damper, dir).map_err(|e| e.to_string())?);
+    written.extend(
+        figures::draw_signals(c.signals.as_ref().map_err(Clone::clone)?, &c.chains, dir)
+            .map_err(|e| e.to_string())?,
+    );
     Ok(written)
 }
 
@@ -434,6 +444,7 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
             &validation.join("report.md"),
             &(report(&c.main, &c.other, &c.elastic_note, &c.samples)
                 + &chain_section(&c.chains)
+                + &signals_section(c.signals.as_ref().map_err(Clone::clone)?)
                 + &c.boundaries.section(&c.main, c.maps.as_ref())
                 + &siconos_section(siconos.as_ref(), &precision)),
         )?;

@@ -17,6 +17,8 @@ pub mod lyapunov;
 pub mod plot;
 pub mod poincare;
 pub mod regime_map;
+pub mod sweep_up_down;
+pub mod tone_burst;
 pub mod transmittance;
 pub mod work_precision;
 
@@ -143,4 +145,25 @@ pub fn draw_impact_oscillator(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     save(study, dir)
+}
+
+/// Draws the figures of non-periodic signals (`tone-burst`, `sweep-up-down`) into `dir`, the
+/// sweeps beside the steady states of `chains`' one-cell chain; returns the files written.
+///
+/// # Errors
+/// A figure cannot be drawn or written, with its path.
+pub fn draw_signals(
+    study: &crate::study::signals::SignalStudy,
+    chains: &crate::study::chain::ChainStudy,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let mut written = save(&tone_burst::ToneBurst(&study.burst), dir)?;
+    written.extend(save(
+        &sweep_up_down::SweepUpDown {
+            study: &study.sweep,
+            steady: chains.curves.iter().find(|c| c.cells == 1),
+        },
+        dir,
+    )?);
+    Ok(written)
 }

@@ -10,6 +10,7 @@ pub mod gallery;
 pub mod paper;
 pub mod plots;
 pub mod report;
+pub mod signals;
 
 use crate::runs::axis::Axis;
 use crate::runs::continuation::Branches;
