@@ -1,5 +1,5 @@
 //! Non-periodic signals through the scene's cell (the exact response from rest that
-//! `rattle respond` runs, [`mod@rattle_event_driven::respond`]): a Hann tone burst along a
+//! `rattle respond` runs, [`rattle_event_driven::respond()`]): a Hann tone burst along a
 //! short chain, in a pass band and in a stop band of the lattice (`figures/tone-burst`), and a
 //! slow linear sine sweep of the single cell up and down the paper's axis
 //! (`figures/sweep-up-down`), whose envelopes jump at different frequencies.
@@ -13,9 +13,9 @@ use crate::scene::signal::{SignalDescription, SignalSpec};
 use crate::scene::Scene;
 use crate::study::chain::chain_of;
 use crate::study::map_scene;
-use rattle_analytic::lattice::{bloch_wave, stop_bands, StopBand};
 use rattle_analytic::Cell;
-use rattle_event_driven::respond::{respond_sampled, Excitation, Response, ResponseOptions};
+use rattle_analytic::{bloch_wave, stop_bands, StopBand};
+use rattle_event_driven::{respond_sampled, Excitation, Response, ResponseOptions};
 use serde::Serialize;
 use std::f64::consts::TAU;
 
