@@ -14,8 +14,12 @@
 //!   the final state is the engine's;
 //! - no impact or stick gains energy (beyond [`GAIN_TOLERANCE`] of that scale).
 //!
-//! A run the engine declines by design (held stops whose directions are dependent, more
-//! events than the cap) is counted apart, not failed.
+//! A run the engine declines by design (held stops whose directions are dependent) is
+//! counted apart, not failed. So is a run that ends at the event cap, listed by index in the
+//! summary: the engine's cap is what ends an event storm, and those runs are a storm at one
+//! instant (a stop released with its relative velocity into the stop at rounding level,
+//! found in contact and released again), a defect of the engine's release that the list
+//! keeps in view.
 
 use super::structures::random_structure;
 use super::{progress, Rng};
@@ -42,8 +46,8 @@ const GAIN_TOLERANCE: f64 = 1e-12;
 /// Samples of each run checked against the stops.
 const SAMPLES: u64 = 256;
 
-/// At most this many impacts, grazes, sticks and releases per run: a record that makes a
-/// plastic stop chatter past it is declined, not waited out.
+/// At most this many impacts, grazes, sticks and releases per run: a storm past it is
+/// listed, not waited out (the command's cap is five times as many).
 const MAX_EVENTS: u64 = 200_000;
 
 /// A random record for structure `index` under `seed`: `(t, value)` from `t = 0`, strictly
@@ -105,7 +109,7 @@ fn check_record(seed: u64, index: u64) -> Result<Tally, String> {
     let s = scene
         .structure()
         .map_err(|e| format!("a valid random structure was refused: {e}"))?;
-    let mut rng = Rng::new(seed ^ 0x494e_5055_54, index);
+    let mut rng = Rng::new(seed ^ 0x0049_4e50_5554, index);
     let duration = rng.uniform(5.0, 40.0);
     let tied = s
         .base_stiffness
@@ -234,9 +238,13 @@ pub fn soak_signals(seed: u64, count: u64) -> Vec<String> {
         .collect();
     let mut total = Tally::default();
     let mut failures = Vec::new();
+    let mut capped = Vec::new();
     for (k, r) in results.into_iter().enumerate() {
         match r {
             Ok(t) => {
+                if t.capped > 0 {
+                    capped.push(k);
+                }
                 total.runs += t.runs;
                 total.impacts += t.impacts;
                 total.sticks += t.sticks;
@@ -251,7 +259,7 @@ pub fn soak_signals(seed: u64, count: u64) -> Vec<String> {
         "signals: {count} records in {:.1} s; {} runs balanced (worst residual {:.1e} of the \
          energy scale, tolerance {BALANCE_TOLERANCE:.0e}), {} impacts and {} sticks without \
          energy gained; declined by design: {} with dependent held stops, {} past {MAX_EVENTS} \
-         events; {} failed",
+         events {capped:?}; {} failed",
         start.elapsed().as_secs_f64(),
         total.runs,
         total.worst_balance,
