@@ -287,4 +287,19 @@ mod tests {
         let failures = soak_signals(super::super::DEFAULT_SEED, 12);
         assert!(failures.is_empty(), "{failures:?}");
     }
+
+    /// Structure 525 of the default seed (one body on a base spring, three stops against the
+    /// frame) under its record: the stop holding the body releases at t = 3.7198613540 with
+    /// the push crossing zero, so the body leaves as a cubic, within the contact depth for
+    /// about 1e-4 s, its velocity −3.5e-18 (rounding, into the stop); at the end of the
+    /// release's grace the contact is taken for an impact (`ṙ⁻ = −6.9e-18`, the approach
+    /// threshold being relative to velocities that are themselves at rounding level) and the
+    /// run storms at that instant until the event cap. Ignored while the engine's release
+    /// lets it; `cargo test -p xtask -- --ignored storm` runs it.
+    #[test]
+    #[ignore = "the respond engine's release storm at one instant"]
+    fn no_event_storm_after_a_release() {
+        let tally = check_record(super::super::DEFAULT_SEED, 525).unwrap();
+        assert_eq!(tally.capped, 0, "the run ended at the event cap");
+    }
 }
