@@ -13,7 +13,9 @@
 //! - every stable viable symmetric orbit that decays fast enough to be decided within 6000
 //!   periods (largest multiplier below 0.99) is held by the simulator started on it.
 //!
-//! Random structures (`--structures`) run through both solvers as well ([`structures`]).
+//! Random structures (`--structures`) run through both solvers as well ([`structures`]), and
+//! each is driven from rest by a random recorded signal through the respond engine
+//! ([`signals`]: the energy balance over the record, no impact gaining energy).
 
 use crate::root;
 use clap::Args;
@@ -28,6 +30,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 mod bad_input;
+mod signals;
 mod structures;
 
 /// The seed of `properties.rs`.
@@ -43,7 +46,8 @@ pub struct SoakArgs {
     #[arg(long, default_value_t = 10_000, value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
     bad_scenes: u64,
     /// Random structures (bodies, springs, dashpots, one-sided and asymmetric stops, forces,
-    /// harmonics) to run through both solvers.
+    /// harmonics) to run through both solvers, each also driven by a random recorded
+    /// signal through the respond engine.
     #[arg(long, default_value_t = 2_000, value_parser = clap::value_parser!(u64).range(0..=10_000_000))]
     structures: u64,
     /// Seed of the random scenes (scene `k` is drawn from `seed` and `k` alone).
@@ -291,6 +295,7 @@ pub fn run(args: SoakArgs) -> Result<(), String> {
     let mut failures = bad_input::soak(&rattle, &root, args.seed, args.bad_scenes);
     failures.extend(soak_scenes(args.seed, args.scenes));
     failures.extend(structures::soak_structures(args.seed, args.structures));
+    failures.extend(signals::soak_signals(args.seed, args.structures));
     if failures.is_empty() {
         eprintln!("soak: every check passed");
         Ok(())

@@ -1,7 +1,9 @@
 //! `rattle respond` and `api::respond` against exact answers: rest under a zero record, the
 //! periodic simulator's steady state reached through a finely sampled record of its harmonic
 //! (within the interpolation's derived bound), the closed form of a linear unit under a tone
-//! burst, the random generator's determinism, RMS and band, and every refusal by name.
+//! burst, the random generator's determinism, RMS and band, a PSD file's law on the lines,
+//! `--out` never leaving a partial table under its name, `--json` with `--out`, and every
+//! refusal by name.
 
 mod common;
 
@@ -508,4 +510,290 @@ fn bad_input_is_refused_by_name() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("--samples"), "{e}");
+}
+
+/// The lines of `random:band=1-3,rms=0.2,seed=9` over 200 s (64 lines, `k = 32..=95`), flat
+/// or shaped by the PSD file `psd`.
+fn shaped_lines(psd: Option<&str>) -> Vec<rattle_event_driven::respond::Sinusoid> {
+    RandomSpec {
+        band: [1.0, 3.0],
+        rms: 0.2,
+        seed: 9,
+        psd: psd.map(PathBuf::from),
+    }
+    .lines(200.0)
+    .unwrap()
+}
+
+/// `Σ a_k²/2`, the multisine's mean square over the run.
+fn mean_square(lines: &[rattle_event_driven::respond::Sinusoid]) -> f64 {
+    lines
+        .iter()
+        .map(|s| (s.cos * s.cos + s.sin * s.sin) / 2.0)
+        .sum()
+}
+
+#[test]
+fn a_psd_file_shapes_the_random_lines_by_its_law() {
+    let flat = shaped_lines(None);
+    assert_eq!(flat.len(), 64);
+    // PSD ∝ ω², a row at every line (the interpolation is then the row's value exactly): the
+    // same phases (the generator draws one point per line whatever its amplitude), and each
+    // amplitude the flat one times `ω_k √(n / Σ ω_j²)`, so that the mean square stays rms².
+    let rows: String = flat
+        .iter()
+        .map(|s| format!("{},{}\n", s.frequency, s.frequency * s.frequency))
+        .collect();
+    let squared = file("psd-squared.csv", &format!("omega,psd\n{rows}"));
+    let shaped = shaped_lines(Some(&squared));
+    let norm = (flat.len() as f64 / flat.iter().map(|s| s.frequency.powi(2)).sum::<f64>()).sqrt();
+    for (f, s) in flat.iter().zip(&shaped) {
+        assert_eq!(f.frequency, s.frequency);
+        let gain = f.frequency * norm;
+        let amplitude = s.cos.hypot(s.sin);
+        assert!(
+            (s.cos - gain * f.cos).abs() <= 1e-14 * amplitude,
+            "{f:?} {s:?}"
+        );
+        assert!(
+            (s.sin - gain * f.sin).abs() <= 1e-14 * amplitude,
+            "{f:?} {s:?}"
+        );
+    }
+    for lines in [&flat, &shaped] {
+        assert!(
+            (mean_square(lines) - 0.04).abs() <= 1e-15,
+            "{}",
+            mean_square(lines)
+        );
+    }
+    // A PSD zero over the upper half of the band (between lines 63 and 64, linear between its
+    // rows): no line there, exactly, and the lower half's amplitudes √2 times the flat ones.
+    let spacing = TAU / 200.0;
+    let half = file(
+        "psd-half.csv",
+        &format!(
+            "omega,psd\n0,1\n{},1\n{},0\n10,0\n",
+            63.25 * spacing,
+            63.75 * spacing
+        ),
+    );
+    let halved = shaped_lines(Some(&half));
+    for (f, s) in flat.iter().zip(&halved) {
+        let k = (f.frequency / spacing).round();
+        if k >= 64.0 {
+            assert!(s.cos == 0.0 && s.sin == 0.0, "line {k}: {s:?}");
+        } else {
+            let amplitude = s.cos.hypot(s.sin);
+            let gain = std::f64::consts::SQRT_2;
+            assert!(
+                (s.cos - gain * f.cos).abs() <= 1e-14 * amplitude,
+                "line {k}"
+            );
+            assert!(
+                (s.sin - gain * f.sin).abs() <= 1e-14 * amplitude,
+                "line {k}"
+            );
+        }
+    }
+    // Through the command: the record's spectrum has nothing at the upper half's bins.
+    let doc = json(&[
+        "respond",
+        "data/scenes/paper-damped.json",
+        "--signal",
+        &format!("random:band=1-3,rms=0.2,seed=9,psd={half}"),
+        "--duration",
+        "200",
+        "--json",
+    ]);
+    assert_eq!(doc["signal"]["psd"], half.as_str());
+    assert_eq!(doc["signal"]["lines"], 64);
+    assert_eq!(doc["signal"]["solved_as"], "sinusoids");
+    let n = 1024;
+    let values = record(&halved, 200.0, n);
+    let bin = |k: usize| {
+        let (mut re, mut im) = (0.0, 0.0);
+        for (j, v) in values[..n].iter().enumerate() {
+            let (s, c) = (TAU * ((k * j) % n) as f64 / n as f64).sin_cos();
+            re += v * c;
+            im += v * s;
+        }
+        (re * re + im * im).sqrt() * 2.0 / n as f64
+    };
+    for k in [32, 48, 63] {
+        let line = halved[k - 32];
+        assert!((bin(k) - line.cos.hypot(line.sin)).abs() < 1e-12, "bin {k}");
+    }
+    for k in [64, 80, 95] {
+        assert!(bin(k) < 1e-14, "bin {k}: {:e}", bin(k));
+    }
+}
+
+#[test]
+fn bad_psd_files_are_refused_by_name() {
+    let cases = [
+        ("psd-negative.csv", "omega,psd\n0,1\n2,-1\n", "psd"),
+        ("psd-zero.csv", "omega,psd\n0,0\n10,0\n", "psd"),
+        ("psd-outside.csv", "omega,psd\n5,1\n10,1\n", "psd"),
+        ("psd-header.csv", "omega,S\n0,1\n10,1\n", "columns"),
+        ("psd-ragged.csv", "omega,psd\n0,1\n10\n", "columns"),
+        (
+            "psd-order.csv",
+            "omega,psd\n0,1\n4,1\n2,1\n",
+            "omega on line 4",
+        ),
+        ("psd-nan.csv", "omega,psd\n0,1\n10,nan\n", "psd on line 3"),
+    ];
+    for (name, text, field) in cases {
+        let path = file(name, text);
+        let message = refusal(&[
+            "respond",
+            "data/scenes/paper-damped.json",
+            "--signal",
+            &format!("random:band=1-3,rms=0.1,seed=1,psd={path}"),
+            "--duration",
+            "10",
+        ]);
+        println!("{message}");
+        assert!(message.contains(&path), "{name}: {message}");
+        assert!(message.contains(field), "{name}: {message}");
+    }
+    let message = refusal(&[
+        "respond",
+        "data/scenes/paper-damped.json",
+        "--signal",
+        "random:band=1-3,rms=0.1,seed=1,psd=/nonexistent/psd.csv",
+        "--duration",
+        "10",
+    ]);
+    assert!(message.contains("file"), "{message}");
+}
+
+/// A fresh empty directory for `--out` files.
+fn out_dir(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rattle-respond-{tag}-{}", std::process::id()));
+    std::fs::remove_dir_all(&dir).ok();
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// The names in `dir`.
+fn listing(dir: &std::path::Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+#[test]
+fn a_failed_or_interrupted_out_run_leaves_nothing_half_written() {
+    let dir = out_dir("atomic");
+    let out = dir.join("response.csv");
+    let out_text = out.to_str().unwrap().to_owned();
+    let args = |duration: &str, extra: &[&str]| {
+        let mut args = vec![
+            "respond",
+            "data/scenes/paper-damped.json",
+            "--signal",
+            "tone-burst:omega=2,cycles=5,amplitude=0.3",
+            "--duration",
+            duration,
+            "--out",
+            &out_text,
+        ];
+        args.extend_from_slice(extra);
+        args.into_iter().map(str::to_owned).collect::<Vec<_>>()
+    };
+    let run = |extra: &[&str]| {
+        let owned = args("40", extra);
+        rattle(&owned.iter().map(String::as_str).collect::<Vec<_>>())
+    };
+    // Refused by the run itself, once the file would have been opened: nothing is left, and
+    // a file already under the name stays as it was.
+    std::fs::write(&out, "kept\n").unwrap();
+    for samples in ["0", "10000001"] {
+        let failed = run(&["--samples", samples]);
+        assert_eq!(failed.status.code(), Some(2));
+        assert!(String::from_utf8_lossy(&failed.stderr).contains("--samples"));
+        assert_eq!(listing(&dir), ["response.csv"]);
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "kept\n");
+    }
+    // Failing after the whole run (the name is a directory, so the final rename fails): the
+    // temporary file beside it is removed and the error names the path.
+    std::fs::remove_file(&out).unwrap();
+    std::fs::create_dir(&out).unwrap();
+    let failed = run(&["--samples", "400"]);
+    assert!(!failed.status.success());
+    let message = String::from_utf8_lossy(&failed.stderr);
+    assert!(message.contains(&out_text), "{message}");
+    assert_eq!(listing(&dir), ["response.csv"]);
+    assert!(out.is_dir() && listing(&out).is_empty());
+    std::fs::remove_dir(&out).unwrap();
+    // Killed mid-run: the name never holds a partial table (the temporary file stays, hidden
+    // beside it, as `.response.csv.PID.part`).
+    let owned = args("4000", &["--samples", "10000000"]);
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_rattle"))
+        .args(&owned)
+        .current_dir(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let part = format!(".response.csv.{}.part", child.id());
+    let started = std::time::Instant::now();
+    while std::fs::metadata(dir.join(&part)).map_or(0, |m| m.len()) == 0 {
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "no rows written within 60 s"
+        );
+        assert!(child.try_wait().unwrap().is_none(), "the run ended early");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(!out.exists(), "a partial table under the final name");
+    assert_eq!(listing(&dir), [part]);
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn json_with_out_prints_the_document_and_writes_the_table() {
+    let dir = out_dir("json-out");
+    let both = dir.join("both.csv");
+    let alone = dir.join("alone.csv");
+    let base = [
+        "respond",
+        "data/scenes/paper-damped.json",
+        "--signal",
+        "tone-burst:omega=2,cycles=5,amplitude=0.3",
+        "--duration",
+        "40",
+        "--at",
+        "10",
+        "--samples",
+        "500",
+    ];
+    let with = |extra: &[&str]| {
+        let mut args = base.to_vec();
+        args.extend_from_slice(extra);
+        rattle(&args)
+    };
+    let printed = with(&["--out", both.to_str().unwrap(), "--json"]);
+    assert!(printed.status.success());
+    let written = with(&["--out", alone.to_str().unwrap()]);
+    assert!(written.status.success());
+    // stdout is the document alone (no `wrote` line), the same as without --out.
+    let doc: Value = serde_json::from_slice(&printed.stdout).unwrap();
+    let mut plain = base.to_vec();
+    plain.truncate(base.len() - 2);
+    plain.push("--json");
+    assert_eq!(doc, json(&plain));
+    assert!(String::from_utf8_lossy(&written.stdout).contains("wrote"));
+    // The table is the one --out alone writes.
+    let table = std::fs::read_to_string(&both).unwrap();
+    assert_eq!(table, std::fs::read_to_string(&alone).unwrap());
+    assert_eq!(table.lines().count(), 502);
+    std::fs::remove_dir_all(&dir).ok();
 }

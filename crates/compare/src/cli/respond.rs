@@ -50,7 +50,8 @@ pub struct RespondArgs {
     pub on: Option<String>,
     /// Print one JSON document: `impacts`, `holds`, the states `at`, `final_state`, the
     /// `summary` (impacts, every body's RMS and peak by name, energy dissipated, work, final
-    /// energy, the energy balance's residual) and the `signal`'s description.
+    /// energy, the energy balance's residual) and the `signal`'s description. With --out,
+    /// the table is written as well and the document printed in place of the summary.
     #[arg(long)]
     pub json: bool,
     /// Write the uniformly sampled response to this `.csv`/`.json`/`.jsonl` file as it runs

@@ -27,10 +27,12 @@
 //! crossings are; the crossing is polished to the time tolerance
 //! ([`ResponseOptions::root_tolerance`] of the time scale). The earliest contact of all
 //! pairs ends the flight (ties to the lower pair index). An approach faster than the
-//! velocities' rounding is an impact: Newton's restitution `ṙ⁺ = −e ṙ⁻` along the contact
-//! direction, momentum kept ([`Model::apply_impact`], the periodic engine's contact law). A
-//! slower touch is a graze, stepped past. The thresholds are the periodic engine's, with
-//! the time scale `2π/max(|λ|, ν)` for its period ([`ResponseOptions::time_scale`]).
+//! velocities' rounding (relative to the larger of their size and the positions' times the
+//! fastest rate, so that a body at rest on a stop sets no scale) is an impact: Newton's
+//! restitution `ṙ⁺ = −e ṙ⁻` along the contact direction, momentum kept
+//! ([`Model::apply_impact`], the periodic engine's contact law). A slower touch is a graze,
+//! stepped past. The thresholds are the periodic engine's, with the time scale
+//! `2π/max(|λ|, ν)` for its period ([`ResponseOptions::time_scale`]).
 //!
 //! **Sticking.** A pair that comes to rest on its stop (restitution 0, or a rebound slower
 //! than the resting velocity while the stop pushes), or whose chatter would end within

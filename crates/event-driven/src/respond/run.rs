@@ -604,9 +604,15 @@ impl<'a> Runner<'a> {
         let phase = &phases[current];
         let direction = &self.pairs[pair].direction;
         let rdot = direction.dot(&y.rows(n, n));
-        let velocity_size = y.as_slice()[n..]
+        // A flight's velocities are sums of terms as large as the positions times the fastest
+        // rate: they are known to rounding relative to that as well as to their own size (a
+        // body just released on its stop has velocities at rounding level, which set no scale).
+        let position_size = y.as_slice()[..n]
             .iter()
             .fold(0.0, |m: f64, v| m.max(v.abs()));
+        let velocity_size = y.as_slice()[n..]
+            .iter()
+            .fold(self.fastest * position_size, |m: f64, v| m.max(v.abs()));
         let velocity_round = VELOCITY_ROUNDING * velocity_size;
         let approaching = rdot * side as f64 > velocity_round;
         let e = self.model.contacts[pair].restitution;
