@@ -514,7 +514,7 @@ fn bad_input_is_refused_by_name() {
 
 /// The lines of `random:band=1-3,rms=0.2,seed=9` over 200 s (64 lines, `k = 32..=95`), flat
 /// or shaped by the PSD file `psd`.
-fn shaped_lines(psd: Option<&str>) -> Vec<rattle_event_driven::respond::Sinusoid> {
+fn shaped_lines(psd: Option<&str>) -> Vec<rattle_event_driven::Sinusoid> {
     RandomSpec {
         band: [1.0, 3.0],
         rms: 0.2,
@@ -526,7 +526,7 @@ fn shaped_lines(psd: Option<&str>) -> Vec<rattle_event_driven::respond::Sinusoid
 }
 
 /// `Σ a_k²/2`, the multisine's mean square over the run.
-fn mean_square(lines: &[rattle_event_driven::respond::Sinusoid]) -> f64 {
+fn mean_square(lines: &[rattle_event_driven::Sinusoid]) -> f64 {
     lines
         .iter()
         .map(|s| (s.cos * s.cos + s.sin * s.sin) / 2.0)

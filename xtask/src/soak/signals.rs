@@ -21,9 +21,7 @@
 use super::structures::random_structure;
 use super::{progress, Rng};
 use rattle_compare::scene::structure::Structure;
-use rattle_event_driven::respond::{
-    respond_sampled, Excitation, ResponseError, ResponseOptions, Signal,
-};
+use rattle_event_driven::{respond_sampled, Excitation, ResponseError, ResponseOptions, Signal};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
@@ -212,7 +210,7 @@ fn check_record(seed: u64, index: u64) -> Result<Tally, String> {
 }
 
 /// `½u̇ᵀMu̇ + ½uᵀKu` of `state`.
-fn energy(s: &Structure, state: &rattle_event_driven::respond::ResponseState) -> f64 {
+fn energy(s: &Structure, state: &rattle_event_driven::ResponseState) -> f64 {
     let u = nalgebra::DVector::from_column_slice(&state.displacements);
     let v = nalgebra::DVector::from_column_slice(&state.velocities);
     0.5 * (v.dot(&(&s.mass * &v)) + u.dot(&(&s.stiffness * &u)))

@@ -1,57 +1,5 @@
-//! The response of a model to a non-periodic signal, from rest at `t = 0` over a duration
-//! `T`: exact between events, every impact found with the event search's guarantee.
-//!
-//! The structure is the model's (its mass, damping and stiffness matrices and its contact
-//! pairs with their gaps, sides and restitution; free bodies held by stops fly as the
-//! periodic flow flies them, as rigid modes); its own periodic forcing is not applied.
-//! The forcing is `f(t) = d s(t) + v ṡ(t)` ([`Excitation`]): a base motion `s = u_g(t)`
-//! acting through springs (`d`, the stiffness to the base) and dashpots (`v`, the damping to
-//! the base), or a force signal on one body (`d = e_body`, `v = 0`). The scalar `s(t)`
-//! ([`Signal`]) is made of segments on which it is affine or a finite sum of sinusoids
-//! (sampled records interpolated piecewise linearly, tone bursts, stepped sweeps), zero
-//! after the last.
-//!
-//! **The flow.** On each segment the forcing is a polynomial of degree one or a sum of
-//! exponentials, so each modal coordinate is a finite sum of (polynomial × exponential) terms
-//! in closed form, resonance-safe: a sinusoid at (or near) a natural frequency, or at `ν = 0`,
-//! gives the secular or limit particular solution, and a rigid mode under an affine force the
-//! cubic of a free body (see `modal`). Segment boundaries are events: a flight ends there and
-//! the next starts from the state reached, under the next segment's forcing. A flight also
-//! ends after [`MAX_FLIGHT_SCALES`] time scales, which bounds the growth of its polynomial
-//! terms (the state is carried exactly across).
-//!
-//! **Contacts.** Each pair's relative displacement over a flight is such a sum
-//! ([`crate::expsum::ExpSum`]), and its first exit from `[−gap_minus, gap_plus]` is found by
-//! [`ExpSum::first_exit`](crate::expsum::ExpSum::first_exit): intervals are discarded only
-//! on rigorous derivative bounds, so no impact between steps is missed, however close two
-//! crossings are; the crossing is polished to the time tolerance
-//! ([`ResponseOptions::root_tolerance`] of the time scale). The earliest contact of all
-//! pairs ends the flight (ties to the lower pair index). An approach faster than the
-//! velocities' rounding (relative to the larger of their size and the positions' times the
-//! fastest rate, so that a body at rest on a stop sets no scale) is an impact: Newton's
-//! restitution `ṙ⁺ = −e ṙ⁻` along the contact direction, momentum kept
-//! ([`Model::apply_impact`], the periodic engine's contact law). A slower touch is a graze,
-//! stepped past. The thresholds are the periodic engine's, with the time scale
-//! `2π/max(|λ|, ν)` for its period ([`ResponseOptions::time_scale`]).
-//!
-//! **Sticking.** A pair that comes to rest on its stop (restitution 0, or a rebound slower
-//! than the resting velocity while the stop pushes), or whose chatter would end within
-//! `10⁻⁵` of the time scale, sticks, as in the periodic engine: a plastic step sets its
-//! relative velocity to zero, and the structure then moves on the constrained flow with the
-//! held pairs' relative displacements fixed (`phase`), exact in closed form as the free flow
-//! is, the signal projected onto it. Each held pair's contact force is a sum of terms over a
-//! flight too, searched for its first zero (the release); the other pairs are watched for
-//! contact in the constrained flow with the same guarantee, and their impacts keep the held
-//! pairs on their stops. Held directions that are dependent end the run
-//! ([`ResponseError::DependentHolds`]).
-//!
-//! **Output.** Every impact (time, pair, side, `ṙ⁻`, the kinetic energy it took), every stick
-//! and release, the state at requested times, and a summary: per-coordinate RMS and peak of
-//! the displacement over `[0, T]`, the energy dissipated by the dashpots and by the impacts
-//! and sticks, the work done by the forcing and the final energy, so that
-//! `work = E(T) + dissipated` can be checked (the held stops do no work: `D u̇ = 0`;
-//! [`ResponseSummary`] says how each is computed). Uniform samples are streamed to a
-//! callback ([`respond_sampled`]).
+//! The response of a structure to a non-periodic signal from rest: the method is documented
+//! on [`respond`].
 
 mod modal;
 mod phase;
@@ -293,6 +241,61 @@ pub struct SampledState<'a> {
 }
 
 /// The response of `model`'s structure to `excitation` by `signal`, from rest at `t = 0`.
+///
+/// The response of a model to a non-periodic signal, from rest at `t = 0` over a duration
+/// `T`: exact between events, every impact found with the event search's guarantee.
+///
+/// The structure is the model's (its mass, damping and stiffness matrices and its contact
+/// pairs with their gaps, sides and restitution; free bodies held by stops fly as the
+/// periodic flow flies them, as rigid modes); its own periodic forcing is not applied.
+/// The forcing is `f(t) = d s(t) + v ṡ(t)` ([`Excitation`]): a base motion `s = u_g(t)`
+/// acting through springs (`d`, the stiffness to the base) and dashpots (`v`, the damping to
+/// the base), or a force signal on one body (`d = e_body`, `v = 0`). The scalar `s(t)`
+/// ([`Signal`]) is made of segments on which it is affine or a finite sum of sinusoids
+/// (sampled records interpolated piecewise linearly, tone bursts, stepped sweeps), zero
+/// after the last.
+///
+/// **The flow.** On each segment the forcing is a polynomial of degree one or a sum of
+/// exponentials, so each modal coordinate is a finite sum of (polynomial × exponential) terms
+/// in closed form, resonance-safe: a sinusoid at (or near) a natural frequency, or at `ν = 0`,
+/// gives the secular or limit particular solution, and a rigid mode under an affine force the
+/// cubic of a free body (see `modal`). Segment boundaries are events: a flight ends there and
+/// the next starts from the state reached, under the next segment's forcing. A flight also
+/// ends after [`MAX_FLIGHT_SCALES`] time scales, which bounds the growth of its polynomial
+/// terms (the state is carried exactly across).
+///
+/// **Contacts.** Each pair's relative displacement over a flight is such a sum
+/// ([`crate::expsum::ExpSum`]), and its first exit from `[−gap_minus, gap_plus]` is found by
+/// [`ExpSum::first_exit`](crate::expsum::ExpSum::first_exit): intervals are discarded only
+/// on rigorous derivative bounds, so no impact between steps is missed, however close two
+/// crossings are; the crossing is polished to the time tolerance
+/// ([`ResponseOptions::root_tolerance`] of the time scale). The earliest contact of all
+/// pairs ends the flight (ties to the lower pair index). An approach faster than the
+/// velocities' rounding (relative to the larger of their size and the positions' times the
+/// fastest rate, so that a body at rest on a stop sets no scale) is an impact: Newton's
+/// restitution `ṙ⁺ = −e ṙ⁻` along the contact direction, momentum kept
+/// ([`Model::apply_impact`], the periodic engine's contact law). A slower touch is a graze,
+/// stepped past. The thresholds are the periodic engine's, with the time scale
+/// `2π/max(|λ|, ν)` for its period ([`ResponseOptions::time_scale`]).
+///
+/// **Sticking.** A pair that comes to rest on its stop (restitution 0, or a rebound slower
+/// than the resting velocity while the stop pushes), or whose chatter would end within
+/// `10⁻⁵` of the time scale, sticks, as in the periodic engine: a plastic step sets its
+/// relative velocity to zero, and the structure then moves on the constrained flow with the
+/// held pairs' relative displacements fixed (`phase`), exact in closed form as the free flow
+/// is, the signal projected onto it. Each held pair's contact force is a sum of terms over a
+/// flight too, searched for its first zero (the release); the other pairs are watched for
+/// contact in the constrained flow with the same guarantee, and their impacts keep the held
+/// pairs on their stops. Held directions that are dependent end the run
+/// ([`ResponseError::DependentHolds`]).
+///
+/// **Output.** Every impact (time, pair, side, `ṙ⁻`, the kinetic energy it took), every stick
+/// and release, the state at requested times, and a summary: per-coordinate RMS and peak of
+/// the displacement over `[0, T]`, the energy dissipated by the dashpots and by the impacts
+/// and sticks, the work done by the forcing and the final energy, so that
+/// `work = E(T) + dissipated` can be checked (the held stops do no work: `D u̇ = 0`;
+/// [`ResponseSummary`] says how each is computed). Uniform samples are streamed to a
+/// callback ([`respond_sampled`]).
 ///
 /// # Errors
 /// [`ResponseError::Input`] naming the field (`excitation.on_signal`, `excitation.on_rate`
