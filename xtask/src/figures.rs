@@ -2,6 +2,7 @@
 
 use crate::root;
 use clap::Args;
+use rattle_compare::api::TransmissionRequest;
 use rattle_compare::figures;
 use rattle_compare::output::{write_table, Format, Header};
 use rattle_compare::peers::siconos::{SiconosPeer, SICONOS_DATA};
@@ -13,6 +14,9 @@ use rattle_compare::runs::parallel::Progress;
 use rattle_compare::scene::simulator::run as simulate;
 use rattle_compare::scene::{Scene, StopsSpec};
 use rattle_compare::study::boundaries::{study_boundaries, StudyBoundaries};
+use rattle_compare::study::broadband::{
+    broadband_case, broadband_section, broadband_setups, BroadbandStudy,
+};
 use rattle_compare::study::chain::{chain_section, chain_study, ChainStudy};
 use rattle_compare::study::chaos::{
     chaos_samples, poincare_sections, ChaosSample, PoincareSections, POINCARE_OMEGA,
@@ -148,6 +152,7 @@ struct Computed {
     oscillator: OscillatorStudy,
     damper: DamperStudy,
     signals: Result<SignalStudy, String>,
+    broadband: Result<BroadbandStudy, String>,
 }
 
 /// The scene's copy with the gap of the study's second reading.
@@ -177,7 +182,7 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
     let (mut main, mut other, mut elastic, mut maps_done) = (None, None, None, None);
     let (mut basins, mut samples, mut poincare, mut chains) = (None, None, None, None);
     let (mut boundaries, mut oscillator, mut damper) = (None, None, None);
-    let mut signals = None;
+    let (mut signals, mut broadband) = (None, None);
     // Stages handed out longest first: another thread takes the earliest spawned, this one
     // the latest.
     rayon::scope(|s| {
@@ -222,6 +227,10 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
                 damper_study(points, branch)
             }))
         });
+        s.spawn(|_| {
+            broadband =
+                Some(clock.stage("broadband transmission", || broadband_study(scene, quick)))
+        });
         s.spawn(|_| signals = Some(clock.stage("signals", || signal_study(scene, quick))));
     });
     // Every slot is filled once the scope has ended (a stage's panic is carried on by it).
@@ -239,7 +248,30 @@ fn compute(scene: &Scene, quick: bool, clock: &Clock) -> Computed {
         oscillator: oscillator.expect(filled),
         damper: damper.expect(filled),
         signals: signals.expect(filled),
+        broadband: broadband.expect(filled),
     }
+}
+
+/// The broadband study of `scene`: the unit and the chain, each through `rattle
+/// transmission`'s estimate at the study's levels, and the answer of each.
+fn broadband_study(scene: &Scene, quick: bool) -> Result<BroadbandStudy, String> {
+    let cases = broadband_setups(scene, quick)?
+        .iter()
+        .map(|setup| {
+            let request = TransmissionRequest {
+                signal: setup.signal.clone(),
+                duration: setup.duration,
+                options: setup.options.clone(),
+            };
+            let record = rattle_compare::api::transmission(&setup.scene, &request)
+                .map_err(|e| format!("broadband, {}: {e}", setup.label))?;
+            Ok(broadband_case(setup, record))
+        })
+        .collect::<Result<Vec<_>, String>>()?;
+    Ok(BroadbandStudy {
+        scene_name: scene.name.clone(),
+        cases,
+    })
 }
 
 /// The basins figure's grid at [`BASINS_OMEGA`].
@@ -396,6 +428,10 @@ fn draw_the_rest(c: &Computed, dir: &Path) -> Result<Vec<PathBuf>, String> {
         figures::draw_signals(c.signals.as_ref().map_err(Clone::clone)?, &c.chains, dir)
             .map_err(|e| e.to_string())?,
     );
+    written.extend(
+        figures::draw_broadband(c.broadband.as_ref().map_err(Clone::clone)?, dir)
+            .map_err(|e| e.to_string())?,
+    );
     Ok(written)
 }
 
@@ -445,6 +481,7 @@ pub fn run(args: FiguresArgs) -> Result<(), String> {
             &(report(&c.main, &c.other, &c.elastic_note, &c.samples)
                 + &chain_section(&c.chains)
                 + &signals_section(c.signals.as_ref().map_err(Clone::clone)?)
+                + &broadband_section(c.broadband.as_ref().map_err(Clone::clone)?)
                 + &c.boundaries.section(&c.main, c.maps.as_ref())
                 + &siconos_section(siconos.as_ref(), &precision)),
         )?;

@@ -7,6 +7,7 @@ pub mod basins;
 pub mod beta_family;
 pub mod bifurcation;
 pub mod boundaries;
+pub mod broadband_transmission;
 pub mod chain;
 pub mod frequency_response;
 pub mod impact_damper;
@@ -145,6 +146,17 @@ pub fn draw_impact_oscillator(
     dir: &Path,
 ) -> Result<Vec<PathBuf>, PlotError> {
     save(study, dir)
+}
+
+/// Draws `broadband-transmission` of the broadband study; returns the paths written.
+///
+/// # Errors
+/// A figure cannot be drawn or written, with its path.
+pub fn draw_broadband(
+    study: &crate::study::broadband::BroadbandStudy,
+    dir: &Path,
+) -> Result<Vec<PathBuf>, PlotError> {
+    save(&broadband_transmission::BroadbandTransmission(study), dir)
 }
 
 /// Draws the figures of non-periodic signals (`tone-burst`, `sweep-up-down`) into `dir`, the

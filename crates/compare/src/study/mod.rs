@@ -3,6 +3,7 @@
 //! paper's claims and numbers, [`report`] the validation outputs.
 
 pub mod boundaries;
+pub mod broadband;
 pub mod chain;
 pub mod chaos;
 pub mod damper;

@@ -271,12 +271,12 @@ impl Structure {
         rattle_analytic::ImpactSequence::parse(&text, period)
     }
 
-    /// The observed body's displacement per unit base displacement at `omega` (rad/s) with the
-    /// stops removed: `H(ω) = e_obsᵀ (K − ω²M + iωC)⁻¹ (k_b + iω c_b)`, `k_b` and `c_b` the
-    /// springs' and dashpots' ties to the base ([`Structure::base_stiffness`],
-    /// [`Structure::base_damping`]), for `u_g = Re(U e^{iωt})`, `u_obs = Re(H U e^{iωt})`.
+    /// Every body's displacement per unit base displacement at `omega` (rad/s) with the stops
+    /// removed: `U(ω) = (K − ω²M + iωC)⁻¹ (k_b + iω c_b)`, `k_b` and `c_b` the springs' and
+    /// dashpots' ties to the base ([`Structure::base_stiffness`],
+    /// [`Structure::base_damping`]), for `u_g = Re(U_g e^{iωt})`, `u_j = Re(U_j U_g e^{iωt})`.
     /// `None` where `K − ω²M + iωC` is singular (an undamped natural frequency).
-    pub fn base_response(&self, omega: f64) -> Option<Complex<f64>> {
+    pub fn base_responses(&self, omega: f64) -> Option<DVector<Complex<f64>>> {
         let n = self.dofs();
         let damping = |r: usize, c: usize| self.damping.as_ref().map_or(0.0, |d| d[(r, c)]);
         let dynamic = DMatrix::from_fn(n, n, |r, c| {
@@ -289,8 +289,17 @@ impl Structure {
             Complex::new(self.base_stiffness[r], omega * self.base_damping[r])
         });
         let u = dynamic.lu().solve(&force)?;
-        let h = u[self.observe];
-        (h.re.is_finite() && h.im.is_finite()).then_some(h)
+        u.iter()
+            .all(|h| h.re.is_finite() && h.im.is_finite())
+            .then_some(u)
+    }
+
+    /// The observed body's displacement per unit base displacement at `omega` (rad/s) with the
+    /// stops removed: the observed entry of [`Structure::base_responses`],
+    /// `H(ω) = e_obsᵀ (K − ω²M + iωC)⁻¹ (k_b + iω c_b)`. `None` where `K − ω²M + iωC` is
+    /// singular (an undamped natural frequency).
+    pub fn base_response(&self, omega: f64) -> Option<Complex<f64>> {
+        self.base_responses(omega).map(|u| u[self.observe])
     }
 
     /// Whether some dashpot is not zero.
