@@ -22,6 +22,11 @@ failure :class:`RuntimeError`. A frequency must be finite, > 0 and within the sc
 raises the command's :class:`ValueError` with the range. The computations release the GIL; a
 sweep runs on the Rust thread pool (``RAYON_NUM_THREADS`` sets its size).
 
+:func:`respond` is the exact response from rest to a non-periodic signal, and
+:func:`transmission` the Welch estimate of the transmissibility under random base motion,
+level by level, beside the linear response with the stops removed (on a Dask cluster with
+``client=``), as ``rattle respond`` and ``rattle transmission``.
+
 ``simulate(..., lyapunov=True)`` adds the Lyapunov exponents of the motion, as
 ``rattle simulate --lyapunov``.
 
@@ -1253,7 +1258,8 @@ class Transmission(Record):
 
     def __repr__(self):
         levels = [level["level"] for level in self._data["levels"]]
-        return f"Transmission(scene={self._data['scene']!r}, levels={levels}, rows={len(self.table)})"
+        scene = self._data["scene"]
+        return f"Transmission(scene={scene!r}, levels={levels}, rows={len(self.table)})"
 
 
 def _transmission_args(signal, duration, levels, seeds, segment, overlap, confidence, transient):

@@ -6,7 +6,9 @@ the same library calls: each returns the command's ``--out F.json`` file as
 computes part ``K`` of ``N`` as the command's ``--shard K/N``; :func:`merge` joins parts as
 ``rattle merge`` does. With ``client=`` (a ``dask.distributed.Client``) the study is cut into
 parts that run as Dask tasks, gathered in order and merged: the result is the single-machine
-one bit for bit, whatever the number of workers and parts.
+one bit for bit, whatever the number of workers and parts. ``rattle.transmission(...,
+client=)`` runs its ``(level, seed)`` runs the same way, in parts merged by their segment
+sums (:func:`_transmission_on_client`).
 """
 
 import json as _json
