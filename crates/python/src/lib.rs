@@ -18,7 +18,8 @@
 //!   it is a bug.
 //!
 //! One module per command ([`scene`], [`orbit`], [`simulate`], [`compare`], [`sweep`],
-//! [`continuation`], [`boundary`], [`map`], [`basins`], [`merge`]), what they share in
+//! [`continuation`], [`boundary`], [`map`], [`basins`], [`merge`], [`respond`],
+//! [`transmission`]), what they share in
 //! [`common`] and the tables handed to numpy, column by column from the command's row types,
 //! in [`table`]; this file only registers them.
 #![deny(missing_docs)]
@@ -38,6 +39,7 @@ mod scene;
 mod simulate;
 mod sweep;
 mod table;
+mod transmission;
 
 /// The native module.
 #[pymodule]
@@ -60,6 +62,7 @@ fn _rattle(m: &Bound<'_, PyModule>) -> PyResult<()> {
     basins::register(m)?;
     merge::register(m)?;
     respond::register(m)?;
+    transmission::register(m)?;
     table::register(m)?;
     Ok(())
 }

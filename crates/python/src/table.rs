@@ -22,6 +22,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyString;
 use rattle_compare::output::structure::{structure_trajectory, Cell, NamedTable};
 use rattle_compare::output::trajectory::{analytic_rows, ImpactRow, TrajectoryRow};
+use rattle_compare::output::transmission::TransmissionRow;
 use rattle_compare::output::Row;
 use rattle_compare::runs::basins::{rows as basin_rows, Attractor, BasinCell, BasinRow};
 use rattle_compare::runs::map::{line, scene_at, MapColumns, MapPointRow, MapSettings};
@@ -340,6 +341,22 @@ fn trajectory_sample() -> (Vec<TrajectoryRow>, Vec<ImpactRow>) {
 }
 
 table_row_kinds!(TrajectoryRow, trajectory_sample().0.pop());
+
+// A transmission row: every field given, as a level's row at one frequency.
+table_row_kinds!(TransmissionRow, {
+    Some(TransmissionRow {
+        level: 1.0,
+        omega: 1.0,
+        h1_magnitude: Some(1.0),
+        h1_phase: Some(0.0),
+        h1_radius: Some(0.0),
+        transmissibility: Some(1.0),
+        coherence: Some(1.0),
+        linear_magnitude: Some(1.0),
+        linear_phase: Some(0.0),
+        averages: 1.0,
+    })
+});
 table_row_kinds!(ImpactRow, trajectory_sample().1.pop());
 
 /// A `RuntimeError` for a table that does not read as its columns (a bug).
@@ -560,6 +577,7 @@ fn table_kinds_of(table: &str) -> PyResult<&'static [(&'static str, Kind)]> {
         "structure-sweep" => kinds::<StructureSweepRow>(),
         "trajectory" => kinds::<TrajectoryRow>(),
         "impacts" => kinds::<ImpactRow>(),
+        "transmission" => kinds::<TransmissionRow>(),
         _ => Err(PyValueError::new_err(format!("no table {table:?}"))),
     }
 }
@@ -567,7 +585,8 @@ fn table_kinds_of(table: &str) -> PyResult<&'static [(&'static str, Kind)]> {
 /// The columns of the command's tables, in order: `"map"` (the points of the map over
 /// restitution and gap), `"map-parameters"` (of a unit's or chain's map over two parameters,
 /// `x` and `y`), `"map-structure"` (of a structure's), `"basins"`, `"sweep"`,
-/// `"structure-sweep"` (a structure's sweep), `"trajectory"`, `"impacts"`.
+/// `"structure-sweep"` (a structure's sweep), `"trajectory"`, `"impacts"`, `"transmission"`
+/// (the rows of every level of a transmission estimate).
 #[pyfunction]
 fn table_columns(table: &str) -> PyResult<Vec<&'static str>> {
     Ok(table_kinds_of(table)?

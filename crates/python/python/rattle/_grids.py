@@ -6,7 +6,9 @@ the same library calls: each returns the command's ``--out F.json`` file as
 computes part ``K`` of ``N`` as the command's ``--shard K/N``; :func:`merge` joins parts as
 ``rattle merge`` does. With ``client=`` (a ``dask.distributed.Client``) the study is cut into
 parts that run as Dask tasks, gathered in order and merged: the result is the single-machine
-one bit for bit, whatever the number of workers and parts.
+one bit for bit, whatever the number of workers and parts. ``rattle.transmission(...,
+client=)`` runs its ``(level, seed)`` runs the same way, in parts merged by their segment
+sums (:func:`_transmission_on_client`).
 """
 
 import json as _json
@@ -25,6 +27,12 @@ MAP_SECONDS_PER_POINT = 0.0012
 #: Seconds of one core per basins start (docs/performance.md: 200 × 200 starts of the paper's unit at
 #: ω = 1.9 rad/s in 10.7 s on 2 threads), for the same purpose.
 BASINS_SECONDS_PER_START = 0.0005
+
+#: Seconds of one core per sample of one record of ``rattle transmission`` (a run's samples
+#: are the document's ``settings.samples``), as measured on this project's 2-core machine
+#: (``base-isolated.json``, 8 runs of 3 184 samples at two levels in 3.5 s on one thread):
+#: used only to choose how many parts an estimate is cut into.
+TRANSMISSION_SECONDS_PER_SAMPLE = 1.4e-4
 
 #: The work a Dask task is given, in seconds of one core: long enough that the per-task
 #: overhead of Dask (scheduling, shipping the scene and the part's table) is a small part of
@@ -318,9 +326,9 @@ def _workers(client):
         return 0
 
 
-def _on_client(client, function, args, count, label, progress):
+def _on_client(client, function, args, count, label, progress, merge=None):
     """``function(*args, (K, count))`` for every K as Dask tasks on ``client``, gathered in
-    order and merged. A task that fails raises its error here; a worker lost while running
+    order and merged (by ``merge``, ``rattle merge``'s join by default). A task that fails raises its error here; a worker lost while running
     one has it rerun by Dask elsewhere."""
     token = _uuid.uuid4().hex[:12]
     futures = [
@@ -329,7 +337,7 @@ def _on_client(client, function, args, count, label, progress):
     ]
     if progress:
         _progress(futures, label, count)
-    return _rattle.merge(client.gather(futures))
+    return (merge or _rattle.merge)(client.gather(futures))
 
 
 def _progress(futures, label, count):
@@ -543,3 +551,30 @@ def basins(
     if parts is None:
         parts = parts_for(starts * BASINS_SECONDS_PER_START, starts, _workers(client))
     return Basins(_on_client(client, _basins_part, args, int(parts), "basins", progress))
+
+
+def _transmission_part(scene_json, args, part):
+    """One part of a transmission estimate, as a Dask task runs it: the part's JSON text.
+    ``args`` are the native call's after the scene (``rattle._transmission_args``)."""
+    return _rattle.transmission_part(_native(scene_json), *args, part=part)
+
+
+def _transmission_on_client(scene, args, client, parts, progress):
+    """The document of :func:`rattle.transmission` with ``client=``: the request checked
+    here (a part past the runs computes nothing but checks everything), then its runs cut
+    into parts run as Dask tasks, gathered in order and merged."""
+    scene_json = _scene_json(scene)
+    empty = _json.loads(_transmission_part(scene_json, args, (1, 1 << 62)))
+    runs = empty["total_runs"]
+    if parts is None:
+        seconds = runs * empty["settings"]["samples"] * TRANSMISSION_SECONDS_PER_SAMPLE
+        parts = parts_for(seconds, runs, _workers(client))
+    return _on_client(
+        client,
+        _transmission_part,
+        (scene_json, args),
+        int(parts),
+        "transmission",
+        progress,
+        merge=_rattle.merge_transmission_parts,
+    )
