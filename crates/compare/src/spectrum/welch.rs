@@ -368,12 +368,13 @@ pub fn f_quantile(m: f64, alpha: f64) -> f64 {
 /// The radius `r` of the confidence disc of `H₁` from `n` effective complex averages, the
 /// coherence `γ²` and `S_yy/S_xx`, at confidence `1 − α`:
 /// `r² = F_{2,2(n−1);α}/(n − 1) · (1 − γ²) S_yy/S_xx = (α^{−1/(n−1)} − 1)(1 − γ²) S_yy/S_xx`.
-/// Infinite for `n ≤ 1` (no residual to estimate the scatter from).
+/// Infinite for `n ≤ 1` (no residual to estimate the scatter from); a coherence rounded
+/// above 1 counts as 1.
 pub fn confidence_radius(n: f64, coherence: f64, ratio: f64, alpha: f64) -> f64 {
     if n <= 1.0 {
         return f64::INFINITY;
     }
-    ((alpha.powf(-1.0 / (n - 1.0)) - 1.0) * (1.0 - coherence) * ratio).sqrt()
+    ((alpha.powf(-1.0 / (n - 1.0)) - 1.0) * (1.0 - coherence).max(0.0) * ratio).sqrt()
 }
 
 #[cfg(test)]
