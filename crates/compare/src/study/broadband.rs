@@ -62,8 +62,10 @@ pub const LEVEL_MARGINS: [(&str, f64); 3] = [
     ("strong", 2.0),
 ];
 
-/// The change of transmissibility that counts as less (or more), dB: a tenth of a decade of
-/// power, above the scatter of one record's estimate between neighbouring frequencies.
+/// The change of transmissibility that counts as less (or more), dB: a power ratio of 1.26.
+/// The levels share their input records, so the input's own scatter cancels between them;
+/// the scatter the impacts add to one record's output is not subtracted (the report says the
+/// estimate is one record per level).
 pub const LESS_DB: f64 = 1.0;
 
 /// One structure of the study, ready to run: its scene, its signal and the options.
