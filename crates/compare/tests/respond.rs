@@ -370,15 +370,7 @@ fn the_random_signal_is_deterministic_with_its_rms_and_band() {
     }
     // The spectrum: nothing outside the band's bins but rounding (a direct DFT of the record
     // at bins below, inside and above the band).
-    let bin = |k: usize| {
-        let (mut re, mut im) = (0.0, 0.0);
-        for (j, v) in values[..n].iter().enumerate() {
-            let (s, c) = (TAU * ((k * j) % n) as f64 / n as f64).sin_cos();
-            re += v * c;
-            im += v * s;
-        }
-        (re * re + im * im).sqrt() * 2.0 / n as f64
-    };
+    let bin = |k: usize| bin_amplitude(&values[..n], k);
     let inside = bin((k_lo + k_hi) / 2);
     let line = lines[(k_lo + k_hi) / 2 - k_lo];
     assert!((inside - line.cos.hypot(line.sin)).abs() < 1e-9);
@@ -611,15 +603,7 @@ fn a_psd_file_shapes_the_random_lines_by_its_law() {
     assert_eq!(doc["signal"]["solved_as"], "sinusoids");
     let n = 1024;
     let values = record(&halved, 200.0, n);
-    let bin = |k: usize| {
-        let (mut re, mut im) = (0.0, 0.0);
-        for (j, v) in values[..n].iter().enumerate() {
-            let (s, c) = (TAU * ((k * j) % n) as f64 / n as f64).sin_cos();
-            re += v * c;
-            im += v * s;
-        }
-        (re * re + im * im).sqrt() * 2.0 / n as f64
-    };
+    let bin = |k: usize| bin_amplitude(&values[..n], k);
     for k in [32, 48, 63] {
         let line = halved[k - 32];
         assert!((bin(k) - line.cos.hypot(line.sin)).abs() < 1e-12, "bin {k}");
@@ -796,4 +780,17 @@ fn json_with_out_prints_the_document_and_writes_the_table() {
     assert_eq!(table, std::fs::read_to_string(&alone).unwrap());
     assert_eq!(table.lines().count(), 502);
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The amplitude of bin `k` of `values` (`N` samples over one period) by a direct DFT:
+/// `(2/N)|Σ_j v_j e^{−2πi kj/N}|`, the amplitude of a sinusoid on that bin.
+fn bin_amplitude(values: &[f64], k: usize) -> f64 {
+    let n = values.len();
+    let (mut re, mut im) = (0.0, 0.0);
+    for (j, v) in values.iter().enumerate() {
+        let (s, c) = (TAU * ((k * j) % n) as f64 / n as f64).sin_cos();
+        re += v * c;
+        im += v * s;
+    }
+    (re * re + im * im).sqrt() * 2.0 / n as f64
 }
