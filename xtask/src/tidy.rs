@@ -530,17 +530,23 @@ fn a_long_function_is_found() {
     assert_eq!(opens_function("let fn_name = 1;"), None);
 }
 
-/// Longest a Rust source file may be, in lines: a longer one is split by job into a module
-/// folder, its `mod.rs` re-exporting each part's items (as `runs/basins/` is split).
+/// Longest a source file may be, in lines: a longer one is split by job into a module folder,
+/// its `mod.rs` re-exporting each part's items (as `runs/basins/` is split), or a Python
+/// package's modules re-exported by its `__init__.py`.
 const MAX_FILE_LINES: usize = 1000;
 
-/// The folders of every crate (`crates/NAME/…`) whose Rust files are held to
-/// [`MAX_FILE_LINES`].
-const CRATE_FOLDERS: [&str; 4] = ["src", "tests", "examples", "benches"];
+/// The folders of every crate (`crates/NAME/…`) whose source files are held to
+/// [`MAX_FILE_LINES`] (`python`: a Python package's own modules).
+const CRATE_FOLDERS: [&str; 5] = ["src", "tests", "examples", "benches", "python"];
 
-/// Whether `relative`, a path from the repository's root, is a Rust file held to
-/// [`MAX_FILE_LINES`]: under one of a crate's [`CRATE_FOLDERS`] or under `xtask/src`, and in
-/// no `target` or hidden folder (build output, not source).
+/// The endings of the source files held to [`MAX_FILE_LINES`]: Rust, and the Python of the
+/// package and its tests.
+const SOURCE_ENDINGS: [&str; 2] = [".rs", ".py"];
+
+/// Whether `relative`, a path from the repository's root, is a source file held to
+/// [`MAX_FILE_LINES`]: Rust or Python ([`SOURCE_ENDINGS`]) under one of a crate's
+/// [`CRATE_FOLDERS`] or under `xtask/src`, and in no `target` or hidden folder (build output,
+/// not source).
 fn is_source_file(relative: &str) -> bool {
     let parts: Vec<&str> = relative.split(['/', '\\']).collect();
     let held = match parts.as_slice() {
@@ -551,10 +557,10 @@ fn is_source_file(relative: &str) -> bool {
     let built = parts[..parts.len() - 1]
         .iter()
         .any(|p| *p == "target" || p.starts_with('.'));
-    held && !built && relative.ends_with(".rs")
+    held && !built && SOURCE_ENDINGS.iter().any(|e| relative.ends_with(e))
 }
 
-/// The Rust files of the repository at `root` that [`is_source_file`] picks, by path from the
+/// The source files of the repository at `root` that [`is_source_file`] picks, by path from the
 /// root (`/`-separated), with their text.
 fn source_files(root: &Path) -> BTreeMap<String, String> {
     let mut stack = vec![root.join("xtask/src")];
@@ -645,6 +651,8 @@ fn a_long_source_file_is_found() {
         "crates/a/examples/e.rs",
         "crates/a/benches/b.rs",
         "xtask/src/tidy/rust.rs",
+        "crates/python/python/rattle/__init__.py",
+        "crates/python/tests/test_x.py",
     ] {
         assert!(is_source_file(picked), "{picked} is left out");
     }
@@ -658,6 +666,7 @@ fn a_long_source_file_is_found() {
         "crates/a/src/notes.md",
         "xtask/build.rs",
         "docs/x.rs",
+        "validation/peers/x.py",
     ] {
         assert!(!is_source_file(skipped), "{skipped} is picked");
     }

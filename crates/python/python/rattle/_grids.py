@@ -18,6 +18,8 @@ import uuid as _uuid
 import numpy as _np
 
 from . import _rattle, _tables
+from ._records import Sweep
+from ._scene import _native_scene
 
 #: Seconds of one core per map point, as measured on this project's 2-core machine (the
 #: performance page, docs/performance.md: 640 000 points of the lightly damped paper unit in 390 s on 2 threads):
@@ -273,8 +275,6 @@ def merge(parts):
     merged = _rattle.merge([t.decode() if isinstance(t, bytes) else str(t) for t in texts])
     results = {type(p) for p in parts if not isinstance(p, (str, bytes))}
     if len(results) == 1:
-        from . import Sweep
-
         (result,) = results
         if issubclass(result, (Grid, Sweep)):
             return result(merged)
@@ -282,8 +282,6 @@ def merge(parts):
 
 
 def _scene_json(scene):
-    from . import _native_scene
-
     return _native_scene(scene).to_json()
 
 
