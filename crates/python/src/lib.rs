@@ -2,7 +2,7 @@
 //!
 //! Every function here does what the matching `rattle` command does, on the same library calls
 //! of `rattle-compare`, and returns the same serializable record the command prints with
-//! `--json`, as JSON text: the pure-Python half (`python/rattle/__init__.py`) turns it into
+//! `--json`, as JSON text: the pure-Python half (`python/rattle/`) turns it into
 //! objects with attributes and `.to_dict()`. Going through the command's own JSON makes the
 //! dictionaries equal to the command's output by construction (same keys, same order, lists
 //! where it has lists, `None` where it has `null`), and costs microseconds (measured in the
