@@ -3,9 +3,10 @@
 //! parameter).
 
 use super::{load_any, write_record, RattleError};
-use crate::output::Format;
+use crate::output::{Format, Row};
 use crate::runs::boundaries::{
-    follow_events, follow_structure_events, rows, BoundariesError, BoundariesRecord, EventFilter,
+    follow_events, follow_structure_events, rows, BoundariesError, BoundariesRecord, BoundariesRow,
+    EventFilter,
 };
 use crate::runs::continuation::Branches;
 use crate::runs::parallel::{parallel_map, Grain, Progress};
@@ -268,6 +269,7 @@ pub fn run(args: BoundariesArgs) -> Result<String, RattleError> {
         args.out.as_ref(),
         format,
         &record,
+        BoundariesRow::COLUMNS,
         || rows(&record),
         || summary(&record),
     )

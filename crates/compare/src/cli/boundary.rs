@@ -4,7 +4,7 @@
 
 use super::{load_any, write_record, RattleError};
 use crate::api;
-use crate::output::{finite, table_row, Format};
+use crate::output::{finite, table_row, Format, Row};
 use crate::runs::boundary::{BoundaryOptions, BoundaryRecord};
 use clap::Args;
 use rattle_analytic::BoundarySettings;
@@ -147,9 +147,15 @@ fn write(
             special: p.special,
         })
     };
-    write_record(args.json, args.out.as_ref(), format, record, rows, || {
-        summary(record)
-    })
+    write_record(
+        args.json,
+        args.out.as_ref(),
+        format,
+        record,
+        BoundaryRow::COLUMNS,
+        rows,
+        || summary(record),
+    )
 }
 
 /// The summary printed without `--json`.

@@ -4,7 +4,7 @@
 use super::{check_omega, load_any, write_record, RattleError};
 use crate::api::{self, ContinuedBranches};
 use crate::output::records::ContinuationRecord;
-use crate::output::{finite, number_list, table_row, Format};
+use crate::output::{finite, number_list, table_row, Format, Renamed, Row};
 use crate::runs::continuation::{Followed, SequenceFollowed};
 use crate::scene::structure::Structure;
 use clap::Args;
@@ -93,9 +93,10 @@ table_row! {
 }
 
 table_row! {
-    /// One point of a chain's continued branch, as a CSV row: the unit's columns and every
-    /// cell's outer amplitude.
-    pub struct ChainContinuationRow {
+    /// One point of a chain's or a structure's continued branch, as a CSV row: the unit's
+    /// columns (for a structure, of its observed body) and every amplitude of the sequence's
+    /// model, under the name its form gives them ([`CELL_AMPLITUDES`], [`BODY_AMPLITUDES`]).
+    pub struct SequenceContinuationRow {
         /// Index of its branch.
         pub branch: usize,
         /// The branch's canonical impact sequence.
@@ -104,57 +105,9 @@ table_row! {
         pub period: u32,
         /// Angular frequency, rad/s.
         pub omega: Option<f64>,
-        /// Base phase at the first canonical impact, rad.
-        pub alpha: Option<f64>,
-        /// `X_o` of the last cell, m.
-        pub outer_amplitude: Option<f64>,
-        /// `T`, dB.
-        pub transmittance_db: Option<f64>,
-        /// Every Floquet multiplier inside the unit circle.
-        pub stable: bool,
-        /// No penetration, every impact from inside, no extra impact.
-        pub viable: bool,
-        /// The largest modulus of a Floquet multiplier.
-        pub largest_multiplier: Option<f64>,
-        /// `max|u_o,j|` of every cell, from the base out, m: a list, `;`-separated.
-        pub cell_outer_amplitudes: Option<String>,
-    }
-}
-
-/// The rows of every point of a chain's `f`.
-fn chain_rows(f: &SequenceFollowed) -> impl Iterator<Item = ChainContinuationRow> + '_ {
-    f.continuation.branches.iter().flat_map(|b| {
-        b.points.iter().map(move |p| ChainContinuationRow {
-            branch: b.index,
-            signature: b.signature.to_string(),
-            period: b.period,
-            omega: finite(p.omega),
-            alpha: finite(p.alpha),
-            outer_amplitude: finite(p.outer_amplitude),
-            transmittance_db: finite(p.transmittance_db),
-            stable: p.stable,
-            viable: p.viable,
-            largest_multiplier: largest_multiplier(p),
-            cell_outer_amplitudes: number_list(&p.cell_outer_amplitudes),
-        })
-    })
-}
-
-table_row! {
-    /// One point of a structure's continued branch, as a CSV row: the unit's columns for the
-    /// observed body and every body's amplitude.
-    pub struct StructureContinuationRow {
-        /// Index of its branch.
-        pub branch: usize,
-        /// The branch's canonical impact sequence of the stops.
-        pub signature: String,
-        /// Forcing periods per cycle.
-        pub period: u32,
-        /// Angular frequency, rad/s.
-        pub omega: Option<f64>,
         /// The forcing's phase at the first canonical impact, rad.
         pub alpha: Option<f64>,
-        /// The observed body's amplitude, m.
+        /// The observed amplitude (a chain's last cell's `X_o`, a structure's observed body), m.
         pub outer_amplitude: Option<f64>,
         /// `20 log10(outer_amplitude / u_g)`, dB, when the base moves.
         pub transmittance_db: Option<f64>,
@@ -164,31 +117,72 @@ table_row! {
         pub viable: bool,
         /// The largest modulus of a Floquet multiplier.
         pub largest_multiplier: Option<f64>,
-        /// `max|u|` of every body in the scene's order, m: a list, `;`-separated.
-        pub body_amplitudes: Option<String>,
+        /// The amplitudes, m: a list, `;`-separated.
+        pub amplitudes: Option<String>,
     }
 }
 
-/// The rows of every point of a structure's `f`.
+/// A chain's amplitudes column: `max|u_o,j|` of every cell, from the base out.
+const CELL_AMPLITUDES: &[(&str, &str)] = &[("amplitudes", "cell_outer_amplitudes")];
+
+/// A structure's amplitudes column: `max|u|` of every body in the scene's order.
+const BODY_AMPLITUDES: &[(&str, &str)] = &[("amplitudes", "body_amplitudes")];
+
+/// The rows of every point of a chain's `f`, its amplitudes named as [`CELL_AMPLITUDES`].
+fn chain_rows(f: &SequenceFollowed) -> impl Iterator<Item = Renamed<SequenceContinuationRow>> + '_ {
+    sequence_rows(f, |p| {
+        (
+            finite(p.outer_amplitude),
+            finite(p.transmittance_db),
+            &p.cell_outer_amplitudes,
+        )
+    })
+    .map(|row| Renamed {
+        row,
+        renames: CELL_AMPLITUDES,
+    })
+}
+
+/// The rows of every point of a structure's `f`, its amplitudes named as [`BODY_AMPLITUDES`].
 fn structure_rows<'a>(
     structure: &'a Structure,
     f: &'a SequenceFollowed,
-) -> impl Iterator<Item = StructureContinuationRow> + 'a {
+) -> impl Iterator<Item = Renamed<SequenceContinuationRow>> + 'a {
+    sequence_rows(f, move |p| {
+        let observed = p.amplitudes.get(structure.observe).copied();
+        (
+            observed.and_then(finite),
+            observed.and_then(|x| structure.transmittance_db(x)),
+            &p.amplitudes,
+        )
+    })
+    .map(|row| Renamed {
+        row,
+        renames: BODY_AMPLITUDES,
+    })
+}
+
+/// The rows of every point of `f`, with `observed` giving a point's observed amplitude, its
+/// transmittance and the amplitudes listed.
+fn sequence_rows<'a>(
+    f: &'a SequenceFollowed,
+    observed: impl Fn(&ContinuationPoint) -> (Option<f64>, Option<f64>, &[f64]) + Copy + 'a,
+) -> impl Iterator<Item = SequenceContinuationRow> + 'a {
     f.continuation.branches.iter().flat_map(move |b| {
         b.points.iter().map(move |p| {
-            let observed = p.amplitudes.get(structure.observe).copied();
-            StructureContinuationRow {
+            let (outer_amplitude, transmittance_db, amplitudes) = observed(p);
+            SequenceContinuationRow {
                 branch: b.index,
                 signature: b.signature.to_string(),
                 period: b.period,
                 omega: finite(p.omega),
                 alpha: finite(p.alpha),
-                outer_amplitude: observed.and_then(finite),
-                transmittance_db: observed.and_then(|x| structure.transmittance_db(x)),
+                outer_amplitude,
+                transmittance_db,
                 stable: p.stable,
                 viable: p.viable,
                 largest_multiplier: largest_multiplier(p),
-                body_amplitudes: number_list(&p.amplitudes),
+                amplitudes: number_list(amplitudes),
             }
         })
     })
@@ -257,18 +251,30 @@ pub fn run(args: ContinueArgs) -> Result<String, RattleError> {
         &settings,
     )?;
     match &continued.branches {
-        ContinuedBranches::Unit(followed) => {
-            write(&args, format, &continued.record, || rows(followed))
-        }
-        ContinuedBranches::Chain(followed) => {
-            write(&args, format, &continued.record, || chain_rows(followed))
-        }
+        ContinuedBranches::Unit(followed) => write(
+            &args,
+            format,
+            &continued.record,
+            ContinuationRow::COLUMNS,
+            || rows(followed),
+        ),
+        ContinuedBranches::Chain(followed) => write(
+            &args,
+            format,
+            &continued.record,
+            &Renamed::<SequenceContinuationRow>::columns(CELL_AMPLITUDES),
+            || chain_rows(followed),
+        ),
         ContinuedBranches::Structure {
             followed,
             structure,
-        } => write(&args, format, &continued.record, || {
-            structure_rows(structure, followed)
-        }),
+        } => write(
+            &args,
+            format,
+            &continued.record,
+            &Renamed::<SequenceContinuationRow>::columns(BODY_AMPLITUDES),
+            || structure_rows(structure, followed),
+        ),
     }
 }
 
@@ -305,19 +311,26 @@ fn settings(args: &ContinueArgs) -> Result<ContinuationSettings, RattleError> {
 }
 
 /// The output of a run: `--json` prints `record`; `--out` writes it (`.json`) or the points'
-/// `rows` (`.csv`); the summary is printed otherwise.
+/// `rows` under `columns` (`.csv`); the summary is printed otherwise.
 ///
 /// # Errors
 /// [`RattleError::Output`] when the file cannot be written.
-fn write<R: crate::output::Row, I: Iterator<Item = R>>(
+fn write<R: serde::Serialize, I: Iterator<Item = R>>(
     args: &ContinueArgs,
     format: Option<Format>,
     record: &ContinuationRecord,
+    columns: &[&str],
     rows: impl FnOnce() -> I,
 ) -> Result<String, RattleError> {
-    write_record(args.json, args.out.as_ref(), format, record, rows, || {
-        summary(record)
-    })
+    write_record(
+        args.json,
+        args.out.as_ref(),
+        format,
+        record,
+        columns,
+        rows,
+        || summary(record),
+    )
 }
 
 /// The summary printed without `--json`.

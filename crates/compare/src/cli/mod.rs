@@ -392,15 +392,16 @@ fn pretty(record: &impl serde::Serialize) -> Result<String, RattleError> {
 ///
 /// # Errors
 /// [`RattleError::Output`] when the file cannot be written.
-fn write_record<R: crate::output::Row, I: Iterator<Item = R>>(
+fn write_record<R: serde::Serialize, I: Iterator<Item = R>>(
     json: bool,
     out: Option<&std::path::PathBuf>,
     format: Option<crate::output::Format>,
     record: &impl serde::Serialize,
+    columns: &[&str],
     rows: impl FnOnce() -> I,
     summary: impl FnOnce() -> String,
 ) -> Result<String, RattleError> {
-    use crate::output::{writer, Format, Header, OutputError};
+    use crate::output::{writer_with_columns, Format, Header, OutputError};
     if json {
         return pretty(record);
     }
@@ -415,11 +416,12 @@ fn write_record<R: crate::output::Row, I: Iterator<Item = R>>(
             std::fs::write(path, pretty(record)?).map_err(io)?;
         } else {
             let file = std::fs::File::create(path).map_err(io)?;
-            let mut table = writer::<R, _>(
+            let mut table = writer_with_columns::<R, _>(
                 format,
                 std::io::BufWriter::new(file),
                 &Header::default(),
                 None,
+                columns,
             )
             .map_err(io)?;
             for row in rows() {
