@@ -32,8 +32,12 @@ pub enum StructureField {
     GapPlus,
     /// `structure.stops[K].gap_minus`: the distance to side 2, m.
     GapMinus,
-    /// `structure.stops[K].restitution`.
+    /// `structure.stops[K].restitution` (a rigid stop's).
     Restitution,
+    /// `structure.stops[K].contact_stiffness`, N/m (a compliant stop's).
+    ContactStiffness,
+    /// `structure.stops[K].contact_damping`, N·s/m (a compliant stop's).
+    ContactDamping,
     /// `forcing.base.amplitude`, `u_g`, m (no index).
     BaseAmplitude,
     /// `forcing.forces[K].amplitude`, N.
@@ -52,7 +56,7 @@ pub enum StructureField {
 
 impl StructureField {
     /// Every field, in the order of the scene format.
-    pub const ALL: [StructureField; 14] = [
+    pub const ALL: [StructureField; 16] = [
         StructureField::Mass,
         StructureField::Stiffness,
         StructureField::Damping,
@@ -60,6 +64,8 @@ impl StructureField {
         StructureField::GapPlus,
         StructureField::GapMinus,
         StructureField::Restitution,
+        StructureField::ContactStiffness,
+        StructureField::ContactDamping,
         StructureField::BaseAmplitude,
         StructureField::ForceAmplitude,
         StructureField::ForcePhase,
@@ -78,7 +84,9 @@ impl StructureField {
             StructureField::Gap
             | StructureField::GapPlus
             | StructureField::GapMinus
-            | StructureField::Restitution => Some("structure.stops"),
+            | StructureField::Restitution
+            | StructureField::ContactStiffness
+            | StructureField::ContactDamping => Some("structure.stops"),
             StructureField::BaseAmplitude => None,
             StructureField::ForceAmplitude
             | StructureField::ForcePhase
@@ -109,6 +117,8 @@ impl StructureField {
             StructureField::GapPlus => "gap_plus",
             StructureField::GapMinus => "gap_minus",
             StructureField::Restitution => "restitution",
+            StructureField::ContactStiffness => "contact_stiffness",
+            StructureField::ContactDamping => "contact_damping",
             StructureField::BaseAmplitude => "forcing.base.amplitude",
             StructureField::ForceAmplitude
             | StructureField::BaseHarmonicAmplitude
@@ -397,7 +407,28 @@ impl StructureParameter {
             }
             StructureField::Restitution => {
                 let n = stops.len();
-                &mut stops.get_mut(k).ok_or_else(|| out_of_range(n))?.restitution
+                let stop = stops.get_mut(k).ok_or_else(|| out_of_range(n))?;
+                stop.restitution.as_mut().ok_or_else(|| {
+                    absent(format!(
+                        "the stop is compliant (no `restitution`): vary \
+                         `structure.stops[{k}].contact_stiffness` or `contact_damping`"
+                    ))
+                })?
+            }
+            StructureField::ContactStiffness | StructureField::ContactDamping => {
+                let n = stops.len();
+                let stop = stops.get_mut(k).ok_or_else(|| out_of_range(n))?;
+                if stop.contact_stiffness.is_none() {
+                    return Err(absent(format!(
+                        "the stop is rigid (no `contact_stiffness`): vary \
+                         `structure.stops[{k}].restitution`"
+                    )));
+                }
+                if self.field == StructureField::ContactStiffness {
+                    stop.contact_stiffness.get_or_insert(0.0)
+                } else {
+                    stop.contact_damping.get_or_insert(0.0)
+                }
             }
             StructureField::Gap | StructureField::GapPlus | StructureField::GapMinus => {
                 let n = stops.len();

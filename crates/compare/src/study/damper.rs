@@ -129,6 +129,7 @@ pub fn closed_form(structure: &Structure) -> Option<ImpactDamper> {
         && structure.forcing_cos[1] == 0.0
         && structure.forcing_sin[1] == 0.0
         && structure.forcing_sin_per_omega.iter().all(|&f| f == 0.0);
+    let restitution = stop.law.restitution()?;
     single.then(|| ImpactDamper {
         mass: structure.mass[(0, 0)],
         damping: structure.damping.as_ref().map_or(0.0, |c| c[(0, 0)]),
@@ -137,7 +138,7 @@ pub fn closed_form(structure: &Structure) -> Option<ImpactDamper> {
         phase: (-structure.forcing_sin[0]).atan2(structure.forcing_cos[0]),
         free_mass: structure.mass[(1, 1)],
         gap: stop.gap_plus,
-        restitution: stop.restitution,
+        restitution,
     })
 }
 

@@ -223,7 +223,10 @@ impl Solvers<'_> {
                         .all(|cell| cell.stops.is_none_or(|s| s.restitution == 1.0))
             }
             Solvers::Structure { structure, .. } => {
-                !structure.is_damped() && structure.stops.iter().all(|s| s.restitution == 1.0)
+                !structure.is_damped() && structure
+                        .stops
+                        .iter()
+                        .all(|s| s.law.restitution() == Some(1.0))
             }
         }
     }

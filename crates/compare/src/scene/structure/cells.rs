@@ -74,7 +74,9 @@ impl Scene {
                     gap: Some(stops.gap),
                     gap_plus: None,
                     gap_minus: None,
-                    restitution: stops.restitution,
+                    restitution: Some(stops.restitution),
+                    contact_stiffness: None,
+                    contact_damping: None,
                 });
             }
         }

@@ -47,7 +47,7 @@ mod model;
 mod resolve;
 mod spec;
 
-pub use model::{ForcingHarmonic, Stop, Structure};
+pub use model::{ContactLaw, ForcingHarmonic, Stop, Structure};
 pub use resolve::StructureError;
 pub use spec::{
     BodySpec, DashpotSpec, ForceSpec, ForcingSpec, SpringSpec, StopSpec, StructureForm,

@@ -15,8 +15,40 @@ pub struct Stop {
     pub gap_plus: f64,
     /// Distance to side 2; `+∞`: no stop there.
     pub gap_minus: f64,
-    /// Newton restitution.
-    pub restitution: f64,
+    /// What happens at the stop: a rigid impact or a compliant contact.
+    pub law: ContactLaw,
+}
+
+/// The restitution a compliant stop's contact pair carries in each engine's model: never read
+/// (the pair's compliance replaces the impact law), and within every engine's range `[0, 1]`.
+const RESTITUTION_UNREAD: f64 = 1.0;
+
+/// A stop's contact law.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ContactLaw {
+    /// A rigid stop: an instantaneous impact with Newton restitution `ṙ⁺ = −e ṙ⁻`.
+    Rigid {
+        /// `e ∈ [0, 1]`.
+        restitution: f64,
+    },
+    /// A compliant (Kelvin–Voigt) stop: while the penetration `δ > 0`, a spring and a dashpot
+    /// act between the pair; the contact ends where `δ` returns to 0.
+    Compliant {
+        /// `k_c`, N/m, `> 0`.
+        stiffness: f64,
+        /// `c_c`, N·s/m, `≥ 0`.
+        damping: f64,
+    },
+}
+
+impl ContactLaw {
+    /// A rigid stop's restitution; `None` for a compliant one.
+    pub fn restitution(&self) -> Option<f64> {
+        match *self {
+            ContactLaw::Rigid { restitution } => Some(restitution),
+            ContactLaw::Compliant { .. } => None,
+        }
+    }
 }
 
 impl Stop {
@@ -128,11 +160,13 @@ impl Structure {
     }
 
     /// The event-driven simulator's model at `omega`: the matrices as assembled, a contact
-    /// pair per stop (a side without a stop has gap `+∞`), damping terms only where a dashpot
-    /// is not zero, and the harmonics' amplitudes at `omega`.
+    /// pair per stop (a side without a stop has gap `+∞`) with its compliance where the stop
+    /// is compliant, damping terms only where a dashpot is not zero, and the harmonics'
+    /// amplitudes at `omega`.
     ///
     /// # Errors
-    /// [`rattle_event_driven::ModelError`] for `omega` not finite and `> 0`.
+    /// [`rattle_event_driven::ModelError`] for `omega` not finite and `> 0`, or a contact
+    /// stiffness the simulator refuses (beyond its rounding floor).
     pub fn event_model(
         &self,
         omega: f64,
@@ -152,7 +186,7 @@ impl Structure {
                 minus_dof: s.minus,
                 gap_plus: s.gap_plus,
                 gap_minus: s.gap_minus,
-                restitution: s.restitution,
+                restitution: s.law.restitution().unwrap_or(RESTITUTION_UNREAD),
             })
             .collect();
         let model = rattle_event_driven::Model::new(
@@ -163,6 +197,15 @@ impl Structure {
             self.forcing_sin_at(omega),
             contacts,
         )?;
+        let model = self.stops.iter().enumerate().try_fold(model, |model, (k, s)| {
+            match s.law {
+                ContactLaw::Rigid { .. } => Ok(model),
+                ContactLaw::Compliant { stiffness, damping } => model.with_compliance(
+                    k,
+                    rattle_event_driven::Compliance { stiffness, damping },
+                ),
+            }
+        })?;
         if self.harmonics.is_empty() {
             return Ok(model);
         }
@@ -182,11 +225,13 @@ impl Structure {
     }
 
     /// The analytic solver's model: the same matrices and harmonics, each stop a contact pair
-    /// of direction `w = e_plus − e_minus` (the frame's entry left out).
+    /// of direction `w = e_plus − e_minus` (the frame's entry left out), with its compliance
+    /// where the stop is compliant.
     ///
     /// # Errors
     /// [`rattle_analytic::ModelError`] when the analytic model's own checks refuse it (they
-    /// accept every checked structure).
+    /// accept every checked structure but a contact stiffness beyond the solver's rounding
+    /// floor).
     pub fn analytic_model(
         &self,
     ) -> Result<rattle_analytic::LinearModel, rattle_analytic::ModelError> {
@@ -206,11 +251,11 @@ impl Structure {
                     direction: w,
                     gap_side1: s.gap_plus,
                     gap_side2: s.gap_minus,
-                    restitution: s.restitution,
+                    restitution: s.law.restitution().unwrap_or(RESTITUTION_UNREAD),
                 }
             })
             .collect();
-        rattle_analytic::LinearModel::new(
+        let model = rattle_analytic::LinearModel::new(
             self.mass.clone(),
             self.damping.clone().unwrap_or_else(|| DMatrix::zeros(n, n)),
             self.stiffness.clone(),
@@ -231,7 +276,17 @@ impl Structure {
                     .collect(),
             },
             pairs,
-        )
+        )?;
+        self.stops
+            .iter()
+            .enumerate()
+            .try_fold(model, |model, (k, s)| match s.law {
+                ContactLaw::Rigid { .. } => Ok(model),
+                ContactLaw::Compliant { stiffness, damping } => model.with_compliance(
+                    k,
+                    rattle_analytic::Compliance { stiffness, damping },
+                ),
+            })
     }
 
     /// The start at rest at `t = 0`: the `2n` state entries zero.

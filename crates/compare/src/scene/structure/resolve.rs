@@ -3,7 +3,7 @@
 //! what has no bounded motion refused, naming the JSON path and the reason.
 
 use super::grounding::Grounding;
-use super::model::{ForcingHarmonic, Stop, Structure};
+use super::model::{ContactLaw, ForcingHarmonic, Stop, Structure};
 use super::spec::{StopSpec, StructureScene};
 use super::{End, BASE, FRAME, MAX_BODIES};
 use crate::scene::{check_harmonics, HarmonicSpec};
@@ -369,20 +369,55 @@ fn resolve_stop(field: &str, stop: &StopSpec, ends: &Ends<'_>) -> Result<Stop, S
             (side("gap_plus", plus_gap)?, side("gap_minus", minus_gap)?)
         }
     };
-    let e = stop.restitution;
-    if !(0.0..=1.0).contains(&e) {
-        return Err(refuse(
-            format!("{field}.restitution"),
-            format!("{e} is out of range: must be in [0, 1]"),
-        ));
-    }
     Ok(Stop {
         plus,
         minus,
         gap_plus,
         gap_minus,
-        restitution: e,
+        law: contact_law(field, stop)?,
     })
+}
+
+/// A stop's contact law: rigid with its restitution, or compliant with its contact stiffness
+/// and damping; exactly one of the two, each value in range.
+fn contact_law(field: &str, stop: &StopSpec) -> Result<ContactLaw, StructureError> {
+    match (stop.restitution, stop.contact_stiffness, stop.contact_damping) {
+        (Some(_), Some(_), _) => Err(refuse(
+            format!("{field}.contact_stiffness"),
+            "give either `restitution` (a rigid stop) or `contact_stiffness` (a compliant \
+             stop), not both",
+        )),
+        (Some(_), None, Some(_)) => Err(refuse(
+            format!("{field}.contact_damping"),
+            "a rigid stop (`restitution`) has no contact damping: give `contact_stiffness` \
+             for a compliant stop",
+        )),
+        (None, None, _) => Err(refuse(
+            format!("{field}.restitution"),
+            "missing: a stop needs `restitution` (rigid) or `contact_stiffness` (compliant)",
+        )),
+        (Some(e), None, None) => {
+            if (0.0..=1.0).contains(&e) {
+                Ok(ContactLaw::Rigid { restitution: e })
+            } else {
+                Err(refuse(
+                    format!("{field}.restitution"),
+                    format!("{e} is out of range: must be in [0, 1]"),
+                ))
+            }
+        }
+        (None, Some(stiffness), damping) => {
+            positive(&format!("{field}.contact_stiffness"), stiffness)?;
+            let damping = damping.unwrap_or(0.0);
+            if !(damping.is_finite() && damping >= 0.0) {
+                return Err(refuse(
+                    format!("{field}.contact_damping"),
+                    format!("{damping} is out of range: must be finite and ≥ 0"),
+                ));
+            }
+            Ok(ContactLaw::Compliant { stiffness, damping })
+        }
+    }
 }
 
 /// `value` finite and `> 0`, or the error naming `field`.

@@ -36,7 +36,7 @@ pub struct StructureSpec {
     /// Linear dashpots.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub dashpots: Vec<DashpotSpec>,
-    /// Rigid stops with Newton restitution: the contact pairs.
+    /// The stops (rigid with Newton restitution, or compliant): the contact pairs.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub stops: Vec<StopSpec>,
 }
@@ -87,8 +87,19 @@ pub struct StopSpec {
     /// Distance to side 2 (`r = −gap_minus`), m, `> 0`; absent: no stop on side 2.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub gap_minus: Option<f64>,
-    /// Newton restitution `e ∈ [0, 1]`: `ṙ⁺ = −e ṙ⁻`.
-    pub restitution: f64,
+    /// A rigid stop's Newton restitution `e ∈ [0, 1]`: `ṙ⁺ = −e ṙ⁻` (0: plastic, the pair
+    /// sticks). Not with `contact_stiffness`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub restitution: Option<f64>,
+    /// A compliant (Kelvin–Voigt) stop's contact stiffness `k_c`, N/m, `> 0`: while the
+    /// penetration `δ > 0` a spring `k_c` and a dashpot `c_c` act between the pair. Not with
+    /// `restitution`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_stiffness: Option<f64>,
+    /// A compliant stop's contact damping `c_c`, N·s/m, `≥ 0` (default 0); only with
+    /// `contact_stiffness`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_damping: Option<f64>,
 }
 
 /// What drives a structure.
