@@ -630,4 +630,65 @@ mod tests {
         );
         assert!(e.is_ok(), "{e:?}");
     }
+
+    #[test]
+    fn a_compliant_stop_has_its_law_and_bad_laws_are_refused_by_field() {
+        let compliant = |law: &str| OSCILLATOR.replace(r#""restitution": 0.8"#, law);
+        let s = parse(&compliant(
+            r#""contact_stiffness": 400.0, "contact_damping": 2.0"#,
+        ))
+        .unwrap();
+        assert_eq!(
+            s.stops[0].law,
+            ContactLaw::Compliant {
+                stiffness: 400.0,
+                damping: 2.0
+            }
+        );
+        let s = parse(&compliant(r#""contact_stiffness": 400.0"#)).unwrap();
+        assert_eq!(
+            s.stops[0].law,
+            ContactLaw::Compliant {
+                stiffness: 400.0,
+                damping: 0.0
+            }
+        );
+        assert_eq!(s.stops[0].law.restitution(), None);
+        let plastic = parse(&compliant(r#""restitution": 0.0"#)).unwrap();
+        assert_eq!(plastic.stops[0].law.restitution(), Some(0.0));
+        let refused = |law: &str, field: &str, words: &str| {
+            let e = parse(&compliant(law)).unwrap_err().to_string();
+            assert!(
+                e.starts_with(&format!("structure.stops[0].{field}")) && e.contains(words),
+                "{law}: {e}"
+            );
+        };
+        refused(
+            r#""restitution": 0.8, "contact_stiffness": 400.0"#,
+            "contact_stiffness",
+            "not both",
+        );
+        refused(
+            r#""restitution": 0.8, "contact_damping": 2.0"#,
+            "contact_damping",
+            "no contact damping",
+        );
+        refused(r#""contact_damping": 2.0"#, "restitution", "missing");
+        refused(
+            r#""contact_stiffness": -400.0"#,
+            "contact_stiffness",
+            "must be finite and > 0",
+        );
+        refused(
+            r#""contact_stiffness": 0.0"#,
+            "contact_stiffness",
+            "must be finite and > 0",
+        );
+        refused(
+            r#""contact_stiffness": 400.0, "contact_damping": -1.0"#,
+            "contact_damping",
+            "must be finite and ≥ 0",
+        );
+        refused(r#""restitution": 1.5"#, "restitution", "[0, 1]");
+    }
 }
