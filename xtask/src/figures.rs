@@ -513,7 +513,7 @@ fn elastic_note(scene: &Scene, options: &SimulationOptions) -> String {
     }
     let mut elastic = scene.clone();
     elastic.stops = scene.stops.map(|s| StopsSpec {
-        restitution: 1.0,
+        restitution: Some(1.0),
         ..s
     });
     ELASTIC_OMEGAS

@@ -97,10 +97,7 @@ pub fn random_scene(seed: u64, index: u64) -> (Scene, f64) {
         inner_stiffness: rng.uniform(0.5, 10.0),
     };
     let base = BaseSpec::fundamental(rng.uniform(0.1, 3.0));
-    let stops = StopsSpec {
-        gap: rng.uniform(0.05, 2.0),
-        restitution: rng.uniform(0.0, 1.0),
-    };
+    let stops = StopsSpec::rigid(rng.uniform(0.05, 2.0), rng.uniform(0.0, 1.0));
     let damping = (rng.below(2) == 1).then(|| DampingSpec {
         outer: rng.uniform(0.0, 0.5),
         inner: rng.uniform(0.0, 0.5),

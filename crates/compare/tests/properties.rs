@@ -47,10 +47,7 @@ fn scenes() -> impl Strategy<Value = (Scene, f64)> {
                     inner_stiffness: ki,
                 },
                 base: BaseSpec::fundamental(ug),
-                stops: Some(StopsSpec {
-                    gap,
-                    restitution: e,
-                }),
+                stops: Some(StopsSpec::rigid(gap, e)),
                 damping: damping.map(|(outer, inner)| DampingSpec { outer, inner }),
                 cells: None,
                 chain: None,
@@ -216,10 +213,7 @@ fn regression_release_grace_does_not_leak_into_the_next_period() {
             inner_stiffness: 0.5,
         },
         base: BaseSpec::fundamental(0.1),
-        stops: Some(StopsSpec {
-            gap: 0.05,
-            restitution: 0.48946877913933634,
-        }),
+        stops: Some(StopsSpec::rigid(0.05, 0.48946877913933634)),
         damping: None,
         cells: None,
         chain: None,

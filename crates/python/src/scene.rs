@@ -195,7 +195,7 @@ fn set_number(scene: &mut Scene, path: &str, value: f64) -> PyResult<()> {
                 }
             }),
         "stops.gap" => scene.stops.as_mut().map(|s| &mut s.gap),
-        "stops.restitution" => scene.stops.as_mut().map(|s| &mut s.restitution),
+        "stops.restitution" => scene.stops.as_mut().and_then(|s| s.restitution.as_mut()),
         "damping.outer" => scene.damping.as_mut().map(|d| &mut d.outer),
         "damping.inner" => scene.damping.as_mut().map(|d| &mut d.inner),
         _ => None,

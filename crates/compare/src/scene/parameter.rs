@@ -262,7 +262,11 @@ impl SceneParameter {
             Field::InnerStiffness => &mut blocks.unit.inner_stiffness,
             Field::BaseAmplitude => blocks.base,
             Field::Gap => &mut blocks.stops.as_mut().ok_or_else(no_stops)?.gap,
-            Field::Restitution => &mut blocks.stops.as_mut().ok_or_else(no_stops)?.restitution,
+            Field::Restitution => blocks
+                .stops
+                .as_mut()
+                .and_then(|s| s.restitution.as_mut())
+                .ok_or_else(no_stops)?,
             Field::OuterDamping => &mut blocks.damping.get_or_insert(zero).outer,
             Field::InnerDamping => &mut blocks.damping.get_or_insert(zero).inner,
         })

@@ -202,7 +202,7 @@ pub fn model(scene: &Scene, omega: f64) -> Result<Model, ModelError> {
                     inner_damping: unit.damping.map(|d| d.inner),
                     stops: cell
                         .stops
-                        .map(|s| CellStops::symmetric(s.gap, s.restitution)),
+                        .map(|s| CellStops::symmetric(s.gap, s.rigid_restitution())),
                 }
             })
             .collect();
@@ -219,7 +219,7 @@ pub fn model(scene: &Scene, omega: f64) -> Result<Model, ModelError> {
         inner_damping: damping.map(|d| d.inner),
         stops: scene
             .stops
-            .map(|s| CellStops::symmetric(s.gap, s.restitution)),
+            .map(|s| CellStops::symmetric(s.gap, s.rigid_restitution())),
     };
     Model::unit(&cell, unit.base_amplitude, omega)
 }

@@ -161,7 +161,7 @@ impl StudyBoundaries {
         BoundariesFigure {
             scene_name: scene.name.clone(),
             gap,
-            restitution: scene.stops.map_or(f64::NAN, |s| s.restitution),
+            restitution: scene.stops.map_or(f64::NAN, |s| s.rigid_restitution()),
             omega_range: (study.size.omega_min, study.size.omega_max),
             regime_map: maps.map(|(_, regimes)| RegimeMap::of(regimes)),
             restitution_background: line,

@@ -437,7 +437,7 @@ fn family(
     for &omega in &paper::FAMILY_OMEGAS {
         let points: Vec<_> = betas
             .iter()
-            .filter_map(|&b| gap_for_beta(&unit, stops.restitution, omega, b).ok())
+            .filter_map(|&b| gap_for_beta(&unit, stops.rigid_restitution(), omega, b).ok())
             .collect();
         let members = points
             .iter()
@@ -462,10 +462,7 @@ fn family(
     }
     let confirmations = parallel_map(&checks, Grain::Uneven, &Progress::hidden(), |(omega, p)| {
         let mut s = scene.clone();
-        s.stops = Some(StopsSpec {
-            gap: p.gap,
-            restitution: stops.restitution,
-        });
+        s.stops = Some(StopsSpec::rigid(p.gap, stops.rigid_restitution()));
         let start = start_on_orbit(&s, &p.orbit, START_PERTURBATION);
         let measured = run(&s, *omega, &start, options)
             .ok()
@@ -549,7 +546,7 @@ pub fn map_scene(scene: &Scene) -> Scene {
 /// The bandwidth map (over restitution and gap) and the regime map (over frequency and gap at
 /// the scene's restitution) of [`map_scene`]`(scene)`, computed at once; `None` without stops.
 pub fn maps(scene: &Scene, sizes: MapSizes, progress: bool) -> Option<(Map, Map)> {
-    let restitution = scene.stops?.restitution;
+    let restitution = scene.stops?.restitution?;
     let scene = map_scene(scene);
     let settings = MapSettings::default();
     let gaps = Axis::new(MAP_GAPS.0, MAP_GAPS.1, sizes.gaps);
@@ -640,7 +637,7 @@ impl Study {
             },
             beta_family: BetaFamily {
                 scene_name: name.clone(),
-                restitution: scene.stops.map_or(f64::NAN, |s| s.restitution),
+                restitution: scene.stops.map_or(f64::NAN, |s| s.rigid_restitution()),
                 curves: self
                     .family
                     .iter()

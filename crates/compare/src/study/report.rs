@@ -197,7 +197,7 @@ fn header(main: &Study, other: &Study) -> String {
     let unit = main.scene.unit_model();
     let gap_a = main.scene.stops.map_or(f64::NAN, |s| s.gap);
     let gap_b = other.scene.stops.map_or(f64::NAN, |s| s.gap);
-    let e = main.scene.stops.map_or(f64::NAN, |s| s.restitution);
+    let e = main.scene.stops.map_or(f64::NAN, |s| s.rigid_restitution());
     let mut r = String::new();
     let _ = writeln!(r, "# Validation report\n");
     let _ = writeln!(
@@ -286,7 +286,7 @@ fn impacting_claims(r: &mut String, main: &Study, other: &Study) {
 
 /// Nigm–Shabana's claim of non-viable `β`: the smallest viable `β` over the family's frequencies.
 fn beta_claim(r: &mut String, main: &Study) {
-    let e = main.scene.stops.map_or(f64::NAN, |s| s.restitution);
+    let e = main.scene.stops.map_or(f64::NAN, |s| s.rigid_restitution());
     // Nigm–Shabana: smallest viable β over the family frequencies.
     let smallest: Vec<String> = main
         .family

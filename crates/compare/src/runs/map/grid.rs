@@ -306,10 +306,10 @@ fn check_frequency(
 /// `restitution`: of every cell, for a chain (the default axes' line scene).
 pub fn scene_at(scene: &Scene, restitution: f64, gap_over_base_amplitude: f64) -> Scene {
     let mut s = scene.clone();
-    s.stops = Some(StopsSpec {
-        gap: gap_over_base_amplitude * scene.base.amplitude,
+    s.stops = Some(StopsSpec::rigid(
+        gap_over_base_amplitude * scene.base.amplitude,
         restitution,
-    });
+    ));
     // Every cell of a graded chain takes the map's stops.
     if let Some(chain) = &mut s.chain {
         for cell in chain {

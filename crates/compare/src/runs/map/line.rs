@@ -220,7 +220,7 @@ impl Solvers<'_> {
                     && scene
                         .cell_scenes()
                         .iter()
-                        .all(|cell| cell.stops.is_none_or(|s| s.restitution == 1.0))
+                        .all(|cell| cell.stops.is_none_or(|s| s.restitution == Some(1.0)))
             }
             Solvers::Structure { structure, .. } => {
                 !structure.is_damped() && structure

@@ -74,9 +74,9 @@ impl Scene {
                     gap: Some(stops.gap),
                     gap_plus: None,
                     gap_minus: None,
-                    restitution: Some(stops.restitution),
-                    contact_stiffness: None,
-                    contact_damping: None,
+                    restitution: stops.restitution,
+                    contact_stiffness: stops.contact_stiffness,
+                    contact_damping: stops.contact_damping,
                 });
             }
         }
