@@ -71,11 +71,11 @@ pub use lyapunov::{
     MAX_BRIDGE_POINTS, UNCERTAINTY_FACTOR,
 };
 pub use model::{
-    CellParameters, CellStops, ContactPair, Harmonic, Model, ModelError, MAX_CELLS,
-    MAX_HARMONIC_ORDER,
+    CellParameters, CellStops, Compliance, ContactPair, Harmonic, Model, ModelError, MAX_CELLS,
+    MAX_CONTACT_RATE_RATIO, MAX_HARMONIC_ORDER,
 };
 pub use newton::{
-    periodic_orbit, stroboscopic_map, NewtonError, PeriodicOrbit, StroboscopicMap,
+    periodic_orbit, stroboscopic_map, ContactPhase, NewtonError, PeriodicOrbit, StroboscopicMap,
     MAX_NEWTON_ITERATIONS, NEUTRAL_TRANSLATION, NEWTON_FLOOR_FACTOR, NEWTON_TOLERANCE_FACTOR,
 };
 pub use respond::{
@@ -85,11 +85,11 @@ pub use respond::{
     MAX_RESPONSE_SAMPLES, MAX_SINUSOIDS,
 };
 pub use simulate::{
-    simulate, simulate_watched, ImpactRecord, SimulationError, SimulationOptions, Start, Status,
-    SteadyState, Stop, CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS, DEFAULT_MAX_OSCILLATIONS,
-    DEFAULT_MAX_PERIODS, DEFAULT_MAX_PERIOD_MULTIPLICITY, DEFAULT_PERIODICITY_TOLERANCE,
-    DEFAULT_ROOT_TOLERANCE, EVENT_STORM, MIN_OSCILLATION_PERIODS, SAMPLES_PER_PERIOD,
-    UNSTABLE_MARGIN,
+    simulate, simulate_watched, ContactRecord, ImpactRecord, SimulationError, SimulationOptions,
+    Start, Status, SteadyState, Stop, CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS,
+    DEFAULT_MAX_OSCILLATIONS, DEFAULT_MAX_PERIODS, DEFAULT_MAX_PERIOD_MULTIPLICITY,
+    DEFAULT_PERIODICITY_TOLERANCE, DEFAULT_ROOT_TOLERANCE, EVENT_STORM, MIN_OSCILLATION_PERIODS,
+    SAMPLES_PER_PERIOD, UNSTABLE_MARGIN,
 };
 pub use trajectory::{
     final_cycle_trajectory, sample_trajectory, RowKind, Trajectory, TrajectoryError,
