@@ -345,10 +345,9 @@ impl Engine<'_> {
             .filter(|c| c.exit_time >= cycle_start - slack)
             .cloned()
             .collect();
-        let contact_time: f64 = cycle_contacts
+        let contact_time = cycle_contacts
             .iter()
-            .map(|c| c.exit_time - c.entry_time)
-            .sum();
+            .fold(0.0, |sum, c| sum + (c.exit_time - c.entry_time));
         let stroboscopic: Vec<DVector<f64>> = window
             .stroboscopic
             .iter()
