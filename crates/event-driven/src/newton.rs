@@ -161,6 +161,10 @@ pub(crate) fn shifted(model: &Model, omega: f64, time: f64) -> Model {
     out
 }
 
+/// What every Newton iterate must keep of the first: its impacts' pairs and sides, and its
+/// compliant contacts' pairs and sides, in time order.
+type Signature = (Vec<usize>, Vec<i8>, Vec<(usize, i8)>);
+
 /// A solver for the map at the section of `start`'s phase.
 fn prepare(
     model: &Model,
@@ -301,7 +305,7 @@ pub fn periodic_orbit(
     let m = guess.state.len();
     let cycle = periods as f64 * std::f64::consts::TAU / omega;
     let mut y = guess.state.clone();
-    let mut first: Option<(Vec<usize>, Vec<i8>, Vec<(usize, i8)>)> = None;
+    let mut first: Option<Signature> = None;
     let mut residual = f64::INFINITY;
     let mut previous = f64::INFINITY;
     for iteration in 0..=MAX_NEWTON_ITERATIONS {

@@ -427,3 +427,163 @@ fn forcing_work_equals_dissipation_over_a_cycle() {
     // Over the orbit the energy returns to itself, to the orbit's residual.
     assert!(change.abs() <= 10.0 * orbit.residual.max(1e-13) * energy(&orbit.state));
 }
+
+/// A graze of a compliant stop (`ṙ = 0` on it) is no contact: the undamped, unforced
+/// oscillator `u = cos t` (mass 1, spring 1) from `u = 0`, `u̇ = 1` reaches its stop at
+/// `u = 1` at rest, at `t = π/2 + 2πj`. With the stop at `1 + 1e-3` it never reaches it; at
+/// `1 − 1e-3` it enters, and the contact returns it `ṙ = −√(1 − (1 − 1e-3)²)` undamped.
+#[test]
+fn a_graze_is_no_contact() {
+    let run = |gap: f64| {
+        let model = Model::new(
+            DMatrix::from_element(1, 1, 1.0),
+            DMatrix::from_element(1, 1, 1.0),
+            None,
+            DVector::zeros(1),
+            DVector::zeros(1),
+            vec![ContactPair {
+                plus_dof: Some(0),
+                minus_dof: None,
+                gap_plus: gap,
+                gap_minus: f64::INFINITY,
+                restitution: 1.0,
+            }],
+        )
+        .unwrap()
+        .with_compliance(
+            0,
+            Compliance {
+                stiffness: 1e4,
+                damping: 0.0,
+            },
+        )
+        .unwrap();
+        let options = SimulationOptions {
+            fixed_periods: Some(3),
+            max_period_multiplicity: 3,
+            ..SimulationOptions::default()
+        };
+        let start = Start {
+            state: DVector::from_vec(vec![0.0, 1.0]),
+            time: 0.0,
+        };
+        simulate(&model, 1.0, &start, &options).unwrap()
+    };
+    for gap in [1.0, 1.0 + 1e-3] {
+        let s = run(gap);
+        assert!(
+            s.cycle_contacts.is_empty(),
+            "gap {gap}: {:?}",
+            s.cycle_contacts
+        );
+        assert!(s.impacts == 0 && s.contact_time_per_period == 0.0);
+    }
+    let s = run(1.0 - 1e-3);
+    assert!(!s.cycle_contacts.is_empty());
+    let speed = (1.0f64 - (1.0 - 1e-3f64).powi(2)).sqrt();
+    for c in &s.cycle_contacts {
+        assert!((c.entry_velocity - speed).abs() <= 1e-12);
+        assert!((c.exit_velocity + speed).abs() <= 1e-12);
+    }
+}
+
+/// The dense samples of a compliant orbit's cycle cover its contact: samples inside the
+/// contact lie beyond the stop, by at most the largest penetration.
+#[test]
+fn trajectories_cover_contact_phases() {
+    let (model, _) = compliant_oscillator();
+    let s = steady(&model);
+    let contact = &s.cycle_contacts[0];
+    let trajectory = final_cycle_trajectory(
+        &model,
+        OMEGA,
+        &s,
+        &TrajectoryOptions {
+            samples_per_period: 2000,
+            ..TrajectoryOptions::default()
+        },
+    )
+    .unwrap();
+    let period = 2.0 * PI / OMEGA;
+    let (entry, exit) = (contact.entry_phase, contact.exit_phase);
+    let inside: Vec<f64> = trajectory
+        .rows
+        .iter()
+        .filter(|r| {
+            let phase = (r.time + trajectory.phase).rem_euclid(period);
+            phase > entry && phase < exit
+        })
+        .map(|r| r.relative[0] - 1.0)
+        .collect();
+    assert!(inside.len() >= 5, "{} samples in the contact", inside.len());
+    let deepest = inside.iter().fold(0.0f64, |a, &b| a.max(b));
+    assert!(inside.iter().all(|&d| d > 0.0));
+    assert!(deepest <= contact.max_penetration * (1.0 + 1e-12));
+    assert!(deepest >= 0.9 * contact.max_penetration);
+}
+
+/// The signal response refuses a model with a compliant stop, by value.
+#[test]
+fn the_signal_response_refuses_compliant_stops() {
+    let (model, _) = compliant_oscillator();
+    let signal = Signal::tone_burst(1.0, 2.0, 3.0).unwrap();
+    let excitation = Excitation::new(DVector::from_element(1, 1.0), DVector::zeros(1));
+    let refused = respond(&model, &excitation, &signal, &ResponseOptions::over(10.0));
+    assert_eq!(refused.unwrap_err(), ResponseError::Compliant { pair: 0 });
+}
+
+/// Two compliant pairs pressed at once, and a rigid pair beside compliant ones: a two-cell
+/// chain whose cells' inner masses ride between stops. Each chain, run until periodic, has
+/// its contacts recorded by pair, and each contact ends back on its stop with the pair
+/// moving out.
+#[test]
+fn several_pairs_press_at_once_and_beside_rigid_ones() {
+    let cell = CellParameters {
+        outer_mass: 2.0,
+        inner_mass: 1.0,
+        outer_stiffness: 6.0,
+        inner_stiffness: 3.0,
+        outer_damping: Some(0.1),
+        inner_damping: Some(0.05),
+        stops: Some(CellStops::symmetric(0.05, 0.7)),
+    };
+    let chain = Model::chain(&[cell, cell], 0.3, 2.0).unwrap();
+    let law = Compliance::matching(3e3, 0.7, 2.0 / 3.0);
+    let both = chain
+        .clone()
+        .with_compliance(0, law)
+        .unwrap()
+        .with_compliance(1, law)
+        .unwrap();
+    let mixed = chain.with_compliance(1, law).unwrap();
+    let options = SimulationOptions {
+        fixed_periods: Some(60),
+        max_period_multiplicity: 4,
+        ..SimulationOptions::default()
+    };
+    let mut overlap = false;
+    for (model, rigid_zero) in [(both, false), (mixed, true)] {
+        let s = simulate(&model, 2.0, &Start::rest(4), &options).unwrap();
+        assert!(!s.cycle_contacts.is_empty());
+        for c in &s.cycle_contacts {
+            assert!(c.exit_time > c.entry_time);
+            assert!(c.entry_velocity * c.side as f64 > 0.0);
+            assert!(c.exit_velocity * c.side as f64 <= 0.0);
+            assert!(!(rigid_zero && c.pair == 0), "pair 0 is rigid");
+        }
+        if rigid_zero {
+            assert!(s.cycle_impacts.iter().all(|i| i.pair == 0));
+        } else {
+            assert!(s.cycle_impacts.is_empty());
+            overlap |= s.cycle_contacts.iter().any(|a| {
+                s.cycle_contacts.iter().any(|b| {
+                    a.pair != b.pair && a.entry_time < b.exit_time && b.entry_time < a.exit_time
+                })
+            });
+        }
+    }
+    assert!(
+        overlap,
+        "both pairs pressed at once somewhere in the final cycle"
+    );
+}

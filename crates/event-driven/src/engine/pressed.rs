@@ -179,9 +179,10 @@ impl Engine<'_> {
     }
 
     /// A compliant pair `c.pair` found on its stop `c.side` (the state `state.y` there):
-    /// moving into it faster than the velocities' rounding, it enters contact (the pressed
-    /// set grows by it, the state unchanged); otherwise it grazes the stop, and its stop is
-    /// not watched for [`RELEASE_GRACE`] of a period (no contact of zero length).
+    /// moving into it faster than the velocities' rounding and the resting velocity, it
+    /// enters contact (the pressed set grows by it, the state unchanged); otherwise it grazes
+    /// the stop, and its stop is not watched for [`RELEASE_GRACE`] of a period (no contact
+    /// of zero length).
     ///
     /// # Errors
     /// [`SimulationError::HoldWithCompliantContact`] while a rigid pair is held, and as
@@ -195,7 +196,10 @@ impl Engine<'_> {
         let p = &self.pairs[c.pair];
         let rdot = p.direction.dot(&state.y.rows(n, n));
         let velocity_size = state.y.rows(n, n).amax();
-        if rdot * c.side as f64 <= VELOCITY_ROUNDING * velocity_size {
+        // The velocities' rounding is relative to their size, which is itself rounding at a
+        // graze of a pair at rest: an approach no faster than the resting velocity
+        // ([`RESTING_VELOCITY`] of `ω × gap`) is a graze as well.
+        if rdot * c.side as f64 <= VELOCITY_ROUNDING * velocity_size + self.resting_velocity {
             state.grace[c.pair] = state.tau + self.release_grace;
             return Ok(());
         }
