@@ -404,9 +404,14 @@ impl Engine<'_> {
         };
         for (pair, delta) in &penetrations {
             if let Some(open) = state.open_contacts.iter_mut().find(|o| o.pair == *pair) {
-                let largest = open.max_penetration;
-                open.max_penetration =
-                    delta.max_abs(span, largest, AMPLITUDE_TOLERANCE * (1.0 + largest));
+                let tolerance = self.time_tolerance;
+                self.work.stack.recall_key = 2 * self.pairs.len() + pair;
+                open.max_penetration = largest(
+                    delta,
+                    (span, open.max_penetration),
+                    tolerance,
+                    &mut self.work.stack,
+                );
             }
         }
         let k = state.k;
@@ -442,6 +447,66 @@ impl Engine<'_> {
         }
         Ok(())
     }
+}
+
+/// Local maxima [`largest`] looks for one by one in a phase before it bounds the rest of the
+/// phase at once: a contact's penetration has one (or a few, under a fast forcing or another
+/// pair's motion), so the searches end long before this.
+const MAX_EXTREMA: usize = 16;
+
+/// `f'` as a sum of the same rates: `(p' + μ p) e^{μs}` term by term.
+fn derivative(f: &ExpSum) -> ExpSum {
+    let terms = f
+        .terms
+        .iter()
+        .map(|t| {
+            let p = t.poly;
+            let mut poly = [nalgebra::Complex::default(); 4];
+            for (k, c) in poly.iter_mut().enumerate() {
+                *c = t.rate * p[k];
+                if k < 3 {
+                    *c += p[k + 1] * (k + 1) as f64;
+                }
+            }
+            crate::expsum::Term { poly, rate: t.rate }
+        })
+        .collect();
+    ExpSum { terms }
+}
+
+/// The largest value of `f` (a penetration) over `[0, span]`, at least `floor`: `f` at both
+/// ends and at each local maximum, the zeros of `f'` taken in time order from the certified
+/// first-exit search (a maximum where `f'` leaves `(0, ∞)`, a minimum where it leaves
+/// `(−∞, 0)`, each polished to `tolerance` in time, so the value to second order in it). A
+/// start a rounding outside the band is on its edge. Past [`MAX_EXTREMA`] extrema the rest of
+/// the phase is bounded by [`ExpSum::max_abs`] (the penetration is positive in contact).
+fn largest(f: &ExpSum, (span, floor): (f64, f64), tolerance: f64, stack: &mut SearchStack) -> f64 {
+    let mut best = floor.max(f.eval(0.0).0).max(f.eval(span).0);
+    let mut rate = derivative(f);
+    let mut s = 0.0;
+    let mut rising = rate.eval(0.0).0 >= 0.0;
+    for _ in 0..MAX_EXTREMA {
+        let start = rate.eval(0.0).0;
+        let (lo, hi) = if rising {
+            (start.min(0.0), f64::INFINITY)
+        } else {
+            (f64::NEG_INFINITY, start.max(0.0))
+        };
+        match rate.first_exit(lo, hi, span - s, tolerance, 0.0, stack) {
+            Some((t, _)) => {
+                s += t;
+                if rising {
+                    best = best.max(f.eval(s).0);
+                }
+                rising = !rising;
+                rate.move_origin(t);
+            }
+            None => return best,
+        }
+    }
+    let mut rest = f.clone();
+    rest.move_origin(s);
+    rest.max_abs(span - s, best, AMPLITUDE_TOLERANCE * (1.0 + best))
 }
 
 /// One contact phase of a compliant stop in the final cycle ([`SteadyState::cycle_contacts`]).
