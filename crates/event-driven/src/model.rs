@@ -129,6 +129,65 @@ pub struct CellParameters {
 /// slow every flight down.
 pub const MAX_HARMONIC_ORDER: u32 = 1000;
 
+/// The Kelvin–Voigt contact law of a compliant stop ([`Model::with_compliance`]): while a
+/// pair's penetration `δ = side·r − gap_side` is positive, a spring `stiffness` (`k_c`) and a
+/// dashpot `damping` (`c_c`) act between the pair along its direction `d`, the generalised
+/// force `−d (k_c (r − side·gap_side) + c_c ṙ)`. The contact starts when the pair reaches a
+/// stop moving into it (no velocity jump) and ends when `δ` returns to `0`, whatever the sign
+/// of the force then (the dashpot may pull at the very end: the law stays linear, so each
+/// contact phase is an exact modal flow). Both sides of the pair use it. For a pair of
+/// reduced mass `μ = 1/(dᵀM⁻¹d)` and no other force, the contact lasts `π/ω_d`
+/// (`ω_d = √(k_c/μ) √(1 − ζ²)`, `ζ = c_c/(2√(k_c μ))`) and returns the relative velocity
+/// times `−e`, `e = exp(−ζπ/√(1 − ζ²))` ([`Compliance::restitution`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Compliance {
+    /// `k_c > 0`, finite.
+    pub stiffness: f64,
+    /// `c_c ≥ 0`, finite.
+    pub damping: f64,
+}
+
+impl Compliance {
+    /// The damping ratio `ζ = c_c/(2√(k_c μ))` of the contact for a pair of reduced mass `mu`.
+    pub fn damping_ratio(&self, mu: f64) -> f64 {
+        self.damping / (2.0 * (self.stiffness * mu).sqrt())
+    }
+
+    /// The isolated pair's coefficient of restitution `e = exp(−ζπ/√(1 − ζ²))` for reduced
+    /// mass `mu` (`0` for `ζ ≥ 1`: an overdamped contact of an isolated pair never ends).
+    pub fn restitution(&self, mu: f64) -> f64 {
+        let zeta = self.damping_ratio(mu);
+        if zeta >= 1.0 {
+            0.0
+        } else {
+            (-zeta * std::f64::consts::PI / (1.0 - zeta * zeta).sqrt()).exp()
+        }
+    }
+
+    /// The contact damping `c_c = 2ζ√(k_c μ)` that gives an isolated pair of reduced mass
+    /// `mu` the restitution `e ∈ (0, 1]` at contact stiffness `stiffness`:
+    /// `ζ = −ln e / √(π² + ln² e)`.
+    pub fn matching(stiffness: f64, restitution: f64, mu: f64) -> Compliance {
+        let l = restitution.ln();
+        let zeta = -l / (std::f64::consts::PI * std::f64::consts::PI + l * l).sqrt();
+        Compliance {
+            stiffness,
+            damping: 2.0 * zeta * (stiffness * mu).sqrt(),
+        }
+    }
+}
+
+/// Largest ratio of a compliant stop's contact rate `√(k_c/μ)` to the forcing frequency `ω`
+/// ([`Model::check_compliance`]): the contact then lasts at least `π/(10⁶ ω) = T/(2·10⁶)`.
+/// The contact's entry and exit are times within the period, known to its rounding
+/// `ε T ≈ 2.2e-16 T`; the state there moves on the contact's time scale, so that rounding
+/// alone moves the exit state by about `√(k_c/μ) ε T ≈ 1.4e-9` of its size at this bound,
+/// the periodicity test's tolerance ([`crate::DEFAULT_PERIODICITY_TOLERANCE`]): a stiffer
+/// contact could no longer be resolved by the time it is carried in. It also keeps the
+/// shortest contact `5000` times longer than the grace after its exit
+/// (`1e-10 T`, in which the pair's stop is not watched).
+pub const MAX_CONTACT_RATE_RATIO: f64 = 1e6;
+
 /// One higher harmonic of the forcing, `f_c cos kωt + f_s sin kωt` (`k = order`): the model
 /// is then forced by `f_c cos ωt + f_s sin ωt + Σ_harmonics (f_c,k cos kωt + f_s,k sin kωt)`,
 /// still of period `2π/ω`.
@@ -169,6 +228,8 @@ pub struct Model {
     /// Whether every flight flies in the resonance-safe general form
     /// ([`Self::with_general_form`]).
     pub(crate) general_form: bool,
+    /// Per contact, its compliant contact law, `None` for a rigid stop (Newton restitution).
+    pub(crate) compliances: Vec<Option<Compliance>>,
 }
 
 impl Model {
@@ -261,6 +322,7 @@ impl Model {
                 (d, mobility)
             })
             .collect();
+        let compliances = vec![None; contacts.len()];
         Ok(Model {
             mass,
             stiffness,
@@ -271,6 +333,7 @@ impl Model {
             contacts,
             directions,
             general_form: false,
+            compliances,
         })
     }
 
@@ -315,6 +378,86 @@ impl Model {
         }
         self.harmonics = harmonics;
         Ok(self)
+    }
+
+    /// The model with contact pair `pair`'s stops compliant, of contact law `compliance`
+    /// (both sides; replacing any law it had): its [`ContactPair::restitution`] is then
+    /// unused, and the pair's contacts are phases of finite duration ([`Compliance`]) rather
+    /// than impacts. Other pairs stay as they are.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] naming the field: `pair` (its value the index) not a
+    /// contact pair of the model, `compliance.stiffness` not finite or `≤ 0`, and
+    /// `compliance.damping` not finite or `< 0`. The stiffness's upper bound depends on the
+    /// forcing frequency: [`Self::check_compliance`], which the simulation applies.
+    pub fn with_compliance(
+        mut self,
+        pair: usize,
+        compliance: Compliance,
+    ) -> Result<Model, ModelError> {
+        check(
+            "pair",
+            pair as f64,
+            pair < self.contacts.len(),
+            "the index of one of the model's contact pairs",
+        )?;
+        check(
+            "compliance.stiffness",
+            compliance.stiffness,
+            compliance.stiffness > 0.0,
+            "finite and > 0",
+        )?;
+        check(
+            "compliance.damping",
+            compliance.damping,
+            compliance.damping >= 0.0,
+            "finite and >= 0",
+        )?;
+        self.compliances[pair] = Some(compliance);
+        Ok(self)
+    }
+
+    /// The contact law of pair `pair`: `Some` for a compliant stop ([`Self::with_compliance`]),
+    /// `None` for a rigid one (or a pair out of range).
+    pub fn compliance(&self, pair: usize) -> Option<Compliance> {
+        self.compliances.get(pair).copied().flatten()
+    }
+
+    /// Whether any contact pair is compliant.
+    pub fn has_compliance(&self) -> bool {
+        self.compliances.iter().any(Option::is_some)
+    }
+
+    /// The reduced mass `μ = 1/(dᵀM⁻¹d)` of contact pair `pair`: the mass an isolated pair's
+    /// contact law acts on.
+    ///
+    /// # Panics
+    /// If `pair` is not a contact pair of the model.
+    pub fn reduced_mass(&self, pair: usize) -> f64 {
+        let (d, mobility) = &self.directions[pair];
+        1.0 / d.dot(mobility)
+    }
+
+    /// Whether every compliant stop can be resolved at forcing frequency `omega`: its contact
+    /// rate `√(k_c/μ)` is at most [`MAX_CONTACT_RATE_RATIO`] times `omega`.
+    ///
+    /// # Errors
+    /// [`ModelError::OutOfRange`] with field `compliance[p].stiffness` for the first pair `p`
+    /// whose stiffness exceeds `μ (10⁶ ω)²`.
+    pub fn check_compliance(&self, omega: f64) -> Result<(), ModelError> {
+        for (p, law) in self.compliances.iter().enumerate() {
+            if let Some(law) = law {
+                let rate = (law.stiffness / self.reduced_mass(p)).sqrt();
+                check(
+                    &format!("compliance[{p}].stiffness"),
+                    law.stiffness,
+                    rate <= MAX_CONTACT_RATE_RATIO * omega,
+                    "at most μ (1e6 ω)²: a contact rate √(k_c/μ) up to 1e6 times the forcing \
+                     frequency (MAX_CONTACT_RATE_RATIO)",
+                )?;
+            }
+        }
+        Ok(())
     }
 
     /// The model with every free and stuck flight in the resonance-safe general form, whether
@@ -614,8 +757,17 @@ impl Model {
         }
     }
 
-    /// True when nothing dissipates: no damping and every restitution is 1.
+    /// True when nothing dissipates: no damping, every rigid stop's restitution is 1 and
+    /// every compliant stop's damping 0.
     pub fn conservative(&self) -> bool {
-        !self.has_damping() && self.contacts.iter().all(|c| c.restitution == 1.0)
+        !self.has_damping()
+            && self
+                .contacts
+                .iter()
+                .zip(&self.compliances)
+                .all(|(c, law)| match law {
+                    Some(law) => law.damping == 0.0,
+                    None => c.restitution == 1.0,
+                })
     }
 }

@@ -22,8 +22,10 @@
 //! `(DP − I) (R, 0)` first and reports that case as [`NewtonError::Family`] instead of an
 //! ill-conditioned solve.
 
-pub use crate::engine::PeriodicOrbit;
-use crate::engine::{check_inputs, Engine, SimulationError, SimulationOptions, Start};
+use crate::engine::{
+    check_inputs, Engine, SimulationError, SimulationOptions, Start, TangentContact,
+};
+pub use crate::engine::{ContactPhase, PeriodicOrbit};
 use crate::flow::{eigenvalues, FlowError};
 use crate::model::Model;
 use nalgebra::{DMatrix, DVector};
@@ -58,6 +60,10 @@ pub struct StroboscopicMap {
     pub impact_pairs: Vec<usize>,
     /// The time of each impact after the section.
     pub impact_times: Vec<f64>,
+    /// The compliant stops' contact phases over the run, in time order of their entries,
+    /// entry and exit as times after the section ([`ContactPhase`]); empty for a model of
+    /// rigid stops.
+    pub contacts: Vec<ContactPhase>,
 }
 
 /// Why Newton on the stroboscopic map found no orbit.
@@ -73,8 +79,9 @@ pub enum NewtonError {
     /// section: the stroboscopic map has no saltation-matrix Jacobian there.
     #[error("the run sticks at t = {0} after the section: no smooth stroboscopic map")]
     Sticking(f64),
-    /// An iterate's impact sequence differs from the first iterate's: the guess was on the
-    /// wrong side of a grazing.
+    /// An iterate's impact sequence (or its sequence of compliant contacts' pairs and sides)
+    /// differs from the first iterate's: the guess was on the wrong side of a grazing. The
+    /// sides listed are the impacts'.
     #[error("iteration {iteration}: the impact sequence changed from {first:?} to {now:?}")]
     SignatureChanged {
         /// The iteration where it changed.
@@ -154,6 +161,10 @@ pub(crate) fn shifted(model: &Model, omega: f64, time: f64) -> Model {
     out
 }
 
+/// What every Newton iterate must keep of the first: its impacts' pairs and sides, and its
+/// compliant contacts' pairs and sides, in time order.
+type Signature = (Vec<usize>, Vec<i8>, Vec<(usize, i8)>);
+
 /// A solver for the map at the section of `start`'s phase.
 fn prepare(
     model: &Model,
@@ -179,13 +190,72 @@ fn map_at(
     if let Some(t) = tangent.sticking {
         return Err(NewtonError::Sticking(t));
     }
+    let cycle = periods as f64 * engine.period();
     Ok(StroboscopicMap {
         state,
         jacobian: tangent.jacobian,
         impact_sides: tangent.impacts.iter().map(|i| i.1).collect(),
         impact_pairs: tangent.impacts.iter().map(|i| i.0).collect(),
         impact_times: tangent.impacts.iter().map(|i| i.2).collect(),
+        contacts: map_contacts(&tangent.contacts, cycle),
     })
+}
+
+/// The tangent run's contacts as the map reports them: a contact pressed at the section
+/// enters at `0`, one still pressed at the end exits at `cycle`; in time order of entries.
+fn map_contacts(contacts: &[TangentContact], cycle: f64) -> Vec<ContactPhase> {
+    let mut out: Vec<ContactPhase> = contacts
+        .iter()
+        .map(|c| ContactPhase {
+            pair: c.pair,
+            side: c.side,
+            entry: c.entry.unwrap_or(0.0),
+            exit: c.exit.unwrap_or(cycle),
+        })
+        .collect();
+    out.sort_by(|a, b| a.entry.total_cmp(&b.entry).then(a.pair.cmp(&b.pair)));
+    out
+}
+
+/// A cycle's contact phases as fractions of the cycle: a contact through the section (one
+/// entering at `0` and the same pair and side leaving at the cycle's end) is one contact
+/// whose exit is below its entry.
+fn orbit_contacts(contacts: &[ContactPhase], cycle: f64) -> Vec<ContactPhase> {
+    let mut through: Vec<ContactPhase> = Vec::new();
+    let mut out: Vec<ContactPhase> = Vec::new();
+    for c in contacts {
+        if c.entry == 0.0 && c.exit < cycle {
+            through.push(*c);
+        }
+    }
+    for c in contacts {
+        if c.entry == 0.0 && c.exit < cycle {
+            continue;
+        }
+        let exit = if c.exit >= cycle {
+            match through
+                .iter()
+                .position(|t| t.pair == c.pair && t.side == c.side)
+            {
+                Some(at) => through.remove(at).exit,
+                None => cycle,
+            }
+        } else {
+            c.exit
+        };
+        out.push(ContactPhase {
+            entry: (c.entry / cycle).rem_euclid(1.0),
+            exit: (exit / cycle).rem_euclid(1.0),
+            ..*c
+        });
+    }
+    // A contact pressed at the section whose end the cycle does not reach again.
+    out.extend(through.into_iter().map(|c| ContactPhase {
+        entry: 0.0,
+        exit: (c.exit / cycle).rem_euclid(1.0),
+        ..c
+    }));
+    out
 }
 
 /// The stroboscopic map `P` over `periods` forcing periods from `start` (its time fixes the
@@ -235,7 +305,7 @@ pub fn periodic_orbit(
     let m = guess.state.len();
     let cycle = periods as f64 * std::f64::consts::TAU / omega;
     let mut y = guess.state.clone();
-    let mut first: Option<(Vec<usize>, Vec<i8>)> = None;
+    let mut first: Option<Signature> = None;
     let mut residual = f64::INFINITY;
     let mut previous = f64::INFINITY;
     for iteration in 0..=MAX_NEWTON_ITERATIONS {
@@ -246,10 +316,21 @@ pub fn periodic_orbit(
                 return Err(NewtonError::Family { neutral });
             }
         }
+        let contact_signature: Vec<(usize, i8)> =
+            map.contacts.iter().map(|c| (c.pair, c.side)).collect();
         match &first {
-            None => first = Some((map.impact_pairs.clone(), map.impact_sides.clone())),
-            Some((pairs, sides)) => {
-                if *pairs != map.impact_pairs || *sides != map.impact_sides {
+            None => {
+                first = Some((
+                    map.impact_pairs.clone(),
+                    map.impact_sides.clone(),
+                    contact_signature,
+                ))
+            }
+            Some((pairs, sides, contacts)) => {
+                if *pairs != map.impact_pairs
+                    || *sides != map.impact_sides
+                    || *contacts != contact_signature
+                {
                     return Err(NewtonError::SignatureChanged {
                         iteration,
                         first: sides.clone(),
@@ -273,6 +354,7 @@ pub fn periodic_orbit(
                 periods,
                 impact_sides: map.impact_sides,
                 impact_phases: map.impact_times.iter().map(|t| t / cycle).collect(),
+                contact_phases: orbit_contacts(&map.contacts, cycle),
                 floquet_multipliers,
                 iterations: iteration,
                 residual,

@@ -6,10 +6,10 @@
 
 use crate::engine::{check_inputs, Engine, Resume};
 pub use crate::engine::{
-    ImpactRecord, SimulationError, SimulationOptions, Start, Status, SteadyState, Stop,
-    CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS, DEFAULT_MAX_OSCILLATIONS, DEFAULT_MAX_PERIODS,
-    DEFAULT_MAX_PERIOD_MULTIPLICITY, DEFAULT_PERIODICITY_TOLERANCE, DEFAULT_ROOT_TOLERANCE,
-    EVENT_STORM, MIN_OSCILLATION_PERIODS, SAMPLES_PER_PERIOD,
+    ContactRecord, ImpactRecord, SimulationError, SimulationOptions, Start, Status, SteadyState,
+    Stop, CONSERVATIVE_MAX_PERIODS, DEFAULT_MAX_EVENTS, DEFAULT_MAX_OSCILLATIONS,
+    DEFAULT_MAX_PERIODS, DEFAULT_MAX_PERIOD_MULTIPLICITY, DEFAULT_PERIODICITY_TOLERANCE,
+    DEFAULT_ROOT_TOLERANCE, EVENT_STORM, MIN_OSCILLATION_PERIODS, SAMPLES_PER_PERIOD,
 };
 use crate::model::Model;
 use crate::newton::{periodic_orbit, PeriodicOrbit};

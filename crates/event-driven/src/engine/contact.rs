@@ -22,6 +22,10 @@ impl Engine<'_> {
                 let correction = &st.reaction * (&st.constraint * &free);
                 p.direction.dot(&(free - correction))
             }
+            Mode::Pressed(i) => {
+                let a = self.free_acceleration(y, tau) + self.pressed_acceleration(i, y);
+                p.direction.dot(&a)
+            }
         }
     }
 
@@ -48,7 +52,7 @@ impl Engine<'_> {
     /// impact, applied as such.
     pub(super) fn restitute(&self, pair: usize, y: &mut DVector<f64>, e: Option<f64>, mode: Mode) {
         let st = match mode {
-            Mode::Free => None,
+            Mode::Free | Mode::Pressed(_) => None,
             Mode::Stuck(i) => Some(&self.stuck[i]),
         };
         let p = &self.pairs[pair];
@@ -142,6 +146,9 @@ impl Engine<'_> {
         state.count_event(self.period)?;
         if let Some(t) = state.tangent.as_mut() {
             t.before_impact = false;
+        }
+        if self.law(c.pair).is_some() {
+            return self.enter(state, c);
         }
         let p = &self.pairs[c.pair];
         let side = c.side as f64;

@@ -103,6 +103,15 @@ pub(super) struct Pending {
     pub(super) state: Vec<f64>,
 }
 
+/// What decides how much of the state a contact forms ([`Engine::state_before_contact`]):
+/// whether the run records it ([`Engine::forms_contact_state`]), and whether the pair is
+/// compliant (its entry forms the whole state).
+#[derive(Clone, Copy)]
+pub(super) struct FormsContact {
+    pub(super) records: bool,
+    pub(super) compliant: bool,
+}
+
 /// The relative margin past the earliest quadratic estimate so far within which a watch still
 /// forms a pair's estimate ([`Summary::estimate_later_than`]): far above the estimate's
 /// rounding (a root near a double root is known to about `√ε` of its size, 1.5e-8), so that
@@ -484,11 +493,11 @@ impl Engine<'_> {
                 state.tau = period;
             }
             Some(c) => {
-                let parts = (
-                    &self.pairs[..],
-                    self.bounce_test(),
-                    self.forms_contact_state(state),
-                );
+                let forms = FormsContact {
+                    records: self.forms_contact_state(state),
+                    compliant: self.law(c.pair).is_some(),
+                };
+                let parts = (&self.pairs[..], self.bounce_test(), forms);
                 let before = Self::state_before_contact(parts, &mut self.work, state, (&flight, c));
                 self.count_unformed(before);
                 self.work.flight_storage = flight.into_storage();
@@ -503,21 +512,22 @@ impl Engine<'_> {
     }
 
     /// The state just before contact `c` at the end of the free flight `flight`: with
-    /// several pairs [`Self::before_contact`]'s (`forms`: [`Self::forms_contact_state`]),
-    /// with one the whole state, nothing carried (the one-pair path as it was).
+    /// several pairs [`Self::before_contact`]'s (`forms.records`:
+    /// [`Self::forms_contact_state`]), with one (or at a compliant pair's stop, whose entry
+    /// reads the whole state) the whole state, nothing carried (the one-pair path as it was).
     #[inline]
     fn state_before_contact(
-        (pairs, test, forms): (&[Pair], contact::BounceTest, bool),
+        (pairs, test, forms): (&[Pair], contact::BounceTest, FormsContact),
         work: &mut Scratch,
         state: &mut RunState,
         (flight, c): (&Flight<'_>, Contact),
     ) -> contact::BeforeContact {
-        if pairs.len() == 1 {
+        if pairs.len() == 1 || forms.compliant {
             flight.state_at(c.s, &work.event_exponentials, &mut state.y);
             return contact::BeforeContact::formed();
         }
         let tau = state.tau + c.s;
-        Self::before_contact((pairs, test), work, state, (flight, c, tau, forms))
+        Self::before_contact((pairs, test), work, state, (flight, c, tau, forms.records))
     }
 
     /// What a run records of `flight` over `[offset, offset + span]` (its part in the current

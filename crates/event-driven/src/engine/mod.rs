@@ -56,6 +56,7 @@ mod flight;
 mod options;
 mod outcome;
 mod periodicity;
+mod pressed;
 mod run;
 mod state;
 mod stuck;
@@ -64,6 +65,9 @@ mod trace;
 
 use flight::{Scratch, Watch, WatchedPairs};
 use periodicity::{least_period, repeat_error, scale_floor, Sections};
+pub(crate) use pressed::TangentContact;
+pub use pressed::{ContactPhase, ContactRecord};
+use pressed::{OpenContact, Pressed};
 pub(crate) use state::Resume;
 use state::{Contact, Decision, Mode, Observation, Plan, RunState, Window};
 use stuck::Stuck;
@@ -233,6 +237,9 @@ pub(crate) struct Engine<'m> {
     inverse_mass: DMatrix<f64>,
     /// Reduced flows of sets of pairs held on their stops, built on first use.
     stuck: Vec<Stuck>,
+    /// Augmented flows of sets of compliant pairs pressed into their stops, built on first
+    /// use.
+    pressed: Vec<Pressed>,
     /// Contact times are resolved to this (`root_tolerance × T`).
     time_tolerance: f64,
     /// The largest gap: the scale of the periodicity test and of the contact thresholds.
@@ -315,6 +322,7 @@ impl<'m> Engine<'m> {
         // One pair only: with several, searching their summaries past the section cost more
         // than the flights it saved (chain8, callgrind: +3.5 %).
         let carries_sections = model.contacts.len() == 1
+            && !model.has_compliance()
             && free.has_steady_response()
             && 2.0 * period <= crate::expsum::fixed_grid_reach(fastest);
         Ok(Self {
@@ -328,6 +336,7 @@ impl<'m> Engine<'m> {
             free_joint,
             inverse_mass: minv,
             stuck: Vec::new(),
+            pressed: Vec::new(),
             time_tolerance: options.root_tolerance * period,
             scale,
             contact_depth: CONTACT_DEPTH * scale,
@@ -345,6 +354,11 @@ impl<'m> Engine<'m> {
             #[cfg(test)]
             unformed_contacts: Cell::new(0),
         })
+    }
+
+    /// The forcing period `T`.
+    pub(crate) fn period(&self) -> f64 {
+        self.period
     }
 
     /// The free flow's rigid shapes `R` (`n × r`), if it has rigid modes.

@@ -146,6 +146,15 @@ pub enum SimulationError {
     /// constrained flow exists for them.
     #[error("cannot hold contact pairs {0:?} at once: their directions are dependent")]
     DependentHolds(Vec<usize>),
+    /// A model value out of range for this run: a compliant stop too stiff for the forcing
+    /// frequency ([`Model::check_compliance`]).
+    #[error("model: {0}")]
+    Model(#[from] crate::model::ModelError),
+    /// A rigid pair would stick on its stop while a compliant pair is in contact, or a
+    /// compliant pair would enter contact while a rigid pair is held on its stop, at this
+    /// time: a hold and a compliant contact at once are not simulated.
+    #[error("a rigid hold and a compliant contact at once at t = {0}: not simulated")]
+    HoldWithCompliantContact(f64),
 }
 
 /// Undamped elastic units (nothing dissipates) are run at most this many periods: no steady
@@ -169,8 +178,9 @@ pub const SAMPLES_PER_PERIOD: f64 = 200.0;
 /// The checks of [`crate::simulate()`] on its inputs.
 ///
 /// # Errors
-/// As [`crate::simulate()`]: [`SimulationError::Omega`], [`SimulationError::Start`] and
-/// [`SimulationError::Option`].
+/// As [`crate::simulate()`]: [`SimulationError::Omega`], [`SimulationError::Start`],
+/// [`SimulationError::Option`], and [`SimulationError::Model`] for a compliant stop too stiff
+/// for `omega` ([`Model::check_compliance`]).
 pub(crate) fn check_inputs(
     model: &Model,
     omega: f64,
@@ -199,5 +209,6 @@ pub(crate) fn check_inputs(
             "tolerances must be in (0, 1), multiplicity ≥ 1".into(),
         ));
     }
+    model.check_compliance(omega)?;
     Ok(())
 }

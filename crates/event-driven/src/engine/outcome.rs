@@ -68,7 +68,8 @@ pub struct SteadyState {
     pub family: bool,
     /// Least `p` with `x(t + pT) = x(t)`, when periodic.
     pub period: Option<u32>,
-    /// Impacts in the final cycle divided by its length in periods.
+    /// Impacts in the final cycle divided by its length in periods: rigid stops' impacts
+    /// only (a compliant stop's contacts are [`Self::cycle_contacts`]).
     pub impacts_per_period: f64,
     /// `max |u_k|` over the final cycle, per degree of freedom, from closed-form extrema: of
     /// one cycle run from the polished orbit when the run polishes one ([`Self::orbit`]),
@@ -82,8 +83,15 @@ pub struct SteadyState {
     pub periods_run: u64,
     /// Impacts over the whole run.
     pub impacts: u64,
-    /// Impacts of the final cycle.
+    /// Impacts of the final cycle (rigid stops only).
     pub cycle_impacts: Vec<ImpactRecord>,
+    /// The contact phases of compliant stops ([`crate::Compliance`]) that end in the final
+    /// cycle, in the order they end (a contact through the cycle's start is one of them, with
+    /// its entry before the start); empty for a model of rigid stops.
+    pub cycle_contacts: Vec<ContactRecord>,
+    /// Time spent in contact with compliant stops over the final cycle (summed over pairs),
+    /// divided by its length in periods; `0` for a model of rigid stops.
+    pub contact_time_per_period: f64,
     /// States at `t = kT` over the final cycle.
     pub stroboscopic: Vec<DVector<f64>>,
     /// Where the run ended: continue from here.
@@ -115,6 +123,10 @@ pub struct PeriodicOrbit {
     pub impact_sides: Vec<i8>,
     /// The impacts' times after the section as fractions of the cycle `pT`, in `[0, 1)`.
     pub impact_phases: Vec<f64>,
+    /// The compliant stops' contact phases over one cycle, in time order of their entries
+    /// from the section, entry and exit as fractions of the cycle (a contact through the
+    /// section has its exit below its entry); empty for a model of rigid stops.
+    pub contact_phases: Vec<ContactPhase>,
     /// The eigenvalues of `DP` at the fixed point: the simulator's own Floquet multipliers.
     pub floquet_multipliers: Vec<Complex<f64>>,
     /// Newton steps taken.

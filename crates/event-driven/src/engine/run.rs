@@ -43,7 +43,7 @@ impl Engine<'_> {
             .map(|cap| cap.saturating_sub(resume.impacts));
         plan.hold = resume.hold;
         self.work.stack.recall = plan.fixed && plan.limit >= RECALL_PERIODS;
-        let mut state = self.init(start, &plan);
+        let mut state = self.init(start, &plan)?;
         let mut watch = |k: u64, y: &DVector<f64>| watch(k + resume.periods, y);
         let stop = loop {
             if self.next_iter(&mut state, &plan)? {
@@ -87,16 +87,23 @@ impl Engine<'_> {
         }
     }
 
-    /// The state at the start: free, at `start`, its time carried modulo the period. A run
+    /// The state at the start: free (or pressed on the compliant pairs beyond a stop:
+    /// [`Engine::initial_mode`]), at `start`, its time carried modulo the period. A run
     /// starts afresh: a flight left pending by an earlier run of this engine is dropped.
-    pub(super) fn init(&mut self, start: &Start, plan: &Plan) -> RunState {
+    ///
+    /// # Errors
+    /// [`SimulationError::Flow`] when a pressed start's flow does not exist.
+    pub(super) fn init(&mut self, start: &Start, plan: &Plan) -> Result<RunState, SimulationError> {
         self.drop_pending();
+        let mode = self.initial_mode(&start.state)?;
+        let open_contacts = self.initial_contacts(mode, &start.state, start.time);
         let mut state = RunState {
             k: 0,
             tau: start.time.rem_euclid(self.period),
             y: start.state.clone(),
             section_unformed: false,
-            mode: Mode::Free,
+            mode,
+            open_contacts,
             impacts: 0,
             events_this_period: 0,
             events_total: 0,
@@ -111,7 +118,7 @@ impl Engine<'_> {
         if state.tau == 0.0 {
             state.ring.push(&state.y); // the start is itself a section
         }
-        state
+        Ok(state)
     }
 
     /// One step: a free flight or a stuck phase, up to its first event or to the next section
@@ -133,6 +140,7 @@ impl Engine<'_> {
         match state.mode {
             Mode::Free => self.free_flight(state, plan)?,
             Mode::Stuck(index) => self.stuck_phase(state, index, plan)?,
+            Mode::Pressed(index) => self.pressed_phase(state, index, plan)?,
         }
         if state.tau < self.period {
             return Ok(false);
@@ -329,6 +337,17 @@ impl Engine<'_> {
             .filter(|i| i.time >= cycle_start - slack)
             .cloned()
             .collect();
+        // A contact belongs to the cycle its exit is in: one through the cycle's start is
+        // counted once, as the same contact through its end is not over yet.
+        let cycle_contacts: Vec<ContactRecord> = window
+            .contacts
+            .iter()
+            .filter(|c| c.exit_time >= cycle_start - slack)
+            .cloned()
+            .collect();
+        let contact_time = cycle_contacts
+            .iter()
+            .fold(0.0, |sum, c| sum + (c.exit_time - c.entry_time));
         let stroboscopic: Vec<DVector<f64>> = window
             .stroboscopic
             .iter()
@@ -344,6 +363,7 @@ impl Engine<'_> {
         });
         let family = status == Status::Periodic
             && cycle_impacts.is_empty()
+            && cycle_contacts.is_empty()
             && !window.sticking
             && self.free.rigid_modes() > 0;
         SteadyState {
@@ -357,6 +377,8 @@ impl Engine<'_> {
             periods_run: k,
             impacts: state.impacts,
             cycle_impacts,
+            cycle_contacts,
+            contact_time_per_period: contact_time / cycle as f64,
             stroboscopic,
             final_state: Start {
                 state: state.y,

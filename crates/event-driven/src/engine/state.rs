@@ -2,11 +2,13 @@
 
 use super::*;
 
-/// Free flight, or a set of pairs held on their stops (an index into `Engine::stuck`).
+/// Free flight, a set of pairs held on their stops (an index into `Engine::stuck`), or a set
+/// of compliant pairs pressed into theirs (an index into `Engine::pressed`).
 #[derive(Clone, Copy)]
 pub(super) enum Mode {
     Free,
     Stuck(usize),
+    Pressed(usize),
 }
 
 /// The first contact of a flight: `s` after its start, pair `pair`, on `side`.
@@ -91,6 +93,8 @@ pub(super) enum Decision {
 #[derive(Default)]
 pub(super) struct Window {
     pub(super) impacts: Vec<ImpactRecord>,
+    /// The compliant contacts ended in the window.
+    pub(super) contacts: Vec<ContactRecord>,
     pub(super) amplitudes: Vec<f64>,
     pub(super) sticking: bool,
     pub(super) stroboscopic: Vec<DVector<f64>>,
@@ -113,8 +117,10 @@ pub(super) struct RunState {
     /// state again (at its contact or at the next section). Cleared by the section's check,
     /// which then records no state.
     pub(super) section_unformed: bool,
-    /// Free, or held on a stop.
+    /// Free, held on a stop, or pressed into compliant stops.
     pub(super) mode: Mode,
+    /// The compliant contacts under way.
+    pub(super) open_contacts: Vec<OpenContact>,
     /// Impacts over the whole run.
     pub(super) impacts: u64,
     /// Events (impacts, grazes, sticks, releases) in the current period.

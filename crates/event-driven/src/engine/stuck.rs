@@ -242,7 +242,7 @@ impl Engine<'_> {
     /// The held set after pair `pair` sticks on `side` in `mode`.
     pub(super) fn held_with(&self, mode: Mode, pair: usize, side: i8) -> Vec<(usize, i8)> {
         let mut held = match mode {
-            Mode::Free => Vec::new(),
+            Mode::Free | Mode::Pressed(_) => Vec::new(),
             Mode::Stuck(i) => self.stuck[i].held.clone(),
         };
         held.retain(|h| h.0 != pair);
@@ -259,6 +259,9 @@ impl Engine<'_> {
         c: Contact,
     ) -> Result<(), SimulationError> {
         let time = state.k as f64 * self.period + state.tau;
+        if matches!(state.mode, Mode::Pressed(_)) {
+            return Err(SimulationError::HoldWithCompliantContact(time));
+        }
         if let Some(trace) = state.trace.as_mut() {
             let after_impact = trace
                 .rows

@@ -24,6 +24,8 @@ pub(crate) struct Tangent {
     pub(crate) stuck_pairs: Vec<bool>,
     /// Time spent held on a stop so far.
     pub(crate) stuck_time: f64,
+    /// The compliant contacts so far, in time order of their entries.
+    pub(crate) contacts: Vec<TangentContact>,
     /// Storage for a flight's propagator and the product, reused by every flight (the product
     /// also keeps the Jacobian before an impact, see [`Self::before_impact`]).
     pub(super) propagator: DMatrix<f64>,
@@ -41,6 +43,7 @@ impl Tangent {
             sticks: 0,
             stuck_pairs: vec![false; pairs],
             stuck_time: 0.0,
+            contacts: Vec::new(),
             propagator: DMatrix::zeros(0, 0),
             product: DMatrix::zeros(0, 0),
         }
@@ -123,7 +126,7 @@ impl Engine<'_> {
                 time: 0.0,
             },
             &plan,
-        );
+        )?;
         let mut tangent = Tangent::new(n, self.pairs.len());
         tangent.jacobian = frame;
         while state.k < periods {
@@ -165,7 +168,15 @@ impl Engine<'_> {
     #[cold]
     #[inline(never)]
     pub(super) fn propagate_tangent(&self, tangent: &mut Tangent, span: f64) {
-        self.free.propagator_into(span, &mut tangent.propagator);
+        Self::propagate_flow_tangent(&self.free, tangent, span);
+    }
+
+    /// The tangent flow through a flight of duration `span` of `flow` (the free flow, or a
+    /// compliant contact's augmented flow): its homogeneous propagator times the tangent.
+    #[cold]
+    #[inline(never)]
+    pub(super) fn propagate_flow_tangent(flow: &LinearFlow, tangent: &mut Tangent, span: f64) {
+        flow.propagator_into(span, &mut tangent.propagator);
         if tangent.product.shape() != tangent.jacobian.shape() {
             tangent.product = tangent.jacobian.clone();
         }

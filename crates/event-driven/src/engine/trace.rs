@@ -99,7 +99,7 @@ impl Engine<'_> {
                 time: 0.0,
             },
             &plan,
-        );
+        )?;
         state.trace = Some(Trace {
             per_period: per_period.max(1),
             ..Trace::default()

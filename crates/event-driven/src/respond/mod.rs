@@ -107,6 +107,13 @@ pub enum ResponseError {
         /// When the set formed.
         time: f64,
     },
+    /// The model has a compliant stop ([`Model::with_compliance`]): the signal response
+    /// simulates rigid stops only, and refuses such a model before it runs.
+    #[error("contact pair {pair} is compliant: the signal response simulates rigid stops only")]
+    Compliant {
+        /// The first compliant pair.
+        pair: usize,
+    },
     /// More impacts, grazes, sticks and releases than [`ResponseOptions::max_events`].
     #[error("more than {cap} impacts, grazes, sticks and releases by t = {time}")]
     EventCap {
@@ -300,8 +307,9 @@ pub struct SampledState<'a> {
 /// # Errors
 /// [`ResponseError::Input`] naming the field (`excitation.on_signal`, `excitation.on_rate`
 /// and their entries, `duration`, `at[i]`, `root_tolerance`, `time_scale`),
-/// [`ResponseError::Flow`], [`ResponseError::DependentHolds`] and
-/// [`ResponseError::EventCap`].
+/// [`ResponseError::Flow`], [`ResponseError::DependentHolds`],
+/// [`ResponseError::EventCap`], and [`ResponseError::Compliant`] for a model with a compliant
+/// stop.
 pub fn respond(
     model: &Model,
     excitation: &Excitation,

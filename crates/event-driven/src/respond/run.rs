@@ -167,6 +167,9 @@ pub(super) fn run(
         None => (None, None),
     };
     check_inputs(model, excitation, options)?;
+    if let Some(pair) = (0..model.contacts().len()).find(|&p| model.compliance(p).is_some()) {
+        return Err(ResponseError::Compliant { pair });
+    }
     let free = Phase::free(model, excitation)?;
     let runner = Runner::new(model, (excitation, signal), &free, options)?;
     let n = model.dofs();
