@@ -12,7 +12,7 @@
 //! damping (the chain of cells in series for a chain, the structure's own `M` and `K` for a
 //! structure), from the symmetric eigenproblem `M^{-1/2} K M^{-1/2}`.
 
-use super::structure::Structure;
+use super::structure::{ContactLaw, Structure};
 use super::Scene;
 use nalgebra::{DMatrix, SymmetricEigen};
 use thiserror::Error;
@@ -33,6 +33,12 @@ pub const MAX_OSCILLATIONS_PER_PERIOD: f64 = 1e3;
 /// every digit and a run no longer ends (ω = 1e200 rad/s ran for more than 20 s). The bound is
 /// far inside that and far above any frequency a study of the unit asks for.
 pub const MAX_PERIODS_PER_OSCILLATION: f64 = 1e6;
+
+/// Largest ratio of a compliant stop's contact rate `√(k_c/μ)` to the forcing frequency: the
+/// simulator's own bound ([`rattle_event_driven::MAX_CONTACT_RATE_RATIO`]), below which a
+/// contact lasts at least `T/(2·10⁶)` and its entry and exit, times within the period known to
+/// `2.2e-16 T`, still resolve it.
+pub const MAX_CONTACT_RATES_PER_FREQUENCY: f64 = rattle_event_driven::MAX_CONTACT_RATE_RATIO;
 
 /// A natural frequency at most this fraction of the fastest is a rigid mode's zero: the
 /// symmetric eigensolver leaves a zero eigenvalue of `ω²` at about `1e-16` of the largest, so
@@ -75,6 +81,24 @@ pub enum FrequencyError {
         /// The scene's slowest undamped natural frequency, rad/s.
         slowest: f64,
     },
+    /// Below the bound of the scene's fastest compliant contact
+    /// ([`MAX_CONTACT_RATES_PER_FREQUENCY`]).
+    #[error(
+        "{field} = {omega:e} is out of range for this scene: must be ≥ {min:.6e} rad/s, so that \
+         the stiffest compliant stop's contact rate √(k_c/μ) ({contact:.6e} rad/s) is at most \
+         {MAX_CONTACT_RATES_PER_FREQUENCY:e} times the forcing frequency: a contact shorter \
+         than that is not resolved by the times of a forcing period"
+    )]
+    ContactTooFast {
+        /// The option or argument that gave it, e.g. `--omega`.
+        field: String,
+        /// The value given.
+        omega: f64,
+        /// Lowest allowed frequency, rad/s.
+        min: f64,
+        /// The fastest contact rate, rad/s.
+        contact: f64,
+    },
 }
 
 /// The forcing frequencies a scene can be run at: `[ω_fastest / 1e3, ω_slowest × 1e6]`,
@@ -86,6 +110,9 @@ pub struct FrequencyBounds {
     pub slowest: f64,
     /// The scene's fastest undamped natural frequency, rad/s.
     pub fastest: f64,
+    /// The fastest contact rate `√(k_c/μ)` of the scene's compliant stops (`μ` the pair's
+    /// reduced mass), rad/s; 0 without compliant stops.
+    pub contact: f64,
 }
 
 impl FrequencyBounds {
@@ -94,10 +121,25 @@ impl FrequencyBounds {
         Self::of_rates(&natural_frequencies(scene))
     }
 
-    /// The bounds of `structure`, from the natural frequencies of its `M` and `K`.
+    /// The bounds of `structure`, from the natural frequencies of its `M` and `K` and the
+    /// contact rates of its compliant stops.
     pub fn of_structure(structure: &Structure) -> Self {
         let mass: Vec<f64> = structure.mass.diagonal().iter().copied().collect();
-        Self::of_rates(&eigenfrequencies(&mass, &structure.stiffness))
+        let contact = structure
+            .stops
+            .iter()
+            .filter_map(|s| match s.law {
+                ContactLaw::Compliant { stiffness, .. } => {
+                    let inverse = |end: Option<usize>| end.map_or(0.0, |j| 1.0 / mass[j]);
+                    Some((stiffness * (inverse(s.plus) + inverse(s.minus))).sqrt())
+                }
+                ContactLaw::Rigid { .. } => None,
+            })
+            .fold(0.0, f64::max);
+        Self {
+            contact,
+            ..Self::of_rates(&eigenfrequencies(&mass, &structure.stiffness))
+        }
     }
 
     /// The bounds from the natural frequencies `rates`; a rigid mode (a free body's
@@ -112,12 +154,23 @@ impl FrequencyBounds {
                 .filter(|&r| r > RIGID_RATE * fastest)
                 .fold(f64::INFINITY, f64::min),
             fastest,
+            contact: 0.0,
         }
     }
 
-    /// Lowest allowed frequency, rad/s.
+    /// Lowest allowed frequency, rad/s: of the fastest mode, and of the fastest contact.
     pub fn min(&self) -> f64 {
+        self.oscillation_min().max(self.contact_min())
+    }
+
+    /// Lowest frequency the fastest mode allows ([`MAX_OSCILLATIONS_PER_PERIOD`]).
+    fn oscillation_min(&self) -> f64 {
         self.fastest / MAX_OSCILLATIONS_PER_PERIOD
+    }
+
+    /// Lowest frequency the fastest contact allows ([`MAX_CONTACT_RATES_PER_FREQUENCY`]).
+    fn contact_min(&self) -> f64 {
+        self.contact / MAX_CONTACT_RATES_PER_FREQUENCY
     }
 
     /// Highest allowed frequency, rad/s.
@@ -134,6 +187,14 @@ impl FrequencyBounds {
             return Err(FrequencyError::NotPositive {
                 field: field.to_owned(),
                 omega,
+            });
+        }
+        if omega < self.contact_min() && omega <= self.max() {
+            return Err(FrequencyError::ContactTooFast {
+                field: field.to_owned(),
+                omega,
+                min: self.contact_min(),
+                contact: self.contact,
             });
         }
         if omega < self.min() || omega > self.max() {
