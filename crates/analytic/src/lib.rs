@@ -104,8 +104,8 @@ pub use lattice::{
 };
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
-    ContactPair, Harmonic, HarmonicForcing, HarmonicResponse, HarmonicState, LinearModel,
-    ModelError, ModelTransition, MAX_HARMONIC_ORDER,
+    Compliance, ContactPair, Harmonic, HarmonicForcing, HarmonicResponse, HarmonicState,
+    LinearModel, ModelError, ModelTransition, MAX_HARMONIC_ORDER,
 };
 pub use motion::UnitMotion;
 pub use orbit::{Orbit, Side, Violation};
@@ -126,7 +126,7 @@ pub use family::{FamilyError, GAP_ACCEPTANCE, NEAR_HALF};
 pub use flow::{join, Augmented, Extrema, ForcedFlow, Transition};
 pub use forcing::phase_state;
 pub use linear::transmittance_db;
-pub use model::{RIGID_COUPLING, RIGID_EIGENVALUE};
+pub use model::{MAX_CONTACT_FREQUENCY_RATIO, RIGID_COUPLING, RIGID_EIGENVALUE};
 pub use model_flight::{eigenvalues, ModelFlight};
 pub use orbit::{STABILITY_MARGIN, VIABILITY_TOLERANCE};
 pub use sequence::MAX_SEQUENCE_IMPACTS;

@@ -95,13 +95,13 @@ impl<'a> ModelBranch<'a> {
                 let to_side2 = pair.gap_side2 + ext[q].min;
                 if !(to_side1.is_finite() || to_side2.is_finite()) {
                     clearance.push(pair.gap_side1.min(pair.gap_side2));
-                    graze.push((f64::NAN, PairImpact { pair: q, side: 0 }));
+                    graze.push((f64::NAN, PairImpact::rigid(q, 0)));
                 } else if to_side1 <= to_side2 {
                     clearance.push(to_side1);
-                    graze.push((ext[q].argmax / cycle, PairImpact { pair: q, side: 1 }));
+                    graze.push((ext[q].argmax / cycle, PairImpact::rigid(q, 1)));
                 } else {
                     clearance.push(to_side2);
-                    graze.push((ext[q].argmin / cycle, PairImpact { pair: q, side: -1 }));
+                    graze.push((ext[q].argmin / cycle, PairImpact::rigid(q, -1)));
                 }
             }
         }
