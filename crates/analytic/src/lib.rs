@@ -115,7 +115,7 @@ pub use sequence_orbit::{
     NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,
 };
 pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
-pub use sequence_verdicts::{solve_sequence, SequenceOrbit};
+pub use sequence_verdicts::{solve_sequence, ContactPhase, ContactViolation, SequenceOrbit};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};

@@ -129,6 +129,9 @@ pub fn sequence_orbits_on_grid(
     sequence: &ImpactSequence,
     grid: usize,
 ) -> Result<Vec<SequenceOrbit>, SequenceOrbitError> {
+    if sequence.has_contact_phases() {
+        return crate::cycle::contact_search::contact_orbits(model, omega, sequence, grid);
+    }
     let problem = SequenceProblem::new(model, omega, sequence)?;
     let verdicts = ModelVerdicts::new(&problem);
     let samples = alpha_samples(model.forcing().highest_order());

@@ -157,11 +157,6 @@ impl LinearModel {
         1.0 / w.dot(&(&self.mass_inverse * w))
     }
 
-    /// Whether some pair is compliant.
-    pub(crate) fn has_compliance(&self) -> bool {
-        self.compliances.iter().any(Option::is_some)
-    }
-
     /// The augmented matrix of a cycle with contact phases at `omega`: the model's
     /// [`LinearModel::augmented_matrix`] with the constant phase pair of order 0 appended
     /// (two more rows and columns, zero: `(1, 0)` stays constant and forces nothing in free
@@ -202,5 +197,22 @@ impl LinearModel {
         m.view_mut((n, size - 2), (n, 1))
             .copy_from(&(&minv_w * (law.stiffness * stop)));
         m
+    }
+}
+
+impl LinearModel {
+    /// The rigid model whose every compliant pair impacts with the isolated pair's restitution
+    /// of its contact law ([`Compliance::restitution`]): the limit the compliant orbits tend
+    /// to as the contact stiffens at fixed restitution, and the multi-start's source of
+    /// guesses for them.
+    pub(crate) fn rigid_proxy(&self) -> LinearModel {
+        let mut proxy = self.clone();
+        for (p, law) in self.compliances.iter().enumerate() {
+            if let Some(law) = law {
+                proxy.pairs[p].restitution = law.restitution(self.reduced_mass(p));
+            }
+        }
+        proxy.compliances = vec![None; self.pairs.len()];
+        proxy
     }
 }
