@@ -65,9 +65,7 @@
 mod contact_flights;
 mod in_omega;
 
-#[cfg(test)]
-pub(crate) use contact_flights::balanced_exp;
-pub(crate) use contact_flights::velocity_balance;
+pub(crate) use contact_flights::{balanced_exp, velocity_balance};
 
 use crate::cycle::unit_flights::{product, remembered_flow, to_unit, unit_modes};
 use crate::cycle::unit_modes::{ModalForcing, UnitModes};

@@ -5,9 +5,10 @@
 //!   (`s ṙ > 0`, else [`SequenceViolation::WrongApproach`]), the exit a departure (`s ṙ < 0`,
 //!   else [`ContactViolation::WrongExit`]);
 //! - the contact flight runs under the contact system (spring, dashpot, constant force), its
-//!   extrema and second moment from the balanced matrix `S⁻¹Â_cS` (`S = diag(I, σI, I)`,
-//!   see `contact_flights`): `z = S y`, a functional `c` of the positions reads the same on
-//!   `y`, and `∫zzᵀ = S (∫yyᵀ) S`;
+//!   extrema from the balanced matrix `S⁻¹Â_cS` (`S = diag(I, σI, I)`, see
+//!   `contact_flights`): `z = S y`, and a functional `c` of the positions reads the same on
+//!   `y`; its second moment `∫zzᵀ` by Gauss–Legendre quadrature of the exact flow (see
+//!   [`ContactFlow::second_moment`]);
 //! - the contacting pair's penetration stays positive through the contact (else
 //!   [`ContactViolation::EarlyExit`]); its largest value is reported;
 //! - the contact dashpot dissipates `∫ c_c ṙ² dt` ([`EnergyBalance::contact_dissipation`]);
@@ -18,7 +19,7 @@
 //!   force jumps there).
 
 use super::{ContactPhase, ContactViolation, ModelVerdicts};
-use crate::cycle_equations::velocity_balance;
+use crate::cycle_equations::{balanced_exp, velocity_balance};
 use crate::flow::Extrema;
 use crate::model_flight::ModelFlight;
 use crate::orbit::{STABILITY_MARGIN, VIABILITY_TOLERANCE};
@@ -32,6 +33,8 @@ use nalgebra::{Complex, DMatrix, DVector};
 pub(super) struct ContactFlow {
     balanced: ModelFlight,
     balance: f64,
+    /// `Â_c`, unbalanced.
+    matrix: DMatrix<f64>,
     /// `c_c (0, w, 0)(0, w, 0)ᵀ`: the contact dashpot's dissipation rate as a quadratic form.
     dissipation: DMatrix<f64>,
 }
@@ -67,6 +70,7 @@ pub(super) fn contact_flows(verdicts: &ModelVerdicts<'_, '_>) -> Vec<Option<Cont
             Some(ContactFlow {
                 balanced: ModelFlight::from_matrix(b, rate),
                 balance,
+                matrix: a.clone(),
                 dissipation: &v * v.transpose() * damping,
             })
         })
@@ -81,13 +85,78 @@ impl ContactFlow {
         y
     }
 
-    /// `∫₀^τ z zᵀ dt = S (∫₀^τ y yᵀ dt) S`.
+    /// `∫₀^τ z zᵀ dt` along the exact contact flow from `z`, by Gauss–Legendre quadrature
+    /// ([`GAUSS_NODES`] nodes) on pieces no longer than `2/rate` (`rate` the flow's fastest,
+    /// [`ModelFlight::rate`]), the state at each node from the balanced exponential.
+    ///
+    /// Van Loan's block exponential (the free flights' [`ModelFlight::second_moment`]) is
+    /// accurate to rounding of its largest entry, the constant phase state's `∫1 dt`; a stiff
+    /// contact's velocities are of order `σ` times its penetration, so their block would carry
+    /// that rounding times `σ²`. The quadrature of the flow's own states keeps each entry's
+    /// accuracy: the integrand `z zᵀ` is an entire function whose fastest term turns at
+    /// `2 · rate`, `≤ 4` radians per piece, where the rule of degree `2 · 16 − 1` leaves
+    /// `(4/2)^32/32! ≈ 2e-26` of it.
     fn second_moment(&self, z: &DVector<f64>, n: usize, tau: f64) -> DMatrix<f64> {
-        let mut w = self.balanced.second_moment(&self.balanced_state(z, n), tau);
-        w.rows_mut(n, n).scale_mut(self.balance);
-        w.columns_mut(n, n).scale_mut(self.balance);
-        w
+        let size = z.len();
+        let mut moment = DMatrix::zeros(size, size);
+        if tau <= 0.0 {
+            return moment;
+        }
+        let pieces = (tau * self.balanced.rate() / 2.0).ceil().max(1.0);
+        let h = tau / pieces;
+        let step = balanced_exp(&self.matrix, n, self.balance, h);
+        let nodes = gauss_legendre(GAUSS_NODES);
+        let at_nodes: Vec<(DMatrix<f64>, f64)> = nodes
+            .iter()
+            .map(|&(x, w)| {
+                let s = 0.5 * h * (x + 1.0);
+                (balanced_exp(&self.matrix, n, self.balance, s), 0.5 * h * w)
+            })
+            .collect();
+        let mut start = z.clone();
+        for _ in 0..pieces as usize {
+            for (flow, weight) in &at_nodes {
+                let state = flow * &start;
+                moment += &state * state.transpose() * *weight;
+            }
+            start = &step * start;
+        }
+        moment
     }
+}
+
+/// Nodes of the Gauss–Legendre rule of the contact flights' second moments: degree 31 on
+/// pieces of at most 4 radians of the integrand's fastest term (see
+/// [`ContactFlow::second_moment`]).
+const GAUSS_NODES: usize = 16;
+
+/// The `count`-point Gauss–Legendre rule on `[−1, 1]`: `(node, weight)` pairs, the nodes by
+/// Newton on the Legendre polynomial from Chebyshev's estimates (to rounding in a few steps).
+fn gauss_legendre(count: usize) -> Vec<(f64, f64)> {
+    let n = count as f64;
+    (0..count)
+        .map(|i| {
+            let mut x = (std::f64::consts::PI * (i as f64 + 0.75) / (n + 0.5)).cos();
+            let mut slope = 1.0;
+            for _ in 0..100 {
+                // P_n(x) and P_n'(x) by the three-term recurrence.
+                let (mut p0, mut p1) = (1.0, x);
+                for k in 2..=count {
+                    let k = k as f64;
+                    let p2 = ((2.0 * k - 1.0) * x * p1 - (k - 1.0) * p0) / k;
+                    p0 = p1;
+                    p1 = p2;
+                }
+                slope = n * (x * p1 - p0) / (x * x - 1.0);
+                let dx = p1 / slope;
+                x -= dx;
+                if dx.abs() <= 1e-16 {
+                    break;
+                }
+            }
+            (x, 2.0 / ((1.0 - x * x) * slope * slope))
+        })
+        .collect()
 }
 
 /// What the flights give: amplitudes, violations, the energy integrals and the contact
@@ -383,5 +452,5 @@ fn flights(
 /// that compose the flow map themselves.
 #[cfg(test)]
 pub(crate) fn contact_flow(a: &DMatrix<f64>, dofs: usize, tau: f64) -> DMatrix<f64> {
-    crate::cycle_equations::balanced_exp(a, dofs, velocity_balance(a, dofs), tau)
+    balanced_exp(a, dofs, velocity_balance(a, dofs), tau)
 }
