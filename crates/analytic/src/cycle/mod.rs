@@ -18,6 +18,8 @@
 //! (`verdicts::assemble`), run on the unit's own flow.
 
 pub(crate) mod contact_search;
+#[cfg(test)]
+mod contact_tests;
 pub mod cycle_equations;
 pub mod motion;
 pub mod sequence_orbit;
