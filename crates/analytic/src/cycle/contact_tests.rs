@@ -310,7 +310,9 @@ fn cycle_map(
 /// The eigenvalues of the central difference (step `h` on every coordinate) of the composed
 /// cycle map from the middle of the orbit's longest free flight: the stroboscopic map there is
 /// conjugate to the monodromy from just after the first event, so its eigenvalues are the
-/// Floquet multipliers.
+/// Floquet multipliers. (Inside a stiff contact the stroboscopic matrix is far from normal,
+/// its entries `ω_c` times its eigenvalues, which then amplify the quotient's error: a free
+/// flight is where the eigenvalues of the difference quotient are well conditioned.)
 fn differenced_multipliers(
     problem: &SequenceProblem<'_>,
     orbit: &SequenceOrbit,

@@ -17,7 +17,6 @@
 //! multi-start of [`crate::sequence_search`]; its verdicts are the ones every model shares
 //! (`verdicts::assemble`), run on the unit's own flow.
 
-pub(crate) mod contact_search;
 #[cfg(test)]
 mod contact_tests;
 pub mod cycle_equations;

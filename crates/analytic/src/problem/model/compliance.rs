@@ -129,7 +129,7 @@ impl LinearModel {
         }
         let structure = fastest_rate(&self.system_matrix(), self.dofs());
         let contact = (k / self.reduced_mass(pair)).sqrt();
-        if structure > 0.0 && !(contact <= MAX_CONTACT_FREQUENCY_RATIO * structure) {
+        if structure > 0.0 && contact > MAX_CONTACT_FREQUENCY_RATIO * structure {
             return Err(out_of_range(
                 field("stiffness"),
                 k,

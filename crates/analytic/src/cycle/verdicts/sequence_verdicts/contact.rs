@@ -309,7 +309,7 @@ fn monodromy(
     let m = events.len();
     let s = 2 * n;
     let mut monodromy = DMatrix::identity(s, s);
-    for f in 0..m {
+    for (f, flight) in flights.iter().enumerate() {
         let next = (f + 1) % m;
         let (impact, kind) = events[next];
         let z = &before[next];
@@ -328,7 +328,7 @@ fn monodromy(
                 DMatrix::identity(s, s) + (f_plus - f_minus) * grad.transpose() / rate
             }
         };
-        let hom = flights[f].view((0, 0), (s, s));
+        let hom = flight.view((0, 0), (s, s));
         monodromy = salt * hom * monodromy;
     }
     monodromy
@@ -446,11 +446,4 @@ fn flights(
         }
     }
     totals
-}
-
-/// `exp(Â_c τ)` of a contact flight by the cycle equations' balanced exponential: for tests
-/// that compose the flow map themselves.
-#[cfg(test)]
-pub(crate) fn contact_flow(a: &DMatrix<f64>, dofs: usize, tau: f64) -> DMatrix<f64> {
-    balanced_exp(a, dofs, velocity_balance(a, dofs), tau)
 }
