@@ -280,3 +280,16 @@ fn bad_contact_laws_are_refused_by_field() {
     assert_eq!(model.compliance(0), None);
     assert_eq!(stiff.compliance(1), None);
 }
+
+/// Continuation follows rigid impacts only: an orbit with contact phases is refused, not
+/// continued with a rigid cycle's events.
+#[test]
+fn contact_phases_are_not_continued() {
+    let orbit = compliant_orbit(1e4);
+    let model = compliant_oscillator(1e4);
+    let settings = ContinuationSettings::new(0.5, 1.0);
+    assert!(matches!(
+        continue_sequence(&model, &orbit, &settings),
+        Err(ContinuationError::Sequence(SequenceError::ContinuedContact))
+    ));
+}

@@ -24,11 +24,15 @@ impl<'a> ModelBranch<'a> {
     /// The orbits of `sequence` on `model`.
     ///
     /// # Errors
-    /// [`SequenceError::Pair`] when the sequence names a pair the model lacks.
+    /// [`SequenceError::Pair`] when the sequence names a pair the model lacks;
+    /// [`SequenceError::ContinuedContact`] when it has contact phases.
     pub(crate) fn new(
         model: &'a LinearModel,
         sequence: ImpactSequence,
     ) -> Result<Self, SequenceError> {
+        if sequence.has_contact_phases() {
+            return Err(SequenceError::ContinuedContact);
+        }
         let problem = SequenceProblem::new(model, 1.0, &sequence).map_err(|e| match e {
             SequenceOrbitError::Sequence(s) => s,
             // A frequency of 1 is valid: only the sequence can be refused.

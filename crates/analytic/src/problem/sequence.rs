@@ -74,6 +74,13 @@ pub enum SequenceError {
         /// The compliant pair.
         pair: usize,
     },
+    /// A sequence with contact phases given to continuation or boundary following, whose
+    /// events (grazing, vanishing impact) and test functions are those of rigid impacts.
+    #[error(
+        "--signature has contact phases ('c'): continuation and boundary following take rigid \
+         impacts only"
+    )]
+    ContinuedContact,
     /// An impact names a pair the model does not have.
     #[error("--signature names pair {pair}: the model has pairs 0..{pairs}")]
     Pair {
