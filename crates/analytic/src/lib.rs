@@ -104,8 +104,8 @@ pub use lattice::{
 };
 pub use linear::{linear_response, modes, LinearResponse, Modes};
 pub use model::{
-    ContactPair, Harmonic, HarmonicForcing, HarmonicResponse, HarmonicState, LinearModel,
-    ModelError, ModelTransition, MAX_HARMONIC_ORDER,
+    Compliance, ContactPair, Harmonic, HarmonicForcing, HarmonicResponse, HarmonicState,
+    LinearModel, ModelError, ModelTransition, MAX_HARMONIC_ORDER,
 };
 pub use motion::UnitMotion;
 pub use orbit::{Orbit, Side, Violation};
@@ -115,7 +115,7 @@ pub use sequence_orbit::{
     NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,
 };
 pub use sequence_search::{sequence_orbits, sequence_orbits_on_grid};
-pub use sequence_verdicts::{solve_sequence, SequenceOrbit};
+pub use sequence_verdicts::{solve_sequence, ContactPhase, ContactViolation, SequenceOrbit};
 pub use signature::{Signature, SignatureError};
 pub use symmetric::{symmetric_orbits, OrbitError};
 pub use unit::{Damping, Stops, Unit, UnitError};
@@ -126,7 +126,7 @@ pub use family::{FamilyError, GAP_ACCEPTANCE, NEAR_HALF};
 pub use flow::{join, Augmented, Extrema, ForcedFlow, Transition};
 pub use forcing::phase_state;
 pub use linear::transmittance_db;
-pub use model::{RIGID_COUPLING, RIGID_EIGENVALUE};
+pub use model::{MAX_CONTACT_FREQUENCY_RATIO, RIGID_COUPLING, RIGID_EIGENVALUE};
 pub use model_flight::{eigenvalues, ModelFlight};
 pub use orbit::{STABILITY_MARGIN, VIABILITY_TOLERANCE};
 pub use sequence::MAX_SEQUENCE_IMPACTS;

@@ -114,8 +114,8 @@ fn representations<L: Label>(
                 .map(|j| {
                     let i = impacts[(j + k) % n];
                     PairImpact {
-                        pair: i.pair,
                         side: sign * i.side,
+                        ..i
                     }
                 })
                 .collect();

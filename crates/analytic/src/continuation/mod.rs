@@ -209,7 +209,8 @@ fn start_run<M: BranchModel>(
 ///
 /// # Errors
 /// [`ContinuationError::Setting`] for a bad setting; [`ContinuationError::Sequence`] when the
-/// start's sequence names a pair the model lacks; [`ContinuationError::StartOutside`] and
+/// start's sequence names a pair the model lacks or has contact phases (compliant pairs are
+/// not continued); [`ContinuationError::StartOutside`] and
 /// [`ContinuationError::StartNotConverged`] as [`continue_orbit`].
 pub fn continue_sequence(
     model: &LinearModel,

@@ -24,11 +24,15 @@ impl<'a> ModelBranch<'a> {
     /// The orbits of `sequence` on `model`.
     ///
     /// # Errors
-    /// [`SequenceError::Pair`] when the sequence names a pair the model lacks.
+    /// [`SequenceError::Pair`] when the sequence names a pair the model lacks;
+    /// [`SequenceError::ContinuedContact`] when it has contact phases.
     pub(crate) fn new(
         model: &'a LinearModel,
         sequence: ImpactSequence,
     ) -> Result<Self, SequenceError> {
+        if sequence.has_contact_phases() {
+            return Err(SequenceError::ContinuedContact);
+        }
         let problem = SequenceProblem::new(model, 1.0, &sequence).map_err(|e| match e {
             SequenceOrbitError::Sequence(s) => s,
             // A frequency of 1 is valid: only the sequence can be refused.
@@ -95,13 +99,13 @@ impl<'a> ModelBranch<'a> {
                 let to_side2 = pair.gap_side2 + ext[q].min;
                 if !(to_side1.is_finite() || to_side2.is_finite()) {
                     clearance.push(pair.gap_side1.min(pair.gap_side2));
-                    graze.push((f64::NAN, PairImpact { pair: q, side: 0 }));
+                    graze.push((f64::NAN, PairImpact::rigid(q, 0)));
                 } else if to_side1 <= to_side2 {
                     clearance.push(to_side1);
-                    graze.push((ext[q].argmax / cycle, PairImpact { pair: q, side: 1 }));
+                    graze.push((ext[q].argmax / cycle, PairImpact::rigid(q, 1)));
                 } else {
                     clearance.push(to_side2);
-                    graze.push((ext[q].argmin / cycle, PairImpact { pair: q, side: -1 }));
+                    graze.push((ext[q].argmin / cycle, PairImpact::rigid(q, -1)));
                 }
             }
         }

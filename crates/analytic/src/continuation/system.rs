@@ -35,7 +35,7 @@ impl Label for Signature {
     fn impact_list(&self) -> Vec<PairImpact> {
         self.sides()
             .iter()
-            .map(|&side| PairImpact { pair: 0, side })
+            .map(|&side| PairImpact::rigid(0, side))
             .collect()
     }
 

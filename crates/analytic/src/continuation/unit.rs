@@ -207,10 +207,10 @@ impl BranchModel for UnitBranch<'_> {
                     (low, ext[0].argmin, -1)
                 };
                 clearance.push(self.gap - value);
-                graze.push((time / cycle, PairImpact { pair: 0, side }));
+                graze.push((time / cycle, PairImpact::rigid(0, side)));
             } else {
                 clearance.push(self.gap);
-                graze.push((f64::NAN, PairImpact { pair: 0, side: 0 }));
+                graze.push((f64::NAN, PairImpact::rigid(0, 0)));
             }
         }
         let tol = VIABILITY_TOLERANCE * self.gap;

@@ -62,17 +62,19 @@
 //! −h_jᵀ dPre_{j−1} z₁ on anchor rows)`, the same carried products `dPre_f z₁` as without
 //! border.
 
-use crate::cycle::unit_flights::{
-    dynamic_exp, product, remembered_flow, to_unit, unit_exp, unit_modes, UNIT_SIZE,
-};
+mod contact_flights;
+mod in_omega;
+
+pub(crate) use contact_flights::{balanced_exp, velocity_balance};
+
+use crate::cycle::unit_flights::{product, remembered_flow, to_unit, unit_modes};
 use crate::cycle::unit_modes::{ModalForcing, UnitModes};
 use crate::orbit::wrap;
 use crate::problem::forcing::phase_state;
 use crate::problem::forcing::PhaseRows;
 use nalgebra::allocator::Allocator;
 use nalgebra::{
-    Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn, Matrix6, OMatrix, OVector,
-    SMatrix, LU,
+    Const, DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn, Matrix6, OMatrix, OVector, LU,
 };
 use std::sync::Arc;
 
@@ -124,6 +126,9 @@ where
     /// The border of a model with rigid modes (see the module's documentation); `None`:
     /// the unbordered periodicity solve.
     border: Option<Arc<RigidBorder>>,
+    /// Per flight, its contact phase's own flow (`None` entries: free flights); `None`: no
+    /// contact phase ([`Self::with_contact_flights`]).
+    contact_flights: Option<Arc<[Option<contact_flights::ContactFlight<D>>]>>,
 }
 
 /// The border of the periodicity solve of a model with `r` rigid modes.
@@ -241,6 +246,7 @@ where
             modes: None,
             remember: false,
             border: None,
+            contact_flights: None,
         }
     }
 
@@ -301,6 +307,9 @@ where
     /// results the tests compare with the closed form to 1e-12 (Floquet multipliers of
     /// non-normal monodromy matrices amplify that difference about a thousandfold) keep Padé.
     pub fn with_modal_flow(self) -> Self {
+        if self.contact_flights.is_some() {
+            return self;
+        }
         let modes = unit_modes(&self.augmented);
         Self { modes, ..self }
     }
@@ -330,12 +339,16 @@ where
                 unit_modes(&augmented)
             }
         });
-        Self {
+        let moved = Self {
             omega,
             augmented,
             cycle,
             modes,
             ..self.clone()
+        };
+        Self {
+            contact_flights: moved.contact_flights_at_frequency(),
+            ..moved
         }
     }
 
@@ -453,6 +466,11 @@ where
     /// [`Self::flow`] of each of the durations `taus`: the modal flows (unless remembered)
     /// two at a time ([`UnitModes::flow_pair`]), bit for bit one at a time.
     fn flows(&self, taus: &[f64]) -> Vec<OMatrix<f64, D, D>> {
+        if self.contact_flights.is_some() {
+            return (0..taus.len())
+                .map(|f| self.flight_flow(f, taus[f]))
+                .collect();
+        }
         let Some((modes, forcing)) = self.modes.as_ref().filter(|_| !self.remember) else {
             return taus.iter().map(|&tau| self.flow(tau)).collect();
         };
@@ -735,94 +753,6 @@ where
         Some(evaluation)
     }
 
-    /// The cycle at `x = (α, φ₂ … φ_m)` with the exact Jacobian in `(x, ω)`, `m × (m + 1)`:
-    /// the last column is `∂ residual / ∂ω` at fixed `x` (impact phases as fractions of the
-    /// cycle), `augmented_rate` being `dÂ/dω`. In the forcing angle `σ = ωt` a flight over the
-    /// phase fraction `Δφ` is `Φ = exp(B σ)`, `σ = 2πp Δφ`, `B = Â/ω`, so `ω` enters only through
-    /// `B`: `∂Φ/∂ω` is the Fréchet derivative of the exponential in the direction `B'σ`,
-    /// `B' = Â'/ω − Â/ω²`, the top-right block of `exp([[Bσ, B'σ], [0, Bσ]])`. `None` when the
-    /// periodicity solve is singular.
-    ///
-    /// # Panics
-    /// If `x` does not have one entry per impact or `augmented_rate` is not the size of `Â`.
-    pub fn evaluate_in_omega(
-        &self,
-        x: &[f64],
-        augmented_rate: &OMatrix<f64, D, D>,
-    ) -> Option<CycleEvaluation<D>> {
-        let e = self.evaluate_with(x, false)?;
-        self.with_omega_jacobian(x, e, augmented_rate)
-    }
-
-    /// [`Self::evaluate_in_omega`] from the evaluation `e` of the residuals at the same `x`
-    /// ([`Self::evaluate_with`] without derivatives, on these equations): the exact Jacobian
-    /// in `(x, ω)` added to it, the flights and maps reused (the result is the one
-    /// [`Self::evaluate_in_omega`] gives, bit for bit). `None` when the periodicity solve is
-    /// singular.
-    ///
-    /// # Panics
-    /// If `x` does not have one entry per impact or `augmented_rate` is not the size of `Â`.
-    pub fn with_omega_jacobian(
-        &self,
-        x: &[f64],
-        mut e: CycleEvaluation<D>,
-        augmented_rate: &OMatrix<f64, D, D>,
-    ) -> Option<CycleEvaluation<D>> {
-        let factors = self.periodic_factors(&e.pre)?;
-        let solver = factors.view();
-        let in_x = self.jacobian_in(&e, &solver, x[0])?;
-        let m = self.impacts();
-        let size = self.augmented.nrows();
-        let d = D::from_usize(size);
-        let omega = self.omega;
-        let b = &self.augmented / omega;
-        let b_rate = augmented_rate / omega - &self.augmented / (omega * omega);
-        let angle = self.cycle * omega;
-        let phases = Self::phases(x);
-        let modal = self.modes.as_ref().and_then(|(modes, forcing)| {
-            let rate = to_unit(augmented_rate);
-            UnitModes::fits_rate(&rate).then(|| (modes, forcing, modes.forcing(&rate)))
-        });
-        let rates: Vec<OMatrix<f64, D, D>> = (0..m)
-            .map(|f| {
-                let end = if f + 1 < m { phases[f + 1] } else { 1.0 };
-                if let Some((modes, forcing, forcing_rate)) = &modal {
-                    let tau = (end - phases[f]) * self.cycle;
-                    let fast = modes.flow_rate(forcing, forcing_rate, tau);
-                    return OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| fast[(i, j)]);
-                }
-                let sigma = (end - phases[f]) * angle;
-                let block = |i: usize, j: usize| match (i < size, j < size) {
-                    (true, true) => b[(i, j)] * sigma,
-                    (false, false) => b[(i - size, j - size)] * sigma,
-                    (true, false) => b_rate[(i, j - size)] * sigma,
-                    (false, true) => 0.0,
-                };
-                if size == UNIT_SIZE {
-                    // The unit's 12×12 exponential on the stack (no heap matrices per flight).
-                    let ex = unit_exp(&SMatrix::from_fn(block));
-                    OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| ex[(i, size + j)])
-                } else {
-                    let ex = dynamic_exp(&DMatrix::from_fn(2 * size, 2 * size, block));
-                    OMatrix::<f64, D, D>::from_fn_generic(d, d, |i, j| ex[(i, size + j)])
-                }
-            })
-            .collect();
-        let own = |f: usize| {
-            Some(if f == 0 {
-                rates[0].clone()
-            } else {
-                product(&rates[f], &product(&self.g_hats[f], &e.pre[f - 1]))
-            })
-        };
-        let in_omega = self.column_in(&e, &solver, own, PhaseRows::Still)?;
-        let mut jacobian = DMatrix::zeros(m, m + 1);
-        jacobian.view_mut((0, 0), (m, m)).copy_from(&in_x);
-        jacobian.set_column(m, &in_omega);
-        e.jacobian = jacobian;
-        Some(e)
-    }
-
     /// `∂ residual / ∂ (α, φ₂ … φ_m)` at an evaluation.
     fn jacobian(
         &self,
@@ -850,7 +780,7 @@ where
         for i in 1..m {
             let own = |f: usize| {
                 let c = (f + 1 == i) as i32 as f64 - (f == i) as i32 as f64;
-                (c != 0.0).then(|| product(&self.augmented, &e.pre[f]) * (c * self.cycle))
+                (c != 0.0).then(|| product(self.flight_matrix(f), &e.pre[f]) * (c * self.cycle))
             };
             jacobian.set_column(i, &self.column_in(e, solver, own, PhaseRows::Still)?);
         }

@@ -17,6 +17,8 @@
 //! multi-start of [`crate::sequence_search`]; its verdicts are the ones every model shares
 //! (`verdicts::assemble`), run on the unit's own flow.
 
+#[cfg(test)]
+mod contact_tests;
 pub mod cycle_equations;
 pub mod motion;
 pub mod sequence_orbit;

@@ -32,7 +32,7 @@
 
 use crate::cycle_equations::{CycleEquations, CycleEvaluation, ImpactCondition};
 use crate::model::LinearModel;
-use crate::sequence::{ImpactSequence, SequenceError};
+use crate::sequence::{EventKind, ImpactSequence, PairImpact, SequenceError};
 use nalgebra::allocator::Allocator;
 use nalgebra::{DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn};
 use thiserror::Error;
@@ -133,6 +133,9 @@ pub enum SequenceOrbitError {
 pub struct SequenceProblem<'a> {
     model: &'a LinearModel,
     sequence: &'a ImpactSequence,
+    /// The events of the cycle equations: one per rigid impact, entry and exit per contact
+    /// phase ([`ImpactSequence::events`]).
+    events: Vec<(PairImpact, EventKind)>,
     equations: CycleEquations<Dyn>,
 }
 
@@ -144,9 +147,16 @@ impl<'a> SequenceProblem<'a> {
     /// a projection counting when it keeps more than [`crate::model::RIGID_COUPLING`] of `|w|`),
     /// the shifts `(Φ, 0, 0)`.
     ///
+    /// A sequence with contact phases (compliant pairs, `0+c`) has two events per contact
+    /// phase, its entry and its exit, each an unknown time with the pair's contact condition;
+    /// the flight between them is the contact system's (see `contact_flights`), and the
+    /// augmented state carries the constant phase pair of order 0 that holds the contact's
+    /// constant force.
+    ///
     /// # Errors
     /// [`SequenceOrbitError::InvalidFrequency`] unless `omega` is finite and positive;
-    /// [`SequenceOrbitError::Sequence`] when the sequence names a pair the model lacks;
+    /// [`SequenceOrbitError::Sequence`] when the sequence names a pair the model lacks or an
+    /// impact whose kind (contact phase or rigid impact) is not its pair's;
     /// [`SequenceOrbitError::UnrestrainedRigidMode`] when the model has rigid modes that the
     /// sequence's impacts do not all see.
     pub fn new(
@@ -159,15 +169,18 @@ impl<'a> SequenceProblem<'a> {
         }
         sequence.check(model)?;
         let n = model.dofs();
-        let size = model.augmented_size();
-        let impacts = sequence
-            .impacts()
+        let events = sequence.events();
+        let contact = sequence.has_contact_phases();
+        let size = model.augmented_size() + if contact { 2 } else { 0 };
+        let impacts = events
             .iter()
-            .map(|impact| {
+            .map(|(impact, kind)| {
                 let mut g_hat = DMatrix::identity(size, size);
-                g_hat
-                    .view_mut((n, n), (n, n))
-                    .copy_from(&model.impact_map(impact.pair));
+                if *kind == EventKind::Impact {
+                    g_hat
+                        .view_mut((n, n), (n, n))
+                        .copy_from(&model.impact_map(impact.pair));
+                }
                 let pair = &model.pairs()[impact.pair];
                 let mut h = DVector::zeros(size);
                 h.rows_mut(0, n).copy_from(&pair.direction);
@@ -183,19 +196,36 @@ impl<'a> SequenceProblem<'a> {
                 }
             })
             .collect();
+        let augmented = if contact {
+            model.compliant_augmented(omega)
+        } else {
+            model.augmented_matrix(omega)
+        };
         let mut equations = CycleEquations::new(
             omega,
-            model.augmented_matrix(omega),
+            augmented,
             impacts,
-            sequence_symmetries(sequence),
+            sequence_symmetries(&events),
             f64::from(sequence.period()) * std::f64::consts::TAU / omega,
         );
-        if !model.forcing().harmonics.is_empty() {
+        if contact {
+            let mut orders = model.forcing().orders();
+            orders.push(0);
+            equations = equations.with_forcing_orders(&orders);
+            let increments = events
+                .iter()
+                .map(|(impact, kind)| {
+                    (*kind == EventKind::Entry)
+                        .then(|| model.contact_increment(impact.pair, impact.side))
+                })
+                .collect();
+            equations = equations.with_contact_flights(increments);
+        } else if !model.forcing().harmonics.is_empty() {
             equations = equations.with_forcing_orders(&model.forcing().orders());
         }
         if model.has_rigid_modes() {
             let rigid = model.rigid_modes();
-            let anchors = anchors(model, sequence)?;
+            let anchors = anchors(model, &events)?;
             let mut shifts = DMatrix::zeros(size, rigid.ncols());
             shifts.view_mut((0, 0), (n, rigid.ncols())).copy_from(rigid);
             equations = equations.with_rigid_border(shifts, anchors);
@@ -203,8 +233,15 @@ impl<'a> SequenceProblem<'a> {
         Ok(Self {
             model,
             sequence,
+            events,
             equations,
         })
+    }
+
+    /// The events of the cycle equations, in time order: `(impact, kind)` of each (one per
+    /// rigid impact, entry and exit per contact phase).
+    pub(crate) fn events(&self) -> &[(PairImpact, EventKind)] {
+        &self.events
     }
 
     /// The model.
@@ -233,17 +270,17 @@ impl<'a> SequenceProblem<'a> {
     }
 }
 
-/// The anchors of a model with rigid modes `Φ`: the first impacts of `sequence` whose pairs'
-/// `Φᵀw` are independent, one per rigid mode.
+/// The anchors of a model with rigid modes `Φ`: the first events whose pairs' `Φᵀw` are
+/// independent, one per rigid mode.
 fn anchors(
     model: &LinearModel,
-    sequence: &ImpactSequence,
+    events: &[(PairImpact, EventKind)],
 ) -> Result<Vec<usize>, SequenceOrbitError> {
     let rigid = model.rigid_modes();
     let modes = rigid.ncols();
     let mut basis: Vec<DVector<f64>> = Vec::with_capacity(modes);
     let mut anchors = Vec::with_capacity(modes);
-    for (j, impact) in sequence.impacts().iter().enumerate() {
+    for (j, (impact, _)) in events.iter().enumerate() {
         if anchors.len() == modes {
             break;
         }
@@ -267,10 +304,9 @@ fn anchors(
     Ok(anchors)
 }
 
-/// The rotations `k` of the cycle that map the sequence onto itself (starting the cycle at
-/// impact `k` gives the same sequence). Always contains 0.
-fn sequence_symmetries(sequence: &ImpactSequence) -> Vec<usize> {
-    let impacts = sequence.impacts();
+/// The rotations `k` of the cycle's events that map them onto themselves (starting the cycle
+/// at event `k` gives the same sequence). Always contains 0.
+fn sequence_symmetries(impacts: &[(PairImpact, EventKind)]) -> Vec<usize> {
     let m = impacts.len();
     (0..m)
         .filter(|&k| (0..m).all(|j| impacts[(j + k) % m] == impacts[j]))

@@ -47,6 +47,18 @@ impl ModelFlight {
         }
     }
 
+    /// The flow of the augmented matrix `augmented` whose eigenvalues and forcing turn no
+    /// faster than `rate` (the length of the extremum search's pieces, `1/rate`).
+    pub(crate) fn from_matrix(augmented: DMatrix<f64>, rate: f64) -> Self {
+        Self { augmented, rate }
+    }
+
+    /// The rate that sets the extremum search's pieces: the fastest of the flow's eigenvalue
+    /// bound and the forcing's highest frequency.
+    pub(crate) fn rate(&self) -> f64 {
+        self.rate
+    }
+
     /// The augmented matrix `Â`.
     pub fn augmented_matrix(&self) -> &DMatrix<f64> {
         &self.augmented

@@ -16,6 +16,11 @@ use crate::problem::forcing::trig_extremes;
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 use thiserror::Error;
 
+mod compliance;
+
+pub(crate) use compliance::fastest_rate;
+pub use compliance::{Compliance, MAX_CONTACT_FREQUENCY_RATIO};
+
 /// A model that is not a physical linear model with contact pairs.
 #[derive(Debug, Clone, PartialEq, Error)]
 pub enum ModelError {
@@ -133,6 +138,8 @@ pub struct LinearModel {
     mass_inverse: DMatrix<f64>,
     /// Orthonormal basis of the null space of `K` (`n × r`), see [`crate::problem::rigid`].
     rigid_modes: DMatrix<f64>,
+    /// The contact law of each pair: `None` rigid (restitution), `Some` compliant.
+    compliances: Vec<Option<Compliance>>,
 }
 
 pub(crate) fn out_of_range(field: String, value: f64, allowed: &'static str) -> ModelError {
@@ -319,6 +326,7 @@ impl LinearModel {
         let rigid_modes = rigid_basis(&stiffness, &damping)?;
         check_restrained(&rigid_modes, &damping, &pairs)?;
         let mass_inverse = cholesky.inverse();
+        let compliances = vec![None; pairs.len()];
         Ok(Self {
             mass,
             damping,
@@ -327,6 +335,7 @@ impl LinearModel {
             pairs,
             mass_inverse,
             rigid_modes,
+            compliances,
         })
     }
 

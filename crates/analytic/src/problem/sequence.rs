@@ -7,6 +7,12 @@
 //! without pair indices (`"+-"`) is a signature of pair 0. Canonical form: the rotation whose
 //! list of `(pair, side)` is smallest in lexicographic order, pairs ascending and `+` before
 //! `-` (for one pair, the canonical form of [`Signature`]).
+//!
+//! On a compliant pair ([`crate::Compliance`]) an impact is a *contact phase*: the pair enters
+//! its stop, stays in it under the contact's spring and dashpot, and leaves it. Its token ends
+//! in `c` (`"0+c 0-c"`, `"0+c 1-"`); it orders after a rigid impact of the same pair and side.
+//! In the cycle equations a contact phase is two events, its entry and its exit
+//! ([`ImpactSequence::events`]).
 
 use std::fmt;
 use thiserror::Error;
@@ -48,6 +54,33 @@ pub enum SequenceError {
         /// The side without a stop: `+` or `-`.
         side: char,
     },
+    /// A contact phase (`<pair><side>c`) names a rigid pair: its impacts are written
+    /// `<pair><side>`.
+    #[error(
+        "--signature has a contact phase on pair {pair}, which is rigid: write its impacts \
+         without 'c'"
+    )]
+    ContactOnRigid {
+        /// The rigid pair.
+        pair: usize,
+    },
+    /// A rigid impact (`<pair><side>`) names a compliant pair: its impacts are contact
+    /// phases, written `<pair><side>c`.
+    #[error(
+        "--signature has a rigid impact on pair {pair}, which is compliant: write its contact \
+         phases with 'c' (e.g. '{pair}+c')"
+    )]
+    ImpactOnCompliant {
+        /// The compliant pair.
+        pair: usize,
+    },
+    /// A sequence with contact phases given to continuation or boundary following, whose
+    /// events (grazing, vanishing impact) and test functions are those of rigid impacts.
+    #[error(
+        "--signature has contact phases ('c'): continuation and boundary following take rigid \
+         impacts only"
+    )]
+    ContinuedContact,
     /// An impact names a pair the model does not have.
     #[error("--signature names pair {pair}: the model has pairs 0..{pairs}")]
     Pair {
@@ -58,19 +91,54 @@ pub enum SequenceError {
     },
 }
 
-/// One impact of a sequence: which pair hits which of its stops.
+/// One impact of a sequence: which pair hits which of its stops, and whether it is a rigid
+/// impact or a contact phase of a compliant pair.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct PairImpact {
     /// Index of the contact pair in [`LinearModel::pairs`].
     pub pair: usize,
     /// `+1` for side 1 (`r = +gap_side1`), `−1` for side 2 (`r = −gap_side2`).
     pub side: i8,
+    /// `true`: a contact phase of a compliant pair (`0+c`), entry and exit at the stop;
+    /// `false`: a rigid impact (`0+`).
+    pub contact: bool,
+}
+
+/// What an event of the cycle equations is: a rigid impact, or the entry into or the exit from
+/// a contact phase.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub(crate) enum EventKind {
+    /// A rigid impact: the velocities jump by the impact map.
+    Impact,
+    /// The pair reaches its stop and the contact flow begins (the state is continuous).
+    Entry,
+    /// The pair's penetration returns to 0 and free flight begins (the state is continuous).
+    Exit,
 }
 
 impl PairImpact {
-    /// Order key: pair ascending, then `+` before `-`.
-    fn key(self) -> (usize, u8) {
-        (self.pair, u8::from(self.side != 1))
+    /// A rigid impact of `pair` on side `side`.
+    pub fn rigid(pair: usize, side: i8) -> Self {
+        Self {
+            pair,
+            side,
+            contact: false,
+        }
+    }
+
+    /// A contact phase of the compliant `pair` on side `side`.
+    pub fn compliant(pair: usize, side: i8) -> Self {
+        Self {
+            pair,
+            side,
+            contact: true,
+        }
+    }
+
+    /// Order key: pair ascending, then `+` before `-`, then a rigid impact before a contact
+    /// phase.
+    fn key(self) -> (usize, u8, bool) {
+        (self.pair, u8::from(self.side != 1), self.contact)
     }
 }
 
@@ -131,7 +199,7 @@ impl ImpactSequence {
             .into());
         }
         let n = impacts.len();
-        let keys: Vec<(usize, u8)> = impacts.iter().map(|i| i.key()).collect();
+        let keys: Vec<(usize, u8, bool)> = impacts.iter().map(|i| i.key()).collect();
         let keys = &keys;
         let rotation = move |s: usize| (0..n).map(move |k| keys[(k + s) % n]);
         let shift = (1..n).fold(0, |best, s| {
@@ -153,7 +221,7 @@ impl ImpactSequence {
             impacts: signature
                 .sides()
                 .iter()
-                .map(|&side| PairImpact { pair: 0, side })
+                .map(|&side| PairImpact::rigid(0, side))
                 .collect(),
             period: signature.period(),
         }
@@ -176,14 +244,22 @@ impl ImpactSequence {
                 let bad = || SequenceError::BadToken {
                     token: token.to_string(),
                 };
-                let (pair, side) = token.split_at(token.len().saturating_sub(1));
+                let (body, contact) = match token.strip_suffix('c') {
+                    Some(body) => (body, true),
+                    None => (token, false),
+                };
+                let (pair, side) = body.split_at(body.len().saturating_sub(1));
                 let side = match side {
                     "+" => 1,
                     "-" => -1,
                     _ => return Err(bad()),
                 };
                 let pair = pair.parse::<usize>().map_err(|_| bad())?;
-                Ok(PairImpact { pair, side })
+                Ok(PairImpact {
+                    pair,
+                    side,
+                    contact,
+                })
             })
             .collect::<Result<Vec<_>, _>>()?;
         Self::new(&impacts, period)
@@ -192,6 +268,28 @@ impl ImpactSequence {
     /// The impacts in canonical order.
     pub fn impacts(&self) -> &[PairImpact] {
         &self.impacts
+    }
+
+    /// Whether some impact is a contact phase.
+    pub fn has_contact_phases(&self) -> bool {
+        self.impacts.iter().any(|i| i.contact)
+    }
+
+    /// The events of the cycle equations in time order: one per rigid impact, two (entry,
+    /// exit) per contact phase. Each event's unknown is its time; its condition that the
+    /// pair's coordinate is at the stop.
+    pub(crate) fn events(&self) -> Vec<(PairImpact, EventKind)> {
+        self.impacts
+            .iter()
+            .flat_map(|&i| {
+                let kinds: &[EventKind] = if i.contact {
+                    &[EventKind::Entry, EventKind::Exit]
+                } else {
+                    &[EventKind::Impact]
+                };
+                kinds.iter().map(move |&k| (i, k))
+            })
+            .collect()
     }
 
     /// Number of forcing periods in the cycle.
@@ -221,11 +319,14 @@ impl ImpactSequence {
         Signature::from_cycle(&sides, self.period).ok()
     }
 
-    /// Checks that every impact names a pair of `model`, on a side that has a stop.
+    /// Checks that every impact names a pair of `model`, on a side that has a stop, with the
+    /// pair's contact law (a contact phase on a compliant pair, a rigid impact on a rigid one).
     ///
     /// # Errors
     /// [`SequenceError::Pair`] for the first impact on a pair the model lacks;
-    /// [`SequenceError::NoStop`] for the first impact on a side without a stop.
+    /// [`SequenceError::NoStop`] for the first impact on a side without a stop;
+    /// [`SequenceError::ContactOnRigid`] or [`SequenceError::ImpactOnCompliant`] for the first
+    /// impact whose kind is not its pair's.
     pub fn check(&self, model: &LinearModel) -> Result<(), SequenceError> {
         let pairs = model.pairs();
         if let Some(bad) = self.impacts.iter().find(|i| i.pair >= pairs.len()) {
@@ -243,24 +344,32 @@ impl ImpactSequence {
             };
             !gap.is_finite()
         };
-        match self.impacts.iter().find(absent) {
-            Some(bad) => Err(SequenceError::NoStop {
+        if let Some(bad) = self.impacts.iter().find(absent) {
+            return Err(SequenceError::NoStop {
                 pair: bad.pair,
                 side: if bad.side == 1 { '+' } else { '-' },
-            }),
+            });
+        }
+        let mismatch = |i: &&PairImpact| i.contact != model.compliance(i.pair).is_some();
+        match self.impacts.iter().find(mismatch) {
+            Some(bad) if bad.contact => Err(SequenceError::ContactOnRigid { pair: bad.pair }),
+            Some(bad) => Err(SequenceError::ImpactOnCompliant { pair: bad.pair }),
             None => Ok(()),
         }
     }
 }
 
 impl fmt::Display for ImpactSequence {
-    /// The text form: `0+ 1+ 0- 1-`.
+    /// The text form: `0+ 1+ 0- 1-`, a contact phase with a trailing `c` (`0+c`).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         for (k, i) in self.impacts.iter().enumerate() {
             if k > 0 {
                 f.write_str(" ")?;
             }
             write!(f, "{}{}", i.pair, if i.side == 1 { '+' } else { '-' })?;
+            if i.contact {
+                f.write_str("c")?;
+            }
         }
         Ok(())
     }

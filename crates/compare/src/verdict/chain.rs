@@ -454,10 +454,7 @@ pub(crate) fn seeded_models(
     let impacts: Vec<PairImpact> = cycle
         .impacts
         .iter()
-        .map(|i| PairImpact {
-            pair: i.pair,
-            side: i.side,
-        })
+        .map(|i| PairImpact::rigid(i.pair, i.side))
         .collect();
     // The polished cycle must be the cycle the run settled on: same impacts per cycle.
     if impacts.len() != orbit.impact_sides.len()

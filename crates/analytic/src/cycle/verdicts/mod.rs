@@ -46,11 +46,21 @@ pub struct EnergyBalance {
     pub dashpot_dissipation: f64,
     /// `Σ ½ (1 − e²) ṙ⁻² / (wᵀM⁻¹w)` over the impacts.
     pub impact_losses: f64,
+    /// `∮ c_c ṙ² dt` over the contact phases of compliant pairs: their dashpots' dissipation
+    /// (their springs' work over a contact is zero). Zero, and not serialised, without
+    /// contact phases.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub contact_dissipation: f64,
     /// `½ ∮ (ω u̇ᵀMu̇ + fᵀM⁻¹f / ω) dt`, a closed-form bound on the gross energy the forcing
     /// exchanges, `∮ |u̇ᵀf| dt` (`|u̇ᵀf| ≤ ½(ω u̇ᵀMu̇ + fᵀM⁻¹f/ω)` pointwise). On a
     /// conservative orbit the exchanges cancel (`forcing_work = 0`) and the rounding of their
     /// sum is relative to this.
     pub exchange_bound: f64,
+}
+
+/// Whether `value` is zero: a term that only a cycle with contact phases has.
+fn is_zero(value: &f64) -> bool {
+    *value == 0.0
 }
 
 /// Why a solution of the cycle equations is not a motion, naming the contact pair.
@@ -362,6 +372,7 @@ where
             dashpot_dissipation: 0.0,
             impact_losses: 0.0,
             exchange_bound: 0.0,
+            contact_dissipation: 0.0,
         },
     };
     for f in 0..m {

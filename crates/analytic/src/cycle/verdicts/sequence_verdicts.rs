@@ -2,7 +2,10 @@
 //! from rigorous extrema, viability per pair, Floquet multipliers and the energy balance.
 //!
 //! [`solve_sequence`] is the entry point from a guess; [`crate::sequence_search`] finds every
-//! orbit of a sequence by a multi-start.
+//! orbit of a sequence by a multi-start. A cycle with contact phases (compliant pairs) has its
+//! verdicts from `contact`.
+
+mod contact;
 
 use crate::flow::Extrema;
 use crate::linear::transmittance_db;
@@ -52,10 +55,19 @@ pub struct SequenceOrbit {
     /// coordinate under the fundamental's cosine part `f_c` (the forcing's harmonics leave it
     /// as it is): `u_g` for a base-driven model.
     pub transmittance_db: f64,
-    /// True when no [`SequenceViolation`] was found.
+    /// True when no [`SequenceViolation`] and no [`ContactViolation`] was found.
     pub viable: bool,
     /// Every condition that fails.
     pub violations: Vec<SequenceViolation>,
+    /// Every condition of a contact phase that fails (empty, and not serialised, without
+    /// contact phases).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub contact_violations: Vec<ContactViolation>,
+    /// The contact phases of compliant pairs, in sequence order (empty, and not serialised,
+    /// without). `impact_phases` and `states_before_impacts` then list every event: a contact
+    /// phase's entry and its exit.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub contacts: Vec<ContactPhase>,
     /// Eigenvalues of the monodromy matrix (flights and saltation at every impact), as
     /// `[re, im]`; `null` entries when the monodromy is not finite.
     #[serde(serialize_with = "complex_pairs")]
@@ -74,6 +86,56 @@ pub struct SequenceOrbit {
     pub energy_residual: f64,
     /// Newton iterations taken.
     pub newton_iterations: usize,
+}
+
+/// One contact phase of a compliant pair on an orbit: from entry (penetration 0, `ṙ` into the
+/// stop) to exit (penetration 0 again).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ContactPhase {
+    /// Index of the contact pair.
+    pub pair: usize,
+    /// `+1` on side 1, `−1` on side 2.
+    pub side: i8,
+    /// Time of the entry as a fraction of the cycle (an entry of
+    /// [`SequenceOrbit::impact_phases`]).
+    pub entry_phase: f64,
+    /// Time from entry to exit.
+    pub duration: f64,
+    /// `ṙ` at the entry.
+    pub entry_velocity: f64,
+    /// `ṙ` at the exit: `−e` times the entry's for a pair on which nothing else acts during
+    /// the contact ([`crate::Compliance::restitution`]).
+    pub exit_velocity: f64,
+    /// The largest penetration `s r − gap_s` during the contact.
+    pub max_penetration: f64,
+}
+
+/// Why a contact phase of a solution of the cycle equations is not a contact of the motion.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ContactViolation {
+    /// The penetration returns below zero before the contact's exit: the pair leaves its stop
+    /// earlier (and comes back), a contact the sequence does not have.
+    EarlyExit {
+        /// Index of the contact pair.
+        pair: usize,
+        /// The stop: 1 or 2.
+        side: u8,
+        /// Time after the first event at which the penetration is most negative.
+        time: f64,
+        /// How far below zero, `> 0`.
+        excess: f64,
+    },
+    /// At the exit the pair still moves into its stop (`s ṙ ≥ 0`): the penetration does not
+    /// return to zero there.
+    WrongExit {
+        /// Index of the contact pair.
+        pair: usize,
+        /// The stop: 1 or 2.
+        side: u8,
+        /// `ṙ` at the exit.
+        relative_velocity: f64,
+    },
 }
 
 fn display<S: Serializer, T: std::fmt::Display>(v: &T, s: S) -> Result<S::Ok, S::Error> {
@@ -124,6 +186,9 @@ pub(crate) struct ModelVerdicts<'p, 'a> {
     statics: DVector<f64>,
     /// `wᵀM⁻¹w` of every pair (`NaN` for a mass that is not positive definite).
     flexibility: Vec<f64>,
+    /// The flows of the contact phases' flights (`Some` for a contact flight; empty without
+    /// contact phases).
+    contact_flows: Vec<Option<contact::ContactFlow>>,
 }
 
 impl<'p, 'a> ModelVerdicts<'p, 'a> {
@@ -132,7 +197,8 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
         let model = problem.model();
         let omega = problem.omega();
         let n = model.dofs();
-        let size = model.augmented_size();
+        let size = problem.equations().augmented_matrix().nrows();
+        let contact = problem.equations().has_contact_phases();
         let coordinates = (0..n)
             .map(|k| {
                 let mut c = DVector::zeros(size);
@@ -150,7 +216,13 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
             })
             .collect();
         let forcing = model.forcing();
-        let forms = if forcing.harmonics.is_empty() {
+        let forms = if contact {
+            // The constant phase pair of a cycle with contact phases forces nothing.
+            let columns = forcing.columns(omega);
+            let mut padded = DMatrix::zeros(n, columns.ncols() + 2);
+            padded.columns_mut(0, columns.ncols()).copy_from(&columns);
+            energy_forms_of(Dyn(size), model.mass(), model.damping(), &padded, omega)
+        } else if forcing.harmonics.is_empty() {
             energy_forms(
                 Dyn(size),
                 model.mass(),
@@ -188,15 +260,25 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
                     .map_or(f64::NAN, |c| pair.direction.dot(&c.solve(&pair.direction)))
             })
             .collect();
-        Self {
+        let mut flight = ModelFlight::new(model, omega);
+        if contact {
+            let matrix = problem.equations().augmented_matrix().clone();
+            flight = ModelFlight::from_matrix(matrix, flight.rate());
+        }
+        let mut verdicts = Self {
             problem,
-            flight: ModelFlight::new(model, omega),
+            flight,
             pairs,
             coordinates,
             forms,
             statics,
             flexibility,
+            contact_flows: Vec::new(),
+        };
+        if contact {
+            verdicts.contact_flows = contact::contact_flows(&verdicts);
         }
+        verdicts
     }
 
     /// The orbit at converged unknowns `(alpha, phases)` (phases with first 0) with its
@@ -213,8 +295,14 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
         let problem = self.problem;
         let (model, sequence, omega) = (problem.model(), problem.sequence(), problem.omega());
         let pairs = model.pairs();
-        let verdicts = crate::verdicts::assemble(self, problem.equations(), alpha, phases)
-            .ok_or(SequenceOrbitError::SingularCycle { omega })?;
+        let singular = SequenceOrbitError::SingularCycle { omega };
+        let (verdicts, contact_violations, contacts) = if problem.equations().has_contact_phases() {
+            contact::assemble(self, alpha, phases).ok_or(singular)?
+        } else {
+            let verdicts = crate::verdicts::assemble(self, problem.equations(), alpha, phases)
+                .ok_or(singular)?;
+            (verdicts, Vec::new(), Vec::new())
+        };
         let amplitudes = verdicts.amplitudes;
         // Outer coordinate of each pair, its amplitude, and the transmittance of the last.
         let outer_of = |w: &DVector<f64>| {
@@ -249,8 +337,10 @@ impl<'p, 'a> ModelVerdicts<'p, 'a> {
             cell_outer_amplitudes,
             outer_amplitude,
             transmittance_db: transmittance_db(outer_amplitude, reference_amplitude),
-            viable: verdicts.violations.is_empty(),
+            viable: verdicts.violations.is_empty() && contact_violations.is_empty(),
             violations: verdicts.violations,
+            contact_violations,
+            contacts,
             floquet_multipliers: verdicts.floquet_multipliers,
             stable: verdicts.stable,
             monodromy: verdicts.monodromy,
