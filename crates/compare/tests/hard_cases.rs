@@ -225,7 +225,10 @@ fn extreme_scenes_finish_with_an_honest_status() {
             // Periodic only with something to dissipate; otherwise the run says why it ended.
             if sim.steady.status == Status::Periodic {
                 assert!(
-                    s.damping.is_some() || s.stops.as_ref().is_some_and(|st| st.rigid_restitution() < 1.0),
+                    s.damping.is_some()
+                        || s.stops
+                            .as_ref()
+                            .is_some_and(|st| st.rigid_restitution() < 1.0),
                     "{what}"
                 );
             }

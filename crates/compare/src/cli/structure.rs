@@ -60,6 +60,14 @@ pub(crate) fn simulation_table(
         sim.steady.impacts_per_period,
         signature_words(&record.pair_impacts_per_period, &record.pair_signatures)
     );
+    if let (Some(contacts), Some(time)) =
+        (record.contacts_per_period, record.contact_time_per_period)
+    {
+        let _ = writeln!(
+            out,
+            "contacts per period: {contacts} (compliant stops), in contact {time:.6e} s per period"
+        );
+    }
     let _ = writeln!(
         out,
         "amplitudes ({} cycle): {}",

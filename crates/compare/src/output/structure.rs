@@ -135,8 +135,16 @@ pub struct StructureSimulationRecord {
     pub pair_impacts_per_period: Vec<Option<f64>>,
     /// Each stop's canonical impact signature over the final cycle (`""` for a stop without
     /// impacts, `null` for one beyond what a signature holds; the list `null` when not
-    /// periodic or sticking).
+    /// periodic or sticking); a compliant stop's contact phases marked `c` (`+c-c`).
     pub pair_signatures: Option<Vec<Option<String>>>,
+    /// Contact phases of compliant stops per forcing period over the final cycle (only for a
+    /// structure with compliant stops; rigid impacts are `impacts_per_period`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contacts_per_period: Option<f64>,
+    /// Time in contact with compliant stops per forcing period over the final cycle, s
+    /// (summed over stops; only for a structure with compliant stops).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_time_per_period: Option<f64>,
     /// `max |u|` of the observed body over the steady cycle, m.
     pub outer_amplitude: Option<f64>,
     /// `20 log10(outer_amplitude / u_g)`; `null` without a moving base or a steady state.
@@ -189,6 +197,12 @@ impl StructureSimulationRecord {
                 .map(finite)
                 .collect(),
             pair_signatures: signatures(sim, pairs),
+            contacts_per_period: structure
+                .has_compliant_stops()
+                .then(|| sim.contacts_per_period()),
+            contact_time_per_period: structure
+                .has_compliant_stops()
+                .then_some(s.contact_time_per_period),
             outer_amplitude: finite(sim.outer_amplitude),
             transmittance_db: sim.transmittance_db.and_then(finite),
             body_amplitudes: ByBody::new(structure, &s.amplitudes),
@@ -227,6 +241,14 @@ pub struct StructureSimulatedRecord {
     pub pair_signatures: Option<Vec<Option<String>>>,
     /// Impacts per forcing period.
     pub impacts_per_period: Option<f64>,
+    /// Contact phases of compliant stops per forcing period (only for a structure with
+    /// compliant stops).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contacts_per_period: Option<f64>,
+    /// Time in contact with compliant stops per forcing period, s (only for a structure with
+    /// compliant stops).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub contact_time_per_period: Option<f64>,
     /// The observed body's amplitude, m.
     pub outer_amplitude: Option<f64>,
     /// Every body's amplitude over the polished cycle (the final cycle without one), m.

@@ -459,7 +459,11 @@ impl StopsSpec {
     /// `contact_stiffness` with an optional `contact_damping`; a compliant stop's gap finite
     /// and `> 0` (a rigid one's is checked with its restitution).
     fn law_error(&self) -> Option<(&'static str, String)> {
-        match (self.restitution, self.contact_stiffness, self.contact_damping) {
+        match (
+            self.restitution,
+            self.contact_stiffness,
+            self.contact_damping,
+        ) {
             (Some(_), Some(_), _) => Some((
                 "contact_stiffness",
                 "give either `restitution` (rigid stops) or `contact_stiffness` (compliant \
@@ -1132,6 +1136,9 @@ mod tests {
         )
         .unwrap_err()
         .to_string();
-        assert!(e.starts_with("x.json: chain[1].stops.contact_stiffness"), "{e}");
+        assert!(
+            e.starts_with("x.json: chain[1].stops.contact_stiffness"),
+            "{e}"
+        );
     }
 }

@@ -8,8 +8,9 @@ use nalgebra::{DVector, Vector4};
 use rattle_analytic::transmittance_db;
 use rattle_analytic::{Orbit, Signature};
 use rattle_event_driven::{
-    simulate, simulate_watched, CellParameters, CellStops, ImpactRecord, Model, ModelError,
-    PeriodicOrbit, SimulationError, SimulationOptions, Start, Status, SteadyState, Stop,
+    simulate, simulate_watched, CellParameters, CellStops, ContactRecord, ImpactRecord, Model,
+    ModelError, PeriodicOrbit, SimulationError, SimulationOptions, Start, Status, SteadyState,
+    Stop,
 };
 use thiserror::Error;
 
@@ -367,6 +368,26 @@ pub fn run_structure(
     })
 }
 
+/// One stop's canonical signature over a cycle: of its impacts, or of a compliant stop's
+/// contact phases, each side then marked `c` (`+c-c`), as impact sequences write them.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct PairSignature {
+    /// The sides in canonical order.
+    pub signature: Signature,
+    /// Whether the sides are contact phases of a compliant stop.
+    pub contact: bool,
+}
+
+impl std::fmt::Display for PairSignature {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let mark = if self.contact { "c" } else { "" };
+        for &side in self.signature.sides() {
+            write!(f, "{}{mark}", if side > 0 { '+' } else { '-' })?;
+        }
+        Ok(())
+    }
+}
+
 /// The simulator's polished cycle, read from the simulator alone.
 #[derive(Debug, Clone)]
 pub struct PolishedCycle {
@@ -375,6 +396,9 @@ pub struct PolishedCycle {
     /// The impacts of one cycle run from the polished state at the section, in time order,
     /// each with its pair, side, absolute time and state just before.
     pub impacts: Vec<ImpactRecord>,
+    /// The contact phases of compliant stops that end in that cycle, in the order they end
+    /// (one through the section enters before it).
+    pub contacts: Vec<ContactRecord>,
     /// `max_t |u_k(t)|` of every coordinate over that cycle, from the simulator's closed-form
     /// extrema.
     pub amplitudes: Vec<f64>,
@@ -406,6 +430,7 @@ pub fn polished_cycle(
     Ok(PolishedCycle {
         orbit: orbit.clone(),
         impacts: steady.cycle_impacts,
+        contacts: steady.cycle_contacts,
         amplitudes: steady.amplitudes,
     })
 }
@@ -418,12 +443,18 @@ pub fn regime(steady: &SteadyState) -> Regime {
         Status::Periodic => {
             if steady.sticking {
                 Regime::Sticking
-            } else if steady.cycle_impacts.is_empty() {
+            } else if steady.cycle_impacts.is_empty() && steady.cycle_contacts.is_empty() {
                 Regime::NoImpact
             } else if steady.period != Some(1) {
                 Regime::Subharmonic
             } else {
-                let sides: Vec<i8> = steady.cycle_impacts.iter().map(|i| i.side).collect();
+                // A compliant stop's contact phase counts as its impact.
+                let sides: Vec<i8> = steady
+                    .cycle_impacts
+                    .iter()
+                    .map(|i| i.side)
+                    .chain(steady.cycle_contacts.iter().map(|c| c.side))
+                    .collect();
                 if sides.len() == 2 && sides[0] != sides[1] {
                     Regime::TwoImpact
                 } else {
@@ -525,7 +556,7 @@ impl SimulatedPoint {
     pub fn pair_signatures(
         &self,
         pairs: usize,
-    ) -> Option<Vec<Result<Option<Signature>, rattle_analytic::SignatureError>>> {
+    ) -> Option<Vec<Result<Option<PairSignature>, rattle_analytic::SignatureError>>> {
         let s = &self.steady;
         let period = s
             .period
@@ -533,20 +564,39 @@ impl SimulatedPoint {
         Some(
             (0..pairs)
                 .map(|pair| {
-                    let sides: Vec<i8> = s
+                    let impacts: Vec<i8> = s
                         .cycle_impacts
                         .iter()
                         .filter(|i| i.pair == pair)
                         .map(|i| i.side)
                         .collect();
+                    let contacts: Vec<i8> = s
+                        .cycle_contacts
+                        .iter()
+                        .filter(|c| c.pair == pair)
+                        .map(|c| c.side)
+                        .collect();
+                    let (sides, contact) = if impacts.is_empty() {
+                        (contacts, true)
+                    } else {
+                        (impacts, false)
+                    };
                     if sides.is_empty() {
                         Ok(None)
                     } else {
-                        Signature::from_cycle(&sides, period).map(Some)
+                        Signature::from_cycle(&sides, period)
+                            .map(|signature| Some(PairSignature { signature, contact }))
                     }
                 })
                 .collect(),
         )
+    }
+
+    /// Contact phases of compliant stops per forcing period over the final cycle.
+    pub fn contacts_per_period(&self) -> f64 {
+        let s = &self.steady;
+        let periods = s.period.map_or(1.0, f64::from);
+        s.cycle_contacts.len() as f64 / periods
     }
 
     /// For a motion with one impact on each side per period: the fraction `β` of the period

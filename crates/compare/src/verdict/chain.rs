@@ -66,6 +66,9 @@ pub enum ChainReason {
     /// Contradiction: periodic without impacts, but not the linear chain's motion (or the
     /// linear motion reaches the stops).
     NotLinear,
+    /// Beyond: two compliant stops in contact at once (a contact phase that begins before
+    /// the one before it ends): a sequence's contact phases follow one another.
+    OverlappingContacts,
 }
 
 impl ChainReason {
@@ -85,6 +88,7 @@ impl ChainReason {
             ChainReason::Unstable => "unstable",
             ChainReason::Differ => "differ",
             ChainReason::NotLinear => "not-linear",
+            ChainReason::OverlappingContacts => "overlapping-contacts",
         }
     }
 }
@@ -303,7 +307,11 @@ pub(crate) fn judge(
             ChainReason::NoDissipation,
             "no dissipation: transients never decay".into(),
         ),
-        (Status::Periodic, _) if steady.cycle_impacts.is_empty() => linear(&mut check),
+        (Status::Periodic, _)
+            if steady.cycle_impacts.is_empty() && steady.cycle_contacts.is_empty() =>
+        {
+            linear(&mut check)
+        }
         (Status::Periodic, _) => match steady.orbit.as_deref() {
             None => check.beyond(
                 ChainReason::NotPolished,
@@ -580,7 +588,7 @@ pub const NEUTRAL_MARGIN: f64 = rattle_event_driven::UNSTABLE_MARGIN;
 /// solver calls not viable or unstable, or that differs from it; `beyond` (neutral) when the
 /// orbits agree and both solvers put the largest multiplier on the unit circle; agreement
 /// otherwise.
-fn classify(
+pub(crate) fn classify(
     check: &mut ChainCheck,
     sequence: &ImpactSequence,
     analytic: &rattle_analytic::SequenceOrbit,

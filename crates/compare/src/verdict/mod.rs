@@ -24,6 +24,7 @@ use rattle_event_driven::{periodic_orbit, PeriodicOrbit, SimulationOptions, Star
 use thiserror::Error;
 
 pub mod chain;
+mod contact;
 pub mod structure;
 
 /// Two results agree when they differ by less than this, relatively: 1000 × the simulator's

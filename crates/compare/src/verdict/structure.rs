@@ -14,6 +14,7 @@ use crate::verdict::chain::{
     judge, relative_to_largest, seeded_models, ChainCheck, ChainConfirmation, ChainReason,
     CheckModels,
 };
+use crate::verdict::contact::seeded_contacts;
 use rattle_event_driven::SimulationOptions;
 
 /// Both solvers on the motion `structure` settles on from rest at `omega`, classed as a
@@ -48,7 +49,11 @@ pub fn structure_cross_check(
                     compared: (0..structure.dofs()).collect(),
                     relative_to_largest: true,
                 };
-                seeded_models(&models, omega, orbit, steady, &options, check)
+                if steady.cycle_contacts.is_empty() {
+                    seeded_models(&models, omega, orbit, steady, &options, check)
+                } else {
+                    seeded_contacts(&models, omega, orbit, steady, &options, check)
+                }
             }
             Err(e) => {
                 check.contradiction(
@@ -161,6 +166,12 @@ pub fn record(
             period: s.steady.period,
             pair_signatures: signatures(s, structure.stops.len()),
             impacts_per_period: finite(s.steady.impacts_per_period),
+            contacts_per_period: structure
+                .has_compliant_stops()
+                .then(|| s.contacts_per_period()),
+            contact_time_per_period: structure
+                .has_compliant_stops()
+                .then_some(s.steady.contact_time_per_period),
             outer_amplitude: amplitudes.get(structure.observe).copied().and_then(finite),
             body_amplitudes: ByBody::new(structure, amplitudes),
             floquet_multipliers: s

@@ -223,7 +223,8 @@ impl Solvers<'_> {
                         .all(|cell| cell.stops.is_none_or(|s| s.restitution == Some(1.0)))
             }
             Solvers::Structure { structure, .. } => {
-                !structure.is_damped() && structure
+                !structure.is_damped()
+                    && structure
                         .stops
                         .iter()
                         .all(|s| s.law.restitution() == Some(1.0))

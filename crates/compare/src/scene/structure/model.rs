@@ -149,6 +149,13 @@ impl Structure {
         (a.is_some() || b.is_some()) && a != b
     }
 
+    /// Whether a stop is compliant.
+    pub fn has_compliant_stops(&self) -> bool {
+        self.stops
+            .iter()
+            .any(|s| matches!(s.law, ContactLaw::Compliant { .. }))
+    }
+
     /// Degrees of freedom (bodies).
     pub fn dofs(&self) -> usize {
         self.names.len()
@@ -197,15 +204,15 @@ impl Structure {
             self.forcing_sin_at(omega),
             contacts,
         )?;
-        let model = self.stops.iter().enumerate().try_fold(model, |model, (k, s)| {
-            match s.law {
-                ContactLaw::Rigid { .. } => Ok(model),
-                ContactLaw::Compliant { stiffness, damping } => model.with_compliance(
-                    k,
-                    rattle_event_driven::Compliance { stiffness, damping },
-                ),
-            }
-        })?;
+        let model =
+            self.stops
+                .iter()
+                .enumerate()
+                .try_fold(model, |model, (k, s)| match s.law {
+                    ContactLaw::Rigid { .. } => Ok(model),
+                    ContactLaw::Compliant { stiffness, damping } => model
+                        .with_compliance(k, rattle_event_driven::Compliance { stiffness, damping }),
+                })?;
         if self.harmonics.is_empty() {
             return Ok(model);
         }
@@ -282,10 +289,9 @@ impl Structure {
             .enumerate()
             .try_fold(model, |model, (k, s)| match s.law {
                 ContactLaw::Rigid { .. } => Ok(model),
-                ContactLaw::Compliant { stiffness, damping } => model.with_compliance(
-                    k,
-                    rattle_analytic::Compliance { stiffness, damping },
-                ),
+                ContactLaw::Compliant { stiffness, damping } => {
+                    model.with_compliance(k, rattle_analytic::Compliance { stiffness, damping })
+                }
             })
     }
 

@@ -167,7 +167,7 @@ impl StructureScene {
             })?,
         };
         let damped = damping.iter().any(|&c| c != 0.0);
-        Ok(Structure {
+        let structure = Structure {
             names,
             mass,
             stiffness,
@@ -182,7 +182,9 @@ impl StructureScene {
             base_amplitude,
             observe,
             floating: sprung.floating(),
-        })
+        };
+        compliances_resolved(&structure)?;
+        Ok(structure)
     }
 
     /// `u_g` and the forcing vectors `f_c`, `f_s`, `f_ω` from the base's springs and dashpots
@@ -378,10 +380,43 @@ fn resolve_stop(field: &str, stop: &StopSpec, ends: &Ends<'_>) -> Result<Stop, S
     })
 }
 
+/// The analytic model's refusal of a compliant stop, named by the stop's JSON path: a contact
+/// stiffness whose time scale falls below the rounding of the cycle's times
+/// ([`rattle_analytic::MAX_CONTACT_FREQUENCY_RATIO`] times the structure's fastest rate; the
+/// simulator's own bound, against the forcing frequency, bounds the frequencies the scene is
+/// run at instead).
+fn compliances_resolved(structure: &Structure) -> Result<(), StructureError> {
+    if !structure.has_compliant_stops() {
+        return Ok(());
+    }
+    match structure.analytic_model() {
+        Err(rattle_analytic::ModelError::OutOfRange {
+            field,
+            value,
+            allowed,
+        }) if field.starts_with("compliances[") => {
+            let stop = field
+                .trim_start_matches("compliances[")
+                .split(']')
+                .next()
+                .unwrap_or_default();
+            Err(refuse(
+                format!("structure.stops[{stop}].contact_stiffness"),
+                format!("{value} is out of range: must be {allowed}"),
+            ))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// A stop's contact law: rigid with its restitution, or compliant with its contact stiffness
 /// and damping; exactly one of the two, each value in range.
 fn contact_law(field: &str, stop: &StopSpec) -> Result<ContactLaw, StructureError> {
-    match (stop.restitution, stop.contact_stiffness, stop.contact_damping) {
+    match (
+        stop.restitution,
+        stop.contact_stiffness,
+        stop.contact_damping,
+    ) {
         (Some(_), Some(_), _) => Err(refuse(
             format!("{field}.contact_stiffness"),
             "give either `restitution` (a rigid stop) or `contact_stiffness` (a compliant \
