@@ -339,6 +339,14 @@ pub fn orbit_trajectory(
             let structure = &form.structure;
             let model = structure.analytic_model().map_err(argument)?;
             let o = &orbits[orbit];
+            if !o.contacts.is_empty() {
+                return Err(ApiError::Argument(format!(
+                    "--trajectory: the orbits of {} have contact phases, whose flow the \
+                     analytic sampler does not step through; `rattle simulate --trajectory` \
+                     samples the simulated cycle, contact phases included",
+                    found.signature()
+                )));
+            }
             let (samples, impacts) = sample_sequence_orbit(&model, o, samples_per_period);
             let (states, impacts) =
                 structure_orbit_trajectory(structure, &samples, &impacts, o.omega);

@@ -378,6 +378,43 @@ pub struct PairSignature {
     pub contact: bool,
 }
 
+impl PairSignature {
+    /// The signature of stop `pair` over the final cycle of `steady`, of `period` forcing
+    /// periods: of its impacts, or of its contact phases (a stop is rigid or compliant, never
+    /// both); `None` for a stop the cycle does not touch.
+    ///
+    /// # Errors
+    /// A cycle beyond what a signature holds.
+    pub fn of(
+        steady: &SteadyState,
+        pair: usize,
+        period: u32,
+    ) -> Result<Option<PairSignature>, rattle_analytic::SignatureError> {
+        let impacts: Vec<i8> = steady
+            .cycle_impacts
+            .iter()
+            .filter(|i| i.pair == pair)
+            .map(|i| i.side)
+            .collect();
+        let (sides, contact) = if impacts.is_empty() {
+            let contacts = steady
+                .cycle_contacts
+                .iter()
+                .filter(|c| c.pair == pair)
+                .map(|c| c.side)
+                .collect();
+            (contacts, true)
+        } else {
+            (impacts, false)
+        };
+        if sides.is_empty() {
+            return Ok(None);
+        }
+        Signature::from_cycle(&sides, period)
+            .map(|signature| Some(PairSignature { signature, contact }))
+    }
+}
+
 impl std::fmt::Display for PairSignature {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         let mark = if self.contact { "c" } else { "" };
@@ -563,31 +600,7 @@ impl SimulatedPoint {
             .filter(|_| s.status == Status::Periodic && !s.sticking)?;
         Some(
             (0..pairs)
-                .map(|pair| {
-                    let impacts: Vec<i8> = s
-                        .cycle_impacts
-                        .iter()
-                        .filter(|i| i.pair == pair)
-                        .map(|i| i.side)
-                        .collect();
-                    let contacts: Vec<i8> = s
-                        .cycle_contacts
-                        .iter()
-                        .filter(|c| c.pair == pair)
-                        .map(|c| c.side)
-                        .collect();
-                    let (sides, contact) = if impacts.is_empty() {
-                        (contacts, true)
-                    } else {
-                        (impacts, false)
-                    };
-                    if sides.is_empty() {
-                        Ok(None)
-                    } else {
-                        Signature::from_cycle(&sides, period)
-                            .map(|signature| Some(PairSignature { signature, contact }))
-                    }
-                })
+                .map(|pair| PairSignature::of(s, pair, period))
                 .collect(),
         )
     }

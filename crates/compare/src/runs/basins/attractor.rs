@@ -4,7 +4,7 @@
 
 use super::plane::{BasinGrid, BasinPlane};
 use super::BASIN_AMPLITUDE_TOLERANCE;
-use crate::scene::simulator::SimulatedPoint;
+use crate::scene::simulator::{PairSignature, SimulatedPoint};
 use rattle_analytic::Signature;
 use rattle_event_driven::{Status, SteadyState};
 use serde::{Deserialize, Serialize};
@@ -81,20 +81,9 @@ impl Attractor {
             Status::Periodic => {
                 let period = steady.period.unwrap_or(1);
                 let signatures = (0..pairs)
-                    .map(|pair| {
-                        let sides: Vec<i8> = steady
-                            .cycle_impacts
-                            .iter()
-                            .filter(|i| i.pair == pair)
-                            .map(|i| i.side)
-                            .collect();
-                        if sides.is_empty() {
-                            Some(String::new())
-                        } else {
-                            Signature::from_cycle(&sides, period)
-                                .ok()
-                                .map(|s| s.to_string())
-                        }
+                    .map(|pair| match PairSignature::of(steady, pair, period) {
+                        Ok(signature) => Some(signature.map(|s| s.to_string()).unwrap_or_default()),
+                        Err(_) => None,
                     })
                     .collect();
                 let amplitudes = steady

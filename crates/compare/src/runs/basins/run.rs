@@ -104,12 +104,14 @@ impl<'a> System<'a> {
                     .get(structure.observe)
                     .copied()
                     .unwrap_or(f64::NAN);
-                // The floating groups some impact of the cycle touches.
+                // The floating groups some impact or contact of the cycle touches.
                 let touched: Vec<usize> = steady
                     .cycle_impacts
                     .iter()
-                    .flat_map(|i| {
-                        let stop = structure.stops[i.pair];
+                    .map(|i| i.pair)
+                    .chain(steady.cycle_contacts.iter().map(|c| c.pair))
+                    .flat_map(|pair| {
+                        let stop = structure.stops[pair];
                         [stop.plus, stop.minus]
                     })
                     .flatten()
