@@ -110,7 +110,7 @@ pub use model::{
 pub use motion::UnitMotion;
 pub use orbit::{Orbit, Side, Violation};
 pub use rigid::{ClearFamily, PairClearance};
-pub use sequence::{ImpactSequence, PairImpact, SequenceError};
+pub use sequence::{ImpactKind, ImpactSequence, PairImpact, SequenceError};
 pub use sequence_orbit::{
     NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,
 };
