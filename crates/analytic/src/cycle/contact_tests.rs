@@ -396,7 +396,8 @@ fn multiplier_distance(a: &[Complex<f64>], b: &[Complex<f64>]) -> f64 {
 /// with a compliant stop (`k_c = 1e4` and `1e8`, `e = 0.8`), on the unit with a compliant pair
 /// (`0+c 0-c`), on the two-cell chain with compliant pair 0 and rigid pair 1
 /// (`0+c 1+ 0-c 1-`) and on two masses whose pair 1 sticks (`1+s`, `0+ 1+s 0-`: the landing's
-/// saltation into the held flow and the release's through the forcing's phase). The difference quotient's step is chosen for each contact's time scale
+/// saltation into the held flow and the release's through the forcing's phase). Each of these
+/// orbits also closes its energy balance to rounding. The difference quotient's step is chosen for each contact's time scale
 /// (see the bound in the body).
 #[test]
 fn contact_multipliers_are_the_cycle_maps() {
@@ -468,8 +469,16 @@ fn contact_multipliers_are_the_cycle_maps() {
             let distance = multiplier_distance(&differenced, &orbit.floquet_multipliers);
             println!(
                 "{text}: viable {}, multipliers {:?}, distance {distance:e} (tolerance \
-                 {tolerance:e})",
-                orbit.viable, orbit.floquet_multipliers
+                 {tolerance:e}), energy residual {:e}",
+                orbit.viable, orbit.floquet_multipliers, orbit.energy_residual
+            );
+            // The energy balance closes to rounding: `ε` per term, times the balance `σ` of a
+            // stiff contact's velocities (see the compliant oscillator's test), 16 for the sums.
+            let rounding = 16.0 * f64::EPSILON * balance;
+            assert!(
+                orbit.energy_residual <= rounding,
+                "{text}: energy residual {:e} above {rounding:e}",
+                orbit.energy_residual
             );
             assert!(
                 distance <= tolerance,
