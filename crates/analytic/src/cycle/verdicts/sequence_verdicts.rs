@@ -63,9 +63,10 @@ pub struct SequenceOrbit {
     /// contact phases).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub contact_violations: Vec<ContactViolation>,
-    /// The contact phases of compliant pairs, in sequence order (empty, and not serialised,
-    /// without). `impact_phases` and `states_before_impacts` then list every event: a contact
-    /// phase's entry and its exit.
+    /// The contact phases of compliant pairs and the sticking phases, in sequence order
+    /// (empty, and not serialised, without). `impact_phases` and `states_before_impacts` then
+    /// list every event: a contact phase's entry and its exit, a sticking phase's landing and
+    /// its release.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub contacts: Vec<ContactPhase>,
     /// Eigenvalues of the monodromy matrix (flights and saltation at every impact), as
@@ -187,7 +188,9 @@ fn complex_pairs<S: Serializer>(v: &[Complex<f64>], s: S) -> Result<S::Ok, S::Er
 
 /// The orbit of `sequence` on `model` at `omega` nearest (in Newton's sense) to
 /// `guess = (α, φ₂, …, φ_m)`: the forcing phase at the first canonical impact and the impact
-/// times of the others as fractions of the cycle (`0 < φ₂ < … < φ_m < 1`).
+/// times of the others as fractions of the cycle (`0 < φ₂ < … < φ_m < 1`). A contact phase
+/// (`0+c`) counts two events, its entry and its exit, and a sticking phase (`0+s`) two, its
+/// landing and its release: each has its own entry in the guess.
 ///
 /// # Errors
 /// [`SequenceOrbitError::InvalidFrequency`], [`SequenceOrbitError::Sequence`] (a pair the
