@@ -44,6 +44,14 @@
 //!   extrema and integrals; the verdicts (viability per pair, multipliers with saltation, the
 //!   [`EnergyBalance`]) are assembled once for every model, the unit's signature orbits
 //!   included;
+//! - compliant contact pairs ([`Compliance`], [`LinearModel::with_compliance`]): a
+//!   Kelvin–Voigt spring and dashpot act while the pair penetrates its stop; an impact of such
+//!   a pair is a contact phase (`0+c`), two events (entry, exit) whose flight between is the
+//!   exact flow of the contact system, with the saltation at entry and exit, the penetration
+//!   and duration of every contact ([`ContactPhase`]), its viability ([`ContactViolation`]) and
+//!   the contact dashpots' dissipation in the [`EnergyBalance`]; and sticking phases (`0+s`) of
+//!   rigid pairs of restitution 0: the landing impact, the flow held on the stop and the
+//!   release where the stop's force vanishes;
 //! - pseudo-arclength continuation in `ω` of orbits of any signature of the unit
 //!   ([`continue_orbit`]) and of any impact sequence of a [`LinearModel`] such as a chain
 //!   ([`continue_sequence`]) through folds, with exact derivatives in `ω`, the bifurcation
@@ -110,7 +118,7 @@ pub use model::{
 pub use motion::UnitMotion;
 pub use orbit::{Orbit, Side, Violation};
 pub use rigid::{ClearFamily, PairClearance};
-pub use sequence::{ImpactSequence, PairImpact, SequenceError};
+pub use sequence::{ImpactKind, ImpactSequence, PairImpact, SequenceError};
 pub use sequence_orbit::{
     NewtonState, SequenceNewton, SequenceOrbitError, SequenceProblem, Termination,
 };

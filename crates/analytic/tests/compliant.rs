@@ -9,13 +9,18 @@ use rattle_analytic::*;
 /// The impact oscillator: one mass `m = 1` on a spring `k = 1` and dashpot `c = 0.1` to the
 /// frame, driven by `cos ωt`, with one stop against the frame at `u = 1` (restitution `e`).
 fn impact_oscillator(restitution: f64) -> LinearModel {
+    driven_oscillator(restitution, 1.0)
+}
+
+/// [`impact_oscillator`] driven by `force · cos ωt`.
+fn driven_oscillator(restitution: f64, force: f64) -> LinearModel {
     let one = |v: f64| DMatrix::from_element(1, 1, v);
     LinearModel::new(
         one(1.0),
         one(0.1),
         one(1.0),
         HarmonicForcing {
-            cosine: DVector::from_element(1, 1.0),
+            cosine: DVector::from_element(1, force),
             sine: DVector::zeros(1),
             sine_per_omega: DVector::zeros(1),
             harmonics: Vec::new(),
@@ -292,4 +297,61 @@ fn contact_phases_are_not_continued() {
         continue_sequence(&model, &orbit, &settings),
         Err(ContinuationError::Sequence(SequenceError::ContinuedContact))
     ));
+}
+
+/// The impact oscillator with a stop of restitution 0, driven by `2 cos θ`: a sticking phase
+/// (`0+s`) holds the mass on its stop (`u = 1`, `u̇ = 0`) while the force exceeds the spring's,
+/// `2 cos θ > k · 1`, and releases it where they balance with the force falling: at
+/// `θ = π/3` exactly (mod 2π). Asserted to `1e-12` rad on every orbit found; the held state is
+/// `(1, 0)` at the release, the orbit balances its energy (the landing loses `½ṙ²`, the stop
+/// does no work while the mass is at rest), and its Floquet multipliers are exactly 0: the
+/// landing forgets the velocity, the stop the position, and the release depends on the phase
+/// alone.
+#[test]
+fn sticking_phase_releases_where_the_force_balances_the_spring() {
+    let model = driven_oscillator(0.0, 2.0);
+    let sequence = ImpactSequence::parse("0+s", 1).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(sequence.to_string(), "0+s");
+    let found = sequence_orbits(&model, OMEGA, &sequence).unwrap_or_else(|e| panic!("{e}"));
+    let viable: Vec<&SequenceOrbit> = found.iter().filter(|o| o.viable).collect();
+    assert!(!viable.is_empty(), "a viable sticking orbit: {found:?}");
+    let cycle = std::f64::consts::TAU / OMEGA;
+    for orbit in viable {
+        let stick = orbit.contacts[0];
+        assert_eq!(stick.kind, ImpactKind::Stick);
+        let release = orbit.impact_phases[1];
+        let theta = wrap(orbit.alpha + OMEGA * release * cycle);
+        let error = (theta - std::f64::consts::FRAC_PI_3).abs();
+        println!(
+            "alpha {}, release at theta = {theta} (error {error:e}), held {:e} of the cycle, \
+             landing at {}, energy residual {:e}, multipliers {:?}",
+            orbit.alpha,
+            stick.duration / cycle,
+            stick.entry_velocity,
+            orbit.energy_residual,
+            orbit.floquet_multipliers
+        );
+        assert!(error <= 1e-12, "release phase error {error:e}");
+        let held = &orbit.states_before_impacts[1];
+        assert!(
+            (held[0] - 1.0).abs() <= 1e-12 && held[1].abs() <= 1e-12,
+            "{held:?}"
+        );
+        // The landing takes the velocity to zero and the held flow keeps the mass at rest:
+        // every perturbation is forgotten, the multipliers are 0.
+        for mu in &orbit.floquet_multipliers {
+            assert!(mu.norm() <= 1e-12, "multiplier {mu}");
+        }
+        assert!(orbit.energy_residual <= 1e-12);
+        assert!(stick.entry_velocity > 0.0 && stick.duration > 0.0);
+    }
+    // Only a rigid pair of restitution 0 sticks.
+    assert_eq!(
+        sequence.check(&impact_oscillator(RESTITUTION)),
+        Err(SequenceError::StickWithRebound { pair: 0 })
+    );
+    assert_eq!(
+        sequence.check(&compliant_oscillator(1e4)),
+        Err(SequenceError::StickWithRebound { pair: 0 })
+    );
 }

@@ -168,6 +168,23 @@ fn compliant_free_mass() -> LinearModel {
     .unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// The two masses with two pairs of the fixtures ([`crate::test_models::two_masses_two_pairs`],
+/// base amplitude 2) with pair 1 (mass 1 against the frame) landing without rebound
+/// (restitution 0): it may stick.
+fn sticking_pair() -> LinearModel {
+    let model = crate::test_models::two_masses_two_pairs(&[crate::test_models::fundamental(2.0)]);
+    let mut pairs = model.pairs().to_vec();
+    pairs[1].restitution = 0.0;
+    LinearModel::new(
+        model.mass().clone(),
+        model.damping().clone(),
+        model.stiffness().clone(),
+        model.forcing().clone(),
+        pairs,
+    )
+    .unwrap_or_else(|e| panic!("{e}"))
+}
+
 /// `dÂ/dω` of a cycle with contact phases: the model's, with the constant phase pair's two
 /// rows and columns (zero).
 fn padded_rate(model: &LinearModel) -> DMatrix<f64> {
@@ -179,9 +196,10 @@ fn padded_rate(model: &LinearModel) -> DMatrix<f64> {
 }
 
 /// The exact Jacobian of cycles with contact phases in `(x, ω)` against central differences
-/// of the residuals: on the two-cell chain (`0+c 1- 0-c 1+`: six events) and on the bordered
-/// free mass (`0+c 0-c`: four events), to `1e-8` of the Jacobian's largest entry with the
-/// step chosen in the body.
+/// of the residuals: on the two-cell chain (`0+c 1- 0-c 1+`: six events), on the bordered
+/// free mass (`0+c 0-c`: four events) and, in `x`, on two masses whose pair 1 sticks
+/// (`0+ 1+s 0-`: four events, a release among them), to `1e-8` of the Jacobian's largest
+/// entry with the step chosen in the body.
 #[test]
 fn contact_jacobian_is_the_derivative_of_the_residuals() {
     let cases = [
@@ -197,6 +215,7 @@ fn contact_jacobian_is_the_derivative_of_the_residuals() {
             1.3,
             vec![0.4, 0.03, 0.45, 0.5],
         ),
+        (sticking_pair(), "0+ 1+s 0-", 1.1, vec![0.3, 0.2, 0.45, 0.7]),
     ];
     for (model, text, omega, x) in cases {
         let sequence = ImpactSequence::parse(text, 1).unwrap_or_else(|e| panic!("{e}"));
@@ -219,12 +238,17 @@ fn contact_jacobian_is_the_derivative_of_the_residuals() {
         // The quotient's truncation is `(ω_c T h)²/6` of the Jacobian's scale (the residuals
         // turn at the contact's `ω_c` over the cycle `T`), its rounding `ε/(ω_c T h)`: the
         // step `h = 5e-5/(ω_c T)` keeps both below `1e-9`.
-        let contact = Compliance::matched(1.0, 1.0, 1.0);
-        let law = model.compliance(0).unwrap_or(contact);
+        let law = model.compliance(0).unwrap_or(Compliance {
+            stiffness: 1.0,
+            damping: 0.0,
+        });
         let turn = (law.stiffness / model.reduced_mass(0)).sqrt() * problem.cycle();
-        let step = 5e-5 / turn;
+        let step = 5e-5 / turn.max(1.0);
+        // A sticking phase's `Δ_s` and release functional depend on `ω`, which the `ω` column
+        // leaves out (such sequences are not continued): its `ω` column is not compared.
+        let columns = if text.contains('s') { m } else { m + 1 };
         let mut worst: f64 = 0.0;
-        for i in 0..=m {
+        for i in 0..columns {
             let at = |d: f64| {
                 let mut y = x.clone();
                 let w = if i < m {
@@ -258,8 +282,9 @@ fn contact_jacobian_is_the_derivative_of_the_residuals() {
 
 /// The flow map over one cycle from the time `start` (after the first event) in flight
 /// `first`, composed here: each flight by its own exact flow, each event located by Newton on
-/// the pair's coordinate from its time on the orbit, a rigid impact's velocity jump applied, a
-/// contact's entry and exit continuous. `y` is the mechanical state at `start`, `p` the phase
+/// its condition (the pair's coordinate at the stop, or a held pair's release functional at
+/// zero) from its time on the orbit, a rigid impact's velocity jump applied, a contact's entry
+/// and exit and a release continuous. `y` is the mechanical state at `start`, `p` the phase
 /// states there.
 fn cycle_map(
     problem: &SequenceProblem<'_>,
@@ -279,18 +304,13 @@ fn cycle_map(
     for k in first + 1..=first + m {
         let (j, f) = (k % m, (k - 1) % m);
         let (impact, kind) = events[j];
-        let pair = &model.pairs()[impact.pair];
-        let stop = if impact.side == 1 {
-            pair.gap_side1
-        } else {
-            -pair.gap_side2
-        };
+        // The event's condition `h·z = c`: the pair at its stop, or a release.
+        let (h, stop) = (equations.contact_functional(j), equations.stops()[j]);
+        let field = equations.flight_matrix(f);
         let mut t = phases[j] * cycle + if k >= m { cycle } else { 0.0 };
         for _ in 0..50 {
             let at = flow(f, t - now) * &z;
-            let r = pair.direction.dot(&at.rows(0, n));
-            let rdot = pair.direction.dot(&at.rows(n, n));
-            let step = (r - stop) / rdot;
+            let step = (h.dot(&at) - stop) / h.dot(&(field * &at));
             t -= step;
             if step.abs() <= 1e-16 * cycle {
                 break;
@@ -374,8 +394,10 @@ fn multiplier_distance(a: &[Complex<f64>], b: &[Complex<f64>]) -> f64 {
 /// The Floquet multipliers (monodromy with the saltation at every entry and exit) against the
 /// central difference of the cycle map composed event by event: on the impact oscillator
 /// with a compliant stop (`k_c = 1e4` and `1e8`, `e = 0.8`), on the unit with a compliant pair
-/// (`0+c 0-c`) and on the two-cell chain with compliant pair 0 and rigid pair 1
-/// (`0+c 1+ 0-c 1-`). The difference quotient's step is chosen for each contact's time scale
+/// (`0+c 0-c`), on the two-cell chain with compliant pair 0 and rigid pair 1
+/// (`0+c 1+ 0-c 1-`) and on two masses whose pair 1 sticks (`1+s`, `0+ 1+s 0-`: the landing's
+/// saltation into the held flow and the release's through the forcing's phase). Each of these
+/// orbits also closes its energy balance to rounding. The difference quotient's step is chosen for each contact's time scale
 /// (see the bound in the body).
 #[test]
 fn contact_multipliers_are_the_cycle_maps() {
@@ -403,6 +425,8 @@ fn contact_multipliers_are_the_cycle_maps() {
         (oscillator(1e8), "0+c", 0.8),
         (unit, "0+c 0-c", 1.3),
         (chain, "0+c 1+ 0-c 1-", 1.2),
+        (sticking_pair(), "1+s", 0.6),
+        (sticking_pair(), "0+ 1+s 0-", 0.6),
     ];
     let mut worst: f64 = 0.0;
     for (model, text, omega) in cases {
@@ -420,11 +444,24 @@ fn contact_multipliers_are_the_cycle_maps() {
             .fold(1.0, f64::max);
         let h = 1e-5;
         let tolerance = (4.0 * f64::EPSILON * balance / h).max(1e-8);
-        // Orbits whose contacts are contacts (no early or wrong exit): there the composed map's
-        // events are the orbit's, transversal, and the map is smooth.
+        // Orbits whose contact and sticking phases are such (no early or wrong exit or
+        // release, no landing from outside the stop): there the composed map's events are the
+        // orbit's, transversal, and the map is smooth.
+        let sticking = |pair: usize| {
+            sequence
+                .impacts()
+                .iter()
+                .any(|i| i.pair == pair && i.kind == crate::ImpactKind::Stick)
+        };
+        let right_way = |o: &&SequenceOrbit| {
+            !o.violations.iter().any(|v| {
+                matches!(v, crate::SequenceViolation::WrongApproach { pair, .. } if sticking(*pair))
+            })
+        };
         let proper: Vec<&SequenceOrbit> = found
             .iter()
             .filter(|o| o.contact_violations.is_empty())
+            .filter(right_way)
             .collect();
         assert!(!proper.is_empty(), "{text}: an orbit with proper contacts");
         for orbit in proper {
@@ -432,10 +469,23 @@ fn contact_multipliers_are_the_cycle_maps() {
             let distance = multiplier_distance(&differenced, &orbit.floquet_multipliers);
             println!(
                 "{text}: viable {}, multipliers {:?}, distance {distance:e} (tolerance \
-                 {tolerance:e})",
-                orbit.viable, orbit.floquet_multipliers
+                 {tolerance:e}), energy residual {:e}",
+                orbit.viable, orbit.floquet_multipliers, orbit.energy_residual
             );
-            assert!(distance <= tolerance, "{text}: {distance:e}");
+            // The energy balance closes to rounding: `ε` per term, times the balance `σ` of a
+            // stiff contact's velocities (see the compliant oscillator's test), 16 for the sums.
+            let rounding = 16.0 * f64::EPSILON * balance;
+            assert!(
+                orbit.energy_residual <= rounding,
+                "{text}: energy residual {:e} above {rounding:e}",
+                orbit.energy_residual
+            );
+            assert!(
+                distance <= tolerance,
+                "{text}: {distance:e} {:?} {:?}",
+                orbit.violations,
+                orbit.contacts
+            );
             worst = worst.max(distance / tolerance);
         }
     }

@@ -410,6 +410,11 @@ where
         &self.stops
     }
 
+    /// `h_j` of impact `j`: the augmented functional its condition sets to `c_j`.
+    pub(crate) fn contact_functional(&self, j: usize) -> &OVector<f64, D> {
+        &self.contacts[j]
+    }
+
     /// The impact phases `(0, φ₂ … φ_m)` of the unknowns `x = (α, φ₂ … φ_m)`.
     pub fn phases(x: &[f64]) -> Vec<f64> {
         let mut p = x.to_vec();

@@ -32,7 +32,7 @@
 
 use crate::cycle_equations::{CycleEquations, CycleEvaluation, ImpactCondition};
 use crate::model::LinearModel;
-use crate::sequence::{EventKind, ImpactSequence, PairImpact, SequenceError};
+use crate::sequence::{EventKind, ImpactKind, ImpactSequence, PairImpact, SequenceError};
 use nalgebra::allocator::Allocator;
 use nalgebra::{DMatrix, DVector, DefaultAllocator, Dim, DimMin, Dyn};
 use thiserror::Error;
@@ -151,12 +151,15 @@ impl<'a> SequenceProblem<'a> {
     /// phase, its entry and its exit, each an unknown time with the pair's contact condition;
     /// the flight between them is the contact system's (see `contact_flights`), and the
     /// augmented state carries the constant phase pair of order 0 that holds the contact's
-    /// constant force.
+    /// constant force. A sticking phase (`0+s`, a rigid pair of restitution 0) has two events,
+    /// its landing impact (the pair's condition) and its release (the release functional of
+    /// [`LinearModel`], the pair's free relative acceleration over `ω²`, zero); the flight
+    /// between them is the flow held on the stop, `wᵀü = 0`.
     ///
     /// # Errors
     /// [`SequenceOrbitError::InvalidFrequency`] unless `omega` is finite and positive;
     /// [`SequenceOrbitError::Sequence`] when the sequence names a pair the model lacks or an
-    /// impact whose kind (contact phase or rigid impact) is not its pair's;
+    /// impact whose kind (contact phase, sticking phase or rigid impact) is not its pair's;
     /// [`SequenceOrbitError::UnrestrainedRigidMode`] when the model has rigid modes that the
     /// sequence's impacts do not all see.
     pub fn new(
@@ -182,6 +185,13 @@ impl<'a> SequenceProblem<'a> {
                         .copy_from(&model.impact_map(impact.pair));
                 }
                 let pair = &model.pairs()[impact.pair];
+                if *kind == EventKind::Release {
+                    return ImpactCondition {
+                        impact_map: g_hat,
+                        contact: model.release_functional(omega, impact.pair),
+                        stop: 0.0,
+                    };
+                }
                 let mut h = DVector::zeros(size);
                 h.rows_mut(0, n).copy_from(&pair.direction);
                 let stop = if impact.side == 1 {
@@ -214,9 +224,14 @@ impl<'a> SequenceProblem<'a> {
             equations = equations.with_forcing_orders(&orders);
             let increments = events
                 .iter()
-                .map(|(impact, kind)| {
-                    (*kind == EventKind::Entry)
-                        .then(|| model.contact_increment(impact.pair, impact.side))
+                .map(|(impact, kind)| match (kind, impact.kind) {
+                    (EventKind::Entry, _) => {
+                        Some(model.contact_increment(impact.pair, impact.side))
+                    }
+                    (EventKind::Impact, ImpactKind::Stick) => {
+                        Some(model.stick_increment(omega, impact.pair))
+                    }
+                    _ => None,
                 })
                 .collect();
             equations = equations.with_contact_flights(increments);

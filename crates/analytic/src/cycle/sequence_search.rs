@@ -31,7 +31,7 @@ use crate::model::LinearModel;
 use crate::model_flight::eigenvalues;
 use crate::orbit::wrap;
 use crate::problem::forcing::PhaseRows;
-use crate::sequence::{ImpactSequence, PairImpact};
+use crate::sequence::{ImpactKind, ImpactSequence, PairImpact};
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
 use crate::sequence_verdicts::{ModelVerdicts, SequenceOrbit};
 use nalgebra::allocator::Allocator;
@@ -444,7 +444,7 @@ pub(crate) fn contact_orbits(
     let equations = problem.equations();
     let mut found: Vec<(Vec<f64>, SequenceOrbit)> = Vec::new();
     for seed in seeds {
-        let Some(guess) = seed_guess(model, sequence, &seed, equations.cycle()) else {
+        let Some(guess) = seed_guess(&problem, &seed) else {
             continue;
         };
         let Ok(converged) = solver.solve(equations, &guess) else {
@@ -464,17 +464,16 @@ pub(crate) fn contact_orbits(
     Ok(found.into_iter().map(|(_, o)| o).collect())
 }
 
-/// The compliant cycle's unknowns `(α, φ₂ …)` from a rigid orbit of the same impacts (both
-/// canonical, so impact `j` of one is impact `j` of the other): a rigid impact at its time, a
-/// contact phase entering at its impact's time and leaving the isolated contact duration
-/// later; `None` when a contact would then reach the next event.
-fn seed_guess(
-    model: &LinearModel,
-    sequence: &ImpactSequence,
-    seed: &SequenceOrbit,
-    cycle: f64,
-) -> Option<Vec<f64>> {
-    let impacts = sequence.impacts();
+/// The cycle's unknowns `(α, φ₂ …)` from a rigid orbit of the same impacts (both canonical,
+/// so impact `j` of one is impact `j` of the other): a rigid impact at its time, a contact
+/// phase entering at its impact's time and leaving the isolated contact duration later, a
+/// sticking phase landing at its impact's time and released at the first sign change of the
+/// release functional along the held flow from there ([`stick_release`]); `None` when a
+/// contact would reach the next event or a held pair is not released before it.
+fn seed_guess(problem: &SequenceProblem<'_>, seed: &SequenceOrbit) -> Option<Vec<f64>> {
+    let model = problem.model();
+    let impacts = problem.sequence().impacts();
+    let cycle = problem.cycle();
     let mut guess = Vec::with_capacity(2 * impacts.len());
     for (j, impact) in impacts.iter().enumerate() {
         let at = if j == 0 {
@@ -483,17 +482,59 @@ fn seed_guess(
             seed.impact_phases[j]
         };
         guess.push(at);
-        if impact.contact {
-            let law = model.compliance(impact.pair)?;
-            let duration = law.contact_duration(model.reduced_mass(impact.pair));
-            let entry = seed.impact_phases[j];
-            let next = seed.impact_phases.get(j + 1).copied().unwrap_or(1.0);
-            let exit = entry + duration / cycle;
-            if exit.partial_cmp(&next) != Some(std::cmp::Ordering::Less) {
-                return None;
+        let entry = seed.impact_phases[j];
+        let next = seed.impact_phases.get(j + 1).copied().unwrap_or(1.0);
+        let exit = match impact.kind {
+            ImpactKind::Rigid => continue,
+            ImpactKind::Contact => {
+                let law = model.compliance(impact.pair)?;
+                entry + law.contact_duration(model.reduced_mass(impact.pair)) / cycle
             }
-            guess.push(exit);
+            ImpactKind::Stick => stick_release(problem, seed, j, guess.len() - 1)?,
+        };
+        if exit.partial_cmp(&next) != Some(std::cmp::Ordering::Less) {
+            return None;
         }
+        guess.push(exit);
     }
     Some(guess)
+}
+
+/// Samples of the release functional along a held flow in [`stick_release`]: the first sign
+/// change is bracketed to `1/64` of the time to the next impact, well inside Newton's basin
+/// of a release (a simple root).
+const RELEASE_SAMPLES: usize = 64;
+
+/// The release phase (fraction of the cycle) of the sticking phase of impact `j` (event
+/// `landing`) seeded by the rigid orbit `seed`: from the state after its landing impact, the
+/// midpoint of the first interval of [`RELEASE_SAMPLES`] over the time to the next impact on
+/// which the held pair's release functional `s h` changes sign; `None` when it does not.
+fn stick_release(
+    problem: &SequenceProblem<'_>,
+    seed: &SequenceOrbit,
+    j: usize,
+    landing: usize,
+) -> Option<f64> {
+    let (model, equations) = (problem.model(), problem.equations());
+    let impact = problem.sequence().impacts()[j];
+    let cycle = problem.cycle();
+    let entry = seed.impact_phases[j];
+    let next = seed.impact_phases.get(j + 1).copied().unwrap_or(1.0);
+    let before = nalgebra::DVector::from_column_slice(&seed.states_before_impacts[j]);
+    let after = model.impact_state(impact.pair, &before);
+    let theta = seed.alpha + problem.omega() * entry * cycle;
+    let phases = model.phase_at(theta);
+    let mut z = nalgebra::DVector::zeros(equations.augmented_matrix().nrows());
+    z.rows_mut(0, after.len()).copy_from(&after);
+    z.rows_mut(after.len(), phases.len()).copy_from(&phases);
+    z[after.len() + phases.len()] = 1.0;
+    let h = equations.contact_functional(landing + 1);
+    let s = f64::from(impact.side);
+    let span = (next - entry) * cycle;
+    (1..RELEASE_SAMPLES)
+        .find(|&i| {
+            let tau = span * i as f64 / RELEASE_SAMPLES as f64;
+            s * h.dot(&(equations.flight_flow(landing, tau) * &z)) < 0.0
+        })
+        .map(|i| entry + (next - entry) * (i as f64 - 0.5) / RELEASE_SAMPLES as f64)
 }

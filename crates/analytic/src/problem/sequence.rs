@@ -10,9 +10,12 @@
 //!
 //! On a compliant pair ([`crate::Compliance`]) an impact is a *contact phase*: the pair enters
 //! its stop, stays in it under the contact's spring and dashpot, and leaves it. Its token ends
-//! in `c` (`"0+c 0-c"`, `"0+c 1-"`); it orders after a rigid impact of the same pair and side.
-//! In the cycle equations a contact phase is two events, its entry and its exit
-//! ([`ImpactSequence::events`]).
+//! in `c` (`"0+c 0-c"`, `"0+c 1-"`). On a rigid pair of restitution 0 an impact may be a
+//! *sticking phase*, token ending in `s` (`"0+s"`): the pair lands (`ṙ⁺ = 0`), is held on its
+//! stop by the constrained flow and is released where the stop's force changes sign. The kinds
+//! order rigid impact, contact, sticking for the same pair and side. In the cycle equations a
+//! contact phase is two events, its entry and its exit, and a sticking phase two, its landing
+//! impact and its release ([`ImpactSequence::events`]).
 
 use std::fmt;
 use thiserror::Error;
@@ -81,6 +84,16 @@ pub enum SequenceError {
          impacts only"
     )]
     ContinuedContact,
+    /// A sticking phase (`<pair><side>s`) names a pair that is compliant or whose
+    /// restitution is not 0: only a rigid pair that lands without rebound sticks.
+    #[error(
+        "--signature has a sticking phase on pair {pair}, which is not a rigid pair of \
+         restitution 0"
+    )]
+    StickWithRebound {
+        /// The pair.
+        pair: usize,
+    },
     /// An impact names a pair the model does not have.
     #[error("--signature names pair {pair}: the model has pairs 0..{pairs}")]
     Pair {
@@ -91,17 +104,40 @@ pub enum SequenceError {
     },
 }
 
-/// One impact of a sequence: which pair hits which of its stops, and whether it is a rigid
-/// impact or a contact phase of a compliant pair.
+/// What an impact of a sequence is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub enum ImpactKind {
+    /// A rigid impact (`0+`): the velocities jump by the pair's impact map.
+    #[default]
+    Rigid,
+    /// A contact phase of a compliant pair (`0+c`): entry and exit at the stop, the contact
+    /// flow between.
+    Contact,
+    /// A sticking phase of a rigid pair of restitution 0 (`0+s`): the landing impact, the
+    /// flow held on the stop, the release where the stop's force vanishes.
+    Stick,
+}
+
+impl ImpactKind {
+    /// The token's suffix: none, `c` or `s`.
+    fn suffix(self) -> &'static str {
+        match self {
+            Self::Rigid => "",
+            Self::Contact => "c",
+            Self::Stick => "s",
+        }
+    }
+}
+
+/// One impact of a sequence: which pair hits which of its stops, and what kind of impact it is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct PairImpact {
     /// Index of the contact pair in [`LinearModel::pairs`].
     pub pair: usize,
     /// `+1` for side 1 (`r = +gap_side1`), `−1` for side 2 (`r = −gap_side2`).
     pub side: i8,
-    /// `true`: a contact phase of a compliant pair (`0+c`), entry and exit at the stop;
-    /// `false`: a rigid impact (`0+`).
-    pub contact: bool,
+    /// A rigid impact (`0+`), a contact phase (`0+c`) or a sticking phase (`0+s`).
+    pub kind: ImpactKind,
 }
 
 /// What an event of the cycle equations is: a rigid impact, or the entry into or the exit from
@@ -114,6 +150,9 @@ pub(crate) enum EventKind {
     Entry,
     /// The pair's penetration returns to 0 and free flight begins (the state is continuous).
     Exit,
+    /// The force that holds a sticking pair on its stop vanishes and free flight begins (the
+    /// state is continuous).
+    Release,
 }
 
 impl PairImpact {
@@ -122,7 +161,7 @@ impl PairImpact {
         Self {
             pair,
             side,
-            contact: false,
+            kind: ImpactKind::Rigid,
         }
     }
 
@@ -131,14 +170,22 @@ impl PairImpact {
         Self {
             pair,
             side,
-            contact: true,
+            kind: ImpactKind::Contact,
         }
     }
 
-    /// Order key: pair ascending, then `+` before `-`, then a rigid impact before a contact
-    /// phase.
-    fn key(self) -> (usize, u8, bool) {
-        (self.pair, u8::from(self.side != 1), self.contact)
+    /// A sticking phase of the rigid `pair` of restitution 0 on side `side`.
+    pub fn sticking(pair: usize, side: i8) -> Self {
+        Self {
+            pair,
+            side,
+            kind: ImpactKind::Stick,
+        }
+    }
+
+    /// Order key: pair ascending, then `+` before `-`, then the kind (rigid, contact, stick).
+    fn key(self) -> (usize, u8, ImpactKind) {
+        (self.pair, u8::from(self.side != 1), self.kind)
     }
 }
 
@@ -199,7 +246,7 @@ impl ImpactSequence {
             .into());
         }
         let n = impacts.len();
-        let keys: Vec<(usize, u8, bool)> = impacts.iter().map(|i| i.key()).collect();
+        let keys: Vec<(usize, u8, ImpactKind)> = impacts.iter().map(|i| i.key()).collect();
         let keys = &keys;
         let rotation = move |s: usize| (0..n).map(move |k| keys[(k + s) % n]);
         let shift = (1..n).fold(0, |best, s| {
@@ -244,9 +291,12 @@ impl ImpactSequence {
                 let bad = || SequenceError::BadToken {
                     token: token.to_string(),
                 };
-                let (body, contact) = match token.strip_suffix('c') {
-                    Some(body) => (body, true),
-                    None => (token, false),
+                let (body, kind) = if let Some(body) = token.strip_suffix('c') {
+                    (body, ImpactKind::Contact)
+                } else if let Some(body) = token.strip_suffix('s') {
+                    (body, ImpactKind::Stick)
+                } else {
+                    (token, ImpactKind::Rigid)
                 };
                 let (pair, side) = body.split_at(body.len().saturating_sub(1));
                 let side = match side {
@@ -255,11 +305,7 @@ impl ImpactSequence {
                     _ => return Err(bad()),
                 };
                 let pair = pair.parse::<usize>().map_err(|_| bad())?;
-                Ok(PairImpact {
-                    pair,
-                    side,
-                    contact,
-                })
+                Ok(PairImpact { pair, side, kind })
             })
             .collect::<Result<Vec<_>, _>>()?;
         Self::new(&impacts, period)
@@ -270,22 +316,23 @@ impl ImpactSequence {
         &self.impacts
     }
 
-    /// Whether some impact is a contact phase.
+    /// Whether some impact is a contact or a sticking phase.
     pub fn has_contact_phases(&self) -> bool {
-        self.impacts.iter().any(|i| i.contact)
+        self.impacts.iter().any(|i| i.kind != ImpactKind::Rigid)
     }
 
     /// The events of the cycle equations in time order: one per rigid impact, two (entry,
-    /// exit) per contact phase. Each event's unknown is its time; its condition that the
-    /// pair's coordinate is at the stop.
+    /// exit) per contact phase, two (landing impact, release) per sticking phase. Each
+    /// event's unknown is its time; its condition that the pair's coordinate is at the stop
+    /// (a release: that the stop's force is zero).
     pub(crate) fn events(&self) -> Vec<(PairImpact, EventKind)> {
         self.impacts
             .iter()
             .flat_map(|&i| {
-                let kinds: &[EventKind] = if i.contact {
-                    &[EventKind::Entry, EventKind::Exit]
-                } else {
-                    &[EventKind::Impact]
+                let kinds: &[EventKind] = match i.kind {
+                    ImpactKind::Rigid => &[EventKind::Impact],
+                    ImpactKind::Contact => &[EventKind::Entry, EventKind::Exit],
+                    ImpactKind::Stick => &[EventKind::Impact, EventKind::Release],
                 };
                 kinds.iter().map(move |&k| (i, k))
             })
@@ -326,7 +373,8 @@ impl ImpactSequence {
     /// [`SequenceError::Pair`] for the first impact on a pair the model lacks;
     /// [`SequenceError::NoStop`] for the first impact on a side without a stop;
     /// [`SequenceError::ContactOnRigid`] or [`SequenceError::ImpactOnCompliant`] for the first
-    /// impact whose kind is not its pair's.
+    /// impact whose kind is not its pair's; [`SequenceError::StickWithRebound`] for a sticking
+    /// phase on a pair that is compliant or has a restitution other than 0.
     pub fn check(&self, model: &LinearModel) -> Result<(), SequenceError> {
         let pairs = model.pairs();
         if let Some(bad) = self.impacts.iter().find(|i| i.pair >= pairs.len()) {
@@ -350,26 +398,35 @@ impl ImpactSequence {
                 side: if bad.side == 1 { '+' } else { '-' },
             });
         }
-        let mismatch = |i: &&PairImpact| i.contact != model.compliance(i.pair).is_some();
-        match self.impacts.iter().find(mismatch) {
-            Some(bad) if bad.contact => Err(SequenceError::ContactOnRigid { pair: bad.pair }),
-            Some(bad) => Err(SequenceError::ImpactOnCompliant { pair: bad.pair }),
-            None => Ok(()),
+        let compliant = |i: &PairImpact| model.compliance(i.pair).is_some();
+        for i in &self.impacts {
+            match i.kind {
+                ImpactKind::Contact if !compliant(i) => {
+                    return Err(SequenceError::ContactOnRigid { pair: i.pair })
+                }
+                ImpactKind::Rigid if compliant(i) => {
+                    return Err(SequenceError::ImpactOnCompliant { pair: i.pair })
+                }
+                ImpactKind::Stick if compliant(i) || pairs[i.pair].restitution != 0.0 => {
+                    return Err(SequenceError::StickWithRebound { pair: i.pair })
+                }
+                _ => {}
+            }
         }
+        Ok(())
     }
 }
 
 impl fmt::Display for ImpactSequence {
-    /// The text form: `0+ 1+ 0- 1-`, a contact phase with a trailing `c` (`0+c`).
+    /// The text form: `0+ 1+ 0- 1-`, a contact phase with a trailing `c` (`0+c`), a sticking
+    /// phase with a trailing `s` (`0+s`).
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         for (k, i) in self.impacts.iter().enumerate() {
             if k > 0 {
                 f.write_str(" ")?;
             }
             write!(f, "{}{}", i.pair, if i.side == 1 { '+' } else { '-' })?;
-            if i.contact {
-                f.write_str("c")?;
-            }
+            f.write_str(i.kind.suffix())?;
         }
         Ok(())
     }

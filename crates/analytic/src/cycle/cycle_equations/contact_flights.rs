@@ -10,6 +10,13 @@
 //! `∂Φ_f/∂τ_f = Â_f Φ_f`, and the `ω`-derivative through `B_f = Â_f/ω` with the free flight's
 //! rate `Â'`.
 //!
+//! A sticking phase is a flight of the same kind: between its landing impact and its release
+//! the pair is held on its stop, `Â_s = Â + Δ_s` with the accelerations projected onto
+//! `wᵀü = 0`. Its `Δ_s` depends on `ω` (through the forcing's columns), so equations with a
+//! sticking phase are built at each frequency, not moved by [`CycleEquations::at_frequency`]
+//! (continuation refuses sequences with contact or sticking phases), and their `ω`-derivative
+//! leaves out `∂Δ_s/∂ω`.
+//!
 //! A stiff contact has a fast mode `ω_c = √(k_c wᵀM⁻¹w)`: its matrix holds `1` in the position
 //! rows and `ω_c²` in the velocity rows, so its norm over a contact (`τ ≈ π/ω_c`) is about
 //! `ω_c` while its eigenvalues are of modulus about `π`. The exponential is taken of the

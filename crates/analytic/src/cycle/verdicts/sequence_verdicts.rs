@@ -11,7 +11,7 @@ use crate::flow::Extrema;
 use crate::linear::transmittance_db;
 use crate::model::LinearModel;
 use crate::model_flight::{eigenvalues, ModelFlight};
-use crate::sequence::{ImpactSequence, PairImpact};
+use crate::sequence::{ImpactKind, ImpactSequence, PairImpact};
 use crate::sequence_orbit::{SequenceNewton, SequenceOrbitError, SequenceProblem};
 use crate::signature::Signature;
 use crate::verdicts::{energy_forms, energy_forms_of, CycleModel, EnergyForms};
@@ -63,9 +63,10 @@ pub struct SequenceOrbit {
     /// contact phases).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub contact_violations: Vec<ContactViolation>,
-    /// The contact phases of compliant pairs, in sequence order (empty, and not serialised,
-    /// without). `impact_phases` and `states_before_impacts` then list every event: a contact
-    /// phase's entry and its exit.
+    /// The contact phases of compliant pairs and the sticking phases, in sequence order
+    /// (empty, and not serialised, without). `impact_phases` and `states_before_impacts` then
+    /// list every event: a contact phase's entry and its exit, a sticking phase's landing and
+    /// its release.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub contacts: Vec<ContactPhase>,
     /// Eigenvalues of the monodromy matrix (flights and saltation at every impact), as
@@ -88,25 +89,29 @@ pub struct SequenceOrbit {
     pub newton_iterations: usize,
 }
 
-/// One contact phase of a compliant pair on an orbit: from entry (penetration 0, `ṙ` into the
-/// stop) to exit (penetration 0 again).
+/// One contact phase of a compliant pair on an orbit, from entry (penetration 0, `ṙ` into the
+/// stop) to exit (penetration 0 again), or one sticking phase of a rigid pair of restitution 0,
+/// from its landing impact to its release.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ContactPhase {
     /// Index of the contact pair.
     pub pair: usize,
     /// `+1` on side 1, `−1` on side 2.
     pub side: i8,
-    /// Time of the entry as a fraction of the cycle (an entry of
+    /// [`ImpactKind::Contact`] or [`ImpactKind::Stick`].
+    #[serde(serialize_with = "kind_name")]
+    pub kind: ImpactKind,
+    /// Time of the entry (the landing) as a fraction of the cycle (an entry of
     /// [`SequenceOrbit::impact_phases`]).
     pub entry_phase: f64,
-    /// Time from entry to exit.
+    /// Time from entry to exit (from landing to release).
     pub duration: f64,
-    /// `ṙ` at the entry.
+    /// `ṙ` at the entry (just before the landing impact).
     pub entry_velocity: f64,
     /// `ṙ` at the exit: `−e` times the entry's for a pair on which nothing else acts during
-    /// the contact ([`crate::Compliance::restitution`]).
+    /// the contact ([`crate::Compliance::restitution`]); 0 at a release.
     pub exit_velocity: f64,
-    /// The largest penetration `s r − gap_s` during the contact.
+    /// The largest penetration `s r − gap_s` during the contact (0 while held on the stop).
     pub max_penetration: f64,
 }
 
@@ -136,6 +141,36 @@ pub enum ContactViolation {
         /// `ṙ` at the exit.
         relative_velocity: f64,
     },
+    /// While held on its stop the pair's free acceleration turns away from the stop (the
+    /// stop would pull) before the sequence's release.
+    EarlyRelease {
+        /// Index of the contact pair.
+        pair: usize,
+        /// The stop: 1 or 2.
+        side: u8,
+        /// Time after the first event at which the stop would pull hardest.
+        time: f64,
+        /// How far the release functional (free acceleration over `ω²`) goes below zero.
+        excess: f64,
+    },
+    /// At the release the held pair's free acceleration turns towards the stop, not away: the
+    /// stop's force touches zero without changing sign.
+    WrongRelease {
+        /// Index of the contact pair.
+        pair: usize,
+        /// The stop: 1 or 2.
+        side: u8,
+        /// `s ḣ` at the release, `h` the release functional: `≥ 0`.
+        rate: f64,
+    },
+}
+
+fn kind_name<S: Serializer>(kind: &ImpactKind, s: S) -> Result<S::Ok, S::Error> {
+    s.serialize_str(match kind {
+        ImpactKind::Rigid => "rigid",
+        ImpactKind::Contact => "contact",
+        ImpactKind::Stick => "stick",
+    })
 }
 
 fn display<S: Serializer, T: std::fmt::Display>(v: &T, s: S) -> Result<S::Ok, S::Error> {
@@ -153,7 +188,9 @@ fn complex_pairs<S: Serializer>(v: &[Complex<f64>], s: S) -> Result<S::Ok, S::Er
 
 /// The orbit of `sequence` on `model` at `omega` nearest (in Newton's sense) to
 /// `guess = (α, φ₂, …, φ_m)`: the forcing phase at the first canonical impact and the impact
-/// times of the others as fractions of the cycle (`0 < φ₂ < … < φ_m < 1`).
+/// times of the others as fractions of the cycle (`0 < φ₂ < … < φ_m < 1`). A contact phase
+/// (`0+c`) counts two events, its entry and its exit, and a sticking phase (`0+s`) two, its
+/// landing and its release: each has its own entry in the guess.
 ///
 /// # Errors
 /// [`SequenceOrbitError::InvalidFrequency`], [`SequenceOrbitError::Sequence`] (a pair the

@@ -10,7 +10,7 @@
 //! that a contact phase is, like a free flight, the exponential of an augmented matrix.
 
 use super::{out_of_range, LinearModel, ModelError};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 /// Largest ratio of a compliant pair's contact frequency `ω_c = √(k_c wᵀM⁻¹w)` to the
 /// structure's fastest rate `ω_s` (the bound `½(c + √(c² + 4k))` on the moduli of the
@@ -214,5 +214,40 @@ impl LinearModel {
         }
         proxy.compliances = vec![None; self.pairs.len()];
         proxy
+    }
+
+    /// What holding pair `pair` on its stop changes in [`Self::compliant_augmented`] at
+    /// `omega`: the accelerations projected onto `wᵀü = 0`, `ü = ΠM⁻¹(f − Cu̇ − Ku)`,
+    /// `Π = I − M⁻¹w wᵀ/(wᵀM⁻¹w)` (the stop's force `w λ` takes the part along `w`): `−M⁻¹w wᵀ
+    /// / (wᵀM⁻¹w)` times the velocity rows of the free flight's matrix, every column. It
+    /// depends on `ω` through the forcing's columns.
+    ///
+    /// # Panics
+    /// If `pair` is not an index of [`LinearModel::pairs`].
+    pub(crate) fn stick_increment(&self, omega: f64, pair: usize) -> DMatrix<f64> {
+        let n = self.dofs();
+        let free = self.compliant_augmented(omega);
+        let size = free.nrows();
+        let w = &self.pairs[pair].direction;
+        let minv_w = &self.mass_inverse * w;
+        let projector = &minv_w * w.transpose() / -w.dot(&minv_w);
+        let mut m = DMatrix::zeros(size, size);
+        m.view_mut((n, 0), (n, size))
+            .copy_from(&(projector * free.view((n, 0), (n, size))));
+        m
+    }
+
+    /// The release condition of pair `pair` as an augmented functional at `omega`:
+    /// `wᵀM⁻¹(f − Cu̇ − Ku) / ω²`, the pair's relative acceleration were it free, in units of
+    /// displacement (per radian² of the forcing). It is `−λ/(μω²)`, `λ` the stop's force along
+    /// `w` and `μ` the reduced mass: zero where the held pair is released.
+    ///
+    /// # Panics
+    /// If `pair` is not an index of [`LinearModel::pairs`].
+    pub(crate) fn release_functional(&self, omega: f64, pair: usize) -> DVector<f64> {
+        let n = self.dofs();
+        let free = self.compliant_augmented(omega);
+        let w = &self.pairs[pair].direction;
+        free.view((n, 0), (n, free.ncols())).tr_mul(w) / (omega * omega)
     }
 }

@@ -23,7 +23,7 @@ use crate::cycle_equations::{balanced_exp, velocity_balance};
 use crate::flow::Extrema;
 use crate::model_flight::ModelFlight;
 use crate::orbit::{STABILITY_MARGIN, VIABILITY_TOLERANCE};
-use crate::sequence::EventKind;
+use crate::sequence::{EventKind, ImpactKind};
 use crate::verdicts::{energy_reference, side_number, CycleModel, CycleVerdicts};
 use crate::verdicts::{EnergyBalance, SequenceViolation};
 use nalgebra::{Complex, DMatrix, DVector};
@@ -125,6 +125,43 @@ impl ContactFlow {
     }
 }
 
+/// The held pair's release functional `h` (see [`crate::LinearModel`]'s release
+/// functional) along the sticking flight `f` of `duration` from `start`: the stop holds the
+/// pair only while `s h ≥ 0`; where it falls below `−`[`VIABILITY_TOLERANCE`]` · gap` the pair
+/// is released before the sequence's release ([`ContactViolation::EarlyRelease`]). The flight
+/// begins at `t0` after the first event.
+fn early_release(
+    verdicts: &ModelVerdicts<'_, '_>,
+    held: &ContactFlow,
+    f: usize,
+    start: &DVector<f64>,
+    (t0, duration): (f64, f64),
+) -> Option<ContactViolation> {
+    let problem = verdicts.problem;
+    let (equations, events) = (problem.equations(), problem.events());
+    let n = problem.model().dofs();
+    let (impact, _) = events[f];
+    let next = (f + 1) % events.len();
+    // `h · z = (S h) · y`: the velocity entries scaled by the balance.
+    let mut h = equations.contact_functional(next).clone();
+    h.rows_mut(n, n).scale_mut(held.balance);
+    let ext = held
+        .balanced
+        .extrema(&held.balanced_state(start, n), duration, &[h])[0];
+    let (least, at) = if impact.side == 1 {
+        (ext.min, ext.argmin)
+    } else {
+        (-ext.max, ext.argmax)
+    };
+    let gap = verdicts.pairs()[impact.pair].1[usize::from(impact.side != 1)];
+    (least < -VIABILITY_TOLERANCE * gap).then(|| ContactViolation::EarlyRelease {
+        pair: impact.pair,
+        side: side_number(impact.side),
+        time: t0 + at,
+        excess: -least,
+    })
+}
+
 /// Nodes of the Gauss–Legendre rule of the contact flights' second moments: degree 31 on
 /// pieces of at most 4 radians of the integrand's fastest term (see
 /// [`ContactFlow::second_moment`]).
@@ -196,38 +233,13 @@ pub(super) fn assemble(
     let states_after: Vec<DVector<f64>> = (0..m)
         .map(|j| match events[j].1 {
             EventKind::Impact => model.impact_state(events[j].0.pair, &states_before[j]),
-            EventKind::Entry | EventKind::Exit => states_before[j].clone(),
+            _ => states_before[j].clone(),
         })
         .collect();
     let rdot: Vec<f64> = (0..m)
         .map(|j| verdicts.relative_velocity(events[j].0.pair, &states_before[j]))
         .collect();
-    // An impact or an entry must approach its stop (`s ṙ > 0`), an exit leave it (`s ṙ < 0`).
-    let wrong: Vec<bool> = (0..m)
-        .map(|j| {
-            let approach = f64::from(events[j].0.side) * rdot[j];
-            match events[j].1 {
-                EventKind::Exit => approach >= 0.0,
-                _ => approach <= 0.0,
-            }
-        })
-        .collect();
-    let mut violations: Vec<SequenceViolation> = (0..m)
-        .filter(|&j| wrong[j] && events[j].1 != EventKind::Exit)
-        .map(|j| SequenceViolation::WrongApproach {
-            pair: events[j].0.pair,
-            side: side_number(events[j].0.side),
-            relative_velocity: rdot[j],
-        })
-        .collect();
-    let mut contact_violations: Vec<ContactViolation> = (0..m)
-        .filter(|&j| wrong[j] && events[j].1 == EventKind::Exit)
-        .map(|j| ContactViolation::WrongExit {
-            pair: events[j].0.pair,
-            side: side_number(events[j].0.side),
-            relative_velocity: rdot[j],
-        })
-        .collect();
+    let (wrong, mut violations, mut contact_violations) = event_checks(verdicts, &before, &rdot);
     let starts: Vec<DVector<f64>> = (0..m)
         .map(|f| {
             let mut z = if f == 0 {
@@ -268,11 +280,16 @@ pub(super) fn assemble(
     let stable = floquet_multipliers
         .iter()
         .all(|mu| mu.norm() < 1.0 - STABILITY_MARGIN);
+    // A contact phase from its entry, a sticking phase from its landing impact.
     let contacts = (0..m)
-        .filter(|&j| events[j].1 == EventKind::Entry)
+        .filter(|&j| {
+            events[j].1 == EventKind::Entry
+                || (events[j].1 == EventKind::Impact && events[j].0.kind == ImpactKind::Stick)
+        })
         .map(|j| ContactPhase {
             pair: events[j].0.pair,
             side: events[j].0.side,
+            kind: events[j].0.kind,
             entry_phase: phases[j],
             duration: (phases[j + 1] - phases[j]) * equations.cycle(),
             entry_velocity: rdot[j],
@@ -294,6 +311,81 @@ pub(super) fn assemble(
     Some((cycle, contact_violations, contacts))
 }
 
+/// Whether each event meets its stop the right way, and the violations where not: an impact
+/// or an entry approaches its stop (`s ṙ > 0`, else [`SequenceViolation::WrongApproach`]), an
+/// exit leaves it (`s ṙ < 0`, else [`ContactViolation::WrongExit`]), and at a release the held
+/// pair's free acceleration turns away from the stop (`s ḣ < 0` for the release functional
+/// `h`, else [`ContactViolation::WrongRelease`]). `before[j]` is the augmented state just
+/// before event `j`, `rdot[j]` its `ṙ`.
+fn event_checks(
+    verdicts: &ModelVerdicts<'_, '_>,
+    before: &[DVector<f64>],
+    rdot: &[f64],
+) -> (Vec<bool>, Vec<SequenceViolation>, Vec<ContactViolation>) {
+    let problem = verdicts.problem;
+    let (equations, events) = (problem.equations(), problem.events());
+    let m = events.len();
+    let mut wrong = vec![false; m];
+    let mut violations = Vec::new();
+    let mut contact_violations = Vec::new();
+    for j in 0..m {
+        let (impact, kind) = events[j];
+        let (pair, side, s) = (
+            impact.pair,
+            side_number(impact.side),
+            f64::from(impact.side),
+        );
+        let approach = s * rdot[j];
+        match kind {
+            EventKind::Impact | EventKind::Entry => {
+                wrong[j] = approach <= 0.0;
+                if wrong[j] {
+                    violations.push(SequenceViolation::WrongApproach {
+                        pair,
+                        side,
+                        relative_velocity: rdot[j],
+                    });
+                }
+            }
+            EventKind::Exit => {
+                wrong[j] = approach >= 0.0;
+                if wrong[j] {
+                    contact_violations.push(ContactViolation::WrongExit {
+                        pair,
+                        side,
+                        relative_velocity: rdot[j],
+                    });
+                }
+            }
+            EventKind::Release => {
+                let held = equations.flight_matrix((j + m - 1) % m);
+                let rate = s * equations.contact_functional(j).dot(&(held * &before[j]));
+                wrong[j] = rate >= 0.0;
+                if wrong[j] {
+                    contact_violations.push(ContactViolation::WrongRelease { pair, side, rate });
+                }
+            }
+        }
+    }
+    (wrong, violations, contact_violations)
+}
+
+/// The saltation `S = Ĝ + (f⁺ − Ĝf⁻) ∇hᵀ / ḣ⁻` of an event with the state map `g`
+/// (`2n × 2n`), the gradient `grad` of its condition on the state, the vector fields `f∓`
+/// (state rows) before and after it, and `rate`, the condition's rate of change before it
+/// along the augmented flow (`∇h · f⁻` plus the part through the forcing's phase, which a
+/// release condition has: a mass held at rest is released by the force alone).
+fn event_saltation(
+    g: DMatrix<f64>,
+    grad: &DVector<f64>,
+    f_minus: &DVector<f64>,
+    f_plus: &DVector<f64>,
+    rate: f64,
+) -> DMatrix<f64> {
+    let jump = f_plus - &g * f_minus;
+    g + jump * grad.transpose() / rate
+}
+
 /// The monodromy from just after event 0: the flights' homogeneous blocks and, at each event,
 /// the impact's saltation ([`crate::LinearModel::saltation`]) or the contact's
 /// `I + (f⁺ − f⁻) ∇hᵀ / (∇h · f⁻)` from the augmented vector fields of the flights on either
@@ -313,19 +405,32 @@ fn monodromy(
         let next = (f + 1) % m;
         let (impact, kind) = events[next];
         let z = &before[next];
+        let h = equations.contact_functional(next);
+        let grad = h.rows(0, s).into_owned();
+        let field = equations.flight_matrix(f) * z;
+        let rate = h.dot(&field);
+        let f_minus = field.rows(0, s).into_owned();
         let salt = match kind {
-            EventKind::Impact => {
+            EventKind::Impact if equations.contact_matrix(next).is_none() => {
                 let p = z.rows(s, z.len() - s).into_owned();
                 model.saltation(problem.omega(), impact.pair, &z.rows(0, s).into_owned(), &p)
             }
-            EventKind::Entry | EventKind::Exit => {
-                let f_minus = (equations.flight_matrix(f) * z).rows(0, s).into_owned();
+            EventKind::Impact => {
+                // A landing: the impact map, then the flow held on the stop.
+                let mut g = DMatrix::identity(s, s);
+                g.view_mut((n, n), (n, n))
+                    .copy_from(&model.impact_map(impact.pair));
+                let mut after = z.clone();
+                let velocities = model.impact_map(impact.pair) * z.rows(n, n);
+                after.rows_mut(n, n).copy_from(&velocities);
+                let f_plus = (equations.flight_matrix(next) * after)
+                    .rows(0, s)
+                    .into_owned();
+                event_saltation(g, &grad, &f_minus, &f_plus, rate)
+            }
+            EventKind::Entry | EventKind::Exit | EventKind::Release => {
                 let f_plus = (equations.flight_matrix(next) * z).rows(0, s).into_owned();
-                let mut grad = DVector::zeros(s);
-                grad.rows_mut(0, n)
-                    .copy_from(&model.pairs()[impact.pair].direction);
-                let rate = grad.dot(&f_minus);
-                DMatrix::identity(s, s) + (f_plus - f_minus) * grad.transpose() / rate
+                event_saltation(DMatrix::identity(s, s), &grad, &f_minus, &f_plus, rate)
             }
         };
         let hom = flight.view((0, 0), (s, s));
@@ -431,6 +536,11 @@ fn flights(
                         }
                     });
                 }
+            }
+        }
+        if let Some(c) = contact.filter(|_| events[f].0.kind == ImpactKind::Stick) {
+            if let Some(early) = early_release(verdicts, c, f, &starts[f], (t0, duration)) {
+                totals.contact_violations.push(early);
             }
         }
         let moment = match contact {
