@@ -92,9 +92,12 @@ const KNOWN_CIRCLES: &[(&str, &str, &[&str], &str)] = &[
     (
         "crates/event-driven/src",
         "engine",
-        &["contact", "flight", "state", "stuck", "tangent", "trace"],
+        &[
+            "contact", "flight", "pressed", "state", "stuck", "tangent", "trace",
+        ],
         "the engine's steps are methods of one `Engine` spread over its files: the run state \
-         (`state.rs`) holds the trace, the stuck phase and the tangent, whose steps read it",
+         (`state.rs`) holds the trace, the stuck and the pressed (compliant contact) phases and \
+         the tangent, whose steps read it",
     ),
 ];
 

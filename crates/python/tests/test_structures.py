@@ -18,6 +18,7 @@ OSCILLATOR = SCENES / "impact-oscillator.json"
 #: A free body (the ball) in a clearance of a forced primary.
 DAMPER = SCENES / "impact-damper.json"
 ASYMMETRIC = SCENES / "asymmetric-unit.json"
+COMPLIANT = SCENES / "compliant-oscillator.json"
 STRUCTURES = [OSCILLATOR, DAMPER, ASYMMETRIC]
 
 #: One frequency per structure where it impacts on a settled motion.
@@ -233,6 +234,8 @@ def test_a_bad_sequence_on_a_structure_is_the_commands_error(rattle_cli):
         (DAMPER, 1.25),
         (ASYMMETRIC, 3.0),
         (ASYMMETRIC, 1.25),
+        (COMPLIANT, 0.8),
+        (COMPLIANT, 1.2),
     ],
 )
 def test_compare_on_a_structure_is_the_commands(rattle_cli, path, omega):
@@ -500,3 +503,19 @@ def test_a_harmonics_bad_value_is_named_by_its_path():
         ValueError, match=r"forcing\.forces\[0\]\.harmonics\[0\]\.amplitude: inf"
     ):
         rattle.Scene.from_dict(oscillator)
+
+
+def test_a_compliant_stops_contacts_are_the_commands_and_in_agreement(rattle_cli):
+    scene = rattle.Scene.from_file(COMPLIANT)
+    ours = rattle.compare(scene, 1.2)
+    assert ours.class_ == "agreement"
+    assert ours.simulated.pair_signatures == ["+c"]
+    assert ours.simulated.contacts_per_period == 1.0
+    assert ours.analytic.sequence == "0+c"
+    simulated = rattle.simulate(scene, 1.2)
+    assert simulated.to_dict() == rattle_cli.json("simulate", COMPLIANT, "--omega", 1.2)
+    assert simulated.contact_time_per_period > 0
+    orbits = rattle.orbit(scene, 1.2, signature="0+c")
+    assert orbits.to_dict() == rattle_cli.json(
+        "orbit", COMPLIANT, "--omega", 1.2, "--signature", "0+c"
+    )

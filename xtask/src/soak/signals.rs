@@ -1,6 +1,6 @@
 //! Random recorded signals through the respond engine (`rattle respond` on a `.csv` record):
-//! each random structure of [`super::structures`] is driven from rest by a record drawn for
-//! it, as a base motion (when something is tied to the base, one time in two) or a force on
+//! each random structure of [`super::structures`] (its compliant stops made rigid) is driven
+//! from rest by a record drawn for it, as a base motion (when something is tied to the base, one time in two) or a force on
 //! a random body. The record is one of:
 //! - random times strictly increasing (steps from `10⁻³` to `1` s) with random values;
 //! - a random multisine (one to five sinusoids, `0.1` to `6` rad/s) sampled at a random
@@ -98,9 +98,33 @@ struct Tally {
     worst_balance: f64,
 }
 
+/// `scene` with each compliant stop made rigid, of the restitution its contact gives the
+/// isolated pair (`Compliance::restitution` of the pair's reduced mass): the respond engine
+/// takes rigid stops only.
+fn rigid_stops(scene: &mut rattle_compare::scene::structure::StructureScene) {
+    let mass = |name: &str| {
+        let body = scene.structure.bodies.iter().find(|b| b.name == name);
+        body.map_or(f64::INFINITY, |b| b.mass)
+    };
+    let reduced: Vec<f64> = scene
+        .structure
+        .stops
+        .iter()
+        .map(|stop| 1.0 / (1.0 / mass(&stop.between[0]) + 1.0 / mass(&stop.between[1])))
+        .collect();
+    for (stop, mu) in scene.structure.stops.iter_mut().zip(reduced) {
+        if let Some(stiffness) = stop.contact_stiffness.take() {
+            let damping = stop.contact_damping.take().unwrap_or(0.0);
+            let law = rattle_event_driven::Compliance { stiffness, damping };
+            stop.restitution = Some(law.restitution(mu));
+        }
+    }
+}
+
 /// Runs structure `index`'s record and checks it.
 fn check_record(seed: u64, index: u64) -> Result<Tally, String> {
-    let (scene, _) = random_structure(seed, index);
+    let (mut scene, _) = random_structure(seed, index);
+    rigid_stops(&mut scene);
     let s = scene
         .structure()
         .map_err(|e| format!("a valid random structure was refused: {e}"))?;

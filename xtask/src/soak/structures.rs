@@ -3,9 +3,11 @@
 //! frame, two-sided, asymmetric or one-sided; driven by the base, by forces, or both, one
 //! structure in two with one to three higher harmonics on each; and one structure in three
 //! carries a free body (no spring, no dashpot) in a two-sided clearance of a body or between
-//! two walls of the frame, as an impact damper's. Per structure, at a random frequency:
-//! - 20 periods from rest are finite, never pass a stop (beyond 1e-9 of the motion's size),
-//!   and no impact gains energy or changes the momentum of the bodies it involves (1e-12);
+//! two walls of the frame, as an impact damper's; one in four has one compliant stop. Per
+//! structure, at a random frequency:
+//! - 20 periods from rest are finite, never pass a rigid stop (beyond 1e-9 of the motion's
+//!   size), no impact gains energy or changes the momentum of the bodies it involves (1e-12),
+//!   and every contact of a compliant stop leaves it moving out;
 //! - the cross-check of `rattle compare` is never a contradiction, and a periodic impacting
 //!   motion that both solvers find agrees.
 //!
@@ -80,7 +82,9 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
                 gap: None,
                 gap_plus,
                 gap_minus,
-                restitution: rng.uniform(0.0, 1.0),
+                restitution: Some(rng.uniform(0.0, 1.0)),
+                contact_stiffness: None,
+                contact_damping: None,
             }
         })
         .collect();
@@ -113,7 +117,9 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
             gap: None,
             gap_plus: Some(rng.uniform(0.05, 2.0)),
             gap_minus: Some(rng.uniform(0.05, 2.0)),
-            restitution: rng.uniform(0.0, 1.0),
+            restitution: Some(rng.uniform(0.0, 1.0)),
+            contact_stiffness: None,
+            contact_damping: None,
         });
     }
     // Drawn last, so that the structures without harmonics are those of the same index
@@ -126,6 +132,18 @@ pub fn random_structure(seed: u64, index: u64) -> (StructureScene, f64) {
         if let Some(force) = forces.first_mut() {
             force.harmonics = random_harmonics(&mut rng, force.amplitude);
         }
+    }
+    // Drawn after the harmonics, so that the structures without a compliant stop are those
+    // of the same index before compliant stops were drawn: one structure in four has one of
+    // its stops compliant, of contact stiffness 10 to 1e5 N/m (up to 1e5 times its springs')
+    // and a damping ratio up to about 0.7 for its lightest pair.
+    if rng.below(4) == 0 {
+        let k = rng.below(stops.len() as u64) as usize;
+        let stiffness = 10f64.powf(rng.uniform(1.0, 5.0));
+        let stop = &mut stops[k];
+        stop.restitution = None;
+        stop.contact_stiffness = Some(stiffness);
+        stop.contact_damping = Some(rng.uniform(0.0, 0.3) * stiffness.sqrt());
     }
     let scene = StructureScene {
         name: format!("soak-structure-{index}"),
@@ -173,7 +191,13 @@ fn simulation_sound(s: &Structure, omega: f64) -> Result<usize, String> {
     let n = s.dofs();
     let size = sim.steady.amplitudes.iter().fold(0.0f64, |a, b| a.max(*b));
     for (t, x) in sim.steady.trajectory.iter().flatten() {
-        for (p, stop) in s.stops.iter().enumerate() {
+        // A compliant stop is entered by design; its contacts are checked below.
+        let rigid = s
+            .stops
+            .iter()
+            .enumerate()
+            .filter(|(_, stop)| stop.law.restitution().is_some());
+        for (p, stop) in rigid {
             let pair = &model.contacts()[p];
             let r = pair.relative(&x.as_slice()[..n]);
             let tolerance = 1e-9 * size.max(stop.gap_plus.min(stop.gap_minus));
@@ -201,7 +225,28 @@ fn simulation_sound(s: &Structure, omega: f64) -> Result<usize, String> {
             }
         }
     }
-    Ok(sim.steady.cycle_impacts.len())
+    // Every contact of a compliant stop enters it, leaves it moving out, and ends where it
+    // began: at the stop.
+    for c in &sim.steady.cycle_contacts {
+        let side = f64::from(c.side);
+        if !(c.max_penetration.is_finite()
+            && c.max_penetration >= 0.0
+            && side * c.exit_velocity <= 0.0
+            && c.exit_time > c.entry_time)
+        {
+            return Err(format!(
+                "a contact of stop {} from t = {} to {} is not one: entry ṙ = {}, exit ṙ = {}, \
+                 largest penetration {}",
+                c.pair,
+                c.entry_time,
+                c.exit_time,
+                c.entry_velocity,
+                c.exit_velocity,
+                c.max_penetration
+            ));
+        }
+    }
+    Ok(sim.steady.cycle_impacts.len() + sim.steady.cycle_contacts.len())
 }
 
 /// The cross-check is no contradiction; returns 1 for an impacting agreement.
@@ -214,7 +259,12 @@ fn cross_checked(s: &Structure, omega: f64) -> Result<usize, String> {
         structure_cross_check(s, omega, &options).map_err(|e| format!("a solver failed: {e}"))?;
     match check.class.name() {
         "contradiction" => Err(format!("contradiction: {}", check.class.detail())),
-        "agreement" if !check.simulated.steady.cycle_impacts.is_empty() => Ok(1),
+        "agreement"
+            if !(check.simulated.steady.cycle_impacts.is_empty()
+                && check.simulated.steady.cycle_contacts.is_empty()) =>
+        {
+            Ok(1)
+        }
         _ => Ok(0),
     }
 }
@@ -251,7 +301,7 @@ pub fn soak_structures(seed: u64, count: u64) -> Vec<String> {
     }
     failures.extend(bad_structures(seed));
     eprintln!(
-        "structures: {count} in {:.1} s; {impacts} impacts without energy gained, \
+        "structures: {count} in {:.1} s; {impacts} impacts and contacts checked, \
          {agreements} impacting motions in agreement; {} failed",
         start.elapsed().as_secs_f64(),
         failures.len()

@@ -13,8 +13,8 @@ use super::chain::{
     CheckModels,
 };
 use crate::scene::phase;
-use crate::scene::simulator::{polished_cycle, SimulateError};
-use rattle_analytic::{solve_sequence, ImpactSequence, PairImpact, SequenceError};
+use crate::scene::simulator::{polished_cycle, PolishedCycle, SimulateError};
+use rattle_analytic::{solve_sequence, ImpactSequence, PairImpact, SequenceError, SequenceOrbit};
 use rattle_event_driven::{PeriodicOrbit, SimulationOptions, SteadyState};
 
 /// A polished run's contact is the polished orbit's when their exits lie within this fraction
@@ -78,40 +78,7 @@ pub(crate) fn seeded_contacts(
         );
         return Ok(());
     }
-    let since_section = |t: f64| (t - orbit.time).rem_euclid(length);
-    // The contacts' times are the polished orbit's own (a contact through the section has its
-    // exit below its entry); the run from the section gives each contact's velocities and
-    // penetration, matched by its exit.
-    let seen = |pair: usize, exit: f64| {
-        cycle
-            .contacts
-            .iter()
-            .position(|c| c.pair == pair && (c.exit_time - exit).abs() <= CONTACT_MATCH * length)
-            .map(|record| Seen {
-                record,
-                whole: cycle.contacts[record].entry_time > orbit.time,
-            })
-    };
-    let mut tokens: Vec<Token> = cycle
-        .impacts
-        .iter()
-        .map(|i| Token {
-            start: i.time,
-            impact: PairImpact::rigid(i.pair, i.side),
-            contact: None,
-        })
-        .chain(orbit.contact_phases.iter().map(|c| {
-            let entry = orbit.time + c.entry * length;
-            let exit = orbit.time + c.exit * length + if c.exit < c.entry { length } else { 0.0 };
-            let exit_in_run = orbit.time + c.exit * length;
-            Token {
-                start: entry,
-                impact: PairImpact::compliant(c.pair, c.side),
-                contact: Some((exit, seen(c.pair, exit_in_run))),
-            }
-        }))
-        .collect();
-    tokens.sort_by(|a, b| since_section(a.start).total_cmp(&since_section(b.start)));
+    let tokens = cycle_tokens(&cycle, orbit, length);
     let impacts: Vec<PairImpact> = tokens.iter().map(|t| t.impact).collect();
     let sequence = match ImpactSequence::from_cycle(&impacts, orbit.periods) {
         Ok(s) => s,
@@ -140,21 +107,7 @@ pub(crate) fn seeded_contacts(
         );
         return Ok(());
     };
-    // Every event's time after the rotation's first, as fractions of the cycle: a contact's
-    // entry and exit each an event.
-    let events_from = |k: usize| -> Vec<f64> {
-        let origin = tokens[k].start;
-        let mut out = Vec::with_capacity(2 * n);
-        for j in 0..n {
-            let token = &tokens[(k + j) % n];
-            let start = (token.start - origin).rem_euclid(length);
-            out.push(start / length);
-            if let Some((exit, _)) = token.contact {
-                out.push((start + (exit - token.start)) / length);
-            }
-        }
-        out
-    };
+    let events_from = |k: usize| events_from(&tokens, k, length);
     let ordered = |e: &[f64]| e.windows(2).all(|w| w[0] < w[1]) && e.last() < Some(&1.0);
     if !ordered(&events_from(first)) {
         check.polished = Some(cycle);
@@ -192,38 +145,7 @@ pub(crate) fn seeded_contacts(
     } else {
         largest_relative(&a, &b)
     };
-    // Each contact's entry and exit velocities relative to the fastest entry, its largest
-    // penetration relative to the deepest.
-    let fastest = analytic
-        .contacts
-        .iter()
-        .map(|c| c.entry_velocity.abs())
-        .fold(f64::MIN_POSITIVE, f64::max);
-    let deepest = analytic
-        .contacts
-        .iter()
-        .map(|c| c.max_penetration.abs())
-        .fold(f64::MIN_POSITIVE, f64::max);
-    let contacts_from = |k: usize| -> f64 {
-        (0..n)
-            .filter_map(|j| tokens[(k + j) % n].contact.map(|(_, seen)| seen))
-            .zip(&analytic.contacts)
-            .map(|(seen, a)| match seen {
-                // A contact the run did not see end: not the polished orbit's cycle.
-                None => f64::INFINITY,
-                Some(Seen { record, whole }) => {
-                    let s = &cycle.contacts[record];
-                    let exit = (s.exit_velocity - a.exit_velocity).abs() / fastest;
-                    if whole {
-                        exit.max((s.entry_velocity - a.entry_velocity).abs() / fastest)
-                            .max((s.max_penetration - a.max_penetration).abs() / deepest)
-                    } else {
-                        exit
-                    }
-                }
-            })
-            .fold(0.0, f64::max)
-    };
+    let contacts_from = |k: usize| contact_difference(&tokens, k, &cycle, &analytic);
     // The analytic orbit starts at one of the equivalent rotations: compare with the closest.
     let difference = rotations
         .iter()
@@ -248,4 +170,99 @@ pub(crate) fn seeded_contacts(
     check.polished = Some(cycle);
     check.analytic = Some(analytic);
     Ok(())
+}
+
+/// The polished cycle's tokens in time order from the section: its rigid impacts, and the
+/// polished orbit's contact phases (a contact through the section has its exit below its
+/// entry), each with what the run from the section saw of it, matched by its exit.
+fn cycle_tokens(cycle: &PolishedCycle, orbit: &PeriodicOrbit, length: f64) -> Vec<Token> {
+    let since_section = |t: f64| (t - orbit.time).rem_euclid(length);
+    let seen = |pair: usize, exit: f64| {
+        cycle
+            .contacts
+            .iter()
+            .position(|c| c.pair == pair && (c.exit_time - exit).abs() <= CONTACT_MATCH * length)
+            .map(|record| Seen {
+                record,
+                whole: cycle.contacts[record].entry_time > orbit.time,
+            })
+    };
+    let mut tokens: Vec<Token> = cycle
+        .impacts
+        .iter()
+        .map(|i| Token {
+            start: i.time,
+            impact: PairImpact::rigid(i.pair, i.side),
+            contact: None,
+        })
+        .chain(orbit.contact_phases.iter().map(|c| {
+            let entry = orbit.time + c.entry * length;
+            let exit = orbit.time + c.exit * length + if c.exit < c.entry { length } else { 0.0 };
+            let exit_in_run = orbit.time + c.exit * length;
+            Token {
+                start: entry,
+                impact: PairImpact::compliant(c.pair, c.side),
+                contact: Some((exit, seen(c.pair, exit_in_run))),
+            }
+        }))
+        .collect();
+    tokens.sort_by(|a, b| since_section(a.start).total_cmp(&since_section(b.start)));
+    tokens
+}
+
+/// Every event's time after token `k`'s, as fractions of the cycle `length`, from token `k`
+/// on: a contact's entry and exit each an event.
+fn events_from(tokens: &[Token], k: usize, length: f64) -> Vec<f64> {
+    let n = tokens.len();
+    let origin = tokens[k].start;
+    let mut out = Vec::with_capacity(2 * n);
+    for j in 0..n {
+        let token = &tokens[(k + j) % n];
+        let start = (token.start - origin).rem_euclid(length);
+        out.push(start / length);
+        if let Some((exit, _)) = token.contact {
+            out.push((start + (exit - token.start)) / length);
+        }
+    }
+    out
+}
+
+/// The largest difference of the contacts from token `k` on and the `analytic` orbit's, in
+/// order: each contact's entry and exit velocities relative to the fastest entry, its largest
+/// penetration relative to the deepest (of a contact through the section, whose entry the
+/// run did not see, the exit velocity alone); infinite for a contact the run did not see end.
+fn contact_difference(
+    tokens: &[Token],
+    k: usize,
+    cycle: &PolishedCycle,
+    analytic: &SequenceOrbit,
+) -> f64 {
+    let n = tokens.len();
+    let fastest = analytic
+        .contacts
+        .iter()
+        .map(|c| c.entry_velocity.abs())
+        .fold(f64::MIN_POSITIVE, f64::max);
+    let deepest = analytic
+        .contacts
+        .iter()
+        .map(|c| c.max_penetration.abs())
+        .fold(f64::MIN_POSITIVE, f64::max);
+    (0..n)
+        .filter_map(|j| tokens[(k + j) % n].contact.map(|(_, seen)| seen))
+        .zip(&analytic.contacts)
+        .map(|(seen, a)| match seen {
+            None => f64::INFINITY,
+            Some(Seen { record, whole }) => {
+                let s = &cycle.contacts[record];
+                let exit = (s.exit_velocity - a.exit_velocity).abs() / fastest;
+                if whole {
+                    exit.max((s.entry_velocity - a.entry_velocity).abs() / fastest)
+                        .max((s.max_penetration - a.max_penetration).abs() / deepest)
+                } else {
+                    exit
+                }
+            }
+        })
+        .fold(0.0, f64::max)
 }

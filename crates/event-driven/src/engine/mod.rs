@@ -64,9 +64,9 @@ mod tangent;
 mod trace;
 
 use flight::{Scratch, Watch, WatchedPairs};
+pub use outcome::{ContactPhase, ContactRecord};
 use periodicity::{least_period, repeat_error, scale_floor, Sections};
 pub(crate) use pressed::TangentContact;
-pub use pressed::{ContactPhase, ContactRecord};
 use pressed::{OpenContact, Pressed};
 pub(crate) use state::Resume;
 use state::{Contact, Decision, Mode, Observation, Plan, RunState, Window};

@@ -509,49 +509,6 @@ fn largest(f: &ExpSum, (span, floor): (f64, f64), tolerance: f64, stack: &mut Se
     rest.max_abs(span - s, best, AMPLITUDE_TOLERANCE * (1.0 + best))
 }
 
-/// One contact phase of a compliant stop in the final cycle ([`SteadyState::cycle_contacts`]).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ContactRecord {
-    /// Contact pair index.
-    pub pair: usize,
-    /// `+1` for side 1 (`r = +gap_plus`), `−1` for side 2.
-    pub side: i8,
-    /// Absolute time of the entry (the run's start for a pair pressed there).
-    pub entry_time: f64,
-    /// Absolute time of the exit.
-    pub exit_time: f64,
-    /// The entry's time within the forcing period, in `[0, T)`.
-    pub entry_phase: f64,
-    /// The exit's time within the forcing period, in `[0, T)` (below the entry's for a
-    /// contact through a section).
-    pub exit_phase: f64,
-    /// `ṙ` at the entry (into the stop).
-    pub entry_velocity: f64,
-    /// `ṙ` at the exit (out of the stop, or `0` to rounding when the contact ends at rest).
-    pub exit_velocity: f64,
-    /// The largest penetration `δ = side·r − gap_side` during the contact.
-    pub max_penetration: f64,
-}
-
-/// One contact phase of a compliant stop over a cycle of the stroboscopic map or of a
-/// periodic orbit.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct ContactPhase {
-    /// Contact pair index.
-    pub pair: usize,
-    /// `+1` for side 1 (`r = +gap_plus`), `−1` for side 2.
-    pub side: i8,
-    /// In a [`crate::StroboscopicMap`], the entry's time after the section (`0` for a pair
-    /// pressed at the section); in a [`PeriodicOrbit`], as a fraction of the cycle `pT`, in
-    /// `[0, 1)`.
-    pub entry: f64,
-    /// In a [`crate::StroboscopicMap`], the exit's time after the section (the cycle's
-    /// length `pT` for a pair still pressed at its end); in a [`PeriodicOrbit`], as a
-    /// fraction of the cycle in `[0, 1)`, below [`Self::entry`] for a contact through the
-    /// section.
-    pub exit: f64,
-}
-
 /// A contact of the tangent run: entry and exit times since its start, `None` outside it.
 #[derive(Debug, Clone, Copy)]
 pub(crate) struct TangentContact {
