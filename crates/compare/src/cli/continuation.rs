@@ -95,7 +95,8 @@ table_row! {
 table_row! {
     /// One point of a chain's or a structure's continued branch, as a CSV row: the unit's
     /// columns (for a structure, of its observed body) and every amplitude of the sequence's
-    /// model, under the name its form gives them ([`CELL_AMPLITUDES`], [`BODY_AMPLITUDES`]).
+    /// model, under the name its form gives them (`cell_outer_amplitudes` on a chain,
+    /// `body_amplitudes` on a structure).
     pub struct SequenceContinuationRow {
         /// Index of its branch.
         pub branch: usize,
