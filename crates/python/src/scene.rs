@@ -64,6 +64,8 @@ fn scene_error(error: SceneError) -> PyErr {
         | SceneError::Structure { .. }
         | SceneError::StructureForm { .. }
         | SceneError::Harmonic { .. }
+        | SceneError::Stops { .. }
+        | SceneError::CellsCompliant { .. }
         | SceneError::CellsHarmonics { .. } => PyValueError::new_err(error.to_string()),
     }
 }
