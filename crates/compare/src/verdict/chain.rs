@@ -479,34 +479,13 @@ pub(crate) fn seeded_models(
         );
         return Ok(());
     }
-    let sequence = match ImpactSequence::from_cycle(&impacts, orbit.periods) {
-        Ok(s) => s,
-        Err(e) => {
-            let reason = match e {
-                SequenceError::TooManyImpacts { .. } => ChainReason::TooManyImpacts,
-                _ => ChainReason::PeriodTooLong,
-            };
-            check.polished = Some(cycle);
-            check.beyond(
-                reason,
-                format!("the simulated cycle has no impact sequence: {e}"),
-            );
-            return Ok(());
-        }
-    };
-    let n = impacts.len();
-    let length = f64::from(orbit.periods) * std::f64::consts::TAU / omega;
-    // The rotations of the simulated impacts that read as the canonical sequence.
-    let rotations: Vec<usize> = (0..n)
-        .filter(|&k| (0..n).all(|j| impacts[(k + j) % n] == sequence.impacts()[j]))
-        .collect();
-    let Some(&first) = rotations.first() else {
-        check.contradiction(
-            ChainReason::NoAnalyticOrbit,
-            "the simulated impacts do not read as their sequence".into(),
-        );
+    let Some((sequence, rotations)) = read_sequence(&impacts, orbit.periods, check) else {
+        check.polished = Some(cycle);
         return Ok(());
     };
+    let first = rotations[0];
+    let n = impacts.len();
+    let length = f64::from(orbit.periods) * std::f64::consts::TAU / omega;
     let phases_from = |k: usize| -> Vec<f64> {
         (0..n)
             .map(|j| {
@@ -575,6 +554,44 @@ pub(crate) fn seeded_models(
     check.polished = Some(cycle);
     check.analytic = Some(analytic);
     Ok(())
+}
+
+/// The canonical sequence of a polished cycle's `impacts` (rigid impacts and contact phases,
+/// in time order) over `periods`, and the rotations of `impacts` that read as it, at least
+/// one; `None` with the verdict recorded in `check` when the cycle has no sequence (`beyond`:
+/// too many impacts, or too long) or, against the sequence's construction, no rotation reads
+/// as it (`contradiction`).
+pub(crate) fn read_sequence(
+    impacts: &[PairImpact],
+    periods: u32,
+    check: &mut ChainCheck,
+) -> Option<(ImpactSequence, Vec<usize>)> {
+    let sequence = match ImpactSequence::from_cycle(impacts, periods) {
+        Ok(s) => s,
+        Err(e) => {
+            let reason = match e {
+                SequenceError::TooManyImpacts { .. } => ChainReason::TooManyImpacts,
+                _ => ChainReason::PeriodTooLong,
+            };
+            check.beyond(
+                reason,
+                format!("the simulated cycle has no impact sequence: {e}"),
+            );
+            return None;
+        }
+    };
+    let n = impacts.len();
+    let rotations: Vec<usize> = (0..n)
+        .filter(|&k| (0..n).all(|j| impacts[(k + j) % n] == sequence.impacts()[j]))
+        .collect();
+    if rotations.is_empty() {
+        check.contradiction(
+            ChainReason::NoAnalyticOrbit,
+            "the simulated impacts do not read as their sequence".into(),
+        );
+        return None;
+    }
+    Some((sequence, rotations))
 }
 
 /// A largest Floquet multiplier within this of 1 in modulus, in both solvers, is neutral: the

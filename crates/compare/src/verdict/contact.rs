@@ -9,12 +9,12 @@
 //! coordinates' amplitudes; and of the Floquet multipliers, each solver's own.
 
 use super::chain::{
-    classify, largest_relative, matched_distance, relative_to_largest, ChainCheck, ChainReason,
-    CheckModels,
+    classify, largest_relative, matched_distance, read_sequence, relative_to_largest, ChainCheck,
+    ChainReason, CheckModels,
 };
 use crate::scene::phase;
 use crate::scene::simulator::{polished_cycle, PolishedCycle, SimulateError};
-use rattle_analytic::{solve_sequence, ImpactSequence, PairImpact, SequenceError, SequenceOrbit};
+use rattle_analytic::{solve_sequence, PairImpact, SequenceOrbit};
 use rattle_event_driven::{PeriodicOrbit, SimulationOptions, SteadyState};
 
 /// A polished run's contact is the polished orbit's when their exits lie within this fraction
@@ -80,33 +80,11 @@ pub(crate) fn seeded_contacts(
     }
     let tokens = cycle_tokens(&cycle, orbit, length);
     let impacts: Vec<PairImpact> = tokens.iter().map(|t| t.impact).collect();
-    let sequence = match ImpactSequence::from_cycle(&impacts, orbit.periods) {
-        Ok(s) => s,
-        Err(e) => {
-            let reason = match e {
-                SequenceError::TooManyImpacts { .. } => ChainReason::TooManyImpacts,
-                _ => ChainReason::PeriodTooLong,
-            };
-            check.polished = Some(cycle);
-            check.beyond(
-                reason,
-                format!("the simulated cycle has no impact sequence: {e}"),
-            );
-            return Ok(());
-        }
-    };
-    let n = tokens.len();
-    let rotations: Vec<usize> = (0..n)
-        .filter(|&k| (0..n).all(|j| impacts[(k + j) % n] == sequence.impacts()[j]))
-        .collect();
-    let Some(&first) = rotations.first() else {
+    let Some((sequence, rotations)) = read_sequence(&impacts, orbit.periods, check) else {
         check.polished = Some(cycle);
-        check.contradiction(
-            ChainReason::NoAnalyticOrbit,
-            "the simulated impacts and contacts do not read as their sequence".into(),
-        );
         return Ok(());
     };
+    let first = rotations[0];
     let events_from = |k: usize| events_from(&tokens, k, length);
     let ordered = |e: &[f64]| e.windows(2).all(|w| w[0] < w[1]) && e.last() < Some(&1.0);
     if !ordered(&events_from(first)) {
