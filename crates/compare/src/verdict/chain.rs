@@ -66,8 +66,8 @@ pub enum ChainReason {
     /// Contradiction: periodic without impacts, but not the linear chain's motion (or the
     /// linear motion reaches the stops).
     NotLinear,
-    /// Beyond: two compliant stops in contact at once (a contact phase that begins before
-    /// the one before it ends): a sequence's contact phases follow one another.
+    /// Beyond: an impact or a contact during another contact (an event that comes before the
+    /// contact before it ends): a sequence's events follow one another.
     OverlappingContacts,
 }
 

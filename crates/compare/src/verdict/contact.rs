@@ -91,7 +91,9 @@ pub(crate) fn seeded_contacts(
         check.polished = Some(cycle);
         check.beyond(
             ChainReason::OverlappingContacts,
-            "two stops in contact at once: a sequence's contact phases follow one another".into(),
+            "an impact or a contact during another contact: a sequence's events follow one \
+             another"
+                .into(),
         );
         return Ok(());
     }
