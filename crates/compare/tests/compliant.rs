@@ -166,3 +166,22 @@ fn unresolvable_contacts_are_refused_by_name() {
         .to_string()
         .starts_with("--omega = 9e-2 is out of range"));
 }
+
+#[test]
+fn contacts_per_period_count_the_final_stretch_of_a_fixed_run() {
+    // The gallery oscillator at 1.2 rad/s touches its stop once a period from the start; 20
+    // periods from rest are not yet periodic, so the run's final stretch spans several
+    // periods, with a contact in each.
+    let s = structure(&oscillator(1000.0, 4.48));
+    let fixed = SimulationOptions {
+        fixed_periods: Some(20),
+        ..SimulationOptions::default()
+    };
+    let run = rattle_compare::scene::simulator::run_structure(&s, 1.2, &s.rest(), &fixed)
+        .expect("the simulator runs");
+    assert!(run.steady.cycle_contacts.len() > 1);
+    assert_eq!(run.contacts_per_period(), 1.0);
+    let settled =
+        structure_cross_check(&s, 1.2, &SimulationOptions::default()).expect("the simulator runs");
+    assert_eq!(settled.simulated.contacts_per_period(), 1.0);
+}

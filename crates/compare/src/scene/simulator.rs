@@ -605,11 +605,11 @@ impl SimulatedPoint {
         )
     }
 
-    /// Contact phases of compliant stops per forcing period over the final cycle.
+    /// Contact phases of compliant stops per forcing period over the final cycle (the
+    /// simulator's own count: the final cycle of a run that is not periodic spans the run's
+    /// last stretch, not one period).
     pub fn contacts_per_period(&self) -> f64 {
-        let s = &self.steady;
-        let periods = s.period.map_or(1.0, f64::from);
-        s.cycle_contacts.len() as f64 / periods
+        self.steady.contacts_per_period
     }
 
     /// For a motion with one impact on each side per period: the fraction `β` of the period

@@ -92,6 +92,9 @@ pub struct SteadyState {
     /// Time spent in contact with compliant stops over the final cycle (summed over pairs),
     /// divided by its length in periods; `0` for a model of rigid stops.
     pub contact_time_per_period: f64,
+    /// Contact phases of compliant stops ending in the final cycle ([`Self::cycle_contacts`])
+    /// divided by its length in periods; `0` for a model of rigid stops.
+    pub contacts_per_period: f64,
     /// States at `t = kT` over the final cycle.
     pub stroboscopic: Vec<DVector<f64>>,
     /// Where the run ended: continue from here.

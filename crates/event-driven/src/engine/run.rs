@@ -371,6 +371,7 @@ impl Engine<'_> {
             family,
             period: period_found,
             impacts_per_period: cycle_impacts.len() as f64 / cycle as f64,
+            contacts_per_period: cycle_contacts.len() as f64 / cycle as f64,
             amplitudes: window.amplitudes,
             sticking: window.sticking,
             stopped,
