@@ -776,6 +776,10 @@ const OTHER_PROGRAMS_OPTIONS: &[(&str, &str)] = &[
     ("sbatch", "--array"),
     ("sbatch", "--cpus-per-task"),
     ("sbatch", "--dependency"),
+    ("scipy_compliant.py", "--method"),
+    ("scipy_compliant.py", "--rattle"),
+    ("scipy_compliant.py", "--repeats"),
+    ("scipy_compliant.py", "--stiffness"),
 ];
 
 /// Every `--option` in `text`: two dashes, then a lower-case word with dashes.
