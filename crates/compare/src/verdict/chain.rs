@@ -444,6 +444,23 @@ pub struct CheckModels {
     pub relative_to_largest: bool,
 }
 
+impl CheckModels {
+    /// The largest difference of the compared coordinates' amplitudes, `simulated` against
+    /// `analytic` (every coordinate's, in the models' order): relative to the largest
+    /// compared amplitude or to each its own ([`CheckModels::relative_to_largest`]).
+    pub(crate) fn amplitude_difference(&self, simulated: &[f64], analytic: &[f64]) -> f64 {
+        let pick = |amplitudes: &[f64]| -> Vec<f64> {
+            self.compared.iter().map(|&k| amplitudes[k]).collect()
+        };
+        let (a, b) = (pick(simulated), pick(analytic));
+        if self.relative_to_largest {
+            relative_to_largest(&a, &b)
+        } else {
+            largest_relative(&a, &b)
+        }
+    }
+}
+
 /// The analytic orbit of the polished cycle's sequence on `models`, its differences from the
 /// simulated cycle and the class.
 ///
@@ -509,15 +526,7 @@ pub(crate) fn seeded_models(
             return Ok(());
         }
     };
-    let pick = |amplitudes: &[f64]| -> Vec<f64> {
-        models.compared.iter().map(|&k| amplitudes[k]).collect()
-    };
-    let (a, b) = (pick(&cycle.amplitudes), pick(&analytic.amplitudes));
-    let amplitude = if models.relative_to_largest {
-        relative_to_largest(&a, &b)
-    } else {
-        largest_relative(&a, &b)
-    };
+    let amplitude = models.amplitude_difference(&cycle.amplitudes, &analytic.amplitudes);
     // The analytic orbit starts at one of the equivalent rotations: compare with the closest.
     let before = DVector::from_column_slice(&analytic.states_before_impacts[0]);
     let difference = rotations

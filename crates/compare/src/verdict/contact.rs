@@ -9,8 +9,7 @@
 //! coordinates' amplitudes; and of the Floquet multipliers, each solver's own.
 
 use super::chain::{
-    classify, largest_relative, matched_distance, read_sequence, relative_to_largest, ChainCheck,
-    ChainReason, CheckModels,
+    classify, matched_distance, read_sequence, ChainCheck, ChainReason, CheckModels,
 };
 use crate::scene::phase;
 use crate::scene::simulator::{polished_cycle, PolishedCycle, SimulateError};
@@ -116,15 +115,7 @@ pub(crate) fn seeded_contacts(
             return Ok(());
         }
     };
-    let pick = |amplitudes: &[f64]| -> Vec<f64> {
-        models.compared.iter().map(|&k| amplitudes[k]).collect()
-    };
-    let (a, b) = (pick(&cycle.amplitudes), pick(&analytic.amplitudes));
-    let amplitude = if models.relative_to_largest {
-        relative_to_largest(&a, &b)
-    } else {
-        largest_relative(&a, &b)
-    };
+    let amplitude = models.amplitude_difference(&cycle.amplitudes, &analytic.amplitudes);
     let contacts_from = |k: usize| contact_difference(&tokens, k, &cycle, &analytic);
     // The analytic orbit starts at one of the equivalent rotations: compare with the closest.
     let difference = rotations
